@@ -1,0 +1,243 @@
+"""Typed cards of an X3D deck: one frozen dataclass per card.
+
+The parser (``parser.py``) produces a :class:`Deck`; the model builder (``x3dpd.model.build``)
+checks cross references and turns it into arrays. No physics lives here.
+
+Every record keeps the :class:`Pos` of its first token so that later checks (an undefined node,
+a duplicate id) can still point at ``file:line:column``. Lists of node ids keep one ``Pos`` per id.
+
+Units are whatever consistent set the deck uses (the report's decks use inch, lbf, second, so mass
+is lbf s^2/in). ``docs/deck-reference.md`` documents every field.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class Pos:
+    """1-based line and column of a token in the deck file."""
+
+    line: int = 0
+    column: int = 0
+
+
+NOWHERE = Pos(0, 0)
+
+
+@dataclass(frozen=True)
+class Title:
+    """TITLE: free text, kept verbatim (lines joined with newlines)."""
+
+    text: str
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """PARAMETERS: TIME TMAX TREST DTMIN DTMAX INCR INCMAX IREST NINTPL ISTAT ITRAC.
+
+    TIME start time [s]; TMAX end time [s]; TREST restart-dump interval [s] (0 = none);
+    DTMIN, DTMAX time-step bounds [s] (x3dpd runs a constant step DTMAX); INCR starting increment;
+    INCMAX maximum number of increments; IREST 1 = resume from the last restart dump;
+    NINTPL, ISTAT kept for X3D compatibility (no effect); ITRAC trace output every ITRAC steps.
+    """
+
+    time: float
+    tmax: float
+    trest: float
+    dtmin: float
+    dtmax: float
+    incr: int
+    incmax: float
+    irest: int
+    nintpl: int
+    istat: int
+    itrac: int
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Material:
+    """One MATID record. Type 1 = discrete spring-damper (our field map, see deck reference).
+
+    Fields: MID TYPE MASS SCALE KX KY KZ C  [EXTRA...]. ``mass`` is an element mass lumped onto the
+    element's nodes, ``scale`` multiplies stiffness and damping, ``kx, ky, kz`` are translational
+    stiffnesses along global axes [force/length], ``c`` the viscous damping [force s/length] applied
+    along each free translational direction. ``extra`` keeps the remaining X3D fields verbatim.
+    """
+
+    mid: int
+    mtype: int
+    mass: float
+    scale: float
+    kx: float
+    ky: float
+    kz: float
+    c: float
+    extra: tuple[float, ...] = ()
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Pdmp:
+    """PDMP (report Appendix B): NODLIM RZERO PRHO PPOI E0 E1 T1 PCOF VX0 VY0 VZ0.
+
+    Particles are nodes NODLIM+1 ... (the next PDMP group's NODLIM, or the highest node).
+    ``extra_terms`` holds further Maxwell pairs (E2, T2, E3, T3, ...) -- our extension.
+    """
+
+    nodlim: int
+    rzero: float
+    prho: float
+    ppoi: float
+    e0: float
+    e1: float
+    t1: float
+    pcof: float
+    vx0: float = 0.0
+    vy0: float = 0.0
+    vz0: float = 0.0
+    extra_terms: tuple[tuple[float, float], ...] = ()
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Body:
+    """BODY: body (gravity) acceleration vector [length/s^2] applied to every node with mass."""
+
+    ax: float
+    ay: float
+    az: float
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Trace:
+    """TRACE: node ids to write to the trace file, in this order."""
+
+    nodes: tuple[int, ...]
+    positions: tuple[Pos, ...] = ()
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Node:
+    """One NODE COORDINATES record: node id and x, y, z [length]."""
+
+    nid: int
+    x: float
+    y: float
+    z: float
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Element:
+    """One ELEMENTS record: element id, material id, one node (to ground) or two nodes."""
+
+    eid: int
+    mid: int
+    nodes: tuple[int, ...]
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Mass:
+    """One MASS record: node, translational mass, rotary inertias Ixx Iyy Izz."""
+
+    nid: int
+    mass: float
+    ixx: float
+    iyy: float
+    izz: float
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Rbel:
+    """One RBEL record: master node, DOF code (digits of 1..6, e.g. 123456), slave nodes."""
+
+    master: int
+    dofs: tuple[int, ...]
+    slaves: tuple[int, ...]
+    slave_positions: tuple[Pos, ...] = ()
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Boundary:
+    """One BOUNDARY CONDITIONS record: first node, last node, increment, fixed DOFs (1..6)."""
+
+    first: int
+    last: int
+    inc: int
+    dofs: tuple[int, ...]
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Triangle:
+    """One master triangle of a CONTACT card: set id and three node ids."""
+
+    set_id: int
+    nodes: tuple[int, int, int]
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class SlaveSet:
+    """One slave record of a CONTACT card: set id and its particle node ids."""
+
+    set_id: int
+    nodes: tuple[int, ...]
+    positions: tuple[Pos, ...] = ()
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Contact:
+    """CONTACT: master triangles (first END block) and slave node sets (second END block)."""
+
+    triangles: tuple[Triangle, ...]
+    slaves: tuple[SlaveSet, ...]
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Initial:
+    """One INITIAL record: node and velocity (vx, vy, vz) or (vx, vy, vz, wx, wy, wz)."""
+
+    nid: int
+    velocity: tuple[float, ...]
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Usrfrc:
+    """USRFRC (our extension): force specs, one per record, same syntax as ``--usrfrc``."""
+
+    specs: tuple[str, ...]
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class Deck:
+    """A whole parsed deck. Cards that may repeat are tuples, in file order."""
+
+    path: str = "<deck>"
+    title: Title | None = None
+    parameters: Parameters | None = None
+    materials: tuple[Material, ...] = ()
+    pdmp: tuple[Pdmp, ...] = ()
+    body: Body | None = None
+    trace: Trace | None = None
+    nodes: tuple[Node, ...] = ()
+    elements: tuple[Element, ...] = ()
+    masses: tuple[Mass, ...] = ()
+    rbels: tuple[Rbel, ...] = ()
+    boundaries: tuple[Boundary, ...] = ()
+    contacts: tuple[Contact, ...] = ()
+    initials: tuple[Initial, ...] = ()
+    usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
