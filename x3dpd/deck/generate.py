@@ -1,0 +1,138 @@
+"""Generate decks: a box cavity on a spring-mounted master node, filled with particles.
+
+This is the report's Appendix D (``create_cavity.m``) done right: the cavity's 12 triangles lie on
+the faces of the box (Appendix A's printed nodes do not), every particle is checked to lie inside
+the box and to overlap no other particle, and the result is a typed :class:`~x3dpd.deck.cards.Deck`
+that :func:`x3dpd.deck.writer.format_deck` writes out.
+
+Node numbering: 1-8 box corners, 9 the master cavity node (lumped structure mass, spring to
+ground, rigid link to the corners), particles from 10 on (PDMP NODLIM = 9).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from x3dpd.deck.cards import (Body, Boundary, Contact, Deck, Element, Mass, Material, Node,
+                              Parameters, Pdmp, Rbel, SlaveSet, Title, Trace, Triangle, Usrfrc)
+
+#: Corner order of the box (unit cube) and its 12 triangles, two per face.
+_CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                     [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
+_TRIANGLES = ((1, 2, 3), (1, 3, 4),   # z = 0
+              (5, 7, 6), (5, 8, 7),   # z = 1
+              (1, 6, 2), (1, 5, 6),   # y = 0
+              (4, 3, 7), (4, 7, 8),   # y = 1
+              (1, 4, 8), (1, 8, 5),   # x = 0
+              (2, 6, 7), (2, 7, 3))   # x = 1
+MASTER = 9
+FIRST_PARTICLE = 10
+
+
+@dataclass(frozen=True)
+class Material3:
+    """Particle material: E0, E1 [pressure], tau1 [s], Poisson's ratio, friction, density."""
+
+    e0: float
+    e1: float
+    tau1: float
+    nu: float
+    mu: float
+    density: float
+
+
+def lattice_fill(size, radius: float, n: int, *, gap: float = 0.0, seed: int | None = None,
+                 jitter: float = 0.0, origin=(0.0, 0.0, 0.0), stack_axis: int = 1) -> np.ndarray:
+    """Centres of ``n`` spheres stacked on a simple cubic lattice inside a box.
+
+    Layers fill the box's cross-section first, lowest layer first along ``stack_axis`` (gravity's
+    axis), like Appendix D (x fastest), but the lattice is centred in the free space and every
+    sphere is kept at least ``gap`` from the walls and ``gap`` from its neighbours.
+    ``jitter`` (a fraction of the free spacing) randomises positions reproducibly with ``seed``.
+
+    Raises ValueError when the box cannot hold ``n`` spheres this way.
+    """
+    size = np.asarray(size, dtype=float)
+    pitch = 2.0 * radius + gap
+    counts = np.floor((size - 2.0 * gap - 2.0 * radius) / pitch + 1e-9).astype(int) + 1
+    if np.any(size < 2.0 * (radius + gap)) or np.prod(counts) < n:
+        raise ValueError(
+            f"a {size[0]:g} x {size[1]:g} x {size[2]:g} box holds at most {int(np.prod(counts))} "
+            f"spheres of radius {radius:g} on a cubic lattice with gap {gap:g}; asked for {n}")
+    axes = [a for a in (0, 2, 1) if a != stack_axis] + [stack_axis]
+    per_layer = counts[axes[0]] * counts[axes[1]]
+    layers = math.ceil(n / per_layer)
+    pos = np.empty((n, 3))
+    free = size - 2.0 * radius - 2.0 * gap - (counts - 1) * pitch
+    start = np.asarray(origin, float) + radius + gap + 0.5 * free
+    start[stack_axis] = origin[stack_axis] + radius + gap
+    rng = np.random.default_rng(seed)
+    k = 0
+    for layer in range(layers):
+        for b in range(counts[axes[1]]):
+            for a in range(counts[axes[0]]):
+                if k == n:
+                    break
+                idx = np.zeros(3)
+                idx[axes[0]] = a
+                idx[axes[1]] = b
+                idx[stack_axis] = layer
+                pos[k] = start + idx * pitch
+                k += 1
+    if jitter:
+        pos += rng.uniform(-1, 1, size=pos.shape) * jitter * 0.5 * gap
+    return pos
+
+
+def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material: Material3,
+                    structure_mass: float, stiffness: float, damping: float,
+                    gravity=(0.0, -386.1, 0.0), dt: float = 5e-7, tmax: float = 15.0,
+                    itrac: int = 2000, trest: float = 0.0, title: str = "",
+                    origin=(0.0, 0.0, 0.0), usrfrc=(), free_dofs=(1,),
+                    transverse_stiffness: float = 1.0e12) -> Deck:
+    """A deck for a box cavity of interior ``size`` at ``origin`` holding ``particles``.
+
+    The master node (9) sits at the box's ``origin`` corner, carries ``structure_mass``, a spring
+    ``stiffness`` and damper ``damping`` to ground along x (``transverse_stiffness`` along y, z,
+    as Appendix A), and moves only in ``free_dofs`` (default: x only). ``usrfrc`` specs become a
+    USRFRC card.
+    """
+    size = np.asarray(size, float)
+    origin = np.asarray(origin, float)
+    corners = origin + _CORNERS * size
+    particles = np.asarray(particles, float).reshape(-1, 3)
+    lo = origin + radius
+    hi = origin + size - radius
+    inside = np.all((particles >= lo - 1e-12) & (particles <= hi + 1e-12), axis=1)
+    if not inside.all():
+        bad = int(np.argmin(inside))
+        raise ValueError(f"particle {bad + 1} at {particles[bad].tolist()} is not inside the box")
+    nodes = [Node(i + 1, *map(float, corners[i])) for i in range(8)]
+    nodes.append(Node(MASTER, *map(float, origin)))
+    ids = list(range(FIRST_PARTICLE, FIRST_PARTICLE + len(particles)))
+    nodes += [Node(nid, *map(float, p)) for nid, p in zip(ids, particles)]
+    fixed = tuple(d for d in range(1, 7) if d not in free_dofs)
+    m = material
+    return Deck(
+        path="<generated>",
+        title=Title(title) if title else None,
+        parameters=Parameters(0.0, float(tmax), float(trest), float(dt), float(dt), 0, 1.0e9, 0,
+                              5, 0, int(itrac)),
+        materials=(Material(2, 1, 1.0e-12, 1.0, float(stiffness), transverse_stiffness,
+                            transverse_stiffness, float(damping)),),
+        pdmp=(Pdmp(MASTER, float(radius), float(m.density), float(m.nu), float(m.e0), float(m.e1),
+                   float(m.tau1), float(m.mu)),),
+        body=Body(*map(float, gravity)),
+        trace=Trace(tuple([MASTER] + ids)),
+        nodes=tuple(nodes),
+        elements=(Element(1, 2, (MASTER,)),),
+        masses=(Mass(MASTER, float(structure_mass), 1.0e20, 1.0e20, 1.0e20),),
+        rbels=(Rbel(MASTER, (1, 2, 3, 4, 5, 6), tuple(range(1, 9))),),
+        boundaries=(Boundary(1, MASTER, 1, fixed),) if fixed else (),
+        contacts=(Contact(tuple(Triangle(1, t) for t in _TRIANGLES),
+                          (SlaveSet(1, tuple(ids)),)),),
+        usrfrc=(Usrfrc(tuple(usrfrc)),) if usrfrc else (),
+    )

@@ -1,0 +1,149 @@
+"""Prescribed sinusoidal motion of node DOFs (shaker base excitation, report Figure 9).
+
+A spec ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0]`` (CLI ``--motion``, repeatable; an
+optional leading ``sine:`` is accepted) drives DOF ``D`` (1..6) of node ``N`` on
+
+.. math::
+
+    u(t) = A \\sin(\\omega (t - t_0) + \\varphi), \\quad
+    \\dot u(t) = A \\omega \\cos(\\omega (t - t_0) + \\varphi), \\quad
+    \\ddot u(t) = -A \\omega^2 \\sin(\\omega (t - t_0) + \\varphi)
+
+for ``t >= t0``; before ``t0`` the DOF rests at ``u = A sin(phi)`` with zero velocity and
+acceleration (continuous displacement; the velocity jumps to ``A omega cos(phi)`` at ``t0``).
+``u`` is a displacement from the initial coordinate [length] for DOFs 1-3 and a rotation [rad]
+for DOFs 4-6; ``phase`` is in degrees unless suffixed ``rad``; ``hz`` in Hz, ``omega`` in rad/s.
+
+x3dpd keeps no rotation angles, so a rotational DOF is driven through its angular velocity only.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from x3dpd._jit import kernel
+from x3dpd.errors import UsrfrcError
+from x3dpd.physics.usrfrc import _node_dof, _node_ids, _number, _omega, _parse_pairs, _phase
+
+#: Columns of a motion table. ``x_initial`` is the DOF's initial coordinate (0 for rotations or
+#: when no coordinates were given); the kernel reads ``x0`` itself.
+MOTION_COLUMNS = ("node_index", "dof_index", "amp", "omega", "phase", "t0", "x_initial")
+
+_REQUIRED = ("node", "dof", "amp")
+_OPTIONAL = ("hz", "omega", "phase", "t0")
+
+
+@kernel
+def _motion_state(t, table, r):
+    """``(u, u', u'')`` of row ``r`` at time ``t``."""
+    amp, omega, phase = table[r, 2], table[r, 3], table[r, 4]
+    tau = t - table[r, 5]
+    if tau < 0.0:
+        return amp * math.sin(phase), 0.0, 0.0
+    arg = omega * tau + phase
+    s = math.sin(arg)
+    return amp * s, amp * omega * math.cos(arg), -amp * omega * omega * s
+
+
+@kernel
+def _apply_motion(t, table, x0, x, vel):
+    """Impose every prescribed DOF at time ``t``: ``x = x0 + u`` (DOFs 1-3 only), ``vel = u'``."""
+    for r in range(table.shape[0]):
+        i = int(table[r, 0])
+        d = int(table[r, 1])
+        u, v, _ = _motion_state(t, table, r)
+        if d < 3:
+            x[i, d] = x0[i, d] + u
+        vel[i, d] = v
+
+
+@kernel
+def _motion_acceleration(t, table, acc):
+    """Write ``u''(t)`` of every row into ``acc`` (m,) (for the motion's reaction force)."""
+    for r in range(table.shape[0]):
+        acc[r] = _motion_state(t, table, r)[2]
+
+
+@kernel
+def _motion_history(times, table, u, v, a):
+    for j in range(times.shape[0]):
+        for r in range(table.shape[0]):
+            u[j, r], v[j, r], a[j, r] = _motion_state(times[j], table, r)
+
+
+def motion_table(specs, model_or_node_ids, x0=None) -> np.ndarray:
+    """Parse ``--motion`` specs into a ``(m, 7)`` float table (columns :data:`MOTION_COLUMNS`).
+
+    Parameters
+    ----------
+    specs : iterable of str
+        ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0]``.
+    model_or_node_ids : Model or (n,) int array
+        Ascending user node ids; a Model also supplies ``x0`` for column ``x_initial``.
+    x0 : (n, 3) array, optional
+        Initial coordinates for column ``x_initial``.
+
+    Raises
+    ------
+    UsrfrcError
+        Naming the spec and the bad key, value or undefined node, or a DOF driven twice.
+    """
+    node_ids = _node_ids(model_or_node_ids)
+    if x0 is None:
+        x0 = getattr(model_or_node_ids, "x0", None)
+    rows, seen = [], {}
+    for spec in specs:
+        body = spec.strip()
+        if body.lower().startswith("sine:"):
+            body = body[5:]
+        pairs = _parse_pairs("motion spec", spec, body, _REQUIRED, _OPTIONAL)
+        node, dof = _node_dof("motion spec", spec, pairs, node_ids)
+        if (node, dof) in seen:
+            raise UsrfrcError(f"motion spec {spec!r}: node {pairs['node']} dof {dof + 1} is "
+                              f"already driven by {seen[node, dof]!r}")
+        seen[node, dof] = spec
+        amp = _number("motion spec", spec, "amp", pairs["amp"])
+        omega = _omega("motion spec", spec, pairs)
+        phase = _phase("motion spec", spec, pairs["phase"]) if "phase" in pairs else 0.0
+        t0 = _number("motion spec", spec, "t0", pairs["t0"]) if "t0" in pairs else 0.0
+        xi = float(x0[node, dof]) if (x0 is not None and dof < 3) else 0.0
+        rows.append([node, dof, amp, omega, phase, t0, xi])
+    return np.array(rows, dtype=np.float64).reshape(len(rows), len(MOTION_COLUMNS))
+
+
+def _check_table(table) -> np.ndarray:
+    table = np.ascontiguousarray(table, dtype=np.float64)
+    if table.ndim != 2 or table.shape[1] != len(MOTION_COLUMNS):
+        raise ValueError(f"a motion table has shape (m, {len(MOTION_COLUMNS)}); got {table.shape}")
+    return table
+
+
+def apply_motion(t: float, table, x0, x, vel) -> None:
+    """Validate and impose the prescribed DOFs at time ``t`` [s] on ``x`` (n, 3), ``vel`` (n, 6)."""
+    table = _check_table(table)
+    for name, a, cols in (("x0", x0, 3), ("x", x, 3), ("vel", vel, 6)):
+        if a.dtype != np.float64 or a.ndim != 2 or a.shape[1] != cols:
+            raise ValueError(f"{name} must be (n, {cols}) float64; got {a.shape} {a.dtype}")
+    if table.shape[0] and table[:, 0].max() >= x.shape[0]:
+        raise ValueError("the motion table refers to a node index outside the arrays")
+    _apply_motion(float(t), table, x0, x, vel)
+
+
+def motion_history(times, table) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(u, u', u'')`` of every row at every time, each ``(len(times), m)``."""
+    times = np.atleast_1d(np.asarray(times, dtype=np.float64))
+    table = _check_table(table)
+    u, v, a = (np.empty((times.shape[0], table.shape[0])) for _ in range(3))
+    _motion_history(times, table, u, v, a)
+    return u, v, a
+
+
+def prescribed_mask(table, n_nodes: int) -> np.ndarray:
+    """``(n, 6)`` bool, True at the DOFs the motion table drives (the solver does not integrate
+    them)."""
+    table = _check_table(table)
+    mask = np.zeros((n_nodes, 6), dtype=bool)
+    mask[table[:, 0].astype(np.int64), table[:, 1].astype(np.int64)] = True
+    return mask

@@ -1,0 +1,143 @@
+"""Rigid links (RBEL): slave nodes follow their master's rigid motion.
+
+A slave at body-frame offset :math:`\\mathbf r_0 = \\mathbf x_{s,0} - \\mathbf x_{m,0}` sits at
+:math:`\\mathbf x_s = \\mathbf x_m + \\mathsf R\\,\\mathbf r_0` and moves with
+:math:`\\mathbf v_s = \\mathbf v_m + \\boldsymbol\\omega_m\\times(\\mathsf R\\,\\mathbf r_0)`,
+:math:`\\boldsymbol\\omega_s = \\boldsymbol\\omega_m`. Forces on slaves gather to the master as a
+force and a moment :math:`\\mathbf M = \\sum (\\mathbf x_s - \\mathbf x_m)\\times\\mathbf f_s`.
+The master carries the body's mass and inertia tensor (parallel-axis theorem, built with the
+model); the rotation :math:`\\mathsf R` advances by Rodrigues' formula with :math:`\\Delta t\\,\\omega`.
+"""
+
+from __future__ import annotations
+
+import math
+
+from x3dpd._jit import kernel
+
+
+@kernel
+def _update_slaves(x, vel, masters, ptr, slaves, r0, rot, positions_too):
+    """Place slaves (if ``positions_too``) and set their velocities from their masters.
+
+    Returns the largest slave speed (for the neighbour-list displacement bound).
+    """
+    vmax2 = 0.0
+    for b in range(masters.shape[0]):
+        m = masters[b]
+        for q in range(ptr[b], ptr[b + 1]):
+            s = slaves[q]
+            rx = rot[b, 0, 0] * r0[q, 0] + rot[b, 0, 1] * r0[q, 1] + rot[b, 0, 2] * r0[q, 2]
+            ry = rot[b, 1, 0] * r0[q, 0] + rot[b, 1, 1] * r0[q, 1] + rot[b, 1, 2] * r0[q, 2]
+            rz = rot[b, 2, 0] * r0[q, 0] + rot[b, 2, 1] * r0[q, 1] + rot[b, 2, 2] * r0[q, 2]
+            if positions_too:
+                x[s, 0] = x[m, 0] + rx
+                x[s, 1] = x[m, 1] + ry
+                x[s, 2] = x[m, 2] + rz
+            wx = vel[m, 3]
+            wy = vel[m, 4]
+            wz = vel[m, 5]
+            vel[s, 0] = vel[m, 0] + wy * rz - wz * ry
+            vel[s, 1] = vel[m, 1] + wz * rx - wx * rz
+            vel[s, 2] = vel[m, 2] + wx * ry - wy * rx
+            vel[s, 3] = wx
+            vel[s, 4] = wy
+            vel[s, 5] = wz
+            v2 = vel[s, 0] ** 2 + vel[s, 1] ** 2 + vel[s, 2] ** 2
+            if v2 > vmax2:
+                vmax2 = v2
+    return math.sqrt(vmax2)
+
+
+@kernel
+def _gather_slaves(x, force, masters, ptr, slaves):
+    """Move slave forces to their master as force + moment; zero the slaves' rows."""
+    for b in range(masters.shape[0]):
+        m = masters[b]
+        for q in range(ptr[b], ptr[b + 1]):
+            s = slaves[q]
+            fx = force[s, 0]
+            fy = force[s, 1]
+            fz = force[s, 2]
+            rx = x[s, 0] - x[m, 0]
+            ry = x[s, 1] - x[m, 1]
+            rz = x[s, 2] - x[m, 2]
+            force[m, 0] += fx
+            force[m, 1] += fy
+            force[m, 2] += fz
+            force[m, 3] += ry * fz - rz * fy + force[s, 3]
+            force[m, 4] += rz * fx - rx * fz + force[s, 4]
+            force[m, 5] += rx * fy - ry * fx + force[s, 5]
+            for d in range(6):
+                force[s, d] = 0.0
+
+
+@kernel
+def _rotate(rot, masters, vel, dt):
+    """R <- exp(dt [omega]x) R (Rodrigues) for every rigid body."""
+    for b in range(masters.shape[0]):
+        m = masters[b]
+        wx = vel[m, 3] * dt
+        wy = vel[m, 4] * dt
+        wz = vel[m, 5] * dt
+        th = math.sqrt(wx * wx + wy * wy + wz * wz)
+        if th == 0.0:
+            continue
+        kx = wx / th
+        ky = wy / th
+        kz = wz / th
+        c = math.cos(th)
+        s = math.sin(th)
+        v = 1.0 - c
+        q00 = c + kx * kx * v
+        q01 = kx * ky * v - kz * s
+        q02 = kx * kz * v + ky * s
+        q10 = ky * kx * v + kz * s
+        q11 = c + ky * ky * v
+        q12 = ky * kz * v - kx * s
+        q20 = kz * kx * v - ky * s
+        q21 = kz * ky * v + kx * s
+        q22 = c + kz * kz * v
+        for j in range(3):
+            a0 = rot[b, 0, j]
+            a1 = rot[b, 1, j]
+            a2 = rot[b, 2, j]
+            rot[b, 0, j] = q00 * a0 + q01 * a1 + q02 * a2
+            rot[b, 1, j] = q10 * a0 + q11 * a1 + q12 * a2
+            rot[b, 2, j] = q20 * a0 + q21 * a1 + q22 * a2
+
+
+@kernel
+def _rigid_angular_kick(vel, force, masters, rot, inertia_body_inv, inertia_body, free_rot, h):
+    """omega += h I_w^{-1} (M - omega x I_w omega), I_w = R I_b R^T, on free rotational DOFs."""
+    for b in range(masters.shape[0]):
+        m = masters[b]
+        w = vel[m, 3:6]
+        # world-frame inertia times omega: R I_b R^T w
+        wb0 = rot[b, 0, 0] * w[0] + rot[b, 1, 0] * w[1] + rot[b, 2, 0] * w[2]
+        wb1 = rot[b, 0, 1] * w[0] + rot[b, 1, 1] * w[1] + rot[b, 2, 1] * w[2]
+        wb2 = rot[b, 0, 2] * w[0] + rot[b, 1, 2] * w[1] + rot[b, 2, 2] * w[2]
+        lb0 = inertia_body[b, 0, 0] * wb0 + inertia_body[b, 0, 1] * wb1 + inertia_body[b, 0, 2] * wb2
+        lb1 = inertia_body[b, 1, 0] * wb0 + inertia_body[b, 1, 1] * wb1 + inertia_body[b, 1, 2] * wb2
+        lb2 = inertia_body[b, 2, 0] * wb0 + inertia_body[b, 2, 1] * wb1 + inertia_body[b, 2, 2] * wb2
+        l0 = rot[b, 0, 0] * lb0 + rot[b, 0, 1] * lb1 + rot[b, 0, 2] * lb2
+        l1 = rot[b, 1, 0] * lb0 + rot[b, 1, 1] * lb1 + rot[b, 1, 2] * lb2
+        l2 = rot[b, 2, 0] * lb0 + rot[b, 2, 1] * lb1 + rot[b, 2, 2] * lb2
+        t0 = force[m, 3] - (w[1] * l2 - w[2] * l1)
+        t1 = force[m, 4] - (w[2] * l0 - w[0] * l2)
+        t2 = force[m, 5] - (w[0] * l1 - w[1] * l0)
+        tb0 = rot[b, 0, 0] * t0 + rot[b, 1, 0] * t1 + rot[b, 2, 0] * t2
+        tb1 = rot[b, 0, 1] * t0 + rot[b, 1, 1] * t1 + rot[b, 2, 1] * t2
+        tb2 = rot[b, 0, 2] * t0 + rot[b, 1, 2] * t1 + rot[b, 2, 2] * t2
+        ab0 = inertia_body_inv[b, 0, 0] * tb0 + inertia_body_inv[b, 0, 1] * tb1 + inertia_body_inv[b, 0, 2] * tb2
+        ab1 = inertia_body_inv[b, 1, 0] * tb0 + inertia_body_inv[b, 1, 1] * tb1 + inertia_body_inv[b, 1, 2] * tb2
+        ab2 = inertia_body_inv[b, 2, 0] * tb0 + inertia_body_inv[b, 2, 1] * tb1 + inertia_body_inv[b, 2, 2] * tb2
+        a0 = rot[b, 0, 0] * ab0 + rot[b, 0, 1] * ab1 + rot[b, 0, 2] * ab2
+        a1 = rot[b, 1, 0] * ab0 + rot[b, 1, 1] * ab1 + rot[b, 1, 2] * ab2
+        a2 = rot[b, 2, 0] * ab0 + rot[b, 2, 1] * ab1 + rot[b, 2, 2] * ab2
+        if free_rot[b, 0]:
+            vel[m, 3] += h * a0
+        if free_rot[b, 1]:
+            vel[m, 4] += h * a1
+        if free_rot[b, 2]:
+            vel[m, 5] += h * a2

@@ -1,0 +1,693 @@
+"""Template of the explicit time-step loop (report Section 7.3), specialised per scene.
+
+:func:`x3dpd.solver.variants.make_advance` copies this file, replaces the block between the
+VARIANT markers with the constants of one scene (which effects exist, how many Maxwell terms,
+which friction law) and imports the copy from x3dpd's kernel cache, so numba compiles exactly the
+effects the scene calls for -- absent effects are constant-false branches that never reach the
+machine code -- and caches the result on disk.
+
+Integration: velocity Verlet (central difference) with a constant step,
+
+    v(n+1/2) = v(n) + dt/2 a(n);  x(n+1) = x(n) + dt v(n+1/2);  forces f(n+1) from x(n+1), v(n+1/2);
+    v(n+1) = v(n+1/2) + dt/2 a(n+1).
+
+Velocity-dependent forces (dampers, friction, wall velocities) use the half-step velocity, as
+X3D's central-difference scheme does. Every function here takes arrays and scalars only.
+"""
+
+# --- VARIANT BEGIN ---
+HAS_GRAVITY = True
+HAS_SPRINGS = True
+HAS_RIGID = True
+HAS_RIGID_ROT = True
+HAS_WALLS = True
+HAS_PAIRS = True
+HAS_FRICTION = True
+HAS_VISCO = True
+HAS_EXT = True
+HAS_USER_FORCE = False
+HAS_PY_FORCE = False
+HAS_MOTION = True
+N_MAXWELL = 1
+from x3dpd.physics.coulomb import regularized_coulomb_force as FRICTION_LAW  # noqa: E402
+USER_FORCE = None
+# --- VARIANT END ---
+
+import math  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from x3dpd._jit import kernel  # noqa: E402
+from x3dpd.geometry.cells import _find_pairs  # noqa: E402
+from x3dpd.physics.gravity import _gravity_energy, _gravity_forces  # noqa: E402
+from x3dpd.physics.motion import _apply_motion  # noqa: E402
+from x3dpd.physics.rigid_link import (  # noqa: E402
+    _gather_slaves, _rigid_angular_kick, _rotate, _update_slaves)
+from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
+from x3dpd.physics.usrfrc import _apply_forces  # noqa: E402
+
+# status bits returned by advance()
+OK = 0
+PENETRATION = 1
+NONFINITE = 2
+REALLOC_PAIRS = 4
+REALLOC_WALLS = 8
+
+# ledger slots (cumulative since t0)
+L_WEXT = 0      # work of external forces and prescribed motions on the system
+L_WN = 1        # work absorbed by the normal contact forces (sum of 1/2 (F0+F1) da)
+L_DFRIC = 2     # energy dissipated by friction
+L_DDAMP = 3     # energy dissipated by structural dampers
+
+# columns of a contact state row
+S_A = 0         # geometric approach at the last step (may be negative)
+S_FN = 1        # applied normal force (>= 0)
+S_FT = 2        # friction force vector on the particle (i for pairs), 3 values
+S_H = 5         # Maxwell histories
+
+
+@kernel
+def _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d):
+    """Unit inward normal n_f and offset d_f = n_f . p0 of every face from its first triangle."""
+    for f in range(face_first_tri.shape[0]):
+        t = face_first_tri[f]
+        a = tri_nodes[t, 0]
+        b = tri_nodes[t, 1]
+        c = tri_nodes[t, 2]
+        ux = x[b, 0] - x[a, 0]
+        uy = x[b, 1] - x[a, 1]
+        uz = x[b, 2] - x[a, 2]
+        vx = x[c, 0] - x[a, 0]
+        vy = x[c, 1] - x[a, 1]
+        vz = x[c, 2] - x[a, 2]
+        nx = uy * vz - uz * vy
+        ny = uz * vx - ux * vz
+        nz = ux * vy - uy * vx
+        s = tri_sign[t] / math.sqrt(nx * nx + ny * ny + nz * nz)
+        face_n[f, 0] = nx * s
+        face_n[f, 1] = ny * s
+        face_n[f, 2] = nz * s
+        face_d[f] = face_n[f, 0] * x[a, 0] + face_n[f, 1] * x[a, 1] + face_n[f, 2] * x[a, 2]
+
+
+@kernel
+def _locate_on_face(q, n, f, x, face_ptr, face_tris, tri_nodes, tol, w):
+    """Find the triangle of face ``f`` that holds point ``q`` (within ``tol`` of its edges).
+
+    Writes clamped barycentric weights into ``w`` and returns the triangle index, or -1.
+    The edge tolerance keeps particles from slipping through seams, edges and corners.
+    """
+    best = -1
+    best_out = 1e300
+    for k in range(face_ptr[f], face_ptr[f + 1]):
+        t = face_tris[k]
+        outside = 0.0
+        l0 = 0.0
+        l1 = 0.0
+        l2 = 0.0
+        p0 = tri_nodes[t, 0]
+        p1 = tri_nodes[t, 1]
+        p2 = tri_nodes[t, 2]
+        # twice the signed area along n
+        ax = x[p1, 0] - x[p0, 0]
+        ay = x[p1, 1] - x[p0, 1]
+        az = x[p1, 2] - x[p0, 2]
+        bx = x[p2, 0] - x[p0, 0]
+        by = x[p2, 1] - x[p0, 1]
+        bz = x[p2, 2] - x[p0, 2]
+        area2 = n[0] * (ay * bz - az * by) + n[1] * (az * bx - ax * bz) + n[2] * (ax * by - ay * bx)
+        for e in range(3):
+            if e == 0:
+                i = p1
+                j = p2
+            elif e == 1:
+                i = p2
+                j = p0
+            else:
+                i = p0
+                j = p1
+            ex = x[j, 0] - x[i, 0]
+            ey = x[j, 1] - x[i, 1]
+            ez = x[j, 2] - x[i, 2]
+            rx = q[0] - x[i, 0]
+            ry = q[1] - x[i, 1]
+            rz = q[2] - x[i, 2]
+            lam = (n[0] * (ey * rz - ez * ry) + n[1] * (ez * rx - ex * rz)
+                   + n[2] * (ex * ry - ey * rx)) / area2
+            # distance outside this edge = -lam * height = -lam * |area2| / |e|
+            dist = -lam * abs(area2) / math.sqrt(ex * ex + ey * ey + ez * ez)
+            if dist > outside:
+                outside = dist
+            if e == 0:
+                l0 = lam
+            elif e == 1:
+                l1 = lam
+            else:
+                l2 = lam
+        if outside <= tol and outside < best_out:
+            best_out = outside
+            best = t
+            l0 = min(max(l0, 0.0), 1.0)
+            l1 = min(max(l1, 0.0), 1.0)
+            l2 = min(max(l2, 0.0), 1.0)
+            s = l0 + l1 + l2
+            w[0] = l0 / s
+            w[1] = l1 / s
+            w[2] = l2 / s
+            if outside == 0.0:
+                break
+    return best
+
+
+@kernel
+def _build_wall_list(x, p0, radius, pcav, cav_ptr, cav_faces, face_n, face_d, face_ptr,
+                     face_tris, tri_nodes, skin, out_p, out_f, out_a):
+    """Candidate (particle, face) pairs: centre within R + skin of the plane, on its inner side or
+    less than R behind it, and projecting onto the face (edge tolerance R + skin).
+
+    Sorted by particle, then face. Returns the count, or -1 when the output is full.
+    """
+    count = 0
+    cap = out_p.shape[0]
+    q = np.empty(3)
+    w = np.empty(3)
+    for p in range(radius.shape[0]):
+        c = pcav[p]
+        if c < 0:
+            continue
+        i = p0 + p
+        r = radius[p]
+        for k in range(cav_ptr[c], cav_ptr[c + 1]):
+            f = cav_faces[k]
+            n = face_n[f]
+            d = n[0] * x[i, 0] + n[1] * x[i, 1] + n[2] * x[i, 2] - face_d[f]
+            if d >= r + skin or d <= -r:
+                continue
+            for e in range(3):
+                q[e] = x[i, e] - d * n[e]
+            if _locate_on_face(q, n, f, x, face_ptr, face_tris, tri_nodes, r + skin, w) < 0:
+                continue
+            if count >= cap:
+                return -1
+            out_p[count] = p
+            out_f[count] = f
+            out_a[count] = r - d
+            count += 1
+    return count
+
+
+@kernel
+def _merge_states(old_a, old_b, old_s, old_n, new_a, new_b, new_s, new_n, new_approach):
+    """Carry contact histories from the old candidate list to the new one (both sorted)."""
+    i = 0
+    for j in range(new_n):
+        while i < old_n and (old_a[i] < new_a[j] or (old_a[i] == new_a[j] and old_b[i] < new_b[j])):
+            i += 1
+        if i < old_n and old_a[i] == new_a[j] and old_b[i] == new_b[j]:
+            for c in range(new_s.shape[1]):
+                new_s[j, c] = old_s[i, c]
+        else:
+            for c in range(new_s.shape[1]):
+                new_s[j, c] = 0.0
+            new_s[j, S_A] = new_approach[j]
+
+
+@kernel
+def _pair_approach(x, p0, radius, pi, pj, n, out_a):
+    for q in range(n):
+        i = p0 + pi[q]
+        j = p0 + pj[q]
+        dx = x[j, 0] - x[i, 0]
+        dy = x[j, 1] - x[i, 1]
+        dz = x[j, 2] - x[i, 2]
+        out_a[q] = radius[pi[q]] + radius[pj[q]] - math.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+@kernel
+def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p, wl_f, ws, nw,
+                   face_n, face_d, face_ptr, face_tris, tri_nodes, dt, ledger, pen_limit, diag):
+    """Particle-wall contact forces (report Figure 40): Hertz / Lee-Radok normal force, Coulomb
+    friction with spin, reaction on the wall's nodes. Returns a status bit."""
+    q = np.empty(3)
+    w = np.empty(3)
+    status = OK
+    for s in range(nw):
+        p = wl_p[s]
+        f = wl_f[s]
+        i = p0 + p
+        n = face_n[f]
+        r = radius[p]
+        d = n[0] * x[i, 0] + n[1] * x[i, 1] + n[2] * x[i, 2] - face_d[f]
+        a = r - d
+        a_old = ws[s, S_A]
+        fn_old = ws[s, S_FN]
+        t = -1
+        if a > 0.0:
+            for e in range(3):
+                q[e] = x[i, e] - d * n[e]
+            t = _locate_on_face(q, n, f, x, face_ptr, face_tris, tri_nodes, r, w)
+        if t < 0:
+            # no contact (or the particle left the face): close any open contact
+            if fn_old != 0.0 or a_old > 0.0:
+                ledger[L_WN] += 0.5 * fn_old * (a - a_old)
+                if HAS_FRICTION:
+                    ft_old_v = 0.0
+                    for e in range(3):
+                        ws[s, S_FT + e] = 0.0
+                    ledger[L_DFRIC] += ft_old_v
+                for k in range(N_MAXWELL):
+                    ws[s, S_H + k] = 0.0
+            ws[s, S_A] = min(a, 0.0) if t < 0 and a > 0.0 else a
+            ws[s, S_FN] = 0.0
+            continue
+        if a > pen_limit * r:
+            status |= PENETRATION
+            diag[0] = p
+            diag[1] = f
+            diag[2] = a
+            diag[3] = r
+        # normal force: long-term Hertz term exactly, Maxwell terms incrementally
+        a32 = a * math.sqrt(a)
+        fn = kw[p, 0] * a32
+        if HAS_VISCO:
+            ao = a_old if a_old > 0.0 else 0.0
+            a32_old = ao * math.sqrt(ao)
+            for k in range(N_MAXWELL):
+                h = ws[s, S_H + k] * decay[p, k + 1] + half[p, k + 1] * kw[p, k + 1] * (a32 - a32_old)
+                ws[s, S_H + k] = h
+                fn += h
+        if fn < 0.0:
+            fn = 0.0
+        ledger[L_WN] += 0.5 * (fn_old + fn) * (a - a_old)
+        ws[s, S_A] = a
+        ws[s, S_FN] = fn
+        fx = fn * n[0]
+        fy = fn * n[1]
+        fz = fn * n[2]
+        if HAS_FRICTION:
+            # relative velocity of the particle's contact point (at -R n) and the wall point q
+            nd0 = tri_nodes[t, 0]
+            nd1 = tri_nodes[t, 1]
+            nd2 = tri_nodes[t, 2]
+            rcx = -r * n[0]
+            rcy = -r * n[1]
+            rcz = -r * n[2]
+            wx = vel[i, 3]
+            wy = vel[i, 4]
+            wz = vel[i, 5]
+            vrx = vel[i, 0] + wy * rcz - wz * rcy
+            vry = vel[i, 1] + wz * rcx - wx * rcz
+            vrz = vel[i, 2] + wx * rcy - wy * rcx
+            vrx -= w[0] * vel[nd0, 0] + w[1] * vel[nd1, 0] + w[2] * vel[nd2, 0]
+            vry -= w[0] * vel[nd0, 1] + w[1] * vel[nd1, 1] + w[2] * vel[nd2, 1]
+            vrz -= w[0] * vel[nd0, 2] + w[1] * vel[nd1, 2] + w[2] * vel[nd2, 2]
+            vn = vrx * n[0] + vry * n[1] + vrz * n[2]
+            vtx = vrx - vn * n[0]
+            vty = vry - vn * n[1]
+            vtz = vrz - vn * n[2]
+            vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
+            ftx = 0.0
+            fty = 0.0
+            ftz = 0.0
+            if vt > 0.0:
+                mag = FRICTION_LAW(vt, fn, mu[p], 1.0 / inv_mt[p], dt) / vt
+                ftx = -mag * vtx
+                fty = -mag * vty
+                ftz = -mag * vtz
+            # trapezoidal friction work over the step (slip displacement = vt dt)
+            ledger[L_DFRIC] -= 0.5 * ((ws[s, S_FT] + ftx) * vtx + (ws[s, S_FT + 1] + fty) * vty
+                                      + (ws[s, S_FT + 2] + ftz) * vtz) * dt
+            ws[s, S_FT] = ftx
+            ws[s, S_FT + 1] = fty
+            ws[s, S_FT + 2] = ftz
+            fx += ftx
+            fy += fty
+            fz += ftz
+            force[i, 3] += rcy * ftz - rcz * fty
+            force[i, 4] += rcz * ftx - rcx * ftz
+            force[i, 5] += rcx * fty - rcy * ftx
+        force[i, 0] += fx
+        force[i, 1] += fy
+        force[i, 2] += fz
+        for e in range(3):
+            nd = tri_nodes[t, e]
+            force[nd, 0] -= w[e] * fx
+            force[nd, 1] -= w[e] * fy
+            force[nd, 2] -= w[e] * fz
+    return status
+
+
+@kernel
+def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt, pl_i, pl_j,
+                   ps, npairs, dt, ledger, pen_limit, diag):
+    """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
+    force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j."""
+    status = OK
+    for s in range(npairs):
+        pi = pl_i[s]
+        pj = pl_j[s]
+        i = p0 + pi
+        j = p0 + pj
+        dx = x[j, 0] - x[i, 0]
+        dy = x[j, 1] - x[i, 1]
+        dz = x[j, 2] - x[i, 2]
+        dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+        ri = radius[pi]
+        rj = radius[pj]
+        a = ri + rj - dist
+        a_old = ps[s, S_A]
+        fn_old = ps[s, S_FN]
+        if a <= 0.0:
+            if fn_old != 0.0 or a_old > 0.0:
+                ledger[L_WN] += 0.5 * fn_old * (a - a_old)
+                for c in range(S_FT, ps.shape[1]):
+                    ps[s, c] = 0.0
+            ps[s, S_A] = a
+            ps[s, S_FN] = 0.0
+            continue
+        rmin = ri if ri < rj else rj
+        if a > pen_limit * rmin:
+            status |= PENETRATION
+            diag[0] = pi
+            diag[1] = -1 - pj
+            diag[2] = a
+            diag[3] = rmin
+        nx = dx / dist
+        ny = dy / dist
+        nz = dz / dist
+        sq = math.sqrt(ri * rj / (ri + rj))
+        wgt = cinst[pi] * cinst[pj] / (cinst[pi] + cinst[pj]) ** 2
+        kfac = 4.0 / 3.0 * wgt * sq
+        a32 = a * math.sqrt(a)
+        fn = kfac * (ep[pi, 0] + ep[pj, 0]) * a32
+        if HAS_VISCO:
+            ao = a_old if a_old > 0.0 else 0.0
+            da32 = a32 - ao * math.sqrt(ao)
+            for k in range(N_MAXWELL):
+                h = ps[s, S_H + k] * decay[pi, k + 1] + half[pi, k + 1] * kfac * ep[pi, k + 1] * da32
+                ps[s, S_H + k] = h
+                fn += h
+                h = (ps[s, S_H + N_MAXWELL + k] * decay[pj, k + 1]
+                     + half[pj, k + 1] * kfac * ep[pj, k + 1] * da32)
+                ps[s, S_H + N_MAXWELL + k] = h
+                fn += h
+        if fn < 0.0:
+            fn = 0.0
+        ledger[L_WN] += 0.5 * (fn_old + fn) * (a - a_old)
+        ps[s, S_A] = a
+        ps[s, S_FN] = fn
+        # force on j along +n, on i along -n
+        fx = fn * nx
+        fy = fn * ny
+        fz = fn * nz
+        if HAS_FRICTION:
+            wix = vel[i, 3]
+            wiy = vel[i, 4]
+            wiz = vel[i, 5]
+            wjx = vel[j, 3]
+            wjy = vel[j, 4]
+            wjz = vel[j, 5]
+            # contact point velocities: i at +ri n, j at -rj n
+            vix = vel[i, 0] + ri * (wiy * nz - wiz * ny)
+            viy = vel[i, 1] + ri * (wiz * nx - wix * nz)
+            viz = vel[i, 2] + ri * (wix * ny - wiy * nx)
+            vjx = vel[j, 0] - rj * (wjy * nz - wjz * ny)
+            vjy = vel[j, 1] - rj * (wjz * nx - wjx * nz)
+            vjz = vel[j, 2] - rj * (wjx * ny - wjy * nx)
+            vrx = vjx - vix
+            vry = vjy - viy
+            vrz = vjz - viz
+            vn = vrx * nx + vry * ny + vrz * nz
+            vtx = vrx - vn * nx
+            vty = vry - vn * ny
+            vtz = vrz - vn * nz
+            vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
+            ftx = 0.0
+            fty = 0.0
+            ftz = 0.0
+            if vt > 0.0:
+                mt = 1.0 / (inv_mt[pi] + inv_mt[pj])
+                mag = FRICTION_LAW(vt, fn, 0.5 * (mu[pi] + mu[pj]), mt, dt) / vt
+                ftx = -mag * vtx
+                fty = -mag * vty
+                ftz = -mag * vtz
+            ledger[L_DFRIC] -= 0.5 * ((ps[s, S_FT] + ftx) * vtx + (ps[s, S_FT + 1] + fty) * vty
+                                      + (ps[s, S_FT + 2] + ftz) * vtz) * dt
+            ps[s, S_FT] = ftx
+            ps[s, S_FT + 1] = fty
+            ps[s, S_FT + 2] = ftz
+            fx += ftx
+            fy += fty
+            fz += ftz
+            # torques: r_i x (-F_t) with r_i = ri n ; r_j x F_t with r_j = -rj n
+            force[i, 3] -= ri * (ny * ftz - nz * fty)
+            force[i, 4] -= ri * (nz * ftx - nx * ftz)
+            force[i, 5] -= ri * (nx * fty - ny * ftx)
+            force[j, 3] -= rj * (ny * ftz - nz * fty)
+            force[j, 4] -= rj * (nz * ftx - nx * ftz)
+            force[j, 5] -= rj * (nx * fty - ny * ftx)
+        force[j, 0] += fx
+        force[j, 1] += fy
+        force[j, 2] += fz
+        force[i, 0] -= fx
+        force[i, 1] -= fy
+        force[i, 2] -= fz
+    return status
+
+
+@kernel
+def _contact_energy(ws, nw, ps, npairs):
+    """Elastic energy stored in contacts, U = 2/5 F_N a per contact (exact for Hertz)."""
+    u = 0.0
+    for s in range(nw):
+        if ws[s, S_A] > 0.0:
+            u += 0.4 * ws[s, S_FN] * ws[s, S_A]
+    for s in range(npairs):
+        if ps[s, S_A] > 0.0:
+            u += 0.4 * ps[s, S_FN] * ps[s, S_A]
+    return u
+
+
+@kernel
+def _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes, sp_k, ws, nw,
+              ps, npairs, dt, out):
+    """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction)."""
+    ke_t = 0.0
+    ke_r = 0.0
+    shadow = 0.0
+    for i in range(x.shape[0]):
+        m = kin_mass[i]
+        if m != 0.0:
+            ke_t += 0.5 * m * (vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+        for d in range(3):
+            ke_r += 0.5 * kin_inertia[i, d] * vel[i, 3 + d] ** 2
+        for d in range(6):
+            shadow += force[i, d] ** 2 * inv_m[i, d]
+    out[0] = ke_t
+    out[1] = ke_r
+    out[2] = _gravity_energy(mass, x, x0, g) if HAS_GRAVITY else 0.0
+    out[3] = _spring_energy(x, x0, sp_nodes, sp_k) if HAS_SPRINGS else 0.0
+    out[4] = _contact_energy(ws, nw, ps, npairs) if (HAS_WALLS or HAS_PAIRS) else 0.0
+    out[5] = dt * dt / 8.0 * shadow
+
+
+@kernel
+def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_nodes, sp_k, sp_c,
+            fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, cinst, decay, half, mu,
+            inv_mt, wl_p, wl_f, ws, nw, pl_i, pl_j, ps, npairs, face_n, face_d, face_first_tri,
+            face_ptr, face_tris, tri_nodes, tri_sign, dt, ledger, pen_limit, diag):
+    """All forces at time t from x and the (half-step) velocities; updates the ledger."""
+    force[:, :] = 0.0
+    status = OK
+    if HAS_GRAVITY:
+        _gravity_forces(mass, g, force)
+    if HAS_SPRINGS:
+        ledger[L_DDAMP] += _spring_forces(x, x0, vel, sp_nodes, sp_k, sp_c, force, fd_prev, dt)
+    if HAS_EXT:
+        fext[:, :] = 0.0
+        _apply_forces(t, ext_table, fext)
+        if HAS_USER_FORCE:
+            USER_FORCE(t, x, vel, fext)
+        if HAS_PY_FORCE:
+            fext += fpy
+        wext = 0.0
+        for i in range(fext.shape[0]):
+            for d in range(6):
+                fe = fext[i, d]
+                if fe != 0.0 or fext_prev[i, d] != 0.0:
+                    wext += 0.5 * (fext_prev[i, d] + fe) * vel[i, d] * dt
+                    force[i, d] += fe
+                    fext_prev[i, d] = fe
+        ledger[L_WEXT] += wext
+    if HAS_WALLS:
+        _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d)
+        status |= _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
+                                 wl_f, ws, nw, face_n, face_d, face_ptr, face_tris, tri_nodes, dt,
+                                 ledger, pen_limit, diag)
+    if HAS_PAIRS:
+        status |= _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt,
+                                 pl_i, pl_j, ps, npairs, dt, ledger, pen_limit, diag)
+    if HAS_RIGID:
+        _gather_slaves(x, force, rig_master, rig_ptr, rig_slaves)
+    return status
+
+
+@kernel
+def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass, kin_inertia, g,
+            fext, fext_prev, ext_table, fpy, motion_table, motion_prev,
+            sp_nodes, sp_k, sp_c, fd_prev,
+            rig_master, rig_ptr, rig_slaves, rig_r0, rot, rig_inv_ib, rig_ib, rig_free_rot,
+            p0, radius, kw, ep, cinst, decay, half, mu, inv_mt, pcav,
+            cav_ptr, cav_faces, face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes,
+            tri_sign,
+            wl_p, wl_f, ws, nwl, wl_p2, wl_f2, ws2, wl_a,
+            pl_i, pl_j, ps, npl, pl_i2, pl_j2, ps2, pl_a,
+            nbr, skin, ledger, pen_limit, diag,
+            itrac, trace_nodes, out_t, out_data, out_energy, e_ref):
+    """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
+
+    ``nwl``/``npl`` (1-element arrays) hold the live lengths of the wall and pair candidate lists;
+    ``nbr`` = [displacement bound of particles, of wall nodes, rebuild count, wall list toggle,
+    pair list toggle]. Every ``itrac``-th step appends one row to the trace buffers. Returns
+    (status, steps done, rows written); the run stops at the first non-zero status or a full
+    output buffer.
+    """
+    n = x.shape[0]
+    npart = radius.shape[0]
+    rows = 0
+    h = 0.5 * dt
+    en = np.empty(6)
+    for it in range(nsteps):
+        step = step0 + it
+        # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
+        if HAS_WALLS or HAS_PAIRS:
+            if nbr[3] < 0.0 or 2.0 * nbr[0] > skin or nbr[0] + nbr[1] > skin:
+                if HAS_WALLS:
+                    m = _build_wall_list(x, p0, radius, pcav, cav_ptr, cav_faces, face_n, face_d,
+                                         face_ptr, face_tris, tri_nodes, skin, wl_p2, wl_f2, wl_a)
+                    if m < 0:
+                        return REALLOC_WALLS, it, rows
+                    _merge_states(wl_p, wl_f, ws, nwl[0], wl_p2, wl_f2, ws2, m, wl_a)
+                    wl_p[:m] = wl_p2[:m]
+                    wl_f[:m] = wl_f2[:m]
+                    ws[:m, :] = ws2[:m, :]
+                    nwl[0] = m
+                if HAS_PAIRS:
+                    xp = x[p0:p0 + npart]
+                    m = _find_pairs(xp, radius, pcav, skin, pl_i2, pl_j2)
+                    if m < 0:
+                        return REALLOC_PAIRS, it, rows
+                    _pair_approach(x, p0, radius, pl_i2, pl_j2, m, pl_a)
+                    _merge_states(pl_i, pl_j, ps, npl[0], pl_i2, pl_j2, ps2, m, pl_a)
+                    pl_i[:m] = pl_i2[:m]
+                    pl_j[:m] = pl_j2[:m]
+                    ps[:m, :] = ps2[:m, :]
+                    npl[0] = m
+                nbr[0] = 0.0
+                nbr[1] = 0.0
+                nbr[2] += 1.0
+                nbr[3] = 1.0
+        # ---- first half kick and drift
+        vmax2 = 0.0
+        for i in range(n):
+            for d in range(6):
+                vel[i, d] += h * force[i, d] * inv_m[i, d]
+            x[i, 0] += dt * vel[i, 0]
+            x[i, 1] += dt * vel[i, 1]
+            x[i, 2] += dt * vel[i, 2]
+            if i >= p0:
+                v2 = vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2
+                if v2 > vmax2:
+                    vmax2 = v2
+        if HAS_RIGID_ROT:
+            _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h)
+            _rotate(rot, rig_master, vel, dt)
+        t = t_start + (step + 1) * dt
+        if HAS_MOTION:
+            _apply_motion(t, motion_table, x0, x, vel)
+        vwall = 0.0
+        if HAS_RIGID:
+            vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True)
+        nbr[0] += dt * math.sqrt(vmax2)
+        nbr[1] += dt * vwall
+        # ---- forces at the new positions
+        st = _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_nodes, sp_k,
+                     sp_c, fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, cinst,
+                     decay, half, mu, inv_mt, wl_p, wl_f, ws, nwl[0], pl_i, pl_j, ps, npl[0],
+                     face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes, tri_sign, dt,
+                     ledger, pen_limit, diag)
+        if HAS_MOTION:
+            # work of the motion's actuator: it supplies m a - f on each prescribed DOF
+            for r in range(motion_table.shape[0]):
+                i = int(motion_table[r, 0])
+                d = int(motion_table[r, 1])
+                om = motion_table[r, 3]
+                tt = t - motion_table[r, 5]
+                acc = 0.0
+                if tt >= 0.0:
+                    acc = -motion_table[r, 2] * om * om * math.sin(om * tt + motion_table[r, 4])
+                react = kin_mass[i] * acc - force[i, d] if d < 3 else -force[i, d]
+                ledger[L_WEXT] += 0.5 * (motion_prev[r] + react) * vel[i, d] * dt
+                motion_prev[r] = react
+        # ---- second half kick
+        for i in range(n):
+            for d in range(6):
+                vel[i, d] += h * force[i, d] * inv_m[i, d]
+        if HAS_RIGID_ROT:
+            _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h)
+        if HAS_MOTION:
+            _apply_motion(t, motion_table, x0, x, vel)
+        if HAS_RIGID:
+            _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, False)
+        if st != OK:
+            diag[4] = t
+            diag[5] = step + 1
+            return st, it + 1, rows
+        # ---- output
+        if (step + 1) % itrac == 0:
+            for k in range(trace_nodes.shape[0]):
+                i = trace_nodes[k]
+                for d in range(3):
+                    out_data[rows, k, d] = x[i, d]
+                for d in range(6):
+                    out_data[rows, k, 3 + d] = vel[i, d]
+            out_t[rows] = t
+            _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes, sp_k,
+                      ws, nwl[0], ps, npl[0], dt, en)
+            _ledger_row(t, en, ledger, e_ref, out_energy[rows])
+            rows += 1
+            # non-finite state is caught at output steps (cheap), before it reaches the trace
+            bad = False
+            for k in range(trace_nodes.shape[0]):
+                for d in range(9):
+                    if not math.isfinite(out_data[rows - 1, k, d]):
+                        bad = True
+            if bad or not math.isfinite(out_energy[rows - 1, 11]):
+                diag[4] = t
+                diag[5] = step + 1
+                return NONFINITE, it + 1, rows - 1
+            if rows >= out_t.shape[0]:
+                return OK, it + 1, rows
+    return OK, nsteps, rows
+
+
+@kernel
+def _ledger_row(t, en, ledger, e_ref, row):
+    """row = t, KE_t, KE_r, U_g, U_s, U_c, D_visc, D_fric, D_damp, W_ext, E_total, residual.
+
+    D_visc = W_N - U_c when contacts are viscoelastic (absorbed minus still stored); elastic
+    contacts dissipate nothing by definition, so their integration error shows in the residual.
+    """
+    row[0] = t
+    for k in range(5):
+        row[1 + k] = en[k]
+    if HAS_VISCO:
+        row[6] = ledger[L_WN] - en[4]
+    else:
+        row[6] = 0.0
+    row[7] = ledger[L_DFRIC]
+    row[8] = ledger[L_DDAMP]
+    row[9] = ledger[L_WEXT]
+    e_total = en[0] + en[1] + en[2] + en[3] + en[4]
+    row[10] = e_total
+    row[11] = (e_total - en[5]) - e_ref + row[6] + row[7] + row[8] - row[9]

@@ -1,0 +1,423 @@
+"""Run a model: the Python side of the time-step loop.
+
+:class:`Simulation` prepares the kernel arrays, compiles (or loads from cache) the step loop for
+exactly the scene's effects, evaluates the forces at t0, then advances in chunks. The compiled
+loop returns status bits; this module turns them into :class:`~x3dpd.errors.UnstableRunError`
+with a diagnosis, grows contact lists when they overflow, and audits the energy ledger and the
+cavity containment after every chunk.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass
+
+import numpy as np
+
+from x3dpd.errors import InputError, UnstableRunError
+from x3dpd.model.model import Model
+from x3dpd.physics.motion import motion_table
+from x3dpd.physics.usrfrc import build_external_forces
+from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
+from x3dpd.solver.variants import Variant, make_advance
+
+#: Columns of the energy ledger rows (see docs/energy.md).
+ENERGY_COLUMNS = ("time", "kinetic_translation", "kinetic_rotation", "gravity_potential",
+                  "spring_energy", "contact_energy", "dissipated_viscoelastic",
+                  "dissipated_friction", "dissipated_dampers", "external_work", "total_energy",
+                  "residual")
+
+#: Trace columns after time (report Appendix E order).
+TRACE_COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz")
+
+
+@dataclass
+class Block:
+    """Output of one chunk: ``times`` (k,), ``data`` (k, R, 9), ``energy`` (k, 12)."""
+
+    times: np.ndarray
+    data: np.ndarray
+    energy: np.ndarray
+
+
+class Simulation:
+    """A model ready to run.
+
+    Parameters
+    ----------
+    model : Model
+    usrfrc : extra force specs (added to the deck's USRFRC card), see docs/usrfrc.md
+    motion : prescribed-motion specs (``node=25,dof=1,amp=0.01,hz=37.21``)
+    dt : time step [s]; default the deck's DTMAX
+    friction : "regularized" (default, Haff-Werner with gamma = 1/(2 dt)) or "coulomb"
+    penetration_limit : stop when an approach exceeds this fraction of the radius
+    energy_tolerance : stop when the ledger residual exceeds this fraction of the energy scale
+    allow_python_usrfrc : accept user force files numba cannot compile (slow fallback)
+    itrac : trace interval in steps; default the deck's ITRAC
+    """
+
+    def __init__(self, model: Model, *, usrfrc=(), motion=(), dt: float | None = None,
+                 friction: str = "regularized", penetration_limit: float = 0.25,
+                 energy_tolerance: float = 0.05, allow_python_usrfrc: bool = False,
+                 itrac: int | None = None, skin: float | None = None):
+        self.model = model
+        self.dt = float(dt if dt is not None else model.dt)
+        if not (self.dt > 0 and math.isfinite(self.dt)):
+            raise InputError(f"time step must be a positive number, got {self.dt!r}")
+        self.itrac = int(itrac if itrac is not None else model.itrac)
+        if self.itrac < 1:
+            raise InputError(f"trace interval ITRAC must be >= 1 step, got {self.itrac}")
+        self.penetration_limit = float(penetration_limit)
+        self.energy_tolerance = float(energy_tolerance)
+        specs = list(model.usrfrc) + list(usrfrc)
+        self.ext = build_external_forces(specs, model, allow_python=allow_python_usrfrc)
+        self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros((0, 7))
+        prescribed = self.motion[:, :2].astype(np.int64) if len(self.motion) else None
+        self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed)
+        effects = set(model.effects)
+        if specs:
+            effects.add("external_force")
+        if len(self.motion):
+            effects.add("prescribed_motion")
+        self.python_forces = list(self.ext.python_user)
+        compiled = list(self.ext.compiled_user)
+        user_fn = _combine([uf.function for uf in compiled]) if compiled else None
+        if self.python_forces:
+            effects.add("external_force")
+        self.effects = frozenset(effects)
+        self.variant = Variant.from_effects(self.effects, self.setup.n_maxwell, friction,
+                                            user_force=user_fn is not None,
+                                            python_force=bool(self.python_forces))
+        t = _time.perf_counter()
+        self.kernels = make_advance(self.variant, user_fn)
+        self.compile_seconds = 0.0
+        self._load_seconds = _time.perf_counter() - t
+        self.state = initial_state(model, self.setup, model.n_nodes, len(self.motion))
+        self.fpy = np.zeros((model.n_nodes, 6))
+        self.trace_nodes = np.ascontiguousarray(model.trace_nodes, dtype=np.int64)
+        self.diag = np.zeros(8)
+        self._initialized = False
+
+    # ------------------------------------------------------------------ setup
+    @property
+    def time(self) -> float:
+        return self.model.t0 + self.state.step * self.dt
+
+    def initialize(self) -> None:
+        """Forces at t0 (velocity Verlet needs them), initial contacts, the reference energy."""
+        if self._initialized:
+            return
+        t = _time.perf_counter()
+        s, k = self.state, self.setup
+        self._direct_rebuild()
+        self._python_force(self.model.t0)
+        st = self.kernels._forces(*self._force_args(self.model.t0, scratch_ledger=True))
+        self._check_status(st, self.model.t0, 0)
+        en = self._energy_now()
+        s.e_ref = float(en[0] + en[1] + en[2] + en[3] + en[4] - en[5])
+        self.compile_seconds += _time.perf_counter() - t
+        self._initialized = True
+
+    def restore(self, state: State) -> None:
+        """Continue from a restart dump's state (forces at its step are part of it)."""
+        self.state = state
+        self._initialized = True
+
+    def snapshot(self) -> Block:
+        """The trace rows and ledger at the current step (used for t = t0)."""
+        self.initialize()
+        s = self.state
+        data = np.empty((1, self.trace_nodes.shape[0], 9))
+        data[0, :, :3] = s.x[self.trace_nodes]
+        data[0, :, 3:] = s.vel[self.trace_nodes]
+        energy = np.empty((1, len(ENERGY_COLUMNS)))
+        en = self._energy_now()
+        self.kernels._ledger_row(self.time, en, s.ledger, s.e_ref, energy[0])
+        return Block(np.array([self.time]), data, energy)
+
+    # ------------------------------------------------------------------ stepping
+    def advance(self, nsteps: int, max_rows: int | None = None) -> Block:
+        """Advance ``nsteps`` steps (fewer when the output buffer fills); return the rows written."""
+        self.initialize()
+        nsteps = int(nsteps)
+        if max_rows is None:
+            max_rows = nsteps // self.itrac + 1
+        max_rows = max(1, int(max_rows))
+        r = self.trace_nodes.shape[0]
+        out_t = np.empty(max_rows)
+        out_data = np.empty((max_rows, r, 9))
+        out_energy = np.empty((max_rows, len(ENERGY_COLUMNS)))
+        rows = 0
+        done = 0
+        while done < nsteps and rows < max_rows:
+            chunk = nsteps - done
+            if self.python_forces:
+                chunk = 1
+                self._python_force(self.time + self.dt)
+            t0 = _time.perf_counter()
+            status, steps, got = self.kernels.advance(
+                chunk, self.state.step, self.model.t0, self.dt, *self._advance_args(),
+                out_t[rows:], out_data[rows:], out_energy[rows:], self.state.e_ref)
+            if not self._timed_first_call:
+                self.compile_seconds += _time.perf_counter() - t0
+                self._timed_first_call = True
+            self.state.step += steps
+            done += steps
+            rows += got
+            if status & 12:  # list overflow: grow and go on from this step boundary
+                self._grow(status)
+                continue
+            if status:
+                self._check_status(status, self.diag[4], int(self.diag[5]))
+            if got and rows >= max_rows:
+                break
+        block = Block(out_t[:rows].copy(), out_data[:rows].copy(), out_energy[:rows].copy())
+        self._audit(block)
+        return block
+
+    _timed_first_call = False
+
+    # ------------------------------------------------------------------ diagnostics
+    def energy_scale(self, energy: np.ndarray) -> float:
+        """Energy against which the residual is judged: the largest of the ledger's terms."""
+        cols = np.abs(energy[:, 1:11])
+        scale = float(cols.max()) if cols.size else 0.0
+        return max(scale, abs(self.state.e_ref), 1e-300)
+
+    def _audit(self, block: Block) -> None:
+        """Stop with a diagnosis when energy appears from nowhere or a particle escaped."""
+        if block.energy.shape[0]:
+            self._scale = max(getattr(self, "_scale", 0.0), self.energy_scale(block.energy))
+            res = block.energy[-1, 11]
+            if abs(res) > self.energy_tolerance * self._scale:
+                t = block.energy[-1, 0]
+                grew = "grew" if res > 0 else "was lost"
+                raise UnstableRunError(
+                    f"unstable run at t = {t:.6g} s (step {self.state.step}): total energy {grew} "
+                    f"by {abs(res):.4g} without a source ({abs(res) / self._scale:.1%} of the "
+                    f"energy scale {self._scale:.4g}; tolerance {self.energy_tolerance:.0%}). "
+                    f"Likely cause: the time step {self.dt:.3g} s is too large for the contact "
+                    f"or spring stiffness; run `x3dpd check` for a recommended step.",
+                    time=t, step=self.state.step)
+        self._check_containment()
+
+    def _check_containment(self) -> None:
+        m, k, s = self.model, self.setup, self.state
+        if m.n_particles == 0 or k.tri_nodes.shape[0] == 0:
+            return
+        xp = s.x[k.p0:]
+        if not np.all(np.isfinite(xp)):
+            bad = int(np.argmax(~np.all(np.isfinite(xp), axis=1)))
+            raise UnstableRunError(
+                f"unstable run at t = {self.time:.6g} s: particle node {m.node_ids[k.p0 + bad]} has a "
+                f"non-finite position. Likely cause: the time step is too large.",
+                time=self.time, step=s.step, node=int(m.node_ids[k.p0 + bad]))
+        for c, nodes in enumerate(self._cavity_nodes()):
+            members = np.nonzero(k.pcav == c)[0]
+            if members.size == 0 or nodes.size == 0:
+                continue
+            lo = s.x[nodes].min(axis=0)
+            hi = s.x[nodes].max(axis=0)
+            pos = xp[members]
+            r = k.radius[members][:, None]
+            out = np.any((pos < lo - r) | (pos > hi + r), axis=1)
+            if out.any():
+                p = int(members[np.argmax(out)])
+                nid = int(m.node_ids[k.p0 + p])
+                raise UnstableRunError(
+                    f"unstable run at t = {self.time:.6g} s: particle node {nid} left its cavity "
+                    f"(CONTACT set {int(m.cavity_set_ids[c])}) at {np.round(xp[p], 6).tolist()}. "
+                    f"Likely cause: the time step {self.dt:.3g} s is too large for the wall "
+                    f"contact stiffness, so the particle tunnelled through a wall.",
+                    time=self.time, step=s.step, node=nid)
+
+    def _cavity_nodes(self) -> list:
+        if not hasattr(self, "_cav_nodes"):
+            m, k = self.model, self.setup
+            out = []
+            for c in range(k.cav_ptr.shape[0] - 1):
+                faces = k.cav_faces[k.cav_ptr[c]:k.cav_ptr[c + 1]]
+                out.append(np.unique(k.tri_nodes[np.isin(m.tri_face, faces)]))
+            self._cav_nodes = out
+        return self._cav_nodes
+
+    def _check_status(self, status: int, t: float, step: int) -> None:
+        if status == 0:
+            return
+        m, k = self.model, self.setup
+        if status & 2:
+            raise UnstableRunError(
+                f"unstable run at t = {t:.6g} s (step {step}): a traced value became non-finite "
+                f"(inf or NaN). Likely cause: the time step {self.dt:.3g} s is too large.",
+                time=t, step=step)
+        if status & 1:
+            p = int(self.diag[0])
+            other = int(self.diag[1])
+            depth = self.diag[2]
+            r = self.diag[3]
+            nid = int(m.node_ids[k.p0 + p])
+            if other >= 0:
+                tri = int(k.face_tris[k.face_ptr[other]])
+                what = (f"wall triangle {tri + 1} (nodes "
+                        f"{', '.join(str(int(m.node_ids[q])) for q in k.tri_nodes[tri])})")
+            else:
+                what = f"particle node {int(m.node_ids[k.p0 - 1 - other])}"
+            if step == 0:
+                raise UnstableRunError(
+                    f"particle node {nid} starts {depth:.4g} deep inside {what}, more than "
+                    f"{self.penetration_limit:.0%} of its radius {r:.4g}: the deck's geometry is "
+                    f"wrong (run `x3dpd check` on it).", time=t, step=step, node=nid)
+            raise UnstableRunError(
+                f"unstable run at t = {t:.6g} s (step {step}): particle node {nid} penetrated "
+                f"{what} by {depth:.4g} ({depth / r:.1%} of its radius; limit "
+                f"{self.penetration_limit:.0%}). Likely cause: the time step {self.dt:.3g} s is too "
+                f"large for the contact stiffness at this impact speed; run `x3dpd check`.",
+                time=t, step=step, node=nid)
+
+    # ------------------------------------------------------------------ internals
+    def _python_force(self, t: float) -> None:
+        if not self.python_forces:
+            return
+        self.fpy[:] = 0.0
+        s = self.state
+        for uf in self.python_forces:
+            uf.function(t, s.x[:, :3].copy(), s.vel.copy(), self.fpy)
+
+    def _energy_now(self) -> np.ndarray:
+        s, k = self.state, self.setup
+        en = np.empty(6)
+        self.kernels._energies(s.x, k.x0, s.vel, s.force, k.kin_mass, k.kin_inertia, k.inv_m,
+                               k.mass, k.g, k.sp_nodes, k.sp_k, s.ws, int(s.nwl[0]), s.ps,
+                               int(s.npl[0]), self.dt, en)
+        return en
+
+    def _force_args(self, t, scratch_ledger=False):
+        s, k = self.state, self.setup
+        ledger = np.zeros(4) if scratch_ledger else s.ledger
+        face_n, face_d = self._faces()
+        return (t, s.x, k.x0, s.vel, s.force, k.mass, k.g, np.zeros_like(s.fext_prev),
+                s.fext_prev, self.ext.table, self.fpy, k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
+                k.rig_master, k.rig_ptr, k.rig_slaves, k.p0, k.radius, k.kw, k.ep, k.cinst,
+                k.decay, k.half, k.mu, k.inv_mt, s.wl_p, s.wl_f, s.ws, int(s.nwl[0]), s.pl_i,
+                s.pl_j, s.ps, int(s.npl[0]), face_n, face_d, k.face_first_tri, k.face_ptr,
+                k.face_tris, k.tri_nodes, k.tri_sign, self.dt, ledger, self.penetration_limit,
+                self.diag)
+
+    def _faces(self):
+        if not hasattr(self, "_face_n"):
+            nf = self.setup.face_first_tri.shape[0]
+            self._face_n, self._face_d = np.zeros((nf, 3)), np.zeros(nf)
+        return self._face_n, self._face_d
+
+    def _direct_rebuild(self) -> None:
+        s, k = self.state, self.setup
+        K = self.kernels
+        face_n, face_d = self._faces()
+        if k.tri_nodes.shape[0]:
+            K._face_planes(s.x, k.tri_nodes, k.tri_sign, k.face_first_tri, face_n, face_d)
+        while True:
+            ok = True
+            if self.variant.walls:
+                p2, f2, a2 = (np.empty_like(s.wl_p), np.empty_like(s.wl_f),
+                              np.empty(s.wl_p.shape[0]))
+                m = K._build_wall_list(s.x, k.p0, k.radius, k.pcav, k.cav_ptr, k.cav_faces,
+                                       face_n, face_d, k.face_ptr, k.face_tris, k.tri_nodes,
+                                       k.skin, p2, f2, a2)
+                if m < 0:
+                    self._grow(8)
+                    ok = False
+                else:
+                    ws2 = np.zeros_like(s.ws)
+                    K._merge_states(s.wl_p, s.wl_f, s.ws, int(s.nwl[0]), p2, f2, ws2, m, a2)
+                    s.wl_p[:m], s.wl_f[:m], s.ws[:m] = p2[:m], f2[:m], ws2[:m]
+                    s.nwl[0] = m
+            if self.variant.pairs and ok:
+                i2, j2 = np.empty_like(s.pl_i), np.empty_like(s.pl_j)
+                a2 = np.empty(s.pl_i.shape[0])
+                xp = np.ascontiguousarray(s.x[k.p0:])
+                from x3dpd.geometry.cells import _find_pairs
+                m = _find_pairs(xp, k.radius, k.pcav, k.skin, i2, j2)
+                if m < 0:
+                    self._grow(4)
+                    ok = False
+                else:
+                    K._pair_approach(s.x, k.p0, k.radius, i2, j2, m, a2)
+                    ps2 = np.zeros_like(s.ps)
+                    K._merge_states(s.pl_i, s.pl_j, s.ps, int(s.npl[0]), i2, j2, ps2, m, a2)
+                    s.pl_i[:m], s.pl_j[:m], s.ps[:m] = i2[:m], j2[:m], ps2[:m]
+                    s.npl[0] = m
+            if ok:
+                break
+        s.nbr[:2] = 0.0
+        s.nbr[3] = 1.0
+
+    def _advance_args(self):
+        s, k = self.state, self.setup
+        face_n, face_d = self._faces()
+        sc = self._scratch()
+        return (s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.kin_mass, k.kin_inertia, k.g,
+                sc["fext"], s.fext_prev, self.ext.table, self.fpy, self.motion, s.motion_prev,
+                k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
+                k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot, k.rig_inv_ib, k.rig_ib,
+                k.rig_free_rot,
+                k.p0, k.radius, k.kw, k.ep, k.cinst, k.decay, k.half, k.mu, k.inv_mt, k.pcav,
+                k.cav_ptr, k.cav_faces, face_n, face_d, k.face_first_tri, k.face_ptr,
+                k.face_tris, k.tri_nodes, k.tri_sign,
+                s.wl_p, s.wl_f, s.ws, s.nwl, sc["wl_p2"], sc["wl_f2"], sc["ws2"], sc["wl_a"],
+                s.pl_i, s.pl_j, s.ps, s.npl, sc["pl_i2"], sc["pl_j2"], sc["ps2"], sc["pl_a"],
+                s.nbr, k.skin, s.ledger, self.penetration_limit, self.diag,
+                self.itrac, self.trace_nodes)
+
+    def _scratch(self) -> dict:
+        s = self.state
+        sc = getattr(self, "_sc", None)
+        if sc is None or sc["ws2"].shape != s.ws.shape or sc["ps2"].shape != s.ps.shape:
+            sc = {
+                "fext": np.zeros((self.model.n_nodes, 6)),
+                "wl_p2": np.zeros_like(s.wl_p), "wl_f2": np.zeros_like(s.wl_f),
+                "ws2": np.zeros_like(s.ws), "wl_a": np.zeros(s.wl_p.shape[0]),
+                "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
+                "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
+            }
+            self._sc = sc
+        return sc
+
+    def _grow(self, status: int) -> None:
+        s = self.state
+        if status & 8:
+            cap = 2 * s.wl_p.shape[0]
+            s.wl_p = _grown(s.wl_p, cap)
+            s.wl_f = _grown(s.wl_f, cap)
+            s.ws = _grown(s.ws, cap)
+        if status & 4:
+            cap = 2 * s.pl_i.shape[0]
+            s.pl_i = _grown(s.pl_i, cap)
+            s.pl_j = _grown(s.pl_j, cap)
+            s.ps = _grown(s.ps, cap)
+        s.nbr[3] = -1.0
+
+
+def _grown(a: np.ndarray, cap: int) -> np.ndarray:
+    out = np.zeros((cap,) + a.shape[1:], dtype=a.dtype)
+    out[: a.shape[0]] = a
+    return out
+
+
+def _combine(functions):
+    """One compiled usrfrc(time, coords, vels, force) calling several user forces in turn."""
+    if len(functions) == 1:
+        return functions[0]
+    from x3dpd._jit import kernel
+
+    first, rest = functions[0], _combine(functions[1:])
+
+    @kernel(cache=False)
+    def both(t, x, vel, force):
+        first(t, x, vel, force)
+        rest(t, x, vel, force)
+
+    return both
+
+
+__all__ = ["Simulation", "Block", "ENERGY_COLUMNS", "TRACE_COLUMNS", "STATE_HEAD"]

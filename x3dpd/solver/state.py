@@ -1,0 +1,267 @@
+"""Solver state and the constant arrays the step kernels read, built from a :class:`Model`.
+
+``State`` holds everything that evolves (coordinates, velocities, forces, rigid-body rotations,
+contact candidate lists with their histories, the energy ledger); it is what a restart dump
+saves. ``Kernel arrays`` (``Setup``) are derived once from the model and never change.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from x3dpd.model.model import Model
+
+#: Columns of a contact state row before the Maxwell histories: approach, F_N, F_t (3).
+STATE_HEAD = 5
+
+
+@dataclass
+class State:
+    """Everything that evolves. Arrays are float64 / int64, indexed by node index.
+
+    x (n,3) coordinates; vel (n,6) velocities (v, omega); force (n,6) force and moment sums;
+    rot (B,3,3) rigid-body rotations; fext_prev (n,6) external force of the last step;
+    motion_prev (M,) actuator forces of the last step; fd_prev (S,3) damper forces of the last
+    step; wl_p, wl_f, ws (Lw) wall candidate list (particle, face, state row); nwl (1,) its length;
+    pl_i, pl_j, ps (Lp) pair candidate list; npl (1,); nbr (5,) neighbour-list bookkeeping;
+    ledger (4,) cumulative work/dissipation; step: steps done since t0; e_ref: energy at t0.
+    """
+
+    x: np.ndarray
+    vel: np.ndarray
+    force: np.ndarray
+    rot: np.ndarray
+    fext_prev: np.ndarray
+    motion_prev: np.ndarray
+    fd_prev: np.ndarray
+    wl_p: np.ndarray
+    wl_f: np.ndarray
+    ws: np.ndarray
+    nwl: np.ndarray
+    pl_i: np.ndarray
+    pl_j: np.ndarray
+    ps: np.ndarray
+    npl: np.ndarray
+    nbr: np.ndarray
+    ledger: np.ndarray
+    step: int = 0
+    e_ref: float = 0.0
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """Flat dict for a restart dump."""
+        out = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            out[f.name] = np.asarray(v)
+        return out
+
+    @classmethod
+    def from_arrays(cls, arrays: dict) -> "State":
+        kw = {}
+        for f in fields(cls):
+            v = arrays[f.name]
+            if f.name == "step":
+                kw[f.name] = int(v)
+            elif f.name == "e_ref":
+                kw[f.name] = float(v)
+            else:
+                kw[f.name] = np.array(v)
+        return cls(**kw)
+
+
+@dataclass(frozen=True)
+class Setup:
+    """Constant arrays of a scene, in the form the kernels take."""
+
+    x0: np.ndarray
+    inv_m: np.ndarray
+    mass: np.ndarray
+    kin_mass: np.ndarray
+    kin_inertia: np.ndarray
+    g: np.ndarray
+    sp_nodes: np.ndarray
+    sp_k: np.ndarray
+    sp_c: np.ndarray
+    rig_master: np.ndarray
+    rig_ptr: np.ndarray
+    rig_slaves: np.ndarray
+    rig_r0: np.ndarray
+    rig_inv_ib: np.ndarray
+    rig_ib: np.ndarray
+    rig_free_rot: np.ndarray
+    p0: int
+    radius: np.ndarray
+    kw: np.ndarray
+    ep: np.ndarray
+    cinst: np.ndarray
+    decay: np.ndarray
+    half: np.ndarray
+    mu: np.ndarray
+    inv_mt: np.ndarray
+    pcav: np.ndarray
+    cav_ptr: np.ndarray
+    cav_faces: np.ndarray
+    face_first_tri: np.ndarray
+    face_ptr: np.ndarray
+    face_tris: np.ndarray
+    tri_nodes: np.ndarray
+    tri_sign: np.ndarray
+    n_maxwell: int
+    skin: float
+    dt: float
+
+
+def _f64(a, shape=None):
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    return a.reshape(shape) if shape is not None else a
+
+
+def _i64(a):
+    return np.ascontiguousarray(a, dtype=np.int64)
+
+
+def build_setup(model: Model, dt: float, skin: float | None = None,
+                prescribed: np.ndarray | None = None) -> Setup:
+    """Derive the kernel arrays of ``model`` for time step ``dt``.
+
+    ``prescribed``: (m, 2) node index, dof index of DOFs moved by a prescribed motion (they are
+    integrated as fixed: zero inverse mass).
+    """
+    n = model.n_nodes
+    p0 = model.particle_start
+    npart = model.n_particles
+    mass = _f64(model.mass).copy()
+    inertia = _f64(model.inertia, (n, 3)).copy()
+    fixed = np.array(model.fixed, dtype=bool).reshape(n, 6).copy()
+    if prescribed is not None:
+        for i, d in np.asarray(prescribed, dtype=np.int64).reshape(-1, 2):
+            fixed[i, d] = True
+
+    kin_mass = mass.copy()
+    kin_inertia = inertia.copy()
+    nb = model.rigid_master.shape[0]
+    rig_free_rot = np.zeros((nb, 3), dtype=np.bool_)
+    rig_r0 = np.zeros((model.rigid_slaves.shape[0], 3))
+    rig_ib = _f64(model.rigid_inertia, (nb, 3, 3)).copy()
+    rig_inv_ib = np.zeros((nb, 3, 3))
+    slave = np.zeros(n, dtype=bool)
+    for b in range(nb):
+        m = int(model.rigid_master[b])
+        sl = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
+        slave[sl] = True
+        rig_r0[model.rigid_ptr[b]:model.rigid_ptr[b + 1]] = model.x0[sl] - model.x0[m]
+        kin_mass[m] = model.rigid_mass[b]
+        kin_inertia[m] = np.diag(rig_ib[b])
+        rig_free_rot[b] = ~fixed[m, 3:6]
+        if rig_free_rot[b].any():
+            rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
+    kin_mass[slave] = 0.0
+    kin_inertia[slave] = 0.0
+
+    inv_m = np.zeros((n, 6))
+    with np.errstate(divide="ignore"):
+        for d in range(3):
+            inv_m[:, d] = np.where(kin_mass > 0, 1.0 / np.where(kin_mass > 0, kin_mass, 1.0), 0.0)
+            inv_m[:, 3 + d] = np.where(kin_inertia[:, d] > 0,
+                                       1.0 / np.where(kin_inertia[:, d] > 0, kin_inertia[:, d], 1.0),
+                                       0.0)
+    inv_m[fixed] = 0.0
+    inv_m[slave] = 0.0
+    # rotations of rigid masters with a free rotational DOF use the full tensor (separate kick)
+    for b in range(nb):
+        if rig_free_rot[b].any():
+            inv_m[int(model.rigid_master[b]), 3:6] = 0.0
+
+    # particles
+    radius = _f64(model.radius)
+    moduli = _f64(model.moduli, (npart, -1)) if npart else np.zeros((0, 1))
+    taus = _f64(model.taus, (npart, -1)) if npart else np.zeros((0, 1))
+    k_terms = moduli.shape[1]
+    nu = _f64(model.poisson)
+    ep = moduli / (1.0 - nu[:, None] ** 2) if npart else np.zeros((0, k_terms))
+    cinst = ep.sum(axis=1) if npart else np.zeros(0)
+    kw = 4.0 / 3.0 * ep * np.sqrt(radius)[:, None] if npart else np.zeros((0, k_terms))
+    decay = np.ones_like(moduli)
+    half = np.ones_like(moduli)
+    if k_terms > 1 and npart:
+        t = taus[:, 1:]
+        decay[:, 1:] = np.exp(-dt / t)
+        half[:, 1:] = np.exp(-0.5 * dt / t)
+    pm = mass[p0:] if npart else np.zeros(0)
+    pin = inertia[p0:, 0] if npart else np.zeros(0)
+    inv_mt = 1.0 / pm + radius**2 / pin if npart else np.zeros(0)
+    n_maxwell = 0
+    if k_terms > 1 and npart and np.any(moduli[:, 1:] != 0.0):
+        n_maxwell = k_terms - 1
+
+    # walls: faces per cavity (CSR), triangles per face (CSR)
+    pcav = _i64(model.particle_cavity)
+    ncav = int(model.cavity_set_ids.shape[0])
+    tri_face = _i64(model.tri_face)
+    nf = int(model.face_cavity.shape[0])
+    order = np.argsort(tri_face, kind="stable")
+    face_tris = _i64(order)
+    face_ptr = np.zeros(nf + 1, dtype=np.int64)
+    np.add.at(face_ptr, tri_face + 1, 1)
+    face_ptr = np.cumsum(face_ptr)
+    face_first_tri = _i64(face_tris[face_ptr[:-1]]) if nf else np.zeros(0, np.int64)
+    fc = _i64(model.face_cavity)
+    cav_faces = _i64(np.argsort(fc, kind="stable"))
+    cav_ptr = np.zeros(ncav + 1, dtype=np.int64)
+    np.add.at(cav_ptr, fc + 1, 1)
+    cav_ptr = np.cumsum(cav_ptr)
+
+    if skin is None:
+        skin = 0.25 * float(radius.min()) if npart else 0.0
+
+    return Setup(
+        x0=_f64(model.x0, (n, 3)), inv_m=inv_m, mass=mass, kin_mass=kin_mass,
+        kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
+        sp_nodes=_i64(model.spring_nodes).reshape(-1, 2), sp_k=_f64(model.spring_k).reshape(-1, 3),
+        sp_c=_f64(model.spring_c).reshape(-1, 3),
+        rig_master=_i64(model.rigid_master), rig_ptr=_i64(model.rigid_ptr),
+        rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
+        rig_free_rot=rig_free_rot,
+        p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), cinst=_f64(cinst),
+        decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
+        cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
+        face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
+        tri_sign=_f64(model.tri_sign), n_maxwell=n_maxwell, skin=float(skin), dt=float(dt),
+    )
+
+
+def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int) -> State:
+    """State at t0: deck coordinates and velocities, empty contact lists."""
+    n = model.n_nodes
+    npart = model.n_particles
+    vel = _f64(model.v0, (n, 6)).copy()
+    nb = setup.rig_master.shape[0]
+    rot = np.tile(np.eye(3), (nb, 1, 1)) if nb else np.zeros((0, 3, 3))
+    ncols = STATE_HEAD + max(setup.n_maxwell, 1)
+    ncols_pair = STATE_HEAD + 2 * max(setup.n_maxwell, 1)
+    nfaces_max = int(np.max(np.diff(setup.cav_ptr))) if setup.cav_ptr.shape[0] > 1 else 0
+    lw = max(16, npart * max(3, min(nfaces_max, 6)))
+    lp = max(16, 8 * npart)
+    return State(
+        x=setup.x0.copy(), vel=vel, force=np.zeros((n, 6)), rot=rot,
+        fext_prev=np.zeros((n_fext_nodes, 6)), motion_prev=np.zeros(n_motion),
+        fd_prev=np.zeros((setup.sp_nodes.shape[0], 3)),
+        wl_p=np.zeros(lw, np.int64), wl_f=np.zeros(lw, np.int64), ws=np.zeros((lw, ncols)),
+        nwl=np.zeros(1, np.int64),
+        pl_i=np.zeros(lp, np.int64), pl_j=np.zeros(lp, np.int64), ps=np.zeros((lp, ncols_pair)),
+        npl=np.zeros(1, np.int64),
+        nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0]), ledger=np.zeros(4), step=0, e_ref=0.0,
+    )
+
+
+def hertz_contact_time_estimate(setup: Setup, v: float) -> float:
+    """Shortest Hertz wall-contact duration over particles at impact speed v [s] (for checks)."""
+    if setup.radius.shape[0] == 0 or v <= 0:
+        return math.inf
+    m = 1.0 / (setup.inv_m[setup.p0:, 0] + 1e-300)
+    k = setup.kw.sum(axis=1)
+    a = (5.0 * m * v * v / (4.0 * k)) ** 0.4
+    return float(np.min(2.0 * 1.4716 * a / v))
