@@ -47,7 +47,7 @@ def main(argv: list[str] | None = None) -> None:
     """Entry point of the ``x3dpd`` console script."""
     _register()
     try:
-        cli.main(args=argv, prog_name="x3dpd", standalone_mode=False)
+        rc = cli.main(args=argv, prog_name="x3dpd", standalone_mode=False)
     except X3dpdError as exc:
         click.echo(f"x3dpd: error: {exc}", err=True)
         sys.exit(exc.exit_status)
@@ -62,4 +62,5 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(2 if exc.exit_code == 2 else exc.exit_code)
     except click.exceptions.Exit as exc:
         sys.exit(exc.exit_code)
-    sys.exit(0)
+    # with standalone_mode=False click *returns* the code given to ctx.exit(n)
+    sys.exit(rc if isinstance(rc, int) else 0)

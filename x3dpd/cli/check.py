@@ -1,9 +1,114 @@
-"""``x3dpd check`` (placeholder; being written)."""
+"""``x3dpd check DECK``: read a deck, build its model and report what is likely wrong before a run.
+
+Exit status 0 when clean, 1 with warnings, 2 with errors (any deck error, printed as one
+``FILE:LINE:COL: CARD: message`` line, never a traceback).
+"""
+
+from __future__ import annotations
+
+import sys
 
 import click
 
+from x3dpd.model.check import peak_force_error
+
+from x3dpd.errors import InputError, X3dpdError
+from x3dpd.model.check import STEPS_PER_CONTACT, CheckReport, check_model
+
+
+def _read_deck(path: str):
+    """The project's deck parser (``x3dpd.deck.read_deck``)."""
+    try:
+        from x3dpd.deck import read_deck  # type: ignore[attr-defined]
+    except ImportError as exc:  # the parser is being written
+        raise InputError(f"cannot read {path}: the deck parser is not available ({exc})") from exc
+    return read_deck(path)
+
 
 @click.command("check")
-def check() -> None:
-    """Not implemented yet."""
-    raise click.ClickException("x3dpd check is not implemented yet")
+@click.argument("deck", type=click.Path(exists=True, dir_okay=False))
+@click.option("--usrfrc", "usrfrc", multiple=True, metavar="SPEC",
+              help="External force spec, as for `x3dpd run` (repeatable).")
+@click.option("--motion", "motion", multiple=True, metavar="SPEC",
+              help="Prescribed motion spec, as for `x3dpd run` (repeatable).")
+@click.option("--steps-per-contact", type=click.IntRange(min=1), default=STEPS_PER_CONTACT,
+              show_default=True, help="Time steps a Hertz contact should span.")
+def check(deck: str, usrfrc: tuple[str, ...], motion: tuple[str, ...],
+          steps_per_contact: int) -> None:
+    """Check DECK: model summary, recommended time step and geometry warnings.
+
+    Exit status: 0 clean, 1 warnings, 2 errors.
+    """
+    from x3dpd.model.build import build_model
+
+    try:
+        model = build_model(_read_deck(deck), usrfrc=usrfrc, motion=motion)
+    except X3dpdError as exc:
+        click.echo(f"x3dpd: error: {exc}", err=True)
+        sys.exit(2)
+    report = check_model(model, steps_per_contact=steps_per_contact)
+    click.echo(format_report(report))
+    # SystemExit, not ctx.exit: `x3dpd.cli.main` runs click with standalone_mode=False, where
+    # click turns ctx.exit(n) into a return value that main() does not pass on.
+    sys.exit(report.exit_status)
+
+
+def format_report(report: CheckReport) -> str:
+    """Verdict line, each finding (headline, then indented details), then the summary."""
+    n_w, n_e = len(report.warnings), len(report.errors)
+    verdict = ("clean" if not (n_w or n_e) else
+               ", ".join(p for p in (_plural(n_e, "error"), _plural(n_w, "warning")) if p))
+    lines = [f"{report.path}: {verdict}"]
+    for kind, findings in (("error", report.errors), ("warning", report.warnings)):
+        for f in findings:
+            lines.append(f"{kind}: {f.headline}")
+            lines.extend(f"    {d}" for d in f.details)
+    lines += ["", "summary"]
+    n_p = report.n_particles
+    lines.append(_row("nodes", f"{report.n_nodes} ({report.n_nodes - n_p} structural, "
+                               f"{n_p} particles)"))
+    for g in report.groups:
+        lines.append(_row(f"particle group {g.group + 1}",
+                          f"{g.count} (nodes {g.nodes}), radius {g.radius:g}, mass {g.mass:.6g} "
+                          f"each"))
+    lines.append(_row("particle mass", f"{report.particle_mass:.6g}"))
+    lines.append(_row("structure mass", f"{report.structure_mass:.6g} (rigid bodies included)"))
+    for c in report.cavities:
+        box = ", ".join(f"{a} {lo:g} .. {hi:g}" for a, lo, hi in zip("xyz", c.lo, c.hi))
+        box += " (extent " + " x ".join(f"{hi - lo:g}" for lo, hi in zip(c.lo, c.hi)) + ")"
+        lines.append(_row(f"cavity set {c.set_id}",
+                          f"{box}; {c.n_triangles} triangles in {c.n_faces} faces; "
+                          f"{c.n_particles} particles"))
+        if c.volume is not None and c.closed:
+            fill = (f"fill ratio {c.fill_ratio:.3g} (particle volume {c.particle_volume:.6g})"
+                    if c.fill_ratio is not None else "")
+            lines.append(_row("", f"closed, interior volume {c.volume:.6g}; {fill}"))
+        else:
+            lines.append(_row("", "open: the faces do not close, so no volume or fill ratio"))
+    lines.append(_row("effects", ", ".join(sorted(report.effects)) or "none"))
+    ts = report.time_step
+    if ts.binding == "none":
+        lines.append(_row("time step", f"DTMAX {ts.dt_deck:.3g} s; no limit (no contacts and no "
+                                       f"loaded structural DOFs)"))
+    else:
+        lines.append(_row("time step", f"DTMAX {ts.dt_deck:.3g} s; recommended <= "
+                                       f"{ts.dt_recommended:.3g} s (binding: {ts.binding})"))
+    if ts.contact_kind != "none":
+        lines.append(_row("", f"contact: Hertz {ts.contact_kind} impact at "
+                              f"{ts.impact_speed:.3g} length/s lasts {ts.t_contact:.3g} s; "
+                              f"/ {ts.steps_per_contact} = {ts.dt_contact:.3g} s (DTMAX gives "
+                              f"{ts.deck_steps_per_contact:.3g} steps per contact, peak force "
+                              f"within about {peak_force_error(ts.deck_steps_per_contact):.2g} %)"))
+    if ts.omega_node:
+        lines.append(_row("", f"structure: omega <= {ts.omega_max:.4g} rad/s (node "
+                              f"{ts.omega_node} {ts.omega_dof}); 0.2 x critical step = "
+                              f"{ts.dt_structure:.3g} s"))
+    return "\n".join(lines)
+
+
+def _row(label: str, text: str) -> str:
+    return f"  {label:<16} {text}"
+
+
+def _plural(n: int, word: str) -> str:
+    return "" if n == 0 else f"{n} {word}{'s' if n != 1 else ''}"

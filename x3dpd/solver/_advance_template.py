@@ -44,7 +44,7 @@ from x3dpd.physics.motion import _apply_motion  # noqa: E402
 from x3dpd.physics.rigid_link import (  # noqa: E402
     _gather_slaves, _rigid_angular_kick, _rotate, _update_slaves)
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
-from x3dpd.physics.usrfrc import _apply_forces  # noqa: E402
+from x3dpd.physics.usrfrc import _apply_forces, _force_value  # noqa: E402
 
 # status bits returned by advance()
 OK = 0
@@ -91,8 +91,8 @@ def _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d):
 
 
 @kernel
-def _locate_on_face(q, n, f, x, face_ptr, face_tris, tri_nodes, tol, w):
-    """Find the triangle of face ``f`` that holds point ``q`` (within ``tol`` of its edges).
+def _locate_on_face(qx, qy, qz, nx, ny, nz, f, x, face_ptr, face_tris, tri_nodes, tol, w):
+    """Find the triangle of face ``f`` that holds point q (within ``tol`` of its edges).
 
     Writes clamped barycentric weights into ``w`` and returns the triangle index, or -1.
     The edge tolerance keeps particles from slipping through seams, edges and corners.
@@ -101,21 +101,21 @@ def _locate_on_face(q, n, f, x, face_ptr, face_tris, tri_nodes, tol, w):
     best_out = 1e300
     for k in range(face_ptr[f], face_ptr[f + 1]):
         t = face_tris[k]
-        outside = 0.0
-        l0 = 0.0
-        l1 = 0.0
-        l2 = 0.0
         p0 = tri_nodes[t, 0]
         p1 = tri_nodes[t, 1]
         p2 = tri_nodes[t, 2]
-        # twice the signed area along n
         ax = x[p1, 0] - x[p0, 0]
         ay = x[p1, 1] - x[p0, 1]
         az = x[p1, 2] - x[p0, 2]
         bx = x[p2, 0] - x[p0, 0]
         by = x[p2, 1] - x[p0, 1]
         bz = x[p2, 2] - x[p0, 2]
-        area2 = n[0] * (ay * bz - az * by) + n[1] * (az * bx - ax * bz) + n[2] * (ax * by - ay * bx)
+        # twice the signed area along n
+        area2 = nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
+        outside = 0.0
+        lam0 = 0.0
+        lam1 = 0.0
+        lam2 = 0.0
         for e in range(3):
             if e == 0:
                 i = p1
@@ -129,31 +129,32 @@ def _locate_on_face(q, n, f, x, face_ptr, face_tris, tri_nodes, tol, w):
             ex = x[j, 0] - x[i, 0]
             ey = x[j, 1] - x[i, 1]
             ez = x[j, 2] - x[i, 2]
-            rx = q[0] - x[i, 0]
-            ry = q[1] - x[i, 1]
-            rz = q[2] - x[i, 2]
-            lam = (n[0] * (ey * rz - ez * ry) + n[1] * (ez * rx - ex * rz)
-                   + n[2] * (ex * ry - ey * rx)) / area2
-            # distance outside this edge = -lam * height = -lam * |area2| / |e|
-            dist = -lam * abs(area2) / math.sqrt(ex * ex + ey * ey + ez * ez)
-            if dist > outside:
-                outside = dist
+            rx = qx - x[i, 0]
+            ry = qy - x[i, 1]
+            rz = qz - x[i, 2]
+            lam = (nx * (ey * rz - ez * ry) + ny * (ez * rx - ex * rz)
+                   + nz * (ex * ry - ey * rx)) / area2
+            if lam < 0.0:
+                # distance outside this edge = -lam * height = -lam * |area2| / |e|
+                dist = -lam * abs(area2) / math.sqrt(ex * ex + ey * ey + ez * ez)
+                if dist > outside:
+                    outside = dist
             if e == 0:
-                l0 = lam
+                lam0 = lam
             elif e == 1:
-                l1 = lam
+                lam1 = lam
             else:
-                l2 = lam
+                lam2 = lam
         if outside <= tol and outside < best_out:
             best_out = outside
             best = t
-            l0 = min(max(l0, 0.0), 1.0)
-            l1 = min(max(l1, 0.0), 1.0)
-            l2 = min(max(l2, 0.0), 1.0)
-            s = l0 + l1 + l2
-            w[0] = l0 / s
-            w[1] = l1 / s
-            w[2] = l2 / s
+            lam0 = min(max(lam0, 0.0), 1.0)
+            lam1 = min(max(lam1, 0.0), 1.0)
+            lam2 = min(max(lam2, 0.0), 1.0)
+            sw = lam0 + lam1 + lam2
+            w[0] = lam0 / sw
+            w[1] = lam1 / sw
+            w[2] = lam2 / sw
             if outside == 0.0:
                 break
     return best
@@ -169,7 +170,6 @@ def _build_wall_list(x, p0, radius, pcav, cav_ptr, cav_faces, face_n, face_d, fa
     """
     count = 0
     cap = out_p.shape[0]
-    q = np.empty(3)
     w = np.empty(3)
     for p in range(radius.shape[0]):
         c = pcav[p]
@@ -179,13 +179,14 @@ def _build_wall_list(x, p0, radius, pcav, cav_ptr, cav_faces, face_n, face_d, fa
         r = radius[p]
         for k in range(cav_ptr[c], cav_ptr[c + 1]):
             f = cav_faces[k]
-            n = face_n[f]
-            d = n[0] * x[i, 0] + n[1] * x[i, 1] + n[2] * x[i, 2] - face_d[f]
+            nx = face_n[f, 0]
+            ny = face_n[f, 1]
+            nz = face_n[f, 2]
+            d = nx * x[i, 0] + ny * x[i, 1] + nz * x[i, 2] - face_d[f]
             if d >= r + skin or d <= -r:
                 continue
-            for e in range(3):
-                q[e] = x[i, e] - d * n[e]
-            if _locate_on_face(q, n, f, x, face_ptr, face_tris, tri_nodes, r + skin, w) < 0:
+            if _locate_on_face(x[i, 0] - d * nx, x[i, 1] - d * ny, x[i, 2] - d * nz, nx, ny, nz,
+                               f, x, face_ptr, face_tris, tri_nodes, r + skin, w) < 0:
                 continue
             if count >= cap:
                 return -1
@@ -220,44 +221,43 @@ def _pair_approach(x, p0, radius, pi, pj, n, out_a):
         dx = x[j, 0] - x[i, 0]
         dy = x[j, 1] - x[i, 1]
         dz = x[j, 2] - x[i, 2]
-        out_a[q] = radius[pi[q]] + radius[pj[q]] - math.sqrt(dx * dx + dy * dy + dz * dz)
+        a = radius[pi[q]] + radius[pj[q]] - math.sqrt(dx * dx + dy * dy + dz * dz)
+        out_a[q] = a if a > 0.0 else 0.0
 
 
 @kernel
 def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p, wl_f, ws, nw,
-                   face_n, face_d, face_ptr, face_tris, tri_nodes, dt, ledger, pen_limit, diag):
+                   face_n, face_d, face_ptr, face_tris, tri_nodes, dt, ledger, pen_limit, diag, w):
     """Particle-wall contact forces (report Figure 40): Hertz / Lee-Radok normal force, Coulomb
-    friction with spin, reaction on the wall's nodes. Returns a status bit."""
-    q = np.empty(3)
-    w = np.empty(3)
+    friction with spin, reaction on the wall's nodes. ``w`` is a 3-element scratch array.
+    Returns a status bit."""
     status = OK
     for s in range(nw):
         p = wl_p[s]
         f = wl_f[s]
         i = p0 + p
-        n = face_n[f]
+        nx = face_n[f, 0]
+        ny = face_n[f, 1]
+        nz = face_n[f, 2]
         r = radius[p]
-        d = n[0] * x[i, 0] + n[1] * x[i, 1] + n[2] * x[i, 2] - face_d[f]
+        d = nx * x[i, 0] + ny * x[i, 1] + nz * x[i, 2] - face_d[f]
         a = r - d
         a_old = ws[s, S_A]
         fn_old = ws[s, S_FN]
+        if a <= 0.0 and fn_old == 0.0 and a_old <= 0.0:
+            ws[s, S_A] = a
+            continue
         t = -1
         if a > 0.0:
-            for e in range(3):
-                q[e] = x[i, e] - d * n[e]
-            t = _locate_on_face(q, n, f, x, face_ptr, face_tris, tri_nodes, r, w)
+            t = _locate_on_face(x[i, 0] - d * nx, x[i, 1] - d * ny, x[i, 2] - d * nz, nx, ny, nz,
+                                f, x, face_ptr, face_tris, tri_nodes, r, w)
         if t < 0:
             # no contact (or the particle left the face): close any open contact
             if fn_old != 0.0 or a_old > 0.0:
                 ledger[L_WN] += 0.5 * fn_old * (a - a_old)
-                if HAS_FRICTION:
-                    ft_old_v = 0.0
-                    for e in range(3):
-                        ws[s, S_FT + e] = 0.0
-                    ledger[L_DFRIC] += ft_old_v
-                for k in range(N_MAXWELL):
-                    ws[s, S_H + k] = 0.0
-            ws[s, S_A] = min(a, 0.0) if t < 0 and a > 0.0 else a
+                for c in range(S_FT, ws.shape[1]):
+                    ws[s, c] = 0.0
+            ws[s, S_A] = a if a <= 0.0 else 0.0
             ws[s, S_FN] = 0.0
             continue
         if a > pen_limit * r:
@@ -281,17 +281,17 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
         ledger[L_WN] += 0.5 * (fn_old + fn) * (a - a_old)
         ws[s, S_A] = a
         ws[s, S_FN] = fn
-        fx = fn * n[0]
-        fy = fn * n[1]
-        fz = fn * n[2]
+        fx = fn * nx
+        fy = fn * ny
+        fz = fn * nz
         if HAS_FRICTION:
             # relative velocity of the particle's contact point (at -R n) and the wall point q
             nd0 = tri_nodes[t, 0]
             nd1 = tri_nodes[t, 1]
             nd2 = tri_nodes[t, 2]
-            rcx = -r * n[0]
-            rcy = -r * n[1]
-            rcz = -r * n[2]
+            rcx = -r * nx
+            rcy = -r * ny
+            rcz = -r * nz
             wx = vel[i, 3]
             wy = vel[i, 4]
             wz = vel[i, 5]
@@ -301,10 +301,10 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
             vrx -= w[0] * vel[nd0, 0] + w[1] * vel[nd1, 0] + w[2] * vel[nd2, 0]
             vry -= w[0] * vel[nd0, 1] + w[1] * vel[nd1, 1] + w[2] * vel[nd2, 1]
             vrz -= w[0] * vel[nd0, 2] + w[1] * vel[nd1, 2] + w[2] * vel[nd2, 2]
-            vn = vrx * n[0] + vry * n[1] + vrz * n[2]
-            vtx = vrx - vn * n[0]
-            vty = vry - vn * n[1]
-            vtz = vrz - vn * n[2]
+            vn = vrx * nx + vry * ny + vrz * nz
+            vtx = vrx - vn * nx
+            vty = vry - vn * ny
+            vtz = vrz - vn * nz
             vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
             ftx = 0.0
             fty = 0.0
@@ -351,18 +351,23 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
         dx = x[j, 0] - x[i, 0]
         dy = x[j, 1] - x[i, 1]
         dz = x[j, 2] - x[i, 2]
-        dist = math.sqrt(dx * dx + dy * dy + dz * dz)
         ri = radius[pi]
         rj = radius[pj]
-        a = ri + rj - dist
+        d2 = dx * dx + dy * dy + dz * dz
+        cut = ri + rj
         a_old = ps[s, S_A]
+        if d2 >= cut * cut and a_old <= 0.0:
+            # apart now and at the last step: nothing to do (state stays "no contact")
+            continue
+        dist = math.sqrt(d2)
+        a = cut - dist
         fn_old = ps[s, S_FN]
         if a <= 0.0:
             if fn_old != 0.0 or a_old > 0.0:
                 ledger[L_WN] += 0.5 * fn_old * (a - a_old)
                 for c in range(S_FT, ps.shape[1]):
                     ps[s, c] = 0.0
-            ps[s, S_A] = a
+            ps[s, S_A] = 0.0
             ps[s, S_FN] = 0.0
             continue
         rmin = ri if ri < rj else rj
@@ -495,35 +500,52 @@ def _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes
 def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_nodes, sp_k, sp_c,
             fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, cinst, decay, half, mu,
             inv_mt, wl_p, wl_f, ws, nw, pl_i, pl_j, ps, npairs, face_n, face_d, face_first_tri,
-            face_ptr, face_tris, tri_nodes, tri_sign, dt, ledger, pen_limit, diag):
-    """All forces at time t from x and the (half-step) velocities; updates the ledger."""
-    force[:, :] = 0.0
+            face_ptr, face_tris, tri_nodes, tri_sign, dt, ledger, pen_limit, diag, wsc, frow_prev):
+    """All forces at time t from x and the (half-step) velocities; updates the ledger.
+
+    ``wsc`` is a 3-element scratch array; ``frow_prev`` the built-in forces of the last step.
+    """
+    ff = force.reshape(-1)
+    for k in range(ff.shape[0]):
+        ff[k] = 0.0
     status = OK
     if HAS_GRAVITY:
         _gravity_forces(mass, g, force)
     if HAS_SPRINGS:
         ledger[L_DDAMP] += _spring_forces(x, x0, vel, sp_nodes, sp_k, sp_c, force, fd_prev, dt)
     if HAS_EXT:
-        fext[:, :] = 0.0
-        _apply_forces(t, ext_table, fext)
-        if HAS_USER_FORCE:
-            USER_FORCE(t, x, vel, fext)
-        if HAS_PY_FORCE:
-            fext += fpy
         wext = 0.0
-        for i in range(fext.shape[0]):
-            for d in range(6):
-                fe = fext[i, d]
-                if fe != 0.0 or fext_prev[i, d] != 0.0:
-                    wext += 0.5 * (fext_prev[i, d] + fe) * vel[i, d] * dt
-                    force[i, d] += fe
-                    fext_prev[i, d] = fe
+        # built-in forces act on a few DOFs: work row by row (exact even if rows share a DOF)
+        for r in range(ext_table.shape[0]):
+            i = int(ext_table[r, 1])
+            d = int(ext_table[r, 2])
+            fe = _force_value(t, ext_table, r)
+            force[i, d] += fe
+            wext += 0.5 * (frow_prev[r] + fe) * vel[i, d] * dt
+            frow_prev[r] = fe
+        if HAS_USER_FORCE or HAS_PY_FORCE:
+            # user forces may touch any DOF
+            fe_flat = fext.reshape(-1)
+            for k in range(fe_flat.shape[0]):
+                fe_flat[k] = 0.0
+            if HAS_USER_FORCE:
+                USER_FORCE(t, x, vel, fext)
+            if HAS_PY_FORCE:
+                for k in range(fe_flat.shape[0]):
+                    fe_flat[k] += fpy.reshape(-1)[k]
+            for i in range(fext.shape[0]):
+                for d in range(6):
+                    fe = fext[i, d]
+                    if fe != 0.0 or fext_prev[i, d] != 0.0:
+                        wext += 0.5 * (fext_prev[i, d] + fe) * vel[i, d] * dt
+                        force[i, d] += fe
+                        fext_prev[i, d] = fe
         ledger[L_WEXT] += wext
     if HAS_WALLS:
         _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d)
         status |= _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
                                  wl_f, ws, nw, face_n, face_d, face_ptr, face_tris, tri_nodes, dt,
-                                 ledger, pen_limit, diag)
+                                 ledger, pen_limit, diag, wsc)
     if HAS_PAIRS:
         status |= _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt,
                                  pl_i, pl_j, ps, npairs, dt, ledger, pen_limit, diag)
@@ -534,7 +556,7 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
 
 @kernel
 def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass, kin_inertia, g,
-            fext, fext_prev, ext_table, fpy, motion_table, motion_prev,
+            fext, fext_prev, frow_prev, ext_table, fpy, motion_table, motion_prev,
             sp_nodes, sp_k, sp_c, fd_prev,
             rig_master, rig_ptr, rig_slaves, rig_r0, rot, rig_inv_ib, rig_ib, rig_free_rot,
             p0, radius, kw, ep, cinst, decay, half, mu, inv_mt, pcav,
@@ -557,6 +579,10 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
     rows = 0
     h = 0.5 * dt
     en = np.empty(6)
+    wsc = np.empty(3)
+    vf = vel.reshape(-1)
+    ff = force.reshape(-1)
+    imf = inv_m.reshape(-1)
     for it in range(nsteps):
         step = step0 + it
         # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
@@ -588,17 +614,17 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
                 nbr[2] += 1.0
                 nbr[3] = 1.0
         # ---- first half kick and drift
-        vmax2 = 0.0
+        for k in range(vf.shape[0]):
+            vf[k] += h * ff[k] * imf[k]
         for i in range(n):
-            for d in range(6):
-                vel[i, d] += h * force[i, d] * inv_m[i, d]
             x[i, 0] += dt * vel[i, 0]
             x[i, 1] += dt * vel[i, 1]
             x[i, 2] += dt * vel[i, 2]
-            if i >= p0:
-                v2 = vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2
-                if v2 > vmax2:
-                    vmax2 = v2
+        vmax2 = 0.0
+        if HAS_WALLS or HAS_PAIRS:
+            for i in range(p0, n):
+                v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
+                vmax2 = max(vmax2, v2)
         if HAS_RIGID_ROT:
             _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h)
             _rotate(rot, rig_master, vel, dt)
@@ -615,7 +641,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
                      sp_c, fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, cinst,
                      decay, half, mu, inv_mt, wl_p, wl_f, ws, nwl[0], pl_i, pl_j, ps, npl[0],
                      face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes, tri_sign, dt,
-                     ledger, pen_limit, diag)
+                     ledger, pen_limit, diag, wsc, frow_prev)
         if HAS_MOTION:
             # work of the motion's actuator: it supplies m a - f on each prescribed DOF
             for r in range(motion_table.shape[0]):
@@ -630,9 +656,8 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
                 ledger[L_WEXT] += 0.5 * (motion_prev[r] + react) * vel[i, d] * dt
                 motion_prev[r] = react
         # ---- second half kick
-        for i in range(n):
-            for d in range(6):
-                vel[i, d] += h * force[i, d] * inv_m[i, d]
+        for k in range(vf.shape[0]):
+            vf[k] += h * ff[k] * imf[k]
         if HAS_RIGID_ROT:
             _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h)
         if HAS_MOTION:

@@ -93,7 +93,8 @@ class Simulation:
         self.kernels = make_advance(self.variant, user_fn)
         self.compile_seconds = 0.0
         self._load_seconds = _time.perf_counter() - t
-        self.state = initial_state(model, self.setup, model.n_nodes, len(self.motion))
+        self.state = initial_state(model, self.setup, model.n_nodes, len(self.motion),
+                                   self.ext.table.shape[0])
         self.fpy = np.zeros((model.n_nodes, 6))
         self.trace_nodes = np.ascontiguousarray(model.trace_nodes, dtype=np.int64)
         self.diag = np.zeros(8)
@@ -120,8 +121,18 @@ class Simulation:
         self._initialized = True
 
     def restore(self, state: State) -> None:
-        """Continue from a restart dump's state (forces at its step are part of it)."""
+        """Continue from a restart dump's state (forces at its step are part of it).
+
+        Contact lists are kept as saved (not rebuilt), so that the resumed run sums forces in the
+        same order as the uninterrupted one and reproduces it bit for bit.
+        """
         self.state = state
+        self._sc = None
+        k = self.setup
+        if k.tri_nodes.shape[0]:
+            face_n, face_d = self._faces()
+            self.kernels._face_planes(state.x, k.tri_nodes, k.tri_sign, k.face_first_tri, face_n,
+                                      face_d)
         self._initialized = True
 
     def snapshot(self) -> Block:
@@ -302,7 +313,7 @@ class Simulation:
                 k.decay, k.half, k.mu, k.inv_mt, s.wl_p, s.wl_f, s.ws, int(s.nwl[0]), s.pl_i,
                 s.pl_j, s.ps, int(s.npl[0]), face_n, face_d, k.face_first_tri, k.face_ptr,
                 k.face_tris, k.tri_nodes, k.tri_sign, self.dt, ledger, self.penetration_limit,
-                self.diag)
+                self.diag, np.zeros(3), s.frow_prev)
 
     def _faces(self):
         if not hasattr(self, "_face_n"):
@@ -357,7 +368,8 @@ class Simulation:
         face_n, face_d = self._faces()
         sc = self._scratch()
         return (s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.kin_mass, k.kin_inertia, k.g,
-                sc["fext"], s.fext_prev, self.ext.table, self.fpy, self.motion, s.motion_prev,
+                sc["fext"], s.fext_prev, s.frow_prev, self.ext.table, self.fpy, self.motion,
+                s.motion_prev,
                 k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
                 k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot, k.rig_inv_ib, k.rig_ib,
                 k.rig_free_rot,

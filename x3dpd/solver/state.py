@@ -23,7 +23,8 @@ class State:
     """Everything that evolves. Arrays are float64 / int64, indexed by node index.
 
     x (n,3) coordinates; vel (n,6) velocities (v, omega); force (n,6) force and moment sums;
-    rot (B,3,3) rigid-body rotations; fext_prev (n,6) external force of the last step;
+    rot (B,3,3) rigid-body rotations; fext_prev (n,6) user force of the last step;
+    frow_prev (m,) built-in forces of the last step;
     motion_prev (M,) actuator forces of the last step; fd_prev (S,3) damper forces of the last
     step; wl_p, wl_f, ws (Lw) wall candidate list (particle, face, state row); nwl (1,) its length;
     pl_i, pl_j, ps (Lp) pair candidate list; npl (1,); nbr (5,) neighbour-list bookkeeping;
@@ -35,6 +36,7 @@ class State:
     force: np.ndarray
     rot: np.ndarray
     fext_prev: np.ndarray
+    frow_prev: np.ndarray
     motion_prev: np.ndarray
     fd_prev: np.ndarray
     wl_p: np.ndarray
@@ -233,7 +235,8 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     )
 
 
-def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int) -> State:
+def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
+                  n_force_rows: int = 0) -> State:
     """State at t0: deck coordinates and velocities, empty contact lists."""
     n = model.n_nodes
     npart = model.n_particles
@@ -247,7 +250,8 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int) 
     lp = max(16, 8 * npart)
     return State(
         x=setup.x0.copy(), vel=vel, force=np.zeros((n, 6)), rot=rot,
-        fext_prev=np.zeros((n_fext_nodes, 6)), motion_prev=np.zeros(n_motion),
+        fext_prev=np.zeros((n_fext_nodes, 6)), frow_prev=np.zeros(n_force_rows),
+        motion_prev=np.zeros(n_motion),
         fd_prev=np.zeros((setup.sp_nodes.shape[0], 3)),
         wl_p=np.zeros(lw, np.int64), wl_f=np.zeros(lw, np.int64), ws=np.zeros((lw, ncols)),
         nwl=np.zeros(1, np.int64),

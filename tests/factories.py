@@ -1,0 +1,181 @@
+"""Scene builders shared by the physics and solver tests, built directly as typed cards.
+
+Every builder returns a :class:`~x3dpd.deck.cards.Deck`; ``build_model(deck)`` turns it into a
+model and ``Simulation(model, ...)`` runs it. Units: inch, lbf, second (mass lbf s^2/in), like the
+report. Node numbering is given in each docstring; particles always have the highest ids.
+
+* :func:`floor_deck` -- one sphere above (or resting on) a flat, fixed, square floor of ONE face.
+* :func:`pair_deck` -- particles and no walls at all (free flight, pair contacts only).
+* :func:`closed_box_deck` -- particles in a fixed closed box (6 faces, 12 triangles).
+* :func:`sdof_deck` -- the report's Table 4 beam: one mass on a spring-damper to ground, no
+  particles.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from x3dpd.deck.cards import (Body, Boundary, Contact, Deck, Element, Initial, Mass, Material,
+                              Node, Parameters, Pdmp, SlaveSet, Trace, Triangle, Usrfrc)
+
+#: Report Section 7 steel sphere (Figure 28): radius [in], E [psi], nu, density [lbf s^2/in^4].
+STEEL_R = 0.0625
+STEEL_E = 30.0e6
+STEEL_NU = 0.33
+STEEL_RHO = 0.283 / 386.1
+#: Figure 28 impact speed [in/s] (= 2 pi * 10).
+FIG28_V = 62.832
+#: Figure 30/34 three-parameter material: E0, E1 [psi], tau1 [s].
+FIG30_E0 = 24.0e6
+FIG30_E1 = 12.0e6
+FIG30_TAU1 = 2.0e-6
+#: Table 4 (undamped beam, 200 mV RMS): drive [lbf], mass [lbf s^2/in], c [lbf s/in], k [lbf/in].
+TABLE4_DRIVE = 4.84040e-3
+TABLE4_MASS = 1.87646e-4
+TABLE4_C = 3.08293e-4
+TABLE4_K = 1.14823e1
+G = 386.1
+
+ALL_DOFS = (1, 2, 3, 4, 5, 6)
+
+
+def sphere_mass(radius: float = STEEL_R, density: float = STEEL_RHO) -> float:
+    """M = rho 4/3 pi R^3 (report Appendix B note 2) [lbf s^2/in]."""
+    return density * 4.0 / 3.0 * math.pi * radius**3
+
+
+def parameters(dt: float, itrac: int = 1, tmax: float = 1.0) -> Parameters:
+    """PARAMETERS with DTMIN = DTMAX = dt."""
+    return Parameters(0.0, float(tmax), 0.0, float(dt), float(dt), 0, 1.0e12, 0, 5, 0, int(itrac))
+
+
+def pdmp(nodlim: int, *, radius=STEEL_R, density=STEEL_RHO, nu=STEEL_NU, e0=STEEL_E, e1=0.0,
+         tau1=1.0, mu=0.0) -> Pdmp:
+    return Pdmp(int(nodlim), float(radius), float(density), float(nu), float(e0), float(e1),
+                float(tau1), float(mu))
+
+
+def floor_deck(*, dt: float, height: float | None = None, velocity=(0.0, -FIG28_V, 0.0),
+               omega=(0.0, 0.0, 0.0), gravity: float = 0.0, side: float = 1.0,
+               center=(0.0, 0.0), itrac: int = 1, **material) -> Deck:
+    """A sphere (node 5) above a fixed square floor y = 0 made of one face (nodes 1-4).
+
+    The floor spans ``[-side/2, side/2]`` in x and z around (0, 0); the sphere's centre starts at
+    (center[0], height, center[1]) (default: just touching, ``height = R``) with the given
+    translational ``velocity`` and angular velocity ``omega``. ``gravity`` > 0 adds a BODY card
+    (0, -gravity, 0). ``material`` goes to :func:`pdmp` (radius, density, nu, e0, e1, tau1, mu).
+    """
+    h = side / 2.0
+    r = float(material.get("radius", STEEL_R))
+    y = r if height is None else float(height)
+    nodes = (Node(1, -h, 0.0, -h), Node(2, h, 0.0, -h), Node(3, h, 0.0, h), Node(4, -h, 0.0, h),
+             Node(5, float(center[0]), y, float(center[1])))
+    return Deck(
+        path="<floor>",
+        parameters=parameters(dt, itrac),
+        pdmp=(pdmp(4, **material),),
+        body=Body(0.0, -float(gravity), 0.0) if gravity else None,
+        trace=Trace((5,)),
+        nodes=nodes,
+        boundaries=(Boundary(1, 4, 1, ALL_DOFS),),
+        contacts=(Contact((Triangle(1, (1, 2, 3)), Triangle(1, (1, 3, 4))),
+                          (SlaveSet(1, (5,)),)),),
+        initials=(Initial(5, tuple(float(v) for v in velocity) + tuple(float(w) for w in omega)),),
+    )
+
+
+def pair_deck(positions, velocities, *, dt: float, itrac: int = 1, **material) -> Deck:
+    """Particles (nodes 1, 2, ...; PDMP NODLIM 0) and no walls at all.
+
+    ``positions`` (P, 3), ``velocities`` (P, 3) or (P, 6).
+    """
+    positions = np.asarray(positions, float).reshape(-1, 3)
+    ids = list(range(1, 1 + len(positions)))
+    return Deck(
+        path="<pair>",
+        parameters=parameters(dt, itrac),
+        pdmp=(pdmp(0, **material),),
+        trace=Trace(tuple(ids)),
+        nodes=tuple(Node(nid, *map(float, p)) for nid, p in zip(ids, positions)),
+        initials=tuple(Initial(nid, tuple(map(float, v))) for nid, v in zip(ids, velocities)),
+    )
+
+
+_CUBE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                  [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
+#: Two triangles per face: z = 0, z = 1, y = 0 (the floor: nodes 1, 2, 5, 6), y = 1, x = 0, x = 1.
+CUBE_TRIANGLES = ((1, 2, 3), (1, 3, 4), (5, 7, 6), (5, 8, 7), (1, 6, 2), (1, 5, 6),
+                  (4, 3, 7), (4, 7, 8), (1, 4, 8), (1, 8, 5), (2, 6, 7), (2, 7, 3))
+#: A particle at rest far from everything: it makes a one-sphere scene compile the same kernel
+#: variant (walls + pairs) as the many-particle scenes, which saves a 10-20 s numba compile.
+SPECTATOR = (0.8, 0.8, 0.8)
+
+
+def closed_box_deck(positions=(), velocities=(), *, dt: float, size=(1.0, 1.0, 1.0),
+                    itrac: int = 1, gravity: float = 0.0, rotation=None, origin=(0.0, 0.0, 0.0),
+                    groups=(), spectators=(), **material) -> Deck:
+    """Particles in a fixed, closed box (corner nodes 1-8, all DOFs fixed, 12 triangles).
+
+    The box is ``origin + rotation @ ([0, size])``; positions are world coordinates. Particles:
+    ``positions``/``velocities`` with ``material`` (first PDMP card), then each ``groups`` entry
+    ``(positions, velocities, material_dict)`` on its own PDMP card, then ``spectators`` (points,
+    at rest, first group's material). Node ids from 9 up in that order; all particles are traced.
+    ``gravity`` > 0 adds BODY (0, -gravity, 0).
+    """
+    rot = np.eye(3) if rotation is None else np.asarray(rotation, float)
+    corners = np.asarray(origin, float) + (_CUBE * np.asarray(size, float)) @ rot.T
+    all_groups = [(positions, velocities, material)] + list(groups)
+    if len(spectators):
+        sp = np.asarray(spectators, float).reshape(-1, 3)
+        all_groups.append((sp, np.zeros_like(sp), material))
+    nodes = [Node(k + 1, *map(float, c)) for k, c in enumerate(corners)]
+    cards, initials, ids = [], [], []
+    nid = 9
+    for pos, vel, mat in all_groups:
+        pos = np.asarray(pos, float).reshape(-1, 3)
+        if not len(pos):
+            continue
+        cards.append(pdmp(nid - 1, **mat))
+        for p, v in zip(pos, vel):
+            nodes.append(Node(nid, *map(float, p)))
+            if np.any(np.asarray(v) != 0.0):
+                initials.append(Initial(nid, tuple(map(float, v))))
+            ids.append(nid)
+            nid += 1
+    return Deck(
+        path="<box>",
+        parameters=parameters(dt, itrac),
+        pdmp=tuple(cards),
+        body=Body(0.0, -float(gravity), 0.0) if gravity else None,
+        trace=Trace(tuple(ids)),
+        nodes=tuple(nodes),
+        boundaries=(Boundary(1, 8, 1, ALL_DOFS),),
+        contacts=(Contact(tuple(Triangle(1, t) for t in CUBE_TRIANGLES),
+                          (SlaveSet(1, tuple(ids)),)),),
+        initials=tuple(initials),
+    )
+
+
+def sdof_deck(*, dt: float, hz: float, mass: float = TABLE4_MASS, k: float = TABLE4_K,
+              c: float = TABLE4_C, drive: float = TABLE4_DRIVE, itrac: int = 1,
+              x0: float = 0.0, v0: float = 0.0) -> Deck:
+    """The report's Table 4 beam: node 1 with ``mass``, a spring ``k`` and damper ``c`` to ground
+    along x, all other DOFs fixed, driven by ``drive * sin(2 pi hz t)`` along x (USRFRC card).
+    No particles. ``v0`` is an initial x velocity (``x0`` is not supported: springs are
+    measured from the deck's coordinates, so the start is always at rest length)."""
+    if x0:
+        raise ValueError("the spring's rest length is the deck geometry; x0 must be 0")
+    return Deck(
+        path="<sdof>",
+        parameters=parameters(dt, itrac),
+        materials=(Material(1, 1, 0.0, 1.0, float(k), 0.0, 0.0, float(c)),),
+        trace=Trace((1,)),
+        nodes=(Node(1, 0.0, 0.0, 0.0),),
+        elements=(Element(1, 1, (1,)),),
+        masses=(Mass(1, float(mass), 1.0, 1.0, 1.0),),
+        boundaries=(Boundary(1, 1, 1, (2, 3, 4, 5, 6)),),
+        initials=(Initial(1, (float(v0), 0.0, 0.0)),) if v0 else (),
+        usrfrc=(Usrfrc((f"sine:node=1,dof=1,amp={drive!r},hz={hz!r}",)),) if drive else (),
+    )

@@ -1,0 +1,361 @@
+"""Lark transformer: records of the deck grammar -> typed cards (``cards.py``).
+
+The grammar (``x3d.lark``) hands each card over as ``[KEYWORD, record, ..., END]``, where a record
+is a list of line tokens (one per line of the record; each holds the line's numbers). This
+module splits the lines, converts fields, checks field counts and card-local values, and raises
+:class:`~x3dpd.errors.DeckError` naming the field. Cross-card checks (an undefined node, a
+duplicate id) belong to ``x3dpd.model.build``. No physics here.
+
+The transformer is passed to the ``Lark`` constructor, so no parse tree is built. Errors are
+raised with the path ``"<deck>"``; ``parser.py`` puts in the real path.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+from lark import Token, Transformer
+
+from x3dpd.deck.cards import (Body, Boundary, Contact, Deck, Element, Initial, Mass, Material,
+                              Node, Parameters, Pdmp, Pos, Rbel, SlaveSet, Title, Trace, Triangle,
+                              Usrfrc)
+from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, SINGLE_CARDS, CardSpec
+from x3dpd.errors import DeckError
+
+_WORD = re.compile(r"[^\s,&]+")
+#: Largest integer a float field may spell as an integer id (2**53: exact in float64).
+_EXACT_INT = 2**53
+
+#: A record: its line tokens (CROW lines ending with '&', then a ROW or VALUES token). A line
+#: token holds the line's values, blanks, '&', a comment and newlines; values sit on its first line.
+Record = list[Token]
+#: What a card callback returns: canonical card name, keyword token, card or list of records.
+_Card = tuple[str, Token, Any]
+
+
+def _body(tok: str) -> str:
+    """The values part of a line token (its text before any comment)."""
+    cut = tok.find("$")
+    return tok if cut < 0 else tok[:cut]
+
+
+def _split(record: Record) -> list[str]:
+    """The values of a record, as strings."""
+    out: list[str] = []
+    for tok in record:
+        out += _WORD.findall(_body(tok))
+    return out
+
+
+def _where(record: Record, index: int) -> tuple[int, int]:
+    """Line and column of value ``index`` of a record (just after its last value if fewer)."""
+    k = 0
+    line = col = 0
+    for tok in record:
+        for m in _WORD.finditer(_body(tok)):
+            line, col = tok.line, tok.column + m.end()
+            if k == index:
+                return tok.line, tok.column + m.start()
+            k += 1
+    return line, col
+
+
+def _positions(record: Record, start: int) -> tuple[Pos, ...]:
+    """One Pos per value of a record, from value ``start`` on."""
+    out = []
+    for tok in record:
+        line, col = tok.line, tok.column
+        out.extend(Pos(line, col + m.start()) for m in _WORD.finditer(_body(tok)))
+    return tuple(out[start:])
+
+
+def _first(record: Record) -> Pos:
+    """Position of a record's first value (line tokens start with the line's indentation)."""
+    tok = record[0]
+    return Pos(tok.line, tok.column + len(tok) - len(tok.lstrip(" \t,")))
+
+
+def _pos(tok: Token) -> Pos:
+    return Pos(tok.line, tok.column)
+
+
+def _fail(spec: CardSpec, record: Record, index: int, message: str) -> DeckError:
+    line, col = _where(record, index)
+    return DeckError(message, "<deck>", line, col, spec.name)
+
+
+def to_float(text: str) -> float:
+    """A Fortran-style number (``1.0D0`` has a double-precision exponent) as a float."""
+    try:
+        return float(text)
+    except ValueError:
+        return float(text.replace("d", "e").replace("D", "e"))
+
+
+def _int(spec: CardSpec, record: Record, values: list[str], i: int, least: int | None = 1) -> int:
+    """Field ``i`` as an integer (``25.`` and ``1.e3`` are accepted; 2.5 is not)."""
+    text = values[i]
+    try:
+        value = int(text)
+    except ValueError:
+        x = to_float(text)
+        if not (x.is_integer() and abs(x) < _EXACT_INT):
+            raise _fail(spec, record, i, f"{spec.field_name(i)} must be an integer; "
+                                         f"got {text}") from None
+        value = int(x)
+    if least is not None and value < least:
+        what = "a positive integer" if least == 1 else f"an integer >= {least}"
+        raise _fail(spec, record, i, f"{spec.field_name(i)} must be {what}; got {text}")
+    return value
+
+
+def _count(spec: CardSpec, record: Record, values: list[str], low: int, high: int | None,
+           expected: str) -> None:
+    """Check the number of values of a record; the message names the fields expected."""
+    n = len(values)
+    if n < low or (high is not None and n > high):  # point at the record, or the first extra
+        raise _fail(spec, record, 0 if n < low else high, f"{spec.name} needs {expected}; got {n}")
+
+
+def _dofs(spec: CardSpec, record: Record, digits: list[int], index: int) -> tuple[int, ...]:
+    if not digits or any(d < 1 or d > 6 for d in digits) or len(set(digits)) != len(digits):
+        raise _fail(spec, record, index, f"{spec.field_name(index)} must be distinct DOF "
+                                         f"numbers 1..6 (x y z rx ry rz); got "
+                                         f"{''.join(map(str, digits))}")
+    return tuple(digits)
+
+
+def _one_record(spec: CardSpec, kw: Token, records: list[Record], expected: str) -> Record:
+    if not records:
+        raise DeckError(f"{spec.name} needs {expected}; got none", "<deck>", kw.line, kw.column,
+                        spec.name)
+    if len(records) > 1:
+        raise _fail(spec, records[1], 0, f"{spec.name} takes one record ({expected}); a second "
+                                         f"record starts here (end a line with '&' to continue)")
+    return records[0]
+
+
+class DeckTransformer(Transformer):
+    """Callbacks of the deck grammar; a card callback returns ``(card name, keyword, value)``."""
+
+    def record(self, children: list[Token]) -> Record:
+        return children
+
+    # -- text cards -------------------------------------------------------------------------
+    def title(self, c: list[Token]) -> _Card:
+        lines = [t.rstrip() for t in c[1:-1]]
+        if lines and c[1].line == c[0].line:
+            lines[0] = lines[0].lstrip()
+        return "TITLE", c[0], Title("\n".join(lines), _pos(c[0]))
+
+    def usrfrc(self, c: list[Token]) -> _Card:
+        return "USRFRC", c[0], Usrfrc(tuple(t.strip() for t in c[1:-1]), _pos(c[0]))
+
+    # -- value cards ------------------------------------------------------------------------
+    def parameters(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["PARAMETERS"]
+        expected = "11 values: " + " ".join(spec.fields)
+        rec = _one_record(spec, c[0], c[1:-1], expected)
+        v = _split(rec)
+        _count(spec, rec, v, 11, 11, expected)
+        f = [to_float(x) for x in v]
+        incr, irest, nintpl, istat, itrac = (_int(spec, rec, v, i, None) for i in (5, 7, 8, 9, 10))
+        if f[4] <= 0:
+            raise _fail(spec, rec, 4, f"DTMAX must be > 0; got {v[4]}")
+        if f[3] < 0 or f[3] > f[4]:
+            raise _fail(spec, rec, 3, f"DTMIN must be between 0 and DTMAX ({v[4]}); got {v[3]}")
+        if f[1] < f[0]:
+            raise _fail(spec, rec, 1, f"TMAX must be >= TIME ({v[0]}); got {v[1]}")
+        if itrac < 1:
+            raise _fail(spec, rec, 10, f"ITRAC (trace every ITRAC steps) must be >= 1; got {v[10]}")
+        return "PARAMETERS", c[0], Parameters(f[0], f[1], f[2], f[3], f[4], incr, f[6], irest, nintpl,
+                                        istat, itrac, _first(rec))
+
+    def matid(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["MATID"]
+        out = []
+        for rec in c[1:-1]:
+            v = _split(rec)
+            _count(spec, rec, v, 8, None, "at least 8 values: " + " ".join(spec.fields)
+                   + " [EXTRA...]")
+            mid, mtype = _int(spec, rec, v, 0), _int(spec, rec, v, 1, None)
+            f = [to_float(x) for x in v[2:]]
+            if f[0] < 0:
+                raise _fail(spec, rec, 2, f"MASS (element mass) must be >= 0; got {v[2]}")
+            out.append(Material(mid, mtype, *f[:6], tuple(f[6:]), _first(rec)))
+        return "MATID", c[0], out
+
+    def pdmp(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["PDMP"]
+        expected = "8 to 11 values: " + " ".join(spec.fields) + " (then pairs E2 T2 ...)"
+        out = []
+        for rec in c[1:-1]:
+            v = _split(rec)
+            _count(spec, rec, v, 8, None, expected)
+            if len(v) > 11 and (len(v) - 11) % 2:
+                raise _fail(spec, rec, len(v) - 1, "PDMP extra Maxwell terms come in pairs "
+                                                   f"E2 T2 E3 T3 ... after VZ0; got {len(v)} values")
+            nodlim = _int(spec, rec, v, 0, 0)
+            f = [to_float(x) for x in v[1:]] + [0.0] * max(0, 11 - len(v))
+            if f[0] <= 0:
+                raise _fail(spec, rec, 1, f"RZERO (particle radius) must be > 0; got {v[1]}")
+            if f[1] <= 0:
+                raise _fail(spec, rec, 2, f"PRHO (particle density) must be > 0; got {v[2]}")
+            extra = tuple(zip(f[10::2], f[11::2]))
+            out.append(Pdmp(nodlim, *f[:10], extra, _first(rec)))
+        return "PDMP", c[0], out
+
+    def body(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["BODY"]
+        rec = _one_record(spec, c[0], c[1:-1], "3 values: AX AY AZ")
+        v = _split(rec)
+        _count(spec, rec, v, 3, 3, "3 values: AX AY AZ")
+        return "BODY", c[0], Body(*(to_float(x) for x in v), _first(rec))
+
+    def trace(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["TRACE"]
+        nodes: list[int] = []
+        where: list[Pos] = []
+        for rec in c[1:-1]:
+            v = _split(rec)
+            nodes.extend(_int(spec, rec, v, i) for i in range(len(v)))
+            where.extend(_positions(rec, 0))
+        if not nodes:
+            raise DeckError("TRACE needs at least one node id; got none", "<deck>", c[0].line,
+                            c[0].column, spec.name)
+        return "TRACE", c[0], Trace(tuple(nodes), tuple(where), _pos(c[0]))
+
+    def node(self, c: list[Any]) -> _Card:
+        out = []
+        append = out.append
+        for rec in c[1:-1]:
+            tok = rec[0]
+            if len(rec) == 1 and "," not in tok and "$" not in tok:  # fast path: "id x y z"
+                v = tok.split()
+                if len(v) == 4:
+                    try:
+                        nid = int(v[0])
+                        if nid > 0:
+                            append(Node(nid, float(v[1]), float(v[2]), float(v[3]),
+                                        Pos(tok.line, tok.column + len(tok) - len(tok.lstrip()))))
+                            continue
+                    except ValueError:
+                        pass
+            append(self._node_slow(rec))
+        return "NODE COORDINATES", c[0], out
+
+    @staticmethod
+    def _node_slow(rec: Record) -> Node:
+        spec = BY_NAME["NODE COORDINATES"]
+        v = _split(rec)
+        _count(spec, rec, v, 4, 4, "4 values: ID X Y Z")
+        return Node(_int(spec, rec, v, 0), *(to_float(x) for x in v[1:]), _first(rec))
+
+    def elements(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["ELEMENTS"]
+        out = []
+        for rec in c[1:-1]:
+            v = _split(rec)
+            _count(spec, rec, v, 3, 4, "3 or 4 values: ID MID NODE1 [NODE2]")
+            ids = [_int(spec, rec, v, i) for i in range(len(v))]
+            out.append(Element(ids[0], ids[1], tuple(ids[2:]), _first(rec)))
+        return "ELEMENTS", c[0], out
+
+    def mass(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["MASS"]
+        out = []
+        for rec in c[1:-1]:
+            v = _split(rec)
+            _count(spec, rec, v, 2, 5, "2 to 5 values: NODE MASS [IXX IYY IZZ]")
+            f = [to_float(x) for x in v[1:]] + [0.0] * (5 - len(v))
+            for i, x in enumerate(f[:len(v) - 1], start=1):
+                if x < 0:
+                    raise _fail(spec, rec, i, f"{spec.field_name(i)} must be >= 0; got {v[i]}")
+            out.append(Mass(_int(spec, rec, v, 0), *f, _first(rec)))
+        return "MASS", c[0], out
+
+    def rbel(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["RBEL"]
+        out = []
+        for rec in c[1:-1]:
+            v = _split(rec)
+            _count(spec, rec, v, 4, None, "MASTER DOFS COUNT and COUNT slave node ids")
+            master = _int(spec, rec, v, 0)
+            dofs = _dofs(spec, rec, [int(d) for d in str(_int(spec, rec, v, 1))], 1)
+            count = _int(spec, rec, v, 2)
+            if count != len(v) - 3:
+                raise _fail(spec, rec, 2, f"RBEL declares COUNT={count} slave nodes but lists "
+                                          f"{len(v) - 3}")
+            slaves = tuple(_int(spec, rec, v, i) for i in range(3, len(v)))
+            out.append(Rbel(master, dofs, slaves, _positions(rec, 3), _first(rec)))
+        return "RBEL", c[0], out
+
+    def boundary(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["BOUNDARY CONDITIONS"]
+        out = []
+        for rec in c[1:-1]:
+            v = _split(rec)
+            _count(spec, rec, v, 4, None, "FIRST LAST INC and at least one DOF (1..6)")
+            first, last, inc = (_int(spec, rec, v, i) for i in range(3))
+            if last < first:
+                raise _fail(spec, rec, 1, f"LAST must be >= FIRST ({first}); got {last}")
+            dofs = _dofs(spec, rec, [_int(spec, rec, v, i, None) for i in range(3, len(v))], 3)
+            out.append(Boundary(first, last, inc, dofs, _first(rec)))
+        return "BOUNDARY CONDITIONS", c[0], out
+
+    def initial(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["INITIAL"]
+        out = []
+        for rec in c[1:-1]:
+            v = _split(rec)
+            _count(spec, rec, v, 4, 7, "4 or 7 values: NODE VX VY VZ [WX WY WZ]")
+            vel = [to_float(x) for x in v[1:]]
+            if len(vel) > 3:
+                vel += [0.0] * (6 - len(vel))
+            out.append(Initial(_int(spec, rec, v, 0), tuple(vel), _first(rec)))
+        return "INITIAL", c[0], out
+
+    def contact(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["CONTACT"]
+        split = next(i for i, x in enumerate(c) if isinstance(x, Token) and x.type == "END")
+        triangles = []
+        for rec in c[1:split]:
+            v = _split(rec)
+            _count(spec, rec, v, 4, 4, "4 values per master triangle: SET N1 N2 N3")
+            ids = [_int(spec, rec, v, i) for i in range(4)]
+            triangles.append(Triangle(ids[0], (ids[1], ids[2], ids[3]), _first(rec)))
+        slaves = []
+        sspec = CONTACT_SLAVES
+        for rec in c[split + 1:-1]:
+            v = _split(rec)
+            _count(sspec, rec, v, 2, None, "SET and at least one slave node id per slave record")
+            ids = tuple(_int(sspec, rec, v, i) for i in range(len(v)))
+            slaves.append(SlaveSet(ids[0], ids[1:], _positions(rec, 1), _first(rec)))
+        return "CONTACT", c[0], Contact(tuple(triangles), tuple(slaves), _pos(c[0]))
+
+    # -- the whole deck ---------------------------------------------------------------------
+    def start(self, cards: list[_Card]) -> Deck:
+        single: dict[str, Any] = {}
+        seen: dict[str, Token] = {}
+        lists: dict[str, list[Any]] = {}
+        for name, kw, value in cards:
+            if name in SINGLE_CARDS:
+                if name in single:
+                    raise DeckError(f"{name} may appear only once; it was already given at line "
+                                    f"{seen[name].line}", "<deck>", kw.line, kw.column, name)
+                single[name], seen[name] = value, kw
+            elif isinstance(value, list):
+                lists.setdefault(name, []).extend(value)
+            else:
+                lists.setdefault(name, []).append(value)
+
+        def many(name: str) -> tuple[Any, ...]:
+            return tuple(lists.get(name, ()))
+
+        return Deck(title=single.get("TITLE"), parameters=single.get("PARAMETERS"),
+                    materials=many("MATID"), pdmp=many("PDMP"), body=single.get("BODY"),
+                    trace=single.get("TRACE"), nodes=many("NODE COORDINATES"),
+                    elements=many("ELEMENTS"), masses=many("MASS"), rbels=many("RBEL"),
+                    boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
+                    initials=many("INITIAL"), usrfrc=many("USRFRC"))

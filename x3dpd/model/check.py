@@ -1,0 +1,684 @@
+"""Pre-run check of a model: summary, recommended time step and geometry warnings.
+
+:func:`check_model` never changes the model; it returns a :class:`CheckReport` whose
+:meth:`~CheckReport.format` is what ``x3dpd check DECK`` prints. The geometry finders
+(:func:`particle_wall_penetrations`, :func:`particles_outside`, :func:`particle_overlaps`,
+:func:`faces_in_particle_cloud`) and :func:`recommended_time_step` are reusable on their own; the
+solver uses :func:`particle_wall_penetrations` to refuse a start with deep penetrations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from x3dpd.geometry.cavity import (
+    cavity_extents,
+    enclosed_volume,
+    geometry_size,
+    merge_vertices,
+    surface_edges,
+)
+from x3dpd.geometry.pairs import overlapping_pairs
+from x3dpd.geometry.triangle import unit_normals
+from x3dpd.geometry.walls import sphere_triangle_pairs
+from x3dpd.model.model import Model
+from x3dpd.physics.hertz import (
+    effective_modulus_pair,
+    effective_modulus_wall,
+    effective_radius,
+    hertz_constant,
+    hertz_impact,
+)
+
+#: Steps per Hertz contact the recommendation asks for (see :func:`recommended_time_step`).
+STEPS_PER_CONTACT = 50
+
+#: Fewer steps per contact than this is a warning: the peak contact force then errs by more than
+#: about 2 % (see :func:`peak_force_error`) -- the accuracy below which damping predictions are
+#: no longer trustworthy. Between this and :data:`STEPS_PER_CONTACT` the summary only notes the
+#: expected error (the report's own decks, at 5e-7 s, resolve a fall across the cavity in ~10).
+MIN_STEPS_PER_CONTACT = 8
+#: Fraction of the explicit stability limit used for the structure.
+STRUCTURE_SAFETY = 0.2
+#: Floor of the characteristic impact speed [length/s] (1 in/s in the report's units).
+MIN_IMPACT_SPEED = 1.0
+#: Relative tolerance for "touching" (distance equal to a radius sum or a radius).
+REL_TOL = 1e-9
+#: Longest listing of one warning's details.
+MAX_LISTED = 20
+_AXES = "xyz"
+
+
+# -- time step ----------------------------------------------------------------------------------
+
+def hertz_contact_time(m_eff, r_eff, e_star, v):
+    r"""Duration of an elastic Hertz impact, :math:`t_c = 2.868\,(m^2/(R E^{*2} v))^{1/5}` [s].
+
+    Derivation. With the approach :math:`\delta`, Hertz's law (report Eq. 5; Johnson, *Contact
+    Mechanics* §4.2) is :math:`F = K\delta^{3/2}`, :math:`K = \tfrac43 E^*\sqrt{R}`. Energy
+    conservation :math:`\tfrac12 m\dot\delta^2 + \tfrac25 K\delta^{5/2} = \tfrac12 m v^2` gives
+    the largest approach :math:`\delta_m = (5mv^2/4K)^{2/5}` and the duration
+    :math:`t_c = 2\int_0^{\delta_m} d\delta/\dot\delta = (2\delta_m/v)\int_0^1(1-x^{5/2})^{-1/2}dx
+    = 2.9432\,\delta_m/v`. Substituting :math:`K`:
+    :math:`t_c = 2.9432\,(15/16)^{2/5}\,(m^2/(R E^{*2} v))^{1/5} = 2.868\,(m^2/(R E^{*2} v))^{1/5}`.
+    :math:`R` enters to the first power (:math:`m^2/(R E^{*2} v)` has units of time^5), not
+    squared. The report's Table 3 (two steel spheres, R = 0.0625 in) lists :math:`t_c/2`; this
+    function reproduces it within 0.5 % (the table's last digit is not always rounded).
+
+    Effective values: sphere on a rigid flat wall :math:`m, R, E^* = E/(1-\nu^2)` (report
+    §7.2.2); two identical spheres :math:`m/2, R/2, E^* = E/(2(1-\nu^2))`; in general
+    :math:`m = m_1m_2/(m_1+m_2)`, :math:`R = R_1R_2/(R_1+R_2)`,
+    :math:`1/E^* = (1-\nu_1^2)/E_1 + (1-\nu_2^2)/E_2` (:mod:`x3dpd.physics.hertz`).
+
+    Parameters
+    ----------
+    m_eff : effective mass [mass]
+    r_eff : effective radius [length]
+    e_star : effective modulus [force/length^2]
+    v : normal impact speed [length/s]
+    """
+    return 2.0 * hertz_impact(m_eff, hertz_constant(e_star, r_eff), v)[1]
+
+
+def peak_force_error(steps_per_contact):
+    r"""Worst relative error [%] of the peak force of a Hertz impact resolved in ``n`` steps.
+
+    Measured with velocity Verlet (central difference) over all phases of the first step
+    relative to the moment of contact: 3.4 % (6 steps), 1.29 % (10), 0.34 % (20), 0.055 % (50);
+    fitted by :math:`1.35\,\% \cdot (10/n)^2`. Contact duration and restitution errors are
+    smaller (0.55 % and 0.26 % at 10 steps). ``tests/model/test_model_timestep.py`` re-measures it.
+    """
+    return 1.35 * (10.0 / steps_per_contact) ** 2
+
+
+@dataclass(frozen=True)
+class TimeStepAdvice:
+    """Recommended time step and the limits behind it (all times in s).
+
+    ``binding`` is ``"contact"``, ``"structure"`` or ``"none"``; ``contact_kind`` says which
+    contact is shortest (``"particle-wall"`` or ``"particle-particle"``); ``omega_node`` and
+    ``omega_dof`` name the structural DOF with the highest frequency estimate.
+    """
+
+    dt_deck: float
+    dt_recommended: float
+    binding: str
+    t_contact: float
+    impact_speed: float
+    contact_kind: str
+    steps_per_contact: int
+    dt_contact: float
+    omega_max: float
+    omega_node: int
+    omega_dof: str
+    dt_structure: float
+
+    @property
+    def deck_steps_per_contact(self) -> float:
+        return self.t_contact / self.dt_deck
+
+
+def characteristic_speed(model: Model) -> float:
+    r"""Impact speed for the contact time estimate [length/s].
+
+    :math:`v_c = \max(\sqrt{2|\mathbf g|L},\ \max|\mathbf v_0|,\ v_\mathrm{min})`: a fall across the
+    largest cavity extent :math:`L` under the BODY acceleration, the fastest initial velocity of
+    any node, and a floor :data:`MIN_IMPACT_SPEED`. A slower impact lasts longer
+    (:math:`t_c \propto v^{-1/5}`), so a high :math:`v_c` is the conservative choice; the floor
+    keeps a gravity-free deck at rest from recommending an unbounded step. Without walls,
+    :math:`L` is the extent of the particle cloud plus a diameter.
+    """
+    pts = model.x0[model.tri_nodes.reshape(-1)]
+    if pts.shape[0] == 0 and model.n_particles:
+        pts = model.x0[model.particle_start:]
+        extra = 2.0 * float(model.radius.max())
+    else:
+        extra = 0.0
+    length = float(np.max(np.ptp(pts, axis=0))) + extra if pts.shape[0] else 0.0
+    fall = math.sqrt(2.0 * float(np.linalg.norm(model.body_accel)) * length)
+    fastest = float(np.max(np.linalg.norm(model.v0[:, :3], axis=1), initial=0.0))
+    return max(fall, fastest, MIN_IMPACT_SPEED)
+
+
+def _contact_limit(model: Model) -> tuple[float, float, str]:
+    """Shortest Hertz contact (t_c, v_c, kind) over the contacts the model can have."""
+    v = characteristic_speed(model)
+    best = (math.inf, v, "none")
+    if not model.n_particles:
+        return best
+    e_inst = model.moduli.sum(axis=1)  # instantaneous (stiffest) modulus E0 + E1 + ...
+    groups = np.unique(model.particle_group)
+    first = {int(g): int(np.flatnonzero(model.particle_group == g)[0]) for g in groups}
+    m = model.mass[model.particle_start:]
+    if "wall_contact" in model.effects:
+        for g, i in first.items():
+            if np.any((model.particle_group == g) & (model.particle_cavity >= 0)):
+                t = hertz_contact_time(m[i], model.radius[i],
+                                       effective_modulus_wall(e_inst[i], model.poisson[i]), v)
+                best = min(best, (t, v, "particle-wall"))
+    if "pair_contact" in model.effects:
+        for g, i in first.items():
+            for h, j in first.items():
+                if h < g or (h == g and np.sum(model.particle_group == g) < 2):
+                    continue
+                e_star = effective_modulus_pair(e_inst[i], model.poisson[i], e_inst[j],
+                                                model.poisson[j])
+                t = hertz_contact_time(m[i] * m[j] / (m[i] + m[j]),
+                                       effective_radius(model.radius[i], model.radius[j]),
+                                       e_star, v)
+                best = min(best, (t, v, "particle-particle"))
+    return best
+
+
+def _structure_limit(model: Model) -> tuple[float, float, int, str]:
+    r"""Critical step, omega, node id and DOF of the stiffest free structural DOF.
+
+    Each free translational DOF (of a node, or of a rigid body through its master) gets the
+    Gershgorin bound on the eigenvalues of :math:`M^{-1}K`: :math:`\omega^2 \le (K_{ii} +
+    \sum_j|K_{ij}|)/m_i`, i.e. a spring to ground or to a fixed DOF counts :math:`k`, a spring
+    to another free DOF :math:`2k`, and springs on fixed DOFs count nothing. Damping enters the
+    central-difference limit :math:`\Delta t_\mathrm{crit} = 2/(\sqrt{\omega^2+\beta^2}+\beta)`,
+    :math:`\beta = c/2m` (:math:`= (2/\omega)(\sqrt{1+\zeta^2}-\zeta)`). A rigid body with free
+    rotations adds :math:`\omega^2 \le 2\sum k|\mathbf r|^2/\lambda_\mathrm{min}(J)`.
+    """
+    n = model.n_nodes
+    rep = np.arange(n)
+    for b, mnode in enumerate(model.rigid_master):
+        rep[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = mnode
+    mass = model.mass.copy()
+    mass[model.rigid_master] = model.rigid_mass
+    ksum = np.zeros((n, 3))
+    csum = np.zeros((n, 3))
+    for (a, b), k, c in zip(model.spring_nodes, model.spring_k, model.spring_c):
+        ra = rep[a]
+        rb = rep[b] if b >= 0 else -1
+        for ax in range(3):
+            ends = [(ra, rb)] + ([(rb, ra)] if rb >= 0 else [])
+            for r, q in ends:
+                if r == q or model.fixed[r, ax]:
+                    continue
+                factor = 2.0 if q >= 0 and not model.fixed[q, ax] else 1.0
+                ksum[r, ax] += factor * k[ax]
+                csum[r, ax] += factor * c[ax]
+    best = (math.inf, 0.0, 0, "")
+    structural = np.arange(model.particle_start)
+    for i in structural[(rep[structural] == structural)]:
+        for ax in range(3):
+            if model.fixed[i, ax] or mass[i] <= 0.0 or (ksum[i, ax] == 0 and csum[i, ax] == 0):
+                continue
+            omega = math.sqrt(ksum[i, ax] / mass[i])
+            beta = csum[i, ax] / (2.0 * mass[i])
+            crit = 2.0 / (math.sqrt(omega**2 + beta**2) + beta)
+            best = min(best, (crit, omega, int(model.node_ids[i]), _AXES[ax]))
+    for b, mnode in enumerate(model.rigid_master):
+        if np.all(model.fixed[mnode, 3:]):
+            continue
+        lam = float(np.linalg.eigvalsh(model.rigid_inertia[b])[0])
+        on = np.isin(rep[model.spring_nodes], [mnode]) & (model.spring_nodes >= 0)
+        r2 = np.sum((model.x0[model.spring_nodes] - model.x0[mnode]) ** 2, axis=-1)
+        kr = 2.0 * float(np.sum(on * r2 * model.spring_k.max(axis=1)[:, None]))
+        if kr > 0.0 and lam > 0.0:
+            omega = math.sqrt(kr / lam)
+            best = min(best, (2.0 / omega, omega, int(model.node_ids[mnode]), "rotation"))
+    return best
+
+
+def recommended_time_step(model: Model, steps_per_contact: int = STEPS_PER_CONTACT
+                          ) -> TimeStepAdvice:
+    r"""Largest time step that resolves the contacts and keeps the structure stable.
+
+    (a) Contact: :math:`\Delta t \le t_c/n` with :math:`t_c` from :func:`hertz_contact_time` for
+    the shortest contact the model can have, using the instantaneous modulus
+    :math:`E_0+E_1+\dots` (the stiffest response) at the speed of :func:`characteristic_speed`.
+    EDEM asks for at least 6-10 steps per Hertz contact (help.altair.com, "Estimate simulation
+    time"); that is a lower bound for following an impact at all, not an accuracy target: at 10
+    steps the peak force of a single elastic impact is off by up to 1.3 %
+    (:func:`peak_force_error`). :math:`n = 50` gives 0.06 % for that impact and keeps a margin to
+    the 0.5 % level for what resolves worse than a lone impact: in a resting column of particles
+    the highest contact mode is up to twice the single-contact frequency (25 effective steps:
+    about 0.2 %), and ``characteristic_speed`` is only an estimate of the impact speed. The
+    Maxwell update (:mod:`x3dpd.physics.maxwell`) uses exponential decay factors, stable for any
+    :math:`\Delta t/\tau`, so :math:`\tau_1 < t_c` (Appendix A: 2 µs) sets no stability limit of
+    its own; its second-order accuracy is one more reason for a generous :math:`n`.
+
+    (b) Structure: :math:`\Delta t \le 0.2\cdot\Delta t_\mathrm{crit}`, with
+    :math:`\Delta t_\mathrm{crit} = 2/\omega_\mathrm{max}` (undamped) from the free DOFs only; see
+    :func:`_structure_limit`. Springs on fixed DOFs do not count (Appendix A's
+    1e12 lbf/in springs act on y and z, which BOUNDARY fixes).
+    """
+    t_c, v_c, kind = _contact_limit(model)
+    crit, omega, node, dof = _structure_limit(model)
+    dt_contact = t_c / steps_per_contact
+    dt_structure = STRUCTURE_SAFETY * crit
+    dt = min(dt_contact, dt_structure)
+    binding = "none" if math.isinf(dt) else ("contact" if dt_contact <= dt_structure
+                                              else "structure")
+    return TimeStepAdvice(float(model.dt), float(dt), binding, float(t_c), float(v_c), kind,
+                          int(steps_per_contact), float(dt_contact), float(omega), int(node), dof,
+                          float(dt_structure))
+
+
+# -- geometry -----------------------------------------------------------------------------------
+
+class WallPenetration(NamedTuple):
+    """A particle whose sphere crosses a wall it lies over (centre on the inner side)."""
+
+    particle: int  # 0-based particle number (node index - particle_start)
+    node_id: int
+    triangle: int  # 0-based, in CONTACT order
+    depth: float  # R - d [length]
+
+
+class OutsideParticle(NamedTuple):
+    """A particle whose centre starts outside the cavity it belongs to."""
+
+    particle: int
+    node_id: int
+    triangle: int  # 0-based triangle it lies behind, -1 when only outside the bounding box
+    distance: float  # how far behind the wall (or outside the box) [length]
+
+
+def _walls(model: Model):
+    p = [model.x0[model.tri_nodes[:, k]] for k in range(3)]
+    n_in = model.tri_sign[:, None] * unit_normals(*p)
+    return p, n_in, model.face_cavity[model.tri_face]
+
+
+def _over_walls(model: Model, edge_tol: np.ndarray):
+    (p0, p1, p2), n_in, tri_cav = _walls(model)
+    return sphere_triangle_pairs(model.x0[model.particle_start:], model.particle_cavity, p0, p1,
+                                 p2, n_in, tri_cav, edge_tol)
+
+
+def _deepest_per_face(model: Model, s, t, value, keep) -> list[tuple[int, int, float]]:
+    """Largest ``value`` per (particle, face) among the kept pairs, sorted by particle.
+
+    Returns (particle, triangle, value) with the first triangle in CONTACT order on ties.
+    """
+    s, t, value = s[keep], t[keep], value[keep]
+    face = model.tri_face[t]
+    order = np.lexsort((t, -value, face, s))
+    s, t, value, face = s[order], t[order], value[order], face[order]
+    first = np.ones(s.shape[0], dtype=bool)
+    first[1:] = (s[1:] != s[:-1]) | (face[1:] != face[:-1])
+    return list(zip(s[first].tolist(), t[first].tolist(), value[first].tolist()))
+
+
+def particle_wall_penetrations(model: Model, min_depth_fraction: float = 0.0
+                               ) -> list[WallPenetration]:
+    r"""Particles that start penetrating a wall of their cavity.
+
+    Penetration of particle :math:`i` into triangle :math:`t`: its centre is on the inner side
+    and closer than :math:`R` to the plane, :math:`0 \le d < R`, and its projection lies in the
+    triangle grown by :math:`R` (an edge contact counts). Depth :math:`R - d`. One entry per
+    particle and face (the deepest triangle of the face); only depths above
+    ``min_depth_fraction * R`` (and above touching, :data:`REL_TOL`) are returned.
+    """
+    r = model.radius
+    s, t, d = _over_walls(model, r)
+    depth = r[s] - d
+    keep = (d >= -REL_TOL * r[s]) & (depth > np.maximum(REL_TOL, min_depth_fraction) * r[s])
+    return [WallPenetration(i, int(model.node_ids[model.particle_start + i]), k, v)
+            for i, k, v in _deepest_per_face(model, s, t, depth, keep)]
+
+
+def particles_outside(model: Model) -> list[OutsideParticle]:
+    r"""Particles whose centre starts outside the cavity they bound.
+
+    Outside: behind some wall, :math:`d < 0` with the projection inside the wall's triangle, or
+    outside the bounding box of the cavity's triangle nodes. One entry per particle (the
+    farthest behind). Exact for convex cavities.
+    """
+    p0 = model.particle_start
+    s, t, d = _over_walls(model, REL_TOL * model.radius)
+    keep = d < -REL_TOL * model.radius[s]
+    worst: dict[int, tuple[float, int]] = {}
+    for i, k, v in _deepest_per_face(model, s, t, -d, keep):
+        if i not in worst or v > worst[i][0]:
+            worst[i] = (v, k)
+    for c in range(model.cavity_set_ids.shape[0]):
+        lo, hi = cavity_extents(model.x0[model.tri_nodes[model.face_cavity[model.tri_face] == c]
+                                         .reshape(-1)])
+        tol = REL_TOL * geometry_size(np.stack([lo, hi]))
+        mine = np.flatnonzero(model.particle_cavity == c)
+        x = model.x0[p0 + mine]
+        gap = np.max(np.maximum(lo - x, x - hi), axis=1)
+        for i, g in zip(mine[gap > tol].tolist(), gap[gap > tol].tolist()):
+            worst.setdefault(i, (g, -1))
+    return [OutsideParticle(i, int(model.node_ids[p0 + i]), k, v)
+            for i, (v, k) in sorted(worst.items())]
+
+
+def particle_overlaps(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    """Overlapping particle pairs as ``(node id pairs (M, 2), overlap depths (M,))``."""
+    pairs, depth = overlapping_pairs(model.x0[model.particle_start:], model.radius, REL_TOL)
+    return model.node_ids[model.particle_start:][pairs].reshape(-1, 2), depth
+
+
+def faces_in_particle_cloud(model: Model) -> list[int]:
+    r"""Faces whose plane cuts through their cavity's particles.
+
+    A face is inside the particle cloud when, among the particles of its cavity whose centres
+    lie over it (projection within :math:`R` of its triangles), some centres are on or behind
+    its plane (:math:`d \le 0`) and some in front (:math:`d > 0`). A cavity wall should have
+    every particle on its inner side.
+    """
+    s, t, d = _over_walls(model, model.radius)
+    tol = REL_TOL * model.radius[s]
+    face = model.tri_face[t]
+    return [int(f) for f in np.unique(face)
+            if np.any(d[face == f] <= tol[face == f]) and np.any(d[face == f] > tol[face == f])]
+
+
+# -- report -------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class CavitySummary:
+    """One cavity: bounding box of its triangle nodes, closure, volume and fill."""
+
+    set_id: int
+    lo: tuple[float, float, float]
+    hi: tuple[float, float, float]
+    n_triangles: int
+    n_faces: int
+    closed: bool
+    consistent: bool
+    volume: float | None  # None when the faces do not close
+    n_particles: int
+    particle_volume: float
+
+    @property
+    def fill_ratio(self) -> float | None:
+        return None if not self.volume else self.particle_volume / self.volume
+
+
+@dataclass(frozen=True)
+class GroupSummary:
+    """One PDMP particle group: how many particles, which nodes, radius and mass of each."""
+
+    group: int  # 0-based PDMP card number
+    count: int
+    nodes: str  # node id ranges, e.g. "26-75"
+    radius: float
+    mass: float
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One warning or error: a headline and optional detail lines."""
+
+    code: str
+    headline: str
+    details: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class CheckReport:
+    """Result of :func:`check_model`; ``exit_status`` is 0 clean, 1 warnings, 2 errors."""
+
+    path: str
+    n_nodes: int
+    groups: tuple[GroupSummary, ...]
+    particle_mass: float
+    structure_mass: float
+    cavities: tuple[CavitySummary, ...]
+    effects: frozenset
+    time_step: TimeStepAdvice
+    warnings: tuple[Finding, ...]
+    errors: tuple[Finding, ...] = ()
+
+    @property
+    def n_particles(self) -> int:
+        return int(sum(g.count for g in self.groups))
+
+    @property
+    def exit_status(self) -> int:
+        return 2 if self.errors else (1 if self.warnings else 0)
+
+
+def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> CheckReport:
+    """Summarise a model and list what is likely wrong with it before a run.
+
+    Warnings, in this order: walls that cut through the particle cloud (one headline per
+    cavity), particles outside their cavity, particles penetrating walls, overlapping particles,
+    cavities whose inside could not be told consistently, particles in no slave set, cavities
+    without particles, and a time step above the recommendation (:func:`recommended_time_step`).
+    The model itself is consistent (:func:`~x3dpd.model.build.build_model` raised otherwise), so
+    ``errors`` is empty; the CLI adds deck errors.
+    """
+    ps = model.particle_start
+    cavities = _cavity_summaries(model)
+    outside = particles_outside(model)
+    warnings = _cloud_findings(model, faces_in_particle_cloud(model), outside)
+    if outside:
+        warnings.append(Finding(
+            "particles-outside",
+            f"{len(outside)} of the {model.n_particles} particles start outside the cavity they "
+            f"bound: their centres lie behind a wall or outside the box of the cavity's nodes, "
+            f"so those walls would push them from the wrong side",
+            _listed([f"particle node {o.node_id}: " + (
+                f"{o.distance:.6g} behind {_tri(model, o.triangle)}" if o.triangle >= 0 else
+                f"{o.distance:.6g} outside the bounding box of cavity set "
+                f"{model.cavity_set_ids[model.particle_cavity[o.particle]]}") for o in outside])))
+    behind = {o.particle for o in outside}
+    pen = sorted((p for p in particle_wall_penetrations(model) if p.particle not in behind),
+                 key=lambda p: -p.depth)
+    if pen:
+        r = model.radius
+        warnings.append(Finding(
+            "wall-penetration",
+            f"{len({p.particle for p in pen})} particles "
+            + ("inside their cavity " if behind else "")
+            + f"start penetrating a wall (deepest: "
+            f"particle node {pen[0].node_id}, {pen[0].depth:.6g} = "
+            f"{pen[0].depth / r[pen[0].particle]:.3g} R into {_tri(model, pen[0].triangle)})",
+            _listed([f"particle node {p.node_id}: {p.depth:.6g} ({p.depth / r[p.particle]:.3g} R) "
+                     f"into {_tri(model, p.triangle)}" for p in pen])))
+    pairs, depth = particle_overlaps(model)
+    if pairs.shape[0]:
+        rad = dict(zip(model.node_ids[ps:].tolist(), model.radius.tolist()))
+        order = np.argsort(-depth, kind="stable")
+        warnings.append(Finding(
+            "particle-overlap",
+            f"{pairs.shape[0]} particle pairs start overlapping (deepest: nodes "
+            f"{pairs[order[0], 0]} and {pairs[order[0], 1]}, {depth[order[0]]:.6g})",
+            _listed([f"particle nodes {a} and {b}: overlap {d:.6g} "
+                     f"({d / min(rad[a], rad[b]):.3g} R)"
+                     for (a, b), d in zip(pairs[order].tolist(), depth[order])])))
+    for cav in cavities:
+        if cav.closed and (not cav.consistent or not cav.volume or cav.volume < 0):
+            warnings.append(Finding(
+                "cavity-orientation",
+                f"cavity set {cav.set_id} is closed, but the inward sides taken from the centroid "
+                f"of its nodes do not agree along shared edges: the cavity is probably not "
+                f"convex, and some walls may push particles outward"))
+        if cav.n_particles == 0:
+            warnings.append(Finding("empty-cavity",
+                                    f"cavity set {cav.set_id} has no slave particles"))
+    loose = model.node_ids[ps:][model.particle_cavity < 0]
+    if loose.size and model.tri_nodes.shape[0]:
+        warnings.append(Finding(
+            "no-cavity",
+            f"{loose.size} particles are in no CONTACT slave set and will pass through every "
+            f"wall: nodes {_ranges(loose)}"))
+    ts = recommended_time_step(model, steps_per_contact)
+    if _time_step_is_a_problem(ts):
+        warnings.append(Finding("time-step", _time_step_warning(ts, model)))
+    groups = []
+    for g in np.unique(model.particle_group).tolist():
+        mine = np.flatnonzero(model.particle_group == g)
+        groups.append(GroupSummary(int(g), int(mine.size), _ranges(model.node_ids[ps + mine]),
+                                   float(model.radius[mine[0]]), float(model.mass[ps + mine[0]])))
+    return CheckReport(
+        path=model.path, n_nodes=model.n_nodes, groups=tuple(groups),
+        particle_mass=float(model.mass[ps:].sum()), structure_mass=float(model.mass[:ps].sum()),
+        cavities=tuple(cavities), effects=model.effects, time_step=ts,
+        warnings=tuple(warnings))
+
+
+def _cavity_summaries(model: Model) -> list[CavitySummary]:
+    out = []
+    tri_cav = model.face_cavity[model.tri_face]
+    pvol = 4.0 / 3.0 * math.pi * model.radius**3
+    for c, sid in enumerate(model.cavity_set_ids.tolist()):
+        mine = np.flatnonzero(tri_cav == c)
+        corners = model.x0[model.tri_nodes[mine]]  # (T, 3 corners, 3)
+        pts = corners.reshape(-1, 3)
+        lo, hi = cavity_extents(pts)
+        labels = merge_vertices(pts, geometry_size(pts)).reshape(-1, 3)
+        closed, consistent = surface_edges(labels, model.tri_sign[mine])
+        volume = enclosed_volume(corners[:, 0], corners[:, 1], corners[:, 2],
+                                 model.tri_sign[mine]) if closed else None
+        inside = model.particle_cavity == c
+        out.append(CavitySummary(
+            int(sid), tuple(lo.tolist()), tuple(hi.tolist()), int(mine.size),
+            int(np.unique(model.tri_face[mine]).size), closed, consistent, volume,
+            int(inside.sum()), float(pvol[inside].sum())))
+    return out
+
+
+def _cloud_findings(model: Model, faces: list[int], outside: list[OutsideParticle]
+                    ) -> list[Finding]:
+    """One headline per cavity whose wall planes cut through its particles."""
+    out = []
+    tri_cav = model.face_cavity[model.tri_face]
+    (p0, _, _), n_in, _ = _walls(model)
+    for c, sid in enumerate(model.cavity_set_ids.tolist()):
+        mine = [f for f in faces if model.face_cavity[f] == c]
+        if not mine:
+            continue
+        tris = np.flatnonzero(np.isin(model.tri_face, mine))
+        total = int(np.sum(tri_cav == c))
+        who = (f"the {_count(total)} contact triangles" if tris.size == total else
+               f"{_count(int(tris.size))} of the {_count(total)} contact triangles")
+        first = [int(np.flatnonzero(model.tri_face == f)[0]) for f in mine]
+        planes = _planes_text(n_in[first], p0[first])
+        centres = model.x0[model.particle_start:][model.particle_cavity == c]
+        n_out = sum(1 for o in outside if model.particle_cavity[o.particle] == c)
+        text = (f"cavity set {sid}: {who} lie in the plane{'s' if len(mine) > 1 else ''} "
+                f"{planes}, inside the particle cloud (particle centres span "
+                f"{_span_text(centres)}), so "
+                + ("no closed cavity holds the particles" if tris.size == total else
+                   "these walls cut through the particles"))
+        if n_out:
+            text += (f"; {n_out} of the {centres.shape[0]} particles start outside the cavity "
+                     f"they bound")
+        text += (". The report's Appendix A deck prints its cavity this way; "
+                 "decks/appendix_a_cube.inp moves the cavity nodes onto the faces of the box the "
+                 "particles fill.")
+        out.append(Finding("faces-in-particle-cloud", text))
+    return out
+
+
+def _planes_text(n_in: np.ndarray, p0: np.ndarray) -> str:
+    """'x = 0.0625, 0.1875, z = ±0.09375' for axis-aligned planes, 'n·x = d' otherwise."""
+    by_axis: dict[int, list[float]] = {}
+    other = []
+    for n, p in zip(n_in, p0):
+        k = int(np.argmax(np.abs(n)))
+        if abs(abs(n[k]) - 1.0) <= 1e-9:
+            by_axis.setdefault(k, []).append(float(p[k]))
+        else:
+            other.append(f"({n[0]:.4g}, {n[1]:.4g}, {n[2]:.4g})·x = {float(n @ p):.6g}")
+    parts = []
+    for k in sorted(by_axis):
+        vals = sorted(set(round(v, 12) for v in by_axis[k]), key=lambda v: (abs(v), v))
+        text, used = [], set()
+        for v in vals:
+            if v in used:
+                continue
+            if v != 0.0 and -v in vals:
+                text.append(f"±{abs(v):g}")
+                used.update({v, -v})
+            else:
+                text.append(f"{v:g}")
+                used.add(v)
+        parts.append(f"{_AXES[k]} = {', '.join(text)}")
+    return ", ".join(parts + other)
+
+
+def _span_text(centres: np.ndarray) -> str:
+    """'x, y from 0.03125 to 0.21875 and z from -0.09375 to 0.09375'."""
+    if centres.shape[0] == 0:
+        return "nothing"
+    lo, hi = centres.min(axis=0), centres.max(axis=0)
+    groups: list[tuple[list[str], float, float]] = []
+    for k in range(3):
+        for g in groups:
+            if math.isclose(g[1], lo[k], abs_tol=1e-12) and math.isclose(g[2], hi[k],
+                                                                         abs_tol=1e-12):
+                g[0].append(_AXES[k])
+                break
+        else:
+            groups.append(([_AXES[k]], float(lo[k]), float(hi[k])))
+    return " and ".join(f"{', '.join(a)} from {a_lo:g} to {a_hi:g}" for a, a_lo, a_hi in groups)
+
+
+def _time_step_is_a_problem(ts: TimeStepAdvice) -> bool:
+    """A warning when the structure's step limit is exceeded or a contact gets < 8 steps."""
+    if ts.dt_deck <= ts.dt_recommended * (1.0 + 1e-9):
+        return False
+    if ts.dt_deck > ts.dt_structure * (1.0 + 1e-9):
+        return True
+    return ts.deck_steps_per_contact < MIN_STEPS_PER_CONTACT
+
+
+def _time_step_warning(ts: TimeStepAdvice, model: Model) -> str:
+    ratio = ts.dt_deck / ts.dt_recommended
+    text = (f"time step: DTMAX {ts.dt_deck:.3g} s is {ratio:.3g} times the recommended "
+            f"{ts.dt_recommended:.3g} s. ")
+    if ts.binding == "contact":
+        n = ts.deck_steps_per_contact
+        text += (f"A Hertz {ts.contact_kind} impact at {ts.impact_speed:.3g} length/s lasts "
+                 f"{ts.t_contact:.3g} s, so the deck resolves it in {n:.3g} steps: ")
+        if n < 6:
+            text += ("too few to follow a contact (at least 6-10 are needed); expect missed or "
+                     "exploding impacts. ")
+        else:
+            text += (f"expect peak contact forces off by up to about {peak_force_error(n):.2g} % "
+                     f"(about {peak_force_error(ts.steps_per_contact):.2g} % at "
+                     f"{ts.steps_per_contact} steps). ")
+    else:
+        crit = ts.dt_structure / STRUCTURE_SAFETY
+        text += (f"The stiffest structural DOF (node {ts.omega_node} {ts.omega_dof}) has "
+                 f"omega <= {ts.omega_max:.4g} rad/s; explicit integration is unstable above "
+                 f"{crit:.3g} s")
+        text += (", so this run will blow up. " if ts.dt_deck > crit else
+                 f", so the run is stable but its periods err by about "
+                 f"{(ts.omega_max * ts.dt_deck) ** 2 / 24 * 100:.2g} %. ")
+    return text + f"Set DTMAX <= {ts.dt_recommended:.3g}."
+
+
+def _tri(model: Model, k: int) -> str:
+    nodes = " ".join(str(int(model.node_ids[i])) for i in model.tri_nodes[k])
+    return f"triangle {k + 1} (nodes {nodes})"
+
+
+def _listed(lines: list[str]) -> tuple[str, ...]:
+    if len(lines) <= MAX_LISTED:
+        return tuple(lines)
+    return (*lines[:MAX_LISTED], f"... and {len(lines) - MAX_LISTED} more")
+
+
+def _ranges(ids: np.ndarray) -> str:
+    """'26-40, 42, 44-50' from sorted ids."""
+    ids = np.sort(np.asarray(ids))
+    out, start = [], 0
+    for k in range(1, ids.size + 1):
+        if k == ids.size or ids[k] != ids[k - 1] + 1:
+            a, b = int(ids[start]), int(ids[k - 1])
+            out.append(f"{a}" if a == b else f"{a}-{b}")
+            start = k
+    return ", ".join(out)
+
+
+_WORDS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen "
+          "fourteen fifteen sixteen seventeen eighteen nineteen twenty").split()
+
+
+def _count(n: int) -> str:
+    return _WORDS[n] if 0 <= n < len(_WORDS) else str(n)
