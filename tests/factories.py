@@ -59,19 +59,24 @@ def pdmp(nodlim: int, *, radius=STEEL_R, density=STEEL_RHO, nu=STEEL_NU, e0=STEE
 
 def floor_deck(*, dt: float, height: float | None = None, velocity=(0.0, -FIG28_V, 0.0),
                omega=(0.0, 0.0, 0.0), gravity: float = 0.0, side: float = 1.0,
-               center=(0.0, 0.0), itrac: int = 1, **material) -> Deck:
-    """A sphere (node 5) above a fixed square floor y = 0 made of one face (nodes 1-4).
+               center=(0.0, 0.0), itrac: int = 1, spectator: bool = True, **material) -> Deck:
+    """A sphere (node 5) above a fixed square floor y = 0 made of ONE face (nodes 1-4, triangles
+    (1,2,3) and (1,3,4), wound -y).
 
     The floor spans ``[-side/2, side/2]`` in x and z around (0, 0); the sphere's centre starts at
     (center[0], height, center[1]) (default: just touching, ``height = R``) with the given
     translational ``velocity`` and angular velocity ``omega``. ``gravity`` > 0 adds a BODY card
-    (0, -gravity, 0). ``material`` goes to :func:`pdmp` (radius, density, nu, e0, e1, tau1, mu).
+    (0, -gravity, 0). ``spectator`` adds node 6 at rest on the floor at (-0.3, R, -0.3) (same
+    kernel variant as the box scenes). ``material`` goes to :func:`pdmp`.
     """
     h = side / 2.0
     r = float(material.get("radius", STEEL_R))
     y = r if height is None else float(height)
     nodes = (Node(1, -h, 0.0, -h), Node(2, h, 0.0, -h), Node(3, h, 0.0, h), Node(4, -h, 0.0, h),
              Node(5, float(center[0]), y, float(center[1])))
+    ids = (5, 6) if spectator else (5,)
+    if spectator:
+        nodes += (Node(6, -0.3 * side, r, -0.3 * side),)
     return Deck(
         path="<floor>",
         parameters=parameters(dt, itrac),
@@ -81,7 +86,7 @@ def floor_deck(*, dt: float, height: float | None = None, velocity=(0.0, -FIG28_
         nodes=nodes,
         boundaries=(Boundary(1, 4, 1, ALL_DOFS),),
         contacts=(Contact((Triangle(1, (1, 2, 3)), Triangle(1, (1, 3, 4))),
-                          (SlaveSet(1, (5,)),)),),
+                          (SlaveSet(1, ids),)),),
         initials=(Initial(5, tuple(float(v) for v in velocity) + tuple(float(w) for w in omega)),),
     )
 

@@ -20,6 +20,16 @@ JIT_FLAGS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": 
 JIT_DISABLED = os.environ.get("NUMBA_DISABLE_JIT", "0") == "1"
 
 
+def step_kernel(fn=None, **overrides):
+    """Compile a function called once per time step from the step loop, inlined into its caller.
+
+    A call between jitted functions passes every array with its reference count (atomic
+    increments and decrements); a per-step function taking dozens of arrays would spend more on
+    that than on its physics. ``inline="always"`` splices it into the loop at numba-IR level.
+    """
+    return kernel(fn, inline="always", **overrides)
+
+
 def kernel(fn=None, **overrides):
     """Compile ``fn`` with the project's flags; usable as ``@kernel`` or ``@kernel(cache=False)``."""
     flags = {**JIT_FLAGS, **overrides}

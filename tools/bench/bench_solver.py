@@ -6,7 +6,7 @@ path. Times are after compilation, on one core; compile (cold) and cache-load (w
 reported separately.
 
     python tools/bench/bench_solver.py --n 50 64 512 4096 [--steps 20000] [--json out.json]
-    python tools/bench/bench_solver.py --effects          # cost of each effect (n = 64)
+    python tools/bench/bench_solver.py --effects --n 64   # cost of each effect's code
     python tools/bench/bench_solver.py --sdof             # structure only: steps per second
 """
 
@@ -66,13 +66,44 @@ def bench_n(n: int, warmup: int, steps: int, **kw) -> dict:
             "neighbour_rebuilds": int(sim.state.nbr[2])}
 
 
+def effect_costs(n: int, warmup: int, steps: int) -> list[dict]:
+    """Cost of each effect's code: a scene where the effect is physically absent, run with the
+    variant the factory picks (effect compiled out) and with the effect forced in at zero
+    strength (friction with mu = 0, a Maxwell term with E1 = 0, gravity 0). Both give identical
+    trajectories, so the time difference is the code alone."""
+    import dataclasses
+
+    from x3dpd.solver.variants import make_advance
+
+    cases = [("friction", {"mu": 0.0}, {"friction": True}),
+             ("viscoelastic", {"e1": 0.0}, {"viscoelastic": True, "n_maxwell": 1}),
+             ("gravity", {"gravity": False}, {"gravity": True})]
+    out = []
+    for name, scene_kw, forced in cases:
+        model, _ = scene_model(n, **scene_kw)
+        times = {}
+        finals = {}
+        for label in ("out", "in"):
+            sim = Simulation(model, itrac=10**9)
+            if label == "in":
+                sim.variant = dataclasses.replace(sim.variant, **forced)
+                sim.kernels = make_advance(sim.variant)
+            sim.initialize()
+            times[label] = time_steps(sim, warmup, steps) * 1e6
+            finals[label] = sim.state.x.copy()
+        out.append({"n": n, "effect": name, "us_out": times["out"], "us_in": times["in"],
+                    "identical": bool(np.array_equal(finals["out"], finals["in"]))})
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, nargs="*", default=[50, 64, 512, 4096])
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--warmup", type=int, default=2000)
     ap.add_argument("--json")
-    ap.add_argument("--effects", action="store_true", help="cost of each effect at n = 64")
+    ap.add_argument("--effects", action="store_true",
+                    help="cost of each effect's code (compiled in at zero strength vs out)")
     ap.add_argument("--sdof", action="store_true", help="structure-only steps per second")
     args = ap.parse_args(argv)
     results = []
@@ -90,18 +121,12 @@ def main(argv=None) -> int:
         results.append({"case": "sdof", "steps_per_second": 1.0 / per, "us_per_step": per * 1e6})
         print(f"x3dpd sdof steps_per_second={1.0 / per:.3e}")
     elif args.effects:
-        cases = {
-            "all (elastic)": {},
-            "+ viscoelastic E1=5e6": {"e1": 5e6},
-            "no friction": {"mu": 0.0},
-            "no gravity": {"gravity": False},
-            "no drive": {"drive": False},
-        }
-        for name, kw in cases.items():
-            r = bench_n(64, args.warmup, args.steps, **kw)
-            r["case"] = name
-            results.append(r)
-            print(f"x3dpd n=64 {name:24s} us_per_step={r['us_per_step']:.3f}")
+        for n in args.n:
+            for r in effect_costs(n, args.warmup, args.steps):
+                results.append(r)
+                print(f"x3dpd n={n} {r['effect']:13s} compiled out {r['us_out']:7.3f} us/step, "
+                      f"compiled in with zero parameters {r['us_in']:7.3f} us/step "
+                      f"(identical trajectories: {r['identical']})")
     else:
         for n in args.n:
             r = bench_n(n, args.warmup, args.steps if n < 4096 else max(args.steps // 10, 1000))

@@ -302,6 +302,7 @@ class _Stats:
     scale: float = 0.0          # energy scale (largest ledger term seen)
     last_energy: np.ndarray | None = None
     dumps: int = 0
+    t_start: float = 0.0        # simulated time this invocation started from
 
 
 def run_deck(opts: RunOptions) -> int:
@@ -400,6 +401,7 @@ def run_deck(opts: RunOptions) -> int:
                 ewriter.write_rows(snap.energy)
                 _note_energy(stats, snap.energy, sim)
             stats.setup_seconds = time.perf_counter() - stats.wall_start
+            stats.t_start = sim.time
             with _Interrupts() as intr:
                 _step_loop(sim, writer, ewriter, n_end, trest_steps, stats, progress, dump,
                            intr)
@@ -411,7 +413,7 @@ def run_deck(opts: RunOptions) -> int:
     except UnstableRunError:
         progress.done()
         if not opts.quiet:
-            _summary(opts, sim, stats, trace_path, energy_path, "unstable", t0)
+            _summary(opts, sim, stats, trace_path, energy_path, "unstable")
         _maybe_plot(opts, trace_path, energy_path, model)
         raise
     except KeyboardInterrupt:
@@ -419,7 +421,7 @@ def run_deck(opts: RunOptions) -> int:
         raise
     progress.done()
     if not opts.quiet:
-        _summary(opts, sim, stats, trace_path, energy_path, status, t0)
+        _summary(opts, sim, stats, trace_path, energy_path, status)
         if status == "interrupted":
             click.echo(f"x3dpd: interrupted at t = {sim.time:.9g} s; restart dump "
                        f"{dump_path} written. Resume with: x3dpd {opts.deck} --restart"
@@ -569,7 +571,7 @@ def _relative_residual(stats: _Stats) -> float:
     return float(stats.last_energy[11]) / stats.scale
 
 
-def _summary(opts, sim, stats, trace_path, energy_path, status, t0) -> None:
+def _summary(opts, sim, stats, trace_path, energy_path, status) -> None:
     from x3dpd.solver.simulation import ENERGY_COLUMNS
 
     wall = time.perf_counter() - stats.wall_start
@@ -577,7 +579,7 @@ def _summary(opts, sim, stats, trace_path, energy_path, status, t0) -> None:
     rate = stats.timed_steps / stats.timed_seconds if stats.timed_seconds > 0 else float("nan")
     lines = [f"x3dpd: {opts.deck} -> {trace_path}, {energy_path} ({status})",
              f"  effects        {', '.join(sorted(sim.effects)) or 'none'}",
-             f"  steps          {stats.steps} this run; t = {t0:.6g} .. {sim.time:.9g} s at dt "
+             f"  steps          {stats.steps} this run; t = {stats.t_start:.9g} .. {sim.time:.9g} s at dt "
              f"{sim.dt:.6g} s, trace every {sim.itrac} steps",
              f"  wall time      {wall:.2f} s (setup and first-call compile/load "
              f"{compile_s:.2f} s)",

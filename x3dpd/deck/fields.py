@@ -38,6 +38,11 @@ class CardSpec:
             return self.fields[index]
         return self.repeat or f"field {index + 1}"
 
+    def label(self, index: int) -> str:
+        """``"Y (field 3)"`` for messages; ``"field 9"`` when the field has no name."""
+        name = self.field_name(index)
+        return name if name == f"field {index + 1}" else f"{name} (field {index + 1})"
+
 
 PARAMETER_FIELDS = ("TIME", "TMAX", "TREST", "DTMIN", "DTMAX", "INCR", "INCMAX", "IREST",
                     "NINTPL", "ISTAT", "ITRAC")

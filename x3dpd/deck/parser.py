@@ -38,7 +38,8 @@ MAX_LINE = 1 << 20
 BLOCK = 1 << 20
 #: Grammar terminal of each card keyword (the first word of the canonical name) -> card name.
 KEYWORD_TERMINALS = {c.name.split()[0]: c.name for c in CARDS}
-_LINE_TOKENS = ("ROW", "CROW", "VALUES")
+#: Tokens of a record still being read (a complete record ends with ROW or ROWS).
+_PARTIAL_RECORD = ("CROW", "VALUES")
 _CARD_LIST = ", ".join(c.name for c in CARDS)
 
 _CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f]")
@@ -216,24 +217,31 @@ def _open_card(e: UnexpectedInput) -> tuple[Token | None, list]:
     return None, []
 
 
+def _flat(items: list) -> Iterator[Token]:
+    """The tokens of parser-stack items (subtrees of inlined rules opened up)."""
+    for item in items:
+        if isinstance(item, Tree):
+            yield from _flat(item.children)
+        elif isinstance(item, Token):
+            yield item
+
+
 def _values_so_far(above: list) -> int:
     """How many values of the current record were read before the error."""
     toks: list[Token] = []
     for item in reversed(above):
-        if isinstance(item, Tree):
-            toks[:0] = [t for t in item.children if isinstance(t, Token)]
-        elif isinstance(item, Token) and item.type in _LINE_TOKENS:
-            toks.insert(0, item)
-        else:
+        part = item.children if isinstance(item, Tree) else [item]  # a Tree: CROW+ so far
+        if not all(isinstance(t, Token) and t.type in _PARTIAL_RECORD for t in part):
             break
-    return len(_split(toks)) if toks else 0
+        toks[:0] = part
+    return len(_split([(t.line, t.column, str(t)) for t in toks]))
 
 
 def _suggest(word: str) -> str:
-    names = [c.name for c in CARDS] + [c.name.split()[0] for c in CARDS] + list(BY_KEY)
-    close = difflib.get_close_matches(word.upper(), names, n=1, cutoff=0.5)
+    """'; did you mean RBEL?' when the word's first four letters are one letter off a card's."""
+    close = difflib.get_close_matches(word[:4].upper(), list(BY_KEY), n=1, cutoff=0.75)
     if close:
-        return f"; did you mean {card_for_word(close[0]).name}?"
+        return f"; did you mean {BY_KEY[close[0]].name}?"
     return f"; expected one of {_CARD_LIST}"
 
 
@@ -260,27 +268,26 @@ def _syntax_error(e: UnexpectedInput, text: str, path: str) -> DeckError:
                          f"{shown}", path, line, col)
     name = KEYWORD_TERMINALS[kw.type]
     spec: CardSpec = BY_NAME[name]
-    ends = [t for t in above if isinstance(t, Token) and t.type == "END"]
+    ends = [t for t in _flat(above) if t.type == "END"]  # CONTACT: is the first block done?
     if above and isinstance(above[-1], Token) and above[-1].type == "END":
-        return DeckError(f"expected the end of the line after END; got {shown}", path, line, col,
-                         name)
-    opened = f"{name} (opened at line {kw.line})"
+        return DeckError(f"END must end its line; got {shown} after it (a card keyword starts a "
+                         "new line)", path, line, col, name)
+    opened, no_end = f"{name} (opened at line {kw.line})", "has no END"
     if name == "CONTACT":
-        block = "second block (slave sets)" if ends else "first block (master triangles)"
-        opened = f"CONTACT's {block} (card opened at line {kw.line})"
+        no_end = ("has no second END (a CONTACT card is: master triangles, END, slave sets, END)"
+                  if ends else "has no END after its master triangles")
         spec = CONTACT_SLAVES if ends else spec
     if at_eof:
-        return DeckError(f"{opened} has no END: the file ends inside it; expected END after its "
-                         "last record", path, line, col, name)
+        return DeckError(f"{opened} {no_end}: the file ends inside it; expected END after its "
+                         "last line", path, line, col, name)
     if word.isalpha() and card_for_word(word) is not None:
-        return DeckError(f"{opened} has no END before the next card {word.upper()}; expected "
-                         "END on a line of its own before it", path, line, col, name)
+        return DeckError(f"{opened} {no_end} before the next card {word.upper()}; expected END "
+                         "on a line of its own before it", path, line, col, name)
     if word == "&" or text.startswith("&", e.pos_in_stream if token is None else token.start_pos):
         return DeckError("'&' continues a record only at the end of a line", path, line, col,
                          name)
-    index = _values_so_far(above)
-    return DeckError(f"{spec.field_name(index)} (field {index + 1}) must be a number; got {shown}"
-                     " (or END to close the card)", path, line, col, name)
+    return DeckError(f"{spec.label(_values_so_far(above))} must be a number; got {shown} (or END "
+                     "to close the card)", path, line, col, name)
 
 
 # -- API ----------------------------------------------------------------------------------------

@@ -1,8 +1,8 @@
 """Lark transformer: records of the deck grammar -> typed cards (``cards.py``).
 
-The grammar (``x3d.lark``) hands each card over as ``[KEYWORD, record, ..., END]``, where a record
-is a list of line tokens (one per line of the record; each holds the line's numbers). This
-module splits the lines, converts fields, checks field counts and card-local values, and raises
+The grammar (``x3d.lark``) hands each card over as ``[KEYWORD, item, ..., END]``; an item is a
+ROWS token (a run of one-line records) or a continued record (its lines). This module splits the
+lines into records and values, converts fields, checks field counts and card-local values, and raises
 :class:`~x3dpd.errors.DeckError` naming the field. Cross-card checks (an undefined node, a
 duplicate id) belong to ``x3dpd.model.build``. No physics here.
 
@@ -13,6 +13,8 @@ raised with the path ``"<deck>"``; ``parser.py`` puts in the real path.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
+from math import isfinite
 from typing import Any
 
 from lark import Token, Transformer
@@ -27,24 +29,39 @@ _WORD = re.compile(r"[^\s,&]+")
 #: Largest integer a float field may spell as an integer id (2**53: exact in float64).
 _EXACT_INT = 2**53
 
-#: A record: its line tokens (CROW lines ending with '&', then a ROW or VALUES token). A line
-#: token holds the line's values, blanks, '&', a comment and newlines; values sit on its first line.
-Record = list[Token]
+#: One line of a record: its line number, the column of ``text[0]``, and the line's text (values,
+#: blanks, maybe '&' and a comment; for a continued record's tokens also trailing blank lines).
+Piece = tuple[int, int, str]
+#: A record: its lines (one, or several joined by '&').
+Record = list[Piece]
 #: What a card callback returns: canonical card name, keyword token, card or list of records.
 _Card = tuple[str, Token, Any]
 
 
-def _body(tok: str) -> str:
-    """The values part of a line token (its text before any comment)."""
-    cut = tok.find("$")
-    return tok if cut < 0 else tok[:cut]
+def _body(text: str) -> str:
+    """The values part of a line (its text before any comment)."""
+    cut = text.find("$")
+    return text if cut < 0 else text[:cut]
+
+
+def _records(items: list[Any]) -> Iterator[Record]:
+    """The records of a card body: ROWS tokens hold one record per line, ``record`` a list."""
+    for item in items:
+        if isinstance(item, Token):  # ROWS; blank and comment-only lines are not records
+            line, col = item.line, item.column
+            for text in item.split("\n"):
+                if _body(text).strip(" \t,"):
+                    yield [(line, col, text)]
+                line, col = line + 1, 1
+        else:
+            yield item
 
 
 def _split(record: Record) -> list[str]:
     """The values of a record, as strings."""
     out: list[str] = []
-    for tok in record:
-        out += _WORD.findall(_body(tok))
+    for _, _, text in record:
+        out += _WORD.findall(_body(text))
     return out
 
 
@@ -52,28 +69,26 @@ def _where(record: Record, index: int) -> tuple[int, int]:
     """Line and column of value ``index`` of a record (just after its last value if fewer)."""
     k = 0
     line = col = 0
-    for tok in record:
-        for m in _WORD.finditer(_body(tok)):
-            line, col = tok.line, tok.column + m.end()
+    for ln, c, text in record:
+        for m in _WORD.finditer(_body(text)):
             if k == index:
-                return tok.line, tok.column + m.start()
-            k += 1
+                return ln, c + m.start()
+            line, col, k = ln, c + m.end(), k + 1
     return line, col
 
 
 def _positions(record: Record, start: int) -> tuple[Pos, ...]:
     """One Pos per value of a record, from value ``start`` on."""
     out = []
-    for tok in record:
-        line, col = tok.line, tok.column
-        out.extend(Pos(line, col + m.start()) for m in _WORD.finditer(_body(tok)))
+    for line, col, text in record:
+        out.extend(Pos(line, col + m.start()) for m in _WORD.finditer(_body(text)))
     return tuple(out[start:])
 
 
 def _first(record: Record) -> Pos:
-    """Position of a record's first value (line tokens start with the line's indentation)."""
-    tok = record[0]
-    return Pos(tok.line, tok.column + len(tok) - len(tok.lstrip(" \t,")))
+    """Position of a record's first value."""
+    line, col, text = record[0]
+    return Pos(line, col + len(text) - len(text.lstrip(" \t,")))
 
 
 def _pos(tok: Token) -> Pos:
@@ -93,6 +108,16 @@ def to_float(text: str) -> float:
         return float(text.replace("d", "e").replace("D", "e"))
 
 
+def _floats(spec: CardSpec, record: Record, values: list[str], start: int = 0) -> list[float]:
+    """Fields ``start``... as floats; a number beyond float64's range (1e400) is refused."""
+    out = [to_float(x) for x in values[start:]]
+    if not all(map(isfinite, out)):
+        i = start + next(k for k, x in enumerate(out) if not isfinite(x))
+        raise _fail(spec, record, i, f"{spec.label(i)} is beyond the range of a double "
+                                     f"(|x| < 1.8e308); got {values[i]}")
+    return out
+
+
 def _int(spec: CardSpec, record: Record, values: list[str], i: int, least: int | None = 1) -> int:
     """Field ``i`` as an integer (``25.`` and ``1.e3`` are accepted; 2.5 is not)."""
     text = values[i]
@@ -101,12 +126,11 @@ def _int(spec: CardSpec, record: Record, values: list[str], i: int, least: int |
     except ValueError:
         x = to_float(text)
         if not (x.is_integer() and abs(x) < _EXACT_INT):
-            raise _fail(spec, record, i, f"{spec.field_name(i)} must be an integer; "
-                                         f"got {text}") from None
+            raise _fail(spec, record, i, f"{spec.label(i)} must be an integer; got {text}") from None
         value = int(x)
     if least is not None and value < least:
         what = "a positive integer" if least == 1 else f"an integer >= {least}"
-        raise _fail(spec, record, i, f"{spec.field_name(i)} must be {what}; got {text}")
+        raise _fail(spec, record, i, f"{spec.label(i)} must be {what}; got {text}")
     return value
 
 
@@ -118,11 +142,24 @@ def _count(spec: CardSpec, record: Record, values: list[str], low: int, high: in
         raise _fail(spec, record, 0 if n < low else high, f"{spec.name} needs {expected}; got {n}")
 
 
-def _dofs(spec: CardSpec, record: Record, digits: list[int], index: int) -> tuple[int, ...]:
-    if not digits or any(d < 1 or d > 6 for d in digits) or len(set(digits)) != len(digits):
-        raise _fail(spec, record, index, f"{spec.field_name(index)} must be distinct DOF "
-                                         f"numbers 1..6 (x y z rx ry rz); got "
-                                         f"{''.join(map(str, digits))}")
+def _dof(spec: CardSpec, record: Record, values: list[str], i: int, seen: list[int]) -> int:
+    """Field ``i`` as a DOF number 1..6 (x y z rx ry rz), not already in ``seen``."""
+    dof = _int(spec, record, values, i, None)
+    if not 1 <= dof <= 6:
+        raise _fail(spec, record, i, f"{spec.label(i)} must be a DOF number 1..6 "
+                                     f"(x y z rx ry rz); got {values[i]}")
+    if dof in seen:
+        raise _fail(spec, record, i, f"{spec.label(i)}: DOF {dof} is listed twice")
+    seen.append(dof)
+    return dof
+
+
+def _dof_code(spec: CardSpec, record: Record, values: list[str], i: int) -> tuple[int, ...]:
+    """Field ``i`` as a DOF code: distinct digits 1..6, e.g. 123456 -> (1, 2, 3, 4, 5, 6)."""
+    digits = [int(d) for d in str(_int(spec, record, values, i))]
+    if any(d < 1 or d > 6 for d in digits) or len(set(digits)) != len(digits):
+        raise _fail(spec, record, i, f"{spec.label(i)} must be a code of distinct DOF digits "
+                                     f"1..6 (x y z rx ry rz, e.g. 123456); got {values[i]}")
     return tuple(digits)
 
 
@@ -140,7 +177,7 @@ class DeckTransformer(Transformer):
     """Callbacks of the deck grammar; a card callback returns ``(card name, keyword, value)``."""
 
     def record(self, children: list[Token]) -> Record:
-        return children
+        return [(t.line, t.column, str(t)) for t in children]
 
     # -- text cards -------------------------------------------------------------------------
     def title(self, c: list[Token]) -> _Card:
@@ -156,10 +193,10 @@ class DeckTransformer(Transformer):
     def parameters(self, c: list[Any]) -> _Card:
         spec = BY_NAME["PARAMETERS"]
         expected = "11 values: " + " ".join(spec.fields)
-        rec = _one_record(spec, c[0], c[1:-1], expected)
+        rec = _one_record(spec, c[0], list(_records(c[1:-1])), expected)
         v = _split(rec)
         _count(spec, rec, v, 11, 11, expected)
-        f = [to_float(x) for x in v]
+        f = _floats(spec, rec, v)
         incr, irest, nintpl, istat, itrac = (_int(spec, rec, v, i, None) for i in (5, 7, 8, 9, 10))
         if f[4] <= 0:
             raise _fail(spec, rec, 4, f"DTMAX must be > 0; got {v[4]}")
@@ -175,12 +212,12 @@ class DeckTransformer(Transformer):
     def matid(self, c: list[Any]) -> _Card:
         spec = BY_NAME["MATID"]
         out = []
-        for rec in c[1:-1]:
+        for rec in _records(c[1:-1]):
             v = _split(rec)
             _count(spec, rec, v, 8, None, "at least 8 values: " + " ".join(spec.fields)
                    + " [EXTRA...]")
             mid, mtype = _int(spec, rec, v, 0), _int(spec, rec, v, 1, None)
-            f = [to_float(x) for x in v[2:]]
+            f = _floats(spec, rec, v, 2)
             if f[0] < 0:
                 raise _fail(spec, rec, 2, f"MASS (element mass) must be >= 0; got {v[2]}")
             out.append(Material(mid, mtype, *f[:6], tuple(f[6:]), _first(rec)))
@@ -190,14 +227,14 @@ class DeckTransformer(Transformer):
         spec = BY_NAME["PDMP"]
         expected = "8 to 11 values: " + " ".join(spec.fields) + " (then pairs E2 T2 ...)"
         out = []
-        for rec in c[1:-1]:
+        for rec in _records(c[1:-1]):
             v = _split(rec)
             _count(spec, rec, v, 8, None, expected)
             if len(v) > 11 and (len(v) - 11) % 2:
                 raise _fail(spec, rec, len(v) - 1, "PDMP extra Maxwell terms come in pairs "
                                                    f"E2 T2 E3 T3 ... after VZ0; got {len(v)} values")
             nodlim = _int(spec, rec, v, 0, 0)
-            f = [to_float(x) for x in v[1:]] + [0.0] * max(0, 11 - len(v))
+            f = _floats(spec, rec, v, 1) + [0.0] * max(0, 11 - len(v))
             if f[0] <= 0:
                 raise _fail(spec, rec, 1, f"RZERO (particle radius) must be > 0; got {v[1]}")
             if f[1] <= 0:
@@ -208,16 +245,16 @@ class DeckTransformer(Transformer):
 
     def body(self, c: list[Any]) -> _Card:
         spec = BY_NAME["BODY"]
-        rec = _one_record(spec, c[0], c[1:-1], "3 values: AX AY AZ")
+        rec = _one_record(spec, c[0], list(_records(c[1:-1])), "3 values: AX AY AZ")
         v = _split(rec)
         _count(spec, rec, v, 3, 3, "3 values: AX AY AZ")
-        return "BODY", c[0], Body(*(to_float(x) for x in v), _first(rec))
+        return "BODY", c[0], Body(*_floats(spec, rec, v), _first(rec))
 
     def trace(self, c: list[Any]) -> _Card:
         spec = BY_NAME["TRACE"]
         nodes: list[int] = []
         where: list[Pos] = []
-        for rec in c[1:-1]:
+        for rec in _records(c[1:-1]):
             v = _split(rec)
             nodes.extend(_int(spec, rec, v, i) for i in range(len(v)))
             where.extend(_positions(rec, 0))
@@ -229,33 +266,39 @@ class DeckTransformer(Transformer):
     def node(self, c: list[Any]) -> _Card:
         out = []
         append = out.append
-        for rec in c[1:-1]:
-            tok = rec[0]
-            if len(rec) == 1 and "," not in tok and "$" not in tok:  # fast path: "id x y z"
-                v = tok.split()
+        for item in c[1:-1]:
+            if not isinstance(item, Token) or "," in item or "$" in item:
+                out.extend(map(self._node, _records([item])))
+                continue
+            line, col = item.line, item.column
+            for text in item.split("\n"):  # fast path: lines "id x y z"
+                v = text.split()
+                node = None
                 if len(v) == 4:
                     try:
-                        nid = int(v[0])
-                        if nid > 0:
-                            append(Node(nid, float(v[1]), float(v[2]), float(v[3]),
-                                        Pos(tok.line, tok.column + len(tok) - len(tok.lstrip()))))
-                            continue
-                    except ValueError:
+                        nid, x, y, z = int(v[0]), float(v[1]), float(v[2]), float(v[3])
+                        if nid > 0 and isfinite(abs(x) + abs(y) + abs(z)):
+                            node = Node(nid, x, y, z, Pos(line, col + len(text) - len(text.lstrip())))
+                    except ValueError:  # 1.0D0, 25., a bad field: the slow path decides
                         pass
-            append(self._node_slow(rec))
+                if node is None and v:
+                    node = self._node([(line, col, text)])
+                if node is not None:
+                    append(node)
+                line, col = line + 1, 1
         return "NODE COORDINATES", c[0], out
 
     @staticmethod
-    def _node_slow(rec: Record) -> Node:
+    def _node(rec: Record) -> Node:
         spec = BY_NAME["NODE COORDINATES"]
         v = _split(rec)
         _count(spec, rec, v, 4, 4, "4 values: ID X Y Z")
-        return Node(_int(spec, rec, v, 0), *(to_float(x) for x in v[1:]), _first(rec))
+        return Node(_int(spec, rec, v, 0), *_floats(spec, rec, v, 1), _first(rec))
 
     def elements(self, c: list[Any]) -> _Card:
         spec = BY_NAME["ELEMENTS"]
         out = []
-        for rec in c[1:-1]:
+        for rec in _records(c[1:-1]):
             v = _split(rec)
             _count(spec, rec, v, 3, 4, "3 or 4 values: ID MID NODE1 [NODE2]")
             ids = [_int(spec, rec, v, i) for i in range(len(v))]
@@ -265,24 +308,24 @@ class DeckTransformer(Transformer):
     def mass(self, c: list[Any]) -> _Card:
         spec = BY_NAME["MASS"]
         out = []
-        for rec in c[1:-1]:
+        for rec in _records(c[1:-1]):
             v = _split(rec)
             _count(spec, rec, v, 2, 5, "2 to 5 values: NODE MASS [IXX IYY IZZ]")
-            f = [to_float(x) for x in v[1:]] + [0.0] * (5 - len(v))
+            f = _floats(spec, rec, v, 1) + [0.0] * (5 - len(v))
             for i, x in enumerate(f[:len(v) - 1], start=1):
                 if x < 0:
-                    raise _fail(spec, rec, i, f"{spec.field_name(i)} must be >= 0; got {v[i]}")
+                    raise _fail(spec, rec, i, f"{spec.label(i)} must be >= 0; got {v[i]}")
             out.append(Mass(_int(spec, rec, v, 0), *f, _first(rec)))
         return "MASS", c[0], out
 
     def rbel(self, c: list[Any]) -> _Card:
         spec = BY_NAME["RBEL"]
         out = []
-        for rec in c[1:-1]:
+        for rec in _records(c[1:-1]):
             v = _split(rec)
             _count(spec, rec, v, 4, None, "MASTER DOFS COUNT and COUNT slave node ids")
             master = _int(spec, rec, v, 0)
-            dofs = _dofs(spec, rec, [int(d) for d in str(_int(spec, rec, v, 1))], 1)
+            dofs = _dof_code(spec, rec, v, 1)
             count = _int(spec, rec, v, 2)
             if count != len(v) - 3:
                 raise _fail(spec, rec, 2, f"RBEL declares COUNT={count} slave nodes but lists "
@@ -294,23 +337,24 @@ class DeckTransformer(Transformer):
     def boundary(self, c: list[Any]) -> _Card:
         spec = BY_NAME["BOUNDARY CONDITIONS"]
         out = []
-        for rec in c[1:-1]:
+        for rec in _records(c[1:-1]):
             v = _split(rec)
             _count(spec, rec, v, 4, None, "FIRST LAST INC and at least one DOF (1..6)")
             first, last, inc = (_int(spec, rec, v, i) for i in range(3))
             if last < first:
                 raise _fail(spec, rec, 1, f"LAST must be >= FIRST ({first}); got {last}")
-            dofs = _dofs(spec, rec, [_int(spec, rec, v, i, None) for i in range(3, len(v))], 3)
+            seen: list[int] = []
+            dofs = tuple(_dof(spec, rec, v, i, seen) for i in range(3, len(v)))
             out.append(Boundary(first, last, inc, dofs, _first(rec)))
         return "BOUNDARY CONDITIONS", c[0], out
 
     def initial(self, c: list[Any]) -> _Card:
         spec = BY_NAME["INITIAL"]
         out = []
-        for rec in c[1:-1]:
+        for rec in _records(c[1:-1]):
             v = _split(rec)
             _count(spec, rec, v, 4, 7, "4 or 7 values: NODE VX VY VZ [WX WY WZ]")
-            vel = [to_float(x) for x in v[1:]]
+            vel = _floats(spec, rec, v, 1)
             if len(vel) > 3:
                 vel += [0.0] * (6 - len(vel))
             out.append(Initial(_int(spec, rec, v, 0), tuple(vel), _first(rec)))
@@ -320,14 +364,14 @@ class DeckTransformer(Transformer):
         spec = BY_NAME["CONTACT"]
         split = next(i for i, x in enumerate(c) if isinstance(x, Token) and x.type == "END")
         triangles = []
-        for rec in c[1:split]:
+        for rec in _records(c[1:split]):
             v = _split(rec)
             _count(spec, rec, v, 4, 4, "4 values per master triangle: SET N1 N2 N3")
             ids = [_int(spec, rec, v, i) for i in range(4)]
             triangles.append(Triangle(ids[0], (ids[1], ids[2], ids[3]), _first(rec)))
         slaves = []
         sspec = CONTACT_SLAVES
-        for rec in c[split + 1:-1]:
+        for rec in _records(c[split + 1:-1]):
             v = _split(rec)
             _count(sspec, rec, v, 2, None, "SET and at least one slave node id per slave record")
             ids = tuple(_int(sspec, rec, v, i) for i in range(len(v)))

@@ -17,8 +17,10 @@ from collections.abc import Iterable
 from x3dpd.deck.cards import Deck
 from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, MATID_FIELDS, PARAMETER_FIELDS, PDMP_FIELDS
 
-#: Values per line before a record is continued with ``&``.
+#: Values per line before a list record (TRACE, RBEL, slave set) is continued with ``&``.
 PER_LINE = 10
+#: Values per line of a record with named fields (PARAMETERS, PDMP, MATID ...).
+PER_FIELD_LINE = 16
 _INDENT = "   "
 
 
@@ -32,16 +34,19 @@ def _f(x: float) -> str:
 
 def _i(x: int) -> str:
     """An integer (bool and float are refused, so a typo cannot turn 2.5 into 2)."""
-    if isinstance(x, bool):
-        raise ValueError(f"expected an integer, got {x!r}")
-    return str(operator.index(x))
+    try:
+        if isinstance(x, bool):
+            raise TypeError
+        return str(operator.index(x))
+    except TypeError:
+        raise ValueError(f"expected an integer, got {x!r}") from None
 
 
-def _record(values: list[str], out: list[str]) -> None:
-    """Append one record, ``PER_LINE`` values a line, continued with ``&``."""
-    for start in range(0, len(values), PER_LINE):
-        chunk = " ".join(values[start:start + PER_LINE])
-        more = start + PER_LINE < len(values)
+def _record(values: list[str], out: list[str], per_line: int = PER_FIELD_LINE) -> None:
+    """Append one record, ``per_line`` values a line, continued with ``&``."""
+    for start in range(0, len(values), per_line):
+        chunk = " ".join(values[start:start + per_line])
+        more = start + per_line < len(values)
         out.append(f"{_INDENT}{chunk} &" if more else f"{_INDENT}{chunk}")
 
 
@@ -118,7 +123,7 @@ def format_deck(deck: Deck) -> str:
         out.append("END")
     if deck.trace is not None:
         out.append("TRACE")
-        _record([_i(n) for n in deck.trace.nodes], out)
+        _record([_i(n) for n in deck.trace.nodes], out, PER_LINE)
         out.append("END")
     if deck.nodes:
         _card(out, "NODE COORDINATES", BY_NAME["NODE COORDINATES"].fields)
@@ -139,7 +144,8 @@ def format_deck(deck: Deck) -> str:
     if deck.rbels:
         _card(out, "RBEL", ("MASTER", "DOFS", "COUNT", "SLAVE..."))
         for r in deck.rbels:
-            _record([_i(r.master), _dofs(r.dofs), str(len(r.slaves)), *map(_i, r.slaves)], out)
+            _record([_i(r.master), _dofs(r.dofs), str(len(r.slaves)), *map(_i, r.slaves)], out,
+                    PER_LINE)
         out.append("END")
     if deck.boundaries:
         _card(out, "BOUNDARY CONDITIONS", ("FIRST", "LAST", "INC", "DOF..."))
@@ -158,7 +164,7 @@ def format_deck(deck: Deck) -> str:
         for s in c.slaves:
             if not s.nodes:
                 raise ValueError(f"slave set {s.set_id} lists no nodes")
-            _record([_i(s.set_id), *map(_i, s.nodes)], out)
+            _record([_i(s.set_id), *map(_i, s.nodes)], out, PER_LINE)
         out.append("END")
     if deck.initials:
         _card(out, "INITIAL", ("NODE", "VX", "VY", "VZ", "[WX WY WZ]"))

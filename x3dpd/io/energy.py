@@ -8,7 +8,7 @@
     residual
 
 then one row per output time (t = t0 and every ITRAC steps, the trace's times), every number
-in ``%.17g`` (shortest form that reads back bit for bit). Energies are in the deck's units
+in Python's shortest round-trip form (``repr``: it reads back bit for bit). Energies are in the deck's units
 (lbf·in for the report's decks). ``residual`` is the ledger's imbalance: stored + dissipated −
 external work − the energy at t0 (docs/running.md).
 
@@ -28,9 +28,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.errors import InputError
-
-NUMBER_FORMAT = "%.17g"
-
 
 class EnergyWriter:
     """Stream the energy ledger rows to a CSV file.
@@ -58,7 +55,6 @@ class EnergyWriter:
                  overwrite: bool = False, append_at: tuple[int, int] | None = None):
         self.path = os.fspath(path)
         self.columns = tuple(columns)
-        self._row_fmt = ",".join([NUMBER_FORMAT] * len(self.columns)) + "\n"
         self._header = (",".join(self.columns) + "\n").encode("ascii")
         self._closed = False
         if append_at is not None:
@@ -129,7 +125,7 @@ class EnergyWriter:
             raise ValueError(f"energy rows must have {len(self.columns)} columns, got {a.shape}")
         if a.shape[0] == 0:
             return
-        text = "".join(self._row_fmt % tuple(r) for r in a.tolist()).encode("ascii")
+        text = "".join(",".join(map(repr, r)) + "\n" for r in a.tolist()).encode("ascii")
         self._f.write(text)
         self._offset += len(text)
         self._rows += a.shape[0]

@@ -7,10 +7,10 @@ Units: g in length/s^2 (the report's decks: -386.1 in/s^2 along y).
 
 from __future__ import annotations
 
-from x3dpd._jit import kernel
+from x3dpd._jit import kernel, step_kernel
 
 
-@kernel
+@step_kernel
 def _gravity_forces(mass, g, force):
     """force[i, :3] += m_i g for every node."""
     for i in range(mass.shape[0]):

@@ -14,7 +14,7 @@ Closed forms of a head-on impact (used by the validation tests and by ``x3dpd ch
 effective mass :math:`m^*` and impact speed :math:`v`, the maximum approach is
 :math:`a_{max} = (5 m^* v^2 / (4K))^{2/5}`, reached after
 :math:`t_{max} = (a_{max}/v)\\int_0^1 (1-x^{5/2})^{-1/2}\\,dx = 1.4716\\,a_{max}/v`, and the contact
-lasts :math:`2 t_{max}`; the peak force is :math:`K a_{max}^{3/2}`.
+lasts :math:`2 t_{max}` (1.4716 = 2/5 B(2/5, 1/2)); the peak force is :math:`K a_{max}^{3/2}`.
 Units: any consistent set (the report uses in, lbf, s; modulus in psi).
 """
 
@@ -24,8 +24,9 @@ import math
 
 from x3dpd._jit import kernel
 
-#: :math:`\\int_0^1 (1-x^{5/2})^{-1/2} dx`, the dimensionless time to maximum compression.
-HERTZ_TIME_FACTOR = 1.4715998
+#: :math:`\\int_0^1 (1-x^{5/2})^{-1/2} dx = \\tfrac25 B(\\tfrac25, \\tfrac12)`, the dimensionless
+#: time to maximum compression.
+HERTZ_TIME_FACTOR = 0.4 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
 
 __all__ = [
     "HERTZ_TIME_FACTOR", "effective_modulus_pair", "effective_modulus_wall", "effective_radius",

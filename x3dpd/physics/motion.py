@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from x3dpd._jit import kernel
+from x3dpd._jit import kernel, step_kernel
 from x3dpd.errors import UsrfrcError
 from x3dpd.physics.usrfrc import _node_dof, _node_ids, _number, _omega, _parse_pairs, _phase
 
@@ -35,7 +35,7 @@ _REQUIRED = ("node", "dof", "amp")
 _OPTIONAL = ("hz", "omega", "phase", "t0")
 
 
-@kernel
+@step_kernel
 def _motion_state(t, table, r):
     """``(u, u', u'')`` of row ``r`` at time ``t``."""
     amp, omega, phase = table[r, 2], table[r, 3], table[r, 4]
@@ -47,7 +47,7 @@ def _motion_state(t, table, r):
     return amp * s, amp * omega * math.cos(arg), -amp * omega * omega * s
 
 
-@kernel
+@step_kernel
 def _apply_motion(t, table, x0, x, vel):
     """Impose every prescribed DOF at time ``t``: ``x = x0 + u`` (DOFs 1-3 only), ``vel = u'``."""
     for r in range(table.shape[0]):

@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import math
 
-from x3dpd._jit import kernel
+from x3dpd._jit import kernel, step_kernel
 
 
-@kernel
+@step_kernel
 def _update_slaves(x, vel, masters, ptr, slaves, r0, rot, positions_too):
     """Place slaves (if ``positions_too``) and set their velocities from their masters.
 
@@ -49,7 +49,7 @@ def _update_slaves(x, vel, masters, ptr, slaves, r0, rot, positions_too):
     return math.sqrt(vmax2)
 
 
-@kernel
+@step_kernel
 def _gather_slaves(x, force, masters, ptr, slaves):
     """Move slave forces to their master as force + moment; zero the slaves' rows."""
     for b in range(masters.shape[0]):
@@ -72,7 +72,7 @@ def _gather_slaves(x, force, masters, ptr, slaves):
                 force[s, d] = 0.0
 
 
-@kernel
+@step_kernel
 def _rotate(rot, masters, vel, dt):
     """R <- exp(dt [omega]x) R (Rodrigues) for every rigid body."""
     for b in range(masters.shape[0]):
@@ -107,7 +107,7 @@ def _rotate(rot, masters, vel, dt):
             rot[b, 2, j] = q20 * a0 + q21 * a1 + q22 * a2
 
 
-@kernel
+@step_kernel
 def _rigid_angular_kick(vel, force, masters, rot, inertia_body_inv, inertia_body, free_rot, h):
     """omega += h I_w^{-1} (M - omega x I_w omega), I_w = R I_b R^T, on free rotational DOFs."""
     for b in range(masters.shape[0]):

@@ -12,10 +12,10 @@ Units: stiffness force/length, damping force·s/length.
 
 from __future__ import annotations
 
-from x3dpd._jit import kernel
+from x3dpd._jit import kernel, step_kernel
 
 
-@kernel
+@step_kernel
 def _spring_forces(x, x0, vel, nodes, k, c, force, fd_prev, dt):
     """Add spring and damper forces to ``force``; return the damper dissipation of this step.
 

@@ -38,7 +38,7 @@ from typing import Callable
 import numpy as np
 from numba.core.errors import NumbaError
 
-from x3dpd._jit import kernel
+from x3dpd._jit import kernel, step_kernel
 from x3dpd.errors import UsrfrcError
 
 # Kind codes stored in column 0 of a force table (0 is never used, so a zero row is an error).
@@ -68,7 +68,7 @@ _LN2 = math.log(2.0)
 # Kernels
 # ---------------------------------------------------------------------------------------------
 
-@kernel
+@step_kernel
 def _sweep_duration(f0, f1, k, log_law):
     """Time [s] the sweep takes from ``f0`` to ``f1`` at signed rate ``k``."""
     if log_law:
@@ -88,7 +88,7 @@ def _sweep_frequency(tau, f0, f1, k, log_law):
     return f0 + k * tau
 
 
-@kernel
+@step_kernel
 def _sweep_phase(tau, f0, f1, k, log_law):
     """Phase [rad] ``2 pi int_0^tau f(s) ds`` of a sweep, in closed form.
 
@@ -106,7 +106,7 @@ def _sweep_phase(tau, f0, f1, k, log_law):
     return phase
 
 
-@kernel
+@step_kernel
 def _force_value(t, table, r):
     """Value at time ``t`` of the force in row ``r`` of ``table`` (see :data:`TABLE_COLUMNS`)."""
     kind = int(table[r, 0])

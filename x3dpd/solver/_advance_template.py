@@ -37,7 +37,7 @@ import math  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from x3dpd._jit import kernel  # noqa: E402
+from x3dpd._jit import kernel, step_kernel  # noqa: E402
 from x3dpd.geometry.cells import _find_pairs  # noqa: E402
 from x3dpd.physics.gravity import _gravity_energy, _gravity_forces  # noqa: E402
 from x3dpd.physics.motion import _apply_motion  # noqa: E402
@@ -45,6 +45,15 @@ from x3dpd.physics.rigid_link import (  # noqa: E402
     _gather_slaves, _rigid_angular_kick, _rotate, _update_slaves)
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
 from x3dpd.physics.usrfrc import _apply_forces, _force_value  # noqa: E402
+
+@kernel
+def _no_user_force(t, x, vel, force):
+    """Stand-in for USER_FORCE in variants without a user file (never called)."""
+    return
+
+
+if USER_FORCE is None:
+    USER_FORCE = _no_user_force
 
 # status bits returned by advance()
 OK = 0
@@ -66,7 +75,7 @@ S_FT = 2        # friction force vector on the particle (i for pairs), 3 values
 S_H = 5         # Maxwell histories
 
 
-@kernel
+@step_kernel
 def _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d):
     """Unit inward normal n_f and offset d_f = n_f . p0 of every face from its first triangle."""
     for f in range(face_first_tri.shape[0]):
@@ -90,7 +99,7 @@ def _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d):
         face_d[f] = face_n[f, 0] * x[a, 0] + face_n[f, 1] * x[a, 1] + face_n[f, 2] * x[a, 2]
 
 
-@kernel
+@step_kernel
 def _locate_on_face(qx, qy, qz, nx, ny, nz, f, x, face_ptr, face_tris, tri_nodes, tol, w):
     """Find the triangle of face ``f`` that holds point q (within ``tol`` of its edges).
 
@@ -225,7 +234,7 @@ def _pair_approach(x, p0, radius, pi, pj, n, out_a):
         out_a[q] = a if a > 0.0 else 0.0
 
 
-@kernel
+@step_kernel
 def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p, wl_f, ws, nw,
                    face_n, face_d, face_ptr, face_tris, tri_nodes, dt, ledger, pen_limit, diag, w):
     """Particle-wall contact forces (report Figure 40): Hertz / Lee-Radok normal force, Coulomb
@@ -337,7 +346,7 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
     return status
 
 
-@kernel
+@step_kernel
 def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt, pl_i, pl_j,
                    ps, npairs, dt, ledger, pen_limit, diag):
     """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
@@ -505,6 +514,7 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
 
     ``wsc`` is a 3-element scratch array; ``frow_prev`` the built-in forces of the last step.
     """
+    # --- FORCES BEGIN ---
     ff = force.reshape(-1)
     for k in range(ff.shape[0]):
         ff[k] = 0.0
@@ -551,6 +561,7 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
                                  pl_i, pl_j, ps, npairs, dt, ledger, pen_limit, diag)
     if HAS_RIGID:
         _gather_slaves(x, force, rig_master, rig_ptr, rig_slaves)
+    # --- FORCES END ---
     return status
 
 
@@ -583,6 +594,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
     vf = vel.reshape(-1)
     ff = force.reshape(-1)
     imf = inv_m.reshape(-1)
+    status = OK
     for it in range(nsteps):
         step = step0 + it
         # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
@@ -637,11 +649,11 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
         nbr[0] += dt * math.sqrt(vmax2)
         nbr[1] += dt * vwall
         # ---- forces at the new positions
-        st = _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_nodes, sp_k,
-                     sp_c, fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, cinst,
-                     decay, half, mu, inv_mt, wl_p, wl_f, ws, nwl[0], pl_i, pl_j, ps, npl[0],
-                     face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes, tri_sign, dt,
-                     ledger, pen_limit, diag, wsc, frow_prev)
+        nw = nwl[0]
+        npairs = npl[0]
+        # @FORCES@ (the generator splices the body of _forces here: one call with ~50 arrays
+        # would cost more in reference counting than the forces of a small scene)
+        st = status
         if HAS_MOTION:
             # work of the motion's actuator: it supplies m a - f on each prescribed DOF
             for r in range(motion_table.shape[0]):

@@ -244,12 +244,20 @@ class Simulation:
                     time=self.time, step=s.step, node=nid)
 
     def _cavity_nodes(self) -> list:
+        """Node indices of each *closed* cavity (an empty array for an open one: a particle
+        may legitimately leave the box of a lone floor's nodes)."""
         if not hasattr(self, "_cav_nodes"):
+            from x3dpd.geometry.cavity import merge_vertices, surface_edges
+
             m, k = self.model, self.setup
             out = []
+            size = float(np.ptp(k.x0, axis=0).max()) or 1.0
+            labels = merge_vertices(k.x0, size)
             for c in range(k.cav_ptr.shape[0] - 1):
                 faces = k.cav_faces[k.cav_ptr[c]:k.cav_ptr[c + 1]]
-                out.append(np.unique(k.tri_nodes[np.isin(m.tri_face, faces)]))
+                tris = np.isin(m.tri_face, faces)
+                closed, _ = surface_edges(labels[k.tri_nodes[tris]], k.tri_sign[tris])
+                out.append(np.unique(k.tri_nodes[tris]) if closed else np.zeros(0, np.int64))
             self._cav_nodes = out
         return self._cav_nodes
 

@@ -25,6 +25,9 @@ import numba
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 _BEGIN = "# --- VARIANT BEGIN ---"
 _END = "# --- VARIANT END ---"
+_FORCES_BEGIN = "# --- FORCES BEGIN ---\n"
+_FORCES_END = "    # --- FORCES END ---"
+_FORCES_HERE = "# @FORCES@"
 _LOADED: dict[tuple, object] = {}
 
 
@@ -116,11 +119,27 @@ def cache_dir() -> Path:
 
 
 def variant_source(variant: Variant) -> str:
-    """Source text of the module for ``variant``."""
+    """Source text of the module for ``variant``.
+
+    Besides the VARIANT constants, the body of ``_forces`` (between the FORCES markers) is
+    copied into ``advance`` at its ``# @FORCES@`` line, re-indented: numba cannot inline a
+    function of that many arguments, and calling it every step costs more than small scenes'
+    physics (every array argument's reference count is touched).
+    """
     text = _TEMPLATE.read_text()
     head, rest = text.split(_BEGIN, 1)
     _, tail = rest.split(_END, 1)
-    return f"{head}{_BEGIN}\n{variant.header()}\n{_END}{tail}"
+    text = f"{head}{_BEGIN}\n{variant.header()}\n{_END}{tail}"
+    body = text.split(_FORCES_BEGIN, 1)[1].split(_FORCES_END, 1)[0]
+    lines = text.splitlines(keepends=True)
+    out = []
+    for line in lines:
+        if line.strip().startswith(_FORCES_HERE):
+            indent = line[: len(line) - len(line.lstrip())]
+            out.extend(indent + b[4:] if b.strip() else b for b in body.splitlines(keepends=True))
+        else:
+            out.append(line)
+    return "".join(out)
 
 
 def make_advance(variant: Variant, user_force=None):

@@ -1,0 +1,53 @@
+"""100 MB of garbage fails fast, with bounded memory, and with one DeckError at its first line."""
+
+from __future__ import annotations
+
+import os
+import time
+import tracemalloc
+
+import pytest
+
+from x3dpd.deck import read_deck
+from x3dpd.errors import DeckError
+
+MB = 1 << 20
+DECK_HEAD = b"TITLE\nsome deck\nEND\nBODY\n 0 -386.1 0\nEND\nNODE COORDINATES\n 1 0 0 0\n"
+
+
+def _write(path, head: bytes, chunk: bytes, total: int = 100 * MB) -> None:
+    with open(path, "wb") as f:
+        f.write(head)
+        for _ in range((total - len(head)) // len(chunk)):
+            f.write(chunk)
+
+
+@pytest.mark.parametrize(("kind", "line", "phrase"), [
+    ("binary", 1, "binary"),
+    ("text", 1, "unknown card keyword 'lorem'"),
+    ("deck then garbage", 9, "X (field 2) must be a number"),
+    ("no newline", 1, "line longer than"),
+])
+def test_100_mb_of_garbage_fails_fast(tmp_path, kind, line, phrase):
+    path = tmp_path / "garbage.inp"
+    if kind == "binary":
+        _write(path, b"", os.urandom(MB))
+    elif kind == "text":
+        _write(path, b"", b"lorem ipsum dolor sit amet, 12 34\n" * 1000)
+    elif kind == "deck then garbage":
+        _write(path, DECK_HEAD, b" 2 lorem ipsum dolor sit amet\n" * 1000)
+    else:
+        _write(path, b"", b"x" * MB)
+    assert path.stat().st_size > 99 * MB
+    tracemalloc.start()
+    t0 = time.perf_counter()
+    try:
+        with pytest.raises(DeckError) as info:
+            read_deck(path)
+        elapsed = time.perf_counter() - t0
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert elapsed < 2.0
+    assert peak < 32 * MB  # a few 1 MiB blocks, never the whole file
+    assert info.value.line == line and phrase in info.value.message

@@ -1,0 +1,103 @@
+"""Run x3dpd and LAMMPS on the same scenes, one after the other, and print the comparison table.
+
+    python tools/bench/run_all.py [--n 50 64 512 4096] [--steps 20000] [--markdown]
+
+Each measurement runs in its own process on one core (OMP/NUMBA threads = 1). x3dpd solves the
+force-driven spring-mounted cavity; LAMMPS the same particles in a box on a prescribed path (its
+fastest form). Also reported: compile time with a cold and a warm numba cache, and the
+structure-only (SDOF) step rate. LAMMPS rows are skipped when `lammps` is not installed.
+Run it on an idle machine: another busy process on the same cores distorts every number.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ENV = {**os.environ, "OMP_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1"}
+
+
+def _json_run(cmd: list[str], env=None) -> list | dict | None:
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "r.json"
+        proc = subprocess.run(cmd + ["--json", str(out)], env=env or ENV, capture_output=True,
+                              text=True)
+        if proc.returncode != 0 or not out.exists():
+            sys.stderr.write(proc.stdout + proc.stderr)
+            return None
+        return json.loads(out.read_text())
+
+
+def x3dpd_step(n: int, steps: int, warmup: int) -> float | None:
+    r = _json_run([sys.executable, str(HERE / "bench_solver.py"), "--n", str(n), "--steps",
+                   str(steps), "--warmup", str(warmup)])
+    return r[0]["us_per_step"] if r else None
+
+
+def lammps_step(n: int, steps: int, warmup: int) -> float | None:
+    r = _json_run([sys.executable, str(HERE / "lammps_peer.py"), "--n", str(n), "--steps",
+                   str(steps), "--warmup", str(warmup)])
+    if not r or "us_per_step" not in r:
+        return None
+    return r["us_per_step"]
+
+
+def compile_times(n: int = 64) -> tuple[float, float]:
+    """Seconds to build and compile the scene's kernels: cold cache, then warm."""
+    code = (f"import sys, time; sys.path.insert(0, {str(HERE)!r}); t = time.perf_counter(); "
+            f"from bench_solver import scene_model; from x3dpd.solver.simulation import Simulation; "
+            f"s = Simulation(scene_model({n})[0]); s.initialize(); s.advance(10); "
+            f"print(time.perf_counter() - t)")
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**ENV, "X3DPD_CACHE_DIR": cache}
+        times = []
+        for _ in range(2):
+            t = time.perf_counter()
+            subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                           capture_output=True)
+            times.append(time.perf_counter() - t)
+    return times[0], times[1]
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, nargs="*", default=[50, 64, 512, 4096])
+    ap.add_argument("--steps", type=int, default=20000)
+    ap.add_argument("--warmup", type=int, default=2000)
+    ap.add_argument("--json")
+    args = ap.parse_args(argv)
+    rows = []
+    for n in args.n:
+        steps = args.steps if n < 4096 else max(args.steps // 10, 1000)
+        ours = x3dpd_step(n, steps, args.warmup)
+        theirs = lammps_step(n, steps, args.warmup)
+        rows.append({"n": n, "steps": steps, "x3dpd_us": ours, "lammps_us": theirs,
+                     "speedup": (theirs / ours) if ours and theirs else None})
+        print(rows[-1], flush=True)
+    sdof = _json_run([sys.executable, str(HERE / "bench_solver.py"), "--sdof"])
+    cold, warm = compile_times()
+    print()
+    print("| particles | x3dpd µs/step | LAMMPS µs/step | LAMMPS / x3dpd |")
+    print("|---:|---:|---:|---:|")
+    for r in rows:
+        lam = f"{r['lammps_us']:.2f}" if r["lammps_us"] else "not installed"
+        ratio = f"{r['speedup']:.1f}×" if r["speedup"] else "–"
+        print(f"| {r['n']} | {r['x3dpd_us']:.2f} | {lam} | {ratio} |")
+    if sdof:
+        print(f"\nSDOF only (structure, no particles): {sdof[0]['steps_per_second']:.3g} steps/s")
+    print(f"Start-up incl. compile, n = 64: cold cache {cold:.1f} s, warm cache {warm:.1f} s")
+    if args.json:
+        Path(args.json).write_text(json.dumps({"rows": rows, "sdof": sdof, "compile_cold_s": cold,
+                                               "compile_warm_s": warm}, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
