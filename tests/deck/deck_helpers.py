@@ -6,7 +6,7 @@ import dataclasses
 from pathlib import Path
 from typing import Any
 
-from x3dpd.deck.cards import NOWHERE
+from x3dpd.deck.cards import NOWHERE, Pos
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = ROOT / "decks"
@@ -27,3 +27,16 @@ def strip_positions(obj: Any) -> Any:
     if isinstance(obj, tuple):
         return tuple(strip_positions(x) for x in obj)
     return obj
+
+
+def where(path: Path, needle: str, occurrence: int = 0) -> Pos:
+    """Position (1-based line, column) of the ``occurrence``-th ``needle`` in a file's text."""
+    seen = 0
+    for number, line in enumerate(Path(path).read_text().splitlines(), start=1):
+        col = line.find(needle)
+        while col >= 0:
+            if seen == occurrence:
+                return Pos(number, col + 1)
+            seen += 1
+            col = line.find(needle, col + 1)
+    raise AssertionError(f"{needle!r} not found in {path}")

@@ -7,8 +7,8 @@ column the message must point at, the card named, and a phrase the message must 
 from __future__ import annotations
 
 import pytest
-
 from deck_helpers import FIXTURES
+
 from x3dpd.deck import parse_deck, read_deck
 from x3dpd.errors import DeckError
 
@@ -28,8 +28,8 @@ CASES = [
     ("non_number_continued.inp", 3, 8, "TRACE", "NODE (field 5) must be a number; got 'x29'"),
     ("bad_number_two_dots.inp", 2, 8, "BODY", "AY (field 2) must be a number; got '-386.1.0'"),
     ("parameters_too_few.inp", 3, 7, "PARAMETERS",
-     "PARAMETERS needs 11 values: TIME TMAX TREST DTMIN DTMAX INCR INCMAX IREST NINTPL ISTAT "
-     "ITRAC; got 9"),
+     ("PARAMETERS needs 11 values: TIME TMAX TREST DTMIN DTMAX INCR INCMAX IREST NINTPL ISTAT "
+      "ITRAC; got 9")),
     ("parameters_two_records.inp", 3, 5, "PARAMETERS", "a second record starts here"),
     ("body_too_many.inp", 2, 22, "BODY", "BODY needs 3 values: AX AY AZ; got 4"),
     ("node_too_few.inp", 2, 5, "NODE COORDINATES", "needs 4 values: ID X Y Z; got 3"),
@@ -121,6 +121,8 @@ def test_unknown_keyword_suggestions(text, phrase):
     "TRACE\nEND\n",
     "BODY\nEND\n",
     "ELEMENTS\n 1 2 3 4 5\nEND\n",
+    "INITIAL\n 28 1 2 3 4\nEND\n",   # rotational velocities come all three or none
+    "INITIAL\n 28 1 2 3 4 5 6 7\nEND\n",
     "MASS\n 25 1 2 3 4 5\nEND\n",
     "PDMP\n 25 .1 1 .3 1 1 1\nEND\n",
     "PDMP\n -1 .1 1 .3 1 1 1 .3\nEND\n",

@@ -18,8 +18,7 @@ DECK_HEAD = b"TITLE\nsome deck\nEND\nBODY\n 0 -386.1 0\nEND\nNODE COORDINATES\n 
 def _write(path, head: bytes, chunk: bytes, total: int = 100 * MB) -> None:
     with open(path, "wb") as f:
         f.write(head)
-        for _ in range((total - len(head)) // len(chunk)):
-            f.write(chunk)
+        f.writelines(chunk for _ in range((total - len(head)) // len(chunk)))
 
 
 @pytest.mark.parametrize(("kind", "line", "phrase"), [

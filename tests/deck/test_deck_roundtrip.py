@@ -10,13 +10,32 @@ import math
 import re
 
 import pytest
+from deck_helpers import strip_positions
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from deck_helpers import strip_positions
-from x3dpd.deck import (Body, Boundary, Contact, Deck, Element, Initial, Mass, Material, Node,
-                        Parameters, Pdmp, Rbel, SlaveSet, Title, Trace, Triangle, Usrfrc,
-                        format_deck, parse_deck, write_deck)
+from x3dpd.deck import (
+    Body,
+    Boundary,
+    Contact,
+    Deck,
+    Element,
+    Initial,
+    Mass,
+    Material,
+    Node,
+    Parameters,
+    Pdmp,
+    Rbel,
+    SlaveSet,
+    Title,
+    Trace,
+    Triangle,
+    Usrfrc,
+    format_deck,
+    parse_deck,
+    write_deck,
+)
 
 ids = st.integers(1, 10**9)
 reals = st.floats(allow_nan=False, allow_infinity=False)

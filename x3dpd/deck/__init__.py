@@ -6,9 +6,26 @@ raise one :class:`~x3dpd.errors.DeckError` ``FILE:LINE:COL: CARD: message``);
 to equal cards. ``docs/deck-reference.md`` documents every card and field.
 """
 
-from x3dpd.deck.cards import (Body, Boundary, Contact, Deck, Element, Initial, Mass, Material,
-                              Node, Parameters, Pdmp, Pos, Rbel, SlaveSet, Title, Trace, Triangle,
-                              Usrfrc)
+from x3dpd.deck.cards import (
+                              Body,
+                              Boundary,
+                              Contact,
+                              Deck,
+                              Element,
+                              Initial,
+                              Mass,
+                              Material,
+                              Node,
+                              Parameters,
+                              Pdmp,
+                              Pos,
+                              Rbel,
+                              SlaveSet,
+                              Title,
+                              Trace,
+                              Triangle,
+                              Usrfrc,
+)
 from x3dpd.deck.parser import parse_deck, read_deck
 from x3dpd.deck.writer import format_deck, write_deck
 

@@ -6,8 +6,8 @@ Three stages:
    are not UTF-8, a control character or an over-long line stop the read at once (``DECK``
    errors). A cheap line check (:class:`_Gate`) follows the cards; at the first line that cannot
    be part of a deck (garbage outside a card, a non-number inside one) reading stops and the text
-   so far is parsed, so 100 MB of garbage is rejected after its first block. The gate only decides when
-   to stop reading; every message about the deck's content comes from the grammar.
+   so far is parsed, so 100 MB of garbage is rejected after its first block. The gate only
+   decides when to stop reading; every message about the deck's content comes from the grammar.
 2. **Grammar.** ``x3d.lark`` (LALR, contextual lexer) with :class:`DeckTransformer` passed to
    the constructor, so cards are built while parsing and no tree is kept.
 3. **Errors.** Lark's errors are turned into ``FILE:LINE:COL: CARD: message`` with the open
@@ -25,7 +25,7 @@ from dataclasses import replace
 from functools import cache
 
 from lark import Lark, Token, Tree
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark.exceptions import UnexpectedEOF, UnexpectedInput
 
 from x3dpd.deck.cards import Deck
 from x3dpd.deck.fields import BY_KEY, BY_NAME, CARDS, CONTACT_SLAVES, CardSpec, card_for_word
@@ -48,9 +48,9 @@ _NUM = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eEdD][+-]?\d+)?(?![A-Za-z0-9_.])"
 _VALUE_LINE = rf"[ \t,]*+(?:{_NUM}[ \t,]*+)*+(?:&[ \t]*+)?"
 _VALUE_LINES = re.compile(rf"(?:{_VALUE_LINE}(?:\$[^\n]*+)?\n)*+")
 _LAST_VALUE_LINE = re.compile(rf"{_VALUE_LINE}(?:(END)(?![A-Za-z0-9_])[ \t]*+)?(?:\$.*+)?\n?",
-                              re.I)
+                              re.IGNORECASE)
 _KEYWORD_LINE = re.compile(r"[ \t]*+([A-Za-z]{4})[A-Za-z]*+"
-                           r"(?:[ \t]++(?!END(?![A-Za-z0-9_]))[A-Za-z]++)*+", re.I)
+                           r"(?:[ \t]++(?!END(?![A-Za-z0-9_]))[A-Za-z]++)*+", re.IGNORECASE)
 _WORD_AT = re.compile(r"[^\s,$&]*")
 
 
@@ -182,7 +182,11 @@ def _load(blocks: Iterator[str], path: str) -> Deck:
         kept.append(block[end:])
         kept.extend(blocks)
         break
-    return _parse("".join(kept), path)
+    deck = _parse("".join(kept), path)
+    if deck == Deck(path):
+        raise DeckError(f"the deck is empty: expected cards ({_CARD_LIST}), each ending with END",
+                        path, 1, 1)
+    return deck
 
 
 # -- stage 2: grammar ---------------------------------------------------------------------------
@@ -196,11 +200,6 @@ def _parse(text: str, path: str) -> Deck:
         raise _syntax_error(e, text, path) from None
     except DeckError as e:  # raised by the transformer without the path
         raise DeckError(e.message, path, e.line, e.column, e.card) from None
-    if not any((deck.title, deck.parameters, deck.materials, deck.pdmp, deck.body, deck.trace,
-                deck.nodes, deck.elements, deck.masses, deck.rbels, deck.boundaries,
-                deck.contacts, deck.initials, deck.usrfrc)):
-        raise DeckError(f"the deck is empty: expected cards ({_CARD_LIST}), each ending with END",
-                        path, 1, 1)
     return replace(deck, path=path)
 
 
@@ -283,7 +282,7 @@ def _syntax_error(e: UnexpectedInput, text: str, path: str) -> DeckError:
     if word.isalpha() and card_for_word(word) is not None:
         return DeckError(f"{opened} {no_end} before the next card {word.upper()}; expected END "
                          "on a line of its own before it", path, line, col, name)
-    if word == "&" or text.startswith("&", e.pos_in_stream if token is None else token.start_pos):
+    if word == "&":
         return DeckError("'&' continues a record only at the end of a line", path, line, col,
                          name)
     return DeckError(f"{spec.label(_values_so_far(above))} must be a number; got {shown} (or END "
@@ -318,8 +317,8 @@ def parse_deck(text: str, path: str = "<deck>") -> Deck:
 def read_deck(path: str | os.PathLike[str]) -> Deck:
     """Read and parse the deck file ``path`` (see :func:`parse_deck`).
 
-    The file is read line by line and rejected at its first line that cannot be part of a deck,
-    so a large binary or garbage file fails at once with bounded memory.
+    The file is read in blocks of whole lines and rejected at its first line that cannot be part
+    of a deck, so a large binary or garbage file fails at once with bounded memory.
     """
     name = os.fspath(path)
     try:

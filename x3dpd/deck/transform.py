@@ -2,8 +2,8 @@
 
 The grammar (``x3d.lark``) hands each card over as ``[KEYWORD, item, ..., END]``; an item is a
 ROWS token (a run of one-line records) or a continued record (its lines). This module splits the
-lines into records and values, converts fields, checks field counts and card-local values, and raises
-:class:`~x3dpd.errors.DeckError` naming the field. Cross-card checks (an undefined node, a
+lines into records and values, converts fields, checks field counts and card-local values, and
+raises :class:`~x3dpd.errors.DeckError` naming the field. Cross-card checks (an undefined node, a
 duplicate id) belong to ``x3dpd.model.build``. No physics here.
 
 The transformer is passed to the ``Lark`` constructor, so no parse tree is built. Errors are
@@ -19,9 +19,26 @@ from typing import Any
 
 from lark import Token, Transformer
 
-from x3dpd.deck.cards import (Body, Boundary, Contact, Deck, Element, Initial, Mass, Material,
-                              Node, Parameters, Pdmp, Pos, Rbel, SlaveSet, Title, Trace, Triangle,
-                              Usrfrc)
+from x3dpd.deck.cards import (
+    Body,
+    Boundary,
+    Contact,
+    Deck,
+    Element,
+    Initial,
+    Mass,
+    Material,
+    Node,
+    Parameters,
+    Pdmp,
+    Pos,
+    Rbel,
+    SlaveSet,
+    Title,
+    Trace,
+    Triangle,
+    Usrfrc,
+)
 from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, SINGLE_CARDS, CardSpec
 from x3dpd.errors import DeckError
 
@@ -126,7 +143,8 @@ def _int(spec: CardSpec, record: Record, values: list[str], i: int, least: int |
     except ValueError:
         x = to_float(text)
         if not (x.is_integer() and abs(x) < _EXACT_INT):
-            raise _fail(spec, record, i, f"{spec.label(i)} must be an integer; got {text}") from None
+            message = f"{spec.label(i)} must be an integer; got {text}"
+            raise _fail(spec, record, i, message) from None
         value = int(x)
     if least is not None and value < least:
         what = "a positive integer" if least == 1 else f"an integer >= {least}"
@@ -206,8 +224,9 @@ class DeckTransformer(Transformer):
             raise _fail(spec, rec, 1, f"TMAX must be >= TIME ({v[0]}); got {v[1]}")
         if itrac < 1:
             raise _fail(spec, rec, 10, f"ITRAC (trace every ITRAC steps) must be >= 1; got {v[10]}")
-        return "PARAMETERS", c[0], Parameters(f[0], f[1], f[2], f[3], f[4], incr, f[6], irest, nintpl,
-                                        istat, itrac, _first(rec))
+        card = Parameters(f[0], f[1], f[2], f[3], f[4], incr, f[6], irest, nintpl, istat, itrac,
+                          _first(rec))
+        return "PARAMETERS", c[0], card
 
     def matid(self, c: list[Any]) -> _Card:
         spec = BY_NAME["MATID"]
@@ -231,8 +250,9 @@ class DeckTransformer(Transformer):
             v = _split(rec)
             _count(spec, rec, v, 8, None, expected)
             if len(v) > 11 and (len(v) - 11) % 2:
-                raise _fail(spec, rec, len(v) - 1, "PDMP extra Maxwell terms come in pairs "
-                                                   f"E2 T2 E3 T3 ... after VZ0; got {len(v)} values")
+                message = f"PDMP extra Maxwell terms come in pairs E2 T2 E3 T3 ... after VZ0; got " \
+                          f"{len(v)} values"
+                raise _fail(spec, rec, len(v) - 1, message)
             nodlim = _int(spec, rec, v, 0, 0)
             f = _floats(spec, rec, v, 1) + [0.0] * max(0, 11 - len(v))
             if f[0] <= 0:
@@ -278,7 +298,8 @@ class DeckTransformer(Transformer):
                     try:
                         nid, x, y, z = int(v[0]), float(v[1]), float(v[2]), float(v[3])
                         if nid > 0 and isfinite(abs(x) + abs(y) + abs(z)):
-                            node = Node(nid, x, y, z, Pos(line, col + len(text) - len(text.lstrip())))
+                            indent = len(text) - len(text.lstrip())
+                            node = Node(nid, x, y, z, Pos(line, col + indent))
                     except ValueError:  # 1.0D0, 25., a bad field: the slow path decides
                         pass
                 if node is None and v:
@@ -353,10 +374,10 @@ class DeckTransformer(Transformer):
         out = []
         for rec in _records(c[1:-1]):
             v = _split(rec)
-            _count(spec, rec, v, 4, 7, "4 or 7 values: NODE VX VY VZ [WX WY WZ]")
+            if len(v) not in (4, 7):  # point at the record, or at the first value too many
+                message = f"INITIAL needs 4 or 7 values: NODE VX VY VZ [WX WY WZ]; got {len(v)}"
+                raise _fail(spec, rec, 0 if len(v) < 7 else 7, message)
             vel = _floats(spec, rec, v, 1)
-            if len(vel) > 3:
-                vel += [0.0] * (6 - len(vel))
             out.append(Initial(_int(spec, rec, v, 0), tuple(vel), _first(rec)))
         return "INITIAL", c[0], out
 

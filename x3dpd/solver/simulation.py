@@ -180,6 +180,8 @@ class Simulation:
                 self._grow(status)
                 continue
             if status:
+                if rows:
+                    self._audit_energy(out_energy[:rows])
                 self._check_status(status, self.diag[4], int(self.diag[5]))
             if got and rows >= max_rows:
                 break
@@ -198,20 +200,51 @@ class Simulation:
 
     def _audit(self, block: Block) -> None:
         """Stop with a diagnosis when energy appears from nowhere or a particle escaped."""
-        if block.energy.shape[0]:
-            self._scale = max(getattr(self, "_scale", 0.0), self.energy_scale(block.energy))
-            res = block.energy[-1, 11]
-            if abs(res) > self.energy_tolerance * self._scale:
-                t = block.energy[-1, 0]
-                grew = "grew" if res > 0 else "was lost"
-                raise UnstableRunError(
-                    f"unstable run at t = {t:.6g} s (step {self.state.step}): total energy {grew} "
-                    f"by {abs(res):.4g} without a source ({abs(res) / self._scale:.1%} of the "
-                    f"energy scale {self._scale:.4g}; tolerance {self.energy_tolerance:.0%}). "
-                    f"Likely cause: the time step {self.dt:.3g} s is too large for the contact "
-                    f"or spring stiffness; run `x3dpd check` for a recommended step.",
-                    time=t, step=self.state.step)
+        self._audit_energy(block.energy)
         self._check_containment()
+
+    def _audit_energy(self, energy: np.ndarray) -> None:
+        """Check every ledger row: step stability first, then the balance residual."""
+        if not energy.shape[0]:
+            return
+        for row in energy:
+            self._check_step_stability(row)
+        self._scale = max(getattr(self, "_scale", 0.0), self.energy_scale(energy))
+        bad = np.nonzero(np.abs(energy[:, 11]) > self.energy_tolerance * self._scale)[0]
+        if bad.size:
+            row = energy[bad[0]]
+            res = row[11]
+            t = row[0]
+            grew = "grew" if res > 0 else "was lost"
+            raise UnstableRunError(
+                f"unstable run at t = {t:.6g} s: total energy {grew} by {abs(res):.4g} without a "
+                f"source ({abs(res) / self._scale:.1%} of the energy scale {self._scale:.4g}; "
+                f"tolerance {self.energy_tolerance:.0%}). Likely cause: the time step "
+                f"{self.dt:.3g} s is too large for the contact or spring stiffness; run "
+                f"`x3dpd check` for a recommended step.",
+                time=t, step=int(round((t - self.model.t0) / self.dt)))
+
+    def _check_step_stability(self, row: np.ndarray) -> None:
+        """Stop when the step exceeds the stability limit of the stiffest oscillator.
+
+        Velocity Verlet conserves KE - S + U exactly for linear springs, even when unstable, so the
+        residual cannot see a step beyond the limit; but there S = dt^2/8 |f|^2/m outgrows the
+        mechanical energy (for an oscillator S/U = (omega dt)^2/4, which exceeds 1 exactly when
+        omega dt > 2). ``row`` is one energy-ledger row.
+        """
+        s = self.state
+        shadow = row[10] - (row[11] + s.e_ref - row[6] - row[7] - row[8] + row[9])
+        mech = row[1] + row[2] + abs(row[3]) + row[4] + row[5]
+        if shadow > mech and shadow > 1e-12 * max(self.energy_scale(row[None, :]), 1e-300):
+            t = row[0]
+            step = int(round((t - self.model.t0) / self.dt))
+            raise UnstableRunError(
+                f"unstable run at t = {t:.6g} s (step {step}): the time step {self.dt:.3g} s "
+                f"exceeds the stability limit of the stiffest spring or contact (omega*dt > 2: "
+                f"the integrator's correction energy {shadow:.4g} outgrew the mechanical energy "
+                f"{mech:.4g}). Likely cause: a stiff element (e.g. a 1e12 spring on a DOF that "
+                f"BOUNDARY CONDITIONS leave free); run `x3dpd check` for the recommended step.",
+                time=t, step=step)
 
     def _check_containment(self) -> None:
         m, k, s = self.model, self.setup, self.state
