@@ -7,6 +7,20 @@ The CLI maps them to exit statuses: :class:`DeckError` and :class:`InputError` -
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Pos:
+    """1-based line and column of a token in a deck file (0 when unknown)."""
+
+    line: int = 0
+    column: int = 0
+
+
+#: The position of something that has none (a card synthesised by code).
+NOWHERE = Pos(0, 0)
+
 
 class X3dpdError(Exception):
     """Base class of all errors x3dpd raises on purpose."""

@@ -27,7 +27,7 @@ import signal
 import sys
 import threading
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, is_dataclass, replace
 from pathlib import Path
 
 import click
@@ -131,19 +131,34 @@ def default_paths(opts: RunOptions) -> tuple[str, str, str]:
 
 
 def deck_key(deck) -> str:
-    """SHA-256 of the deck's cards as :func:`format_deck` writes them, with TMAX, TREST and IREST
+    """SHA-256 of the deck's cards (their values, in file order), with TMAX, TREST and IREST
     masked: what must not change between a restart dump and the run that resumes from it.
 
-    Comments, spacing and number spelling do not count; ending later (TMAX), dumping at another
-    interval (TREST) and switching IREST to 1 (X3D's way of asking for a restart) are allowed.
+    Comments, spacing, number spelling and card positions do not count; ending later (TMAX),
+    dumping at another interval (TREST) and switching IREST to 1 (X3D's way of asking for a
+    restart) are allowed.
     """
-    from x3dpd.deck.writer import format_deck
-
     par = deck.parameters
     if par is not None:
         par = replace(par, tmax=0.0, trest=0.0, irest=0)
-    text = format_deck(replace(deck, parameters=par, path="<deck>"))
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+    plain = _plain(replace(deck, parameters=par, path="<deck>"))
+    return hashlib.sha256(repr(plain).encode("utf-8")).hexdigest()
+
+
+_POSITION_FIELDS = frozenset({"pos", "positions", "slave_positions", "path"})
+
+
+def _plain(obj):
+    """Cards as nested tuples of (field, value), positions left out; floats as repr."""
+    if is_dataclass(obj) and not isinstance(obj, type):
+        return (type(obj).__name__,) + tuple(
+            (f.name, _plain(getattr(obj, f.name))) for f in fields(obj)
+            if f.name not in _POSITION_FIELDS)
+    if isinstance(obj, (tuple, list)):
+        return tuple(_plain(v) for v in obj)
+    if isinstance(obj, float):
+        return repr(obj)
+    return obj
 
 
 def _user_files(specs) -> dict[str, str]:

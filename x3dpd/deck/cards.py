@@ -15,15 +15,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 
-@dataclass(frozen=True)
-class Pos:
-    """1-based line and column of a token in the deck file."""
-
-    line: int = 0
-    column: int = 0
-
-
-NOWHERE = Pos(0, 0)
+# Positions are defined with the errors that report them (a lower layer than the deck language).
+from x3dpd.errors import NOWHERE, Pos  # noqa: E402,F401
 
 
 @dataclass(frozen=True)

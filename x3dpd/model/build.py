@@ -13,16 +13,19 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from x3dpd.deck.cards import NOWHERE, Deck, Pos
-from x3dpd.errors import DeckError, UsrfrcError
+from x3dpd.errors import NOWHERE, DeckError, Pos, UsrfrcError
 from x3dpd.geometry.cavity import geometry_size, group_faces
 from x3dpd.geometry.triangle import PLANE_TOL, inward_signs, triangle_areas, unit_normals
 from x3dpd.model.model import Model
 from x3dpd.physics.motion import motion_table, prescribed_mask
 from x3dpd.physics.usrfrc import force_table, split_specs
+
+if TYPE_CHECKING:  # the builder reads cards by attribute; it needs no runtime import of them
+    from x3dpd.deck.cards import Deck
 
 _AXES = "xyz"
 _ALL_DOFS = (1, 2, 3, 4, 5, 6)

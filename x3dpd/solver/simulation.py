@@ -12,11 +12,14 @@ from __future__ import annotations
 import math
 import time as _time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime import of it
+    from x3dpd.model.model import Model
+
 from x3dpd.errors import InputError, UnstableRunError
-from x3dpd.model.model import Model
 from x3dpd.physics.motion import motion_table
 from x3dpd.physics.usrfrc import build_external_forces
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state

@@ -9,10 +9,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from x3dpd.model.model import Model
+if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime import of it
+    from x3dpd.model.model import Model
+
 
 #: Columns of a contact state row before the Maxwell histories: approach, F_N, F_t (3).
 STATE_HEAD = 5

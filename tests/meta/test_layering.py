@@ -1,0 +1,48 @@
+"""The package imports only downward: cli -> deck | model | solver | io | analysis -> physics |
+geometry -> (errors, _jit). Imports under ``if TYPE_CHECKING:`` do not count (no runtime edge)."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[2] / "x3dpd"
+LAYER = {"cli": 3, "deck": 2, "model": 2, "solver": 2, "io": 2, "analysis": 2,
+         "physics": 1, "geometry": 1, "errors": 0, "_jit": 0, "__init__": 0, "__main__": 4}
+
+
+def _group(module: str) -> str | None:
+    parts = module.split(".")
+    if parts[0] != "x3dpd":
+        return None
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+def _runtime_imports(tree: ast.AST):
+    skip: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            for sub in ast.walk(node):
+                skip.add(id(sub))
+    for node in ast.walk(tree):
+        if id(node) in skip:
+            continue
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            yield node.lineno, node.module
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                yield node.lineno, alias.name
+
+
+def test_imports_go_downward_only():
+    bad = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        rel = path.relative_to(PACKAGE)
+        here = rel.parts[0].removesuffix(".py")
+        for line, module in _runtime_imports(ast.parse(path.read_text())):
+            there = _group(module)
+            if there is None or there == here:
+                continue
+            if LAYER[there] >= LAYER[here]:
+                bad.append(f"x3dpd/{rel}:{line}: {here} imports {module}")
+    assert not bad, "imports that do not go downward:\n" + "\n".join(bad)
