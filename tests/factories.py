@@ -17,8 +17,23 @@ import math
 
 import numpy as np
 
-from x3dpd.deck.cards import (Body, Boundary, Contact, Deck, Element, Initial, Mass, Material,
-                              Node, Parameters, Pdmp, SlaveSet, Trace, Triangle, Usrfrc)
+from x3dpd.deck.cards import (
+    Body,
+    Boundary,
+    Contact,
+    Deck,
+    Element,
+    Initial,
+    Mass,
+    Material,
+    Node,
+    Parameters,
+    Pdmp,
+    SlaveSet,
+    Trace,
+    Triangle,
+    Usrfrc,
+)
 
 #: Report Section 7 steel sphere (Figure 28): radius [in], E [psi], nu, density [lbf s^2/in^4].
 STEEL_R = 0.0625

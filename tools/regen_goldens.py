@@ -74,6 +74,8 @@ def git_commit() -> str:
 
 def main(argv: list[str]) -> int:
     from x3dpd import __version__
+    from x3dpd.cli.run import deck_key
+    from x3dpd.deck import read_deck
 
     wanted = argv[1:]
     cases = [c for c in load_cases() if not c.get("refused")
@@ -105,9 +107,10 @@ def main(argv: list[str]) -> int:
             prov["cases"][case["deck"]] = {
                 "command": "x3dpd " + " ".join(case_argv(case, dest.relative_to(ROOT))),
                 "x3dpd_version": __version__, "git_commit": git_commit(),
-                "date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC"),
+                "date": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M:%S UTC"),
                 "machine": machine(), "blocks": side["blocks"],
                 "deck_sha256": side["deck_sha256"],
+                "deck_key": deck_key(read_deck(ROOT / "decks" / case["deck"])),
             }
             print(f"wrote {dest.relative_to(ROOT)} ({side['blocks']} output times)")
     prov_path.write_text(json.dumps(prov, indent=1, sort_keys=True) + "\n")

@@ -8,7 +8,6 @@ driven at 37.21 Hz: the same compiled step loop as decks/beam_64.inp), 0.5 s of 
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import signal
 import subprocess
@@ -112,7 +111,8 @@ def test_sigint_exits_130_with_a_valid_dump(reference, tmp_path):
     out, err = proc.communicate(timeout=TIMEOUT)
     assert proc.returncode == 130, err
     assert "Traceback" not in err
-    assert "interrupted at t =" in err and "--restart" in err
+    assert "interrupted at t =" in err
+    assert f"Resume with: x3dpd {deck} --restart --trace part.trace.txt" in err
     arrays, meta = load_restart(dump)
     assert meta["reason"] == "interrupted"
     assert 0 < meta["step"] < round(TMAX / 5e-7)

@@ -7,7 +7,6 @@ step loop is compiled) or tiny generated decks; the restart machinery is in test
 from __future__ import annotations
 
 import io
-import json
 import os
 import shutil
 from pathlib import Path
@@ -17,7 +16,7 @@ import numpy as np
 import pytest
 
 from x3dpd.cli import _register, cli, main
-from x3dpd.cli.run import Progress, deck_key, default_paths, RunOptions
+from x3dpd.cli.run import Progress, RunOptions, deck_key, default_paths, resume_command
 from x3dpd.deck import parse_deck, read_deck
 from x3dpd.io.energy import EnergyWriter, read_energy
 from x3dpd.io.trace import read_trace
@@ -84,6 +83,15 @@ def test_run_subcommand_and_options(capsys, impact, tmp_path):
     assert tr.times[-1] == pytest.approx(2e-6)
     assert tr.times.size == 101                  # 1000 steps, a row every 10
     assert os.path.isfile("out/a.energy.csv")    # beside the trace, named after it
+
+
+def test_resume_command_repeats_what_matters():
+    opts = RunOptions(deck="d.inp", trace="a b.txt", usrfrc=(DRIVE,), tmax=0.5, dt=2.5e-7,
+                      friction="coulomb", plot="p.png", quiet=True)
+    assert resume_command(opts) == (
+        f"d.inp --restart --trace 'a b.txt' --usrfrc {DRIVE} --dt 2.5e-07 --tmax 0.5 "
+        "--friction coulomb")
+    assert resume_command(RunOptions(deck="d.inp")) == "d.inp --restart"
 
 
 def test_default_paths():

@@ -21,11 +21,12 @@ import pytest
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
-import reference as ref  # noqa: E402
-from factories import G, STEEL_E, STEEL_NU, STEEL_R, closed_box_deck, sphere_mass  # noqa: E402
-from x3dpd.model.build import build_model  # noqa: E402
-from x3dpd.physics.coulomb import coulomb_force, regularized_coulomb_force  # noqa: E402
-from x3dpd.solver.simulation import ENERGY_COLUMNS, Simulation  # noqa: E402
+import reference as ref
+from factories import STEEL_E, STEEL_NU, STEEL_R, G, closed_box_deck, sphere_mass
+
+from x3dpd.model.build import build_model
+from x3dpd.physics.coulomb import coulomb_force, regularized_coulomb_force
+from x3dpd.solver.simulation import ENERGY_COLUMNS, Simulation
 
 M = sphere_mass()
 MU = 0.3
@@ -56,7 +57,7 @@ def _slide(friction: str, t_end: float):
     model = build_model(deck)
     sim = Simulation(model, friction=friction)
     first = sim.snapshot()
-    block = sim.advance(int(round(t_end / DT)))
+    block = sim.advance(round(t_end / DT))
     t = np.concatenate([first.times, block.times])
     data = np.concatenate([first.data, block.data])[:, 0]
     energy = np.concatenate([first.energy, block.energy])
@@ -69,7 +70,7 @@ def regularized():
 
 
 def test_sliding_to_rolling_transition(regularized):
-    sim, t, d, energy = regularized
+    _, t, d, _ = regularized
     vx, wz, y = d[:, 3], d[:, 8], d[:, 1]
     slip = vx + wz * STEEL_R              # contact point velocity along x (rolling: w_z = -v/R)
     # The transition: zero of a straight line fitted to the slip while it clearly slides
@@ -101,7 +102,7 @@ def test_sliding_to_rolling_transition(regularized):
 
 
 def test_friction_energy_in_the_ledger(regularized):
-    sim, t, d, energy = regularized
+    _, _, _, energy = regularized
     e = dict(zip(ENERGY_COLUMNS, energy[-1]))
     print(f"\nfriction dissipation {e['dissipated_friction']:.6e} (m v0^2/7 = {D_FRICTION:.6e}, "
           f"{e['dissipated_friction'] / D_FRICTION - 1:+.1e}); residual {e['residual']:.1e}")
@@ -120,7 +121,7 @@ def test_bare_coulomb_chatters():
     """Why "regularized" is the default: with the bare Coulomb law (Eq. 29) the friction force
     flips sign at every step once the sphere should roll, and the slip does not go to zero: it
     sticks at a spurious value of the order of the per-step slip change 7/2 mu g dt."""
-    sim, t, d, _ = _slide("coulomb", 1.02 * T1)
+    sim, _, _, _ = _slide("coulomb", 1.02 * T1)
     s = sim.state
     p = sim.model.particle_start
     forces, slips = [], []

@@ -18,12 +18,22 @@ from scipy.integrate import quad
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
-import reference as ref  # noqa: E402
-from factories import (FIG28_V, SPECTATOR, STEEL_E, STEEL_NU, STEEL_R,  # noqa: E402
-                       STEEL_RHO, closed_box_deck, floor_deck, sphere_mass)
-from x3dpd.model.build import build_model  # noqa: E402
-from x3dpd.physics import hertz  # noqa: E402
-from x3dpd.solver.simulation import Simulation  # noqa: E402
+import reference as ref
+from factories import (
+    FIG28_V,
+    SPECTATOR,
+    STEEL_E,
+    STEEL_NU,
+    STEEL_R,
+    STEEL_RHO,
+    closed_box_deck,
+    floor_deck,
+    sphere_mass,
+)
+
+from x3dpd.model.build import build_model
+from x3dpd.physics import hertz
+from x3dpd.solver.simulation import Simulation
 
 M = sphere_mass()
 K_WALL = ref.hertz_k(STEEL_E / (1.0 - STEEL_NU**2), STEEL_R)
@@ -31,19 +41,15 @@ K_WALL = ref.hertz_k(STEEL_E / (1.0 - STEEL_NU**2), STEEL_R)
 
 # --- the helper functions ----------------------------------------------------------------------
 
-TIME_FACTOR_BUG = ("x3dpd/physics/hertz.py: HERTZ_TIME_FACTOR = 1.4715998 is wrong in the 5th "
-                   "digit; int_0^1 (1-x^(5/2))^(-1/2) dx = 1.4716375922 (scipy quad, mpmath), so "
-                   "hertz_impact's t_max is 2.6e-5 short")
-
-
 def test_reference_time_factor():
     # the reference quadrature itself (mpmath at 30 digits: 1.47163759216235231976)
     assert ref.hertz_time_factor() == pytest.approx(1.47163759216235232, rel=1e-13)
 
 
 def test_time_factor_is_the_quadrature():
-    # the constant is meant to carry 8 significant digits: 5e-8
-    assert hertz.HERTZ_TIME_FACTOR == pytest.approx(ref.hertz_time_factor(), rel=5e-8)
+    # Regression guard: the constant used to be 1.4715998 (wrong in the 5th digit); it is now
+    # 2/5 B(2/5, 1/2), exact to rounding, so the quadrature's 1e-13 is the bound.
+    assert hertz.HERTZ_TIME_FACTOR == pytest.approx(ref.hertz_time_factor(), rel=1e-13)
 
 
 def test_effective_properties_and_constant():
@@ -96,8 +102,8 @@ def test_reference_impact_time_against_direct_quadrature():
 
 def test_impact_time_against_direct_quadrature():
     _, t_max, _ = hertz.hertz_impact(M, K_WALL, FIG28_V)
-    # 8 digits of the time factor + 1e-9 of the singular quadrature: 1e-7
-    assert t_max == pytest.approx(_direct_t_max(M, K_WALL, FIG28_V), rel=1e-7)
+    # the singular quadrature is good to ~1e-9
+    assert t_max == pytest.approx(_direct_t_max(M, K_WALL, FIG28_V), rel=1e-8)
 
 
 # --- sphere on a rigid wall, Figure 28 ---------------------------------------------------------
@@ -165,6 +171,8 @@ def test_elastic_sphere_on_wall_matches_hertz():
 
 
 def test_rebound_from_a_single_floor_face():
+    """Regression guard: the containment audit used to take the bounding box of a lone floor's
+    nodes (zero height) for the cavity and stopped a sphere rebounding higher than R."""
     h = ref.hertz_impact(M, K_WALL, FIG28_V)
     model = build_model(floor_deck(dt=h.contact_time / 200))
     # the floor's inward side is the particle's side (+y): build_model gets it right

@@ -19,15 +19,26 @@ import pytest
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
-import reference as ref  # noqa: E402
-from factories import (FIG28_V, FIG30_E0, FIG30_E1, FIG30_TAU1, SPECTATOR, STEEL_E,  # noqa: E402
-                       STEEL_NU, STEEL_R, closed_box_deck, sphere_mass)
-from x3dpd.model.build import build_model  # noqa: E402
-from x3dpd.physics import maxwell  # noqa: E402
-from x3dpd.solver.simulation import Simulation  # noqa: E402
+import reference as ref
+from factories import (
+    FIG28_V,
+    FIG30_E0,
+    FIG30_E1,
+    FIG30_TAU1,
+    SPECTATOR,
+    STEEL_E,
+    STEEL_NU,
+    STEEL_R,
+    closed_box_deck,
+    sphere_mass,
+)
+
+from x3dpd.model.build import build_model
+from x3dpd.physics import maxwell
+from x3dpd.solver.simulation import Simulation
 
 M = sphere_mass()
-FIG30 = dict(e0=FIG30_E0, e1=FIG30_E1, tau1=FIG30_TAU1)
+FIG30 = {"e0": FIG30_E0, "e1": FIG30_E1, "tau1": FIG30_TAU1}
 
 
 @pytest.fixture(scope="module")
@@ -177,11 +188,10 @@ def test_e1_zero_takes_the_elastic_path_exactly():
     history is E1 * (...) = 0.0, and F = K0 a^{3/2} + 0.0 is bit-identical."""
     k = ref.hertz_k(STEEL_E / (1 - STEEL_NU**2), STEEL_R)
     dt = ref.hertz_impact(M, k, FIG28_V).contact_time / 300
-    visco_group = [([SPECTATOR], [(0, 0, 0)], dict(e0=STEEL_E, **{"e1": FIG30_E1,
-                                                                   "tau1": FIG30_TAU1}))]
-    elastic_group = [([SPECTATOR], [(0, 0, 0)], dict(e0=STEEL_E))]
-    rec_v, sim_v = _impact(dt, 400, dict(e0=STEEL_E, e1=0.0), groups=visco_group)
-    rec_e, sim_e = _impact(dt, 400, dict(e0=STEEL_E, e1=0.0), groups=elastic_group)
+    visco_group = [([SPECTATOR], [(0, 0, 0)], {"e0": STEEL_E, "e1": FIG30_E1, "tau1": FIG30_TAU1})]
+    elastic_group = [([SPECTATOR], [(0, 0, 0)], {"e0": STEEL_E})]
+    rec_v, sim_v = _impact(dt, 400, {"e0": STEEL_E, "e1": 0.0}, groups=visco_group)
+    rec_e, sim_e = _impact(dt, 400, {"e0": STEEL_E, "e1": 0.0}, groups=elastic_group)
     assert "viscoelastic" in sim_v.effects and sim_v.variant.n_maxwell == 1
     assert "viscoelastic" not in sim_e.effects
     np.testing.assert_array_equal(rec_v, rec_e)

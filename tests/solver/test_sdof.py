@@ -18,11 +18,12 @@ import pytest
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
-import reference as ref  # noqa: E402
-from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck  # noqa: E402
-from x3dpd.errors import UnstableRunError  # noqa: E402
-from x3dpd.model.build import build_model  # noqa: E402
-from x3dpd.solver.simulation import Simulation  # noqa: E402
+import reference as ref
+from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck
+
+from x3dpd.errors import UnstableRunError
+from x3dpd.model.build import build_model
+from x3dpd.solver.simulation import Simulation
 
 FREQUENCIES = (37.21, 39.37)
 #: The tests start with this small velocity [in/s] (6e-5 of the resonant velocity amplitude;
@@ -38,7 +39,7 @@ def _sdof(hz: float, c: float = TABLE4_C) -> ref.Sdof:
 def _run(hz: float, dt: float, t_end: float, itrac: int, v0: float = KICK, c: float = TABLE4_C):
     sim = Simulation(build_model(sdof_deck(dt=dt, hz=hz, itrac=itrac, v0=v0, c=c)))
     first = sim.snapshot()
-    block = sim.advance(int(round(t_end / dt)))
+    block = sim.advance(round(t_end / dt))
     t = np.concatenate([first.times, block.times])
     x = np.concatenate([first.data, block.data])[:, 0, 0]
     return t, x, sim

@@ -31,14 +31,16 @@ def first_node_history(trace_path: str | os.PathLike, n_rows: int) -> tuple[np.n
 
 
 def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
-             energy_path: str | os.PathLike | None = None, title: str = "") -> str:
+             energy=None, title: str = "") -> str:
     """Write a PNG: the first TRACE node's x displacement and the energy dissipated vs time.
 
     Parameters
     ----------
     png : output file.
     trace_path : the run's trace; ``node_ids`` its traced node ids (row order).
-    energy_path : the run's energy file (the lower panel is left out without it).
+    energy : the run's energy ledger as read by ``x3dpd.io.energy.read_energy`` (anything with
+        ``times``, ``columns``, ``column(name)`` and ``dissipated``); the lower panel is left out
+        without it.
     title : figure title (the deck's title, for instance).
 
     Returns the PNG's path.
@@ -48,13 +50,8 @@ def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
     matplotlib.use("Agg", force=True)
     import matplotlib.pyplot as plt
 
-    from x3dpd.io.energy import read_energy
-
     node_ids = list(node_ids)
     t, x = first_node_history(trace_path, len(node_ids))
-    energy = None
-    if energy_path is not None and os.path.isfile(energy_path):
-        energy = read_energy(energy_path)
     panels = 2 if energy is not None else 1
     fig, axes = plt.subplots(panels, 1, figsize=(8, 3.2 * panels), sharex=True, squeeze=False)
     ax = axes[0, 0]

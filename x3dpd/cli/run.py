@@ -106,11 +106,18 @@ def run(deck, trace, tmax, dt, usrfrc, usrfrc_python, motion, energy, plot, over
     opts = RunOptions(deck=deck, trace=trace, tmax=tmax, dt=dt, usrfrc=tuple(usrfrc),
                       usrfrc_python=usrfrc_python, motion=tuple(motion), energy=energy,
                       plot=plot, overwrite=overwrite, restart=restart, friction=friction,
-                      quiet=quiet, argv=tuple(sys.argv[1:]))
+                      quiet=quiet, argv=_command_line())
     status = run_deck(opts)
     if status:
         # SystemExit rather than ctx.exit(): x3dpd.cli.main runs click with standalone_mode=False
         sys.exit(status)
+
+
+def _command_line() -> tuple[str, ...]:
+    """The arguments of the ``x3dpd`` command that runs (for the sidecar), () when x3dpd runs
+    inside another program (tests call ``x3dpd.cli.main(argv)``)."""
+    prog = os.path.basename(sys.argv[0]) if sys.argv else ""
+    return tuple(sys.argv[1:]) if prog in ("x3dpd", "__main__.py") else ()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -286,7 +293,8 @@ class Progress:
             return
         self.last = now
         pct = 100.0 * t / self.tmax if self.tmax > 0 else 100.0
-        line = (f"t = {t:.6g} / {self.tmax:.6g} s ({pct:5.1f} %)  {_fmt_rate(rate)} steps/s  "
+        speed = f"{_fmt_rate(rate)} steps/s" if rate > 0 else "(warming up)"
+        line = (f"t = {t:.6g} / {self.tmax:.6g} s ({pct:5.1f} %)  {speed}  "
                 f"ETA {_fmt_duration(eta)}  energy residual {residual:+.2e} of scale")
         if self.tty:
             pad = max(0, self.width - len(line))
@@ -437,12 +445,33 @@ def run_deck(opts: RunOptions) -> int:
     progress.done()
     if not opts.quiet:
         _summary(opts, sim, stats, trace_path, energy_path, status)
-        if status == "interrupted":
-            click.echo(f"x3dpd: interrupted at t = {sim.time:.9g} s; restart dump "
-                       f"{dump_path} written. Resume with: x3dpd {opts.deck} --restart"
-                       + (f" --trace {trace_path}" if opts.trace else ""), err=True)
+    if status == "interrupted":  # the one line --quiet keeps: it says how to go on
+        click.echo(f"x3dpd: interrupted at t = {sim.time:.9g} s; restart dump {dump_path} "
+                   f"written. Resume with: x3dpd {resume_command(opts)}", err=True)
     _maybe_plot(opts, trace_path, energy_path, model)
     return exit_status
+
+
+def resume_command(opts: RunOptions) -> str:
+    """The arguments that resume this run from its restart dump."""
+    args = [opts.deck, "--restart"]
+    if opts.trace:
+        args += ["--trace", opts.trace]
+    if opts.energy:
+        args += ["--energy", opts.energy]
+    for spec in opts.usrfrc:
+        args += ["--usrfrc", spec]
+    for spec in opts.motion:
+        args += ["--motion", spec]
+    if opts.usrfrc_python:
+        args.append("--usrfrc-python")
+    if opts.dt is not None:
+        args += ["--dt", repr(opts.dt)]
+    if opts.tmax is not None:
+        args += ["--tmax", repr(opts.tmax)]
+    if opts.friction != "regularized":
+        args += ["--friction", opts.friction]
+    return shlex.join(args)
 
 
 def _open_outputs(opts, trace_path, energy_path, sim, sidecar, meta, columns):
@@ -521,11 +550,7 @@ def _load_dump(dump_path, opts, sim, key, options, model) -> dict:
     if state.x.shape != (model.n_nodes, 3):
         raise InputError(f"{dump_path}: the restart dump holds {state.x.shape[0]} nodes, the "
                          f"deck {model.n_nodes}")
-    sim.restore(state)
-    if meta.get("energy_scale"):
-        # the audit's running energy scale, so a resumed run judges energy exactly like the
-        # uninterrupted one would
-        sim._scale = float(meta["energy_scale"])
+    sim.restore(state)   # the state carries the audit's energy scale too
     return meta
 
 
@@ -549,7 +574,16 @@ def _step_loop(sim, writer, ewriter, n_end, trest_steps, stats, progress, dump, 
             target = min(target, next_dump)
         compile_before = sim.compile_seconds
         t = time.perf_counter()
-        block = sim.advance(target - step)
+        try:
+            block = sim.advance(target - step)
+        except UnstableRunError as exc:
+            # write the rows computed before the failure, so the kept trace ends where the
+            # run went wrong
+            partial = getattr(exc, "block", None)
+            if partial is not None and partial.times.shape[0]:
+                writer.write_block(partial.times, partial.data)
+                ewriter.write_rows(partial.energy)
+            raise
         wall = time.perf_counter() - t
         done = sim.state.step - step
         writer.write_block(block.times, block.data)
@@ -594,8 +628,8 @@ def _summary(opts, sim, stats, trace_path, energy_path, status) -> None:
     rate = stats.timed_steps / stats.timed_seconds if stats.timed_seconds > 0 else float("nan")
     lines = [f"x3dpd: {opts.deck} -> {trace_path}, {energy_path} ({status})",
              f"  effects        {', '.join(sorted(sim.effects)) or 'none'}",
-             f"  steps          {stats.steps} this run; t = {stats.t_start:.9g} .. {sim.time:.9g} s at dt "
-             f"{sim.dt:.6g} s, trace every {sim.itrac} steps",
+             f"  steps          {stats.steps} this run; t = {stats.t_start:.9g} .. "
+             f"{sim.time:.9g} s at dt {sim.dt:.6g} s, trace every {sim.itrac} steps",
              f"  wall time      {wall:.2f} s (setup and first-call compile/load "
              f"{compile_s:.2f} s)",
              ]
@@ -619,10 +653,13 @@ def _maybe_plot(opts, trace_path, energy_path, model) -> None:
         return
     from x3dpd.analysis.plots import plot_run
 
+    from x3dpd.io.energy import read_energy
+
     ids = model.node_ids[model.trace_nodes].tolist()
     try:
-        plot_run(opts.plot, trace_path, ids, energy_path, title=model.title)
-    except (OSError, ValueError) as exc:
+        energy = read_energy(energy_path) if energy_path and os.path.isfile(energy_path) else None
+        plot_run(opts.plot, trace_path, ids, energy, title=model.title)
+    except (OSError, ValueError, InputError) as exc:
         click.echo(f"x3dpd: warning: could not write the plot {opts.plot}: {exc}", err=True)
         return
     if not opts.quiet:

@@ -8,9 +8,10 @@
     residual
 
 then one row per output time (t = t0 and every ITRAC steps, the trace's times), every number
-in Python's shortest round-trip form (``repr``: it reads back bit for bit). Energies are in the deck's units
-(lbf·in for the report's decks). ``residual`` is the ledger's imbalance: stored + dissipated −
-external work − the energy at t0 (docs/running.md).
+in Python's shortest round-trip form (``repr``: it reads back bit for bit). Energies are in the
+deck's units (lbf·in for the report's decks). ``residual`` is the ledger's imbalance: the
+change of the stored energy since t0, plus what was dissipated, minus the external work; zero
+for a perfect integration (docs/running.md).
 
 Like the trace, the file is streamed (:class:`EnergyWriter`), refuses to replace an existing
 file unless asked (the old one is then kept as ``.bak``), and is truncated to a restart dump's
@@ -28,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.errors import InputError
+
 
 class EnergyWriter:
     """Stream the energy ledger rows to a CSV file.
@@ -145,7 +147,7 @@ class EnergyWriter:
             self._f.close()
             self._closed = True
 
-    def __enter__(self) -> "EnergyWriter":
+    def __enter__(self) -> EnergyWriter:
         return self
 
     def __exit__(self, *exc) -> None:

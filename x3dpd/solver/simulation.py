@@ -164,32 +164,38 @@ class Simulation:
         out_energy = np.empty((max_rows, len(ENERGY_COLUMNS)))
         rows = 0
         done = 0
-        while done < nsteps and rows < max_rows:
-            chunk = nsteps - done
-            if self.python_forces:
-                chunk = 1
-                self._python_force(self.time + self.dt)
-            t0 = _time.perf_counter()
-            status, steps, got = self.kernels.advance(
-                chunk, self.state.step, self.model.t0, self.dt, *self._advance_args(),
-                out_t[rows:], out_data[rows:], out_energy[rows:], self.state.e_ref)
-            if not self._timed_first_call:
-                self.compile_seconds += _time.perf_counter() - t0
-                self._timed_first_call = True
-            self.state.step += steps
-            done += steps
-            rows += got
-            if status & 12:  # list overflow: grow and go on from this step boundary
-                self._grow(status)
-                continue
-            if status:
-                if rows:
-                    self._audit_energy(out_energy[:rows])
-                self._check_status(status, self.diag[4], int(self.diag[5]))
-            if got and rows >= max_rows:
-                break
-        block = Block(out_t[:rows].copy(), out_data[:rows].copy(), out_energy[:rows].copy())
-        self._audit(block)
+        try:
+            while done < nsteps and rows < max_rows:
+                chunk = nsteps - done
+                if self.python_forces:
+                    chunk = 1
+                    self._python_force(self.time + self.dt)
+                t0 = _time.perf_counter()
+                status, steps, got = self.kernels.advance(
+                    chunk, self.state.step, self.model.t0, self.dt, *self._advance_args(),
+                    out_t[rows:], out_data[rows:], out_energy[rows:], self.state.e_ref)
+                if not self._timed_first_call:
+                    self.compile_seconds += _time.perf_counter() - t0
+                    self._timed_first_call = True
+                self.state.step += steps
+                done += steps
+                rows += got
+                if status & 12:  # list overflow: grow and go on from this step boundary
+                    self._grow(status)
+                    continue
+                if status:
+                    if rows:
+                        self._audit_energy(out_energy[:rows])
+                    self._check_status(status, self.diag[4], int(self.diag[5]))
+                if got and rows >= max_rows:
+                    break
+            block = Block(out_t[:rows].copy(), out_data[:rows].copy(), out_energy[:rows].copy())
+            self._audit(block)
+        except UnstableRunError as exc:
+            # keep what was computed before the failure: the caller writes it, then stops
+            exc.block = Block(out_t[:rows].copy(), out_data[:rows].copy(),
+                              out_energy[:rows].copy())
+            raise
         return block
 
     _timed_first_call = False
@@ -212,8 +218,9 @@ class Simulation:
             return
         for row in energy:
             self._check_step_stability(row)
-        self._scale = max(getattr(self, "_scale", 0.0), self.energy_scale(energy))
-        bad = np.nonzero(np.abs(energy[:, 11]) > self.energy_tolerance * self._scale)[0]
+        st = self.state
+        st.scale = max(st.scale, self.energy_scale(energy))
+        bad = np.nonzero(np.abs(energy[:, 11]) > self.energy_tolerance * st.scale)[0]
         if bad.size:
             row = energy[bad[0]]
             res = row[11]
@@ -221,7 +228,7 @@ class Simulation:
             grew = "grew" if res > 0 else "was lost"
             raise UnstableRunError(
                 f"unstable run at t = {t:.6g} s: total energy {grew} by {abs(res):.4g} without a "
-                f"source ({abs(res) / self._scale:.1%} of the energy scale {self._scale:.4g}; "
+                f"source ({abs(res) / st.scale:.1%} of the energy scale {st.scale:.4g}; "
                 f"tolerance {self.energy_tolerance:.0%}). Likely cause: the time step "
                 f"{self.dt:.3g} s is too large for the contact or spring stiffness; run "
                 f"`x3dpd check` for a recommended step.",

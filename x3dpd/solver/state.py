@@ -31,7 +31,8 @@ class State:
     motion_prev (M,) actuator forces of the last step; fd_prev (S,3) damper forces of the last
     step; wl_p, wl_f, ws (Lw) wall candidate list (particle, face, state row); nwl (1,) its length;
     pl_i, pl_j, ps (Lp) pair candidate list; npl (1,); nbr (5,) neighbour-list bookkeeping;
-    ledger (4,) cumulative work/dissipation; step: steps done since t0; e_ref: energy at t0.
+    ledger (4,) cumulative work/dissipation; step: steps done since t0; e_ref: energy at t0;
+    scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
 
     x: np.ndarray
@@ -54,6 +55,7 @@ class State:
     ledger: np.ndarray
     step: int = 0
     e_ref: float = 0.0
+    scale: float = 0.0
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """Flat dict for a restart dump."""
@@ -70,7 +72,7 @@ class State:
             v = arrays[f.name]
             if f.name == "step":
                 kw[f.name] = int(v)
-            elif f.name == "e_ref":
+            elif f.name in ("e_ref", "scale"):
                 kw[f.name] = float(v)
             else:
                 kw[f.name] = np.array(v)

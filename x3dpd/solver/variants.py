@@ -101,11 +101,18 @@ class Variant:
         return f"advance_{flags}_m{self.n_maxwell}_{self.friction_law}"
 
 
+#: The sources a compiled step loop is made of (its cache key): the template, the laws and
+#: helpers it calls, and the compile flags. Editing any other file keeps the cache.
+_KERNEL_SOURCES = ("_jit.py", "solver/_advance_template.py", "solver/variants.py",
+                   "physics/*.py", "geometry/cells.py")
+
+
 def _source_hash() -> str:
-    """Hash of every x3dpd source file and the numba version (the cache key)."""
+    """Hash of the kernel sources and the numba version (the cache folder's name)."""
     root = Path(__file__).resolve().parents[1]
     h = hashlib.sha256(numba.__version__.encode())
-    for path in sorted(root.rglob("*.py")):
+    paths = sorted({p for pattern in _KERNEL_SOURCES for p in root.glob(pattern)})
+    for path in paths:
         h.update(path.relative_to(root).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()[:16]
