@@ -7,8 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from x3dpd.deck.cards import (Boundary, Deck, Element, Initial, Mass, Material, Node, Parameters,
-                              Usrfrc)
+from x3dpd.deck.cards import (Boundary, Deck, Element, Initial, Mass, Material, Node, Parameters)
 from x3dpd.deck.generate import Material3, box_cavity_deck, lattice_fill
 from x3dpd.errors import UnstableRunError
 from x3dpd.model.build import build_model

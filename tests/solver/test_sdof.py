@@ -21,14 +21,13 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: 
 import reference as ref
 from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck
 
-from x3dpd.errors import UnstableRunError
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
 
 FREQUENCIES = (37.21, 39.37)
-#: The tests start with this small velocity [in/s] (6e-5 of the resonant velocity amplitude;
-#: the exact solution includes it) because the solver refuses to start from rest under a drive:
-#: see test_starts_from_rest_under_a_drive.
+#: The tests start with this small velocity [in/s] (6e-5 of the resonant velocity amplitude) so
+#: that the exact solution's v0 term is exercised too; test_starts_from_rest_under_a_drive
+#: covers the start from rest.
 KICK = 1e-3
 
 
@@ -127,14 +126,10 @@ def test_steady_state_amplitude_fully_decayed(hz):
     assert amp == pytest.approx(s.amplitude, rel=1e-4)
 
 
-@pytest.mark.xfail(strict=True, raises=UnstableRunError,
-                   reason="Simulation._check_step_stability: from rest under a drive, after step 1 "
-                          "the Verlet correction dt^2 f^2/(8 m) equals the kinetic energy "
-                          "m (dt f / 2m)^2 / 2 exactly, so 'shadow > mech' is decided by rounding "
-                          "and the run is stopped as unstable (also at the report's dt = 5e-7). "
-                          "Only a ledger row at step 1 is judged wrongly (later S/KE ~ 1/(4 n^2)), "
-                          "so it needs ITRAC = 1")
 def test_starts_from_rest_under_a_drive():
+    """Regression guard: from rest under a drive, after step 1 the Verlet correction
+    dt^2 f^2 / (8 m) equals the kinetic energy m (dt f / 2m)^2 / 2 exactly, and the step-stability
+    audit used to stop the run as unstable on that one ledger row (ITRAC = 1, any dt)."""
     s = _sdof(39.37)
     t, x, _ = _run(39.37, 5e-7, 0.01, itrac=1, v0=0.0)
     assert np.abs(x - s.response(t)).max() < 1e-3 * s.amplitude

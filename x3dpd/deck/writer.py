@@ -11,9 +11,9 @@ from __future__ import annotations
 import math
 import operator
 import os
-import tempfile
 from collections.abc import Iterable
 
+from x3dpd._files import write_atomically
 from x3dpd.deck.cards import Deck
 from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, MATID_FIELDS, PARAMETER_FIELDS, PDMP_FIELDS
 
@@ -186,19 +186,5 @@ def write_deck(deck: Deck, path: str | os.PathLike[str]) -> None:
     A reader never sees a half-written deck, and an existing file is replaced only once the new
     text is complete on disk.
     """
-    text = format_deck(deck)
-    target = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(target))
-    fd, tmp = tempfile.mkstemp(prefix=".deck-", suffix=".tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+    text = format_deck(deck).encode("utf-8")
+    write_atomically(path, lambda f: f.write(text))

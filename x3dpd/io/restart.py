@@ -17,14 +17,14 @@ import io
 import json
 import os
 import re
-import tempfile
 import zipfile
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from typing import Any, BinaryIO
 
 import numpy as np
 
 from x3dpd import __version__
+from x3dpd._files import write_atomically  # noqa: F401  (re-exported)
 from x3dpd.errors import InputError
 
 RESTART_FORMAT = "x3dpd-restart/1"
@@ -32,56 +32,6 @@ RESTART_FORMAT = "x3dpd-restart/1"
 
 META_MEMBER = "__x3dpd_restart__.json"
 _NAME_RE = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.\-]*$")
-
-
-def write_atomically(path: str | os.PathLike, write: Callable[[BinaryIO], None], *,
-                     sync_dir: bool = True) -> None:
-    """Create or replace ``path`` so that it is never seen half-written.
-
-    ``write(f)`` fills a temporary file in the same directory; the file is then flushed,
-    ``fsync``-ed and renamed over ``path`` (:func:`os.replace`, atomic on POSIX and Windows).
-    On any error the temporary file is removed and ``path`` is left as it was.
-
-    Parameters
-    ----------
-    path : str or PathLike
-        Destination file.
-    write : callable
-        Called once with the open binary temporary file.
-    sync_dir : bool
-        Also ``fsync`` the directory after the rename so the new name survives a power cut.
-    """
-    path = os.fspath(path)
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
-                               dir=directory)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            write(f)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-    if sync_dir:
-        _fsync_dir(directory)
-
-
-def _fsync_dir(directory: str) -> None:
-    try:
-        dfd = os.open(directory, os.O_RDONLY)
-    except OSError:  # pragma: no cover - platforms without directory handles (Windows)
-        return
-    try:
-        os.fsync(dfd)
-    except OSError:  # pragma: no cover
-        pass
-    finally:
-        os.close(dfd)
 
 
 def to_jsonable(obj: Any) -> Any:

@@ -235,6 +235,35 @@ def _pair_approach(x, p0, radius, pi, pj, n, out_a):
 
 
 @step_kernel
+def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, states, s, ledger):
+    """Friction force (on the body whose contact point moves with v_r relative to the other).
+
+    Splits v_r into normal and tangential parts, applies FRICTION_LAW to the slip speed
+    (report Eq. 29/30), books the trapezoidal slip work -1/2 (F_t(n) + F_t(n+1)) . v_t dt in the
+    ledger and keeps F_t in the contact's state row ``states[s]``. Returns (F_tx, F_ty, F_tz).
+    """
+    vn = vrx * nx + vry * ny + vrz * nz
+    vtx = vrx - vn * nx
+    vty = vry - vn * ny
+    vtz = vrz - vn * nz
+    vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
+    ftx = 0.0
+    fty = 0.0
+    ftz = 0.0
+    if vt > 0.0:
+        mag = FRICTION_LAW(vt, fn, mu, m_t, dt) / vt
+        ftx = -mag * vtx
+        fty = -mag * vty
+        ftz = -mag * vtz
+    ledger[L_DFRIC] -= 0.5 * ((states[s, S_FT] + ftx) * vtx + (states[s, S_FT + 1] + fty) * vty
+                              + (states[s, S_FT + 2] + ftz) * vtz) * dt
+    states[s, S_FT] = ftx
+    states[s, S_FT + 1] = fty
+    states[s, S_FT + 2] = ftz
+    return ftx, fty, ftz
+
+
+@step_kernel
 def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p, wl_f, ws, nw,
                    face_n, face_d, face_ptr, face_tris, tri_nodes, dt, ledger, pen_limit, diag, w):
     """Particle-wall contact forces (report Figure 40): Hertz / Lee-Radok normal force, Coulomb
@@ -310,25 +339,8 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
             vrx -= w[0] * vel[nd0, 0] + w[1] * vel[nd1, 0] + w[2] * vel[nd2, 0]
             vry -= w[0] * vel[nd0, 1] + w[1] * vel[nd1, 1] + w[2] * vel[nd2, 1]
             vrz -= w[0] * vel[nd0, 2] + w[1] * vel[nd1, 2] + w[2] * vel[nd2, 2]
-            vn = vrx * nx + vry * ny + vrz * nz
-            vtx = vrx - vn * nx
-            vty = vry - vn * ny
-            vtz = vrz - vn * nz
-            vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
-            ftx = 0.0
-            fty = 0.0
-            ftz = 0.0
-            if vt > 0.0:
-                mag = FRICTION_LAW(vt, fn, mu[p], 1.0 / inv_mt[p], dt) / vt
-                ftx = -mag * vtx
-                fty = -mag * vty
-                ftz = -mag * vtz
-            # trapezoidal friction work over the step (slip displacement = vt dt)
-            ledger[L_DFRIC] -= 0.5 * ((ws[s, S_FT] + ftx) * vtx + (ws[s, S_FT + 1] + fty) * vty
-                                      + (ws[s, S_FT + 2] + ftz) * vtz) * dt
-            ws[s, S_FT] = ftx
-            ws[s, S_FT + 1] = fty
-            ws[s, S_FT + 2] = ftz
+            ftx, fty, ftz = _friction(vrx, vry, vrz, nx, ny, nz, fn, mu[p], 1.0 / inv_mt[p], dt,
+                                      ws, s, ledger)
             fx += ftx
             fy += fty
             fz += ftz
@@ -431,25 +443,8 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
             vrx = vjx - vix
             vry = vjy - viy
             vrz = vjz - viz
-            vn = vrx * nx + vry * ny + vrz * nz
-            vtx = vrx - vn * nx
-            vty = vry - vn * ny
-            vtz = vrz - vn * nz
-            vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
-            ftx = 0.0
-            fty = 0.0
-            ftz = 0.0
-            if vt > 0.0:
-                mt = 1.0 / (inv_mt[pi] + inv_mt[pj])
-                mag = FRICTION_LAW(vt, fn, 0.5 * (mu[pi] + mu[pj]), mt, dt) / vt
-                ftx = -mag * vtx
-                fty = -mag * vty
-                ftz = -mag * vtz
-            ledger[L_DFRIC] -= 0.5 * ((ps[s, S_FT] + ftx) * vtx + (ps[s, S_FT + 1] + fty) * vty
-                                      + (ps[s, S_FT + 2] + ftz) * vtz) * dt
-            ps[s, S_FT] = ftx
-            ps[s, S_FT + 1] = fty
-            ps[s, S_FT + 2] = ftz
+            ftx, fty, ftz = _friction(vrx, vry, vrz, nx, ny, nz, fn, 0.5 * (mu[pi] + mu[pj]),
+                                      1.0 / (inv_mt[pi] + inv_mt[pj]), dt, ps, s, ledger)
             fx += ftx
             fy += fty
             fz += ftz
@@ -580,8 +575,8 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
     """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
 
     ``nwl``/``npl`` (1-element arrays) hold the live lengths of the wall and pair candidate lists;
-    ``nbr`` = [displacement bound of particles, of wall nodes, rebuild count, wall list toggle,
-    pair list toggle]. Every ``itrac``-th step appends one row to the trace buffers. Returns
+    ``nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list state (-1:
+    rebuild now), unused, last largest particle speed, last largest wall-node speed]. Every ``itrac``-th step appends one row to the trace buffers. Returns
     (status, steps done, rows written); the run stops at the first non-zero status or a full
     output buffer.
     """
@@ -599,7 +594,12 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
         step = step0 + it
         # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
         if HAS_WALLS or HAS_PAIRS:
-            if nbr[3] < 0.0 or 2.0 * nbr[0] > skin or nbr[0] + nbr[1] > skin:
+            # bound of the displacements at the force evaluation of this step: what has
+            # accumulated since the last build plus this step's drift (2 x the last step's, to
+            # allow for acceleration)
+            dp = nbr[0] + 2.0 * dt * nbr[4]
+            dw = nbr[1] + 2.0 * dt * nbr[5]
+            if nbr[3] < 0.0 or 2.0 * dp > skin or dp + dw > skin:
                 if HAS_WALLS:
                     m = _build_wall_list(x, p0, radius, pcav, cav_ptr, cav_faces, face_n, face_d,
                                          face_ptr, face_tris, tri_nodes, skin, wl_p2, wl_f2, wl_a)
@@ -646,7 +646,9 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
         vwall = 0.0
         if HAS_RIGID:
             vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True)
-        nbr[0] += dt * math.sqrt(vmax2)
+        nbr[4] = math.sqrt(vmax2)
+        nbr[5] = vwall
+        nbr[0] += dt * nbr[4]
         nbr[1] += dt * vwall
         # ---- forces at the new positions
         nw = nwl[0]

@@ -30,7 +30,7 @@ class State:
     frow_prev (m,) built-in forces of the last step;
     motion_prev (M,) actuator forces of the last step; fd_prev (S,3) damper forces of the last
     step; wl_p, wl_f, ws (Lw) wall candidate list (particle, face, state row); nwl (1,) its length;
-    pl_i, pl_j, ps (Lp) pair candidate list; npl (1,); nbr (5,) neighbour-list bookkeeping;
+    pl_i, pl_j, ps (Lp) pair candidate list; npl (1,); nbr (7,) neighbour-list bookkeeping;
     ledger (4,) cumulative work/dissipation; step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
@@ -262,7 +262,7 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         nwl=np.zeros(1, np.int64),
         pl_i=np.zeros(lp, np.int64), pl_j=np.zeros(lp, np.int64), ps=np.zeros((lp, ncols_pair)),
         npl=np.zeros(1, np.int64),
-        nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0]), ledger=np.zeros(4), step=0, e_ref=0.0,
+        nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(4), step=0, e_ref=0.0,
     )
 
 
