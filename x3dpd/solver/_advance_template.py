@@ -29,6 +29,7 @@ HAS_USER_FORCE = False
 HAS_PY_FORCE = False
 HAS_MOTION = True
 N_MAXWELL = 1
+WALLS_TRANSLATE = False
 from x3dpd.physics.coulomb import regularized_coulomb_force as FRICTION_LAW  # noqa: E402
 USER_FORCE = None
 # --- VARIANT END ---
@@ -96,6 +97,14 @@ def _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d):
         face_n[f, 0] = nx * s
         face_n[f, 1] = ny * s
         face_n[f, 2] = nz * s
+        face_d[f] = face_n[f, 0] * x[a, 0] + face_n[f, 1] * x[a, 1] + face_n[f, 2] * x[a, 2]
+
+
+@step_kernel
+def _face_offsets(x, tri_nodes, face_first_tri, face_n, face_d):
+    """Offsets d_f = n_f . p0 of faces whose normals cannot change (translating walls)."""
+    for f in range(face_first_tri.shape[0]):
+        a = tri_nodes[face_first_tri[f], 0]
         face_d[f] = face_n[f, 0] * x[a, 0] + face_n[f, 1] * x[a, 1] + face_n[f, 2] * x[a, 2]
 
 
@@ -219,7 +228,18 @@ def _merge_states(old_a, old_b, old_s, old_n, new_a, new_b, new_s, new_n, new_ap
         else:
             for c in range(new_s.shape[1]):
                 new_s[j, c] = 0.0
-            new_s[j, S_A] = new_approach[j]
+            new_s[j, S_A] = new_approach[j] if new_approach[j] > 0.0 else 0.0
+
+
+@kernel
+def _active_flags(states, n, on):
+    """on[s] = 1 for candidates whose contact is open (approach > 0 or a force), else 0.
+
+    The contact loops test this byte instead of the candidate's state row: at large N that
+    saves a strided 50-byte read per candidate per step.
+    """
+    for s in range(n):
+        on[s] = 1 if (states[s, S_A] > 0.0 or states[s, S_FN] != 0.0) else 0
 
 
 @kernel
@@ -264,13 +284,26 @@ def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, states, s, ledger):
 
 
 @step_kernel
-def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p, wl_f, ws, nw,
-                   face_n, face_d, face_ptr, face_tris, tri_nodes, dt, ledger, pen_limit, diag, w):
+def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p, wl_f, ws, wl_on,
+                   nw, face_n, face_d, face_ptr, face_tris, tri_nodes, dt, ledger, pen_limit, diag,
+                   w, busy):
     """Particle-wall contact forces (report Figure 40): Hertz / Lee-Radok normal force, Coulomb
     friction with spin, reaction on the wall's nodes. ``w`` is a 3-element scratch array.
     Returns a status bit."""
     status = OK
+    # pass 1, tight: candidates within reach of their face's plane now or at the last step
+    nbusy = 0
     for s in range(nw):
+        p = wl_p[s]
+        f = wl_f[s]
+        i = p0 + p
+        d = face_n[f, 0] * x[i, 0] + face_n[f, 1] * x[i, 1] + face_n[f, 2] * x[i, 2] - face_d[f]
+        if d < radius[p] or wl_on[s] != 0:
+            busy[nbusy] = s
+            nbusy += 1
+    # pass 2: the contact law on those
+    for q in range(nbusy):
+        s = busy[q]
         p = wl_p[s]
         f = wl_f[s]
         i = p0 + p
@@ -282,9 +315,6 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
         a = r - d
         a_old = ws[s, S_A]
         fn_old = ws[s, S_FN]
-        if a <= 0.0 and fn_old == 0.0 and a_old <= 0.0:
-            ws[s, S_A] = a
-            continue
         t = -1
         if a > 0.0:
             t = _locate_on_face(x[i, 0] - d * nx, x[i, 1] - d * ny, x[i, 2] - d * nz, nx, ny, nz,
@@ -295,8 +325,9 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
                 ledger[L_WN] += 0.5 * fn_old * (a - a_old)
                 for c in range(S_FT, ws.shape[1]):
                     ws[s, c] = 0.0
-            ws[s, S_A] = a if a <= 0.0 else 0.0
+            ws[s, S_A] = 0.0
             ws[s, S_FN] = 0.0
+            wl_on[s] = 0
             continue
         if a > pen_limit * r:
             status |= PENETRATION
@@ -319,6 +350,7 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
         ledger[L_WN] += 0.5 * (fn_old + fn) * (a - a_old)
         ws[s, S_A] = a
         ws[s, S_FN] = fn
+        wl_on[s] = 1
         fx = fn * nx
         fy = fn * ny
         fz = fn * nz
@@ -360,11 +392,28 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
 
 @step_kernel
 def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt, pl_i, pl_j,
-                   ps, npairs, dt, ledger, pen_limit, diag):
+                   ps, pl_on, npairs, dt, ledger, pen_limit, diag, busy):
     """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
     force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j."""
     status = OK
+    # pass 1, tight: the candidates that touch now or touched at the last step (``busy`` is an
+    # int scratch of at least ``npairs``); most candidates are apart and cost a few ns each
+    nbusy = 0
     for s in range(npairs):
+        pi = pl_i[s]
+        pj = pl_j[s]
+        i = p0 + pi
+        j = p0 + pj
+        dx = x[j, 0] - x[i, 0]
+        dy = x[j, 1] - x[i, 1]
+        dz = x[j, 2] - x[i, 2]
+        cut = radius[pi] + radius[pj]
+        if dx * dx + dy * dy + dz * dz < cut * cut or pl_on[s] != 0:
+            busy[nbusy] = s
+            nbusy += 1
+    # pass 2: the contact law on those
+    for q in range(nbusy):
+        s = busy[q]
         pi = pl_i[s]
         pj = pl_j[s]
         i = p0 + pi
@@ -377,9 +426,6 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
         d2 = dx * dx + dy * dy + dz * dz
         cut = ri + rj
         a_old = ps[s, S_A]
-        if d2 >= cut * cut and a_old <= 0.0:
-            # apart now and at the last step: nothing to do (state stays "no contact")
-            continue
         dist = math.sqrt(d2)
         a = cut - dist
         fn_old = ps[s, S_FN]
@@ -390,6 +436,7 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
                     ps[s, c] = 0.0
             ps[s, S_A] = 0.0
             ps[s, S_FN] = 0.0
+            pl_on[s] = 0
             continue
         rmin = ri if ri < rj else rj
         if a > pen_limit * rmin:
@@ -422,6 +469,7 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
         ledger[L_WN] += 0.5 * (fn_old + fn) * (a - a_old)
         ps[s, S_A] = a
         ps[s, S_FN] = fn
+        pl_on[s] = 1
         # force on j along +n, on i along -n
         fx = fn * nx
         fy = fn * ny
@@ -503,16 +551,18 @@ def _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes
 @kernel
 def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_nodes, sp_k, sp_c,
             fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, cinst, decay, half, mu,
-            inv_mt, wl_p, wl_f, ws, nw, pl_i, pl_j, ps, npairs, face_n, face_d, face_first_tri,
+            inv_mt, wl_p, wl_f, ws, wl_on, nw, wall_busy, pl_i, pl_j, ps, pl_on, npairs, pair_busy,
+            face_n, face_d, face_first_tri,
             face_ptr, face_tris, tri_nodes, tri_sign, dt, ledger, pen_limit, diag, wsc, frow_prev):
     """All forces at time t from x and the (half-step) velocities; updates the ledger.
 
     ``wsc`` is a 3-element scratch array; ``frow_prev`` the built-in forces of the last step.
     """
-    # --- FORCES BEGIN ---
     ff = force.reshape(-1)
     for k in range(ff.shape[0]):
         ff[k] = 0.0
+    # --- FORCES BEGIN ---
+    # (``force`` is zero here: advance() zeroes it in its kick pass)
     status = OK
     if HAS_GRAVITY:
         _gravity_forces(mass, g, force)
@@ -547,13 +597,17 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
                         fext_prev[i, d] = fe
         ledger[L_WEXT] += wext
     if HAS_WALLS:
-        _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d)
+        if WALLS_TRANSLATE:
+            _face_offsets(x, tri_nodes, face_first_tri, face_n, face_d)
+        else:
+            _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d)
         status |= _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
-                                 wl_f, ws, nw, face_n, face_d, face_ptr, face_tris, tri_nodes, dt,
-                                 ledger, pen_limit, diag, wsc)
+                                 wl_f, ws, wl_on, nw, face_n, face_d, face_ptr, face_tris,
+                                 tri_nodes, dt, ledger, pen_limit, diag, wsc, wall_busy)
     if HAS_PAIRS:
         status |= _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt,
-                                 pl_i, pl_j, ps, npairs, dt, ledger, pen_limit, diag)
+                                 pl_i, pl_j, ps, pl_on, npairs, dt, ledger, pen_limit, diag,
+                                 pair_busy)
     if HAS_RIGID:
         _gather_slaves(x, force, rig_master, rig_ptr, rig_slaves)
     # --- FORCES END ---
@@ -568,8 +622,8 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
             p0, radius, kw, ep, cinst, decay, half, mu, inv_mt, pcav,
             cav_ptr, cav_faces, face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes,
             tri_sign,
-            wl_p, wl_f, ws, nwl, wl_p2, wl_f2, ws2, wl_a,
-            pl_i, pl_j, ps, npl, pl_i2, pl_j2, ps2, pl_a,
+            wl_p, wl_f, ws, wl_on, nwl, wl_p2, wl_f2, ws2, wl_a,
+            pl_i, pl_j, ps, pl_on, npl, pl_i2, pl_j2, ps2, pl_a,
             nbr, skin, ledger, pen_limit, diag,
             itrac, trace_nodes, out_t, out_data, out_energy, e_ref):
     """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
@@ -590,6 +644,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
     ff = force.reshape(-1)
     imf = inv_m.reshape(-1)
     status = OK
+    synced = True   # vel holds full-step velocities and force the forces of this step
     for it in range(nsteps):
         step = step0 + it
         # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
@@ -609,6 +664,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
                     wl_p[:m] = wl_p2[:m]
                     wl_f[:m] = wl_f2[:m]
                     ws[:m, :] = ws2[:m, :]
+                    _active_flags(ws, m, wl_on)
                     nwl[0] = m
                 if HAS_PAIRS:
                     xp = x[p0:p0 + npart]
@@ -620,25 +676,33 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
                     pl_i[:m] = pl_i2[:m]
                     pl_j[:m] = pl_j2[:m]
                     ps[:m, :] = ps2[:m, :]
+                    _active_flags(ps, m, pl_on)
                     npl[0] = m
                 nbr[0] = 0.0
                 nbr[1] = 0.0
                 nbr[2] += 1.0
                 nbr[3] = 1.0
-        # ---- first half kick and drift
-        for k in range(vf.shape[0]):
-            vf[k] += h * ff[k] * imf[k]
-        for i in range(n):
+        # ---- first half kick (unless the last step's pass already did it) and drift
+        if synced:
+            if HAS_RIGID_ROT:
+                _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
+                                    rig_free_rot, h)
+            for k in range(vf.shape[0]):
+                vf[k] += h * ff[k] * imf[k]
+                ff[k] = 0.0
+        for i in range(p0):
             x[i, 0] += dt * vel[i, 0]
             x[i, 1] += dt * vel[i, 1]
             x[i, 2] += dt * vel[i, 2]
         vmax2 = 0.0
-        if HAS_WALLS or HAS_PAIRS:
-            for i in range(p0, n):
+        for i in range(p0, n):
+            x[i, 0] += dt * vel[i, 0]
+            x[i, 1] += dt * vel[i, 1]
+            x[i, 2] += dt * vel[i, 2]
+            if HAS_WALLS or HAS_PAIRS:
                 v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
                 vmax2 = max(vmax2, v2)
         if HAS_RIGID_ROT:
-            _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h)
             _rotate(rot, rig_master, vel, dt)
         t = t_start + (step + 1) * dt
         if HAS_MOTION:
@@ -653,6 +717,8 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
         # ---- forces at the new positions
         nw = nwl[0]
         npairs = npl[0]
+        pair_busy = pl_i2   # the rebuilds' scratch is free while forces are computed
+        wall_busy = wl_p2
         # @FORCES@ (the generator splices the body of _forces here: one call with ~50 arrays
         # would cost more in reference counting than the forces of a small scene)
         st = status
@@ -669,7 +735,21 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
                 react = kin_mass[i] * acc - force[i, d] if d < 3 else -force[i, d]
                 ledger[L_WEXT] += 0.5 * (motion_prev[r] + react) * vel[i, d] * dt
                 motion_prev[r] = react
-        # ---- second half kick
+        # ---- second half kick. Full-step velocities are needed only at outputs and at the end
+        # of the call; elsewhere this half kick and the next step's first one go in one pass
+        # over memory, computed as (v + h a) + h a so that the rounding -- and so every
+        # trajectory -- is bit for bit the same whichever steps end a call.
+        synced = st != OK or it == nsteps - 1 or (step + 1) % itrac == 0
+        if not synced:
+            if HAS_RIGID_ROT:
+                _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
+                                    rig_free_rot, h)
+                _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
+                                    rig_free_rot, h)
+            for k in range(vf.shape[0]):
+                vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
+                ff[k] = 0.0
+            continue
         for k in range(vf.shape[0]):
             vf[k] += h * ff[k] * imf[k]
         if HAS_RIGID_ROT:

@@ -91,7 +91,9 @@ class Simulation:
         self.effects = frozenset(effects)
         self.variant = Variant.from_effects(self.effects, self.setup.n_maxwell, friction,
                                             user_force=user_fn is not None,
-                                            python_force=bool(self.python_forces))
+                                            python_force=bool(self.python_forces),
+                                            walls_translate=_walls_only_translate(
+                                                self.setup, self.motion[:, 0].astype(np.int64)))
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, user_fn)
         self.compile_seconds = 0.0
@@ -366,8 +368,9 @@ class Simulation:
         return (t, s.x, k.x0, s.vel, s.force, k.mass, k.g, np.zeros_like(s.fext_prev),
                 s.fext_prev, self.ext.table, self.fpy, k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
                 k.rig_master, k.rig_ptr, k.rig_slaves, k.p0, k.radius, k.kw, k.ep, k.cinst,
-                k.decay, k.half, k.mu, k.inv_mt, s.wl_p, s.wl_f, s.ws, int(s.nwl[0]), s.pl_i,
-                s.pl_j, s.ps, int(s.npl[0]), face_n, face_d, k.face_first_tri, k.face_ptr,
+                k.decay, k.half, k.mu, k.inv_mt, s.wl_p, s.wl_f, s.ws, s.wl_on, int(s.nwl[0]),
+                np.empty_like(s.wl_p), s.pl_i, s.pl_j, s.ps, s.pl_on, int(s.npl[0]), np.empty_like(s.pl_i), face_n,
+                face_d, k.face_first_tri, k.face_ptr,
                 k.face_tris, k.tri_nodes, k.tri_sign, self.dt, ledger, self.penetration_limit,
                 self.diag, np.zeros(3), s.frow_prev)
 
@@ -398,6 +401,7 @@ class Simulation:
                     ws2 = np.zeros_like(s.ws)
                     K._merge_states(s.wl_p, s.wl_f, s.ws, int(s.nwl[0]), p2, f2, ws2, m, a2)
                     s.wl_p[:m], s.wl_f[:m], s.ws[:m] = p2[:m], f2[:m], ws2[:m]
+                    K._active_flags(s.ws, m, s.wl_on)
                     s.nwl[0] = m
             if self.variant.pairs and ok:
                 i2, j2 = np.empty_like(s.pl_i), np.empty_like(s.pl_j)
@@ -413,6 +417,7 @@ class Simulation:
                     ps2 = np.zeros_like(s.ps)
                     K._merge_states(s.pl_i, s.pl_j, s.ps, int(s.npl[0]), i2, j2, ps2, m, a2)
                     s.pl_i[:m], s.pl_j[:m], s.ps[:m] = i2[:m], j2[:m], ps2[:m]
+                    K._active_flags(s.ps, m, s.pl_on)
                     s.npl[0] = m
             if ok:
                 break
@@ -432,8 +437,10 @@ class Simulation:
                 k.p0, k.radius, k.kw, k.ep, k.cinst, k.decay, k.half, k.mu, k.inv_mt, k.pcav,
                 k.cav_ptr, k.cav_faces, face_n, face_d, k.face_first_tri, k.face_ptr,
                 k.face_tris, k.tri_nodes, k.tri_sign,
-                s.wl_p, s.wl_f, s.ws, s.nwl, sc["wl_p2"], sc["wl_f2"], sc["ws2"], sc["wl_a"],
-                s.pl_i, s.pl_j, s.ps, s.npl, sc["pl_i2"], sc["pl_j2"], sc["ps2"], sc["pl_a"],
+                s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, sc["wl_p2"], sc["wl_f2"], sc["ws2"],
+                sc["wl_a"],
+                s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, sc["pl_i2"], sc["pl_j2"], sc["ps2"],
+                sc["pl_a"],
                 s.nbr, k.skin, s.ledger, self.penetration_limit, self.diag,
                 self.itrac, self.trace_nodes)
 
@@ -458,12 +465,36 @@ class Simulation:
             s.wl_p = _grown(s.wl_p, cap)
             s.wl_f = _grown(s.wl_f, cap)
             s.ws = _grown(s.ws, cap)
+            s.wl_on = _grown(s.wl_on, cap)
         if status & 4:
             cap = 2 * s.pl_i.shape[0]
             s.pl_i = _grown(s.pl_i, cap)
             s.pl_j = _grown(s.pl_j, cap)
             s.ps = _grown(s.ps, cap)
+            s.pl_on = _grown(s.pl_on, cap)
         s.nbr[3] = -1.0
+
+
+def _walls_only_translate(setup, prescribed_nodes) -> bool:
+    """True when no wall can turn: every triangle node is a fixed node or a slave of a rigid body
+    whose master's rotations are all fixed (the report's cavities). Their normals are then
+    constant and only the planes' offsets move. A wall node moved on its own by a prescribed
+    motion could shear its triangle, so it disqualifies."""
+    nodes = np.unique(setup.tri_nodes)
+    if nodes.size == 0:
+        return False
+    fixed = np.all(setup.inv_m[nodes, :3] == 0.0, axis=1) & ~np.isin(nodes, prescribed_nodes)
+    owner = np.full(setup.inv_m.shape[0], -1)
+    for b in range(setup.rig_master.shape[0]):
+        owner[setup.rig_slaves[setup.rig_ptr[b]:setup.rig_ptr[b + 1]]] = b
+    for node, is_fixed in zip(nodes, fixed):
+        b = owner[node]
+        if b >= 0:
+            if setup.rig_free_rot[b].any():
+                return False
+        elif not is_fixed or setup.x0.shape[0] == 0:
+            return False
+    return True
 
 
 def _grown(a: np.ndarray, cap: int) -> np.ndarray:

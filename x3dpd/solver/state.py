@@ -29,8 +29,8 @@ class State:
     rot (B,3,3) rigid-body rotations; fext_prev (n,6) user force of the last step;
     frow_prev (m,) built-in forces of the last step;
     motion_prev (M,) actuator forces of the last step; fd_prev (S,3) damper forces of the last
-    step; wl_p, wl_f, ws (Lw) wall candidate list (particle, face, state row); nwl (1,) its length;
-    pl_i, pl_j, ps (Lp) pair candidate list; npl (1,); nbr (7,) neighbour-list bookkeeping;
+    step; wl_p, wl_f, ws, wl_on (Lw) wall candidate list (particle, face, state row, open-contact
+    flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,); nbr (7,) neighbour-list bookkeeping;
     ledger (4,) cumulative work/dissipation; step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
@@ -46,10 +46,12 @@ class State:
     wl_p: np.ndarray
     wl_f: np.ndarray
     ws: np.ndarray
+    wl_on: np.ndarray
     nwl: np.ndarray
     pl_i: np.ndarray
     pl_j: np.ndarray
     ps: np.ndarray
+    pl_on: np.ndarray
     npl: np.ndarray
     nbr: np.ndarray
     ledger: np.ndarray
@@ -259,8 +261,10 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         motion_prev=np.zeros(n_motion),
         fd_prev=np.zeros((setup.sp_nodes.shape[0], 3)),
         wl_p=np.zeros(lw, np.int64), wl_f=np.zeros(lw, np.int64), ws=np.zeros((lw, ncols)),
+        wl_on=np.zeros(lw, np.int8),
         nwl=np.zeros(1, np.int64),
         pl_i=np.zeros(lp, np.int64), pl_j=np.zeros(lp, np.int64), ps=np.zeros((lp, ncols_pair)),
+        pl_on=np.zeros(lp, np.int8),
         npl=np.zeros(1, np.int64),
         nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(4), step=0, e_ref=0.0,
     )

@@ -49,10 +49,12 @@ class Variant:
     motion: bool = False
     n_maxwell: int = 0
     friction_law: str = "regularized"
+    walls_translate: bool = False
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
-                     user_force: bool = False, python_force: bool = False) -> "Variant":
+                     user_force: bool = False, python_force: bool = False,
+                     walls_translate: bool = False) -> "Variant":
         e = set(effects)
         return cls(
             gravity="gravity" in e,
@@ -69,6 +71,7 @@ class Variant:
             motion="prescribed_motion" in e,
             n_maxwell=n_maxwell if "viscoelastic" in e else 0,
             friction_law=friction_law,
+            walls_translate=walls_translate and "wall_contact" in e,
         )
 
     def header(self) -> str:
@@ -89,6 +92,7 @@ class Variant:
             f"HAS_PY_FORCE = {self.python_force}",
             f"HAS_MOTION = {self.motion}",
             f"N_MAXWELL = {max(self.n_maxwell, 1)}",
+            f"WALLS_TRANSLATE = {self.walls_translate}",
             f"from x3dpd.physics.coulomb import {law[self.friction_law]} as FRICTION_LAW",
             "USER_FORCE = None",
         ]
@@ -97,7 +101,8 @@ class Variant:
     def name(self) -> str:
         flags = "".join("1" if getattr(self, f) else "0" for f in (
             "gravity", "springs", "rigid", "rigid_rotation", "walls", "pairs", "friction",
-            "viscoelastic", "external", "user_force", "python_force", "motion"))
+            "viscoelastic", "external", "user_force", "python_force", "motion",
+            "walls_translate"))
         return f"advance_{flags}_m{self.n_maxwell}_{self.friction_law}"
 
 
