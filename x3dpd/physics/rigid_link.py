@@ -17,14 +17,28 @@ from x3dpd._jit import kernel, step_kernel
 
 
 @step_kernel
-def _update_slaves(x, vel, masters, ptr, slaves, r0, rot, positions_too):
+def _update_slaves(x, vel, masters, ptr, slaves, r0, rot, positions_too, rotating=True):
     """Place slaves (if ``positions_too``) and set their velocities from their masters.
 
+    ``rotating=False`` (no master can turn, so R = I and omega = 0) skips the rotation products.
     Returns the largest slave speed (for the neighbour-list displacement bound).
     """
     vmax2 = 0.0
     for b in range(masters.shape[0]):
         m = masters[b]
+        if not rotating:
+            for q in range(ptr[b], ptr[b + 1]):
+                s = slaves[q]
+                if positions_too:
+                    x[s, 0] = x[m, 0] + r0[q, 0]
+                    x[s, 1] = x[m, 1] + r0[q, 1]
+                    x[s, 2] = x[m, 2] + r0[q, 2]
+                for d in range(6):
+                    vel[s, d] = vel[m, d]
+            v2 = vel[m, 0] ** 2 + vel[m, 1] ** 2 + vel[m, 2] ** 2
+            if v2 > vmax2:
+                vmax2 = v2
+            continue
         for q in range(ptr[b], ptr[b + 1]):
             s = slaves[q]
             rx = rot[b, 0, 0] * r0[q, 0] + rot[b, 0, 1] * r0[q, 1] + rot[b, 0, 2] * r0[q, 2]
@@ -50,10 +64,22 @@ def _update_slaves(x, vel, masters, ptr, slaves, r0, rot, positions_too):
 
 
 @step_kernel
-def _gather_slaves(x, force, masters, ptr, slaves):
-    """Move slave forces to their master as force + moment; zero the slaves' rows."""
+def _gather_slaves(x, force, masters, ptr, slaves, rotating=True):
+    """Move slave forces to their master as force + moment; zero the slaves' rows.
+
+    ``rotating=False`` (no master can turn) gathers forces only: the moments would act on
+    fixed rotations.
+    """
     for b in range(masters.shape[0]):
         m = masters[b]
+        if not rotating:
+            for q in range(ptr[b], ptr[b + 1]):
+                s = slaves[q]
+                for d in range(3):
+                    force[m, d] += force[s, d]
+                for d in range(6):
+                    force[s, d] = 0.0
+            continue
         for q in range(ptr[b], ptr[b + 1]):
             s = slaves[q]
             fx = force[s, 0]

@@ -609,7 +609,7 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
                                  pl_i, pl_j, ps, pl_on, npairs, dt, ledger, pen_limit, diag,
                                  pair_busy)
     if HAS_RIGID:
-        _gather_slaves(x, force, rig_master, rig_ptr, rig_slaves)
+        _gather_slaves(x, force, rig_master, rig_ptr, rig_slaves, HAS_RIGID_ROT)
     # --- FORCES END ---
     return status
 
@@ -645,6 +645,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
     imf = inv_m.reshape(-1)
     status = OK
     synced = True   # vel holds full-step velocities and force the forces of this step
+    out_in = itrac - step0 % itrac   # steps to the next trace output
     for it in range(nsteps):
         step = step0 + it
         # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
@@ -709,7 +710,8 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
             _apply_motion(t, motion_table, x0, x, vel)
         vwall = 0.0
         if HAS_RIGID:
-            vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True)
+            vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True,
+                                   HAS_RIGID_ROT)
         nbr[4] = math.sqrt(vmax2)
         nbr[5] = vwall
         nbr[0] += dt * nbr[4]
@@ -739,7 +741,8 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
         # of the call; elsewhere this half kick and the next step's first one go in one pass
         # over memory, computed as (v + h a) + h a so that the rounding -- and so every
         # trajectory -- is bit for bit the same whichever steps end a call.
-        synced = st != OK or it == nsteps - 1 or (step + 1) % itrac == 0
+        out_in -= 1
+        synced = st != OK or it == nsteps - 1 or out_in == 0
         if not synced:
             if HAS_RIGID_ROT:
                 _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
@@ -757,13 +760,15 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
         if HAS_MOTION:
             _apply_motion(t, motion_table, x0, x, vel)
         if HAS_RIGID:
-            _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, False)
+            _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, False,
+                           HAS_RIGID_ROT)
         if st != OK:
             diag[4] = t
             diag[5] = step + 1
             return st, it + 1, rows
         # ---- output
-        if (step + 1) % itrac == 0:
+        if out_in == 0:
+            out_in = itrac
             for k in range(trace_nodes.shape[0]):
                 i = trace_nodes[k]
                 for d in range(3):
