@@ -84,6 +84,13 @@ def effect_costs(n: int, warmup: int, steps: int) -> list[dict]:
         times = {}
         finals = {}
         for label in ("out", "in"):
+            if label == "in" and name == "viscoelastic":
+                # an elastic model stores E0 only; give the forced Maxwell term a real column
+                # (E1 = 0, tau1 = 2e-6 s) to read
+                p = model.n_particles
+                model = dataclasses.replace(
+                    model, moduli=np.hstack([model.moduli, np.zeros((p, 1))]),
+                    taus=np.hstack([model.taus, np.full((p, 1), 2e-6)]))
             sim = Simulation(model, itrac=10**9)
             if label == "in":
                 sim.variant = dataclasses.replace(sim.variant, **forced)

@@ -63,6 +63,13 @@ NONFINITE = 2
 REALLOC_PAIRS = 4
 REALLOC_WALLS = 8
 
+#: Slip speeds at or below this [length/s] count as rolling (no friction force). The stick
+#: regularisation halves the slip every step; without a floor a settled bed's slips -- and the
+#: velocity components only friction acts on -- sink into subnormal numbers within ~1000 steps,
+#: where every operation on them costs ~100 times more. 1e-100 is far below any physical slip
+#: in any unit system and far above the subnormal range (its square, 1e-200, is still normal).
+SLIP_FLOOR = 1e-100
+
 # ledger slots (cumulative since t0)
 L_WEXT = 0      # work of external forces and prescribed motions on the system
 L_WN = 1        # work absorbed by the normal contact forces (sum of 1/2 (F0+F1) da)
@@ -255,12 +262,12 @@ def _pair_approach(x, p0, radius, pi, pj, n, out_a):
 
 
 @step_kernel
-def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, states, s, ledger):
+def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, states, s):
     """Friction force (on the body whose contact point moves with v_r relative to the other).
 
     Splits v_r into normal and tangential parts, applies FRICTION_LAW to the slip speed
-    (report Eq. 29/30), books the trapezoidal slip work -1/2 (F_t(n) + F_t(n+1)) . v_t dt in the
-    ledger and keeps F_t in the contact's state row ``states[s]``. Returns (F_tx, F_ty, F_tz).
+    (report Eq. 29/30) and keeps F_t in the contact's state row ``states[s]``. Returns
+    (F_tx, F_ty, F_tz, dissipated) with the trapezoidal slip work -1/2 (F_t(n) + F_t(n+1)) . v_t dt.
     """
     vn = vrx * nx + vry * ny + vrz * nz
     vtx = vrx - vn * nx
@@ -270,17 +277,17 @@ def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, states, s, ledger):
     ftx = 0.0
     fty = 0.0
     ftz = 0.0
-    if vt > 0.0:
+    if vt > SLIP_FLOOR:
         mag = FRICTION_LAW(vt, fn, mu, m_t, dt) / vt
         ftx = -mag * vtx
         fty = -mag * vty
         ftz = -mag * vtz
-    ledger[L_DFRIC] -= 0.5 * ((states[s, S_FT] + ftx) * vtx + (states[s, S_FT + 1] + fty) * vty
-                              + (states[s, S_FT + 2] + ftz) * vtz) * dt
+    lost = -0.5 * ((states[s, S_FT] + ftx) * vtx + (states[s, S_FT + 1] + fty) * vty
+                   + (states[s, S_FT + 2] + ftz) * vtz) * dt
     states[s, S_FT] = ftx
     states[s, S_FT + 1] = fty
     states[s, S_FT + 2] = ftz
-    return ftx, fty, ftz
+    return ftx, fty, ftz, lost
 
 
 @step_kernel
@@ -291,6 +298,8 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
     friction with spin, reaction on the wall's nodes. ``w`` is a 3-element scratch array.
     Returns a status bit."""
     status = OK
+    w_normal = 0.0
+    w_fric = 0.0
     # pass 1, tight: candidates within reach of their face's plane now or at the last step
     nbusy = 0
     for s in range(nw):
@@ -322,7 +331,7 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
         if t < 0:
             # no contact (or the particle left the face): close any open contact
             if fn_old != 0.0 or a_old > 0.0:
-                ledger[L_WN] += 0.5 * fn_old * (a - a_old)
+                w_normal += 0.5 * fn_old * (a - a_old)
                 for c in range(S_FT, ws.shape[1]):
                     ws[s, c] = 0.0
             ws[s, S_A] = 0.0
@@ -347,7 +356,7 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
                 fn += h
         if fn < 0.0:
             fn = 0.0
-        ledger[L_WN] += 0.5 * (fn_old + fn) * (a - a_old)
+        w_normal += 0.5 * (fn_old + fn) * (a - a_old)
         ws[s, S_A] = a
         ws[s, S_FN] = fn
         wl_on[s] = 1
@@ -371,8 +380,9 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
             vrx -= w[0] * vel[nd0, 0] + w[1] * vel[nd1, 0] + w[2] * vel[nd2, 0]
             vry -= w[0] * vel[nd0, 1] + w[1] * vel[nd1, 1] + w[2] * vel[nd2, 1]
             vrz -= w[0] * vel[nd0, 2] + w[1] * vel[nd1, 2] + w[2] * vel[nd2, 2]
-            ftx, fty, ftz = _friction(vrx, vry, vrz, nx, ny, nz, fn, mu[p], 1.0 / inv_mt[p], dt,
-                                      ws, s, ledger)
+            ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn, mu[p],
+                                            1.0 / inv_mt[p], dt, ws, s)
+            w_fric += lost
             fx += ftx
             fy += fty
             fz += ftz
@@ -387,6 +397,9 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
             force[nd, 0] -= w[e] * fx
             force[nd, 1] -= w[e] * fy
             force[nd, 2] -= w[e] * fz
+    # the ledger is touched once per call, not per contact (no dependency through memory)
+    ledger[L_WN] += w_normal
+    ledger[L_DFRIC] += w_fric
     return status
 
 
@@ -396,6 +409,8 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
     """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
     force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j."""
     status = OK
+    w_normal = 0.0
+    w_fric = 0.0
     # pass 1, tight: the candidates that touch now or touched at the last step (``busy`` is an
     # int scratch of at least ``npairs``); most candidates are apart and cost a few ns each
     nbusy = 0
@@ -431,7 +446,7 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
         fn_old = ps[s, S_FN]
         if a <= 0.0:
             if fn_old != 0.0 or a_old > 0.0:
-                ledger[L_WN] += 0.5 * fn_old * (a - a_old)
+                w_normal += 0.5 * fn_old * (a - a_old)
                 for c in range(S_FT, ps.shape[1]):
                     ps[s, c] = 0.0
             ps[s, S_A] = 0.0
@@ -445,9 +460,10 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
             diag[1] = -1 - pj
             diag[2] = a
             diag[3] = rmin
-        nx = dx / dist
-        ny = dy / dist
-        nz = dz / dist
+        inv_dist = 1.0 / dist
+        nx = dx * inv_dist
+        ny = dy * inv_dist
+        nz = dz * inv_dist
         sq = math.sqrt(ri * rj / (ri + rj))
         wgt = cinst[pi] * cinst[pj] / (cinst[pi] + cinst[pj]) ** 2
         kfac = 4.0 / 3.0 * wgt * sq
@@ -466,7 +482,7 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
                 fn += h
         if fn < 0.0:
             fn = 0.0
-        ledger[L_WN] += 0.5 * (fn_old + fn) * (a - a_old)
+        w_normal += 0.5 * (fn_old + fn) * (a - a_old)
         ps[s, S_A] = a
         ps[s, S_FN] = fn
         pl_on[s] = 1
@@ -491,8 +507,10 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
             vrx = vjx - vix
             vry = vjy - viy
             vrz = vjz - viz
-            ftx, fty, ftz = _friction(vrx, vry, vrz, nx, ny, nz, fn, 0.5 * (mu[pi] + mu[pj]),
-                                      1.0 / (inv_mt[pi] + inv_mt[pj]), dt, ps, s, ledger)
+            ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn,
+                                            0.5 * (mu[pi] + mu[pj]),
+                                            1.0 / (inv_mt[pi] + inv_mt[pj]), dt, ps, s)
+            w_fric += lost
             fx += ftx
             fy += fty
             fz += ftz
@@ -509,6 +527,8 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
         force[i, 0] -= fx
         force[i, 1] -= fy
         force[i, 2] -= fz
+    ledger[L_WN] += w_normal
+    ledger[L_DFRIC] += w_fric
     return status
 
 
