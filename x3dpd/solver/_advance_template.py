@@ -262,6 +262,21 @@ def _pair_approach(x, p0, radius, pi, pj, n, out_a):
 
 
 @step_kernel
+def _maxwell_terms(states, s, col, decay, half, moduli, p, scale, dg):
+    """Advance the Maxwell histories of body ``p`` in contact ``s`` and return their sum.
+
+    F_k <- F_k e^{-dt/tau_k} + e^{-dt/2tau_k} (scale * moduli[p, k]) dg (report Eqs. 25-26,
+    x3dpd.physics.maxwell); the histories sit in ``states[s, col:col + N_MAXWELL]``.
+    """
+    total = 0.0
+    for k in range(N_MAXWELL):
+        h = states[s, col + k] * decay[p, k + 1] + half[p, k + 1] * scale * moduli[p, k + 1] * dg
+        states[s, col + k] = h
+        total += h
+    return total
+
+
+@step_kernel
 def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, states, s):
     """Friction force (on the body whose contact point moves with v_r relative to the other).
 
@@ -350,10 +365,7 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
         if HAS_VISCO:
             ao = a_old if a_old > 0.0 else 0.0
             a32_old = ao * math.sqrt(ao)
-            for k in range(N_MAXWELL):
-                h = ws[s, S_H + k] * decay[p, k + 1] + half[p, k + 1] * kw[p, k + 1] * (a32 - a32_old)
-                ws[s, S_H + k] = h
-                fn += h
+            fn += _maxwell_terms(ws, s, S_H, decay, half, kw, p, 1.0, a32 - a32_old)
         if fn < 0.0:
             fn = 0.0
         w_normal += 0.5 * (fn_old + fn) * (a - a_old)
@@ -472,14 +484,8 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
         if HAS_VISCO:
             ao = a_old if a_old > 0.0 else 0.0
             da32 = a32 - ao * math.sqrt(ao)
-            for k in range(N_MAXWELL):
-                h = ps[s, S_H + k] * decay[pi, k + 1] + half[pi, k + 1] * kfac * ep[pi, k + 1] * da32
-                ps[s, S_H + k] = h
-                fn += h
-                h = (ps[s, S_H + N_MAXWELL + k] * decay[pj, k + 1]
-                     + half[pj, k + 1] * kfac * ep[pj, k + 1] * da32)
-                ps[s, S_H + N_MAXWELL + k] = h
-                fn += h
+            fn += _maxwell_terms(ps, s, S_H, decay, half, ep, pi, kfac, da32)
+            fn += _maxwell_terms(ps, s, S_H + N_MAXWELL, decay, half, ep, pj, kfac, da32)
         if fn < 0.0:
             fn = 0.0
         w_normal += 0.5 * (fn_old + fn) * (a - a_old)
