@@ -587,11 +587,11 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
     ff = force.reshape(-1)
     for k in range(ff.shape[0]):
         ff[k] = 0.0
-    # --- FORCES BEGIN ---
-    # (``force`` is zero here: advance() zeroes it in its kick pass)
-    status = OK
     if HAS_GRAVITY:
         _gravity_forces(mass, g, force)
+    # --- FORCES BEGIN ---
+    # (``force`` holds the body forces m g here: advance() resets it to them in its kick pass)
+    status = OK
     if HAS_SPRINGS:
         ledger[L_DDAMP] += _spring_forces(x, x0, vel, sp_nodes, sp_k, sp_c, force, fd_prev, dt)
     if HAS_EXT:
@@ -641,7 +641,8 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
 
 
 @kernel
-def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass, kin_inertia, g,
+def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, kin_mass,
+            kin_inertia, g,
             fext, fext_prev, frow_prev, ext_table, fpy, motion_table, motion_prev,
             sp_nodes, sp_k, sp_c, fd_prev,
             rig_master, rig_ptr, rig_slaves, rig_r0, rot, rig_inv_ib, rig_ib, rig_free_rot,
@@ -669,6 +670,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
     vf = vel.reshape(-1)
     ff = force.reshape(-1)
     imf = inv_m.reshape(-1)
+    fgf = fgrav.reshape(-1)   # body forces m g (zero without gravity): what force starts from
     status = OK
     synced = True   # vel holds full-step velocities and force the forces of this step
     out_in = itrac - step0 % itrac   # steps to the next trace output
@@ -716,7 +718,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
                                     rig_free_rot, h)
             for k in range(vf.shape[0]):
                 vf[k] += h * ff[k] * imf[k]
-                ff[k] = 0.0
+                ff[k] = fgf[k]
         for i in range(p0):
             x[i, 0] += dt * vel[i, 0]
             x[i, 1] += dt * vel[i, 1]
@@ -777,7 +779,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, kin_mass
                                     rig_free_rot, h)
             for k in range(vf.shape[0]):
                 vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
-                ff[k] = 0.0
+                ff[k] = fgf[k]
             continue
         for k in range(vf.shape[0]):
             vf[k] += h * ff[k] * imf[k]

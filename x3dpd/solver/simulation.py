@@ -428,7 +428,8 @@ class Simulation:
         s, k = self.state, self.setup
         face_n, face_d = self._faces()
         sc = self._scratch()
-        return (s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.kin_mass, k.kin_inertia, k.g,
+        return (s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass, k.kin_inertia,
+                k.g,
                 sc["fext"], s.fext_prev, s.frow_prev, self.ext.table, self.fpy, self.motion,
                 s.motion_prev,
                 k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,

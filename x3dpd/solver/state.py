@@ -88,6 +88,7 @@ class Setup:
     x0: np.ndarray
     inv_m: np.ndarray
     mass: np.ndarray
+    fgrav: np.ndarray
     kin_mass: np.ndarray
     kin_inertia: np.ndarray
     g: np.ndarray
@@ -227,7 +228,8 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         skin = 0.25 * float(radius.min()) if npart else 0.0
 
     return Setup(
-        x0=_f64(model.x0, (n, 3)), inv_m=inv_m, mass=mass, kin_mass=kin_mass,
+        x0=_f64(model.x0, (n, 3)), inv_m=inv_m, mass=mass, fgrav=_body_forces(mass, model),
+        kin_mass=kin_mass,
         kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
         sp_nodes=_i64(model.spring_nodes).reshape(-1, 2), sp_k=_f64(model.spring_k).reshape(-1, 3),
         sp_c=_f64(model.spring_c).reshape(-1, 3),
@@ -240,6 +242,15 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
         tri_sign=_f64(model.tri_sign), n_maxwell=n_maxwell, skin=float(skin), dt=float(dt),
     )
+
+
+def _body_forces(mass: np.ndarray, model) -> np.ndarray:
+    """(n, 6) forces m g on every node (the same products the gravity kernel forms)."""
+    g = np.asarray(model.body_accel, dtype=np.float64).reshape(3)
+    out = np.zeros((mass.shape[0], 6))
+    out[:, :3] = mass[:, None] * g[None, :]
+    out[mass == 0.0, :3] = 0.0
+    return out
 
 
 def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
