@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from x3dpd._jit import kernel, step_kernel
+from x3dpd._jit import step_kernel
 
 
 @step_kernel

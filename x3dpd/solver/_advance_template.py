@@ -45,7 +45,7 @@ from x3dpd.physics.motion import _apply_motion  # noqa: E402
 from x3dpd.physics.rigid_link import (  # noqa: E402
     _gather_slaves, _rigid_angular_kick, _rotate, _update_slaves)
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
-from x3dpd.physics.usrfrc import _apply_forces, _force_value  # noqa: E402
+from x3dpd.physics.usrfrc import _force_value  # noqa: E402
 
 @kernel
 def _no_user_force(t, x, vel, force):
@@ -666,7 +666,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
     rows = 0
     h = 0.5 * dt
     en = np.empty(6)
-    wsc = np.empty(3)
+    wsc = np.empty(3)  # noqa: F841 (used by the spliced force body)
     vf = vel.reshape(-1)
     ff = force.reshape(-1)
     imf = inv_m.reshape(-1)
@@ -745,10 +745,11 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
         nbr[0] += dt * nbr[4]
         nbr[1] += dt * vwall
         # ---- forces at the new positions
-        nw = nwl[0]
-        npairs = npl[0]
-        pair_busy = pl_i2   # the rebuilds' scratch is free while forces are computed
-        wall_busy = wl_p2
+        # names the spliced force body reads (F841: the template alone cannot see that)
+        nw = nwl[0]  # noqa: F841
+        npairs = npl[0]  # noqa: F841
+        pair_busy = pl_i2  # noqa: F841 (the rebuilds' scratch is free while forces run)
+        wall_busy = wl_p2  # noqa: F841
         # @FORCES@ (the generator splices the body of _forces here: one call with ~50 arrays
         # would cost more in reference counting than the forces of a small scene)
         st = status

@@ -115,7 +115,7 @@ class Simulation:
         if self._initialized:
             return
         t = _time.perf_counter()
-        s, k = self.state, self.setup
+        s = self.state
         self._direct_rebuild()
         self._python_force(self.model.t0)
         st = self.kernels._forces(*self._force_args(self.model.t0, scratch_ledger=True))
