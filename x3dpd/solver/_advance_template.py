@@ -262,6 +262,19 @@ def _pair_approach(x, p0, radius, pi, pj, n, out_a):
 
 
 @step_kernel
+def _record_normal(states, on, s, a, a_old, fn, fn_old):
+    """Clamp the normal force at zero (the report's modified Lee & Radok rule), keep it and the
+    approach in the contact's state row, mark the contact open, and return the applied force
+    with the work the contact absorbed this step, 1/2 (F_old + F) (a - a_old)."""
+    if fn < 0.0:
+        fn = 0.0
+    states[s, S_A] = a
+    states[s, S_FN] = fn
+    on[s] = 1
+    return fn, 0.5 * (fn_old + fn) * (a - a_old)
+
+
+@step_kernel
 def _maxwell_terms(states, s, col, decay, half, moduli, p, scale, dg):
     """Advance the Maxwell histories of body ``p`` in contact ``s`` and return their sum.
 
@@ -366,12 +379,8 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
             ao = a_old if a_old > 0.0 else 0.0
             a32_old = ao * math.sqrt(ao)
             fn += _maxwell_terms(ws, s, S_H, decay, half, kw, p, 1.0, a32 - a32_old)
-        if fn < 0.0:
-            fn = 0.0
-        w_normal += 0.5 * (fn_old + fn) * (a - a_old)
-        ws[s, S_A] = a
-        ws[s, S_FN] = fn
-        wl_on[s] = 1
+        fn, dw = _record_normal(ws, wl_on, s, a, a_old, fn, fn_old)
+        w_normal += dw
         fx = fn * nx
         fy = fn * ny
         fz = fn * nz
@@ -486,12 +495,8 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
             da32 = a32 - ao * math.sqrt(ao)
             fn += _maxwell_terms(ps, s, S_H, decay, half, ep, pi, kfac, da32)
             fn += _maxwell_terms(ps, s, S_H + N_MAXWELL, decay, half, ep, pj, kfac, da32)
-        if fn < 0.0:
-            fn = 0.0
-        w_normal += 0.5 * (fn_old + fn) * (a - a_old)
-        ps[s, S_A] = a
-        ps[s, S_FN] = fn
-        pl_on[s] = 1
+        fn, dw = _record_normal(ps, pl_on, s, a, a_old, fn, fn_old)
+        w_normal += dw
         # force on j along +n, on i along -n
         fx = fn * nx
         fy = fn * ny
