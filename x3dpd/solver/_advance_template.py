@@ -38,7 +38,7 @@ import math  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from x3dpd._jit import kernel, step_kernel  # noqa: E402
+from x3dpd._jit import kernel, loop_kernel, step_kernel  # noqa: E402
 from x3dpd.geometry.cells import _find_pairs  # noqa: E402
 from x3dpd.physics.gravity import _gravity_energy, _gravity_forces  # noqa: E402
 from x3dpd.physics.motion import _apply_motion  # noqa: E402
@@ -645,7 +645,7 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
     return status
 
 
-@kernel
+@loop_kernel
 def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, kin_mass,
             kin_inertia, g,
             fext, fext_prev, frow_prev, ext_table, fpy, motion_table, motion_prev,
@@ -656,13 +656,15 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
             tri_sign,
             wl_p, wl_f, ws, wl_on, nwl, wl_p2, wl_f2, ws2, wl_a,
             pl_i, pl_j, ps, pl_on, npl, pl_i2, pl_j2, ps2, pl_a,
-            nbr, skin, ledger, pen_limit, diag,
+            nbr, skin, ledger, pen_limit, diag, small,
             itrac, trace_nodes, out_t, out_data, out_energy, e_ref):
     """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
 
     ``nwl``/``npl`` (1-element arrays) hold the live lengths of the wall and pair candidate lists;
     ``nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list state (-1:
-    rebuild now), unused, last largest particle speed, last largest wall-node speed]. Every ``itrac``-th step appends one row to the trace buffers. Returns
+    rebuild now), unused, last largest particle speed, last largest wall-node speed]; ``small``
+    is 9 floats of scratch (this loop allocates nothing: see x3dpd._jit.loop_kernel). Every
+    ``itrac``-th step appends one row to the trace buffers. Returns
     (status, steps done, rows written); the run stops at the first non-zero status or a full
     output buffer.
     """
@@ -670,8 +672,8 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
     npart = radius.shape[0]
     rows = 0
     h = 0.5 * dt
-    en = np.empty(6)
-    wsc = np.empty(3)  # noqa: F841 (used by the spliced force body)
+    en = small[0:6]   # energies at an output step
+    wsc = small[6:9]  # noqa: F841 (barycentric weights, used by the spliced force body)
     vf = vel.reshape(-1)
     ff = force.reshape(-1)
     imf = inv_m.reshape(-1)
@@ -695,9 +697,11 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
                     if m < 0:
                         return REALLOC_WALLS, it, rows
                     _merge_states(wl_p, wl_f, ws, nwl[0], wl_p2, wl_f2, ws2, m, wl_a)
-                    wl_p[:m] = wl_p2[:m]
-                    wl_f[:m] = wl_f2[:m]
-                    ws[:m, :] = ws2[:m, :]
+                    for k in range(m):
+                        wl_p[k] = wl_p2[k]
+                        wl_f[k] = wl_f2[k]
+                        for c in range(ws.shape[1]):
+                            ws[k, c] = ws2[k, c]
                     _active_flags(ws, m, wl_on)
                     nwl[0] = m
                 if HAS_PAIRS:
@@ -707,9 +711,11 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
                         return REALLOC_PAIRS, it, rows
                     _pair_approach(x, p0, radius, pl_i2, pl_j2, m, pl_a)
                     _merge_states(pl_i, pl_j, ps, npl[0], pl_i2, pl_j2, ps2, m, pl_a)
-                    pl_i[:m] = pl_i2[:m]
-                    pl_j[:m] = pl_j2[:m]
-                    ps[:m, :] = ps2[:m, :]
+                    for k in range(m):
+                        pl_i[k] = pl_i2[k]
+                        pl_j[k] = pl_j2[k]
+                        for c in range(ps.shape[1]):
+                            ps[k, c] = ps2[k, c]
                     _active_flags(ps, m, pl_on)
                     npl[0] = m
                 nbr[0] = 0.0

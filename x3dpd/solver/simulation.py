@@ -442,7 +442,7 @@ class Simulation:
                 sc["wl_a"],
                 s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, sc["pl_i2"], sc["pl_j2"], sc["ps2"],
                 sc["pl_a"],
-                s.nbr, k.skin, s.ledger, self.penetration_limit, self.diag,
+                s.nbr, k.skin, s.ledger, self.penetration_limit, self.diag, sc["small"],
                 self.itrac, self.trace_nodes)
 
     def _scratch(self) -> dict:
@@ -455,6 +455,7 @@ class Simulation:
                 "ws2": np.zeros_like(s.ws), "wl_a": np.zeros(s.wl_p.shape[0]),
                 "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
                 "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
+                "small": np.zeros(9),
             }
             self._sc = sc
         return sc
