@@ -1,11 +1,13 @@
 """Run x3dpd and LAMMPS on the same scenes, one after the other, and print the comparison table.
 
-    python tools/bench/run_all.py [--n 50 64 512 4096] [--steps 20000] [--markdown]
+    python tools/bench/run_all.py [--n 50 64 512 4096] [--steps 20000] [--repeat 3] [--json F]
 
 Each measurement runs in its own process on one core (OMP/NUMBA threads = 1). x3dpd solves the
 force-driven spring-mounted cavity; LAMMPS the same particles in a box on a prescribed path (its
 fastest form). Also reported: compile time with a cold and a warm numba cache, and the
 structure-only (SDOF) step rate. LAMMPS rows are skipped when `lammps` is not installed.
+Both codes time the same window ``--repeat`` times from scratch (default 3; once at 4096) and
+report their fastest, so a stray background process cannot tilt the ratio either way.
 Run it on an idle machine: another busy process on the same cores distorts every number.
 """
 
@@ -35,15 +37,15 @@ def _json_run(cmd: list[str], env=None) -> list | dict | None:
         return json.loads(out.read_text())
 
 
-def x3dpd_step(n: int, steps: int, warmup: int) -> float | None:
+def x3dpd_step(n: int, steps: int, warmup: int, repeat: int) -> float | None:
     r = _json_run([sys.executable, str(HERE / "bench_solver.py"), "--n", str(n), "--steps",
-                   str(steps), "--warmup", str(warmup)])
+                   str(steps), "--warmup", str(warmup), "--repeat", str(repeat)])
     return r[0]["us_per_step"] if r else None
 
 
-def lammps_step(n: int, steps: int, warmup: int) -> float | None:
+def lammps_step(n: int, steps: int, warmup: int, repeat: int) -> float | None:
     r = _json_run([sys.executable, str(HERE / "lammps_peer.py"), "--n", str(n), "--steps",
-                   str(steps), "--warmup", str(warmup)])
+                   str(steps), "--warmup", str(warmup), "--repeat", str(repeat)])
     if not r or "us_per_step" not in r:
         return None
     return r["us_per_step"]
@@ -71,13 +73,16 @@ def main(argv=None) -> int:
     ap.add_argument("--n", type=int, nargs="*", default=[50, 64, 512, 4096])
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--warmup", type=int, default=2000)
+    ap.add_argument("--repeat", type=int, default=3,
+                    help="time each window this many times (fresh runs), keep the fastest")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
     rows = []
     for n in args.n:
         steps = args.steps if n < 4096 else max(args.steps // 10, 1000)
-        ours = x3dpd_step(n, steps, args.warmup)
-        theirs = lammps_step(n, steps, args.warmup)
+        reps = args.repeat if n < 4096 else 1
+        ours = x3dpd_step(n, steps, args.warmup, reps)
+        theirs = lammps_step(n, steps, args.warmup, reps)
         rows.append({"n": n, "steps": steps, "x3dpd_us": ours, "lammps_us": theirs,
                      "speedup": (theirs / ours) if ours and theirs else None})
         print(rows[-1], flush=True)
