@@ -424,16 +424,17 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
     return status
 
 
-@step_kernel
-def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt, pl_i, pl_j,
-                   ps, pl_on, npairs, dt, ledger, pen_limit, diag, busy):
-    """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
-    force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j."""
-    status = OK
-    w_normal = 0.0
-    w_fric = 0.0
-    # pass 1, tight: the candidates that touch now or touched at the last step (``busy`` is an
-    # int scratch of at least ``npairs``); most candidates are apart and cost a few ns each
+@loop_kernel(inline="never")
+def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy):
+    """Pass 1 of the pair contacts: write into ``busy`` the candidates that touch now or had an
+    open contact, and return how many.
+
+    A function of its own, not inlined: inside the step loop's single large function the
+    filter's array pointers spill to the stack and are reloaded for every candidate; here they
+    stay in registers (measured: 0.85 -> 0.80 us/step at 50 particles, 8.1 -> 7.2 at 512). It is
+    compiled without NRT like the loop, so the call passes its arrays without reference counting.
+    The wall filter gained nothing from the same treatment and stays inline.
+    """
     nbusy = 0
     for s in range(npairs):
         pi = pl_i[s]
@@ -447,6 +448,20 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
         if dx * dx + dy * dy + dz * dz < cut * cut or pl_on[s] != 0:
             busy[nbusy] = s
             nbusy += 1
+    return nbusy
+
+
+@step_kernel
+def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt, pl_i, pl_j,
+                   ps, pl_on, npairs, dt, ledger, pen_limit, diag, busy):
+    """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
+    force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j."""
+    status = OK
+    w_normal = 0.0
+    w_fric = 0.0
+    # pass 1, tight: the candidates that touch now or touched at the last step (``busy`` is an
+    # int scratch of at least ``npairs``); most candidates are apart and cost about 2 ns each
+    nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy)
     # pass 2: the contact law on those
     for q in range(nbusy):
         s = busy[q]
