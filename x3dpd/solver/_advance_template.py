@@ -331,9 +331,9 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
     # pass 1, tight: candidates within reach of their face's plane now or at the last step
     nbusy = 0
     for s in range(nw):
-        p = wl_p[s]
-        f = wl_f[s]
-        i = p0 + p
+        p = np.uint64(wl_p[s])   # unsigned indices: no negative-index wrap-around code
+        f = np.uint64(wl_f[s])
+        i = np.uint64(p0 + wl_p[s])
         d = face_n[f, 0] * x[i, 0] + face_n[f, 1] * x[i, 1] + face_n[f, 2] * x[i, 2] - face_d[f]
         if d < radius[p] or wl_on[s] != 0:
             busy[nbusy] = s
@@ -434,13 +434,17 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy):
     stay in registers (measured: 0.85 -> 0.80 us/step at 50 particles, 8.1 -> 7.2 at 512). It is
     compiled without NRT like the loop, so the call passes its arrays without reference counting.
     The wall filter gained nothing from the same treatment and stays inline.
+
+    Indices are cast to unsigned: numba then omits the code that wraps negative indices around
+    (four instructions per array access, most of this loop's instructions); list entries are
+    never negative. Measured 0.80 -> 0.75 us/step at 50 particles.
     """
     nbusy = 0
     for s in range(npairs):
-        pi = pl_i[s]
-        pj = pl_j[s]
-        i = p0 + pi
-        j = p0 + pj
+        pi = np.uint64(pl_i[s])
+        pj = np.uint64(pl_j[s])
+        i = np.uint64(p0 + pl_i[s])
+        j = np.uint64(p0 + pl_j[s])
         dx = x[j, 0] - x[i, 0]
         dy = x[j, 1] - x[i, 1]
         dz = x[j, 2] - x[i, 2]
