@@ -25,7 +25,8 @@ import reference as ref
 from factories import STEEL_E, STEEL_NU, STEEL_R, G, closed_box_deck, sphere_mass
 
 from x3dpd.model.build import build_model
-from x3dpd.physics.coulomb import coulomb_force, regularized_coulomb_force
+from x3dpd.physics.coulomb import (coulomb_slip_coefficient,
+                                   regularized_coulomb_slip_coefficient)
 from x3dpd.solver.simulation import ENERGY_COLUMNS, Simulation
 
 M = sphere_mass()
@@ -43,12 +44,20 @@ D_FRICTION = M * V0**2 / 7.0
 
 def test_friction_laws():
     mt, dt = 2.0, 1e-3
-    # Coulomb (Eq. 29): mu |F_N| for any slip, 0 only at exactly zero slip
-    assert coulomb_force(1e-12, -5.0, 0.3, mt, dt) == 1.5
-    assert coulomb_force(0.0, 5.0, 0.3, mt, dt) == 0.0
+    gamma = 1.0 / (2.0 * dt)
+    # the laws return |F_t| / |v_t|; multiplied by the slip speed, the force magnitude
+    # Coulomb (Eq. 29): mu |F_N| for any slip
+    for vt in (1e-12, 1.0):
+        assert coulomb_slip_coefficient(vt, -5.0, 0.3, mt, gamma) * vt == pytest.approx(1.5,
+                                                                                       rel=1e-15)
     # Haff-Werner (Eq. 30) with gamma = 1/(2 dt): min(m_t |v_t| / (2 dt), mu |F_N|)
-    assert regularized_coulomb_force(1e-3, 5.0, 0.3, mt, dt) == pytest.approx(1.0, rel=1e-15)
-    assert regularized_coulomb_force(1.0, 5.0, 0.3, mt, dt) == 1.5
+    regularized = regularized_coulomb_slip_coefficient
+    assert regularized(1e-3, 5.0, 0.3, mt, gamma) * 1e-3 == pytest.approx(1.0, rel=1e-15)
+    assert regularized(1e-3, 5.0, 0.3, mt, gamma) == mt / (2 * dt)   # stick: no division by v_t
+    assert regularized(1.0, -5.0, 0.3, mt, gamma) == 1.5               # sliding: Coulomb
+    # the branches meet where m_t |v_t| / (2 dt) = mu |F_N|, at |v_t| = 1.5e-3
+    assert regularized(1.5e-3 * (1 - 1e-9), 5.0, 0.3, mt, gamma) == pytest.approx(1000.0)
+    assert regularized(1.5e-3 * (1 + 1e-9), 5.0, 0.3, mt, gamma) == pytest.approx(1000.0)
 
 
 def _slide(friction: str, t_end: float):

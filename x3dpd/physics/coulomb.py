@@ -22,27 +22,33 @@ import math
 
 from x3dpd._jit import kernel
 
-__all__ = ["coulomb_force", "regularized_coulomb_force", "FRICTION_LAWS"]
+__all__ = ["coulomb_slip_coefficient", "regularized_coulomb_slip_coefficient", "FRICTION_LAWS"]
+
+# Both laws return the *slip coefficient* c = |F_t| / |v_t| [force*s/length], so that the contact
+# loop forms F_t = -c v_t without dividing a force magnitude by |v_t| again: in the stick branch
+# c is a constant (no division at all), in the sliding branch one division, mu |F_N| / |v_t|.
+# ``gamma`` is the stick rate gamma_t = 1/(2 dt) [1/s], formed once per step by the caller. The
+# caller guarantees |v_t| > 0 (it skips slip speeds below a floor).
 
 
 @kernel
-def regularized_coulomb_force(vt_norm: float, fn: float, mu: float, m_t: float,
-                              dt: float) -> float:
-    """Magnitude of the friction force: min(m_t |v_t| / (2 dt), mu |F_N|) [force]."""
+def regularized_coulomb_slip_coefficient(vt_norm: float, fn: float, mu: float, m_t: float,
+                                         gamma: float) -> float:
+    """|F_t| / |v_t| of min(gamma m_t |v_t|, mu |F_N|) (report Eq. 30) [force*s/length]."""
+    stick = gamma * m_t
     limit = mu * abs(fn)
-    stick = 0.5 * m_t * vt_norm / dt
-    return stick if stick < limit else limit
+    return stick if stick * vt_norm < limit else limit / vt_norm
 
 
 @kernel
-def coulomb_force(vt_norm: float, fn: float, mu: float, m_t: float, dt: float) -> float:
-    """Magnitude of the bare Coulomb force mu |F_N| (zero only when v_t is exactly zero) [force]."""
-    if vt_norm == 0.0:
-        return 0.0
-    return mu * abs(fn)
+def coulomb_slip_coefficient(vt_norm: float, fn: float, mu: float, m_t: float,
+                             gamma: float) -> float:
+    """|F_t| / |v_t| of bare Coulomb, mu |F_N| (report Eq. 29) [force*s/length]."""
+    return mu * abs(fn) / vt_norm
 
 
-FRICTION_LAWS = {"regularized": "regularized_coulomb_force", "coulomb": "coulomb_force"}
+FRICTION_LAWS = {"regularized": "regularized_coulomb_slip_coefficient",
+                 "coulomb": "coulomb_slip_coefficient"}
 
 
 def friction_time_scale(m_t: float, mu: float, fn: float) -> float:

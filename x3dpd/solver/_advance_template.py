@@ -30,7 +30,7 @@ HAS_PY_FORCE = False
 HAS_MOTION = True
 N_MAXWELL = 1
 WALLS_TRANSLATE = False
-from x3dpd.physics.coulomb import regularized_coulomb_force as FRICTION_LAW  # noqa: E402
+from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: E402,E501
 USER_FORCE = None
 # --- VARIANT END ---
 
@@ -290,11 +290,12 @@ def _maxwell_terms(states, s, col, decay, half, moduli, p, scale, dg):
 
 
 @step_kernel
-def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, states, s):
+def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
     """Friction force (on the body whose contact point moves with v_r relative to the other).
 
     Splits v_r into normal and tangential parts, applies FRICTION_LAW to the slip speed
-    (report Eq. 29/30) and keeps F_t in the contact's state row ``states[s]``. Returns
+    (report Eq. 29/30; ``gamma`` = 1/(2 dt), the stick rate) and keeps F_t in the contact's
+    state row ``states[s]``. Returns
     (F_tx, F_ty, F_tz, dissipated) with the trapezoidal slip work -1/2 (F_t(n) + F_t(n+1)) . v_t dt.
     """
     vn = vrx * nx + vry * ny + vrz * nz
@@ -306,7 +307,7 @@ def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, states, s):
     fty = 0.0
     ftz = 0.0
     if vt > SLIP_FLOOR:
-        mag = FRICTION_LAW(vt, fn, mu, m_t, dt) / vt
+        mag = FRICTION_LAW(vt, fn, mu, m_t, gamma)
         ftx = -mag * vtx
         fty = -mag * vty
         ftz = -mag * vtz
@@ -328,6 +329,7 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
     status = OK
     w_normal = 0.0
     w_fric = 0.0
+    gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
     # pass 1, tight: candidates within reach of their face's plane now or at the last step
     nbusy = 0
     for s in range(nw):
@@ -402,7 +404,7 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
             vry -= w[0] * vel[nd0, 1] + w[1] * vel[nd1, 1] + w[2] * vel[nd2, 1]
             vrz -= w[0] * vel[nd0, 2] + w[1] * vel[nd1, 2] + w[2] * vel[nd2, 2]
             ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn, mu[p],
-                                            1.0 / inv_mt[p], dt, ws, s)
+                                            1.0 / inv_mt[p], dt, gamma, ws, s)
             w_fric += lost
             fx += ftx
             fy += fty
@@ -456,13 +458,14 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy):
 
 
 @step_kernel
-def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt, pl_i, pl_j,
+def _pair_contacts(x, vel, force, p0, radius, ep, pkind, pair_c, decay, half, pl_i, pl_j,
                    ps, pl_on, npairs, dt, ledger, pen_limit, diag, busy):
     """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
     force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j."""
     status = OK
     w_normal = 0.0
     w_fric = 0.0
+    gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
     # pass 1, tight: the candidates that touch now or touched at the last step (``busy`` is an
     # int scratch of at least ``npairs``); most candidates are apart and cost about 2 ns each
     nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy)
@@ -504,9 +507,10 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
         nx = dx * inv_dist
         ny = dy * inv_dist
         nz = dz * inv_dist
-        sq = math.sqrt(ri * rj / (ri + rj))
-        wgt = cinst[pi] * cinst[pj] / (cinst[pi] + cinst[pj]) ** 2
-        kfac = 4.0 / 3.0 * wgt * sq
+        # the pair's mixed constants (x3dpd.physics.mixing), looked up by particle kind
+        ki = pkind[pi]
+        kj = pkind[pj]
+        kfac = pair_c[ki, kj, 0]
         a32 = a * math.sqrt(a)
         fn = kfac * (ep[pi, 0] + ep[pj, 0]) * a32
         if HAS_VISCO:
@@ -537,9 +541,8 @@ def _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt
             vrx = vjx - vix
             vry = vjy - viy
             vrz = vjz - viz
-            ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn,
-                                            0.5 * (mu[pi] + mu[pj]),
-                                            1.0 / (inv_mt[pi] + inv_mt[pj]), dt, ps, s)
+            ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn, pair_c[ki, kj, 2],
+                                            pair_c[ki, kj, 1], dt, gamma, ps, s)
             w_fric += lost
             fx += ftx
             fy += fty
@@ -600,7 +603,7 @@ def _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes
 
 @kernel
 def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_nodes, sp_k, sp_c,
-            fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, cinst, decay, half, mu,
+            fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, pkind, pair_c, decay, half, mu,
             inv_mt, wl_p, wl_f, ws, wl_on, nw, wall_busy, pl_i, pl_j, ps, pl_on, npairs, pair_busy,
             face_n, face_d, face_first_tri,
             face_ptr, face_tris, tri_nodes, tri_sign, dt, ledger, pen_limit, diag, wsc, frow_prev):
@@ -655,7 +658,7 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
                                  wl_f, ws, wl_on, nw, face_n, face_d, face_ptr, face_tris,
                                  tri_nodes, dt, ledger, pen_limit, diag, wsc, wall_busy)
     if HAS_PAIRS:
-        status |= _pair_contacts(x, vel, force, p0, radius, ep, cinst, decay, half, mu, inv_mt,
+        status |= _pair_contacts(x, vel, force, p0, radius, ep, pkind, pair_c, decay, half,
                                  pl_i, pl_j, ps, pl_on, npairs, dt, ledger, pen_limit, diag,
                                  pair_busy)
     if HAS_RIGID:
@@ -670,7 +673,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
             fext, fext_prev, frow_prev, ext_table, fpy, motion_table, motion_prev,
             sp_nodes, sp_k, sp_c, fd_prev,
             rig_master, rig_ptr, rig_slaves, rig_r0, rot, rig_inv_ib, rig_ib, rig_free_rot,
-            p0, radius, kw, ep, cinst, decay, half, mu, inv_mt, pcav,
+            p0, radius, kw, ep, pkind, pair_c, decay, half, mu, inv_mt, pcav,
             cav_ptr, cav_faces, face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes,
             tri_sign,
             wl_p, wl_f, ws, wl_on, nwl, wl_p2, wl_f2, ws2, wl_a,

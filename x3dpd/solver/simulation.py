@@ -367,7 +367,7 @@ class Simulation:
         face_n, face_d = self._faces()
         return (t, s.x, k.x0, s.vel, s.force, k.mass, k.g, np.zeros_like(s.fext_prev),
                 s.fext_prev, self.ext.table, self.fpy, k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
-                k.rig_master, k.rig_ptr, k.rig_slaves, k.p0, k.radius, k.kw, k.ep, k.cinst,
+                k.rig_master, k.rig_ptr, k.rig_slaves, k.p0, k.radius, k.kw, k.ep, k.pkind, k.pair_c,
                 k.decay, k.half, k.mu, k.inv_mt, s.wl_p, s.wl_f, s.ws, s.wl_on, int(s.nwl[0]),
                 np.empty_like(s.wl_p), s.pl_i, s.pl_j, s.ps, s.pl_on, int(s.npl[0]), np.empty_like(s.pl_i), face_n,
                 face_d, k.face_first_tri, k.face_ptr,
@@ -435,7 +435,7 @@ class Simulation:
                 k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
                 k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot, k.rig_inv_ib, k.rig_ib,
                 k.rig_free_rot,
-                k.p0, k.radius, k.kw, k.ep, k.cinst, k.decay, k.half, k.mu, k.inv_mt, k.pcav,
+                k.p0, k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay, k.half, k.mu, k.inv_mt, k.pcav,
                 k.cav_ptr, k.cav_faces, face_n, face_d, k.face_first_tri, k.face_ptr,
                 k.face_tris, k.tri_nodes, k.tri_sign,
                 s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, sc["wl_p2"], sc["wl_f2"], sc["ws2"],

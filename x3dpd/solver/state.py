@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from x3dpd.physics.mixing import pair_constant_table, particle_kinds
+
 if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime import of it
     from x3dpd.model.model import Model
 
@@ -106,7 +108,8 @@ class Setup:
     radius: np.ndarray
     kw: np.ndarray
     ep: np.ndarray
-    cinst: np.ndarray
+    pkind: np.ndarray   # (P,) particle kind (x3dpd.physics.mixing.particle_kinds)
+    pair_c: np.ndarray  # (K, K, 3) per pair of kinds: Hertz factor, m_t, mu
     decay: np.ndarray
     half: np.ndarray
     mu: np.ndarray
@@ -224,6 +227,9 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     np.add.at(cav_ptr, fc + 1, 1)
     cav_ptr = np.cumsum(cav_ptr)
 
+    pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu)
+    pair_c = pair_constant_table(radius, cinst, inv_mt, model.mu, rep)
+
     if skin is None:
         skin = 0.25 * float(radius.min()) if npart else 0.0
 
@@ -236,7 +242,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_master=_i64(model.rigid_master), rig_ptr=_i64(model.rigid_ptr),
         rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
         rig_free_rot=rig_free_rot,
-        p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), cinst=_f64(cinst),
+        p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), pkind=pkind, pair_c=pair_c,
         decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),

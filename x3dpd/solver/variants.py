@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numba
 
+from x3dpd.physics.coulomb import FRICTION_LAWS
+
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 _BEGIN = "# --- VARIANT BEGIN ---"
 _END = "# --- VARIANT END ---"
@@ -75,7 +77,7 @@ class Variant:
         )
 
     def header(self) -> str:
-        law = {"regularized": "regularized_coulomb_force", "coulomb": "coulomb_force"}
+        law = FRICTION_LAWS
         if self.friction_law not in law:
             raise ValueError(f"unknown friction law {self.friction_law!r}; use one of {sorted(law)}")
         lines = [
