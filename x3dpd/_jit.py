@@ -1,8 +1,8 @@
 """The one place that decides how x3dpd compiles kernels.
 
 Every kernel uses :func:`kernel` instead of ``numba.njit`` so that compile flags are never
-hard-coded (``tests/meta/test_kernel_flags.py`` enforces this). ``fastmath`` stays off: contact laws take
-square roots of small differences and the energy ledger sums many tiny terms, and reassociation
+hard-coded (``tests/meta/test_kernel_flags.py`` enforces this). ``fastmath`` stays off: contact
+laws take square roots of small differences and the energy ledger sums many tiny terms, and reassociation
 would make runs irreproducible across machines.
 """
 
@@ -45,7 +45,7 @@ def loop_kernel(fn=None, **overrides):
 
 
 def kernel(fn=None, **overrides):
-    """Compile ``fn`` with the project's flags; usable as ``@kernel`` or ``@kernel(cache=False)``."""
+    """Compile ``fn`` with the project's flags: ``@kernel`` or ``@kernel(cache=False)``."""
     flags = {**JIT_FLAGS, **overrides}
     if fn is None:
         return lambda f: numba.njit(**flags)(f)

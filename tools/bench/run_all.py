@@ -54,7 +54,8 @@ def lammps_step(n: int, steps: int, warmup: int, repeat: int) -> float | None:
 def compile_times(n: int = 64) -> tuple[float, float]:
     """Seconds to build and compile the scene's kernels: cold cache, then warm."""
     code = (f"import sys, time; sys.path.insert(0, {str(HERE)!r}); t = time.perf_counter(); "
-            f"from bench_solver import scene_model; from x3dpd.solver.simulation import Simulation; "
+            f"from bench_solver import scene_model; "
+            f"from x3dpd.solver.simulation import Simulation; "
             f"s = Simulation(scene_model({n})[0]); s.initialize(); s.advance(10); "
             f"print(time.perf_counter() - t)")
     with tempfile.TemporaryDirectory() as cache:

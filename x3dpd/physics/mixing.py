@@ -73,7 +73,6 @@ def pair_constant_table(radius, cinst, inv_mt, mu, rep) -> np.ndarray:
     """
     out = np.zeros((rep.shape[0], rep.shape[0], 3))
     if rep.shape[0]:
-        _fill_table(np.ascontiguousarray(radius, np.float64), np.ascontiguousarray(cinst, np.float64),
-                    np.ascontiguousarray(inv_mt, np.float64), np.ascontiguousarray(mu, np.float64),
-                    np.ascontiguousarray(rep, np.int64), out)
+        f64 = [np.ascontiguousarray(v, np.float64) for v in (radius, cinst, inv_mt, mu)]
+        _fill_table(*f64, np.ascontiguousarray(rep, np.int64), out)
     return out

@@ -603,10 +603,10 @@ def _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes
 
 @kernel
 def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_nodes, sp_k, sp_c,
-            fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, pkind, pair_c, decay, half, mu,
-            inv_mt, wl_p, wl_f, ws, wl_on, nw, wall_busy, pl_i, pl_j, ps, pl_on, npairs, pair_busy,
-            face_n, face_d, face_first_tri,
-            face_ptr, face_tris, tri_nodes, tri_sign, dt, ledger, pen_limit, diag, wsc, frow_prev):
+            fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, pkind, pair_c, decay,
+            half, mu, inv_mt, wl_p, wl_f, ws, wl_on, nw, wall_busy, pl_i, pl_j, ps, pl_on, npairs,
+            pair_busy, face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes, tri_sign,
+            dt, ledger, pen_limit, diag, wsc, frow_prev):
     """All forces at time t from x and the (half-step) velocities; updates the ledger.
 
     ``wsc`` is a 3-element scratch array; ``frow_prev`` the built-in forces of the last step.

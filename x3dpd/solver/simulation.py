@@ -154,7 +154,7 @@ class Simulation:
 
     # ------------------------------------------------------------------ stepping
     def advance(self, nsteps: int, max_rows: int | None = None) -> Block:
-        """Advance ``nsteps`` steps (fewer when the output buffer fills); return the rows written."""
+        """Advance ``nsteps`` steps (fewer if the output buffer fills); return the rows written."""
         self.initialize()
         nsteps = int(nsteps)
         if max_rows is None:
@@ -271,8 +271,8 @@ class Simulation:
         if not np.all(np.isfinite(xp)):
             bad = int(np.argmax(~np.all(np.isfinite(xp), axis=1)))
             raise UnstableRunError(
-                f"unstable run at t = {self.time:.6g} s: particle node {m.node_ids[k.p0 + bad]} has a "
-                f"non-finite position. Likely cause: the time step is too large.",
+                f"unstable run at t = {self.time:.6g} s: particle node {m.node_ids[k.p0 + bad]} "
+                f"has a non-finite position. Likely cause: the time step is too large.",
                 time=self.time, step=s.step, node=int(m.node_ids[k.p0 + bad]))
         for c, nodes in enumerate(self._cavity_nodes()):
             members = np.nonzero(k.pcav == c)[0]
@@ -340,8 +340,8 @@ class Simulation:
             raise UnstableRunError(
                 f"unstable run at t = {t:.6g} s (step {step}): particle node {nid} penetrated "
                 f"{what} by {depth:.4g} ({depth / r:.1%} of its radius; limit "
-                f"{self.penetration_limit:.0%}). Likely cause: the time step {self.dt:.3g} s is too "
-                f"large for the contact stiffness at this impact speed; run `x3dpd check`.",
+                f"{self.penetration_limit:.0%}). Likely cause: the time step {self.dt:.3g} s is "
+                f"too large for the contact stiffness at this impact speed; run `x3dpd check`.",
                 time=t, step=step, node=nid)
 
     # ------------------------------------------------------------------ internals
@@ -367,10 +367,10 @@ class Simulation:
         face_n, face_d = self._faces()
         return (t, s.x, k.x0, s.vel, s.force, k.mass, k.g, np.zeros_like(s.fext_prev),
                 s.fext_prev, self.ext.table, self.fpy, k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
-                k.rig_master, k.rig_ptr, k.rig_slaves, k.p0, k.radius, k.kw, k.ep, k.pkind, k.pair_c,
-                k.decay, k.half, k.mu, k.inv_mt, s.wl_p, s.wl_f, s.ws, s.wl_on, int(s.nwl[0]),
-                np.empty_like(s.wl_p), s.pl_i, s.pl_j, s.ps, s.pl_on, int(s.npl[0]), np.empty_like(s.pl_i), face_n,
-                face_d, k.face_first_tri, k.face_ptr,
+                k.rig_master, k.rig_ptr, k.rig_slaves, k.p0, k.radius, k.kw, k.ep, k.pkind,
+                k.pair_c, k.decay, k.half, k.mu, k.inv_mt, s.wl_p, s.wl_f, s.ws, s.wl_on,
+                int(s.nwl[0]), np.empty_like(s.wl_p), s.pl_i, s.pl_j, s.ps, s.pl_on, int(s.npl[0]),
+                np.empty_like(s.pl_i), face_n, face_d, k.face_first_tri, k.face_ptr,
                 k.face_tris, k.tri_nodes, k.tri_sign, self.dt, ledger, self.penetration_limit,
                 self.diag, np.zeros(3), s.frow_prev)
 
@@ -435,7 +435,8 @@ class Simulation:
                 k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
                 k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot, k.rig_inv_ib, k.rig_ib,
                 k.rig_free_rot,
-                k.p0, k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay, k.half, k.mu, k.inv_mt, k.pcav,
+                k.p0, k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay, k.half, k.mu, k.inv_mt,
+                k.pcav,
                 k.cav_ptr, k.cav_faces, face_n, face_d, k.face_first_tri, k.face_ptr,
                 k.face_tris, k.tri_nodes, k.tri_sign,
                 s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, sc["wl_p2"], sc["wl_f2"], sc["ws2"],

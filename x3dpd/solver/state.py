@@ -32,7 +32,8 @@ class State:
     frow_prev (m,) built-in forces of the last step;
     motion_prev (M,) actuator forces of the last step; fd_prev (S,3) damper forces of the last
     step; wl_p, wl_f, ws, wl_on (Lw) wall candidate list (particle, face, state row, open-contact
-    flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,); nbr (7,) neighbour-list bookkeeping;
+    flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
+    nbr (7,) neighbour-list bookkeeping;
     ledger (4,) cumulative work/dissipation; step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
@@ -178,9 +179,8 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     with np.errstate(divide="ignore"):
         for d in range(3):
             inv_m[:, d] = np.where(kin_mass > 0, 1.0 / np.where(kin_mass > 0, kin_mass, 1.0), 0.0)
-            inv_m[:, 3 + d] = np.where(kin_inertia[:, d] > 0,
-                                       1.0 / np.where(kin_inertia[:, d] > 0, kin_inertia[:, d], 1.0),
-                                       0.0)
+            has = kin_inertia[:, d] > 0
+            inv_m[:, 3 + d] = np.where(has, 1.0 / np.where(has, kin_inertia[:, d], 1.0), 0.0)
     inv_m[fixed] = 0.0
     inv_m[slave] = 0.0
     # rotations of rigid masters with a free rotational DOF use the full tensor (separate kick)

@@ -79,7 +79,8 @@ class Variant:
     def header(self) -> str:
         law = FRICTION_LAWS
         if self.friction_law not in law:
-            raise ValueError(f"unknown friction law {self.friction_law!r}; use one of {sorted(law)}")
+            raise ValueError(f"unknown friction law {self.friction_law!r}; "
+                             f"use one of {sorted(law)}")
         lines = [
             f"HAS_GRAVITY = {self.gravity}",
             f"HAS_SPRINGS = {self.springs}",
