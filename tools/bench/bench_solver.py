@@ -5,9 +5,11 @@ x3dpd solves the force-driven, spring-mounted cavity (report Table 4 structure, 
 path. Times are after compilation, on one core; compile (cold) and cache-load (warm) times are
 reported separately.
 
-    python tools/bench/bench_solver.py --n 50 64 512 4096 [--steps 20000] [--json out.json]
+    python tools/bench/bench_solver.py --n 50 64 512 4096 [--steps 20000] [--repeat 5]
+                                       [--json out.json]
     python tools/bench/bench_solver.py --effects --n 64   # cost of each effect's code
     python tools/bench/bench_solver.py --sdof             # structure only: steps per second
+    python tools/bench/bench_solver.py --settled          # a settled 512-particle bed
 """
 
 from __future__ import annotations
@@ -72,6 +74,27 @@ def bench_n(n: int, warmup: int, steps: int, repeat: int = 1, **kw) -> dict:
             "neighbour_rebuilds": int(sim.state.nbr[2])}
 
 
+def settled_bed(n: int, settle_steps: int, steps: int, repeat: int) -> dict:
+    """Per-step time of a settled bed: the scene without drive (particles fall, pile up and
+    come to rest on the floor under gravity), after ``settle_steps`` steps; every resting
+    particle then has lasting contacts, the costly case of the contact law."""
+    model, _ = scene_model(n, drive=False)
+    sim = Simulation(model, itrac=10**9)
+    sim.initialize()
+    sim.advance(settle_steps, max_rows=1)
+    st = sim.state
+    npl, nwl = int(st.npl[0]), int(st.nwl[0])
+    pair_on, wall_on = int(st.pl_on[:npl].sum()), int(st.wl_on[:nwl].sum())
+    best = math.inf
+    for _ in range(repeat):   # consecutive windows of the resting bed
+        t = time.perf_counter()
+        sim.advance(steps, max_rows=1)
+        best = min(best, (time.perf_counter() - t) / steps)
+    return {"case": "settled", "n": n, "settle_steps": settle_steps, "us_per_step": best * 1e6,
+            "pair_contacts": pair_on, "wall_contacts": wall_on,
+            "ns_per_contact": best * 1e9 / max(pair_on + wall_on, 1)}
+
+
 def effect_costs(n: int, warmup: int, steps: int) -> list[dict]:
     """Cost of each effect's code: a scene where the effect is physically absent, run with the
     variant the factory picks (effect compiled out) and with the effect forced in at zero
@@ -120,6 +143,8 @@ def main(argv=None) -> int:
     ap.add_argument("--effects", action="store_true",
                     help="cost of each effect's code (compiled in at zero strength vs out)")
     ap.add_argument("--sdof", action="store_true", help="structure-only steps per second")
+    ap.add_argument("--settled", action="store_true",
+                    help="a settled bed of --n particles (default 512) after 300000 steps")
     args = ap.parse_args(argv)
     results = []
     if args.sdof:
@@ -135,6 +160,14 @@ def main(argv=None) -> int:
         per = time_steps(sim, 10000, 2_000_000)
         results.append({"case": "sdof", "steps_per_second": 1.0 / per, "us_per_step": per * 1e6})
         print(f"x3dpd sdof steps_per_second={1.0 / per:.3e}")
+    elif args.settled:
+        ns = args.n if args.n != [50, 64, 512, 4096] else [512]
+        for n in ns:
+            r = settled_bed(n, 300_000, args.steps, max(args.repeat, 3))
+            results.append(r)
+            print(f"x3dpd settled n={n} us_per_step={r['us_per_step']:.2f} "
+                  f"({r['pair_contacts']} pair + {r['wall_contacts']} wall contacts, "
+                  f"{r['ns_per_contact']:.0f} ns per contact)")
     elif args.effects:
         for n in args.n:
             for r in effect_costs(n, args.warmup, args.steps):

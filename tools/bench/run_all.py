@@ -6,7 +6,7 @@ Each measurement runs in its own process on one core (OMP/NUMBA threads = 1). x3
 force-driven spring-mounted cavity; LAMMPS the same particles in a box on a prescribed path (its
 fastest form). Also reported: compile time with a cold and a warm numba cache, and the
 structure-only (SDOF) step rate. LAMMPS rows are skipped when `lammps` is not installed.
-Both codes time the same window ``--repeat`` times from scratch (default 3; once at 4096) and
+Both codes time the same window ``--repeat`` times from scratch (default 3) and
 report their fastest, so a stray background process cannot tilt the ratio either way.
 Run it on an idle machine: another busy process on the same cores distorts every number.
 """
@@ -81,9 +81,8 @@ def main(argv=None) -> int:
     rows = []
     for n in args.n:
         steps = args.steps if n < 4096 else max(args.steps // 10, 1000)
-        reps = args.repeat if n < 4096 else 1
-        ours = x3dpd_step(n, steps, args.warmup, reps)
-        theirs = lammps_step(n, steps, args.warmup, reps)
+        ours = x3dpd_step(n, steps, args.warmup, args.repeat)
+        theirs = lammps_step(n, steps, args.warmup, args.repeat)
         rows.append({"n": n, "steps": steps, "x3dpd_us": ours, "lammps_us": theirs,
                      "speedup": (theirs / ours) if ours and theirs else None})
         print(rows[-1], flush=True)
