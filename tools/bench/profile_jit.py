@@ -129,8 +129,9 @@ def main(argv=None) -> int:
             print(f"  {100 * c / len(ips):5.1f} %  {blk:#x}")
         for blk, _ in blocks.most_common(args.asm):
             base = next(b for b in bases if b <= blk < b + sizes[b])
+            start = max(blk - 48, base)
             asm = subprocess.run(["objdump", "-D", "-b", "binary", "-m", "i386:x86-64",
-                                  f"--adjust-vma={base:#x}", f"--start-address={max(blk - 48, base):#x}",
+                                  f"--adjust-vma={base:#x}", f"--start-address={start:#x}",
                                   f"--stop-address={blk + 128:#x}", str(maps[base])],
                                  capture_output=True, text=True, check=False).stdout
             print(f"\n{blk:#x} (samples per instruction; a stall shows on the next one):")
