@@ -295,3 +295,27 @@ def test_deck_usrfrc_card_is_kept_and_counts_as_external_force():
     m = build_model(deck)
     assert m.usrfrc == ("constant:node=9,dof=1,amp=2",)
     assert "external_force" in m.effects
+
+
+def test_user_force_file_on_the_card_is_found_beside_the_deck(tmp_path, monkeypatch):
+    from x3dpd.deck.cards import Usrfrc
+    from x3dpd.errors import DeckError
+
+    folder = tmp_path / "job"
+    folder.mkdir()
+    (folder / "force.py").write_text("def usrfrc(time, coords, vels, force):\n    pass\n")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)          # the working directory holds no force.py
+    deck = replace(cube_deck(usrfrc=(Usrfrc(("force.py", "constant:node=9,dof=1,amp=2"),
+                                             pos(95)),)),
+                   path=str(folder / "deck.inp"))
+    m = build_model(deck)
+    assert m.usrfrc == (str(folder / "force.py"), "constant:node=9,dof=1,amp=2")
+
+    (folder / "force.py").unlink()
+    with pytest.raises(DeckError) as err:
+        build_model(deck)
+    text = str(err.value)
+    assert text.startswith(f"{folder / 'deck.inp'}:95:") and "USRFRC" in text
+    assert "'force.py' not found" in text and str(folder / "force.py") in text

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -22,7 +23,7 @@ from x3dpd.geometry.cavity import geometry_size, group_faces
 from x3dpd.geometry.triangle import PLANE_TOL, inward_signs, triangle_areas, unit_normals
 from x3dpd.model.model import Model
 from x3dpd.physics.motion import motion_table, prescribed_mask
-from x3dpd.physics.usrfrc import force_table, split_specs
+from x3dpd.physics.usrfrc import force_table, is_user_file, split_specs
 
 if TYPE_CHECKING:  # the builder reads cards by attribute; it needs no runtime import of them
     from x3dpd.deck.cards import Deck
@@ -127,7 +128,7 @@ class _Builder:
             t0=float(par.time), tmax=float(par.tmax), dt=float(par.dtmax), trest=float(par.trest),
             itrac=int(par.itrac), irest=int(par.irest), incmax=float(par.incmax),
             effects=self._effects(body),
-            usrfrc=tuple(s for card in deck.usrfrc for s in card.specs),
+            usrfrc=self._deck_usrfrc(),
             title=deck.title.text if deck.title is not None else "",
             path=deck.path,
         )
@@ -473,7 +474,31 @@ class _Builder:
                 "NODE COORDINATES")
 
     def _all_usrfrc(self) -> tuple[str, ...]:
-        return tuple(s for card in self.deck.usrfrc for s in card.specs) + self.usrfrc
+        return self._deck_usrfrc() + self.usrfrc
+
+    def _deck_usrfrc(self) -> tuple[str, ...]:
+        """The USRFRC card's specs, user force files resolved against the deck's folder.
+
+        A deck and its force file travel together, so ``force.py`` on the card means the file
+        beside the deck, whatever the working directory (``--usrfrc`` paths on the command line
+        stay relative to the working directory, as shells expect). A missing file is an error at
+        the card.
+        """
+        known = self.deck.path not in ("<deck>", "<string>", "-")
+        folder = Path(self.deck.path).parent if known else None
+        out = []
+        for card in self.deck.usrfrc:
+            for spec in card.specs:
+                if is_user_file(spec):
+                    path = Path(spec.strip())
+                    if folder is not None and not path.is_absolute():
+                        path = folder / path
+                    if not path.is_file():
+                        raise self.error(f"user force file {spec.strip()!r} not found "
+                                         f"(looked for {path})", card.pos, "USRFRC")
+                    spec = str(path)
+                out.append(spec)
+        return tuple(out)
 
     def _external_loads(self) -> list[tuple[str, tuple[int, int]]]:
         """(spec, (node index, DOF column)) of every built-in force law (user files: unknown).
