@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.errors import InputError
+from x3dpd.io._streamed import create_new, reopen_at
 
 
 class EnergyWriter:
@@ -65,20 +66,8 @@ class EnergyWriter:
             self._open_new(overwrite)
 
     def _open_new(self, overwrite: bool) -> None:
-        path = self.path
-        if os.path.lexists(path):
-            if not overwrite:
-                raise InputError(f"energy file {path} already exists; pass --overwrite to "
-                                 f"replace it (the old one is kept as {path}.bak) or choose "
-                                 "another --energy path")
-            try:
-                os.replace(path, path + ".bak")
-            except OSError as exc:
-                raise InputError(f"cannot move {path} to {path}.bak: {exc}") from None
-        try:
-            self._f = open(path, "xb")  # noqa: SIM115 - lives until close()
-        except OSError as exc:
-            raise InputError(f"cannot create energy file {path}: {exc.strerror or exc}") from None
+        self._f = create_new(self.path, overwrite=overwrite, error=InputError, what="energy file",
+                             option="--energy")
         self._f.write(self._header)
         self._offset = len(self._header)
         self._rows = 0
@@ -88,24 +77,16 @@ class EnergyWriter:
         if not os.path.isfile(path):
             raise InputError(f"cannot resume energy file {path}: it does not exist (the restart "
                              f"dump expects {nrows} rows in it)")
-        try:
-            f = open(path, "r+b")  # noqa: SIM115 - lives until close()
-        except OSError as exc:
-            raise InputError(f"cannot open energy file {path} to resume: "
-                             f"{exc.strerror or exc}") from None
-        try:
+
+        def check(f) -> None:
             head = f.read(nbytes)
             if (len(head) != nbytes or not head.startswith(self._header)
                     or not head.endswith(b"\n") or head.count(b"\n") != nrows + 1):
                 raise InputError(f"cannot resume energy file {path}: its first {nbytes} bytes "
                                  f"do not hold the header and {nrows} rows (is it the energy "
                                  "file of this restart dump?)")
-            f.truncate(nbytes)
-            f.seek(nbytes)
-        except BaseException:
-            f.close()
-            raise
-        self._f = f
+
+        self._f = reopen_at(path, nbytes, error=InputError, what="energy file", check=check)
         self._offset = nbytes
         self._rows = nrows
 

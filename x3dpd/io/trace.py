@@ -30,6 +30,7 @@ import numpy as np
 
 from x3dpd import __version__
 from x3dpd.errors import TraceError, UnstableRunError
+from x3dpd.io._streamed import create_new, reopen_at
 from x3dpd.io.restart import to_jsonable, write_atomically
 
 TRACE_FORMAT = "x3dpd-trace/1"
@@ -185,26 +186,10 @@ class TraceWriter:
     # -- opening ------------------------------------------------------------------------------
 
     def _open_new(self, overwrite: bool) -> None:
-        path, side = self.path, sidecar_path(self.path)
-        if os.path.lexists(path):
-            if not overwrite:
-                raise TraceError(f"trace file {path} already exists; pass --overwrite to replace "
-                                 f"it (the old one is kept as {path}.bak) or choose another "
-                                 "--trace path")
-            if os.path.isdir(path):
-                raise TraceError(f"trace path {path} is a directory")
-            try:
-                os.replace(path, path + ".bak")
-                if os.path.exists(side):
-                    os.replace(side, path + ".bak.json")
-                elif os.path.exists(path + ".bak.json"):
-                    os.unlink(path + ".bak.json")  # would describe the wrong file
-            except OSError as exc:
-                raise TraceError(f"cannot move {path} to {path}.bak: {exc}") from None
-        try:
-            self._f = open(path, "xb")  # noqa: SIM115 - lives until close()
-        except OSError as exc:
-            raise TraceError(f"cannot create trace file {path}: {exc.strerror or exc}") from None
+        path = self.path
+        self._f = create_new(path, overwrite=overwrite, error=TraceError, what="trace file",
+                             option="--trace",
+                             companions=[(sidecar_path(path), path + ".bak.json")])
 
     def _open_append(self, append_at: tuple[int, int], overwrite: bool) -> None:
         path = self.path
@@ -225,11 +210,8 @@ class TraceWriter:
         if nbytes < 0 or nblocks < 0 or nbytes > size:
             raise TraceError(f"cannot resume trace {path} at byte {nbytes}: the file has only "
                              f"{size} bytes (is it the trace of this restart dump?)")
-        try:
-            f = open(path, "r+b")  # noqa: SIM115 - lives until close()
-        except OSError as exc:
-            raise TraceError(f"cannot open trace {path} to resume: {exc.strerror or exc}") from None
-        try:
+
+        def check(f) -> None:
             lines, last = _count_lines(f, nbytes)
             if lines != nblocks * self.n_nodes:
                 raise TraceError(
@@ -248,12 +230,8 @@ class TraceWriter:
                     shutil.copy2(sidecar_path(path), path + ".bak.json")
                 except OSError as exc:
                     raise TraceError(f"cannot copy {path} to {path}.bak: {exc}") from None
-            f.truncate(nbytes)
-            f.seek(nbytes)
-        except BaseException:
-            f.close()
-            raise
-        self._f = f
+
+        self._f = reopen_at(path, nbytes, error=TraceError, what="trace", check=check)
         self._offset = nbytes
         self._blocks = nblocks
 
