@@ -40,12 +40,16 @@ import numpy as np  # noqa: E402
 
 from x3dpd._jit import kernel, loop_kernel, step_kernel  # noqa: E402
 from x3dpd.geometry.cells import _find_pairs  # noqa: E402
+from x3dpd.geometry.faces import (  # noqa: E402
+    _build_wall_list, _face_offsets, _face_planes, _locate_on_face)
 from x3dpd.physics.gravity import _gravity_energy, _gravity_forces  # noqa: E402
 from x3dpd.physics.motion import _apply_motion  # noqa: E402
 from x3dpd.physics.rigid_link import (  # noqa: E402
     _gather_slaves, _rigid_angular_kick, _rotate, _update_slaves)
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
 from x3dpd.physics.usrfrc import _force_value  # noqa: E402
+from x3dpd.solver.contact_lists import (  # noqa: E402
+    S_A, S_FN, S_FT, S_H, _active_flags, _contact_energy, _merge_states, _pair_approach)
 
 @kernel
 def _no_user_force(t, x, vel, force):
@@ -75,190 +79,6 @@ L_WEXT = 0      # work of external forces and prescribed motions on the system
 L_WN = 1        # work absorbed by the normal contact forces (sum of 1/2 (F0+F1) da)
 L_DFRIC = 2     # energy dissipated by friction
 L_DDAMP = 3     # energy dissipated by structural dampers
-
-# columns of a contact state row
-S_A = 0         # geometric approach at the last step (may be negative)
-S_FN = 1        # applied normal force (>= 0)
-S_FT = 2        # friction force vector on the particle (i for pairs), 3 values
-S_H = 5         # Maxwell histories
-
-
-@step_kernel
-def _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d):
-    """Unit inward normal n_f and offset d_f = n_f . p0 of every face from its first triangle."""
-    for f in range(face_first_tri.shape[0]):
-        t = face_first_tri[f]
-        a = tri_nodes[t, 0]
-        b = tri_nodes[t, 1]
-        c = tri_nodes[t, 2]
-        ux = x[b, 0] - x[a, 0]
-        uy = x[b, 1] - x[a, 1]
-        uz = x[b, 2] - x[a, 2]
-        vx = x[c, 0] - x[a, 0]
-        vy = x[c, 1] - x[a, 1]
-        vz = x[c, 2] - x[a, 2]
-        nx = uy * vz - uz * vy
-        ny = uz * vx - ux * vz
-        nz = ux * vy - uy * vx
-        s = tri_sign[t] / math.sqrt(nx * nx + ny * ny + nz * nz)
-        face_n[f, 0] = nx * s
-        face_n[f, 1] = ny * s
-        face_n[f, 2] = nz * s
-        face_d[f] = face_n[f, 0] * x[a, 0] + face_n[f, 1] * x[a, 1] + face_n[f, 2] * x[a, 2]
-
-
-@step_kernel
-def _face_offsets(x, tri_nodes, face_first_tri, face_n, face_d):
-    """Offsets d_f = n_f . p0 of faces whose normals cannot change (translating walls)."""
-    for f in range(face_first_tri.shape[0]):
-        a = tri_nodes[face_first_tri[f], 0]
-        face_d[f] = face_n[f, 0] * x[a, 0] + face_n[f, 1] * x[a, 1] + face_n[f, 2] * x[a, 2]
-
-
-@step_kernel
-def _locate_on_face(qx, qy, qz, nx, ny, nz, f, x, face_ptr, face_tris, tri_nodes, tol, w):
-    """Find the triangle of face ``f`` that holds point q (within ``tol`` of its edges).
-
-    Writes clamped barycentric weights into ``w`` and returns the triangle index, or -1.
-    The edge tolerance keeps particles from slipping through seams, edges and corners.
-    """
-    best = -1
-    best_out = 1e300
-    for k in range(face_ptr[f], face_ptr[f + 1]):
-        t = face_tris[k]
-        p0 = tri_nodes[t, 0]
-        p1 = tri_nodes[t, 1]
-        p2 = tri_nodes[t, 2]
-        ax = x[p1, 0] - x[p0, 0]
-        ay = x[p1, 1] - x[p0, 1]
-        az = x[p1, 2] - x[p0, 2]
-        bx = x[p2, 0] - x[p0, 0]
-        by = x[p2, 1] - x[p0, 1]
-        bz = x[p2, 2] - x[p0, 2]
-        # twice the signed area along n
-        area2 = nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
-        outside = 0.0
-        lam0 = 0.0
-        lam1 = 0.0
-        lam2 = 0.0
-        for e in range(3):
-            if e == 0:
-                i = p1
-                j = p2
-            elif e == 1:
-                i = p2
-                j = p0
-            else:
-                i = p0
-                j = p1
-            ex = x[j, 0] - x[i, 0]
-            ey = x[j, 1] - x[i, 1]
-            ez = x[j, 2] - x[i, 2]
-            rx = qx - x[i, 0]
-            ry = qy - x[i, 1]
-            rz = qz - x[i, 2]
-            lam = (nx * (ey * rz - ez * ry) + ny * (ez * rx - ex * rz)
-                   + nz * (ex * ry - ey * rx)) / area2
-            if lam < 0.0:
-                # distance outside this edge = -lam * height = -lam * |area2| / |e|
-                dist = -lam * abs(area2) / math.sqrt(ex * ex + ey * ey + ez * ez)
-                if dist > outside:
-                    outside = dist
-            if e == 0:
-                lam0 = lam
-            elif e == 1:
-                lam1 = lam
-            else:
-                lam2 = lam
-        if outside <= tol and outside < best_out:
-            best_out = outside
-            best = t
-            lam0 = min(max(lam0, 0.0), 1.0)
-            lam1 = min(max(lam1, 0.0), 1.0)
-            lam2 = min(max(lam2, 0.0), 1.0)
-            sw = lam0 + lam1 + lam2
-            w[0] = lam0 / sw
-            w[1] = lam1 / sw
-            w[2] = lam2 / sw
-            if outside == 0.0:
-                break
-    return best
-
-
-@kernel
-def _build_wall_list(x, p0, radius, pcav, cav_ptr, cav_faces, face_n, face_d, face_ptr,
-                     face_tris, tri_nodes, skin, out_p, out_f, out_a):
-    """Candidate (particle, face) pairs: centre within R + skin of the plane, on its inner side or
-    less than R behind it, and projecting onto the face (edge tolerance R + skin).
-
-    Sorted by particle, then face. Returns the count, or -1 when the output is full.
-    """
-    count = 0
-    cap = out_p.shape[0]
-    w = np.empty(3)
-    for p in range(radius.shape[0]):
-        c = pcav[p]
-        if c < 0:
-            continue
-        i = p0 + p
-        r = radius[p]
-        for k in range(cav_ptr[c], cav_ptr[c + 1]):
-            f = cav_faces[k]
-            nx = face_n[f, 0]
-            ny = face_n[f, 1]
-            nz = face_n[f, 2]
-            d = nx * x[i, 0] + ny * x[i, 1] + nz * x[i, 2] - face_d[f]
-            if d >= r + skin or d <= -r:
-                continue
-            if _locate_on_face(x[i, 0] - d * nx, x[i, 1] - d * ny, x[i, 2] - d * nz, nx, ny, nz,
-                               f, x, face_ptr, face_tris, tri_nodes, r + skin, w) < 0:
-                continue
-            if count >= cap:
-                return -1
-            out_p[count] = p
-            out_f[count] = f
-            out_a[count] = r - d
-            count += 1
-    return count
-
-
-@kernel
-def _merge_states(old_a, old_b, old_s, old_n, new_a, new_b, new_s, new_n, new_approach):
-    """Carry contact histories from the old candidate list to the new one (both sorted)."""
-    i = 0
-    for j in range(new_n):
-        while i < old_n and (old_a[i] < new_a[j] or (old_a[i] == new_a[j] and old_b[i] < new_b[j])):
-            i += 1
-        if i < old_n and old_a[i] == new_a[j] and old_b[i] == new_b[j]:
-            for c in range(new_s.shape[1]):
-                new_s[j, c] = old_s[i, c]
-        else:
-            for c in range(new_s.shape[1]):
-                new_s[j, c] = 0.0
-            new_s[j, S_A] = new_approach[j] if new_approach[j] > 0.0 else 0.0
-
-
-@kernel
-def _active_flags(states, n, on):
-    """on[s] = 1 for candidates whose contact is open (approach > 0 or a force), else 0.
-
-    The contact loops test this byte instead of the candidate's state row: at large N that
-    saves a strided 50-byte read per candidate per step.
-    """
-    for s in range(n):
-        on[s] = 1 if (states[s, S_A] > 0.0 or states[s, S_FN] != 0.0) else 0
-
-
-@kernel
-def _pair_approach(x, p0, radius, pi, pj, n, out_a):
-    for q in range(n):
-        i = p0 + pi[q]
-        j = p0 + pj[q]
-        dx = x[j, 0] - x[i, 0]
-        dy = x[j, 1] - x[i, 1]
-        dz = x[j, 2] - x[i, 2]
-        a = radius[pi[q]] + radius[pj[q]] - math.sqrt(dx * dx + dy * dy + dz * dz)
-        out_a[q] = a if a > 0.0 else 0.0
 
 
 @step_kernel
@@ -563,19 +383,6 @@ def _pair_contacts(x, vel, force, p0, radius, ep, pkind, pair_c, decay, half, pl
     ledger[L_WN] += w_normal
     ledger[L_DFRIC] += w_fric
     return status
-
-
-@kernel
-def _contact_energy(ws, nw, ps, npairs):
-    """Elastic energy stored in contacts, U = 2/5 F_N a per contact (exact for Hertz)."""
-    u = 0.0
-    for s in range(nw):
-        if ws[s, S_A] > 0.0:
-            u += 0.4 * ws[s, S_FN] * ws[s, S_A]
-    for s in range(npairs):
-        if ps[s, S_A] > 0.0:
-            u += 0.4 * ps[s, S_FN] * ps[s, S_A]
-    return u
 
 
 @kernel

@@ -112,6 +112,7 @@ class Variant:
 #: The sources a compiled step loop is made of (its cache key): the template, the laws and
 #: helpers it calls, and the compile flags. Editing any other file keeps the cache.
 _KERNEL_SOURCES = ("_jit.py", "solver/_advance_template.py", "solver/variants.py",
+                   "solver/contact_lists.py", "geometry/faces.py",
                    "physics/*.py", "geometry/cells.py")
 
 

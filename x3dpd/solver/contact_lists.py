@@ -1,0 +1,76 @@
+"""Candidate contact lists of the step loop: state-row layout, carrying histories across list
+rebuilds, open-contact flags, and the elastic energy stored in open contacts.
+
+A candidate list holds pairs (particle, face) or (particle, particle) that may touch before the
+next rebuild; each candidate owns a row of contact state (columns below). All functions take
+arrays and scalars only.
+"""
+
+from __future__ import annotations
+
+import math
+
+from x3dpd._jit import kernel
+
+__all__ = ["S_A", "S_FN", "S_FT", "S_H", "_active_flags", "_contact_energy", "_merge_states",
+           "_pair_approach"]
+
+# columns of a contact state row
+S_A = 0         # geometric approach at the last step (may be negative)
+S_FN = 1        # applied normal force (>= 0)
+S_FT = 2        # friction force vector on the particle (i for pairs), 3 values
+S_H = 5         # Maxwell histories
+
+
+@kernel
+def _merge_states(old_a, old_b, old_s, old_n, new_a, new_b, new_s, new_n, new_approach):
+    """Carry contact histories from the old candidate list to the new one (both sorted)."""
+    i = 0
+    for j in range(new_n):
+        while i < old_n and (old_a[i] < new_a[j] or (old_a[i] == new_a[j] and old_b[i] < new_b[j])):
+            i += 1
+        if i < old_n and old_a[i] == new_a[j] and old_b[i] == new_b[j]:
+            for c in range(new_s.shape[1]):
+                new_s[j, c] = old_s[i, c]
+        else:
+            for c in range(new_s.shape[1]):
+                new_s[j, c] = 0.0
+            new_s[j, S_A] = new_approach[j] if new_approach[j] > 0.0 else 0.0
+
+
+@kernel
+def _active_flags(states, n, on):
+    """on[s] = 1 for candidates whose contact is open (approach > 0 or a force), else 0.
+
+    The contact loops test this byte instead of the candidate's state row: at large N that
+    saves a strided 50-byte read per candidate per step.
+    """
+    for s in range(n):
+        on[s] = 1 if (states[s, S_A] > 0.0 or states[s, S_FN] != 0.0) else 0
+
+
+@kernel
+def _pair_approach(x, p0, radius, pi, pj, n, out_a):
+    for q in range(n):
+        i = p0 + pi[q]
+        j = p0 + pj[q]
+        dx = x[j, 0] - x[i, 0]
+        dy = x[j, 1] - x[i, 1]
+        dz = x[j, 2] - x[i, 2]
+        a = radius[pi[q]] + radius[pj[q]] - math.sqrt(dx * dx + dy * dy + dz * dz)
+        out_a[q] = a if a > 0.0 else 0.0
+
+
+@kernel
+def _contact_energy(ws, nw, ps, npairs):
+    """Elastic energy stored in contacts, U = 2/5 F_N a per contact (exact for Hertz)."""
+    u = 0.0
+    for s in range(nw):
+        if ws[s, S_A] > 0.0:
+            u += 0.4 * ws[s, S_FN] * ws[s, S_A]
+    for s in range(npairs):
+        if ps[s, S_A] > 0.0:
+            u += 0.4 * ps[s, S_FN] * ps[s, S_A]
+    return u
+
+
