@@ -130,11 +130,7 @@ IMPACT_NU = 0.33
 IMPACT_RHO = 0.283 / G
 IMPACT_V = 62.832
 IMPACT_DT, IMPACT_TMAX, IMPACT_ITRAC = 1e-9, 1.2e-5, 10
-WALL_HALF = 0.25               # the wall is the square x = 0, |y|, |z| <= 0.25 in ...
-BOX_X = 1.0                    # ... the x = 0 face of a fixed 1 x 0.5 x 0.5 in box
-#: corner numbering as x3dpd.deck.generate: two triangles per face
-BOX_TRIANGLES = ((1, 2, 3), (1, 3, 4), (5, 7, 6), (5, 8, 7), (1, 6, 2), (1, 5, 6),
-                 (4, 3, 7), (4, 7, 8), (1, 4, 8), (1, 8, 5), (2, 6, 7), (2, 7, 3))
+WALL_HALF = 0.25               # the wall is the square x = 0, |y|, |z| <= 0.25 in
 
 
 def impact_deck() -> str:
@@ -158,14 +154,10 @@ def impact_deck() -> str:
         f"  The centre starts at x = R = {IMPACT_R:g}: the sphere touches the wall at t = 0, as "
         "in Fig. 28,",
         "  so the load rises from t = 0.",
-        f"Wall: the x = 0 face of a fixed box, nodes 1-8 at x 0..{BOX_X:g}, y, z "
-        f"-{WALL_HALF:g}..{WALL_HALF:g}",
-        "  (12 triangles, every DOF of nodes 1-8 fixed by BOUNDARY: rigid). The other five faces",
-        "  are at least 0.19 in from the sphere, which moves less than 3e-4 in before TMAX, so",
-        "  only the x = 0 wall is ever touched. (A lone flat wall, two triangles, is what Fig. 28",
-        "  describes and runs the same, but `x3dpd check` judges an open cavity by its nodes'",
-        "  bounding box, zero thick here, and warns that the sphere starts outside it.)",
-        "  PDMP NODLIM 8.",
+        f"Wall: the lone flat wall x = 0 of Fig. 28, nodes 1-4 at y, z = "
+        f"-{WALL_HALF:g}..{WALL_HALF:g}, two",
+        "  triangles, every DOF fixed by BOUNDARY (rigid). An open cavity: its inside is the",
+        "  sphere's side. PDMP NODLIM 8 (the sphere keeps node 9).",
         f"Hertz (rigid wall): E* = E/(1-nu^2) = {e_star:.6g}, k = 4/3 E* sqrt(R) = {k:.6g};",
         f"  peak approach {dmax:.4g} in, peak load {fmax:.4g} lbf, contact lasts {tc:.4g} s "
         "(Fig. 28:",
@@ -176,9 +168,7 @@ def impact_deck() -> str:
         "restart dumps.",
     ]
     half = WALL_HALF
-    corners = [(BOX_X * cx, half * (2 * cy - 1), half * (2 * cz - 1))
-               for cx, cy, cz in ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
-                                  (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))]
+    corners = [(0.0, -half, -half), (0.0, half, -half), (0.0, half, half), (0.0, -half, half)]
     nodes = tuple(Node(i + 1, *map(float, c)) for i, c in enumerate(corners))
     nodes += (Node(9, IMPACT_R, 0.0, 0.0),)
     deck = Deck(
@@ -190,8 +180,8 @@ def impact_deck() -> str:
                    0.0),),
         trace=Trace((9,)),
         nodes=nodes,
-        boundaries=(Boundary(1, 8, 1, (1, 2, 3, 4, 5, 6)),),
-        contacts=(Contact(tuple(Triangle(1, t) for t in BOX_TRIANGLES), (SlaveSet(1, (9,)),)),),
+        boundaries=(Boundary(1, 4, 1, (1, 2, 3, 4, 5, 6)),),
+        contacts=(Contact((Triangle(1, (1, 2, 3)), Triangle(1, (1, 3, 4))), (SlaveSet(1, (9,)),)),),
     )
     return with_header(header, deck)
 

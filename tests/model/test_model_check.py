@@ -77,6 +77,21 @@ def test_particle_outside_the_box_but_over_no_wall():
     assert particles_outside(m) == [OutsideParticle(0, 10, -1, pytest.approx(0.5))]
 
 
+def test_an_open_cavity_has_no_box_to_be_outside_of():
+    """A lone floor z = 0 (a zero-thick box): a sphere above it is inside its cavity."""
+    from deckfactory import Contact, Triangle, pos, slave_set
+
+    floor = (Triangle(1, (1, 2, 3), pos(70)), Triangle(1, (1, 3, 4), pos(71)))
+    above = model([(0.5, 0.5, 0.3)], contacts=(Contact(floor, (slave_set([10]),)),))
+    assert particles_outside(above) == []
+    report = check_model(above)
+    assert report.cavities[0].closed is False
+    assert "particles-outside" not in [w.code for w in report.warnings]
+    # beyond the floor's rim, over no wall: still not "outside" (an open cavity has no box)
+    assert particles_outside(model([(1.5, 0.5, 0.3), (0.5, 0.5, 0.3)],
+                                   contacts=(Contact(floor, (slave_set([10, 11]),)),))) == []
+
+
 # -- overlaps -----------------------------------------------------------------------------------
 
 def test_overlapping_particles_by_node_id():

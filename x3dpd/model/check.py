@@ -330,8 +330,9 @@ def particles_outside(model: Model) -> list[OutsideParticle]:
     r"""Particles whose centre starts outside the cavity they bound.
 
     Outside: behind some wall, :math:`d < 0` with the projection inside the wall's triangle, or
-    outside the bounding box of the cavity's triangle nodes. One entry per particle (the
-    farthest behind). Exact for convex cavities.
+    -- for a closed cavity -- outside the bounding box of its triangle nodes. An open cavity (a
+    floor, an open-top box) has no inside beyond its walls' inner half-spaces, so only the first
+    test applies to it. One entry per particle (the farthest behind). Exact for convex cavities.
     """
     p0 = model.particle_start
     s, t, d = _over_walls(model, REL_TOL * model.radius)
@@ -341,6 +342,8 @@ def particles_outside(model: Model) -> list[OutsideParticle]:
         if i not in worst or v > worst[i][0]:
             worst[i] = (v, k)
     for c in range(model.cavity_set_ids.shape[0]):
+        if not _closed(model, c)[0]:
+            continue
         lo, hi = cavity_extents(model.x0[model.tri_nodes[model.face_cavity[model.tri_face] == c]
                                          .reshape(-1)])
         tol = REL_TOL * geometry_size(np.stack([lo, hi]))
@@ -520,6 +523,14 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
         warnings=tuple(warnings))
 
 
+def _closed(model: Model, c: int) -> tuple[bool, bool]:
+    """(closed, consistently oriented) for the surface of cavity ``c``'s triangles."""
+    mine = np.flatnonzero(model.face_cavity[model.tri_face] == c)
+    pts = model.x0[model.tri_nodes[mine]].reshape(-1, 3)
+    labels = merge_vertices(pts, geometry_size(pts)).reshape(-1, 3)
+    return surface_edges(labels, model.tri_sign[mine])
+
+
 def _cavity_summaries(model: Model) -> list[CavitySummary]:
     out = []
     tri_cav = model.face_cavity[model.tri_face]
@@ -527,10 +538,8 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
     for c, sid in enumerate(model.cavity_set_ids.tolist()):
         mine = np.flatnonzero(tri_cav == c)
         corners = model.x0[model.tri_nodes[mine]]  # (T, 3 corners, 3)
-        pts = corners.reshape(-1, 3)
-        lo, hi = cavity_extents(pts)
-        labels = merge_vertices(pts, geometry_size(pts)).reshape(-1, 3)
-        closed, consistent = surface_edges(labels, model.tri_sign[mine])
+        lo, hi = cavity_extents(corners.reshape(-1, 3))
+        closed, consistent = _closed(model, c)
         volume = enclosed_volume(corners[:, 0], corners[:, 1], corners[:, 2],
                                  model.tri_sign[mine]) if closed else None
         inside = model.particle_cavity == c
