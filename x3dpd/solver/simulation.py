@@ -85,17 +85,16 @@ class Simulation:
             effects.add("prescribed_motion")
         self.python_forces = list(self.ext.python_user)
         compiled = list(self.ext.compiled_user)
-        user_fn = _combine([uf.function for uf in compiled]) if compiled else None
         if self.python_forces:
             effects.add("external_force")
         self.effects = frozenset(effects)
         self.variant = Variant.from_effects(self.effects, self.setup.n_maxwell, friction,
-                                            user_force=user_fn is not None,
+                                            user_force=bool(compiled),
                                             python_force=bool(self.python_forces),
                                             walls_translate=_walls_only_translate(
                                                 self.setup, self.motion[:, 0].astype(np.int64)))
         t = _time.perf_counter()
-        self.kernels = make_advance(self.variant, user_fn)
+        self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
         self.compile_seconds = 0.0
         self._load_seconds = _time.perf_counter() - t
         self.state = initial_state(model, self.setup, model.n_nodes, len(self.motion),
@@ -504,22 +503,6 @@ def _grown(a: np.ndarray, cap: int) -> np.ndarray:
     out = np.zeros((cap,) + a.shape[1:], dtype=a.dtype)
     out[: a.shape[0]] = a
     return out
-
-
-def _combine(functions):
-    """One compiled usrfrc(time, coords, vels, force) calling several user forces in turn."""
-    if len(functions) == 1:
-        return functions[0]
-    from x3dpd._jit import kernel
-
-    first, rest = functions[0], _combine(functions[1:])
-
-    @kernel(cache=False)
-    def both(t, x, vel, force):
-        first(t, x, vel, force)
-        rest(t, x, vel, force)
-
-    return both
 
 
 __all__ = ["Simulation", "Block", "ENERGY_COLUMNS", "TRACE_COLUMNS", "STATE_HEAD"]

@@ -7,8 +7,10 @@ that LLVM deletes: no per-step test, no cost. Because every variant is a real fi
 on-disk cache works for it; the cache folder's name includes a hash of all x3dpd sources and the
 numba version, so editing any kernel can never reuse stale machine code.
 
-The cache lives in ``$X3DPD_CACHE_DIR`` or ``~/.cache/x3dpd``. Variants that call a user USRFRC
-function are compiled in memory and not cached (the user file may change at any time).
+The cache lives in ``$X3DPD_CACHE_DIR`` or ``~/.cache/x3dpd``. A variant that calls user USRFRC
+files imports content-hashed copies of them from the same folder (:func:`_user_modules`), so it
+is cached too: a second run of an unchanged user file with the same deck starts in about a
+second instead of compiling for half a minute; an edited file gets new copies.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numba
+import numpy as np
 
 from x3dpd.physics.coulomb import FRICTION_LAWS
 
@@ -158,37 +161,94 @@ def variant_source(variant: Variant) -> str:
     return "".join(out)
 
 
-def make_advance(variant: Variant, user_force=None):
+def make_advance(variant: Variant, user_files=()):
     """The module implementing ``variant`` (its ``advance`` and ``_forces`` kernels).
 
-    ``user_force``: a numba-compiled ``usrfrc(time, coords, vels, force)`` (variant.user_force).
+    ``user_files``: ``(path, NODE_INDEX)`` of each compiled user force file, called in order
+    from the step (variant.user_force). Each becomes a cached copy, see :func:`_user_modules`.
     """
-    key = (variant, id(user_force) if user_force is not None else None)
+    user_files = tuple((os.fspath(p), np.ascontiguousarray(ix, np.int64)) for p, ix in user_files)
+    folder = cache_dir()
+    folder.mkdir(parents=True, exist_ok=True)
+    users = _user_modules(folder, user_files) if variant.user_force else ()
+    key = (variant, users)
     if key in _LOADED:
         return _LOADED[key]
     source = variant_source(variant)
-    folder = cache_dir()
-    folder.mkdir(parents=True, exist_ok=True)
-    stem = variant.name() + (f"_user{len(_LOADED)}_{os.getpid()}" if variant.user_force else "")
+    stem = variant.name()
+    if users:
+        source = source.replace("\nUSER_FORCE = None\n", "\n" + _user_force_source(users) + "\n", 1)
+        stem += "_" + hashlib.sha256(" ".join(users).encode()).hexdigest()[:12]
     path = folder / f"{stem}.py"
-    if not path.exists() or path.read_text() != source:
-        tmp = path.with_suffix(f".tmp{os.getpid()}")
-        tmp.write_text(source)
-        os.replace(tmp, path)
-    mod_name = f"x3dpd_kernels_{_source_hash()}_{stem}"
-    spec = importlib.util.spec_from_file_location(mod_name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[mod_name] = module
-    spec.loader.exec_module(module)
-    if variant.user_force:
-        module.USER_FORCE = user_force
-        _disable_cache(module)
+    _write_if_changed(path, source)
+    module = _import_file(f"x3dpd_kernels_{_source_hash()}_{stem}", path)
     _LOADED[key] = module
     return module
 
 
-def _disable_cache(module) -> None:
-    """Variants with a user force compile in memory only (the user file may change)."""
-    for name in ("advance", "_forces"):
-        disp = getattr(module, name)
-        disp._cache = numba.core.caching.NullCache()
+def _write_if_changed(path: Path, text: str) -> None:
+    if not path.exists() or path.read_text() != text:
+        tmp = path.with_suffix(f".tmp{os.getpid()}")
+        tmp.write_text(text)
+        os.replace(tmp, path)
+
+
+def _import_file(name: str, path: Path):
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+#: Appended to a user force file's cached copy: compile its functions through x3dpd._jit (with
+#: numba's disk cache), re-wrapping any the user had decorated with numba themselves.
+_USER_FOOTER = """
+# ---- added by x3dpd: the node index (again: the file may set a placeholder), and this file's
+# functions compiled with numba's disk cache ----
+NODE_INDEX = _x3dpd_np.load(__file__[:-3] + ".npy")
+import inspect as _x3dpd_inspect  # noqa: E402
+from x3dpd._jit import kernel as _x3dpd_kernel  # noqa: E402
+for _x3dpd_name, _x3dpd_obj in list(globals().items()):
+    _x3dpd_obj = getattr(_x3dpd_obj, "py_func", _x3dpd_obj)
+    if _x3dpd_inspect.isfunction(_x3dpd_obj) and _x3dpd_obj.__module__ == __name__:
+        globals()[_x3dpd_name] = _x3dpd_kernel(_x3dpd_obj)
+"""
+
+
+def _user_modules(folder: Path, user_files) -> tuple[str, ...]:
+    """Import a cached copy of each user force file; return the copies' module names.
+
+    A copy is the user's source with ``NODE_INDEX`` loaded on its first line and again at its
+    end (numba freezes a global array into the machine code, so the node numbering is part of
+    what is compiled), and the functions compiled through x3dpd._jit (:data:`_USER_FOOTER`).
+    Its name is a hash of the file's bytes and the node index: an edited file or another deck
+    gets a new copy, an unchanged one reuses its compiled code. The user's code has been validated (and compiled once, uncached) by ``load_user_force``.
+    """
+    names = []
+    for path, node_index in user_files:
+        text = Path(path).read_text()
+        digest = hashlib.sha256(text.encode() + node_index.tobytes()).hexdigest()[:16]
+        stem = f"usrfrc_{digest}"
+        np.save(folder / f"{stem}.npy", node_index)
+        head = ("import numpy as _x3dpd_np; NODE_INDEX = _x3dpd_np.load(__file__[:-3] + '.npy')"
+                f"  # added by x3dpd: a copy of {path}\n")
+        _write_if_changed(folder / f"{stem}.py", head + text + _USER_FOOTER)
+        name = f"x3dpd_user_{_source_hash()}_{stem}"
+        _import_file(name, folder / f"{stem}.py")
+        names.append(name)
+    return tuple(names)
+
+
+def _user_force_source(modules: tuple[str, ...]) -> str:
+    """``USER_FORCE``: the user forces' ``usrfrc`` functions, called one after another."""
+    lines = [f"from {m} import usrfrc as _user_force_{k}  # noqa: E402"
+             for k, m in enumerate(modules)]
+    if len(modules) == 1:
+        return "\n".join(lines + ["USER_FORCE = _user_force_0"])
+    calls = "".join(f"    _user_force_{k}(t, x, vel, force)\n" for k in range(len(modules)))
+    return "\n".join(lines + ["from x3dpd._jit import kernel as _user_kernel  # noqa: E402",
+                               "", "", "@_user_kernel", "def USER_FORCE(t, x, vel, force):",
+                               calls.rstrip("\n"), ""])
