@@ -27,7 +27,6 @@ from x3dpd.physics.usrfrc import (
     force_values,
     is_user_file,
     load_user_force,
-    make_external_force,
     node_index_array,
     split_specs,
     sweep_frequency,
@@ -266,21 +265,17 @@ def test_appendix_c_equals_the_builtin_sine():
     assert np.abs(rounded - user).max() > 1e-12 * amp  # the honest part: not 1e-12
 
 
-def test_external_force_hook_combines_table_and_user_file():
+def test_table_and_user_file_both_add_to_the_force_sums():
     uf = load_user_force(APPENDIX_C, IDS)
     table = force_table(["constant:node=25,dof=1,amp=1", "step:node=10,dof=2,amp=2,t0=0"], IDS)
-    ext = make_external_force([uf])
-    assert make_external_force([uf]) is ext  # memoized
     t = 0.01
     force = np.ones((4, 6))
-    ext(t, np.zeros((4, 3)), np.zeros((4, 6)), force, table)
+    apply_forces(t, table, force)
+    uf(t, np.zeros((4, 3)), np.zeros((4, 6)), force)
     expected = np.ones((4, 6))
     expected[2, 0] += 1.0 + 4.84040e-3 * math.sin(233.7973253 * t)
     expected[1, 1] += 2.0
     np.testing.assert_allclose(force, expected, rtol=1e-15)
-    force = np.zeros((4, 6))
-    make_external_force()(t, np.zeros((4, 3)), np.zeros((4, 6)), force, table)
-    assert force[2, 0] == 1.0
 
 
 def test_user_file_with_helpers_state_and_numba_decorator(tmp_path):
@@ -368,8 +363,6 @@ def test_uncompilable_user_file_reports_file_line_and_falls_back(tmp_path):
     force = np.zeros((4, 6))
     uf(0.5, np.zeros((4, 3)), np.zeros((4, 6)), force)
     assert force[2, 2] == 2.0
-    with pytest.raises(ValueError):
-        make_external_force([uf])
 
     forces = build_external_forces([str(path), "constant:node=3,dof=1,amp=1"], IDS,
                                    allow_python=True)

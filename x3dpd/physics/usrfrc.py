@@ -147,12 +147,6 @@ def _force_values(times, table, out):
             out[j, r] = _force_value(times[j], table, r)
 
 
-@kernel
-def _ext_builtin(t, x, vel, force, table):
-    """The solver's external-force hook when no user file is compiled in."""
-    _apply_forces(t, table, force)
-
-
 # ---------------------------------------------------------------------------------------------
 # Spec parsing (shared with x3dpd.physics.motion)
 # ---------------------------------------------------------------------------------------------
@@ -587,36 +581,6 @@ def load_user_force(path, model_or_node_ids, allow_python: bool = False,
         raise UsrfrcError(f"{_where(exc, path)}: usrfrc raised {type(exc).__name__}: {exc} "
                           "in a trial call at t = 0") from exc
     return UserForce(path, fn, True, node_index)
-
-
-def _chain(prev, user):
-    def ext(t, x, vel, force, table):
-        prev(t, x, vel, force, table)
-        user(t, x, vel, force)
-    return kernel(cache=False)(ext)
-
-
-@functools.lru_cache(maxsize=32)
-def _ext_for(functions: tuple):
-    ext = _ext_builtin
-    for fn in functions:
-        ext = _chain(ext, fn)
-    return ext
-
-
-def make_external_force(user_forces=()) -> Callable:
-    """The jitted hook ``ext(t, x, vel, force, table)`` the step calls once per step.
-
-    It ADDs the built-in forces of ``table`` and then calls each compiled user force in order.
-    Memoized on the user functions; without user forces it is the disk-cached
-    :func:`_ext_builtin`. Python-fallback user forces (``python=True``) cannot be called from
-    compiled code: the solver calls them between steps, so passing one raises ValueError.
-    """
-    user_forces = tuple(user_forces)
-    if any(u.python for u in user_forces):
-        raise ValueError("python-fallback user forces are called by the solver between steps, "
-                         "not from the compiled hook")
-    return _ext_for(tuple(u.function for u in user_forces))
 
 
 @dataclass(frozen=True)
