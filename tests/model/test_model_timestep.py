@@ -29,10 +29,10 @@ from deckfactory import (
 
 from x3dpd.deck import read_deck
 from x3dpd.model.build import build_model
-from x3dpd.model.check import (
+from x3dpd.model.check import check_model
+from x3dpd.model.timestep import (
     STEPS_PER_CONTACT,
     characteristic_speed,
-    check_model,
     hertz_contact_time,
     peak_force_error,
     recommended_time_step,

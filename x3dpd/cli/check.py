@@ -10,10 +10,9 @@ import sys
 
 import click
 
-from x3dpd.model.check import peak_force_error
-
 from x3dpd.errors import InputError, X3dpdError
-from x3dpd.model.check import STEPS_PER_CONTACT, CheckReport, check_model
+from x3dpd.model.check import CheckReport, check_model
+from x3dpd.model.timestep import STEPS_PER_CONTACT, peak_force_error
 
 
 def _read_deck(path: str):

@@ -1,0 +1,280 @@
+"""Time step of an explicit run: what the contacts and the structure allow (report 7.3).
+
+The step must resolve the shortest Hertz impact (:func:`hertz_contact_time`, at a characteristic
+impact speed) with :data:`STEPS_PER_CONTACT` steps and stay a safe fraction of the explicit
+stability limit 2/omega_max of the stiffest structural DOF. :func:`recommended_time_step`
+returns both limits and the binding one; :func:`peak_force_error` says what a coarser step costs
+in peak contact force. ``x3dpd check`` reports them (x3dpd.model.check).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from x3dpd.model.model import Model
+from x3dpd.physics.hertz import (
+    effective_modulus_pair,
+    effective_modulus_wall,
+    effective_radius,
+    hertz_constant,
+    hertz_impact,
+)
+
+#: Steps per Hertz contact the recommendation asks for (see :func:`recommended_time_step`).
+STEPS_PER_CONTACT = 50
+
+#: Fewer steps per contact than this is a warning: the peak contact force then errs by more than
+#: about 2 % (see :func:`peak_force_error`) -- the accuracy below which damping predictions are
+#: no longer trustworthy. Between this and :data:`STEPS_PER_CONTACT` the summary only notes the
+#: expected error (the report's own decks, at 5e-7 s, resolve a fall across the cavity in ~10).
+MIN_STEPS_PER_CONTACT = 8
+#: Fraction of the explicit stability limit used for the structure.
+STRUCTURE_SAFETY = 0.2
+#: Floor of the characteristic impact speed [length/s] (1 in/s in the report's units).
+MIN_IMPACT_SPEED = 1.0
+_AXES = "xyz"
+
+
+def hertz_contact_time(m_eff, r_eff, e_star, v):
+    r"""Duration of an elastic Hertz impact, :math:`t_c = 2.868\,(m^2/(R E^{*2} v))^{1/5}` [s].
+
+    Derivation. With the approach :math:`\delta`, Hertz's law (report Eq. 5; Johnson, *Contact
+    Mechanics* §4.2) is :math:`F = K\delta^{3/2}`, :math:`K = \tfrac43 E^*\sqrt{R}`. Energy
+    conservation :math:`\tfrac12 m\dot\delta^2 + \tfrac25 K\delta^{5/2} = \tfrac12 m v^2` gives
+    the largest approach :math:`\delta_m = (5mv^2/4K)^{2/5}` and the duration
+    :math:`t_c = 2\int_0^{\delta_m} d\delta/\dot\delta = (2\delta_m/v)\int_0^1(1-x^{5/2})^{-1/2}dx
+    = 2.9432\,\delta_m/v`. Substituting :math:`K`:
+    :math:`t_c = 2.9432\,(15/16)^{2/5}\,(m^2/(R E^{*2} v))^{1/5} = 2.868\,(m^2/(R E^{*2} v))^{1/5}`.
+    :math:`R` enters to the first power (:math:`m^2/(R E^{*2} v)` has units of time^5), not
+    squared. The report's Table 3 (two steel spheres, R = 0.0625 in) lists :math:`t_c/2`; this
+    function reproduces it within 0.5 % (the table's last digit is not always rounded).
+
+    Effective values: sphere on a rigid flat wall :math:`m, R, E^* = E/(1-\nu^2)` (report
+    §7.2.2); two identical spheres :math:`m/2, R/2, E^* = E/(2(1-\nu^2))`; in general
+    :math:`m = m_1m_2/(m_1+m_2)`, :math:`R = R_1R_2/(R_1+R_2)`,
+    :math:`1/E^* = (1-\nu_1^2)/E_1 + (1-\nu_2^2)/E_2` (:mod:`x3dpd.physics.hertz`).
+
+    Parameters
+    ----------
+    m_eff : effective mass [mass]
+    r_eff : effective radius [length]
+    e_star : effective modulus [force/length^2]
+    v : normal impact speed [length/s]
+    """
+    return 2.0 * hertz_impact(m_eff, hertz_constant(e_star, r_eff), v)[1]
+
+
+def peak_force_error(steps_per_contact):
+    r"""Worst relative error [%] of the peak force of a Hertz impact resolved in ``n`` steps.
+
+    Measured with velocity Verlet (central difference) over all phases of the first step
+    relative to the moment of contact: 3.4 % (6 steps), 1.29 % (10), 0.34 % (20), 0.055 % (50);
+    fitted by :math:`1.35\,\% \cdot (10/n)^2`. Contact duration and restitution errors are
+    smaller (0.55 % and 0.26 % at 10 steps). ``tests/model/test_model_timestep.py`` re-measures it.
+    """
+    return 1.35 * (10.0 / steps_per_contact) ** 2
+
+
+@dataclass(frozen=True)
+class TimeStepAdvice:
+    """Recommended time step and the limits behind it (all times in s).
+
+    ``binding`` is ``"contact"``, ``"structure"`` or ``"none"``; ``contact_kind`` says which
+    contact is shortest (``"particle-wall"`` or ``"particle-particle"``); ``omega_node`` and
+    ``omega_dof`` name the structural DOF with the highest frequency estimate.
+    """
+
+    dt_deck: float
+    dt_recommended: float
+    binding: str
+    t_contact: float
+    impact_speed: float
+    contact_kind: str
+    steps_per_contact: int
+    dt_contact: float
+    omega_max: float
+    omega_node: int
+    omega_dof: str
+    dt_structure: float
+
+    @property
+    def deck_steps_per_contact(self) -> float:
+        return self.t_contact / self.dt_deck
+
+
+def characteristic_speed(model: Model) -> float:
+    r"""Impact speed for the contact time estimate [length/s].
+
+    :math:`v_c = \max(\sqrt{2|\mathbf g|L},\ \max|\mathbf v_0|,\ v_\mathrm{min})`: a fall across the
+    largest cavity extent :math:`L` under the BODY acceleration, the fastest initial velocity of
+    any node, and a floor :data:`MIN_IMPACT_SPEED`. A slower impact lasts longer
+    (:math:`t_c \propto v^{-1/5}`), so a high :math:`v_c` is the conservative choice; the floor
+    keeps a gravity-free deck at rest from recommending an unbounded step. Without walls,
+    :math:`L` is the extent of the particle cloud plus a diameter.
+    """
+    pts = model.x0[model.tri_nodes.reshape(-1)]
+    if pts.shape[0] == 0 and model.n_particles:
+        pts = model.x0[model.particle_start:]
+        extra = 2.0 * float(model.radius.max())
+    else:
+        extra = 0.0
+    length = float(np.max(np.ptp(pts, axis=0))) + extra if pts.shape[0] else 0.0
+    fall = math.sqrt(2.0 * float(np.linalg.norm(model.body_accel)) * length)
+    fastest = float(np.max(np.linalg.norm(model.v0[:, :3], axis=1), initial=0.0))
+    return max(fall, fastest, MIN_IMPACT_SPEED)
+
+
+def _contact_limit(model: Model) -> tuple[float, float, str]:
+    """Shortest Hertz contact (t_c, v_c, kind) over the contacts the model can have."""
+    v = characteristic_speed(model)
+    best = (math.inf, v, "none")
+    if not model.n_particles:
+        return best
+    e_inst = model.moduli.sum(axis=1)  # instantaneous (stiffest) modulus E0 + E1 + ...
+    groups = np.unique(model.particle_group)
+    first = {int(g): int(np.flatnonzero(model.particle_group == g)[0]) for g in groups}
+    m = model.mass[model.particle_start:]
+    if "wall_contact" in model.effects:
+        for g, i in first.items():
+            if np.any((model.particle_group == g) & (model.particle_cavity >= 0)):
+                t = hertz_contact_time(m[i], model.radius[i],
+                                       effective_modulus_wall(e_inst[i], model.poisson[i]), v)
+                best = min(best, (t, v, "particle-wall"))
+    if "pair_contact" in model.effects:
+        for g, i in first.items():
+            for h, j in first.items():
+                if h < g or (h == g and np.sum(model.particle_group == g) < 2):
+                    continue
+                e_star = effective_modulus_pair(e_inst[i], model.poisson[i], e_inst[j],
+                                                model.poisson[j])
+                t = hertz_contact_time(m[i] * m[j] / (m[i] + m[j]),
+                                       effective_radius(model.radius[i], model.radius[j]),
+                                       e_star, v)
+                best = min(best, (t, v, "particle-particle"))
+    return best
+
+
+def _structure_limit(model: Model) -> tuple[float, float, int, str]:
+    r"""Critical step, omega, node id and DOF of the stiffest free structural DOF.
+
+    Each free translational DOF (of a node, or of a rigid body through its master) gets the
+    Gershgorin bound on the eigenvalues of :math:`M^{-1}K`: :math:`\omega^2 \le (K_{ii} +
+    \sum_j|K_{ij}|)/m_i`, i.e. a spring to ground or to a fixed DOF counts :math:`k`, a spring
+    to another free DOF :math:`2k`, and springs on fixed DOFs count nothing. Damping enters the
+    central-difference limit :math:`\Delta t_\mathrm{crit} = 2/(\sqrt{\omega^2+\beta^2}+\beta)`,
+    :math:`\beta = c/2m` (:math:`= (2/\omega)(\sqrt{1+\zeta^2}-\zeta)`). A rigid body with free
+    rotations adds :math:`\omega^2 \le 2\sum k|\mathbf r|^2/\lambda_\mathrm{min}(J)`.
+    """
+    n = model.n_nodes
+    rep = np.arange(n)
+    for b, mnode in enumerate(model.rigid_master):
+        rep[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = mnode
+    mass = model.mass.copy()
+    mass[model.rigid_master] = model.rigid_mass
+    ksum = np.zeros((n, 3))
+    csum = np.zeros((n, 3))
+    for (a, b), k, c in zip(model.spring_nodes, model.spring_k, model.spring_c):
+        ra = rep[a]
+        rb = rep[b] if b >= 0 else -1
+        for ax in range(3):
+            ends = [(ra, rb)] + ([(rb, ra)] if rb >= 0 else [])
+            for r, q in ends:
+                if r == q or model.fixed[r, ax]:
+                    continue
+                factor = 2.0 if q >= 0 and not model.fixed[q, ax] else 1.0
+                ksum[r, ax] += factor * k[ax]
+                csum[r, ax] += factor * c[ax]
+    best = (math.inf, 0.0, 0, "")
+    structural = np.arange(model.particle_start)
+    for i in structural[(rep[structural] == structural)]:
+        for ax in range(3):
+            if model.fixed[i, ax] or mass[i] <= 0.0 or (ksum[i, ax] == 0 and csum[i, ax] == 0):
+                continue
+            omega = math.sqrt(ksum[i, ax] / mass[i])
+            beta = csum[i, ax] / (2.0 * mass[i])
+            crit = 2.0 / (math.sqrt(omega**2 + beta**2) + beta)
+            best = min(best, (crit, omega, int(model.node_ids[i]), _AXES[ax]))
+    for b, mnode in enumerate(model.rigid_master):
+        if np.all(model.fixed[mnode, 3:]):
+            continue
+        lam = float(np.linalg.eigvalsh(model.rigid_inertia[b])[0])
+        on = np.isin(rep[model.spring_nodes], [mnode]) & (model.spring_nodes >= 0)
+        r2 = np.sum((model.x0[model.spring_nodes] - model.x0[mnode]) ** 2, axis=-1)
+        kr = 2.0 * float(np.sum(on * r2 * model.spring_k.max(axis=1)[:, None]))
+        if kr > 0.0 and lam > 0.0:
+            omega = math.sqrt(kr / lam)
+            best = min(best, (2.0 / omega, omega, int(model.node_ids[mnode]), "rotation"))
+    return best
+
+
+def recommended_time_step(model: Model, steps_per_contact: int = STEPS_PER_CONTACT
+                          ) -> TimeStepAdvice:
+    r"""Largest time step that resolves the contacts and keeps the structure stable.
+
+    (a) Contact: :math:`\Delta t \le t_c/n` with :math:`t_c` from :func:`hertz_contact_time` for
+    the shortest contact the model can have, using the instantaneous modulus
+    :math:`E_0+E_1+\dots` (the stiffest response) at the speed of :func:`characteristic_speed`.
+    EDEM asks for at least 6-10 steps per Hertz contact (help.altair.com, "Estimate simulation
+    time"); that is a lower bound for following an impact at all, not an accuracy target: at 10
+    steps the peak force of a single elastic impact is off by up to 1.3 %
+    (:func:`peak_force_error`). :math:`n = 50` gives 0.06 % for that impact and keeps a margin to
+    the 0.5 % level for what resolves worse than a lone impact: in a resting column of particles
+    the highest contact mode is up to twice the single-contact frequency (25 effective steps:
+    about 0.2 %), and ``characteristic_speed`` is only an estimate of the impact speed. The
+    Maxwell update (:mod:`x3dpd.physics.maxwell`) uses exponential decay factors, stable for any
+    :math:`\Delta t/\tau`, so :math:`\tau_1 < t_c` (Appendix A: 2 µs) sets no stability limit of
+    its own; its second-order accuracy is one more reason for a generous :math:`n`.
+
+    (b) Structure: :math:`\Delta t \le 0.2\cdot\Delta t_\mathrm{crit}`, with
+    :math:`\Delta t_\mathrm{crit} = 2/\omega_\mathrm{max}` (undamped) from the free DOFs only; see
+    :func:`_structure_limit`. Springs on fixed DOFs do not count (Appendix A's
+    1e12 lbf/in springs act on y and z, which BOUNDARY fixes).
+    """
+    t_c, v_c, kind = _contact_limit(model)
+    crit, omega, node, dof = _structure_limit(model)
+    dt_contact = t_c / steps_per_contact
+    dt_structure = STRUCTURE_SAFETY * crit
+    dt = min(dt_contact, dt_structure)
+    binding = "none" if math.isinf(dt) else ("contact" if dt_contact <= dt_structure
+                                              else "structure")
+    return TimeStepAdvice(float(model.dt), float(dt), binding, float(t_c), float(v_c), kind,
+                          int(steps_per_contact), float(dt_contact), float(omega), int(node), dof,
+                          float(dt_structure))
+
+
+def time_step_is_a_problem(ts: TimeStepAdvice) -> bool:
+    """A warning when the structure's step limit is exceeded or a contact gets < 8 steps."""
+    if ts.dt_deck <= ts.dt_recommended * (1.0 + 1e-9):
+        return False
+    if ts.dt_deck > ts.dt_structure * (1.0 + 1e-9):
+        return True
+    return ts.deck_steps_per_contact < MIN_STEPS_PER_CONTACT
+
+
+def time_step_warning(ts: TimeStepAdvice, model: Model) -> str:
+    ratio = ts.dt_deck / ts.dt_recommended
+    text = (f"time step: DTMAX {ts.dt_deck:.3g} s is {ratio:.3g} times the recommended "
+            f"{ts.dt_recommended:.3g} s. ")
+    if ts.binding == "contact":
+        n = ts.deck_steps_per_contact
+        text += (f"A Hertz {ts.contact_kind} impact at {ts.impact_speed:.3g} length/s lasts "
+                 f"{ts.t_contact:.3g} s, so the deck resolves it in {n:.3g} steps: ")
+        if n < 6:
+            text += ("too few to follow a contact (at least 6-10 are needed); expect missed or "
+                     "exploding impacts. ")
+        else:
+            text += (f"expect peak contact forces off by up to about {peak_force_error(n):.2g} % "
+                     f"(about {peak_force_error(ts.steps_per_contact):.2g} % at "
+                     f"{ts.steps_per_contact} steps). ")
+    else:
+        crit = ts.dt_structure / STRUCTURE_SAFETY
+        text += (f"The stiffest structural DOF (node {ts.omega_node} {ts.omega_dof}) has "
+                 f"omega <= {ts.omega_max:.4g} rad/s; explicit integration is unstable above "
+                 f"{crit:.3g} s")
+        text += (", so this run will blow up. " if ts.dt_deck > crit else
+                 f", so the run is stable but its periods err by about "
+                 f"{(ts.omega_max * ts.dt_deck) ** 2 / 24 * 100:.2g} %. ")
+    return text + f"Set DTMAX <= {ts.dt_recommended:.3g}."
