@@ -1,0 +1,68 @@
+"""The progress line of ``x3dpd run``: one updating line on a terminal, a plain line every
+~10 s when stderr is a file or a pipe, nothing with ``--quiet``."""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+#: Wall time between progress lines when stderr is not a terminal [s].
+PLAIN_PROGRESS_SECONDS = 10.0
+#: Wall time between progress updates on a terminal [s].
+TTY_PROGRESS_SECONDS = 0.2
+
+
+def _fmt_duration(s: float) -> str:
+    if not math.isfinite(s):
+        return "?"
+    s = int(round(s))
+    h, rem = divmod(s, 3600)
+    m, sec = divmod(rem, 60)
+    return f"{h}:{m:02d}:{sec:02d}" if h else f"{m}:{sec:02d}"
+
+
+def _fmt_rate(r: float) -> str:
+    if r >= 1e6:
+        return f"{r / 1e6:.2f}M"
+    if r >= 1e3:
+        return f"{r / 1e3:.1f}k"
+    return f"{r:.0f}"
+
+
+class Progress:
+    """One updating line on a terminal, a plain line every ~10 s otherwise, nothing if quiet."""
+
+    def __init__(self, quiet: bool, tmax: float, stream=None):
+        self.stream = stream or sys.stderr
+        self.quiet = quiet
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.tmax = tmax
+        self.last = time.perf_counter()
+        self.width = 0
+
+    def update(self, t: float, rate: float, eta: float, residual: float, force=False) -> None:
+        if self.quiet:
+            return
+        now = time.perf_counter()
+        every = TTY_PROGRESS_SECONDS if self.tty else PLAIN_PROGRESS_SECONDS
+        if not force and now - self.last < every:
+            return
+        self.last = now
+        pct = 100.0 * t / self.tmax if self.tmax > 0 else 100.0
+        speed = f"{_fmt_rate(rate)} steps/s" if rate > 0 else "(warming up)"
+        line = (f"t = {t:.6g} / {self.tmax:.6g} s ({pct:5.1f} %)  {speed}  "
+                f"ETA {_fmt_duration(eta)}  energy residual {residual:+.2e} of scale")
+        if self.tty:
+            pad = max(0, self.width - len(line))
+            self.stream.write("\r" + line + " " * pad)
+            self.width = len(line)
+        else:
+            self.stream.write(line + "\n")
+        self.stream.flush()
+
+    def done(self) -> None:
+        if self.tty and self.width and not self.quiet:
+            self.stream.write("\n")
+            self.stream.flush()
+            self.width = 0
