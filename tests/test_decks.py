@@ -32,7 +32,7 @@ from pathlib import Path
 import pytest
 
 from x3dpd.cli import main
-from x3dpd.cli.run import deck_key
+from x3dpd.cli.resume import deck_key
 from x3dpd.deck import read_deck
 from x3dpd.io.trace import read_trace
 from x3dpd.io.tracediff import compare_traces

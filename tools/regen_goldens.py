@@ -74,7 +74,7 @@ def git_commit() -> str:
 
 def main(argv: list[str]) -> int:
     from x3dpd import __version__
-    from x3dpd.cli.run import deck_key
+    from x3dpd.cli.resume import deck_key
     from x3dpd.deck import read_deck
 
     wanted = argv[1:]
