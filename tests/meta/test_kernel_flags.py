@@ -2,7 +2,7 @@
 
 A module that called ``numba.njit`` itself could silently turn on fastmath, drop the disk cache,
 or (for the step loop) bring back numba's reference counting. Only ``x3dpd/_jit.py`` may name
-numba's compile decorators; ``physics/usrfrc.py`` may read ``py_func`` off a user's own njit.
+numba's compile decorators (reading ``py_func`` off a user's own njit function is fine).
 """
 
 from __future__ import annotations

@@ -16,18 +16,16 @@ import pytest
 
 from x3dpd._jit import JIT_DISABLED
 from x3dpd.errors import UsrfrcError
+from x3dpd.physics.user_force_file import build_external_forces, load_user_force, node_index_array
 from x3dpd.physics.usrfrc import (
     KIND_SINE,
     KIND_SWEEP_LINEAR,
     KIND_SWEEP_LOG,
     _apply_forces,
     apply_forces,
-    build_external_forces,
     force_table,
     force_values,
     is_user_file,
-    load_user_force,
-    node_index_array,
     split_specs,
     sweep_frequency,
     sweep_phase,

@@ -11,8 +11,9 @@ tangential effective mass of the contact including rotation,
 :math:`1/m_t = \\sum_{bodies} (1/m + R^2/I)` (= 2m/7 for a solid sphere on a wall). Then the
 viscous branch removes half of the slip velocity per step (stable for any step, no extra parameter
 to tune), and whenever the contact really slides
-(:math:`|\\mathbf v_t| > 2\\Delta t\\,\\mu|F_N|/m_t`) the force is exactly Coulomb's: full sliding is unchanged, sliding-to-rolling transitions land on
-rolling instead of chattering around it. ``friction="coulomb"`` selects the bare Eq. 29.
+(:math:`|\\mathbf v_t| > 2\\Delta t\\,\\mu|F_N|/m_t`) the force is exactly Coulomb's: full
+sliding is unchanged, sliding-to-rolling transitions land on rolling instead of chattering
+around it. ``friction="coulomb"`` selects the bare Eq. 29.
 Units: force, length/s, mass.
 """
 

@@ -21,7 +21,7 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
 
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import motion_table
-from x3dpd.physics.usrfrc import build_external_forces
+from x3dpd.physics.user_force_file import build_external_forces
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
 from x3dpd.solver.variants import Variant, make_advance
 
