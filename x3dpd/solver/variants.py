@@ -225,14 +225,20 @@ def _user_modules(folder: Path, user_files) -> tuple[str, ...]:
     end (numba freezes a global array into the machine code, so the node numbering is part of
     what is compiled), and the functions compiled through x3dpd._jit (:data:`_USER_FOOTER`).
     Its name is a hash of the file's bytes and the node index: an edited file or another deck
-    gets a new copy, an unchanged one reuses its compiled code. The user's code has been validated (and compiled once, uncached) by ``load_user_force``.
+    gets a new copy, an unchanged one reuses its compiled code. The user's code has been
+    validated (and compiled once, uncached) by ``load_user_force``.
     """
     names = []
     for path, node_index in user_files:
         text = Path(path).read_text()
         digest = hashlib.sha256(text.encode() + node_index.tobytes()).hexdigest()[:16]
         stem = f"usrfrc_{digest}"
-        np.save(folder / f"{stem}.npy", node_index)
+        npy = folder / f"{stem}.npy"
+        if not npy.exists():   # its name is its content's hash: an existing one is right
+            tmp = folder / f"{stem}.npy.tmp{os.getpid()}"
+            with open(tmp, "wb") as f:
+                np.save(f, node_index)
+            os.replace(tmp, npy)   # atomic: a concurrent run never reads half a file
         head = ("import numpy as _x3dpd_np; NODE_INDEX = _x3dpd_np.load(__file__[:-3] + '.npy')"
                 f"  # added by x3dpd: a copy of {path}\n")
         _write_if_changed(folder / f"{stem}.py", head + text + _USER_FOOTER)
