@@ -72,10 +72,28 @@ def test_impossible_fill_is_an_error_and_writes_nothing(tmp_path, capsys):
     assert run_cli("fill", DECKS / "beam_64.inp", "--radius", 1.0, "-o", out) == 2
     assert "no particle of radius 1" in capsys.readouterr().err and not out.exists()
     assert run_cli("fill", DECKS / "impact_wall.inp", "-o", out) == 2   # an open wall: no cavity
-    assert not out.exists()
+    assert "not a closed surface" in capsys.readouterr().err and not out.exists()
 
 
 def test_short_fill_says_so(tmp_path, capsys):
     out = tmp_path / "out.inp"
     assert run_cli("fill", DECKS / "beam_64.inp", "--n", 500, "-o", out) == 0
     assert "asked for 500: only 100 fit" in capsys.readouterr().out
+
+
+def test_settle_lets_the_particles_fall_onto_the_floor(tmp_path, capsys):
+    """20 spheres from a lattice stacked up from y = R + gap with 0.05 R gaps: after falling
+    they rest on the floor (y = R within the Hertz approach under their weight, << 1 % of R),
+    none left the cavity, none overlaps (x3dpd check)."""
+    out = tmp_path / "out.inp"
+    r = 0.03125
+    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 20, "--packing", "random", "--seed", 4,
+                   "--settle", 0.15, "-o", out) == 0
+    assert "settled for 0.15 s" in capsys.readouterr().out
+    model = build_model(read_deck(out))
+    y = model.x0[model.particle_start:, 1]
+    report = check_model(model)
+    assert not report.errors
+    assert not [w for w in report.warnings if "overlap" in w.headline or "outside" in w.headline]
+    lowest = np.sort(y)[:5]
+    np.testing.assert_allclose(lowest, r, rtol=1e-2)     # several resting on the floor

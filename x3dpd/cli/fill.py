@@ -24,9 +24,14 @@ from x3dpd.geometry.packing import PACKINGS
               help="Box + cubic: move coordinates by up to JITTER x gap / 2.")
 @click.option("--set", "set_id", type=int, default=None,
               help="CONTACT set to fill (default: the first).")
+@click.option("--settle", type=click.FloatRange(min=0.0, min_open=True), default=None,
+              metavar="T", help="Let the particles fall for T seconds under the deck's BODY "
+              "gravity (a run of the filled deck without its USRFRC drive) and write where "
+              "they come to rest.")
 @click.option("-o", "--output", required=True, metavar="OUT.inp", help="The deck to write.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing OUT.inp.")
-def fill(template, n, radius, packing, gap, seed, jitter, set_id, output, overwrite) -> None:
+def fill(template, n, radius, packing, gap, seed, jitter, set_id, settle, output,
+         overwrite) -> None:
     """Fill TEMPLATE's cavity with particles and write the deck OUT.inp."""
     from x3dpd.deck import format_deck, read_deck
     from x3dpd.deck.writer import write_deck
@@ -40,9 +45,37 @@ def fill(template, n, radius, packing, gap, seed, jitter, set_id, output, overwr
         raise InputError(f"{template}: no particle of radius {result.radius:g} fits in the "
                          f"cavity with gap {gap:g}")
     out = filled_deck(deck, result, set_id)
+    if settle:
+        out = _settled(out, settle)
     format_deck(out)  # raises before anything is written if the deck cannot be written
     write_deck(out, output)
     short = f" (asked for {n}: only {m} fit)" if n is not None and m < n else ""
     click.echo(f"x3dpd: {template} -> {output}: {m} particles of radius {result.radius:g}, "
                f"{packing} packing{short}; fill ratio {result.fill_ratio:.3f} of the cavity "
-               f"volume {result.volume:.6g}")
+               f"volume {result.volume:.6g}" + (f"; settled for {settle:g} s" if settle else ""))
+
+
+def _settled(deck, seconds: float):
+    """``deck`` with its particles where a run of ``seconds`` without USRFRC leaves them,
+    shifted back by the cavity's mean displacement (the structure sags under their weight)."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from x3dpd.deck.cards import Node
+    from x3dpd.model.build import build_model
+    from x3dpd.solver.simulation import Simulation
+
+    model = build_model(replace(deck, usrfrc=()))
+    sim = Simulation(model)
+    end = int(round(seconds / sim.dt))
+    while sim.state.step < end:      # one output row at a time: memory stays small
+        sim.advance(end - sim.state.step, max_rows=1)
+    x = sim.state.x
+    walls = np.unique(model.tri_nodes)
+    shift = (x[walls] - model.x0[walls]).mean(axis=0) if walls.size else np.zeros(3)
+    p0 = model.particle_start
+    where = {int(model.node_ids[i]): x[i] - shift for i in range(p0, model.n_nodes)}
+    nodes = tuple(Node(nd.nid, *map(float, where[nd.nid])) if nd.nid in where else nd
+                  for nd in deck.nodes)
+    return replace(deck, nodes=nodes)

@@ -20,7 +20,7 @@ import numpy as np
 from x3dpd.deck.cards import Contact, Deck, Node, SlaveSet, Trace
 from x3dpd.deck.generate import lattice_fill
 from x3dpd.errors import InputError
-from x3dpd.geometry.cavity import enclosed_volume
+from x3dpd.geometry.cavity import enclosed_volume, geometry_size, merge_vertices, surface_edges
 from x3dpd.geometry.packing import PACKINGS, pack
 from x3dpd.geometry.triangle import inward_signs
 
@@ -108,8 +108,13 @@ def fill_positions(deck: Deck, *, n: int | None, radius: float | None = None,
     r = float(radius if radius is not None else _first_pdmp(deck).rzero)
     if not (r > 0 and math.isfinite(r)):
         raise InputError(f"radius must be a positive number; got {r!r}")
-    tri, _ = cavity_triangles(deck, set_id)
+    tri, sid = cavity_triangles(deck, set_id)
     signs = inward_signs(tri[:, 0], tri[:, 1], tri[:, 2], tri.reshape(-1, 3).mean(axis=0))
+    pts = tri.reshape(-1, 3)
+    closed, _ = surface_edges(merge_vertices(pts, geometry_size(pts)).reshape(-1, 3), signs)
+    if not closed:
+        raise InputError(f"{deck.path}: CONTACT set {sid} is not a closed surface: there is no "
+                         f"cavity to fill")
     volume = abs(enclosed_volume(tri[:, 0], tri[:, 1], tri[:, 2], signs))
     axis, upward = _stacking(deck)
     box = _box(tri)

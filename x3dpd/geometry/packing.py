@@ -12,7 +12,7 @@ exact point-triangle distance): the sphere then fits with ``gap`` to spare. Pack
   :math:`(p/2, \sqrt3 p/6)`), fraction :math:`\pi/\sqrt{18} \approx 0.740` at :math:`g = 0`;
 * ``random`` -- random sequential addition (random loose packing): uniform candidates, each kept
   if admissible and ``2R + gap`` from every kept centre, until ``n`` are placed or ``attempts``
-  candidates in a row failed.
+  (5000) admissible candidates in a row overlapped.
 
 Lattices are anchored at the lowest admissible layer along the stacking axis (gravity's) and
 centred across it; the lowest layers are filled first, like particles settled on the floor.
@@ -147,7 +147,7 @@ def _order(points: np.ndarray, stack_axis: int, upward: bool) -> np.ndarray:
 
 def pack(tri: np.ndarray, radius: float, n: int | None = None, *, packing: str = "cubic",
          gap: float = 0.0, stack_axis: int = 1, upward: bool = True, seed: int | None = None,
-         attempts: int = 20000) -> np.ndarray:
+         attempts: int = 5000) -> np.ndarray:
     """Centres of up to ``n`` spheres of ``radius`` in the cavity ``tri`` (T, 3, 3) [length].
 
     ``n=None`` places as many as fit. Lattices try several offsets of the lattice across the
@@ -192,6 +192,8 @@ def _random(tri, radius, n, gap, lo, hi, stack_axis, upward, seed, attempts) -> 
     while len(placed) < target and fails < attempts:
         cand = rng.uniform(lo, hi, size=(256, 3))
         cand = cand[_admissible(cand, tri, radius + gap)]
+        if cand.shape[0] == 0:
+            fails += 256      # nothing admissible in this batch: a cavity too small to hold one
         for c in cand:
             if placed:
                 arr = np.asarray(placed)
@@ -202,7 +204,5 @@ def _random(tri, radius, n, gap, lo, hi, stack_axis, upward, seed, attempts) -> 
             fails = 0
             if len(placed) >= target:
                 break
-        else:
-            fails += 256 - cand.shape[0]
     out = np.asarray(placed).reshape(-1, 3)
     return _order(out, stack_axis, upward)
