@@ -17,7 +17,8 @@ import pytest
 
 from x3dpd.cli import _register, cli, main
 from x3dpd.cli.progress import Progress
-from x3dpd.cli.resume import deck_key, resume_command
+from x3dpd.api.outputs import deck_key
+from x3dpd.cli.resume import resume_command
 from x3dpd.cli.run import RunOptions, default_paths
 from x3dpd.deck import parse_deck, read_deck
 from x3dpd.io.energy import EnergyWriter, read_energy
