@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from x3dpd.io.energy import EnergyData
-from x3dpd.io.trace import TraceData
+from x3dpd.io.trace import TraceAxes, TraceData
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,7 @@ class FinalState:
 
 
 @dataclass(frozen=True)
-class Chunk:
+class Chunk(TraceAxes):
     """The rows one chunk of steps produced, as handed to ``run(stop=...)``.
 
     ``time`` (k,), ``node_ids`` (N,), ``position`` / ``velocity`` / ``spin`` (k, N, 3), ``energy``
@@ -48,18 +48,6 @@ class Chunk:
     node_ids: np.ndarray
     data: np.ndarray
     energy: np.ndarray
-
-    @property
-    def position(self) -> np.ndarray:
-        return self.data[:, :, 0:3]
-
-    @property
-    def velocity(self) -> np.ndarray:
-        return self.data[:, :, 3:6]
-
-    @property
-    def spin(self) -> np.ndarray:
-        return self.data[:, :, 6:9]
 
 
 @dataclass

@@ -385,8 +385,29 @@ def _count_lines(f, nbytes: int) -> tuple[int, bytes | None]:
 # reading
 
 
+class TraceAxes:
+    """Named views of a ``data`` array of trace rows, (T, N, 9): ``x y z vx vy vz wx wy wz``."""
+
+    data: np.ndarray
+
+    @property
+    def position(self) -> np.ndarray:
+        """Coordinates ``x y z`` [length], (T, N, 3) (a view of ``data``)."""
+        return self.data[:, :, 0:3]
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Velocities ``vx vy vz`` [length/s], (T, N, 3) (a view of ``data``)."""
+        return self.data[:, :, 3:6]
+
+    @property
+    def spin(self) -> np.ndarray:
+        """Angular velocities ``wx wy wz`` [rad/s], (T, N, 3) (a view of ``data``)."""
+        return self.data[:, :, 6:9]
+
+
 @dataclass(frozen=True, eq=False)
-class TraceData:
+class TraceData(TraceAxes):
     """A trace in memory.
 
     Attributes
@@ -431,21 +452,6 @@ class TraceData:
     def time(self) -> np.ndarray:
         """Output times [s], (T,) (the same array as ``times``)."""
         return self.times
-
-    @property
-    def position(self) -> np.ndarray:
-        """Coordinates ``x y z`` [length], (T, N, 3) (a view of ``data``)."""
-        return self.data[:, :, 0:3]
-
-    @property
-    def velocity(self) -> np.ndarray:
-        """Velocities ``vx vy vz`` [length/s], (T, N, 3) (a view of ``data``)."""
-        return self.data[:, :, 3:6]
-
-    @property
-    def spin(self) -> np.ndarray:
-        """Angular velocities ``wx wy wz`` [rad/s], (T, N, 3) (a view of ``data``)."""
-        return self.data[:, :, 6:9]
 
     def index(self, nid: int) -> int:
         """Row position of node ``nid`` (its first occurrence); KeyError if not traced."""
