@@ -15,12 +15,13 @@ The criterion (docs/design-guide.md, "Steady state"):
 * **Convergence.** With D_w = P_w - P_{w-1} the change between consecutive windows and
   r = D_w / D_{w-1}, a transient that dies geometrically (a linear structure's free vibration
   seen once per window, any beating included since r is complex) still has
-  ``tail = |D_w| |r| / |1 - r|`` to go. A point has converged when both |D_w| and the tail are
-  within ``tol`` of |P_w| (when |r| >= 1 the tail is taken as infinite), or, for an irregular
-  response, when |D_w| is within the statistical scatter of two window means, 2 sqrt(2) s / sqrt(W)
-  with s the cycle-to-cycle standard deviation, itself above ``tol`` -- and the point is flagged
-  irregular. Every
-  window before ``min_windows`` counts as transient and is discarded.
+  ``tail = |D_w| |r| / |1 - r|`` to go. A regular response (spread <= ``tol``) has converged when
+  both |D_w| and the tail are within ``tol`` of |P_w| (when |r| >= 1 the tail is taken as
+  infinite). An irregular one (spread > ``tol``: chaotic impacts, several coexisting motions)
+  has converged, and is flagged irregular, when |D_w| and |D_{w-1}| are both within the
+  statistical scatter of two window means, 2 sqrt(2) s / sqrt(W) with s the cycle-to-cycle
+  standard deviation. Every window
+  before ``min_windows`` counts as transient and is discarded.
 * **Extrapolation** (``extrapolate=True``, the default). A linear structure's free vibration
   e^{lambda t} seen once per drive cycle is a geometric sequence: the cycle phasors of a linear
   response obey P_k = P_inf + u r^k + v conj(r)^k with r = e^{lambda T}, so their differences
@@ -133,7 +134,7 @@ class SteadyStateMonitor:
     t_start : start of the first cycle measured [s] (the point's start time).
     window : W, cycles per window.
     tol : relative tolerance of the criterion (module docstring).
-    min_windows : windows discarded as transient at least (>= 2 so a change can be measured).
+    min_windows : windows discarded as transient at least (>= 3: two changes are compared).
     max_cycles : the cap.
     """
 
@@ -146,7 +147,7 @@ class SteadyStateMonitor:
         self.t_start = float(t_start)
         self.window = int(window)
         self.tol = float(tol)
-        self.min_windows = max(2, int(min_windows))
+        self.min_windows = max(3, int(min_windows))
         self.max_cycles = int(max_cycles)
         self.extrapolate = bool(extrapolate)
         self.limit: complex | None = None
@@ -221,10 +222,11 @@ class SteadyStateMonitor:
             change, tail, noise, spread = self._change()
             if self.extrapolate and self._extrapolated():
                 self.done = self.converged = True
+            elif spread > self.tol:
+                if change <= noise and self._previous_change() <= noise:
+                    self.done = self.converged = self.irregular = True
             elif change <= self.tol and tail <= self.tol:
                 self.done = self.converged = True
-            elif change <= noise and spread > self.tol:
-                self.done = self.converged = self.irregular = True
         if n >= self.max_cycles:
             self.done = True
 
@@ -238,6 +240,11 @@ class SteadyStateMonitor:
         if ok:
             self.limit = now
         return ok
+
+    def _previous_change(self) -> float:
+        w = self._windows() - 2
+        p = [complex(np.mean(self._window(i, self.phasors))) for i in (w - 1, w)]
+        return abs(p[1] - p[0]) / (abs(p[1]) or 1.0)
 
     def _change(self) -> tuple[float, float, float]:
         w = self._windows() - 1
