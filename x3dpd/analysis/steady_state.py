@@ -2,13 +2,13 @@
 
 The criterion (docs/design-guide.md, "Steady state"):
 
-* **Per cycle.** The response sampled at >= 200 points per drive period T = 2 pi / w is fitted, over
-  each whole drive cycle [t_k, t_k + T), by least squares to ``x = m + a cos(th) + b sin(th)``
+* **Per cycle.** The response sampled at >= 200 points per drive period T = 2 pi / w is
+  resampled (cubic spline) onto 256 points spanning exactly each whole drive cycle
+  [t_k, t_k + T), and its Fourier coefficients give ``x = m + a cos(th) + b sin(th) + ...``
   with th = w (t - t0) the drive's phase (the drive is F sin(th)). The cycle's phasor is
   P_k = b + i a = X e^{i phi}: x = m + X sin(th + phi), X the fundamental amplitude and phi the
-  phase of the response relative to the force (negative: a lag). Velocity is fitted the same way.
-  The fit is exact for a pure sinusoid whatever the sampling, and harmonics average out over a
-  whole cycle.
+  phase of the response relative to the force (negative: a lag). Velocity is treated the same
+  way. Harmonics drop out over a whole cycle; the sampling need not line up with the cycles.
 * **Windows.** Consecutive cycles are grouped in windows of W cycles; a window's phasor is the
   mean of its cycles' phasors, its spread the standard deviation of their amplitudes divided by
   their mean (cycle-to-cycle scatter: 0 for a periodic response, large for a chaotic one).
@@ -116,12 +116,30 @@ def prony_limit(phasors) -> tuple[complex, float, float]:
     return complex(p[-1] + rest), residual, rmax
 
 
-def fit_cycle(t: np.ndarray, x: np.ndarray, omega: float, t0: float) -> tuple[complex, float]:
-    """Least-squares ``x = m + a cos(w (t - t0)) + b sin(w (t - t0))``; returns (b + i a, m)."""
-    th = omega * (t - t0)
-    basis = np.column_stack([np.ones_like(th), np.cos(th), np.sin(th)])
-    (m, a, b), *_ = np.linalg.lstsq(basis, x, rcond=None)
-    return complex(b, a), float(m)
+#: Points per cycle of the uniform resampling the phasor is computed on.
+CYCLE_POINTS = 256
+
+
+def fit_cycle(t: np.ndarray, x: np.ndarray, omega: float, t0: float,
+              lo: float) -> tuple[complex, float]:
+    """Fundamental of ``x`` over the drive cycle [lo, lo + T): returns (b + i a, m).
+
+    ``x = m + a cos(w (t - t0)) + b sin(w (t - t0)) + harmonics``. The samples (which need not
+    fall on the cycle's ends, and must reach a little past both) are interpolated by a cubic
+    spline onto CYCLE_POINTS points spaced uniformly over exactly one period, and a, b, m are
+    their discrete Fourier coefficients. Every cycle is thus measured by the same operator --
+    which keeps a linear transient's cycle phasors exactly geometric (the extrapolation relies
+    on it) -- with an interpolation error of O((w h)^4) for a sample spacing h.
+    """
+    from scipy.interpolate import CubicSpline
+
+    period = 2.0 * math.pi / omega
+    tj = lo + period * np.arange(CYCLE_POINTS) / CYCLE_POINTS
+    xj = CubicSpline(t, x)(tj)
+    th = omega * (tj - t0)
+    a = 2.0 * float(np.mean(xj * np.cos(th)))
+    b = 2.0 * float(np.mean(xj * np.sin(th)))
+    return complex(b, a), float(np.mean(xj))
 
 
 class SteadyStateMonitor:
@@ -188,24 +206,30 @@ class SteadyStateMonitor:
             k = len(self.phasors)
             lo = self.t_start + k * self.period
             hi = lo + self.period
-            if t.size == 0 or t[-1] < hi:
+            if t.size < 3 or t[-3] < hi:
                 break
-            sel = (t >= lo) & (t < hi)
-            if np.count_nonzero(sel) < 8:
-                raise InputError(f"steady state: {np.count_nonzero(sel)} samples in a drive cycle;"
-                                 " record more often (>= 200 per cycle)")
-            p, m = fit_cycle(t[sel], x[sel], self.omega, self.t0)
-            pv, _ = fit_cycle(t[sel], v[sel], self.omega, self.t0)
+            i_lo = max(0, int(np.searchsorted(t, lo, side="right")) - 3)
+            i_hi = int(np.searchsorted(t, hi)) + 3
+            ts, xs, vs = t[i_lo:i_hi], x[i_lo:i_hi], v[i_lo:i_hi]
+            if ts[0] > lo + 0.05 * self.period:  # a run's first sample is one interval in
+                raise InputError("steady state: samples are missing at the start of a drive "
+                                 "cycle")
+            inside = (ts >= lo) & (ts < hi)
+            if np.count_nonzero(inside) < 20:
+                raise InputError(f"steady state: {np.count_nonzero(inside)} samples in a drive "
+                                 "cycle; record more often (>= 200 per cycle)")
+            p, m = fit_cycle(ts, xs, self.omega, self.t0, lo)
+            pv, _ = fit_cycle(ts, vs, self.omega, self.t0, lo)
             self.phasors.append(p)
             self.vphasors.append(pv)
             self.means.append(m)
-            self.peaks.append(0.5 * float(x[sel].max() - x[sel].min()))
+            self.peaks.append(0.5 * float(xs[inside].max() - xs[inside].min()))
             self._ledger_lo.append(np.array([np.interp(lo, t, c) for c in e.T]))
             self._ledger_hi.append(np.array([np.interp(hi, t, c) for c in e.T]))
             self._judge()
-            # keep the last sample before the next cycle so the ledger can be interpolated
-            keep = t >= t[np.searchsorted(t, hi) - 1]
-            t, x, v, e = t[keep], x[keep], v[keep], e[keep]
+            # keep a few samples before the next cycle for its interpolation
+            keep = max(0, int(np.searchsorted(t, hi, side="right")) - 3)
+            t, x, v, e = t[keep:], x[keep:], v[keep:], e[keep:]
         self._t, self._x, self._v, self._e = [t], [x], [v], [e]
         return self.done
 

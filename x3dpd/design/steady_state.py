@@ -16,14 +16,12 @@ import time as _time
 from dataclasses import dataclass, field
 
 from x3dpd.analysis.steady_state import SteadyStateMonitor
+from x3dpd.api import run as run_deck
 from x3dpd.deck.cards import Deck
 from x3dpd.errors import InputError
+from x3dpd.solver.simulation import ENERGY_COLUMNS
 
-#: Energy-ledger columns of a run's blocks (x3dpd.api contract), and those summed as dissipation.
-ENERGY_COLUMNS = ("time", "kinetic_translation", "kinetic_rotation", "gravity_potential",
-                  "spring_energy", "contact_energy", "dissipated_viscoelastic",
-                  "dissipated_friction", "dissipated_dampers", "external_work", "total_energy",
-                  "residual")
+#: Ledger columns summed as the energy dissipated by the particles, and by everything.
 PARTICLE_LOSSES = ("dissipated_viscoelastic", "dissipated_friction")
 ALL_LOSSES = PARTICLE_LOSSES + ("dissipated_dampers",)
 
@@ -72,8 +70,6 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     ``previous`` is the (row, final state) of the point before in a chain, or None to start
     from the deck's initial state.
     """
-    from x3dpd.api import run as run_deck
-
     if point.dof not in (1, 2, 3):
         raise InputError(f"--dof {point.dof}: the sweep measures a translation, dof 1, 2 or 3")
     crit = point.criterion
@@ -100,7 +96,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     result = run_deck(point.deck, tmax=t_start + (crit.max_cycles + 1) * period, dt=dt,
                       usrfrc=(spec,), usrfrc_mode="replace", itrac=itrac,
                       trace_nodes=(point.node,), keep_trace=False, initial_state=state,
-                      stop=stop, quiet=True)
+                      stop=stop)
     wall = _time.perf_counter() - wall
     ss = monitor.result()
     summary = result.summary
@@ -114,6 +110,9 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "dissipated_per_cycle": sum(loss.get(name, math.nan) for name in ALL_LOSSES),
         "dissipated_particles_per_cycle": sum(loss.get(name, math.nan)
                                               for name in PARTICLE_LOSSES),
+        # steady state: the drive's work per cycle, pi F X sin(-phi), equals the dissipation
+        "input_work_per_cycle": math.pi * point.drive * ss.amplitude
+        * math.sin(-math.radians(ss.phase_deg)),
         "cycles": ss.cycles, "converged": ss.converged, "extrapolated": ss.extrapolated,
         "irregular": ss.irregular, "measured_amplitude": ss.measured_amplitude,
         "change": ss.change, "method": "simulated",

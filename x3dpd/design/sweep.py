@@ -41,7 +41,7 @@ from x3dpd.model.build import build_model
 #: sweep.csv columns, in order.
 COLUMNS = ("config", "frequency_hz", "drive", "direction", "amplitude", "phase", "velocity",
            "acceleration", "accelerance", "peak", "mean", "spread", "dissipated_per_cycle",
-           "dissipated_particles_per_cycle", "cycles", "converged", "extrapolated", "irregular",
+           "dissipated_particles_per_cycle", "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
            "branch", "measured_amplitude", "change", "method", "t_start", "t_end", "steps",
            "compile_s", "wall_s")
 DIRECTIONS = ("up", "down", "both")
@@ -90,7 +90,8 @@ def closed_form_rows(config: str, sdof, spec: SweepSpec) -> list[dict]:
                 "acceleration": w * w * amp, "accelerance": w * w * amp / abs(drive),
                 "peak": amp, "mean": math.nan, "spread": 0.0,
                 "dissipated_per_cycle": sdof.dissipated_per_cycle(amp, w),
-                "dissipated_particles_per_cycle": 0.0, "cycles": 0, "converged": True,
+                "dissipated_particles_per_cycle": 0.0,
+                "input_work_per_cycle": sdof.dissipated_per_cycle(amp, w), "cycles": 0, "converged": True,
                 "extrapolated": False, "irregular": False, "measured_amplitude": amp,
                 "change": 0.0, "method": "closed-form", "t_start": 0.0, "t_end": 0.0,
                 "steps": 0, "compile_s": 0.0, "wall_s": 0.0})
