@@ -207,6 +207,7 @@ class Simulation:
         return block
 
     _timed_first_call = False
+    _unstable_rows = 0
 
     # ------------------------------------------------------------------ diagnostics
     def energy_scale(self, energy: np.ndarray) -> float:
@@ -266,7 +267,11 @@ class Simulation:
         received (x3dpd.solver.ledger_checks.step_instability). ``row`` is one ledger row.
         """
         found = step_instability(row, self.state.e_ref, self.dt)
-        if found is None:
+        # two rows in a row: one step after a start from rest under a force the trapezoidal
+        # work is still zero while S is not (S equals the kinetic energy then), so one row alone
+        # does not decide
+        self._unstable_rows = self._unstable_rows + 1 if found is not None else 0
+        if self._unstable_rows < 2:
             return
         t = found.time
         step = self._step_at(t)
