@@ -69,6 +69,8 @@ def labels_for(system=None) -> dict[str, str]:
 
 
 def trace_units(system=None) -> dict[str, str]:
-    """The four units a trace's sidecar records (``x3dpd.io.trace.DEFAULT_UNITS`` by default)."""
+    """The units a trace's sidecar records: those of its columns (``x3dpd.io.trace.
+    DEFAULT_UNITS``) and, for tools that read the energy file beside it, force, mass, energy."""
     lab = labels_for(system)
-    return {k: lab[k] for k in ("time", "length", "velocity", "angular_velocity")}
+    return {k: lab[k] for k in ("time", "length", "velocity", "angular_velocity", "force",
+                                "mass", "energy")}

@@ -22,8 +22,10 @@ def test_default_is_the_reports_inch_lbf_second():
     lab = labels_for(model.units)
     assert (lab["length"], lab["mass"], lab["energy"], lab["velocity"]) == \
         ("in", "lbf s^2/in", "lbf in", "in/s")
-    assert trace_units(None) == {"time": "s", "length": "in", "velocity": "in/s",
-                                 "angular_velocity": "rad/s"}
+    from x3dpd.io.trace import DEFAULT_UNITS
+
+    assert trace_units(None) == {**DEFAULT_UNITS, "force": "lbf", "mass": "lbf s^2/in",
+                                 "energy": "lbf in"}
 
 
 @pytest.mark.parametrize("text, system, mass, energy", [
@@ -78,3 +80,24 @@ def test_check_reports_the_declared_units(tmp_path, capsys):
     assert "units            m N s" in out and "mass kg" in out
     assert "m/s lasts" in out and "length/s" not in out and " in/s" not in out
     shutil.rmtree(tmp_path)
+
+
+def test_a_runs_sidecar_and_plot_follow_the_declared_units(tmp_path, monkeypatch):
+    import json
+
+    from x3dpd.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    text = (ROOT / "decks" / "beam_1.inp").read_text()
+    Path("si.inp").write_text("UNITS\n  m N s\nEND\n" + text)
+    Path("in.inp").write_text(text)
+    for name in ("si", "in"):
+        with pytest.raises(SystemExit) as ex:
+            main([f"{name}.inp", "--tmax", "0.002", "--quiet", "--plot", f"{name}.png"])
+        assert ex.value.code == 0
+    si = json.loads(Path("si.trace.txt.json").read_text())["units"]
+    inch = json.loads(Path("in.trace.txt.json").read_text())["units"]
+    assert si == {"time": "s", "length": "m", "velocity": "m/s", "angular_velocity": "rad/s",
+                  "force": "N", "mass": "kg", "energy": "J"}
+    assert inch["length"] == "in" and inch["energy"] == "lbf in" and inch["mass"] == "lbf s^2/in"
+    assert Path("si.png").stat().st_size > 10_000
