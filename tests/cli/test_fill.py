@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import DECKS, run_cli
+from cli_helpers import DECKS, run_cli
 
 from x3dpd.deck import read_deck
 from x3dpd.model.build import build_model
@@ -72,6 +72,9 @@ def test_impossible_fill_is_an_error_and_writes_nothing(tmp_path, capsys):
     assert run_cli("fill", DECKS / "beam_64.inp", "--radius", 1.0, "-o", out) == 2
     assert "no particle of radius 1" in capsys.readouterr().err and not out.exists()
     assert run_cli("fill", DECKS / "impact_wall.inp", "-o", out) == 2   # an open wall: no cavity
+    assert "not a closed surface" in capsys.readouterr().err and not out.exists()
+    # the printed Appendix A deck: its triangles do not close either (docs/running.md)
+    assert run_cli("fill", DECKS / "appendix_a.inp", "-o", out) == 2
     assert "not a closed surface" in capsys.readouterr().err and not out.exists()
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DECKS, SHORT_RUNS, run_cli
+from cli_helpers import DECKS, SHORT_RUNS, run_cli
 
 from x3dpd.analysis.export import read_lammps_dump
 from x3dpd.analysis.scene import scene_from_model
