@@ -207,3 +207,22 @@ def test_labels_follow_the_decks_declared_units(tmp_path):
         ("m", "J", "m/s")
     _, _, scene = load_scene(str(SHORT_RUNS_TRACES["beam_1.inp"]), None)
     assert scene.units["length"] == "in"
+
+
+@pytest.mark.parametrize("name", DECK_NAMES)
+def test_still_frames_the_particles(name, tmp_path):
+    """The view holds the cavity and the particles (Fig. 28's sphere sits beside its lone wall,
+    outside the wall's own extent)."""
+    from PIL import Image
+
+    from x3dpd.analysis.movie import write_movie
+
+    tr, _, scene = _scene(name)
+    lo, hi = scene.bounds(tr.data[0])
+    p = tr.data[0, scene.particle_rows, :3]
+    assert np.all(p - scene.radius[:, None] >= lo - 1e-12)
+    assert np.all(p + scene.radius[:, None] <= hi + 1e-12)
+    out = tmp_path / "s.png"
+    assert write_movie(out, scene, iter([(tr.times[0], tr.data[0])])) == 1
+    pixels = np.asarray(Image.open(out).convert("RGB")).reshape(-1, 3).astype(int)
+    assert np.count_nonzero(pixels[:, 2] > pixels[:, 0] + 40) > 500    # particles drawn

@@ -69,11 +69,19 @@ class Scene:
         out[own] = data[self.vertex_row[own], :3]
         return out
 
-    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """Lower and upper corner of the deck-time cavity and particles (for fixed axes)."""
-        pts = [self.vertex_x0] if self.vertex_x0.shape[0] else []
-        lo = np.min(np.vstack(pts), axis=0) if pts else np.zeros(3)
-        hi = np.max(np.vstack(pts), axis=0) if pts else np.ones(3)
+    def bounds(self, data: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper corner of the cavity at the deck's coordinates and, given a trace
+        block ``data`` (R, 9), of its particles' spheres (for fixed axes)."""
+        lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+        if self.vertex_x0.shape[0]:
+            lo, hi = self.vertex_x0.min(axis=0), self.vertex_x0.max(axis=0)
+        if data is not None and self.particle_rows.shape[0]:
+            p = data[self.particle_rows, :3]
+            r = self.radius[:, None]
+            lo = np.minimum(lo, (p - r).min(axis=0))
+            hi = np.maximum(hi, (p + r).max(axis=0))
+        if not np.all(np.isfinite(lo) & np.isfinite(hi)):
+            return np.zeros(3), np.ones(3)
         return lo, hi
 
     @property
