@@ -124,3 +124,42 @@ def plot_ringdown(png: str | os.PathLike, series: Mapping[str, Mapping[str, np.n
     fig.savefig(png, dpi=90)
     plt.close(fig)
     return str(png)
+
+
+def plot_configurations(png: str | os.PathLike, series: Mapping[str, Sequence[Mapping]],
+                        curves: Mapping[str, tuple[np.ndarray, np.ndarray]],
+                        title: str = "", units: str = "in") -> str:
+    """One drive level, several designs (Figures 45-48): closed-form baselines as lines,
+    each damper's swept points as markers joined by lines, amplitude on a log scale.
+
+    ``series`` maps a label to its rows (one direction, one drive); ``curves`` a baseline
+    label to (f, X).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for (label, (f, a)), ls in zip(curves.items(), ("--", ":", "-.")):
+        ax.plot(f, a, color="k", ls=ls, lw=1.2, label=label)
+    for k, (label, rows) in enumerate(series.items()):
+        pts = sorted((r["frequency_hz"], r["amplitude"], bool(r["converged"])) for r in rows)
+        if not pts:
+            continue
+        f, a, ok = zip(*pts)
+        ax.plot(f, a, color=f"C{k}", marker="o", ms=4, lw=1.2, label=label)
+        bad = [(x, y) for x, y, c in pts if not c]
+        if bad:
+            ax.plot(*zip(*bad), ls="none", marker="x", color="k", ms=8)
+    ax.set_yscale("log")
+    ax.set_xlabel("drive frequency [Hz]")
+    ax.set_ylabel(f"displacement amplitude [{units}]")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(png, dpi=90)
+    plt.close(fig)
+    return str(png)
