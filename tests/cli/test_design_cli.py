@@ -12,19 +12,11 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, sdof_deck  # noqa: E402
 
+from test_run import x3dpd  # noqa: E402  (tests/cli/test_run.py: run the CLI in-process)
+
 from x3dpd.api import run  # noqa: E402
-from x3dpd.cli import main  # noqa: E402
 from x3dpd.deck.writer import write_deck  # noqa: E402
 from x3dpd.design.sweep import read_csv  # noqa: E402
-
-
-def x3dpd(capsys, *args):
-    """Run ``x3dpd ARGS`` in-process; return (exit status, stdout, stderr)."""
-    with pytest.raises(SystemExit) as exc:
-        main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    code = exc.value.code
-    return (0 if code is None else code), out, err
 
 
 @pytest.fixture
