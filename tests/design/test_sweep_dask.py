@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from dask.distributed import LocalCluster
+
 from x3dpd.deck.parser import read_deck
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import Criterion
@@ -24,11 +26,16 @@ def test_dask_local_cluster_equals_serial_bit_for_bit(tmp_path):
                      criterion=Criterion(window=3, max_cycles=9))
     serial = run_sweep(spec, tmp_path / "serial", workers=1)
     parallel = run_sweep(spec, tmp_path / "dask", workers=2)
-    assert len(serial) == len(parallel) == 6  # 4 damper points + 2 closed-form baseline points
-    for a, b in zip(serial, parallel):
-        for col in COLUMNS:
-            if col not in TIMINGS:
-                assert a[col] == b[col] or (a[col] != a[col] and b[col] != b[col]), col
+    # --scheduler: an existing cluster, here another LocalCluster of two worker processes
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=":0") as cluster:
+        remote = run_sweep(spec, tmp_path / "scheduler", scheduler=cluster.scheduler_address)
+    assert len(serial) == len(parallel) == len(remote) == 6  # 4 damper + 2 closed-form points
+    for other in (parallel, remote):
+        for a, b in zip(serial, other):
+            for col in COLUMNS:
+                if col not in TIMINGS:
+                    assert a[col] == b[col] or (a[col] != a[col] and b[col] != b[col]), col
     # the chain really ran in order: its second point starts where the first ended
     up = [r for r in parallel if r["direction"] == "up"]
     assert up[1]["t_start"] == up[0]["t_end"] > 0

@@ -22,7 +22,6 @@ from pathlib import Path
 
 from x3dpd.analysis.design_plots import attenuations, plot_configurations
 from x3dpd.design.commands import sweep_command
-from x3dpd.design.sweep import read_csv
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVES = {"200 mV": 4.84040e-3, "400 mV": 9.68080e-3}
@@ -38,8 +37,13 @@ def main() -> None:
     ap.add_argument("--tol", type=float, default=0.02)
     ap.add_argument("--freq", default=FREQ)
     ap.add_argument("--direction", default="down")
+    ap.add_argument("--summarize", action="store_true",
+                    help="only redraw the figures and study.csv from the points done so far")
     args = ap.parse_args()
     out = Path(args.out)
+    if args.summarize:
+        summarize(out)
+        return
     out.mkdir(parents=True, exist_ok=True)
     timing = {}
     start = time.perf_counter()
@@ -57,17 +61,23 @@ def main() -> None:
           + ", ".join(f"{k} {v:.0f} s" for k, v in timing.items() if k != "total"))
 
 
+def points_done(folder: Path) -> list[dict]:
+    """The rows of a sweep's finished points (DIR/points/*.json), done or still running."""
+    return [json.loads(p.read_text()) for p in sorted((folder / "points").glob("*.json"))]
+
+
 def summarize(out: Path) -> None:
     """The two figures and study.csv from the three sweeps' CSVs."""
     from x3dpd.deck.parser import read_deck
-    from x3dpd.design.spec import SweepSpec
+    from x3dpd.design.spec import SweepSpec, parse_frequencies
     from x3dpd.design.sweep import baseline_curves
 
     lines = ["drive,configuration,peak_amplitude,peak_frequency_hz,"
              "attenuation_vs_undamped_db,attenuation_vs_added_mass_db,points,converged"]
-    rows = {label: read_csv(out / Path(deck).stem / "sweep.csv") for label, deck in DECKS.items()}
+    rows = {label: points_done(out / Path(deck).stem) for label, deck in DECKS.items()}
     deck0 = read_deck(ROOT / "decks" / "beam_64.inp")
-    freqs = sorted({r["frequency_hz"] for r in rows["64 particles"]})
+    freqs = sorted({r["frequency_hz"] for rs in rows.values() for r in rs}
+                   | set(parse_frequencies(FREQ)))
     spec = SweepSpec(deck=deck0, deck_text_hash="", frequencies=tuple(freqs),
                      drives=tuple(DRIVES.values()), node=9, dof=1,
                      baselines=("undamped", "added-mass"))
@@ -83,6 +93,8 @@ def summarize(out: Path) -> None:
         for label, rs in series.items():
             att = {a["baseline"]: a["attenuation_db"] for a in attenuations(
                 rs, {(c, drive): curves[(c, drive)] for c in ("undamped", "added-mass")})}
+            if not rs:
+                continue
             peak = max(rs, key=lambda r: r["amplitude"])
             lines.append(f"{name},{label},{peak['amplitude']!r},{peak['frequency_hz']!r},"
                          f"{att.get('undamped', math.nan):.2f},"

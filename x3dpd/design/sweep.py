@@ -209,7 +209,7 @@ def _run_dask(todo, finished, workers: int, scheduler: str | None) -> None:
         client, cluster = Client(scheduler), None
     else:
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=":0")
         client = Client(cluster)
     try:
         futures = {}
