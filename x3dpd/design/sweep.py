@@ -31,7 +31,6 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.deck.cards import Deck
 from x3dpd.design.baselines import baseline_decks, linear_sdof
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import SweepPoint, run_point
