@@ -20,8 +20,9 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
     from x3dpd.model.model import Model
 
 from x3dpd.errors import InputError, UnstableRunError
-from x3dpd.physics.motion import motion_table
+from x3dpd.physics.motion import motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
+from x3dpd.solver.diagnosis import energy_source_advice
 from x3dpd.solver.ledger_checks import (
     SAFE_FRACTION,
     SHADOW_LIMIT,
@@ -81,6 +82,7 @@ class Simulation:
         self.penetration_limit = float(penetration_limit)
         self.energy_tolerance = float(energy_tolerance)
         specs = list(model.usrfrc) + list(usrfrc)
+        self._force_specs = specs
         self.ext = build_external_forces(specs, model, allow_python=allow_python_usrfrc)
         self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros((0, 7))
         prescribed = self.motion[:, :2].astype(np.int64) if len(self.motion) else None
@@ -122,12 +124,22 @@ class Simulation:
             return
         t = _time.perf_counter()
         s = self.state
+        k = self.setup
+        w_start = 0.0
+        if len(self.motion):
+            w_start = start_motion(self.model.t0, self.motion, k.x0, s.x, s.vel, k.kin_mass,
+                                   k.kin_inertia)
+            self.kernels._update_slaves(s.x, s.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
+                                        k.rig_r0, s.rot, True, True)
         self._direct_rebuild()
         self._python_force(self.model.t0)
         st = self.kernels._forces(*self._force_args(self.model.t0, scratch_ledger=True))
         self._check_status(st, self.model.t0, 0)
+        rows = self.motion[:, :2].astype(np.int64)
+        s.motion_prev[:] = s.force[rows[:, 0], rows[:, 1]]
+        s.ledger[self.kernels.L_WEXT] += w_start
         en = self._energy_now()
-        s.e_ref = float(en[0] + en[1] + en[2] + en[3] + en[4] - en[5])
+        s.e_ref = float(en[0] + en[1] + en[2] + en[3] + en[4] - en[5]) - w_start
         self.compile_seconds += _time.perf_counter() - t
         self._initialized = True
 
@@ -240,9 +252,8 @@ class Simulation:
             raise UnstableRunError(
                 f"unstable run at t = {t:.6g} s: total energy {grew} by {abs(res):.4g} without a "
                 f"source ({abs(res) / st.scale:.1%} of the energy scale {st.scale:.4g}; "
-                f"tolerance {tol:.0%}). Likely cause: the time step "
-                f"{self.dt:.3g} s is too large for the contact or spring stiffness; run "
-                f"`x3dpd check` for a recommended step.",
+                f"tolerance {tol:.0%}). "
+                + energy_source_advice(self.setup, st.vel, self.dt, self._energy_sources()),
                 time=t, step=self._step_at(t))
         neg = negative_dissipation(energy, st.scale, tol)
         if neg is not None:
@@ -258,6 +269,12 @@ class Simulation:
 
     def _step_at(self, t: float) -> int:
         return int(round((t - self.model.t0) / self.dt))
+
+    def _energy_sources(self) -> list[str]:
+        out = [f"force {spec}" for spec in self._force_specs]
+        out += [f"prescribed motion of node {int(self.model.node_ids[int(r[0])])} dof "
+                f"{int(r[1]) + 1}" for r in self.motion]
+        return out
 
     def _check_step_stability(self, row: np.ndarray) -> None:
         """Stop when the step exceeds the stability limit of the stiffest oscillator.
