@@ -12,6 +12,10 @@ engineer reads (docs/study.md):
   statistics are compared with their run-to-run spread, measured from perturbed repeats;
 * anything else (particles settling under gravity): the energy dissipated (main) and a trace norm.
 
+Every row also has ``residual``: the energy ledger's residual at the end of the run relative to its
+energy scale -- the energy an integration made or lost (an elastic sphere bouncing on a floor
+shows its drift there).
+
 Layers: this package runs decks through the Python API (:func:`x3dpd.run`) only.
 """
 

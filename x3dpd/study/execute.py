@@ -47,6 +47,7 @@ def run_job(job: Job) -> dict:
     span = sm["t_end"] - sm["t_start"]
     row["wall_s_per_sim_s"] = sm["step_wall_s"] / span if span > 0 else math.nan
     row["steps"] = sm["steps"]
+    row["residual"] = sm["residual"]
     row.update(measure(res, job.scene))
     return row
 

@@ -14,8 +14,8 @@ _FIRST = ("setting", "dt", "contact", "friction", "repeat", "own", "status",
 
 def columns(kind: str) -> list[str]:
     qs = QUANTITIES[kind]
-    return list(_FIRST) + list(qs) + [f"{q}_error" for q in qs] + ["trace_norm", "pareto",
-                                                                  "steps"]
+    return list(_FIRST) + list(qs) + [f"{q}_error" for q in qs] + ["trace_norm", "residual",
+                                                                  "pareto", "steps", "message"]
 
 
 def records(result) -> list[dict]:
