@@ -36,12 +36,13 @@ def cli() -> None:
 
 
 def _register() -> None:
-    from x3dpd.cli import check, run, sweep, tracediff
+    from x3dpd.cli import check, run, study, sweep, tracediff
 
     cli.add_command(run.run)
     cli.add_command(check.check)
     cli.add_command(tracediff.tracediff)
     cli.add_command(sweep.sweep)
+    cli.add_command(study.study)
 
 
 def main(argv: list[str] | None = None) -> None:
