@@ -100,3 +100,13 @@ def test_settle_lets_the_particles_fall_onto_the_floor(tmp_path, capsys):
     assert not [w for w in report.warnings if "overlap" in w.headline or "outside" in w.headline]
     lowest = np.sort(y)[:5]
     np.testing.assert_allclose(lowest, r, rtol=1e-2)     # several resting on the floor
+
+
+def test_cards_only_holds_what_changes(tmp_path):
+    out = tmp_path / "cards.inp"
+    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 10, "--cards", "-o", out) == 0
+    deck = read_deck(out)
+    assert deck.parameters is None and not deck.rbels and not deck.materials
+    assert [nd.nid for nd in deck.nodes] == list(range(10, 20))
+    assert deck.contacts[0].slaves[0].nodes == tuple(range(10, 20))
+    assert deck.trace.nodes == (9, *range(10, 20)) and deck.pdmp[0].nodlim == 9
