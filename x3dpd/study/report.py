@@ -6,6 +6,8 @@ import csv
 import math
 import os
 
+import numpy as np
+
 from x3dpd.study.scene import QUANTITIES
 
 _FIRST = ("setting", "dt", "contact", "friction", "repeat", "own", "status",
@@ -45,8 +47,10 @@ def write_csv(path, result) -> None:
 
 
 def _fmt(v):
-    if isinstance(v, float):
-        return "" if math.isnan(v) else repr(v)
+    if isinstance(v, (float, np.floating)):
+        return "" if math.isnan(v) else repr(float(v))
+    if isinstance(v, np.integer):
+        return int(v)
     return v
 
 

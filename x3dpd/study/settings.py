@@ -40,7 +40,7 @@ class Setting:
             parts.append(self.friction)
         if self.repeat:
             parts.append(f"repeat {self.repeat}")
-        return ", ".join(parts)
+        return " ".join(parts)
 
 
 def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
