@@ -173,6 +173,8 @@ def format_deck(deck: Deck) -> str:
                 raise ValueError(f"INITIAL node {ini.nid} needs 3 or 6 velocities")
             _record([_i(ini.nid), *map(_f, ini.velocity)], out)
         out.append("END")
+    if deck.units is not None:
+        out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]
     for u in deck.usrfrc:
         out.append("USRFRC")
         out.extend(_INDENT + _text_line(spec.strip(), "USRFRC spec") for spec in u.specs)

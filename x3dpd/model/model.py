@@ -76,6 +76,7 @@ class Model:
     effects : frozenset[str], subset of :data:`EFFECTS`.
     usrfrc : tuple[str, ...], force specs from the deck's USRFRC card.
     title : str, path : str.
+    units : (length, force, time) unit names the deck declares (UNITS card; x3dpd.units).
     """
 
     node_ids: np.ndarray
@@ -125,6 +126,7 @@ class Model:
     usrfrc: tuple = ()
     title: str = ""
     path: str = "<deck>"
+    units: tuple = ("in", "lbf", "s")
 
     @property
     def n_nodes(self) -> int:
