@@ -25,7 +25,8 @@ def records(result) -> list[dict]:
     out = []
     for r in result.rows:
         s = r["setting"]
-        rec = {"setting": s.label, "dt": repr(float(s.dt)), "contact": s.contact,
+        rec = {"setting": s.label, "dt": "auto" if s.auto else repr(float(s.dt)),
+               "contact": s.contact,
                "friction": s.friction, "repeat": s.repeat, "own": int(s.own),
                "status": r["status"]}
         for c in columns(result.scene.kind)[len(rec):]:
