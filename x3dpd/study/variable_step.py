@@ -3,14 +3,17 @@ r"""A step chosen by accuracy within DTMIN ... DTMAX (the X3D PARAMETERS pair), 
 The step loop stays a fixed-step velocity Verlet; this driver picks, before every output
 interval, the step for the next one from the current state and runs it with the compiled loop:
 
-* **Choice.** :math:`\Delta t \le t_c(v)/n` with :math:`t_c` the Hertz contact time
+* **Free flight.** When no particle is within reach of a wall plane of its cavity or of
+  another particle -- reach = (closing speed bound) x interval + |g| interval^2 -- no contact
+  can begin before the next decision, and only the structure limits the step (up to DTMAX).
+* **Choice.** Otherwise :math:`\Delta t \le t_c(v)/n` with :math:`t_c` the Hertz contact time
   (:func:`x3dpd.model.timestep.hertz_contact_time`, instantaneous modulus, shortest
   particle-wall or particle-particle contact) at the speed :math:`v` a contact could have
   before the next decision -- twice the fastest particle's speed (a head-on pair) plus the
   speed gravity adds over the interval, at least 1 length/s -- and :math:`n` steps per contact
   (50, as ``x3dpd check``); and :math:`\Delta t \le` the structure's safe step (0.2 of its
-  stability limit). Because :math:`v` is the speed any particle has *now*, a contact is seen
-  coming: a particle flying at a wall is resolved before it touches it.
+  stability limit). Because reach and :math:`v` come from the speeds particles have *now*, a
+  contact is seen coming: a particle flying at a wall is resolved before it touches it.
 * **Levels.** Steps are DTMAX / 2^k (k = 0, 1, ...; not below DTMIN), so every output time and
   every switch time is a whole number of steps at every level: time stays ``t0 + step * dt``
   exactly, and refining is always possible; coarsening waits until the step count divides.
@@ -23,9 +26,10 @@ interval, the step for the next one from the current state and runs it with the 
 * **Determinism.** The choice depends only on the state and the current level, so a run
   continued from a saved ``(state, level)`` repeats the uninterrupted one bit for bit.
 
-Where it pays: scenes whose particles are slow most of the time (settling, sparse impacts, a
-deck whose DTMAX was set for its fastest moment). Where it cannot: a bed in lasting contact
-under a vigorous drive keeps the fastest particle fast, and the step stays at the contact limit.
+Where it pays: free flight and sparse impacts (DTMAX between contacts), scenes whose particles
+are slow most of the time. Where it cannot: a bed in lasting contact is never in free flight,
+and under a vigorous drive its fastest particle stays fast, so the step stays at the contact
+limit.
 """
 
 from __future__ import annotations
@@ -35,6 +39,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from x3dpd.geometry.cells import find_pairs
+from x3dpd.geometry.triangle import unit_normals
 from x3dpd.model.timestep import STEPS_PER_CONTACT, hertz_contact_time, recommended_time_step
 from x3dpd.physics.hertz import effective_modulus_pair, effective_modulus_wall, effective_radius
 from x3dpd.solver.simulation import Simulation
@@ -91,18 +97,50 @@ class VariableStep:
         return self._sims[k]
 
     def wanted_level(self, state) -> int:
-        """The coarsest level whose step resolves a contact at the speed one could have."""
+        """The coarsest level whose step resolves a contact at the speed one could have, or,
+        when no contact can begin within the next interval, the structure's limit alone."""
         m = self.model
         p0 = m.particle_start
         speed = np.sqrt(np.sum(state.vel[p0:, :3] ** 2, axis=1)) if m.n_particles else \
             np.zeros(1)
+        walls = np.sqrt(np.sum(state.vel[:p0, :3] ** 2, axis=1))
         g = math.hypot(*m.body_accel)
         v = max(2.0 * float(np.max(speed, initial=0.0)) + g * self.interval, MIN_SPEED)
-        dt = min(self._contact_time(v) / self.n, self.dt_structure)
+        reach = (v + float(np.max(walls, initial=0.0))) * self.interval + g * self.interval**2
+        if self._contact_possible(state, reach):
+            dt = min(self._contact_time(v) / self.n, self.dt_structure)
+        else:
+            dt = self.dt_structure
         for k, step in enumerate(self.levels):
             if step <= dt:
                 return k
         return len(self.levels) - 1
+
+    def _contact_possible(self, state, reach: float) -> bool:
+        """Could a contact be open within ``reach`` [length] of closing: a particle within it
+        of a wall *plane* of its cavity (a lower bound of the distance to the wall), or of
+        another particle of its cavity?"""
+        m = self.model
+        if not m.n_particles:
+            return False
+        k = self._sim(self.level).setup
+        xp = state.x[k.p0:]
+        if "pair_contact" in m.effects and m.n_particles > 1:
+            if find_pairs(xp, k.radius, k.pcav, skin=reach).shape[0]:
+                return True
+        if "wall_contact" in m.effects and k.tri_nodes.shape[0]:
+            first = k.face_first_tri
+            corners = [state.x[k.tri_nodes[first, j]] for j in range(3)]
+            n_in = k.tri_sign[first][:, None] * unit_normals(*corners)
+            d0 = np.sum(n_in * corners[0], axis=1)
+            for c in range(k.cav_ptr.shape[0] - 1):
+                faces = k.cav_faces[k.cav_ptr[c]:k.cav_ptr[c + 1]]
+                mine = np.flatnonzero(k.pcav == c)
+                if faces.size and mine.size:
+                    gap = xp[mine] @ n_in[faces].T - d0[faces] - k.radius[mine][:, None]
+                    if np.min(gap) < reach:
+                        return True
+        return False
 
     def _contact_time(self, v: float) -> float:
         m = self.model
