@@ -216,6 +216,18 @@ class Usrfrc:
 
 
 @dataclass(frozen=True)
+class Hooke:
+    """One HOOKE record (our extension): the PDMP group starting after node ``nodlim`` uses the
+    linear spring-dashpot normal law with stiffness ``kn`` [force/length] and restitution ``e``
+    (x3dpd.physics.hooke)."""
+
+    nodlim: int
+    kn: float
+    e: float
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
 class Deck:
     """A whole parsed deck. Cards that may repeat are tuples, in file order."""
 
@@ -234,3 +246,4 @@ class Deck:
     contacts: tuple[Contact, ...] = ()
     initials: tuple[Initial, ...] = ()
     usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
+    hooke: tuple[Hooke, ...] = ()

@@ -173,6 +173,11 @@ def format_deck(deck: Deck) -> str:
                 raise ValueError(f"INITIAL node {ini.nid} needs 3 or 6 velocities")
             _record([_i(ini.nid), *map(_f, ini.velocity)], out)
         out.append("END")
+    if deck.hooke:
+        _card(out, "HOOKE", ("NODLIM", "KN", "E"))
+        for h in deck.hooke:
+            _record([_i(h.nodlim), _f(h.kn), _f(h.e)], out)
+        out.append("END")
     for u in deck.usrfrc:
         out.append("USRFRC")
         out.extend(_INDENT + _text_line(spec.strip(), "USRFRC spec") for spec in u.specs)

@@ -33,6 +33,7 @@ HAS_MOTION = True
 N_MAXWELL = 1
 HAS_WALLS_TRANSLATE = False
 from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: E402,E501
+from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as NORMAL_PAIR_FORCE, stored_energy as NORMAL_STORED_ENERGY, CLAMPED as NORMAL_CLAMPED, USES_RATE as NORMAL_USES_RATE, DAMPED as NORMAL_DAMPED  # noqa: E402,E501
 USER_FORCE = None
 # --- VARIANT END ---
 
@@ -52,7 +53,7 @@ from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: 
 from x3dpd.physics.usrfrc import _force_value  # noqa: E402
 from x3dpd.solver.bundles import Status  # noqa: E402
 from x3dpd.solver.contact_lists import (  # noqa: E402
-    S_A, S_FN, S_FT, S_H, _active_flags, _contact_energy, _merge_states, _pair_approach)
+    S_A, S_FN, S_FT, S_H, _active_flags, _merge_states, _pair_approach)
 
 @kernel
 def _no_user_force(t, x, vel, force):
@@ -86,30 +87,16 @@ L_DDAMP = 3     # energy dissipated by structural dampers
 
 @step_kernel
 def _record_normal(states, on, s, a, a_old, fn, fn_old):
-    """Clamp the normal force at zero (the report's modified Lee & Radok rule), keep it and the
-    approach in the contact's state row, mark the contact open, and return the applied force
-    with the work the contact absorbed this step, 1/2 (F_old + F) (a - a_old)."""
-    if fn < 0.0:
+    """Clamp the normal force at zero if the law says so (the report's modified Lee & Radok
+    rule), keep it and the approach in the contact's state row, mark the contact open, and
+    return the applied force with the work the contact absorbed this step,
+    1/2 (F_old + F) (a - a_old)."""
+    if NORMAL_CLAMPED and fn < 0.0:
         fn = 0.0
     states[s, S_A] = a
     states[s, S_FN] = fn
     on[s] = 1
     return fn, 0.5 * (fn_old + fn) * (a - a_old)
-
-
-@step_kernel
-def _maxwell_terms(states, s, col, decay, half, moduli, p, scale, dg):
-    """Advance the Maxwell histories of body ``p`` in contact ``s`` and return their sum.
-
-    F_k <- F_k e^{-dt/tau_k} + e^{-dt/2tau_k} (scale * moduli[p, k]) dg (report Eqs. 25-26,
-    x3dpd.physics.maxwell); the histories sit in ``states[s, col:col + N_MAXWELL]``.
-    """
-    total = 0.0
-    for k in range(N_MAXWELL):
-        h = states[s, col + k] * decay[p, k + 1] + half[p, k + 1] * scale * moduli[p, k + 1] * dg
-        states[s, col + k] = h
-        total += h
-    return total
 
 
 @step_kernel
@@ -148,9 +135,7 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     friction with spin, reaction on the wall's nodes. ``w`` is a 3-element scratch array,
     ``busy`` an int scratch of the list's capacity. Returns a status bit."""
     x, vel, force = nodes.x, nodes.vel, nodes.force
-    p0, radius, kw, decay, half = (particles.p0, particles.radius, particles.kw, particles.decay,
-                                   particles.half)
-    mu, inv_mt = particles.mu, particles.inv_mt
+    p0, radius, mu, inv_mt = particles.p0, particles.radius, particles.mu, particles.inv_mt
     wl_p, wl_f, ws, wl_on, nw = walls.first, walls.second, walls.state, walls.on, walls.count[0]
     face_n, face_d, face_ptr, face_tris, tri_nodes = (faces.normal, faces.offset, faces.tri_ptr,
                                                       faces.tris, faces.tri_nodes)
@@ -203,13 +188,15 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
             diag[1] = f
             diag[2] = a
             diag[3] = r
-        # normal force: long-term Hertz term exactly, Maxwell terms incrementally
-        a32 = a * math.sqrt(a)
-        fn = kw[p, 0] * a32
-        if HAS_VISCOELASTIC:
-            ao = a_old if a_old > 0.0 else 0.0
-            a32_old = ao * math.sqrt(ao)
-            fn += _maxwell_terms(ws, s, S_H, decay, half, kw, p, 1.0, a32 - a32_old)
+        # normal force: the scene's law (x3dpd.physics.normal_laws)
+        a_rate = 0.0
+        if NORMAL_USES_RATE:
+            # approach rate: the wall point's velocity minus the particle's, along n
+            a_rate = -(nx * vel[i, 0] + ny * vel[i, 1] + nz * vel[i, 2])
+            for e in range(3):
+                nd = tri_nodes[t, e]
+                a_rate += w[e] * (nx * vel[nd, 0] + ny * vel[nd, 1] + nz * vel[nd, 2])
+        fn = NORMAL_WALL_FORCE(a, a_old, a_rate, p, particles, ws, s, S_H, N_MAXWELL)
         fn, dw = _record_normal(ws, wl_on, s, a, a_old, fn, fn_old)
         w_normal += dw
         fx = fn * nx
@@ -292,9 +279,7 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j. ``busy`` is
     an int scratch of the list's capacity."""
     x, vel, force = nodes.x, nodes.vel, nodes.force
-    p0, radius, ep, pkind, pair_c, decay, half = (particles.p0, particles.radius, particles.ep,
-                                                  particles.kind, particles.pair_c,
-                                                  particles.decay, particles.half)
+    p0, radius, pkind, pair_c = particles.p0, particles.radius, particles.kind, particles.pair_c
     pl_i, pl_j, ps, pl_on, npairs = (pairs.first, pairs.second, pairs.state, pairs.on,
                                      pairs.count[0])
     dt, ledger, pen_limit, diag = stepping.dt, stepping.ledger, stepping.pen_limit, stepping.diag
@@ -346,14 +331,11 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
         # the pair's mixed constants (x3dpd.physics.mixing), looked up by particle kind
         ki = pkind[pi]
         kj = pkind[pj]
-        kfac = pair_c[ki, kj, 0]
-        a32 = a * math.sqrt(a)
-        fn = kfac * (ep[pi, 0] + ep[pj, 0]) * a32
-        if HAS_VISCOELASTIC:
-            ao = a_old if a_old > 0.0 else 0.0
-            da32 = a32 - ao * math.sqrt(ao)
-            fn += _maxwell_terms(ps, s, S_H, decay, half, ep, pi, kfac, da32)
-            fn += _maxwell_terms(ps, s, S_H + N_MAXWELL, decay, half, ep, pj, kfac, da32)
+        a_rate = 0.0
+        if NORMAL_USES_RATE:
+            a_rate = -(nx * (vel[j, 0] - vel[i, 0]) + ny * (vel[j, 1] - vel[i, 1])
+                       + nz * (vel[j, 2] - vel[i, 2]))
+        fn = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, ps, s, S_H, N_MAXWELL)
         fn, dw = _record_normal(ps, pl_on, s, a, a_old, fn, fn_old)
         w_normal += dw
         # force on j along +n, on i along -n
@@ -402,7 +384,7 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
 
 
 @kernel
-def _energies(nodes, springs, walls, pairs, dt, out):
+def _energies(nodes, springs, particles, walls, pairs, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction)."""
     x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
     kin_mass, kin_inertia, inv_m = nodes.kin_mass, nodes.kin_inertia, nodes.inv_m
@@ -421,9 +403,26 @@ def _energies(nodes, springs, walls, pairs, dt, out):
     out[1] = ke_r
     out[2] = _gravity_energy(nodes.mass, x, x0, nodes.g) if HAS_GRAVITY else 0.0
     out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
-    out[4] = (_contact_energy(walls.state, walls.count[0], pairs.state, pairs.count[0])
-              if (HAS_WALLS or HAS_PAIRS) else 0.0)
+    out[4] = _contact_energy(particles, walls, pairs) if (HAS_WALLS or HAS_PAIRS) else 0.0
     out[5] = dt * dt / 8.0 * shadow
+
+
+@kernel
+def _contact_energy(particles, walls, pairs):
+    """Elastic energy stored in the open contacts, by the normal law's ``stored_energy``."""
+    u = 0.0
+    ws = walls.state
+    for s in range(walls.count[0]):
+        if ws[s, S_A] > 0.0:
+            k = particles.law_wall[walls.first[s], 0]
+            u += NORMAL_STORED_ENERGY(ws[s, S_FN], ws[s, S_A], k)
+    ps = pairs.state
+    kind = particles.kind
+    for s in range(pairs.count[0]):
+        if ps[s, S_A] > 0.0:
+            k = particles.law_pair[kind[pairs.first[s]], kind[pairs.second[s]], 0]
+            u += NORMAL_STORED_ENERGY(ps[s, S_FN], ps[s, S_A], k)
+    return u
 
 
 @kernel
@@ -672,7 +671,7 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
                 for d in range(6):
                     out_data[rows, k, 3 + d] = vel[i, d]
             out_t[rows] = t
-            _energies(nodes, springs, walls, pairs, dt, en)
+            _energies(nodes, springs, particles, walls, pairs, dt, en)
             _ledger_row(t, en, ledger, output.e_ref, out_energy[rows])
             rows += 1
             # non-finite state is caught at output steps (cheap), before it reaches the trace
@@ -694,13 +693,13 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
 def _ledger_row(t, en, ledger, e_ref, row):
     """row = t, KE_t, KE_r, U_g, U_s, U_c, D_visc, D_fric, D_damp, W_ext, E_total, residual.
 
-    D_visc = W_N - U_c when contacts are viscoelastic (absorbed minus still stored); elastic
+    D_visc = W_N - U_c when contacts are viscoelastic or damped (absorbed minus still stored); elastic
     contacts dissipate nothing by definition, so their integration error shows in the residual.
     """
     row[0] = t
     for k in range(5):
         row[1 + k] = en[k]
-    if HAS_VISCOELASTIC:
+    if HAS_VISCOELASTIC or NORMAL_DAMPED:
         row[6] = ledger[L_WN] - en[4]
     else:
         row[6] = 0.0

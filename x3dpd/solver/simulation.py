@@ -93,7 +93,8 @@ class Simulation:
                                             user_force=bool(compiled),
                                             python_force=bool(self.python_forces),
                                             walls_translate=_walls_only_translate(
-                                                self.setup, self.motion[:, 0].astype(np.int64)))
+                                                self.setup, self.motion[:, 0].astype(np.int64)),
+                                            normal_law=model.normal_law)
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
         self.compile_seconds = 0.0
@@ -359,7 +360,8 @@ class Simulation:
     def _energy_now(self) -> np.ndarray:
         en = np.empty(6)
         b = self._bundles()
-        self.kernels._energies(b["nodes"], b["springs"], b["walls"], b["pairs"], self.dt, en)
+        self.kernels._energies(b["nodes"], b["springs"], b["particles"], b["walls"], b["pairs"],
+                               self.dt, en)
         return en
 
     def compute_forces(self, t: float | None = None) -> Status:

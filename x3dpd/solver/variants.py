@@ -28,6 +28,7 @@ import numba
 import numpy as np
 
 from x3dpd.physics.coulomb import FRICTION_LAWS
+from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAWS
 
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 _BEGIN = "# --- VARIANT BEGIN ---"
@@ -54,11 +55,12 @@ class Variant:
     n_maxwell: int = 0
     friction_law: str = "regularized"
     walls_translate: bool = False
+    normal_law: str = "lee_radok"
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
                      user_force: bool = False, python_force: bool = False,
-                     walls_translate: bool = False) -> "Variant":
+                     walls_translate: bool = False, normal_law: str = "lee_radok") -> "Variant":
         e = set(effects)
         return cls(
             gravity="gravity" in e,
@@ -76,6 +78,7 @@ class Variant:
             n_maxwell=n_maxwell if "viscoelastic" in e else 0,
             friction_law=friction_law,
             walls_translate=walls_translate and "wall_contact" in e,
+            normal_law=normal_law,
         )
 
     def header(self) -> str:
@@ -85,11 +88,11 @@ class Variant:
         for f in fields(self):
             value = getattr(self, f.name)
             if f.name in _LAWS:
-                registry, module = _LAWS[f.name]
+                registry, imports = _LAWS[f.name]
                 if value not in registry:
                     raise ValueError(f"unknown {f.name.replace('_', ' ')} {value!r}; "
                                      f"use one of {sorted(registry)}")
-                lines.append(f"from {module} import {registry[value]} as {f.name.upper()}")
+                lines.append(imports(value))
             elif isinstance(value, bool):
                 lines.append(f"HAS_{f.name.upper()} = {value}")
             else:
@@ -106,8 +109,18 @@ class Variant:
         return f"advance_{flags}_{rest}"
 
 
-#: Law fields of a Variant: (registry name -> function name, module of the functions).
-_LAWS = {"friction_law": (FRICTION_LAWS, "x3dpd.physics.coulomb")}
+def _friction_import(name: str) -> str:
+    return f"from x3dpd.physics.coulomb import {FRICTION_LAWS[name]} as FRICTION_LAW"
+
+
+def _normal_import(name: str) -> str:
+    names = ", ".join(f"{a} as NORMAL_{a.upper()}" for a in NORMAL_LAW_API)
+    return f"from {NORMAL_LAWS[name].__name__} import {names}"
+
+
+#: Law fields of a Variant: (registry, the VARIANT line importing a law into the loop).
+_LAWS = {"friction_law": (FRICTION_LAWS, _friction_import),
+         "normal_law": (NORMAL_LAWS, _normal_import)}
 
 _ROOT = Path(__file__).resolve().parents[1]
 
