@@ -29,10 +29,11 @@ import json
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from x3dpd.cli import main
-from x3dpd.cli.resume import deck_key
+from x3dpd.api.outputs import deck_key
 from x3dpd.deck import read_deck
 from x3dpd.io.trace import read_trace
 from x3dpd.io.tracediff import compare_traces
@@ -44,6 +45,7 @@ DECKS = ROOT / "decks"
 GOLDEN = ROOT / "tests" / "golden"
 RTOL = 1e-9
 ATOL = 1e-12
+CROSS_CPU_TOL = 1e-6   # of each column's largest |value|; see _agree_across_cpus
 
 
 def _tool(name: str):
@@ -101,6 +103,34 @@ def _run(capsys, argv):
     return exc.value.code or 0, out, err
 
 
+def _agree_across_cpus(a, b, report) -> None:
+    """A golden made on another CPU: glibc's math (FMA variants of sin, exp ...) and LLVM's
+    code for another CPU round differently, and the chaos of many contacts amplifies that by
+    about 10x per simulated millisecond (beam_64: 1e-12 of a column's scale at 8 ms, 1e-3 at
+    20 ms). What does not depend on rounding: the structure's nodes over the whole window (they
+    integrate the particles' forces: 2e-8 of their scale between znver4 and znver5 builds) and
+    every node over the window's first quarter (below 1e-9). A physical change moves either by
+    far more than CROSS_CPU_TOL."""
+    scale = np.maximum(np.abs(b.data).max(axis=(0, 1)), 1e-300)
+    rel = np.abs(a.data - b.data) / scale
+    structure = ~np.isin(a.node_ids, _particle_ids(a))
+    quarter = a.times <= a.times[0] + 0.25 * (a.times[-1] - a.times[0])
+    worst_structure = rel[:, structure].max(initial=0.0)
+    worst_early = rel[quarter].max(initial=0.0)
+    assert worst_structure <= CROSS_CPU_TOL and worst_early <= CROSS_CPU_TOL, (
+        report.format() + f"\n(golden from another CPU) structure nodes differ by "
+        f"{worst_structure:.3g}, all nodes in the first quarter by {worst_early:.3g} of the "
+        f"column scale (tolerance {CROSS_CPU_TOL:g})")
+
+
+def _particle_ids(trace) -> np.ndarray:
+    deck = read_deck(ROOT / trace.meta["deck_path"]) if trace.meta.get("deck_path") else None
+    if deck is None:
+        return np.zeros(0, np.int64)
+    model = build_model(deck)
+    return model.node_ids[model.particle_start:]
+
+
 @pytest.mark.parametrize("case", CASES, ids=[c["deck"] for c in CASES])
 def test_replay_matches_golden(case, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(ROOT)
@@ -122,5 +152,8 @@ def test_replay_matches_golden(case, tmp_path, monkeypatch, capsys):
     a, b = read_trace(trace), read_trace(golden)
     assert a.times.size == b.times.size and a.status == "complete"
     report = compare_traces(a, b, rtol=RTOL, atol=ATOL)
-    assert report.agree, report.format()
+    if prov["machine"].get("llvm_cpu") == regen.llvm_cpu():
+        assert report.agree, report.format()
+    else:
+        _agree_across_cpus(a, b, report)
     assert os.path.getsize(trace.with_name(trace.name[:-len(".trace.txt")] + ".energy.csv")) > 0

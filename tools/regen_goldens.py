@@ -58,7 +58,15 @@ def machine() -> dict:
 
     return {"platform": platform.platform(), "machine": platform.machine(), "cpu": cpu,
             "python": platform.python_version(), "numpy": numpy.__version__,
-            "numba": numba.__version__}
+            "numba": numba.__version__, "llvm_cpu": llvm_cpu()}
+
+
+def llvm_cpu() -> str:
+    """The CPU numba compiles for (``znver5``, ...): with numba and glibc's math, what decides
+    the rounding of a run, and so whether a chaotic golden replays bit for bit."""
+    import llvmlite.binding as llvm
+
+    return llvm.get_host_cpu_name()
 
 
 def git_commit() -> str:
@@ -74,7 +82,7 @@ def git_commit() -> str:
 
 def main(argv: list[str]) -> int:
     from x3dpd import __version__
-    from x3dpd.cli.resume import deck_key
+    from x3dpd.api.outputs import deck_key
     from x3dpd.deck import read_deck
 
     wanted = argv[1:]

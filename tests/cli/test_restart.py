@@ -132,7 +132,7 @@ def test_sigint_exits_130_with_a_valid_dump(reference, tmp_path):
 
 @pytest.fixture
 def finished(reference, tmp_path):
-    """A copy of the reference run's files (its dump is at t = 0.45 s)."""
+    """A copy of the reference run's files (its dump is the end-of-run one, at TMAX)."""
     for f in reference.iterdir():
         shutil.copy2(f, tmp_path / f.name)
     return tmp_path
@@ -145,8 +145,8 @@ def finished(reference, tmp_path):
 ])
 def test_restart_refuses_another_setup(finished, extra, words):
     before = (finished / "ref.trace.txt").read_bytes()
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", *extra,
-                cwd=finished)
+    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", "--tmax",
+                "0.52", *extra, cwd=finished)
     assert res.returncode == 2, res.stderr
     assert "cannot resume from ref.trace.txt.restart.npz" in res.stderr and words in res.stderr
     assert (finished / "ref.trace.txt").read_bytes() == before
@@ -154,32 +154,54 @@ def test_restart_refuses_another_setup(finished, extra, words):
 
 def test_restart_refuses_a_changed_deck(finished):
     ten_sphere_deck(finished / "ten.inp", damping=4e-4)
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", cwd=finished)
+    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", "--tmax",
+                "0.52", cwd=finished)
     assert res.returncode == 2 and "the deck's cards differ" in res.stderr
 
 
-def test_complete_trace_needs_overwrite_and_irest_resumes(finished, reference):
+def test_finished_run_has_an_end_dump_at_tmax(finished):
+    _, meta = load_restart(finished / "ref.trace.txt.restart.npz")
+    assert meta["reason"] == "end" and meta["step"] == round(TMAX / 5e-7)
+    assert meta["trace"]["bytes"] == (finished / "ref.trace.txt").stat().st_size
+    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", cwd=finished)
+    assert res.returncode == 2 and "nothing to run (give a larger --tmax)" in res.stderr
+
+
+def test_complete_trace_needs_overwrite_and_irest_resumes(reference, tmp_path):
     """IREST = 1 in the deck resumes (the deck's key masks IREST); a complete trace is only cut
-    back with --overwrite, which keeps a .bak of the trace and the energy file."""
-    ten_sphere_deck(finished / "ten.inp", irest=1)
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", cwd=finished)
-    assert res.returncode == 2 and "--overwrite" in res.stderr
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--overwrite", cwd=finished)
+    back with --overwrite, which keeps a .bak of the trace and the energy file.
+
+    The dump at 0.45 s is the end dump of a run to TMAX 0.45 (the same steps as the reference's
+    first 0.45 s); the complete reference trace is put in its place, so resuming from 0.45 s
+    would cut it."""
+    deck = ten_sphere_deck(tmp_path / "ten.inp")
+    res = x3dpd(deck, "--trace", "ref.trace.txt", "--tmax", "0.45", "-q", cwd=tmp_path)
     assert res.returncode == 0, res.stderr
-    same_files(finished, reference, "ref", "ref")
-    assert (finished / "ref.trace.txt.bak").read_bytes() == \
+    for name in ("ref.trace.txt", "ref.trace.txt.json", "ref.energy.csv"):
+        shutil.copy2(reference / name, tmp_path / name)
+    ten_sphere_deck(tmp_path / "ten.inp", irest=1)
+    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", cwd=tmp_path)
+    assert res.returncode == 2 and "--overwrite" in res.stderr
+    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--overwrite", cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    same_files(tmp_path, reference, "ref", "ref")
+    assert (tmp_path / "ref.trace.txt.bak").read_bytes() == \
         (reference / "ref.trace.txt").read_bytes()
-    assert (finished / "ref.energy.csv.bak").is_file()
+    assert (tmp_path / "ref.energy.csv.bak").is_file()
     assert "t = 0.45 .. 0.5 s" in res.stdout
 
 
 def test_resume_with_a_later_tmax_extends_the_run(finished, reference):
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", "--tmax",
-                "0.52", "-q", cwd=finished)
+    """A finished run goes on from its end dump: nothing is cut, so no --overwrite is needed."""
+    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--tmax", "0.52", "-q",
+                cwd=finished)
     assert res.returncode == 0, res.stderr
     new = (finished / "ref.trace.txt").read_bytes()
     old = (reference / "ref.trace.txt").read_bytes()
     assert new.startswith(old) and new.count(b"\n") == old.count(b"\n") + 20 * 11
+    energy = (finished / "ref.energy.csv").read_bytes()
+    assert energy.startswith((reference / "ref.energy.csv").read_bytes())
+    assert not (finished / "ref.trace.txt.bak").exists()
 
 
 def test_restart_without_a_dump_exits_2(tmp_path):

@@ -17,7 +17,8 @@ import pytest
 
 from x3dpd.cli import _register, cli, main
 from x3dpd.cli.progress import Progress
-from x3dpd.cli.resume import deck_key, resume_command
+from x3dpd.api.outputs import deck_key
+from x3dpd.cli.resume import resume_command
 from x3dpd.cli.run import RunOptions, default_paths
 from x3dpd.deck import parse_deck, read_deck
 from x3dpd.io.energy import EnergyWriter, read_energy
@@ -265,3 +266,40 @@ def test_energy_writer_streams_and_resumes(tmp_path):
     w = EnergyWriter(path, cols, overwrite=True)
     w.close()
     assert (tmp_path / "e.csv.bak").is_file() and read_energy(path).data.shape == (0, 3)
+
+
+# ------------------------------------------------------------------- rough edges of a run
+
+def test_bad_plot_path_is_refused_before_the_run(capsys, impact):
+    code, out, err = x3dpd(capsys, impact, "--plot", "no/such/folder/run.png")
+    assert code == 2 and "--plot" in err and "does not exist" in err
+    code, out, err = x3dpd(capsys, impact, "--plot", "run.txt")
+    assert code == 2 and ".png" in err
+    assert not os.path.exists("impact_wall.trace.txt")
+
+
+def test_usrfrc_replaces_the_decks_drive_and_says_so(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    shutil.copy(DECKS / "beam_1.inp", "beam_1.inp")
+    other = "sine:node=9,dof=1,amp=4.84040e-3,hz=38"
+    code, out, err = x3dpd(capsys, "beam_1.inp", "--usrfrc", other, "--tmax", "1e-3")
+    assert code == 0, err
+    assert (f"drive          {other} (replaces the deck's USRFRC "
+            "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21") in out
+    side = read_trace("beam_1.trace.txt").meta
+    assert side["usrfrc"] == [other]
+    assert side["usrfrc_replaced"] == ["sine:node=9,dof=1,amp=4.84040e-3,hz=37.21"]
+    code, out, err = x3dpd(capsys, "beam_1.inp", "--usrfrc", other, "--usrfrc-add", "--tmax",
+                           "1e-3", "--trace", "add.trace.txt")
+    assert code == 0, err
+    assert read_trace("add.trace.txt").meta["usrfrc"] == [
+        "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21", other]
+
+
+def test_unstable_summary_agrees_with_the_error_line(capsys, impact):
+    code, out, err = x3dpd(capsys, impact, "--dt", "2e-6", "--tmax", "1e-3")
+    assert code == 3
+    t_err = float(err.split("unstable run at t = ")[1].split(" s")[0])
+    t_sum = float(out.split("t = 0 .. ")[1].split(" s")[0])
+    assert t_sum == pytest.approx(t_err, rel=1e-5)
+    assert read_trace("impact_wall.trace.txt").times[-1] <= t_err * (1 + 1e-6)

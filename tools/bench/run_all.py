@@ -1,10 +1,13 @@
 """Run x3dpd and LAMMPS on the same scenes, one after the other, and print the comparison table.
 
     python tools/bench/run_all.py [--n 50 64 512 4096] [--steps 20000] [--repeat 3] [--json F]
+                                  [--settled-n 512] [--style classic|granular]
 
 Each measurement runs in its own process on one core (OMP/NUMBA threads = 1). x3dpd solves the
-force-driven spring-mounted cavity; LAMMPS the same particles in a box on a prescribed path (its
-fastest form). Also reported: compile time with a cold and a warm numba cache, and the
+force-driven spring-mounted cavity; LAMMPS the same particles in a box on a prescribed path, in
+its fastest form (``--style classic``: gran/hertz/history pair and wall styles). Two tables:
+the falling window (the scene's start), and a settled bed (``--settled-n``, default 512 spheres:
+settled for 300,000 steps, then shaken at 2 g; 0 skips it). Also reported: compile time with a cold and a warm numba cache, and the
 structure-only (SDOF) step rate. LAMMPS rows are skipped when `lammps` is not installed.
 Both codes time the same window ``--repeat`` times from scratch (default 3) and
 report their fastest, so a stray background process cannot tilt the ratio either way.
@@ -43,12 +46,26 @@ def x3dpd_step(n: int, steps: int, warmup: int, repeat: int) -> float | None:
     return r[0]["us_per_step"] if r else None
 
 
-def lammps_step(n: int, steps: int, warmup: int, repeat: int) -> float | None:
+def lammps_step(n: int, steps: int, warmup: int, repeat: int, style: str = "classic",
+                settled: bool = False) -> dict | None:
     r = _json_run([sys.executable, str(HERE / "lammps_peer.py"), "--n", str(n), "--steps",
-                   str(steps), "--warmup", str(warmup), "--repeat", str(repeat)])
+                   str(steps), "--warmup", str(warmup), "--repeat", str(repeat), "--style",
+                   style] + (["--settled"] if settled else []))
     if not r or "us_per_step" not in r:
         return None
-    return r["us_per_step"]
+    return r
+
+
+def settled_rows(n: int, steps: int, repeat: int, style: str) -> dict:
+    ours = _json_run([sys.executable, str(HERE / "bench_solver.py"), "--settled", "--n", str(n),
+                      "--steps", str(steps), "--repeat", str(repeat)])
+    theirs = lammps_step(n, steps, 2000, 1, style, settled=True) if repeat else None
+    o = ours[0] if ours else None
+    return {"n": n, "x3dpd_us": o["us_per_step"] if o else None,
+            "x3dpd_contacts_per_sphere": o["contacts_per_sphere"] if o else None,
+            "lammps_us": theirs["us_per_step"] if theirs else None,
+            "lammps_contacts_per_sphere": theirs.get("contacts_per_sphere") if theirs else None,
+            "speedup": (theirs["us_per_step"] / o["us_per_step"]) if o and theirs else None}
 
 
 def compile_times(n: int = 64) -> tuple[float, float]:
@@ -77,15 +94,22 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=3,
                     help="time each window this many times (fresh runs), keep the fastest")
     ap.add_argument("--json")
+    ap.add_argument("--style", choices=("classic", "granular"), default="classic",
+                    help="LAMMPS's pair/wall styles (classic: gran/hertz/history, its fastest)")
+    ap.add_argument("--settled-n", type=int, default=512,
+                    help="particles of the settled, shaken bed (0: skip that table)")
     args = ap.parse_args(argv)
     rows = []
     for n in args.n:
         steps = args.steps if n < 4096 else max(args.steps // 10, 1000)
         ours = x3dpd_step(n, steps, args.warmup, args.repeat)
-        theirs = lammps_step(n, steps, args.warmup, args.repeat)
+        lam = lammps_step(n, steps, args.warmup, args.repeat, args.style)
+        theirs = lam["us_per_step"] if lam else None
         rows.append({"n": n, "steps": steps, "x3dpd_us": ours, "lammps_us": theirs,
                      "speedup": (theirs / ours) if ours and theirs else None})
         print(rows[-1], flush=True)
+    settled = (settled_rows(args.settled_n, args.steps // 2, args.repeat, args.style)
+               if args.settled_n else None)
     sdof = _json_run([sys.executable, str(HERE / "bench_solver.py"), "--sdof"])
     cold, warm = compile_times()
     print()
@@ -95,12 +119,23 @@ def main(argv=None) -> int:
         lam = f"{r['lammps_us']:.2f}" if r["lammps_us"] else "not installed"
         ratio = f"{r['speedup']:.1f}×" if r["speedup"] else "–"
         print(f"| {r['n']} | {r['x3dpd_us']:.2f} | {lam} | {ratio} |")
+    if settled:
+        print(f"\nSettled bed of {settled['n']}, shaken at 2 g (LAMMPS --style {args.style}):")
+        print("| particles | x3dpd µs/step | contacts/sphere | LAMMPS µs/step | "
+              "contacts/sphere | LAMMPS / x3dpd |")
+        print("|---:|---:|---:|---:|---:|---:|")
+        f = (lambda v, d=2: f"{v:.{d}f}" if v is not None else "–")
+        print(f"| {settled['n']} | {f(settled['x3dpd_us'])} | "
+              f"{f(settled['x3dpd_contacts_per_sphere'])} | {f(settled['lammps_us'])} | "
+              f"{f(settled['lammps_contacts_per_sphere'])} | "
+              f"{f(settled['speedup'], 1)}{'×' if settled['speedup'] else ''} |")
     if sdof:
         print(f"\nSDOF only (structure, no particles): {sdof[0]['steps_per_second']:.3g} steps/s")
     print(f"Start-up incl. compile, n = 64: cold cache {cold:.1f} s, warm cache {warm:.1f} s")
     if args.json:
-        Path(args.json).write_text(json.dumps({"rows": rows, "sdof": sdof, "compile_cold_s": cold,
-                                               "compile_warm_s": warm}, indent=2))
+        Path(args.json).write_text(json.dumps({"rows": rows, "settled": settled, "sdof": sdof,
+                                               "compile_cold_s": cold, "compile_warm_s": warm,
+                                               "lammps_style": args.style}, indent=2))
     return 0
 
 

@@ -36,11 +36,12 @@ def cli() -> None:
 
 
 def _register() -> None:
-    from x3dpd.cli import check, run, tracediff
+    from x3dpd.cli import check, run, sweep, tracediff
 
     cli.add_command(run.run)
     cli.add_command(check.check)
     cli.add_command(tracediff.tracediff)
+    cli.add_command(sweep.sweep)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -1,15 +1,7 @@
 """``x3dpd DECK`` / ``x3dpd run DECK``: run a deck, streaming the trace and the energy ledger.
 
-What a run does, in order (docs/running.md):
-
-1. read the deck, build the model, and refuse (exit 2) a deck whose particles start inside a
-   wall deeper than the penetration limit (the report's printed Appendix A deck);
-2. compile or load the step loop for the scene's effects (:class:`Simulation`);
-3. open the trace (``<stem>.trace.txt``) and the energy file (``<stem>.energy.csv``), refusing to
-   replace existing ones unless ``--overwrite`` (which keeps ``.bak`` copies);
-4. step in chunks of about 0.3 s of wall time, writing every ITRAC-th step, showing progress,
-   taking a restart dump (``<trace>.restart.npz``) every TREST of simulated time;
-5. print a summary: effects, steps, times, speed and the energy ledger.
+A thin layer over :func:`x3dpd.api.run` (docs/running.md): it resolves the options, shows
+progress, prints the summary and draws ``--plot``.
 
 Exit status: 0 done, 2 bad input, 3 unstable run (trace kept, its sidecar says "unstable"),
 130 interrupted by Ctrl-C (the current chunk is finished, a restart dump written and the trace
@@ -18,37 +10,16 @@ flushed; resume with ``--restart``).
 
 from __future__ import annotations
 
-import math
 import os
-import shlex
-import signal
 import sys
-import threading
-import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import click
-import numpy as np
 
-from x3dpd import __version__
+from x3dpd.api.outputs import check_writable, default_paths as _default_paths
 from x3dpd.cli.progress import Progress
-from x3dpd.cli.resume import (
-    deck_key,
-    load_dump,
-    resume_command,
-    sidecar_status,
-    user_file_hashes,
-)
+from x3dpd.cli.resume import resume_command
 from x3dpd.errors import InputError, UnstableRunError
-
-#: Wall time one ``Simulation.advance`` call should take [s] (chunks adapt to the speed).
-CHUNK_SECONDS = 0.3
-#: Wall time between trace flushes (sidecar updates) outside restart dumps [s].
-FLUSH_SECONDS = 30.0
-#: Exit status after SIGINT (128 + 2) and SIGTERM (128 + 15).
-EXIT_INTERRUPTED = 130
-EXIT_TERMINATED = 143
 
 
 @dataclass
@@ -60,6 +31,7 @@ class RunOptions:
     tmax: float | None = None
     dt: float | None = None
     usrfrc: tuple[str, ...] = ()
+    usrfrc_add: bool = False
     usrfrc_python: bool = False
     motion: tuple[str, ...] = ()
     energy: str | None = None
@@ -80,8 +52,10 @@ class RunOptions:
 @click.option("--dt", type=float, metavar="DT", help="Time step [s] [default: the deck's DTMAX].")
 @click.option("--usrfrc", multiple=True, metavar="SPEC",
               help="External force: a built-in law (sine:node=25,dof=1,amp=4.84e-3,hz=37.21) or "
-                   "a user file force.py (repeatable; adds to the deck's USRFRC card). "
-                   "See docs/usrfrc.md.")
+                   "a user file force.py (repeatable). Replaces the deck's USRFRC card (the "
+                   "summary says so); see --usrfrc-add and docs/usrfrc.md.")
+@click.option("--usrfrc-add", is_flag=True,
+              help="Add the --usrfrc forces to the deck's USRFRC card instead of replacing it.")
 @click.option("--usrfrc-python", is_flag=True,
               help="Accept user force files numba cannot compile (runs them in Python, slowly).")
 @click.option("--motion", multiple=True, metavar="SPEC",
@@ -94,21 +68,22 @@ class RunOptions:
 @click.option("--overwrite", is_flag=True,
               help="Replace an existing trace and energy file (the old ones are kept as .bak).")
 @click.option("--restart", is_flag=True,
-              help="Resume from <trace>.restart.npz (as IREST = 1 in the deck).")
+              help="Resume from <trace>.restart.npz (as IREST = 1 in the deck); with a later "
+                   "--tmax, extends a finished run.")
 @click.option("--friction", type=click.Choice(["regularized", "coulomb"]), default="regularized",
               show_default=True, help="Tangential contact law.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
-def run(deck, trace, tmax, dt, usrfrc, usrfrc_python, motion, energy, plot, overwrite, restart,
-        friction, quiet) -> None:
+def run(deck, trace, tmax, dt, usrfrc, usrfrc_add, usrfrc_python, motion, energy, plot,
+        overwrite, restart, friction, quiet) -> None:
     """Run DECK: write its trace, energy ledger and restart dumps.
 
     Exit status: 0 done, 2 bad input, 3 unstable run (diagnosis printed, trace kept),
     130 interrupted (Ctrl-C: restart dump written; resume with --restart).
     """
     opts = RunOptions(deck=deck, trace=trace, tmax=tmax, dt=dt, usrfrc=tuple(usrfrc),
-                      usrfrc_python=usrfrc_python, motion=tuple(motion), energy=energy,
-                      plot=plot, overwrite=overwrite, restart=restart, friction=friction,
-                      quiet=quiet, argv=_command_line())
+                      usrfrc_add=usrfrc_add, usrfrc_python=usrfrc_python, motion=tuple(motion),
+                      energy=energy, plot=plot, overwrite=overwrite, restart=restart,
+                      friction=friction, quiet=quiet, argv=_command_line())
     status = run_deck(opts)
     if status:
         # SystemExit rather than ctx.exit(): x3dpd.cli.main runs click with standalone_mode=False
@@ -122,110 +97,9 @@ def _command_line() -> tuple[str, ...]:
     return tuple(sys.argv[1:]) if prog in ("x3dpd", "__main__.py") else ()
 
 
-# ----------------------------------------------------------------------------------------------
-# paths
-
-
 def default_paths(opts: RunOptions) -> tuple[str, str, str]:
     """(trace, energy, restart dump) paths of a run."""
-    stem = Path(opts.deck).stem
-    trace = opts.trace or f"{stem}.trace.txt"
-    if opts.energy:
-        energy = opts.energy
-    elif trace.endswith(".trace.txt"):
-        energy = trace[: -len(".trace.txt")] + ".energy.csv"
-    else:
-        energy = trace + ".energy.csv"
-    return trace, energy, trace + ".restart.npz"
-
-
-# ----------------------------------------------------------------------------------------------
-# the refusal of decks whose particles start inside walls
-
-
-def initial_penetration_error(model, limit: float, deck_path: str) -> InputError | None:
-    """An :class:`InputError` naming the deepest particle that starts inside a wall deeper than
-    ``limit`` x its radius (or behind a wall), None when there is none."""
-    from x3dpd.model.check import particle_wall_penetrations, particles_outside
-
-    if model.n_particles == 0 or model.tri_nodes.shape[0] == 0:
-        return None
-    r = model.radius
-    found = []  # (depth / R, depth, node id, triangle, behind distance)
-    for o in particles_outside(model):
-        if o.triangle >= 0:  # centre behind a wall: the sphere is inside it by R + distance
-            d = float(r[o.particle] + o.distance)
-            found.append((d / r[o.particle], d, o.node_id, o.triangle, o.distance))
-    behind = {f[2] for f in found}
-    for p in particle_wall_penetrations(model, min_depth_fraction=limit):
-        if p.node_id not in behind:
-            found.append((p.depth / r[p.particle], p.depth, p.node_id, p.triangle, None))
-    if not found:
-        return None
-    found.sort(key=lambda f: (-f[0], f[2]))
-    rel, depth, nid, tri, behind_by = found[0]
-    nodes = " ".join(str(int(model.node_ids[i])) for i in model.tri_nodes[tri])
-    where = (f"; its centre is {behind_by:.6g} behind the wall, on the outside of the cavity"
-             if behind_by is not None else "")
-    n = len({f[2] for f in found})
-    others = (f" ({n} of the {model.n_particles} particles start inside a wall or behind it)"
-              if n > 1 else "")
-    return InputError(
-        f"{deck_path}: particle node {nid} starts {depth:.6g} ({rel:.3g} R) deep in wall "
-        f"triangle {tri + 1} (nodes {nodes}){where}, beyond the penetration limit "
-        f"{limit:g} R{others}. The run would blow up at its first step: see "
-        f"`x3dpd check {deck_path}`; decks/appendix_a_cube.inp is the repaired geometry of "
-        f"the report's Appendix A deck.")
-
-
-# ----------------------------------------------------------------------------------------------
-# signals
-
-
-class _Interrupts:
-    """SIGINT/SIGTERM during the stepping loop: the first one asks the loop to stop after the
-    current chunk (restart dump, flushed trace); a second one stops at once."""
-
-    def __init__(self):
-        self.signum = 0
-        self._old = {}
-
-    def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                self._old[sig] = signal.signal(sig, self._handle)
-        return self
-
-    def _handle(self, signum, frame):
-        if self.signum:
-            raise KeyboardInterrupt
-        self.signum = signum
-
-    def __exit__(self, *exc):
-        for sig, old in self._old.items():
-            signal.signal(sig, old)
-        return False
-
-    @property
-    def exit_status(self) -> int:
-        return EXIT_TERMINATED if self.signum == signal.SIGTERM else EXIT_INTERRUPTED
-
-
-# ----------------------------------------------------------------------------------------------
-# the run
-
-
-@dataclass
-class _Stats:
-    steps: int = 0              # steps done by this invocation
-    timed_steps: int = 0        # steps whose wall time excludes compilation
-    timed_seconds: float = 0.0
-    wall_start: float = field(default_factory=time.perf_counter)
-    setup_seconds: float = 0.0  # reading, building, compiling or loading before stepping
-    scale: float = 0.0          # energy scale (largest ledger term seen)
-    last_energy: np.ndarray | None = None
-    dumps: int = 0
-    t_start: float = 0.0        # simulated time this invocation started from
+    return _default_paths(opts.deck, opts.trace, opts.energy)
 
 
 def run_deck(opts: RunOptions) -> int:
@@ -233,257 +107,93 @@ def run_deck(opts: RunOptions) -> int:
 
     Raises the typed errors (exit 2 / 3) for ``x3dpd.cli.main`` to report.
     """
-    from x3dpd.deck import read_deck
-    from x3dpd.model.build import build_model
+    from x3dpd.api.runner import command_line, run as api_run
 
-    stats = _Stats()
-    deck = read_deck(opts.deck)
-    model = build_model(deck, usrfrc=opts.usrfrc, motion=opts.motion)
-    trace_path, energy_path, dump_path = default_paths(opts)
-    resume = opts.restart or model.irest == 1
-    if opts.tmax is not None and not math.isfinite(opts.tmax):
-        raise InputError(f"--tmax must be a finite number of seconds, got {opts.tmax}")
-    tmax = float(opts.tmax if opts.tmax is not None else model.tmax)
-    if not resume:
-        err = initial_penetration_error(model, opts.penetration_limit, opts.deck)
-        if err is not None:
-            raise err
+    trace_path, energy_path, _ = default_paths(opts)
+    if opts.plot:
+        if not opts.plot.lower().endswith(".png"):
+            raise InputError(f"--plot {opts.plot}: the plot is a PNG file; give a name ending "
+                             "in .png")
+        check_writable(opts.plot, "--plot")
+    progress = Progress(opts.quiet, float("nan"))
 
-    from x3dpd.solver.simulation import ENERGY_COLUMNS, Simulation
+    def on_progress(t, rate, eta, residual, t_end):
+        progress.tmax = t_end
+        progress.update(t, rate, eta, residual, force=t >= t_end)
 
-    sim = Simulation(model, usrfrc=opts.usrfrc, motion=opts.motion, dt=opts.dt,
-                     friction=opts.friction, penetration_limit=opts.penetration_limit,
-                     allow_python_usrfrc=opts.usrfrc_python)
-    dt, itrac, t0 = sim.dt, sim.itrac, model.t0
-    n_end = int(round((tmax - t0) / dt))
-    if n_end < 0:
-        raise InputError(f"TMAX {tmax:g} s is before the start time {t0:g} s")
-    trest_steps = int(round(model.trest / dt)) if model.trest > 0 else 0
-
-    from x3dpd.io.trace import sha256_file
-
-    options = {"usrfrc": list(opts.usrfrc), "motion": list(opts.motion),
-               "friction": opts.friction, "tmax": tmax, "usrfrc_python": opts.usrfrc_python,
-               "usrfrc_files": user_file_hashes(list(model.usrfrc) + list(opts.usrfrc))}
-    deck_sha = sha256_file(opts.deck)
-    key = deck_key(deck)
-    sidecar = {
-        "deck_path": opts.deck, "deck_sha256": deck_sha, "dt": dt, "itrac": itrac,
-        "effects": sorted(sim.effects), "title": model.title, "t0": t0, "tmax": tmax,
-        "usrfrc": list(model.usrfrc) + list(opts.usrfrc), "motion": list(opts.motion),
-        "friction": opts.friction, "energy_file": energy_path, "restart_file": dump_path,
-        "command": "x3dpd " + shlex.join(opts.argv) if opts.argv else None,
-    }
-
-    meta = None
-    if resume:
-        meta = load_dump(dump_path, opts, sim, key, options, model)
-        sidecar["resumed_at"] = meta["time"]
-        if meta["step"] >= n_end:
-            raise InputError(f"{dump_path}: the restart dump is at t = {meta['time']:.9g} s, "
-                             f"not before TMAX {tmax:.9g} s: nothing to run (give a larger "
-                             "--tmax)")
-
-    writer, ewriter = _open_outputs(opts, trace_path, energy_path, sim, sidecar, meta,
-                                    ENERGY_COLUMNS)
-    if not resume:
-        try:  # a stale dump of an earlier run must not be resumed against this trace
-            os.unlink(dump_path)
-        except FileNotFoundError:
-            pass
-
-    def dump(reason: str) -> None:
-        writer.flush()
-        ewriter.flush()
-        from x3dpd.io.restart import save_restart
-
-        save_restart(dump_path, sim.state.to_arrays(), {
-            "reason": reason, "x3dpd_version": __version__,
-            "deck_path": opts.deck, "deck_abspath": os.path.abspath(opts.deck),
-            "deck_sha256": deck_sha, "deck_key": key, "dt": dt, "itrac": itrac, "t0": t0,
-            "step": int(sim.state.step), "time": sim.time,
-            "trace": {"path": trace_path, "bytes": writer.tell(),
-                      "blocks": writer.blocks_written},
-            "energy": {"path": energy_path, "bytes": ewriter.tell(),
-                       "rows": ewriter.rows_written},
-            "options": options, "energy_scale": stats.scale,
-            "effects": sorted(sim.effects),
-        })
-        stats.dumps += 1
-
-    progress = Progress(opts.quiet, tmax)
-    status = "complete"
-    exit_status = 0
-    if meta is not None:
-        stats.scale = float(meta.get("energy_scale", 0.0))
-    try:
-        with writer, ewriter:
-            if not resume:
-                snap = sim.snapshot()
-                writer.write_block(snap.times, snap.data)
-                ewriter.write_rows(snap.energy)
-                _note_energy(stats, snap.energy, sim)
-            stats.setup_seconds = time.perf_counter() - stats.wall_start
-            stats.t_start = sim.time
-            with _Interrupts() as intr:
-                _step_loop(sim, writer, ewriter, n_end, trest_steps, stats, progress, dump,
-                           intr)
-                if intr.signum:
-                    dump("interrupted")
-                    status = "interrupted"
-                    exit_status = intr.exit_status
-                    writer.close("interrupted")
-    except UnstableRunError:
-        progress.done()
+    def on_compile(message: str) -> None:
         if not opts.quiet:
-            _summary(opts, sim, stats, trace_path, energy_path, "unstable")
-        _maybe_plot(opts, trace_path, energy_path, model)
+            click.echo(f"x3dpd: {message} ...", err=True)
+
+    try:
+        result = api_run(
+            opts.deck, tmax=opts.tmax, dt=opts.dt, usrfrc=opts.usrfrc,
+            usrfrc_mode="add" if opts.usrfrc_add else "replace", motion=opts.motion,
+            friction=opts.friction, trace=trace_path, energy=energy_path,
+            overwrite=opts.overwrite, restart=opts.restart, keep_trace=False,
+            progress=None if opts.quiet else on_progress, on_compile=on_compile,
+            usrfrc_python=opts.usrfrc_python, penetration_limit=opts.penetration_limit,
+            handle_signals=True, command=command_line(opts.argv))
+    except UnstableRunError as exc:
+        progress.done()
+        partial = getattr(exc, "result", None)
+        if partial is not None:
+            partial.summary["t_end"] = getattr(exc, "time", None) or partial.summary["t_end"]
+            if not opts.quiet:
+                click.echo(format_summary(opts.deck, partial.summary))
+            _maybe_plot(opts, trace_path, energy_path, partial.model)
         raise
     except KeyboardInterrupt:
         progress.done()
         raise
     progress.done()
+    s = result.summary
     if not opts.quiet:
-        _summary(opts, sim, stats, trace_path, energy_path, status)
-    if status == "interrupted":  # the one line --quiet keeps: it says how to go on
-        click.echo(f"x3dpd: interrupted at t = {sim.time:.9g} s; restart dump {dump_path} "
-                   f"written. Resume with: x3dpd {resume_command(opts)}", err=True)
-    _maybe_plot(opts, trace_path, energy_path, model)
-    return exit_status
+        click.echo(format_summary(opts.deck, s))
+    if s["status"] == "interrupted":  # the one line --quiet keeps: it says how to go on
+        click.echo(f"x3dpd: interrupted at t = {s['t_end']:.9g} s; restart dump "
+                   f"{s['restart_file']} written. Resume with: x3dpd {resume_command(opts)}",
+                   err=True)
+    _maybe_plot(opts, trace_path, energy_path, result.model)
+    return int(s.get("exit_status", 0))
 
 
-def _open_outputs(opts, trace_path, energy_path, sim, sidecar, meta, columns):
-    """The trace and energy writers, new or resumed at the dump's offsets."""
-    from x3dpd.io.energy import EnergyWriter, copy_backup
-    from x3dpd.io.trace import TraceWriter
-
-    ids = sim.model.node_ids[sim.trace_nodes]
-    if meta is None:
-        if os.path.lexists(energy_path) and not opts.overwrite:
-            raise InputError(f"energy file {energy_path} already exists; pass --overwrite to "
-                             f"replace it (the old one is kept as {energy_path}.bak) or choose "
-                             "another --energy path")
-        writer = TraceWriter(trace_path, ids, sidecar, overwrite=opts.overwrite)
-        try:
-            ewriter = EnergyWriter(energy_path, columns, overwrite=opts.overwrite)
-        except BaseException:
-            writer.close("interrupted")
-            raise
-        return writer, ewriter
-    tr, en = meta["trace"], meta["energy"]
-    complete = sidecar_status(trace_path) == "complete"
-    writer = TraceWriter(trace_path, ids, sidecar, overwrite=opts.overwrite,
-                         append_at=(int(tr["bytes"]), int(tr["blocks"])))
-    try:
-        if complete and opts.overwrite and os.path.isfile(energy_path):
-            copy_backup(energy_path)
-        ewriter = EnergyWriter(energy_path, columns,
-                               append_at=(int(en["bytes"]), int(en["rows"])))
-    except BaseException:
-        writer.close("interrupted")
-        raise
-    return writer, ewriter
-
-
-def _note_energy(stats: _Stats, energy: np.ndarray, sim) -> None:
-    if energy.shape[0]:
-        stats.scale = max(stats.scale, float(np.abs(energy[:, 1:11]).max()),
-                          abs(float(sim.state.e_ref)))
-        stats.last_energy = energy[-1].copy()
-
-
-def _step_loop(sim, writer, ewriter, n_end, trest_steps, stats, progress, dump, intr) -> None:
-    chunk = max(1, min(sim.itrac, 1000))
-    rate = 0.0
-    last_flush = time.perf_counter()
-    first = True
-    while sim.state.step < n_end and not intr.signum:
-        step = sim.state.step
-        target = min(n_end, step + chunk)
-        if trest_steps:
-            next_dump = (step // trest_steps + 1) * trest_steps
-            target = min(target, next_dump)
-        compile_before = sim.compile_seconds
-        t = time.perf_counter()
-        try:
-            block = sim.advance(target - step)
-        except UnstableRunError as exc:
-            # write the rows computed before the failure, so the kept trace ends where the
-            # run went wrong
-            partial = getattr(exc, "block", None)
-            if partial is not None and partial.times.shape[0]:
-                writer.write_block(partial.times, partial.data)
-                ewriter.write_rows(partial.energy)
-            raise
-        wall = time.perf_counter() - t
-        done = sim.state.step - step
-        writer.write_block(block.times, block.data)
-        ewriter.write_rows(block.energy)
-        _note_energy(stats, block.energy, sim)
-        stats.steps += done
-        compiled = sim.compile_seconds > compile_before
-        if not (first and compiled):
-            stats.timed_steps += done
-            stats.timed_seconds += wall
-            inst = done / wall if wall > 0 else float("inf")
-            rate = inst if rate == 0.0 else 0.5 * rate + 0.5 * inst
-            if done == target - step and math.isfinite(rate):
-                chunk = int(min(max(rate * CHUNK_SECONDS, chunk / 4, 1), chunk * 4, 1e9))
-        elif done == target - step:
-            chunk = min(chunk * 4, max(1, n_end))
-        first = False
-        if trest_steps and sim.state.step % trest_steps == 0 and sim.state.step < n_end:
-            dump("trest")
-            last_flush = time.perf_counter()
-        elif time.perf_counter() - last_flush > FLUSH_SECONDS:
-            writer.flush()
-            ewriter.flush()
-            last_flush = time.perf_counter()
-        res = _relative_residual(stats)
-        left = n_end - sim.state.step
-        eta = left / rate if rate > 0 else float("nan")
-        progress.update(sim.time, rate, eta, res, force=sim.state.step >= n_end)
-
-
-def _relative_residual(stats: _Stats) -> float:
-    if stats.last_energy is None or stats.scale <= 0:
-        return 0.0
-    return float(stats.last_energy[11]) / stats.scale
-
-
-def _summary(opts, sim, stats, trace_path, energy_path, status) -> None:
+def format_summary(deck: str, s: dict) -> str:
+    """The summary ``x3dpd run`` prints (docs/running.md, "Progress and summary")."""
     from x3dpd.solver.simulation import ENERGY_COLUMNS
 
-    wall = time.perf_counter() - stats.wall_start
-    compile_s = float(sim.compile_seconds) + float(getattr(sim, "_load_seconds", 0.0))
-    rate = stats.timed_steps / stats.timed_seconds if stats.timed_seconds > 0 else float("nan")
-    lines = [f"x3dpd: {opts.deck} -> {trace_path}, {energy_path} ({status})",
-             f"  effects        {', '.join(sorted(sim.effects)) or 'none'}",
-             f"  steps          {stats.steps} this run; t = {stats.t_start:.9g} .. "
-             f"{sim.time:.9g} s at dt {sim.dt:.6g} s, trace every {sim.itrac} steps",
-             f"  wall time      {wall:.2f} s (setup and first-call compile/load "
-             f"{compile_s:.2f} s)",
-             ]
-    if math.isfinite(rate) and rate > 0:
+    lines = [f"x3dpd: {deck} -> {s['trace_file']}, {s['energy_file']} ({s['status']})",
+             f"  effects        {', '.join(s['effects']) or 'none'}"]
+    if s.get("usrfrc_replaced"):
+        lines.append(f"  drive          {'; '.join(s['usrfrc'])} (replaces the deck's USRFRC "
+                     f"{'; '.join(s['usrfrc_replaced'])}; --usrfrc-add adds instead)")
+    lines += [
+        f"  steps          {s['steps']} this run; t = {s['t_start']:.9g} .. {s['t_end']:.9g} s "
+        f"at dt {s['dt']:.6g} s, trace every {s['itrac']} steps",
+        f"  wall time      {s['wall_s']:.2f} s (setup and first-call compile/load "
+        f"{s['compile_s']:.2f} s)"]
+    rate = s["steps_per_s"]
+    if rate == rate and rate > 0:
         lines.append(f"  speed          {rate:,.0f} steps/s, {1e6 / rate:.3g} us/step")
-    if stats.dumps:
-        lines.append(f"  restart dumps  {stats.dumps} written to {trace_path}.restart.npz")
-    e = stats.last_energy
+    if s["dumps"]:
+        lines.append(f"  restart dumps  {s['dumps']} written to {s['restart_file']}")
+    e = s["last_energy"]
     if e is not None:
-        lines.append(f"  energy ledger at t = {e[0]:.9g} s (deck units, lbf in for inch decks)")
-        for name, v in zip(ENERGY_COLUMNS[1:11], e[1:11]):
-            lines.append(f"    {name:<24} {v: .6e}")
-        lines.append(f"    {'dissipated (total)':<24} {e[6] + e[7] + e[8]: .6e}")
-        lines.append(f"    {'residual':<24} {e[11]: .6e} ({_relative_residual(stats):+.2e} of the "
-                     f"energy scale {stats.scale:.6g})")
-    click.echo("\n".join(lines))
+        lines.append(f"  energy ledger at t = {e['time']:.9g} s (deck units, lbf in for inch "
+                     "decks)")
+        for name in ENERGY_COLUMNS[1:11]:
+            lines.append(f"    {name:<24} {e[name]: .6e}")
+        total = e["dissipated_viscoelastic"] + e["dissipated_friction"] + e["dissipated_dampers"]
+        lines.append(f"    {'dissipated (total)':<24} {total: .6e}")
+        lines.append(f"    {'residual':<24} {e['residual']: .6e} ({s['residual']:+.2e} of the "
+                     f"energy scale {s['energy_scale']:.6g})")
+    return "\n".join(lines)
 
 
 def _maybe_plot(opts, trace_path, energy_path, model) -> None:
-    if not opts.plot:
+    if not opts.plot or model is None:
         return
     from x3dpd.analysis.plots import plot_run
-
     from x3dpd.io.energy import read_energy
 
     ids = model.node_ids[model.trace_nodes].tolist()

@@ -143,7 +143,13 @@ class EnergyData:
     data: np.ndarray
 
     def column(self, name: str) -> np.ndarray:
+        """One column, (k,); KeyError naming the columns when there is no such column."""
+        if name not in self.columns:
+            raise KeyError(f"no energy column {name!r}; the columns are {', '.join(self.columns)}")
         return self.data[:, self.columns.index(name)]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.column(name)
 
     @property
     def times(self) -> np.ndarray:

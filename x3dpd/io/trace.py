@@ -201,12 +201,14 @@ class TraceWriter:
         if old is not None and old["node_ids"] != self.node_ids.tolist():
             raise TraceError(f"cannot resume trace {path}: it traces nodes {old['node_ids']}, "
                              f"this run traces {self.node_ids.tolist()}")
-        backup = old is not None and old.get("status") == "complete"
+        size = os.path.getsize(path)
+        # a complete trace is only cut back with overwrite; appending to its end (a finished
+        # run extended from its end-of-run dump) loses nothing
+        backup = old is not None and old.get("status") == "complete" and nbytes < size
         if backup and not overwrite:
             raise TraceError(f"trace {path} is complete; resuming would cut it at byte "
                              f"{nbytes}. Pass --overwrite to keep a copy in {path}.bak, or "
                              "choose another --trace path")
-        size = os.path.getsize(path)
         if nbytes < 0 or nblocks < 0 or nbytes > size:
             raise TraceError(f"cannot resume trace {path} at byte {nbytes}: the file has only "
                              f"{size} bytes (is it the trace of this restart dump?)")
@@ -383,8 +385,29 @@ def _count_lines(f, nbytes: int) -> tuple[int, bytes | None]:
 # reading
 
 
+class TraceAxes:
+    """Named views of a ``data`` array of trace rows, (T, N, 9): ``x y z vx vy vz wx wy wz``."""
+
+    data: np.ndarray
+
+    @property
+    def position(self) -> np.ndarray:
+        """Coordinates ``x y z`` [length], (T, N, 3) (a view of ``data``)."""
+        return self.data[:, :, 0:3]
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """Velocities ``vx vy vz`` [length/s], (T, N, 3) (a view of ``data``)."""
+        return self.data[:, :, 3:6]
+
+    @property
+    def spin(self) -> np.ndarray:
+        """Angular velocities ``wx wy wz`` [rad/s], (T, N, 3) (a view of ``data``)."""
+        return self.data[:, :, 6:9]
+
+
 @dataclass(frozen=True, eq=False)
-class TraceData:
+class TraceData(TraceAxes):
     """A trace in memory.
 
     Attributes
@@ -424,6 +447,11 @@ class TraceData:
     def status(self) -> str | None:
         """Run status from the sidecar (None without one)."""
         return self.meta.get("status")
+
+    @property
+    def time(self) -> np.ndarray:
+        """Output times [s], (T,) (the same array as ``times``)."""
+        return self.times
 
     def index(self, nid: int) -> int:
         """Row position of node ``nid`` (its first occurrence); KeyError if not traced."""

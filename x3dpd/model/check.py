@@ -26,6 +26,7 @@ from x3dpd.geometry.cavity import (
 from x3dpd.geometry.pairs import overlapping_pairs
 from x3dpd.geometry.triangle import unit_normals
 from x3dpd.geometry.walls import sphere_triangle_pairs
+from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
 from x3dpd.model.timestep import (
     STEPS_PER_CONTACT,
@@ -230,8 +231,9 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
     cavity), particles outside their cavity, particles penetrating walls, overlapping particles,
     cavities whose inside could not be told consistently, particles in no slave set, cavities
     without particles, and a time step above the recommendation (:func:`recommended_time_step`).
-    The model itself is consistent (:func:`~x3dpd.model.build.build_model` raised otherwise), so
-    ``errors`` is empty; the CLI adds deck errors.
+    The model itself is consistent (:func:`~x3dpd.model.build.build_model` raised otherwise);
+    ``errors`` lists numbers a run cannot work with (:func:`~x3dpd.model.magnitudes.
+    magnitude_errors`: masses that underflow, kinetic energies or weights that overflow).
     """
     ps = model.particle_start
     cavities = _cavity_summaries(model)
@@ -300,7 +302,8 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
         path=model.path, n_nodes=model.n_nodes, groups=tuple(groups),
         particle_mass=float(model.mass[ps:].sum()), structure_mass=float(model.mass[:ps].sum()),
         cavities=tuple(cavities), effects=model.effects, time_step=ts,
-        warnings=tuple(warnings))
+        warnings=tuple(warnings),
+        errors=tuple(Finding("extreme-value", text) for text in magnitude_errors(model)))
 
 
 def _closed(model: Model, c: int) -> tuple[bool, bool]:

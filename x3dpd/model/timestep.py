@@ -15,12 +15,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.model.model import Model
+from x3dpd.model.magnitudes import safe_norms
 from x3dpd.physics.hertz import (
+    HERTZ_TIME_FACTOR,
     effective_modulus_pair,
     effective_modulus_wall,
     effective_radius,
     hertz_constant,
-    hertz_impact,
 )
 
 #: Steps per Hertz contact the recommendation asks for (see :func:`recommended_time_step`).
@@ -64,7 +65,11 @@ def hertz_contact_time(m_eff, r_eff, e_star, v):
     e_star : effective modulus [force/length^2]
     v : normal impact speed [length/s]
     """
-    return 2.0 * hertz_impact(m_eff, hertz_constant(e_star, r_eff), v)[1]
+    # written as 2 F (5 m / 4 K)^(2/5) v^(-1/5) (F = HERTZ_TIME_FACTOR; the same number as
+    # 2 F a_max / v of hertz_impact), so that no intermediate under- or overflows for extreme
+    # decks (a speed of 1e300, a density of 1e-300)
+    k = hertz_constant(e_star, r_eff)
+    return 2.0 * HERTZ_TIME_FACTOR * (1.25 * m_eff / k) ** 0.4 * v ** -0.2
 
 
 def peak_force_error(steps_per_contact):
@@ -75,6 +80,8 @@ def peak_force_error(steps_per_contact):
     fitted by :math:`1.35\,\% \cdot (10/n)^2`. Contact duration and restitution errors are
     smaller (0.55 % and 0.26 % at 10 steps). ``tests/model/test_model_timestep.py`` re-measures it.
     """
+    if not steps_per_contact > 0.0:
+        return math.inf
     return 1.35 * (10.0 / steps_per_contact) ** 2
 
 
@@ -122,8 +129,8 @@ def characteristic_speed(model: Model) -> float:
     else:
         extra = 0.0
     length = float(np.max(np.ptp(pts, axis=0))) + extra if pts.shape[0] else 0.0
-    fall = math.sqrt(2.0 * float(np.linalg.norm(model.body_accel)) * length)
-    fastest = float(np.max(np.linalg.norm(model.v0[:, :3], axis=1), initial=0.0))
+    fall = math.sqrt(2.0 * math.hypot(*model.body_accel)) * math.sqrt(length)
+    fastest = float(np.max(safe_norms(model.v0[:, :3]), initial=0.0))
     return max(fall, fastest, MIN_IMPACT_SPEED)
 
 
@@ -246,7 +253,10 @@ def recommended_time_step(model: Model, steps_per_contact: int = STEPS_PER_CONTA
 
 
 def time_step_is_a_problem(ts: TimeStepAdvice) -> bool:
-    """A warning when the structure's step limit is exceeded or a contact gets < 8 steps."""
+    """A warning when the structure's step limit is exceeded or a contact gets < 8 steps (or
+    the advice itself is not a positive number: a deck at the edge of double precision)."""
+    if ts.binding != "none" and not (ts.dt_recommended > 0.0):
+        return True
     if ts.dt_deck <= ts.dt_recommended * (1.0 + 1e-9):
         return False
     if ts.dt_deck > ts.dt_structure * (1.0 + 1e-9):
@@ -255,7 +265,7 @@ def time_step_is_a_problem(ts: TimeStepAdvice) -> bool:
 
 
 def time_step_warning(ts: TimeStepAdvice, model: Model) -> str:
-    ratio = ts.dt_deck / ts.dt_recommended
+    ratio = ts.dt_deck / ts.dt_recommended if ts.dt_recommended > 0.0 else math.inf
     text = (f"time step: DTMAX {ts.dt_deck:.3g} s is {ratio:.3g} times the recommended "
             f"{ts.dt_recommended:.3g} s. ")
     if ts.binding == "contact":

@@ -15,6 +15,19 @@ acceleration (continuous displacement; the velocity jumps to ``A omega cos(phi)`
 for DOFs 4-6; ``phase`` is in degrees unless suffixed ``rad``; ``hz`` in Hz, ``omega`` in rad/s.
 
 x3dpd keeps no rotation angles, so a rotational DOF is driven through its angular velocity only.
+
+The actuator that imposes the motion does work on the system; over a step from ``t_n`` to
+``t_n+1`` on a DOF of inertia ``M`` (mass, or moment of inertia for DOFs 4-6)
+
+.. math::
+
+    W = \\tfrac12 M (\\dot u_{n+1}^2 - \\dot u_n^2) - \\tfrac12 (f_n + f_{n+1}) (u_{n+1} - u_n)
+
+(:func:`_motion_work`): the change of the DOF's kinetic energy minus the work the rest of the
+system's forces ``f`` do on it. It is exact for a velocity jump (an impulse does
+``1/2 M (v+^2 - v-^2)``) and for a linear spring on the DOF. At the start of a run the DOF
+takes ``u(t_start)`` and ``u'(t_start)``; the change from the deck's velocity is the first
+entry of the external work (:func:`start_motion`).
 """
 
 from __future__ import annotations
@@ -57,6 +70,44 @@ def _apply_motion(t, table, x0, x, vel):
         if d < 3:
             x[i, d] = x0[i, d] + u
         vel[i, d] = v
+
+
+@step_kernel
+def _apply_motion_step(t_prev, t, table, x0, x, vel):
+    """Impose the prescribed DOFs for the force pass of the step ``t_prev -> t``.
+
+    ``x = x0 + u(t)`` (DOFs 1-3) and ``vel = (u(t) - u(t_prev)) / (t - t_prev)``: the step's mean
+    velocity, what the half-step velocity of an integrated DOF is (velocity Verlet), so that
+    dampers and friction see ``dt * vel`` as the DOF's displacement, as for every other DOF.
+    """
+    for r in range(table.shape[0]):
+        i = int(table[r, 0])
+        d = int(table[r, 1])
+        u0 = _motion_state(t_prev, table, r)[0]
+        u1 = _motion_state(t, table, r)[0]
+        if d < 3:
+            x[i, d] = x0[i, d] + u1
+        vel[i, d] = (u1 - u0) / (t - t_prev)
+
+
+@step_kernel
+def _motion_work(t_prev, t, table, kin_mass, kin_inertia, force, f_prev):
+    """Work [force x length] of the actuators over the step ``t_prev -> t`` (see module doc).
+
+    ``force`` (n, 6) holds the forces of the rest of the system at ``t``; ``f_prev`` (m,) those
+    at ``t_prev`` on each driven DOF, replaced by the values at ``t``.
+    """
+    w = 0.0
+    for r in range(table.shape[0]):
+        i = int(table[r, 0])
+        d = int(table[r, 1])
+        u0, v0, _ = _motion_state(t_prev, table, r)
+        u1, v1, _ = _motion_state(t, table, r)
+        inertia = kin_mass[i] if d < 3 else kin_inertia[i, d - 3]
+        f1 = force[i, d]
+        w += 0.5 * inertia * (v1 * v1 - v0 * v0) - 0.5 * (f_prev[r] + f1) * (u1 - u0)
+        f_prev[r] = f1
+    return w
 
 
 @kernel
@@ -129,6 +180,23 @@ def apply_motion(t: float, table, x0, x, vel) -> None:
     if table.shape[0] and table[:, 0].max() >= x.shape[0]:
         raise ValueError("the motion table refers to a node index outside the arrays")
     _apply_motion(float(t), table, x0, x, vel)
+
+
+def start_motion(t: float, table, x0, x, vel, kin_mass, kin_inertia) -> float:
+    """Put the driven DOFs on their motion at the start time ``t`` [s]; return the actuator's work.
+
+    ``x`` (n, 3) and ``vel`` (n, 6) are changed in place. The work is the kinetic energy the
+    velocity change gives each DOF, ``1/2 M (u'(t)^2 - v^2)`` with ``v`` its velocity before
+    (an impulse); a displacement ``u(t) = A sin(phi)`` is part of the initial state.
+    """
+    table = _check_table(table)
+    rows = table[:, :2].astype(np.int64)
+    before = vel[rows[:, 0], rows[:, 1]].copy()
+    apply_motion(t, table, x0, x, vel)
+    after = vel[rows[:, 0], rows[:, 1]]
+    inertia = np.where(rows[:, 1] < 3, kin_mass[rows[:, 0]],
+                       kin_inertia[rows[:, 0], np.maximum(rows[:, 1] - 3, 0)])
+    return float(np.sum(0.5 * inertia * (after * after - before * before)))
 
 
 def motion_history(times, table) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -46,7 +46,7 @@ from x3dpd.geometry.cells import _find_pairs  # noqa: E402
 from x3dpd.geometry.faces import (  # noqa: E402
     _build_wall_list, _face_offsets, _face_planes, _locate_on_face)
 from x3dpd.physics.gravity import _gravity_energy, _gravity_forces  # noqa: E402
-from x3dpd.physics.motion import _apply_motion  # noqa: E402
+from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work  # noqa: E402,E501
 from x3dpd.physics.rigid_link import (  # noqa: E402
     _gather_slaves, _rigid_angular_kick, _rotate, _update_slaves)
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
@@ -545,7 +545,8 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
     status or a full output buffer.
     """
     x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
-    kin_mass, inv_m, fgrav = nodes.kin_mass, nodes.inv_m, nodes.fgrav
+    kin_mass, kin_inertia, inv_m, fgrav = (nodes.kin_mass, nodes.kin_inertia, nodes.inv_m,
+                                           nodes.fgrav)
     motion_table, motion_prev = loads.motion, loads.motion_prev
     rig_master, rig_ptr, rig_slaves, rig_r0, rot = (rigid.master, rigid.ptr, rigid.slaves,
                                                     rigid.r0, rigid.rot)
@@ -606,7 +607,7 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
             _rotate(rot, rig_master, vel, dt)
         t = t_start + (step + 1) * dt
         if HAS_MOTION:
-            _apply_motion(t, motion_table, x0, x, vel)
+            _apply_motion_step(t_start + step * dt, t, motion_table, x0, x, vel)
         vwall = 0.0
         if HAS_RIGID:
             vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True,
@@ -620,18 +621,9 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
         st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls,
                                    pairs, stepping)
         if HAS_MOTION:
-            # work of the motion's actuator: it supplies m a - f on each prescribed DOF
-            for r in range(motion_table.shape[0]):
-                i = int(motion_table[r, 0])
-                d = int(motion_table[r, 1])
-                om = motion_table[r, 3]
-                tt = t - motion_table[r, 5]
-                acc = 0.0
-                if tt >= 0.0:
-                    acc = -motion_table[r, 2] * om * om * math.sin(om * tt + motion_table[r, 4])
-                react = kin_mass[i] * acc - force[i, d] if d < 3 else -force[i, d]
-                ledger[L_WEXT] += 0.5 * (motion_prev[r] + react) * vel[i, d] * dt
-                motion_prev[r] = react
+            # work of the motion's actuators (x3dpd.physics.motion._motion_work)
+            ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
+                                           kin_inertia, force, motion_prev)
         # ---- second half kick. Full-step velocities are needed only at outputs and at the end
         # of the call; elsewhere this half kick and the next step's first one go in one pass
         # over memory, computed as (v + h a) + h a so that the rounding -- and so every

@@ -20,9 +20,17 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
     from x3dpd.model.model import Model
 
 from x3dpd.errors import InputError, UnstableRunError
-from x3dpd.physics.motion import motion_table
+from x3dpd.physics.motion import motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
 from x3dpd.solver.bundles import Loads, Output, Status, build_bundles, contact_scratch
+from x3dpd.solver.diagnosis import energy_source_advice
+from x3dpd.solver.ledger_checks import (
+    SAFE_FRACTION,
+    SHADOW_LIMIT,
+    negative_dissipation,
+    step_instability,
+    unbalanced_row,
+)
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
 from x3dpd.solver.variants import Variant, make_advance
 
@@ -75,6 +83,7 @@ class Simulation:
         self.penetration_limit = float(penetration_limit)
         self.energy_tolerance = float(energy_tolerance)
         specs = list(model.usrfrc) + list(usrfrc)
+        self._force_specs = specs
         self.ext = build_external_forces(specs, model, allow_python=allow_python_usrfrc)
         self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros((0, 7))
         prescribed = self.motion[:, :2].astype(np.int64) if len(self.motion) else None
@@ -117,12 +126,22 @@ class Simulation:
             return
         t = _time.perf_counter()
         s = self.state
+        k = self.setup
+        w_start = 0.0
+        if len(self.motion):
+            w_start = start_motion(self.model.t0, self.motion, k.x0, s.x, s.vel, k.kin_mass,
+                                   k.kin_inertia)
+            self.kernels._update_slaves(s.x, s.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
+                                        k.rig_r0, s.rot, True, True)
         self._direct_rebuild()
         self._python_force(self.model.t0)
         st = self.compute_forces(self.model.t0)
         self._check_status(st, self.model.t0, 0)
+        rows = self.motion[:, :2].astype(np.int64)
+        s.motion_prev[:] = s.force[rows[:, 0], rows[:, 1]]
+        s.ledger[self.kernels.L_WEXT] += w_start
         en = self._energy_now()
-        s.e_ref = float(en[0] + en[1] + en[2] + en[3] + en[4] - en[5])
+        s.e_ref = float(en[0] + en[1] + en[2] + en[3] + en[4] - en[5]) - w_start
         self.compile_seconds += _time.perf_counter() - t
         self._initialized = True
 
@@ -220,64 +239,96 @@ class Simulation:
         self._check_containment()
 
     def _audit_energy(self, energy: np.ndarray) -> None:
-        """Check every ledger row: step stability first, then the balance residual."""
+        """Check every ledger row: step stability, then the balance, then that no dissipative
+        mechanism gave energy back (x3dpd.solver.ledger_checks)."""
         if not energy.shape[0]:
             return
         for row in energy:
             self._check_step_stability(row)
         st = self.state
         st.scale = max(st.scale, self.energy_scale(energy))
-        bad = np.nonzero(np.abs(energy[:, 11]) > self.energy_tolerance * st.scale)[0]
-        if bad.size:
-            row = energy[bad[0]]
+        tol = self.energy_tolerance
+        bad = unbalanced_row(energy, st.scale, tol)
+        if bad is not None:
+            row = energy[bad]
             res = row[11]
             t = row[0]
             grew = "grew" if res > 0 else "was lost"
             raise UnstableRunError(
                 f"unstable run at t = {t:.6g} s: total energy {grew} by {abs(res):.4g} without a "
                 f"source ({abs(res) / st.scale:.1%} of the energy scale {st.scale:.4g}; "
-                f"tolerance {self.energy_tolerance:.0%}). Likely cause: the time step "
-                f"{self.dt:.3g} s is too large for the contact or spring stiffness; run "
-                f"`x3dpd check` for a recommended step.",
-                time=t, step=int(round((t - self.model.t0) / self.dt)))
+                f"tolerance {tol:.0%}). "
+                + energy_source_advice(self.setup, st.vel, self.dt, self._energy_sources()),
+                time=t, step=self._step_at(t))
+        neg = negative_dissipation(energy, st.scale, tol)
+        if neg is not None:
+            k, what, amount = neg
+            t = energy[k, 0]
+            raise UnstableRunError(
+                f"unstable run at t = {t:.6g} s: the {what} dissipated {amount:.4g}, less than "
+                f"zero ({abs(amount) / st.scale:.1%} of the energy scale {st.scale:.4g}; "
+                f"tolerance {tol:.0%}): energy was created, e.g. a particle rebounding faster "
+                f"than it came in. Likely cause: the time step {self.dt:.3g} s resolves a "
+                f"contact in too few steps; run `x3dpd check` for a recommended step.",
+                time=t, step=self._step_at(t))
+
+    def _step_at(self, t: float) -> int:
+        return int(round((t - self.model.t0) / self.dt))
+
+    def _energy_sources(self) -> list[str]:
+        out = [f"force {spec}" for spec in self._force_specs]
+        out += [f"prescribed motion of node {int(self.model.node_ids[int(r[0])])} dof "
+                f"{int(r[1]) + 1}" for r in self.motion]
+        return out
 
     def _check_step_stability(self, row: np.ndarray) -> None:
         """Stop when the step exceeds the stability limit of the stiffest oscillator.
 
-        Velocity Verlet conserves KE - S + U exactly for linear springs, even when unstable, so the
-        residual cannot see a step beyond the limit; but there S = dt^2/8 |f|^2/m outgrows the
-        mechanical energy (for an oscillator S/U = (omega dt)^2/4, which exceeds 1 exactly when
-        omega dt > 2). ``row`` is one energy-ledger row.
+        Velocity Verlet conserves KE - S + U even when unstable, so the residual cannot see a
+        step beyond the limit; the Verlet correction S then outgrows the energy the run ever
+        received (x3dpd.solver.ledger_checks.step_instability). ``row`` is one ledger row.
         """
-        s = self.state
-        shadow = row[10] - (row[11] + s.e_ref - row[6] - row[7] - row[8] + row[9])
-        mech = row[1] + row[2] + abs(row[3]) + row[4] + row[5]
-        over = shadow > mech and shadow > 1e-12 * max(self.energy_scale(row[None, :]), 1e-300)
-        # two rows in a row: one step after a start from rest under a force, S equals the
-        # kinetic energy exactly (later S/KE ~ 1/(4 n^2)), so one row alone decides by rounding
-        self._unstable_rows = self._unstable_rows + 1 if over else 0
-        if self._unstable_rows >= 2:
-            t = row[0]
-            step = int(round((t - self.model.t0) / self.dt))
-            raise UnstableRunError(
-                f"unstable run at t = {t:.6g} s (step {step}): the time step {self.dt:.3g} s "
-                f"exceeds the stability limit of the stiffest spring or contact (omega*dt > 2: "
-                f"the integrator's correction energy {shadow:.4g} outgrew the mechanical energy "
-                f"{mech:.4g}). Likely cause: a stiff element (e.g. a 1e12 spring on a DOF that "
-                f"BOUNDARY CONDITIONS leave free); run `x3dpd check` for the recommended step.",
-                time=t, step=step)
+        found = step_instability(row, self.state.e_ref, self.dt)
+        # two rows in a row: one step after a start from rest under a force the trapezoidal
+        # work is still zero while S is not (S equals the kinetic energy then), so one row alone
+        # does not decide
+        self._unstable_rows = self._unstable_rows + 1 if found is not None else 0
+        if self._unstable_rows < 2:
+            return
+        t = found.time
+        step = self._step_at(t)
+        if math.isfinite(found.omega):
+            crit = found.critical_step()
+            limit = (f"the stability limit 2/omega = {crit:.3g} s of the stiffest spring or "
+                     f"contact (omega ~ {found.omega:.4g} rad/s, estimated from the growing "
+                     f"mode: S/U = (omega dt)^2/4); a safe step is <= "
+                     f"{SAFE_FRACTION * crit:.3g} s ({SAFE_FRACTION:g} of the limit, as "
+                     f"`x3dpd check` recommends)")
+        else:
+            limit = ("the stability limit 2/omega of the stiffest spring or contact; run "
+                     "`x3dpd check` for the recommended step")
+        raise UnstableRunError(
+            f"unstable run at t = {t:.6g} s (step {step}): the time step {self.dt:.3g} s "
+            f"exceeds {limit}. The integrator's correction energy {found.correction:.4g} "
+            f"outgrew {SHADOW_LIMIT:g} times the energy the run received ({found.budget:.4g}). "
+            f"Likely cause: a stiff element (e.g. a 1e12 spring on a DOF that BOUNDARY "
+            f"CONDITIONS leave free).", time=t, step=step)
 
     def _check_containment(self) -> None:
+        """Every node's position and velocity finite; every particle inside its closed cavity."""
         m, k, s = self.model, self.setup, self.state
+        finite = np.all(np.isfinite(s.x), axis=1) & np.all(np.isfinite(s.vel), axis=1)
+        if not finite.all():
+            bad = int(np.argmax(~finite))
+            what = "particle node" if bad >= k.p0 else "node"
+            raise UnstableRunError(
+                f"unstable run at t = {self.time:.6g} s: {what} {m.node_ids[bad]} has a "
+                f"non-finite position or velocity. Likely cause: the time step {self.dt:.3g} s "
+                f"is too large; run `x3dpd check` for a recommended step.",
+                time=self.time, step=s.step, node=int(m.node_ids[bad]))
         if m.n_particles == 0 or k.tri_nodes.shape[0] == 0:
             return
         xp = s.x[k.p0:]
-        if not np.all(np.isfinite(xp)):
-            bad = int(np.argmax(~np.all(np.isfinite(xp), axis=1)))
-            raise UnstableRunError(
-                f"unstable run at t = {self.time:.6g} s: particle node {m.node_ids[k.p0 + bad]} "
-                f"has a non-finite position. Likely cause: the time step is too large.",
-                time=self.time, step=s.step, node=int(m.node_ids[k.p0 + bad]))
         for c, nodes in enumerate(self._cavity_nodes()):
             members = np.nonzero(k.pcav == c)[0]
             if members.size == 0 or nodes.size == 0:

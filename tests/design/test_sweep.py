@@ -1,0 +1,124 @@
+"""Frequency sweeps: a linear structure against its closed form, Dask against serial, resuming,
+chains and baselines."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
+from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck  # noqa: E402
+
+from x3dpd.deck.parser import read_deck
+from x3dpd.deck.writer import write_deck
+from x3dpd.design.baselines import linear_sdof, particle_mass, with_added_mass, without_particles
+from x3dpd.design.spec import SweepSpec
+from x3dpd.design.steady_state import Criterion
+from x3dpd.design.sweep import deck_hash, read_csv, run_sweep
+from x3dpd.errors import InputError
+from x3dpd.model.build import build_model  # noqa: E402
+
+DECKS = Path(__file__).resolve().parents[2] / "decks"
+
+
+def sdof_file(tmp_path: Path) -> Path:
+    """The report's Table 4 beam alone (no particles), dt = 10 us (w dt = 2.5e-3)."""
+    path = tmp_path / "sdof.inp"
+    write_deck(sdof_deck(dt=1e-5, hz=37.0), path)
+    return path
+
+
+def spec_for(path: Path, freqs, **kw) -> SweepSpec:
+    deck = read_deck(path)
+    kw.setdefault("criterion", Criterion(tol=1e-3))
+    return SweepSpec(deck=deck, deck_text_hash=deck_hash(path), frequencies=tuple(freqs),
+                     drives=kw.pop("drives", (TABLE4_DRIVE,)), node=kw.pop("node", 1),
+                     dof=1, **kw)
+
+
+def exact(hz: float):
+    """m x'' + c x' + k x = F sin(w t): X = F / |k - m w^2 + i c w|, phi = -arg(...)."""
+    w = 2 * math.pi * hz
+    return (TABLE4_DRIVE / math.hypot(TABLE4_K - TABLE4_MASS * w * w, TABLE4_C * w),
+            -math.atan2(TABLE4_C * w, TABLE4_K - TABLE4_MASS * w * w))
+
+
+def test_the_linear_structures_sweep_equals_its_closed_form(tmp_path):
+    freqs = (35.0, 37.5, 39.0, 39.37, 40.0)
+    rows = run_sweep(spec_for(sdof_file(tmp_path), freqs), tmp_path / "out", workers=1)
+    assert [r["frequency_hz"] for r in rows] == list(freqs)
+    for r in rows:
+        amp, phi = exact(r["frequency_hz"])
+        assert r["converged"]
+        # tolerance: the criterion's 1e-3, plus the integrator's phase error (w dt)^2 / 24 =
+        # 2.6e-7 in frequency, amplified near resonance by 1 / (2 zeta) = 160: 2e-3 in all
+        assert r["amplitude"] == pytest.approx(amp, rel=2e-3)
+        assert math.radians(r["phase"]) == pytest.approx(phi, abs=2e-3)
+        w = 2 * math.pi * r["frequency_hz"]
+        # steady state: the drive's work per cycle is the dashpot's pi c w X^2
+        assert r["input_work_per_cycle"] == pytest.approx(math.pi * TABLE4_C * w * amp ** 2,
+                                                          rel=4e-3)
+        assert r["acceleration"] == pytest.approx(w * w * r["amplitude"], rel=1e-12)
+    csv = read_csv(tmp_path / "out" / "sweep.csv")
+    assert {"config", "frequency_hz", "drive", "amplitude", "phase", "dissipated_per_cycle",
+            "cycles", "converged", "wall_s"} <= set(csv[0])
+    assert [c["amplitude"] for c in csv] == [r["amplitude"] for r in rows]
+
+
+def test_a_rerun_computes_only_the_missing_points(tmp_path):
+    path = sdof_file(tmp_path)
+    out = tmp_path / "out"
+    spec = spec_for(path, (36.0, 38.0, 39.0))
+    first = run_sweep(spec, out, workers=1)
+    (out / "points" / "deck_F4.840400e-03_rest_38.000000Hz.json").unlink()
+    computed = []
+    again = run_sweep(spec, out, workers=1, on_point=computed.append)
+    assert [r["frequency_hz"] for r in computed] == [38.0]
+    assert [r["amplitude"] for r in again] == [r["amplitude"] for r in first]
+    # more frequencies in the same folder: only the new ones run
+    computed.clear()
+    run_sweep(spec_for(path, (36.0, 37.0, 38.0, 39.0)), out, workers=1, on_point=computed.append)
+    assert [r["frequency_hz"] for r in computed] == [37.0]
+    # another criterion would mix incomparable points: refused without --overwrite
+    other = spec_for(path, (36.0,), criterion=Criterion(tol=1e-2))
+    with pytest.raises(InputError, match="other settings"):
+        run_sweep(other, out, workers=1)
+    assert json.loads((out / "sweep.json").read_text())["criterion"]["tol"] == 1e-3
+    rows = run_sweep(other, out, workers=1, overwrite=True)
+    assert len(rows) == 1
+
+
+def test_a_chain_continues_from_the_previous_points_state(tmp_path):
+    rows = run_sweep(spec_for(sdof_file(tmp_path), (37.0, 38.0, 39.0), direction="both"),
+                     tmp_path / "out", workers=1)
+    for direction, order in (("up", [37.0, 38.0, 39.0]), ("down", [39.0, 38.0, 37.0])):
+        chain = sorted((r for r in rows if r["direction"] == direction),
+                       key=lambda r: order.index(r["frequency_hz"]))
+        assert chain[0]["t_start"] == 0.0
+        for before, after in zip(chain, chain[1:]):
+            assert after["t_start"] == before["t_end"]
+        for r in chain:
+            assert r["amplitude"] == pytest.approx(exact(r["frequency_hz"])[0], rel=2e-3)
+            assert r["branch"] == "single"  # a linear structure has one steady state
+
+
+def test_added_mass_baseline_is_the_closed_form_with_the_particles_mass():
+    deck = read_deck(DECKS / "beam_64.inp")
+    bare = build_model(without_particles(deck))
+    assert bare.n_particles == 0
+    sdof = linear_sdof(bare, 9, 1)
+    # Table 4 / the deck's header: MASS 2.04213e-4 on node 9 (+ half the spring element's
+    # 1e-12), k = 11.4823, c = 3.08293e-4
+    assert sdof.m == pytest.approx(2.04213e-4 + 0.5e-12, rel=1e-12)
+    assert (sdof.k, sdof.c) == (11.4823, 0.000308293)
+    n, radius, rho = 64, 0.03125, 0.000732971
+    mp = n * rho * 4.0 / 3.0 * math.pi * radius ** 3
+    assert particle_mass(build_model(deck)) == pytest.approx(mp, rel=1e-12)
+    added = linear_sdof(build_model(with_added_mass(deck, 9, mp)), 9, 1)
+    assert added.m == pytest.approx(sdof.m + mp, rel=1e-12)
+    # a deck with particles is not a linear SDOF
+    assert linear_sdof(build_model(deck), 9, 1) is None

@@ -1,0 +1,66 @@
+"""An energy-residual failure names the right cause: a step too coarse for a contact or spring, or
+energy that entered through a channel the ledger does not count (bookkeeping)."""
+
+from __future__ import annotations
+
+import math
+import pathlib
+import sys
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
+
+from factories import STEEL_R, floor_deck
+from test_instability import sdof_deck
+
+from x3dpd.errors import UnstableRunError
+from x3dpd.model.build import build_model
+from x3dpd.solver.diagnosis import structure_omega_bound
+from x3dpd.solver.simulation import Simulation
+
+
+def test_energy_put_in_behind_the_ledgers_back_is_called_bookkeeping():
+    """A well-resolved SDOF (omega dt = 0.1) whose velocity is changed from outside the step loop
+    -- the way the old prescribed motion set a velocity at t0 without counting its work."""
+    k, m = 100.0, 1.0
+    sim = Simulation(build_model(sdof_deck(k, m, 0.1 / math.sqrt(k / m))))
+    sim.advance(100)
+    sim.state.vel[0, 0] += 3.0           # kinetic energy from nowhere: 0.5 (3^2 + 2*3*v) >> 5 %
+    with pytest.raises(UnstableRunError) as err:
+        sim.advance(100)
+    text = str(err.value)
+    assert "without a source" in text
+    assert "not the likely cause" in text and "bookkeeping" in text
+    assert "too large" not in text
+
+
+def test_a_contact_resolved_in_too_few_steps_is_called_a_step_problem():
+    """Figure 28's impact (62.8 in/s, t_c = 7.6 us) at dt = 2 us: under 4 steps per contact."""
+    sim = Simulation(build_model(floor_deck(dt=2e-6, height=STEEL_R * 1.001, spectator=False)),
+                     penetration_limit=10.0)
+    with pytest.raises(UnstableRunError) as err:
+        sim.advance(50)
+    text = str(err.value)
+    assert "without a source" in text and "time step 2e-06 s is too large" in text
+    assert "steps (at least 6" in text and "bookkeeping" not in text
+
+
+def test_structure_bound_is_an_upper_bound_of_the_highest_frequency():
+    """Gershgorin's bound against the exact eigenvalues of a two-node spring chain."""
+    from x3dpd.deck.cards import Boundary, Deck, Element, Mass, Material, Node, Parameters
+    from x3dpd.solver.state import build_setup
+    k1, k2, m1, m2 = 100.0, 300.0, 1.0, 2.0
+    deck = Deck(parameters=Parameters(0.0, 1.0, 0.0, 1e-3, 1e-3, 0, 1e9, 0, 5, 0, 10),
+                materials=(Material(1, 1, 0.0, 1.0, k1, 0.0, 0.0, 0.0),
+                           Material(2, 1, 0.0, 1.0, k2, 0.0, 0.0, 0.0)),
+                nodes=(Node(1, 0.0, 0.0, 0.0), Node(2, 1.0, 0.0, 0.0)),
+                elements=(Element(1, 1, (1,)), Element(2, 2, (1, 2))),
+                masses=(Mass(1, m1, 0.0, 0.0, 0.0), Mass(2, m2, 0.0, 0.0, 0.0)),
+                boundaries=(Boundary(1, 2, 1, (2, 3, 4, 5, 6)),))
+    model = build_model(deck)
+    bound = structure_omega_bound(build_setup(model, 1e-3))
+    stiffness = np.array([[k1 + k2, -k2], [-k2, k2]])
+    exact = math.sqrt(np.linalg.eigvals(np.diag([1 / m1, 1 / m2]) @ stiffness).real.max())
+    assert exact <= bound <= 2.0 * exact

@@ -1,0 +1,98 @@
+"""Fail when a change makes any benchmark row more than 10 % slower than the baseline revision,
+both measured on this machine in the same run.
+
+    python tools/bench/regress.py [--base REV] [--rounds 2] [--tolerance 0.10] [--rows ...]
+
+The baseline revision is ``tools/bench/baseline.json``'s ``commit`` unless ``--base`` names
+another. It is checked out into a temporary git worktree; each row's benchmark
+(``bench_solver.py``) then runs alternately in the baseline tree and in this tree, ``--rounds``
+times each, every run in its own process on one core, and the fastest of each side is kept.
+Alternating and taking the fastest cancels most of the drift of a shared machine; run it on an
+idle machine all the same. Exit status 0 when every row is within the tolerance, 1 when one is
+not (the table says which), 2 on a usage error.
+
+``baseline.json`` also records the numbers measured when the baseline was taken (``rows``), for
+reference: the verdict compares against the baseline tree measured now, never against numbers
+from another day.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
+ENV = {**os.environ, "OMP_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1"}
+
+#: name -> bench_solver.py arguments; each row prints one us_per_step
+ROWS = {
+    "falling_50": ["--n", "50", "--steps", "20000", "--repeat", "3"],
+    "falling_64": ["--n", "64", "--steps", "20000", "--repeat", "3"],
+    "falling_512": ["--n", "512", "--steps", "20000", "--repeat", "3"],
+    "settled_512": ["--settled", "--n", "512", "--steps", "10000", "--repeat", "3"],
+    "sdof": ["--sdof"],
+}
+
+
+def measure(tree: Path, args: list[str]) -> float:
+    """us per step of one bench_solver.py run in ``tree`` (its own x3dpd on PYTHONPATH)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "r.json"
+        env = {**ENV, "PYTHONPATH": str(tree)}
+        proc = subprocess.run([sys.executable, str(tree / "tools" / "bench" / "bench_solver.py"),
+                               *args, "--json", str(out)], env=env, capture_output=True,
+                              text=True, cwd=tree)
+        if proc.returncode != 0 or not out.exists():
+            raise RuntimeError(f"bench_solver.py {' '.join(args)} failed in {tree}:\n"
+                               f"{proc.stdout}{proc.stderr}")
+        return float(json.loads(out.read_text())[0]["us_per_step"])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--base", help="baseline revision [default: baseline.json's commit]")
+    ap.add_argument("--rounds", type=int, default=2)
+    ap.add_argument("--tolerance", type=float, default=0.10)
+    ap.add_argument("--rows", nargs="*", default=list(ROWS), choices=list(ROWS))
+    args = ap.parse_args(argv)
+    recorded = json.loads((HERE / "baseline.json").read_text())
+    base = args.base or recorded["commit"]
+    failed = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tree = Path(tmp) / "base"
+        subprocess.run(["git", "worktree", "add", "--detach", "-q", str(tree), base], cwd=ROOT,
+                       check=True)
+        try:
+            print(f"| row | baseline {base[:10]} µs/step | this tree µs/step | change | "
+                  f"recorded {recorded.get('date', '')} |")
+            print("|---|---:|---:|---:|---:|")
+            for name in args.rows:
+                best = {"base": float("inf"), "this": float("inf")}
+                for _ in range(args.rounds):
+                    best["base"] = min(best["base"], measure(tree, ROWS[name]))
+                    best["this"] = min(best["this"], measure(ROOT, ROWS[name]))
+                change = best["this"] / best["base"] - 1.0
+                if change > args.tolerance:
+                    failed.append(name)
+                rec = recorded.get("rows", {}).get(name)
+                print(f"| {name} | {best['base']:.3f} | {best['this']:.3f} | {change:+.1%}"
+                      f"{' SLOWER' if name in failed else ''} | "
+                      f"{rec if rec is not None else '-'} |", flush=True)
+        finally:
+            subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT)
+    if failed:
+        print(f"regression: {', '.join(failed)} more than {args.tolerance:.0%} slower than "
+              f"{base[:10]}", file=sys.stderr)
+        return 1
+    print(f"no row more than {args.tolerance:.0%} slower than {base[:10]}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,126 @@
+"""Figures of the design tools: sweep.png (Figures 45-48) and ringdown.png (Figure 6).
+
+Both take plain rows and arrays, so they know nothing of how the numbers were computed.
+matplotlib is imported lazily with the Agg backend.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+
+def peak_attenuation_db(reference_peak: float, damped_peak: float) -> float:
+    """Attenuation at the peak, 20 log10(reference peak / damped peak) [dB]."""
+    return 20.0 * math.log10(reference_peak / damped_peak)
+
+
+def attenuations(rows: Sequence[Mapping], curves: Mapping | None = None) -> list[dict]:
+    """Peak attenuation of the deck against each baseline, per drive.
+
+    The deck's peak is its largest amplitude over the swept points (any direction); a
+    baseline's peak is the largest of its closed-form curve in ``curves`` when there is one
+    (a lightly damped peak falls between grid points), else of its swept points.
+    """
+    curves = curves or {}
+    out = []
+    drives = sorted({r["drive"] for r in rows if r["config"] == "deck"})
+    for drive in drives:
+        deck = [r["amplitude"] for r in rows if r["config"] == "deck" and r["drive"] == drive]
+        for config in ("undamped", "added-mass"):
+            if (config, drive) in curves:
+                ref = float(np.max(curves[(config, drive)][1]))
+            else:
+                ref_rows = [r["amplitude"] for r in rows
+                            if r["config"] == config and r["drive"] == drive]
+                if not ref_rows:
+                    continue
+                ref = max(ref_rows)
+            out.append({"drive": drive, "baseline": config, "baseline_peak": ref,
+                        "deck_peak": max(deck),
+                        "attenuation_db": peak_attenuation_db(ref, max(deck))})
+    return out
+
+
+def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping | None = None,
+               title: str = "", units: str = "in") -> str:
+    """Amplitude versus frequency, one panel per drive: baselines and the damper overlaid."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    curves = curves or {}
+    drives = sorted({r["drive"] for r in rows})
+    att = attenuations(rows, curves)
+    fig, axes = plt.subplots(1, len(drives), figsize=(5.2 * len(drives), 4.0), squeeze=False)
+    styles = {"undamped": ("k", "--"), "added-mass": ("0.5", ":")}
+    markers = {"": "o", "up": "^", "down": "v"}
+    for ax, drive in zip(axes[0], drives):
+        for config, (color, ls) in styles.items():
+            if (config, drive) in curves:
+                f, a = curves[(config, drive)]
+                ax.plot(f, a, color=color, ls=ls, lw=1.2, label=f"{config} (closed form)")
+            pts = sorted((r["frequency_hz"], r["amplitude"]) for r in rows
+                         if r["config"] == config and r["drive"] == drive
+                         and r.get("method") != "closed-form")
+            if pts:
+                ax.plot(*zip(*pts), color=color, ls=ls, marker=".", label=config)
+        for direction, marker in markers.items():
+            pts = [r for r in rows if r["config"] == "deck" and r["drive"] == drive
+                   and r["direction"] == direction]
+            if not pts:
+                continue
+            pts.sort(key=lambda r: r["frequency_hz"])
+            f = [r["frequency_hz"] for r in pts]
+            a = [r["amplitude"] for r in pts]
+            ax.plot(f, a, color="C3" if direction != "down" else "C0", marker=marker, ms=5,
+                    label="damper" + (f" ({direction})" if direction else ""))
+            bad = [(r["frequency_hz"], r["amplitude"]) for r in pts if not r["converged"]]
+            if bad:
+                ax.plot(*zip(*bad), ls="none", marker="x", color="k", ms=8,
+                        label="not converged")
+        lines = [f"{a['attenuation_db']:.1f} dB vs {a['baseline']}" for a in att
+                 if a["drive"] == drive]
+        if lines:
+            ax.text(0.02, 0.97, "peak attenuation\n" + "\n".join(lines),
+                    transform=ax.transAxes, va="top", fontsize=8)
+        ax.set_yscale("log")
+        ax.set_xlabel("drive frequency [Hz]")
+        ax.set_ylabel(f"displacement amplitude [{units}]")
+        ax.set_title(f"drive {drive:.5g}", fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, loc="upper right")
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(png, dpi=90)
+    plt.close(fig)
+    return str(png)
+
+
+def plot_ringdown(png: str | os.PathLike, series: Mapping[str, Mapping[str, np.ndarray]],
+                  title: str = "") -> str:
+    """% zeta versus amplitude in dB re 1 g (Figure 6, right), one line per series."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.5, 4.0))
+    for k, (name, cols) in enumerate(series.items()):
+        ax.plot(cols["amplitude_db"], 100.0 * np.asarray(cols["zeta"]),
+                color="C3" if k == 0 else "C0", lw=1.5, label=name)
+    ax.set_xlabel("amplitude [dB re 1 g]")
+    ax.set_ylabel("damping [% zeta]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(png, dpi=90)
+    plt.close(fig)
+    return str(png)

@@ -1,0 +1,150 @@
+"""Damping ratio versus amplitude from a free ring-down (report Sections 4.1 and 6.1, Figure 6).
+
+The report's method, step by step:
+
+1. the envelope A(t) of the ring-down is the modulus of the analytic signal (Hilbert transform,
+   :func:`scipy.signal.hilbert`);
+2. ln A(t) is fitted by a least-squares cubic spline over several pieces (knots every few cycles)
+   whose neighbours share value *and slope* where they meet (:func:`scipy.interpolate.make_lsq_spline`
+   -- a cubic spline is C2 at its knots, which is the report's "forced to have the same slope");
+3. the local slope gives the local logarithmic decrement over one damped period T_d,
+
+       delta(t) = -T_d d(ln A)/dt,        zeta = delta / sqrt(4 pi^2 + delta^2),
+
+   which is exact for a linear oscillator (A = A0 exp(-zeta w_n t), T_d = 2 pi / (w_n sqrt(1-zeta^2)))
+   and the equivalent viscous damping ratio at amplitude A for a nonlinear one;
+4. the amplitude is expressed as an acceleration in dB re 1 g: a = w^2 A for a displacement
+   envelope, 20 log10(a / g).
+
+The unwrapped Hilbert phase, fitted by a spline the same way, gives the instantaneous frequency
+w(t) used for T_d and for the displacement-to-acceleration factor. The first and last
+``trim_cycles`` cycles are dropped: the Hilbert transform of a finite record rings at its ends.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from x3dpd.errors import InputError
+
+#: Standard gravity in the report's units [in/s^2].
+G_IN_S2 = 386.1
+
+
+@dataclass(frozen=True)
+class Ringdown:
+    """Damping versus amplitude along a ring-down, one row per evaluation time.
+
+    ``time`` [s]; ``amplitude`` the fitted envelope of the analysed signal (its units);
+    ``frequency_hz`` the instantaneous frequency; ``amplitude_g`` the acceleration amplitude
+    [g] (w^2 A / g for a displacement, A / g for an acceleration); ``amplitude_db`` = 20 log10 of
+    it (dB re 1 g); ``zeta`` the damping ratio (fraction, not %).
+    """
+
+    time: np.ndarray
+    amplitude: np.ndarray
+    frequency_hz: np.ndarray
+    amplitude_g: np.ndarray
+    amplitude_db: np.ndarray
+    zeta: np.ndarray
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The rows as named columns, in the order ``ringdown.csv`` writes them."""
+        return {"time": self.time, "amplitude": self.amplitude, "frequency_hz": self.frequency_hz,
+                "amplitude_g": self.amplitude_g, "amplitude_db": self.amplitude_db,
+                "zeta": self.zeta, "zeta_percent": 100.0 * self.zeta}
+
+
+def hilbert_envelope(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Envelope |x + i H[x]| and unwrapped phase of a zero-mean signal (Hilbert transform).
+
+    The FFT-based transform is circular: the record's large start would leak into its small end.
+    The record is therefore extended by its mirror image before the start (a ring-down released
+    at a peak continues smoothly into it) and by zeros after the end, and cut back afterwards.
+    """
+    from scipy.signal import hilbert
+
+    x = np.asarray(x, dtype=float)
+    n = x.size
+    padded = np.concatenate([x[:0:-1], x, np.zeros(n)])
+    analytic = hilbert(padded)[n - 1: 2 * n - 1]
+    return np.abs(analytic), np.unwrap(np.angle(analytic))
+
+
+def _lsq_spline(t: np.ndarray, y: np.ndarray, piece: float):
+    """Least-squares cubic spline through (t, y) with interior knots every ``piece`` seconds."""
+    from scipy.interpolate import make_lsq_spline
+
+    k = 3
+    n_pieces = max(1, int(round((t[-1] - t[0]) / piece)))
+    interior = np.linspace(t[0], t[-1], n_pieces + 1)[1:-1]
+    knots = np.r_[[t[0]] * (k + 1), interior, [t[-1]] * (k + 1)]
+    return make_lsq_spline(t, y, knots, k=k)
+
+
+def damping_vs_amplitude(time, signal, *, kind: str = "displacement", g: float = G_IN_S2,
+                         piece_cycles: float = 4.0, trim_cycles: float = 3.0,
+                         floor: float = 0.0, floor_fraction: float = 0.01,
+                         points_per_cycle: float = 1.0) -> Ringdown:
+    """Ring-down -> damping ratio versus amplitude by the report's method (module docstring).
+
+    Parameters
+    ----------
+    time : (T,) sample times [s], uniformly spaced.
+    signal : (T,) the response about its equilibrium (zero mean when at rest).
+    kind : ``"displacement"`` (amplitude converted with w^2) or ``"acceleration"``.
+    g : the acceleration of gravity in the signal's units (386.1 in/s^2 for the report's decks).
+    piece_cycles : length of one spline piece, in cycles of the mean frequency.
+    trim_cycles : cycles dropped at each end of the record (Hilbert end effects).
+    floor : envelope values at or below this are left out (noise floor, or the rest offset
+        a Coulomb oscillator sticks at), in the signal's units.
+    floor_fraction : envelope values below this fraction of the largest are left out too (a
+        record's last 40 dB hold little but the transform's end effects and noise).
+    points_per_cycle : evaluation points per cycle in the result.
+    """
+    t = np.asarray(time, dtype=float)
+    x = np.asarray(signal, dtype=float)
+    if t.ndim != 1 or t.shape != x.shape or t.size < 16:
+        raise InputError("ring-down: time and signal must be 1-D arrays of the same length (>= 16)")
+    if kind not in ("displacement", "acceleration"):
+        raise InputError(f"ring-down: kind must be 'displacement' or 'acceleration', not {kind!r}")
+    env, phase = hilbert_envelope(x)
+    duration = t[-1] - t[0]
+    cycles = abs(phase[-1] - phase[0]) / (2.0 * np.pi)
+    if cycles < 2.0 * trim_cycles + 2.0 * piece_cycles:
+        raise InputError(f"ring-down: the record holds {cycles:.1f} cycles; at least "
+                         f"{2 * trim_cycles + 2 * piece_cycles:.0f} are needed "
+                         f"({trim_cycles:g} trimmed at each end, two spline pieces)")
+    period = duration / cycles
+    keep = (t >= t[0] + trim_cycles * period) & (t <= t[-1] - trim_cycles * period) & (env > max(floor, floor_fraction * env.max()))
+    if np.count_nonzero(keep) < 16:
+        raise InputError("ring-down: too few samples above the floor once the ends are trimmed")
+    t_k = t[keep]
+    # the kept samples must be one contiguous stretch: the envelope falls through the floor once
+    last = np.flatnonzero(np.diff(np.flatnonzero(keep)) > 1)
+    if last.size:
+        t_k = t_k[: last[0] + 1]
+    sel = (t >= t_k[0]) & (t <= t_k[-1])
+    log_env = _lsq_spline(t[sel], np.log(env[sel]), piece_cycles * period)
+    phase_fit = _lsq_spline(t[sel], phase[sel], piece_cycles * period)
+    # a spline's slope is least certain in its end pieces: report from half a piece inside
+    lo, hi = t_k[0] + 0.5 * piece_cycles * period, t_k[-1] - 0.5 * piece_cycles * period
+    n_eval = max(2, int(points_per_cycle * (hi - lo) / period) + 1)
+    te = np.linspace(lo, hi, n_eval)
+    omega = np.abs(phase_fit.derivative()(te))
+    amp = np.exp(log_env(te))
+    delta = -log_env.derivative()(te) * 2.0 * np.pi / omega
+    zeta = delta / np.sqrt(4.0 * np.pi ** 2 + delta ** 2)
+    accel = amp * omega ** 2 if kind == "displacement" else amp
+    amp_g = accel / g
+    return Ringdown(time=te, amplitude=amp, frequency_hz=omega / (2.0 * np.pi), amplitude_g=amp_g,
+                    amplitude_db=20.0 * np.log10(amp_g), zeta=zeta)
+
+
+def rest_offset(signal: np.ndarray, tail: float = 0.1) -> float:
+    """Equilibrium estimate: the mean of the last ``tail`` fraction of a ring-down [signal units]."""
+    x = np.asarray(signal, dtype=float)
+    n = max(1, int(len(x) * tail))
+    return float(np.mean(x[-n:]))

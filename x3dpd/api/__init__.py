@@ -1,0 +1,61 @@
+"""x3dpd's Python API: run decks, check them, read their results (docs/python-api.md).
+
+>>> import x3dpd
+>>> result = x3dpd.run("decks/impact_wall.inp")          # doctest: +SKIP
+>>> result.trace.velocity[-1, -1]                         # doctest: +SKIP
+
+The command line is a thin layer over these functions; sweeps and studies use them too.
+"""
+
+from __future__ import annotations
+
+import os
+
+from x3dpd.api.results import Chunk, FinalState, RunResult
+from x3dpd.api.runner import run
+from x3dpd.errors import DeckError, InputError, TraceError, UnstableRunError, X3dpdError
+from x3dpd.io.energy import EnergyData, read_energy
+from x3dpd.io.trace import TraceData, read_trace
+
+
+def load_deck(path: str | os.PathLike):
+    """Read a deck file into typed cards (:class:`x3dpd.deck.Deck`).
+
+    Raises :class:`DeckError` (``FILE:LINE:COL: CARD: message``) on the first bad token.
+    """
+    from x3dpd.deck import read_deck
+
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise InputError(f"deck {path} does not exist")
+    return read_deck(path)
+
+
+def build(deck, *, usrfrc=(), motion=()):
+    """The model of a deck (path or :class:`~x3dpd.deck.Deck`): the arrays the solver runs."""
+    from x3dpd.deck import Deck
+    from x3dpd.model.build import build_model
+
+    if not isinstance(deck, Deck):
+        deck = load_deck(deck)
+    return build_model(deck, usrfrc=tuple(usrfrc), motion=tuple(motion))
+
+
+def check(deck, *, usrfrc=(), motion=(), steps_per_contact: int | None = None):
+    """What ``x3dpd check`` reports for a deck: a :class:`x3dpd.model.check.CheckReport`
+    (``errors``, ``warnings``, ``time_step``, ``exit_status`` ...).
+
+    Raises :class:`DeckError` / :class:`InputError` when the deck cannot be read or built.
+    """
+    from x3dpd.model.check import check_model
+    from x3dpd.model.timestep import STEPS_PER_CONTACT
+
+    model = build(deck, usrfrc=usrfrc, motion=motion)
+    return check_model(model, steps_per_contact=steps_per_contact or STEPS_PER_CONTACT)
+
+
+__all__ = [
+    "Chunk", "DeckError", "EnergyData", "FinalState", "InputError", "RunResult", "TraceData",
+    "TraceError", "UnstableRunError", "X3dpdError", "build", "check", "load_deck",
+    "read_energy", "read_trace", "run",
+]

@@ -1,0 +1,502 @@
+"""``x3dpd.run``: run a deck from Python exactly as ``x3dpd run`` does.
+
+What a run does, in order (docs/running.md, docs/python-api.md):
+
+1. read the deck (or take a :class:`~x3dpd.deck.Deck`), build the model, refuse a deck whose
+   particles start inside a wall deeper than the penetration limit;
+2. compile or load the step loop for the scene's effects (:class:`Simulation`);
+3. with ``trace=PATH``: open the trace, its sidecar and the energy file, refusing to replace
+   existing ones unless ``overwrite`` (which keeps ``.bak`` copies);
+4. step in chunks of about 0.3 s of wall time, recording every ITRAC-th step, taking a restart
+   dump every TREST of simulated time and at the end;
+5. return a :class:`RunResult` (trace, energy ledger, summary, final state).
+
+Bad input raises :class:`~x3dpd.errors.InputError` / :class:`~x3dpd.errors.DeckError`; a
+diagnosed instability raises :class:`~x3dpd.errors.UnstableRunError` after the rows computed
+before it were written (its ``result`` attribute holds the partial :class:`RunResult`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import shlex
+import signal
+import threading
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from x3dpd import __version__
+from x3dpd.api.outputs import (
+    check_writable,
+    deck_key,
+    default_paths,
+    load_dump,
+    open_outputs,
+    user_file_hashes,
+)
+from x3dpd.api.results import Chunk, FinalState, Recorder, RunResult
+from x3dpd.api.safety import initial_penetration_error
+from x3dpd.errors import InputError, UnstableRunError
+
+#: Wall time one ``Simulation.advance`` call should take [s] (chunks adapt to the speed).
+CHUNK_SECONDS = 0.3
+#: Wall time between trace flushes (sidecar updates) outside restart dumps [s].
+FLUSH_SECONDS = 30.0
+#: Exit status after SIGINT (128 + 2) and SIGTERM (128 + 15).
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
+
+
+class _Interrupts:
+    """SIGINT/SIGTERM during the stepping loop: the first one asks the loop to stop after the
+    current chunk (restart dump, flushed trace); a second one stops at once."""
+
+    def __init__(self, enabled: bool):
+        self.enabled = enabled
+        self.signum = 0
+        self._old = {}
+
+    def __enter__(self):
+        if self.enabled and threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._old[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        if self.signum:
+            raise KeyboardInterrupt
+        self.signum = signum
+
+    def __exit__(self, *exc):
+        for sig, old in self._old.items():
+            signal.signal(sig, old)
+        return False
+
+    @property
+    def exit_status(self) -> int:
+        return EXIT_TERMINATED if self.signum == signal.SIGTERM else EXIT_INTERRUPTED
+
+
+@dataclass
+class _Stats:
+    steps: int = 0              # steps done by this call
+    timed_steps: int = 0        # steps whose wall time excludes compilation
+    timed_seconds: float = 0.0
+    wall_start: float = field(default_factory=time.perf_counter)
+    setup_seconds: float = 0.0
+    last_energy: np.ndarray | None = None
+    dumps: int = 0
+    t_start: float = 0.0
+
+
+def run(deck, *, tmax: float | None = None, dt: float | None = None,
+        usrfrc: Sequence[str] = (), usrfrc_mode: str = "replace", motion: Sequence[str] = (),
+        friction: str = "regularized", trace: str | os.PathLike | None = None,
+        energy: str | os.PathLike | None = None, overwrite: bool = False, restart: bool = False,
+        itrac: int | None = None, trace_nodes: Sequence[int] | None = None,
+        keep_trace: bool = True, initial_state: FinalState | None = None,
+        stop: Callable[[Chunk], bool] | None = None,
+        progress: Callable[[float, float, float, float, float], None] | None = None,
+        on_compile: Callable[[str], None] | None = None,
+        usrfrc_python: bool = False, penetration_limit: float = 0.25,
+        handle_signals: bool = False, command: str | None = None) -> RunResult:
+    """Run a deck; return its trace, energy ledger, summary and final state.
+
+    Parameters
+    ----------
+    deck : str, PathLike or Deck
+        A deck file, or a deck read by :func:`x3dpd.load_deck`.
+    tmax, dt : float, optional
+        End time and time step [s]; default the deck's TMAX and DTMAX.
+    usrfrc : sequence of str
+        External forces (built-in laws such as ``"sine:node=9,dof=1,amp=4.84e-3,hz=37.21"`` or
+        user force files, docs/usrfrc.md).
+    usrfrc_mode : "replace" or "add"
+        Whether ``usrfrc`` replaces the deck's USRFRC card (default: a run at another drive is
+        driven once, not twice) or adds to it. Without ``usrfrc`` the deck's card applies.
+    motion : sequence of str
+        Prescribed motions (``"node=25,dof=1,amp=0.01,hz=37.21"``).
+    friction : "regularized" or "coulomb"
+    trace : path, optional
+        Write the trace (and its sidecar), the energy file and restart dumps here, the same bytes
+        as ``x3dpd run --trace``. None: write nothing.
+    energy : path, optional
+        The energy file (default: beside the trace, ``.energy.csv``).
+    overwrite : bool
+        Replace existing output files (keeping ``.bak`` copies).
+    restart : bool
+        Resume from ``<trace>.restart.npz`` (as IREST = 1).
+    itrac : int, optional
+        Record every ``itrac`` steps (default the deck's ITRAC).
+    trace_nodes : sequence of int, optional
+        User node ids to record (default the deck's TRACE card).
+    keep_trace : bool
+        Keep the recorded rows in memory (``result.trace``, ``result.energy``).
+    initial_state : FinalState, optional
+        ``result.final_state`` of an earlier run of the same deck at the same ``dt``: continue
+        from it (its time, particles, structure and ledger).
+    stop : callable, optional
+        ``stop(chunk) -> bool`` after each chunk of steps (:class:`Chunk`); True ends the run
+        there (summary status ``"stopped"``).
+    progress : callable, optional
+        ``progress(time, steps_per_s, eta_s, relative_residual, t_end)`` after each chunk.
+    on_compile : callable, optional
+        ``on_compile(message)`` before the scene's step loop is compiled (not when cached).
+    usrfrc_python, penetration_limit : as ``x3dpd run``'s options.
+    handle_signals : bool
+        Turn SIGINT/SIGTERM into a clean stop after the current chunk (restart dump written,
+        status "interrupted"), as the CLI does.
+    command : str, optional
+        The command line recorded in the sidecar.
+
+    Raises
+    ------
+    DeckError, InputError
+        Bad deck or arguments; nothing is written.
+    UnstableRunError
+        The run became unstable; what was computed before is written and ``exc.result`` holds
+        it.
+    """
+    from x3dpd.deck import Deck, read_deck
+    from x3dpd.model.build import build_model
+    from x3dpd.solver.simulation import ENERGY_COLUMNS, Simulation
+
+    stats = _Stats()
+    if usrfrc_mode not in ("replace", "add"):
+        raise InputError(f"usrfrc_mode must be 'replace' or 'add', got {usrfrc_mode!r}")
+    if isinstance(deck, Deck):
+        deck_obj = deck
+        deck_path = str(deck.path)
+    else:
+        deck_path = os.fspath(deck)
+        if not os.path.isfile(deck_path):
+            raise InputError(f"deck {deck_path} does not exist")
+        deck_obj = read_deck(deck_path)
+    usrfrc, motion = tuple(usrfrc), tuple(motion)
+    model = build_model(deck_obj, usrfrc=usrfrc, motion=motion)
+    replaced: list[str] = []
+    if usrfrc and usrfrc_mode == "replace" and model.usrfrc:
+        replaced = list(model.usrfrc)
+        model = dataclasses.replace(model, usrfrc=())
+    writes = trace is not None
+    if restart and not writes:
+        raise InputError("restart=True needs the trace path of the run to resume (trace=...)")
+    trace_path = energy_path = dump_path = None
+    if writes:
+        trace_path, energy_path, dump_path = default_paths(
+            deck_path, os.fspath(trace), os.fspath(energy) if energy is not None else None)
+        for path, what in ((trace_path, "trace file"), (energy_path, "energy file")):
+            check_writable(path, what)
+    resume = writes and (restart or model.irest == 1)
+    if tmax is not None and not math.isfinite(tmax):
+        raise InputError(f"--tmax must be a finite number of seconds, got {tmax}")
+    tmax = float(tmax if tmax is not None else model.tmax)
+    if not resume and initial_state is None:
+        err = initial_penetration_error(model, penetration_limit, deck_path)
+        if err is not None:
+            raise err
+
+    sim = Simulation(model, usrfrc=usrfrc, motion=motion, dt=dt, friction=friction,
+                     penetration_limit=penetration_limit, allow_python_usrfrc=usrfrc_python,
+                     itrac=itrac)
+    if trace_nodes is not None:
+        sim.trace_nodes = _node_indices(model, trace_nodes)
+    if on_compile is not None and not _kernels_cached(sim):
+        on_compile("compiling the step loop for this scene's effects (the first run of a "
+                   "scene after installing or changing x3dpd takes 20-60 s; later runs load it "
+                   "from the cache in about a second)")
+    dt, itrac, t0 = sim.dt, sim.itrac, model.t0
+    n_end = int(round((tmax - t0) / dt))
+    if n_end < 0:
+        raise InputError(f"TMAX {tmax:g} s is before the start time {t0:g} s")
+    trest_steps = int(round(model.trest / dt)) if model.trest > 0 else 0
+    key = deck_key(deck_obj)
+    if initial_state is not None:
+        _continue_from(sim, initial_state, key, model)
+
+    applied = list(model.usrfrc) + list(usrfrc)   # the deck's card is () when replaced
+    options = {"usrfrc": list(usrfrc), "motion": list(motion), "friction": friction,
+               "tmax": tmax, "usrfrc_python": usrfrc_python,
+               "usrfrc_files": user_file_hashes(applied),
+               "usrfrc_mode": "replace" if replaced else "add"}
+    meta = None
+    writer = ewriter = None
+    if writes:
+        from x3dpd.io.trace import sha256_file
+
+        deck_sha = sha256_file(deck_path) if os.path.isfile(deck_path) else None
+        sidecar = {
+            "deck_path": deck_path, "deck_sha256": deck_sha, "dt": dt, "itrac": itrac,
+            "effects": sorted(sim.effects), "title": model.title, "t0": t0, "tmax": tmax,
+            "usrfrc": applied, "motion": list(motion), "friction": friction,
+            "energy_file": energy_path, "restart_file": dump_path, "command": command,
+        }
+        if replaced:
+            sidecar["usrfrc_replaced"] = replaced
+        units = getattr(model, "units", None)
+        if units is not None:
+            sidecar["units"] = dict(units) if isinstance(units, dict) else units
+        if resume:
+            asked = "--restart" if restart else "the deck's IREST = 1"
+            meta = load_dump(dump_path, asked_by=asked, sim=sim, key=key, options=options,
+                             model=model)
+            sidecar["resumed_at"] = meta["time"]
+            if meta["step"] >= n_end:
+                raise InputError(f"{dump_path}: the restart dump is at t = {meta['time']:.9g} "
+                                 f"s, not before TMAX {tmax:.9g} s: nothing to run (give a "
+                                 "larger --tmax)")
+        writer, ewriter = open_outputs(trace_path, energy_path, sim, sidecar, meta,
+                                       ENERGY_COLUMNS, overwrite=overwrite)
+        if not resume:
+            try:  # a stale dump of an earlier run must not be resumed against this trace
+                os.unlink(dump_path)
+            except FileNotFoundError:
+                pass
+
+    if initial_state is not None and sim.state.step >= n_end:
+        raise InputError(f"the initial state is at t = {sim.time:.9g} s, not before TMAX "
+                         f"{tmax:.9g} s: nothing to run (give a larger tmax)")
+
+    def dump(reason: str) -> None:
+        if not writes:
+            return
+        writer.flush()
+        ewriter.flush()
+        from x3dpd.io.restart import save_restart
+
+        save_restart(dump_path, sim.state.to_arrays(), {
+            "reason": reason, "x3dpd_version": __version__,
+            "deck_path": deck_path, "deck_abspath": os.path.abspath(deck_path),
+            "deck_sha256": deck_sha, "deck_key": key, "dt": dt, "itrac": itrac, "t0": t0,
+            "step": int(sim.state.step), "time": sim.time,
+            "trace": {"path": trace_path, "bytes": writer.tell(),
+                      "blocks": writer.blocks_written},
+            "energy": {"path": energy_path, "bytes": ewriter.tell(),
+                       "rows": ewriter.rows_written},
+            "options": options, "energy_scale": sim.state.scale,
+            "effects": sorted(sim.effects),
+        })
+        stats.dumps += 1
+
+    ids = model.node_ids[sim.trace_nodes]
+    recorder = Recorder(ids, ENERGY_COLUMNS, keep_trace)
+    sink = _Sink(writer, ewriter, recorder)
+    status = "complete"
+    if (meta is None and initial_state is None):
+        snap = sim.snapshot()
+        sink.write(snap.times, snap.data, snap.energy)
+        _note(stats, snap.energy)
+    stats.setup_seconds = time.perf_counter() - stats.wall_start
+    stats.t_start = sim.time
+
+    def result(st: str) -> RunResult:
+        summary = _summary(sim, stats, st, applied, replaced, trace_path, energy_path,
+                           dump_path if writes else None, ENERGY_COLUMNS)
+        final = FinalState(state=_copy_state(sim.state), deck_key=key, dt=dt, time=sim.time)
+        return RunResult(trace=recorder.trace({"status": st, "dt": dt, "itrac": itrac}),
+                         energy=recorder.energy(), summary=summary, final_state=final,
+                         model=model)
+
+    try:
+        with sink:
+            with _Interrupts(handle_signals) as intr:
+                stopped = _step_loop(sim, sink, n_end, trest_steps, stats, progress, dump,
+                                     intr, stop, ids)
+                if intr.signum:
+                    dump("interrupted")
+                    status = "interrupted"
+                    sink.close("interrupted")
+                else:
+                    status = "stopped" if stopped else "complete"
+                    dump("stopped" if stopped else "end")
+    except UnstableRunError as exc:
+        exc.result = result("unstable")
+        raise
+    out = result(status)
+    if status == "interrupted":
+        out.summary["exit_status"] = intr.exit_status
+    return out
+
+
+class _Sink:
+    """Where rows go: the trace and energy writers (when writing files) and the recorder."""
+
+    def __init__(self, writer, ewriter, recorder: Recorder):
+        self.writer, self.ewriter, self.recorder = writer, ewriter, recorder
+
+    def write(self, times, data, energy) -> None:
+        if self.writer is not None:
+            self.writer.write_block(times, data)
+            self.ewriter.write_rows(energy)
+        self.recorder.add(times, data, energy)
+
+    def flush(self) -> None:
+        if self.writer is not None:
+            self.writer.flush()
+            self.ewriter.flush()
+
+    def close(self, status: str) -> None:
+        if self.writer is not None:
+            self.writer.close(status)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        if self.writer is not None:
+            try:
+                self.writer.__exit__(exc_type, exc, tb)
+            finally:
+                self.ewriter.__exit__(exc_type, exc, tb)
+        return False
+
+
+def _note(stats: _Stats, energy: np.ndarray) -> None:
+    if energy.shape[0]:
+        stats.last_energy = energy[-1].copy()
+
+
+def _step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
+               ids) -> bool:
+    """Advance to step ``n_end``; return True when ``stop`` ended the run early."""
+    chunk = max(1, min(sim.itrac, 1000))
+    rate = 0.0
+    last_flush = time.perf_counter()
+    first = True
+    while sim.state.step < n_end and not intr.signum:
+        step = sim.state.step
+        target = min(n_end, step + chunk)
+        if trest_steps:
+            next_dump = (step // trest_steps + 1) * trest_steps
+            target = min(target, next_dump)
+        compile_before = sim.compile_seconds
+        t = time.perf_counter()
+        try:
+            block = sim.advance(target - step)
+        except UnstableRunError as exc:
+            # write the rows computed before the failure, up to the step the diagnosis names
+            partial = getattr(exc, "block", None)
+            if partial is not None and partial.times.shape[0]:
+                keep = _rows_up_to(partial.times, exc, sim)
+                sink.write(partial.times[:keep], partial.data[:keep], partial.energy[:keep])
+                _note(stats, partial.energy[:keep])
+            stats.steps += sim.state.step - step
+            raise
+        wall = time.perf_counter() - t
+        done = sim.state.step - step
+        sink.write(block.times, block.data, block.energy)
+        _note(stats, block.energy)
+        stats.steps += done
+        compiled = sim.compile_seconds > compile_before
+        if not (first and compiled):
+            stats.timed_steps += done
+            stats.timed_seconds += wall
+            inst = done / wall if wall > 0 else float("inf")
+            rate = inst if rate == 0.0 else 0.5 * rate + 0.5 * inst
+            if done == target - step and math.isfinite(rate):
+                chunk = int(min(max(rate * CHUNK_SECONDS, chunk / 4, 1), chunk * 4, 1e9))
+        elif done == target - step:
+            chunk = min(chunk * 4, max(1, n_end))
+        first = False
+        if trest_steps and sim.state.step % trest_steps == 0 and sim.state.step < n_end:
+            dump("trest")
+            last_flush = time.perf_counter()
+        elif time.perf_counter() - last_flush > FLUSH_SECONDS:
+            sink.flush()
+            last_flush = time.perf_counter()
+        if progress is not None:
+            left = n_end - sim.state.step
+            eta = left / rate if rate > 0 else float("nan")
+            progress(sim.time, rate, eta, _relative_residual(stats, sim),
+                     sim.model.t0 + n_end * sim.dt)
+        if stop is not None and block.times.shape[0]:
+            if stop(Chunk(block.times, ids, block.data, block.energy)):
+                return True
+    return False
+
+
+def _rows_up_to(times: np.ndarray, exc: UnstableRunError, sim) -> int:
+    """How many of a failed chunk's rows lie at or before the time the diagnosis names."""
+    t_bad = getattr(exc, "time", None)
+    if t_bad is None or not math.isfinite(t_bad):
+        return times.shape[0]
+    return int(np.searchsorted(times, t_bad + 0.5 * sim.dt, side="right"))
+
+
+def _relative_residual(stats: _Stats, sim) -> float:
+    scale = sim.state.scale
+    if stats.last_energy is None or scale <= 0:
+        return 0.0
+    return float(stats.last_energy[11]) / scale
+
+
+def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dump_path,
+             columns) -> dict:
+    wall = time.perf_counter() - stats.wall_start
+    compile_s = float(sim.compile_seconds) + float(getattr(sim, "_load_seconds", 0.0))
+    rate = stats.timed_steps / stats.timed_seconds if stats.timed_seconds > 0 else float("nan")
+    e = stats.last_energy
+    return {
+        "status": status, "t_start": stats.t_start, "t_end": sim.time, "steps": stats.steps,
+        "dt": sim.dt, "itrac": sim.itrac, "wall_s": wall, "step_wall_s": stats.timed_seconds,
+        "compile_s": compile_s, "steps_per_s": rate, "effects": sorted(sim.effects),
+        "energy_scale": float(sim.state.scale), "residual": _relative_residual(stats, sim),
+        "last_energy": dict(zip(columns, map(float, e))) if e is not None else None,
+        "usrfrc": list(applied), "usrfrc_replaced": list(replaced), "trace_file": trace_path,
+        "energy_file": energy_path, "restart_file": dump_path, "dumps": stats.dumps,
+    }
+
+
+def _copy_state(state):
+    from x3dpd.solver.state import State
+
+    return State.from_arrays({k: np.array(v, copy=True) for k, v in state.to_arrays().items()})
+
+
+def _continue_from(sim, initial: FinalState, key: str, model) -> None:
+    if not isinstance(initial, FinalState):
+        raise InputError("initial_state must be the final_state of an earlier x3dpd.run result")
+    if initial.deck_key != key:
+        raise InputError("initial_state belongs to another deck (its cards differ; only TMAX, "
+                         "TREST and IREST may change)")
+    if initial.dt != sim.dt:
+        raise InputError(f"initial_state was computed at dt {initial.dt!r} s; continue it at "
+                         f"the same step (this run's is {sim.dt!r} s)")
+    state = _copy_state(initial.state)
+    if state.motion_prev.shape[0] != len(sim.motion):
+        state.motion_prev = np.zeros(len(sim.motion))
+    sim.restore(state)
+
+
+def _node_indices(model, node_ids) -> np.ndarray:
+    ids = np.asarray(list(node_ids), dtype=np.int64)
+    if ids.ndim != 1 or ids.size == 0:
+        raise InputError("trace_nodes must be a non-empty list of node ids")
+    idx = np.searchsorted(model.node_ids, ids)
+    bad = [int(i) for i, j in zip(ids, idx) if j >= model.n_nodes or model.node_ids[j] != i]
+    if bad:
+        raise InputError(f"trace_nodes: node(s) {', '.join(map(str, bad))} are not in the deck")
+    return np.ascontiguousarray(idx, dtype=np.int64)
+
+
+def _kernels_cached(sim) -> bool:
+    """Whether numba's disk cache already holds this scene's step loop."""
+    path = getattr(sim.kernels, "__file__", None)
+    if not path:
+        return True
+    folder = os.path.join(os.path.dirname(path), "__pycache__")
+    stem = os.path.splitext(os.path.basename(path))[0]
+    try:
+        return any(f.startswith(stem + ".") and f.endswith(".nbi") for f in os.listdir(folder))
+    except OSError:
+        return False
+
+
+def command_line(argv: Sequence[str]) -> str | None:
+    """The sidecar's ``command`` for the arguments of an ``x3dpd`` command."""
+    return "x3dpd " + shlex.join(argv) if argv else None

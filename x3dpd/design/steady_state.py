@@ -1,0 +1,122 @@
+"""One point of a frequency sweep: drive a deck with F sin(w (t - t0)) until its steady state.
+
+The run goes through the Python API (:func:`x3dpd.api.run`): the deck's USRFRC drive is replaced
+by a sine on the chosen node and DOF, the node is recorded at >= ``samples_per_cycle`` samples
+per drive period (not at the deck's trace interval), and a
+:class:`~x3dpd.analysis.steady_state.SteadyStateMonitor` watches every computed chunk and ends
+the run as soon as the criterion of ``x3dpd/analysis/steady_state.py`` is met, or at the cap.
+A point of a chain starts from the previous point's final state (``initial_state``), its drive
+phase origin at the time it starts.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+
+from x3dpd.analysis.steady_state import SteadyStateMonitor
+from x3dpd.api import run as run_deck
+from x3dpd.deck.cards import Deck
+from x3dpd.errors import InputError
+from x3dpd.solver.simulation import ENERGY_COLUMNS
+
+#: Ledger columns summed as the energy dissipated by the particles, and by everything.
+PARTICLE_LOSSES = ("dissipated_viscoelastic", "dissipated_friction")
+ALL_LOSSES = PARTICLE_LOSSES + ("dissipated_dampers",)
+
+
+@dataclass(frozen=True)
+class Criterion:
+    """Steady-state criterion settings (see x3dpd/analysis/steady_state.py).
+
+    ``tol`` relative tolerance; ``window`` cycles per window; ``min_windows`` windows discarded
+    at least; ``max_cycles`` the cap; ``samples_per_cycle`` recording rate; ``extrapolate``
+    allow the Prony limit for responses that are linear enough.
+    """
+
+    tol: float = 0.01
+    window: int = 5
+    min_windows: int = 3
+    max_cycles: int = 400
+    samples_per_cycle: int = 200
+    extrapolate: bool = True
+
+
+@dataclass(frozen=True)
+class SweepPoint:
+    """One frequency point: which deck (``config``), drive, where, and its place in a chain."""
+
+    config: str
+    deck: Deck
+    frequency_hz: float
+    drive: float
+    node: int
+    dof: int
+    direction: str = ""  # "" (from the deck's initial state), "up" or "down"
+    dt: float | None = None
+    criterion: Criterion = field(default_factory=Criterion)
+
+    @property
+    def key(self) -> str:
+        """A file-name-safe identity, stable across runs (resuming)."""
+        return (f"{self.config}_F{self.drive:.6e}_{self.direction or 'rest'}"
+                f"_{self.frequency_hz:.6f}Hz")
+
+
+def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
+    """Run one point to its steady state; returns (row, final state).
+
+    ``previous`` is the (row, final state) of the point before in a chain, or None to start
+    from the deck's initial state.
+    """
+    if point.dof not in (1, 2, 3):
+        raise InputError(f"--dof {point.dof}: the sweep measures a translation, dof 1, 2 or 3")
+    crit = point.criterion
+    state = previous[1] if previous is not None else None
+    params = point.deck.parameters
+    t_start = float(previous[0]["t_end"]) if previous is not None else float(params.time)
+    dt = float(point.dt or params.dtmax)
+    omega = 2.0 * math.pi * point.frequency_hz
+    period = 1.0 / point.frequency_hz
+    itrac = max(1, int(period / (crit.samples_per_cycle * dt)))
+    monitor = SteadyStateMonitor(omega, t0=t_start, t_start=t_start, window=crit.window,
+                                 tol=crit.tol, min_windows=crit.min_windows,
+                                 max_cycles=crit.max_cycles, extrapolate=crit.extrapolate)
+    d = point.dof - 1
+    cols = [ENERGY_COLUMNS.index(name) for name in ALL_LOSSES]
+
+    def stop(block) -> bool:
+        ledger = {name: block.energy[:, j] for name, j in zip(ALL_LOSSES, cols)}
+        return monitor.feed(block.time, block.position[:, 0, d], block.velocity[:, 0, d], ledger)
+
+    spec = (f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
+            f"hz={point.frequency_hz!r},t0={t_start!r}")
+    wall = _time.perf_counter()
+    result = run_deck(point.deck, tmax=t_start + (crit.max_cycles + 1) * period, dt=dt,
+                      usrfrc=(spec,), usrfrc_mode="replace", itrac=itrac,
+                      trace_nodes=(point.node,), keep_trace=False, initial_state=state,
+                      stop=stop)
+    wall = _time.perf_counter() - wall
+    ss = monitor.result()
+    summary = result.summary
+    loss = ss.dissipated_per_cycle
+    row = {
+        "config": point.config, "frequency_hz": point.frequency_hz, "drive": point.drive,
+        "direction": point.direction, "amplitude": ss.amplitude, "phase": ss.phase_deg,
+        "velocity": ss.velocity, "acceleration": ss.acceleration,
+        "accelerance": ss.acceleration / abs(point.drive), "peak": ss.peak, "mean": ss.mean,
+        "spread": ss.spread,
+        "dissipated_per_cycle": sum(loss.get(name, math.nan) for name in ALL_LOSSES),
+        "dissipated_particles_per_cycle": sum(loss.get(name, math.nan)
+                                              for name in PARTICLE_LOSSES),
+        # steady state: the drive's work per cycle, pi F X sin(-phi), equals the dissipation
+        "input_work_per_cycle": math.pi * point.drive * ss.amplitude
+        * math.sin(-math.radians(ss.phase_deg)),
+        "cycles": ss.cycles, "converged": ss.converged, "extrapolated": ss.extrapolated,
+        "irregular": ss.irregular, "measured_amplitude": ss.measured_amplitude,
+        "change": ss.change, "method": "simulated",
+        "t_start": t_start, "t_end": float(summary["t_end"]), "steps": int(summary["steps"]),
+        "compile_s": float(summary.get("compile_s", 0.0)), "wall_s": wall,
+    }
+    return row, result.final_state

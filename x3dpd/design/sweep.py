@@ -1,0 +1,292 @@
+"""Frequency sweeps of a damper design (report Section 7.5; Figures 45-48, 52).
+
+A sweep is a set of *chains* of :class:`~x3dpd.design.steady_state.SweepPoint`: without a
+direction every point is a chain of its own, started from the deck's initial state, and all run
+in parallel; with ``direction`` up or down the points of one drive level form one chain whose
+points continue from the previous point's final state (particles already settled, the structure
+already moving), so jumps and hysteresis show as in the report's up/down experiments; ``both``
+runs the two chains side by side. Baselines whose structure is a linear SDOF are computed in
+closed form (``x3dpd/design/baselines.py``); otherwise they are simulated like the deck.
+
+Execution goes through ``dask.distributed``: ``workers`` local worker processes (a LocalCluster),
+or an existing cluster at ``scheduler``; ``workers=1`` runs serially in this process. The same
+function computes every point in every mode, so the results are identical bit for bit. A point
+of a chain is submitted with the future of its predecessor as argument: the chain runs in order,
+different chains at once.
+
+Every finished point is written at once to ``DIR/points/KEY.json`` (its row) and, for chains,
+``DIR/points/KEY.state`` (its final state, pickled). A rerun with the same settings loads them
+and computes only the missing points, a chain resuming from its last finished point.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import pickle
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from x3dpd.deck.cards import Deck
+from x3dpd.design.baselines import baseline_decks, linear_sdof
+from x3dpd.design.spec import SweepSpec
+from x3dpd.design.steady_state import SweepPoint, run_point
+from x3dpd.errors import InputError
+from x3dpd.model.build import build_model
+
+#: sweep.csv columns, in order.
+COLUMNS = ("config", "frequency_hz", "drive", "direction", "amplitude", "phase", "velocity",
+           "acceleration", "accelerance", "peak", "mean", "spread", "dissipated_per_cycle",
+           "dissipated_particles_per_cycle", "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
+           "branch", "measured_amplitude", "change", "method", "t_start", "t_end", "steps",
+           "compile_s", "wall_s")
+DIRECTIONS = ("up", "down", "both")
+
+
+def deck_hash(path: str | os.PathLike) -> str:
+    """SHA-256 of a deck file's bytes (a changed deck invalidates stored points)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
+    """The chains to simulate and the closed-form rows, for the deck and its baselines."""
+    configs = {"deck": spec.deck, **baseline_decks(spec.deck, spec.baselines, spec.node)}
+    chains: list[list[SweepPoint]] = []
+    closed: list[dict] = []
+    for config, deck in configs.items():
+        sdof = linear_sdof(build_model(deck), spec.node, spec.dof) if config != "deck" else None
+        if sdof is not None:
+            closed.extend(closed_form_rows(config, sdof, spec))
+            continue
+        for drive in spec.drives:
+            def point(f: float, direction: str = "") -> SweepPoint:
+                return SweepPoint(config=config, deck=deck, frequency_hz=f, drive=drive,
+                                  node=spec.node, dof=spec.dof, direction=direction,
+                                  dt=spec.dt, criterion=spec.criterion)
+            freqs = sorted(spec.frequencies)
+            if spec.direction is None:
+                chains.extend([point(f)] for f in freqs)
+            if spec.direction in ("up", "both"):
+                chains.append([point(f, "up") for f in freqs])
+            if spec.direction in ("down", "both"):
+                chains.append([point(f, "down") for f in reversed(freqs)])
+    return chains, closed
+
+
+def closed_form_rows(config: str, sdof, spec: SweepSpec) -> list[dict]:
+    """Rows of a linear SDOF baseline at every frequency and drive (``baselines.py``)."""
+    rows = []
+    for drive in spec.drives:
+        for f in sorted(spec.frequencies):
+            w = 2.0 * math.pi * f
+            amp, phi = sdof.response(drive, w)
+            rows.append({
+                "config": config, "frequency_hz": f, "drive": drive, "direction": "",
+                "amplitude": amp, "phase": math.degrees(phi), "velocity": w * amp,
+                "acceleration": w * w * amp, "accelerance": w * w * amp / abs(drive),
+                "peak": amp, "mean": math.nan, "spread": 0.0,
+                "dissipated_per_cycle": sdof.dissipated_per_cycle(amp, w),
+                "dissipated_particles_per_cycle": 0.0,
+                "input_work_per_cycle": sdof.dissipated_per_cycle(amp, w), "cycles": 0, "converged": True,
+                "extrapolated": False, "irregular": False, "measured_amplitude": amp,
+                "change": 0.0, "method": "closed-form", "t_start": 0.0, "t_end": 0.0,
+                "steps": 0, "compile_s": 0.0, "wall_s": 0.0})
+    return rows
+
+
+def baseline_curves(spec: SweepSpec, n: int = 2001) -> dict:
+    """Closed-form baseline curves on a fine grid over the swept band: {(config, drive): (f, X)}."""
+    out = {}
+    f = np.linspace(min(spec.frequencies), max(spec.frequencies), n)
+    for config, deck in baseline_decks(spec.deck, spec.baselines, spec.node).items():
+        sdof = linear_sdof(build_model(deck), spec.node, spec.dof)
+        if sdof is None:
+            continue
+        for drive in spec.drives:
+            out[(config, drive)] = (f, np.array([sdof.response(drive, 2 * math.pi * x)[0]
+                                                 for x in f]))
+    return out
+
+
+class SweepDir:
+    """The output folder: settings, finished points (rows and chain states), sweep.csv."""
+
+    def __init__(self, out: str | os.PathLike, spec: SweepSpec, overwrite: bool = False):
+        self.out = Path(out)
+        self.points = self.out / "points"
+        settings = spec.settings()
+        stored = self.out / "sweep.json"
+        if stored.exists() and not overwrite:
+            old = json.loads(stored.read_text())
+            if old != json.loads(json.dumps(settings)):
+                raise InputError(f"{self.out}: holds a sweep with other settings ({stored}); "
+                                 f"give another --out, or --overwrite to discard it")
+        elif overwrite and self.points.exists():
+            for p in self.points.iterdir():
+                p.unlink()
+        self.points.mkdir(parents=True, exist_ok=True)
+        _write_atomic(stored, json.dumps(settings, indent=1).encode())
+
+    def load(self, point: SweepPoint, need_state: bool):
+        """The stored (row, state) of a finished point, or None."""
+        row_path = self.points / f"{point.key}.json"
+        if not row_path.exists():
+            return None
+        row = json.loads(row_path.read_text())
+        state = None
+        if need_state:
+            state_path = self.points / f"{point.key}.state"
+            if not state_path.exists():
+                return None
+            state = pickle.loads(state_path.read_bytes())
+        return row, state
+
+    def save(self, point: SweepPoint, row: dict, state, keep_state: bool) -> None:
+        """Store a finished point (state first: a row without its state is not finished)."""
+        if keep_state:
+            _write_atomic(self.points / f"{point.key}.state", pickle.dumps(state))
+        _write_atomic(self.points / f"{point.key}.json", json.dumps(row).encode())
+
+
+def _write_atomic(path: Path, data: bytes) -> None:
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_bytes(data)
+    os.replace(tmp, path)
+
+
+def run_sweep(spec: SweepSpec, out: str | os.PathLike, *, workers: int | None = None,
+              scheduler: str | None = None, overwrite: bool = False,
+              on_point: Callable[[dict], None] | None = None) -> list[dict]:
+    """Run (or resume) a sweep into ``out``; returns all rows, sorted, and writes sweep.csv.
+
+    ``workers``: local worker processes (default: all cores; 1 = serial in this process);
+    ``scheduler``: address of an existing Dask scheduler (overrides ``workers``);
+    ``on_point(row)`` is called as each point finishes (progress).
+    """
+    store = SweepDir(out, spec, overwrite)
+    chains, rows = plan(spec)
+    todo: list[tuple[list[SweepPoint], object]] = []
+    for chain in chains:
+        keep_state = len(chain) > 1
+        previous = None
+        for k, point in enumerate(chain):
+            done = store.load(point, need_state=keep_state and k < len(chain) - 1)
+            if done is None:
+                todo.append((chain[k:], previous))
+                break
+            rows.append(done[0])
+            previous = done
+    workers = workers or os.cpu_count() or 1
+
+    def finished(point: SweepPoint, chain_len: int, result) -> None:
+        row, state = result
+        store.save(point, row, state, keep_state=chain_len > 1)
+        rows.append(row)
+        if on_point:
+            on_point(row)
+
+    if scheduler is None and workers == 1:
+        for chain, previous in todo:
+            for point in chain:
+                previous = run_point(point, previous)
+                finished(point, len(chain), previous)
+    elif todo:
+        _run_dask(todo, finished, workers, scheduler)
+    rows = sort_rows(rows)
+    label_branches(rows)
+    write_csv(Path(out) / "sweep.csv", rows)
+    return rows
+
+
+def _run_dask(todo, finished, workers: int, scheduler: str | None) -> None:
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    if scheduler is not None:
+        client, cluster = Client(scheduler), None
+    else:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        client = Client(cluster)
+    try:
+        futures = {}
+        for chain, previous in todo:
+            for point in chain:
+                previous = client.submit(run_point, point, previous, pure=False)
+                futures[previous] = (point, len(chain))
+        for future in as_completed(list(futures)):
+            point, n = futures[future]
+            finished(point, n, future.result())
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def sort_rows(rows: Sequence[dict]) -> list[dict]:
+    """Rows ordered by config (deck first), drive, direction, frequency."""
+    order = {"deck": 0, "undamped": 1, "added-mass": 2}
+    return sorted(rows, key=lambda r: (order.get(r["config"], 9), r["config"], r["drive"],
+                                       r["direction"], r["frequency_hz"]))
+
+
+def label_branches(rows: list[dict]) -> None:
+    """Say which branch each point is on (``branch`` column).
+
+    Where an up and a down chain of the same config and drive disagree at a frequency by more
+    than their tolerance (hysteresis), the larger amplitude is on the ``high`` branch and the
+    smaller on the ``low`` one; elsewhere the response is ``single``-valued. Points run from the
+    initial state (no direction) or in closed form are ``single``; an irregular point is
+    ``irregular`` whatever its neighbours.
+    """
+    by = {}
+    for r in rows:
+        by.setdefault((r["config"], r["drive"], r["frequency_hz"]), {})[r["direction"]] = r
+    for group in by.values():
+        up, down = group.get("up"), group.get("down")
+        for r in group.values():
+            r["branch"] = "single"
+        if up and down:
+            tol = 3.0 * max(abs(up["change"]), abs(down["change"]), 0.01)
+            if abs(up["amplitude"] - down["amplitude"]) > tol * max(up["amplitude"],
+                                                                       down["amplitude"]):
+                hi, lo = (up, down) if up["amplitude"] > down["amplitude"] else (down, up)
+                hi["branch"], lo["branch"] = "high", "low"
+        for r in group.values():
+            if r.get("irregular"):
+                r["branch"] = "irregular"
+
+
+def write_csv(path: Path, rows: Sequence[dict]) -> None:
+    """sweep.csv: one row per point, columns :data:`COLUMNS` (full precision, repr floats)."""
+    lines = [",".join(COLUMNS)]
+    for r in rows:
+        lines.append(",".join(_cell(r.get(c, "")) for c in COLUMNS))
+    _write_atomic(path, ("\n".join(lines) + "\n").encode())
+
+
+def _cell(v) -> str:
+    if isinstance(v, bool) or isinstance(v, np.bool_):
+        return "1" if v else "0"
+    if isinstance(v, float):
+        return repr(v)
+    return str(v)
+
+
+def read_csv(path: str | os.PathLike) -> list[dict]:
+    """Rows of a sweep.csv, numbers as floats (for plots and comparisons)."""
+    text = Path(path).read_text().splitlines()
+    head = text[0].split(",")
+    out = []
+    for line in text[1:]:
+        row = {}
+        for k, v in zip(head, line.split(",")):
+            try:
+                row[k] = float(v)
+            except ValueError:
+                row[k] = v
+        out.append(row)
+    return out

@@ -1,0 +1,81 @@
+"""Why did energy appear from nowhere? A too-large step, or energy the ledger does not count.
+
+When the energy residual exceeds its tolerance, two causes are possible and they call for
+opposite fixes. Either the step is too coarse for the fastest oscillator -- a Hertz contact
+resolved in fewer than :data:`MIN_STEPS_PER_CONTACT` steps, or a structural DOF with
+``omega dt > 2`` -- and a smaller step cures it; or the step resolves everything and energy
+entered (or left) through a channel the ledger does not count, a bookkeeping failure that no
+step cures. :func:`step_limit_text` tells them apart from the state at the failure:
+
+* contacts: the Hertz contact time ``t_c`` of the shortest particle-wall impact at the fastest
+  particle's current speed (:func:`x3dpd.solver.state.hertz_contact_time_estimate`; report
+  Section 7.2.3), compared with the step: ``t_c / dt`` steps per contact;
+* structure: Gershgorin's bound on the highest frequency of the spring network,
+  ``omega_max^2 <= max_i (1/m_i) sum_j |K_ij|`` (a ground spring adds ``k`` to its node's row, a
+  two-node spring ``2k`` to each end's), against velocity Verlet's limit ``omega dt < 2``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from x3dpd.solver.state import Setup, hertz_contact_time_estimate
+
+#: Fewer Hertz steps per contact than this and the contact itself can make or lose energy (EDEM
+#: asks for 6-10 steps to follow an impact at all; x3dpd check recommends 50).
+MIN_STEPS_PER_CONTACT = 6
+
+
+def structure_omega_bound(setup: Setup) -> float:
+    """Upper bound [rad/s] on the spring network's highest circular frequency (Gershgorin)."""
+    n = setup.inv_m.shape[0]
+    rows = np.zeros((n, 3))
+    for s in range(setup.sp_nodes.shape[0]):
+        a, b = int(setup.sp_nodes[s, 0]), int(setup.sp_nodes[s, 1])
+        k = np.abs(setup.sp_k[s, :3])
+        rows[a] += k if b < 0 else 2.0 * k
+        if b >= 0:
+            rows[b] += 2.0 * k
+    bound = float(np.max(setup.inv_m[:, :3] * rows, initial=0.0))
+    return math.sqrt(bound)
+
+
+def step_limit_text(setup: Setup, vel: np.ndarray, dt: float) -> str | None:
+    """Why ``dt`` [s] is too large for the current state, or None when it resolves everything.
+
+    ``vel`` (n, 6) are the current velocities (the particles' speeds set the contact time).
+    """
+    omega = structure_omega_bound(setup)
+    if omega * dt > 2.0:
+        return (f"the stiffest structural spring has omega up to {omega:.4g} rad/s and "
+                f"omega*dt = {omega * dt:.3g} > 2, the explicit stability limit")
+    vp = vel[setup.p0:, :3]
+    if vp.shape[0] == 0:
+        return None
+    if not np.all(np.isfinite(vp)):
+        return "particle velocities became non-finite"
+    speed = float(np.sqrt(np.max(np.sum(vp * vp, axis=1))))
+    if speed <= 0.0:
+        return None
+    t_c = hertz_contact_time_estimate(setup, speed)
+    if t_c < MIN_STEPS_PER_CONTACT * dt:
+        return (f"a particle at the current top speed {speed:.4g} length/s stays in a wall "
+                f"contact for {t_c:.3g} s, only {t_c / dt:.3g} steps (at least "
+                f"{MIN_STEPS_PER_CONTACT} are needed to follow an impact)")
+    return None
+
+
+def energy_source_advice(setup: Setup, vel: np.ndarray, dt: float, sources: list[str]) -> str:
+    """The 'Likely cause' sentence of an energy-residual failure."""
+    why = step_limit_text(setup, vel, dt)
+    if why is not None:
+        return (f"Likely cause: the time step {dt:.3g} s is too large: {why}; run "
+                f"`x3dpd check` for a recommended step.")
+    known = ", ".join(sources) if sources else "none"
+    return (f"The time step {dt:.3g} s is not the likely cause: it resolves the fastest contact "
+            f"and is within the structure's stability limit, so energy entered or left through "
+            f"a channel the ledger does not count (a bookkeeping failure, not a physics one; "
+            f"energy sources in this run: {known}). Please report it with the deck and the "
+            f"command line.")
