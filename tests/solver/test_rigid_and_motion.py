@@ -89,22 +89,21 @@ def test_torque_free_symmetric_top_precesses_at_the_euler_rate():
     dt, w_perp, w_axis = 2e-5, 0.5, 3.0
     t, body, ang_mom, length = _top(dt, w_perp=w_perp, w_axis=w_axis)
     lam = (I_AXIS - I_PERP) / I_PERP * w_axis
-    # the gyroscopic term omega x I omega is taken at the start of each half kick (explicit):
-    # a first-order splitting whose phase drifts by at most ~ lambda |omega| dt / 2 per unit
-    # time = 1.4e-4 rad/s, i.e. 5.4e-5 rad over 0.4 s, times w_perp = 2.7e-5; 3e-5 bounds it
-    # (a wrong inertia or a frame mix-up is off by orders of magnitude more)
-    np.testing.assert_allclose(body[:, 0], w_perp * np.cos(lam * t), atol=3e-5)
-    np.testing.assert_allclose(body[:, 1], w_perp * np.sin(lam * t), atol=3e-5)
+    # second-order integrator (implicit gyroscopic term in the second half kick): the phase
+    # error grows as ~ (|omega| dt)^2 |omega| t = (6.1e-5)^2 * 1.2 = 4.5e-9 rad, times
+    # w_perp = 2.2e-9; 1e-8 bounds it (the first-order kick this replaced was off by 6e-6, a
+    # wrong inertia or a frame mix-up by far more)
+    np.testing.assert_allclose(body[:, 0], w_perp * np.cos(lam * t), atol=1e-8)
+    np.testing.assert_allclose(body[:, 1], w_perp * np.sin(lam * t), atol=1e-8)
     np.testing.assert_allclose(body[:, 2], w_axis, atol=1e-9)
-    # |L| = 3 |I omega| ~ 15: the same first-order drift, 1e-4 of it
-    np.testing.assert_allclose(ang_mom, ang_mom[:1].repeat(len(t), axis=0), atol=1.5e-3)
+    # |L| ~ 15: the same relative error, 15 * 4.5e-9 = 7e-8
+    np.testing.assert_allclose(ang_mom, ang_mom[:1].repeat(len(t), axis=0), atol=1e-7)
     np.testing.assert_allclose(length, 1.0, atol=1e-12)   # the slaves stay rigid
 
 
-@pytest.mark.xfail(strict=True, reason="rigid rotation is integrated to first order: the "
-                   "gyroscopic term of the second half kick uses the half-step spin")
 def test_rigid_rotation_converges_at_second_order():
-    """Halving the step should quarter the error of a second-order integrator."""
+    """Halving the step quarters the error of a second-order integrator (an explicit gyroscopic
+    term in both half kicks only halves it: first order)."""
     assert _top_error(4e-5) / _top_error(2e-5) > 3.5
 
 

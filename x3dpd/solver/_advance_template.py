@@ -587,7 +587,7 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
         if synced:
             if HAS_RIGID_ROTATION:
                 _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h)
+                                    rig_free_rot, h, False)
             for k in range(vf.shape[0]):
                 vf[k] += h * ff[k] * imf[k]
                 ff[k] = fgf[k]
@@ -632,10 +632,11 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
         synced = st != OK or it == nsteps - 1 or out_in == 0
         if not synced:
             if HAS_RIGID_ROTATION:
+                # the second half kick of this step (implicit), the first of the next
                 _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h)
+                                    rig_free_rot, h, True)
                 _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h)
+                                    rig_free_rot, h, False)
             for k in range(vf.shape[0]):
                 vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
                 ff[k] = fgf[k]
@@ -643,7 +644,8 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
         for k in range(vf.shape[0]):
             vf[k] += h * ff[k] * imf[k]
         if HAS_RIGID_ROTATION:
-            _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h)
+            _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h,
+                                True)
         if HAS_MOTION:
             _apply_motion(t, motion_table, x0, x, vel)
         if HAS_RIGID:
