@@ -168,23 +168,31 @@ def impact_deck() -> str:
         f"  window plus the rebound), trace every ITRAC {IMPACT_ITRAC} steps (1e-8 s); no "
         "restart dumps.",
     ]
+    deck = sphere_on_wall(
+        "Fig. 28: elastic sphere R 0.0625 in, steel, 62.832 in/s into a rigid wall",
+        x=IMPACT_R, v=IMPACT_V, dt=IMPACT_DT, tmax=IMPACT_TMAX, itrac=IMPACT_ITRAC)
+    return with_header(header, deck)
+
+
+def sphere_on_wall(title: str, *, x: float, v: float, dt: float, tmax: float, itrac: int,
+                   hooke: tuple = ()) -> Deck:
+    """The Fig. 28 steel sphere (node 9, centre at ``x``, moving at -``v`` along x) and the lone
+    fixed wall x = 0 (nodes 1-4, two triangles); no gravity, no friction."""
     half = WALL_HALF
     corners = [(0.0, -half, -half), (0.0, half, -half), (0.0, half, half), (0.0, -half, half)]
     nodes = tuple(Node(i + 1, *map(float, c)) for i, c in enumerate(corners))
-    nodes += (Node(9, IMPACT_R, 0.0, 0.0),)
-    deck = Deck(
+    nodes += (Node(9, x, 0.0, 0.0),)
+    return Deck(
         path="<generated>",
-        title=Title("Fig. 28: elastic sphere R 0.0625 in, steel, 62.832 in/s into a rigid wall"),
-        parameters=Parameters(0.0, IMPACT_TMAX, 0.0, IMPACT_DT, IMPACT_DT, 0, 1.0e9, 0, 5, 0,
-                              IMPACT_ITRAC),
-        pdmp=(Pdmp(8, IMPACT_R, IMPACT_RHO, IMPACT_NU, IMPACT_E, 0.0, 1.0, 0.0, -IMPACT_V, 0.0,
-                   0.0),),
+        title=Title(title),
+        parameters=Parameters(0.0, tmax, 0.0, dt, dt, 0, 1.0e9, 0, 5, 0, itrac),
+        pdmp=(Pdmp(8, IMPACT_R, IMPACT_RHO, IMPACT_NU, IMPACT_E, 0.0, 1.0, 0.0, -v, 0.0, 0.0),),
         trace=Trace((9,)),
         nodes=nodes,
         boundaries=(Boundary(1, 4, 1, (1, 2, 3, 4, 5, 6)),),
         contacts=(Contact((Triangle(1, (1, 2, 3)), Triangle(1, (1, 3, 4))), (SlaveSet(1, (9,)),)),),
+        hooke=hooke,
     )
-    return with_header(header, deck)
 
 
 # ---- HOOKE card: linear spring-dashpot sphere against a rigid wall ---------------------------
@@ -218,24 +226,10 @@ def hooke_deck() -> str:
         "(after the",
         f"  rebound), trace every ITRAC {HOOKE_ITRAC} steps; no restart dumps.",
     ]
-    half = WALL_HALF
-    corners = [(0.0, -half, -half), (0.0, half, -half), (0.0, half, half), (0.0, -half, half)]
-    nodes = tuple(Node(i + 1, *map(float, c)) for i, c in enumerate(corners))
-    nodes += (Node(9, IMPACT_R + HOOKE_GAP, 0.0, 0.0),)
-    deck = Deck(
-        path="<generated>",
-        title=Title(f"hooke law: sphere R 0.0625 in, {HOOKE_V:g} in/s into a rigid wall, "
-                    f"e = {HOOKE_E:g}"),
-        parameters=Parameters(0.0, HOOKE_TMAX, 0.0, HOOKE_DT, HOOKE_DT, 0, 1.0e9, 0, 5, 0,
-                              HOOKE_ITRAC),
-        pdmp=(Pdmp(8, IMPACT_R, IMPACT_RHO, IMPACT_NU, IMPACT_E, 0.0, 1.0, 0.0, -HOOKE_V, 0.0,
-                   0.0),),
-        trace=Trace((9,)),
-        nodes=nodes,
-        boundaries=(Boundary(1, 4, 1, (1, 2, 3, 4, 5, 6)),),
-        contacts=(Contact((Triangle(1, (1, 2, 3)), Triangle(1, (1, 3, 4))), (SlaveSet(1, (9,)),)),),
-        hooke=(Hooke(8, HOOKE_KN, HOOKE_E),),
-    )
+    deck = sphere_on_wall(
+        f"hooke law: sphere R 0.0625 in, {HOOKE_V:g} in/s into a rigid wall, e = {HOOKE_E:g}",
+        x=IMPACT_R + HOOKE_GAP, v=HOOKE_V, dt=HOOKE_DT, tmax=HOOKE_TMAX, itrac=HOOKE_ITRAC,
+        hooke=(Hooke(8, HOOKE_KN, HOOKE_E),))
     return with_header(header, deck)
 
 
