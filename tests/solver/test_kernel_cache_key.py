@@ -86,3 +86,13 @@ def test_every_registered_law_is_a_variant():
         names = {dataclasses.replace(Variant(), **{f.name: law}).name() for law in registry}
         headers = {dataclasses.replace(Variant(), **{f.name: law}).header() for law in registry}
         assert len(names) == len(headers) == len(registry)
+
+
+def test_the_packed_entry_passes_bundles_in_advance_order():
+    """``advance_packed`` unpacks plain tuples in ADVANCE_BUNDLES order: that order must be
+    ``advance``'s own argument order."""
+    from x3dpd.solver.bundles import ADVANCE_BUNDLES
+
+    module = make_advance(Variant(walls=True, pairs=True))
+    names = list(inspect.signature(module.advance.py_func).parameters)
+    assert names == ["nsteps", "step0", "t_start", *ADVANCE_BUNDLES]

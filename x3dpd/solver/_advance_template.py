@@ -51,7 +51,8 @@ from x3dpd.physics.rigid_link import (  # noqa: E402
     _gather_slaves, _rigid_angular_kick, _rotate, _update_slaves)
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
 from x3dpd.physics.usrfrc import _force_value  # noqa: E402
-from x3dpd.solver.bundles import Status  # noqa: E402
+from x3dpd.solver.bundles import (  # noqa: E402
+    ContactList, Faces, Loads, Nodes, Output, Particles, RigidBodies, Springs, Status, Stepping)
 from x3dpd.solver.contact_lists import (  # noqa: E402
     S_A, S_FN, S_FT, S_H, _active_flags, _merge_states, _pair_approach)
 
@@ -681,6 +682,19 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
             if rows >= out_t.shape[0]:
                 return OK, it + 1, rows
     return OK, nsteps, rows
+
+
+@loop_kernel
+def advance_packed(nsteps, step0, t_start, packed):
+    """``advance`` with its bundles as plain tuples in its argument order
+    (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
+    named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps of a small
+    scene. The named tuples are rebuilt here, in compiled code, at no cost."""
+    nodes, loads, springs, rigid, particles, faces, walls, pairs, stepping, output = packed
+    return advance(nsteps, step0, t_start, Nodes(*nodes), Loads(*loads), Springs(*springs),
+                   RigidBodies(*rigid), Particles(*particles), Faces(*faces),
+                   ContactList(*walls), ContactList(*pairs), Stepping(*stepping),
+                   Output(*output))
 
 
 @kernel

@@ -194,3 +194,15 @@ def contact_scratch(state) -> dict:
             "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
             "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
             "small": np.zeros(9)}
+
+
+#: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start).
+ADVANCE_BUNDLES = ("nodes", "loads", "springs", "rigid", "particles", "faces", "walls", "pairs",
+                   "stepping", "output")
+
+
+def pack(bundles: dict, output: Output) -> tuple:
+    """The argument of ``advance_packed``: every bundle as a plain tuple, in
+    :data:`ADVANCE_BUNDLES` order (numba types plain tuples of arrays in C, fast)."""
+    named = {**bundles, "output": output}
+    return tuple(tuple(named[name]) for name in ADVANCE_BUNDLES)

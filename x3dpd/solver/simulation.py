@@ -22,7 +22,7 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
-from x3dpd.solver.bundles import Loads, Output, Status, build_bundles, contact_scratch
+from x3dpd.solver.bundles import Loads, Output, Status, build_bundles, contact_scratch, pack
 from x3dpd.solver.diagnosis import energy_source_advice
 from x3dpd.solver.ledger_checks import (
     SAFE_FRACTION,
@@ -39,6 +39,9 @@ ENERGY_COLUMNS = ("time", "kinetic_translation", "kinetic_rotation", "gravity_po
                   "spring_energy", "contact_energy", "dissipated_viscoelastic",
                   "dissipated_friction", "dissipated_dampers", "external_work", "total_energy",
                   "residual")
+
+#: Status bits of a full contact list (an int: no enum arithmetic per call).
+_LIST_FULL = int(Status.REALLOC_PAIRS | Status.REALLOC_WALLS)
 
 #: Trace columns after time (report Appendix E order).
 TRACE_COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz")
@@ -195,16 +198,15 @@ class Simulation:
                 t0 = _time.perf_counter()
                 output = Output(self.itrac, self.trace_nodes, out_t[rows:], out_data[rows:],
                                 out_energy[rows:], self.state.e_ref)
-                status, steps, got = self.kernels.advance(
-                    chunk, self.state.step, self.model.t0, **self._bundles(), output=output)
-                status = Status(status)
+                status, steps, got = self.kernels.advance_packed(
+                    chunk, self.state.step, self.model.t0, self._packed_bundles(output))
                 if not self._timed_first_call:
                     self.compile_seconds += _time.perf_counter() - t0
                     self._timed_first_call = True
                 self.state.step += steps
                 done += steps
                 rows += got
-                if status & (Status.REALLOC_PAIRS | Status.REALLOC_WALLS):
+                if status & _LIST_FULL:
                     # list overflow: grow and go on from this step boundary
                     self._grow(status)
                     continue
@@ -443,6 +445,18 @@ class Simulation:
         return build_bundles(self.setup, s, loads=loads, faces_now=self._faces(), scratch=sc,
                              dt=self.dt, pen_limit=self.penetration_limit, diag=self.diag,
                              ledger=ledger)
+
+    def _packed_bundles(self, output: Output) -> tuple:
+        """``advance_packed``'s argument: the bundles packed once and kept while every array of
+        the state is the same object (a grown list or another state packs them anew; the
+        packed tuple holds the arrays, so their ids cannot be reused meanwhile)."""
+        key = (id(getattr(self, "_sc", None)),
+               *(id(v) for v in vars(self.state).values() if isinstance(v, np.ndarray)))
+        cached = getattr(self, "_packed", None)
+        if cached is None or cached[0] != key:
+            b = self._bundles()
+            cached = self._packed = (key, pack(b, output)[:-1])
+        return cached[1] + (tuple(output),)
 
     def _direct_rebuild(self) -> None:
         """Build the contact lists from scratch (at t0), growing them until they fit."""
