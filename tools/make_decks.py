@@ -23,7 +23,10 @@ sys.path.insert(0, str(ROOT))
 
 from x3dpd.deck.cards import (Boundary, Contact, Deck, Hooke, Node, Parameters,  # noqa: E402
                               Pdmp, SlaveSet, Title, Trace, Triangle)
-from x3dpd.deck.generate import Material3, box_cavity_deck, lattice_fill  # noqa: E402
+import numpy as np  # noqa: E402
+
+from x3dpd.deck.fill import fill_positions, filled_deck  # noqa: E402
+from x3dpd.deck.generate import Material3, box_cavity_deck  # noqa: E402
 from x3dpd.deck.writer import format_deck  # noqa: E402
 
 DECKS = ROOT / "decks"
@@ -113,15 +116,19 @@ def beam_header(name: str, n: int, radius: float, words: str, gap: float,
 def beam_deck(name: str) -> str:
     n, radius, words, divisor = BEAMS[name]
     gap = GAP_FRACTION * radius
-    pos = lattice_fill(CAVITY, radius, n, gap=gap, seed=SEED, jitter=JITTER, stack_axis=1)
     deck = box_cavity_deck(
-        size=CAVITY, particles=pos, radius=radius, material=STEEL, structure_mass=BEAM_MASS,
+        size=CAVITY, particles=np.zeros((0, 3)), radius=radius, material=STEEL,
+        structure_mass=BEAM_MASS,
         stiffness=BEAM_K, damping=BEAM_C, gravity=(0.0, -G, 0.0), dt=DT / divisor,
         tmax=TMAX, itrac=ITRAC * divisor, trest=TREST, usrfrc=(DRIVE,), free_dofs=(1,),
         title=f"Sec. 8.2 beam, ({n}) {2 * radius:g} in diameter steel spheres, viscoelastic\n"
               f"cavity interior {CAVITY[0]} x {CAVITY[1]} x {CAVITY[2]} in, friction "
               f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz")
-    return with_header(beam_header(name, n, radius, words, gap, divisor), deck)
+    # `x3dpd fill`'s library: a box cavity with the cubic packing is lattice_fill's lattice
+    fill = fill_positions(deck, n=n, gap=gap, seed=SEED, jitter=JITTER)
+    assert fill.positions.shape[0] == n, f"{name}: only {fill.positions.shape[0]} fit"
+    return with_header(beam_header(name, n, radius, words, gap, divisor),
+                       filled_deck(deck, fill))
 
 
 # ---- Figure 28: elastic sphere against a rigid wall ------------------------------------------
@@ -175,7 +182,7 @@ def impact_deck() -> str:
 
 
 def sphere_on_wall(title: str, *, x: float, v: float, dt: float, tmax: float, itrac: int,
-                   hooke: tuple = ()) -> Deck:
+                   hooke: tuple | None = None) -> Deck:
     """The Fig. 28 steel sphere (node 9, centre at ``x``, moving at -``v`` along x) and the lone
     fixed wall x = 0 (nodes 1-4, two triangles); no gravity, no friction."""
     half = WALL_HALF

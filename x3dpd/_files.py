@@ -18,7 +18,9 @@ def write_atomically(path: str | os.PathLike, write: Callable[[BinaryIO], None],
 
     ``write(f)`` fills a temporary file in the same directory; the file is then flushed,
     ``fsync``-ed and renamed over ``path`` (:func:`os.replace`, atomic on POSIX and Windows).
-    On any error the temporary file is removed and ``path`` is left as it was.
+    On any error the temporary file is removed and ``path`` is left as it was. The file gets
+    the permissions of the file it replaces, or those of any new file (``0666`` less the
+    umask, as ``open`` gives the trace beside it) -- not the ``0600`` of a temporary file.
 
     Parameters
     ----------
@@ -34,6 +36,8 @@ def write_atomically(path: str | os.PathLike, write: Callable[[BinaryIO], None],
     fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
                                dir=directory)
     try:
+        if hasattr(os, "fchmod"):
+            os.fchmod(fd, _new_file_mode(path))
         with os.fdopen(fd, "wb") as f:
             write(f)
             f.flush()
@@ -47,6 +51,16 @@ def write_atomically(path: str | os.PathLike, write: Callable[[BinaryIO], None],
         raise
     if sync_dir:
         _fsync_dir(directory)
+
+
+def _new_file_mode(path: str) -> int:
+    """Permission bits for ``path``: those of the existing file, else 0666 less the umask."""
+    try:
+        return os.stat(path).st_mode & 0o7777
+    except OSError:
+        mask = os.umask(0o022)
+        os.umask(mask)
+        return 0o666 & ~mask
 
 
 def _fsync_dir(directory: str) -> None:

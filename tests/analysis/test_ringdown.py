@@ -37,12 +37,12 @@ def coulomb_ringdown(a0: float, delta: float, per_cycle: int = 200):
 def test_linear_ringdown_gives_its_exact_zeta(zeta):
     t, x = linear_ringdown(zeta, cycles=min(60.0, 3.0 / zeta / (2 * np.pi)) + 20)
     rd = damping_vs_amplitude(t, x)
-    # The Hilbert envelope of a damped cosine differs from A0 exp(-zeta wn t) by O(zeta^2)
-    # (the transform of exp(-s t) cos(wd t) is not exactly exp(-s t) sin(wd t)), and the ends
-    # are trimmed: 1 % of zeta covers zeta^2 = 0.0025 at the largest case.
-    np.testing.assert_allclose(rd.zeta, zeta, rtol=0.01)
+    # The record, extended on both sides as a two-sided ring-down, transforms almost exactly;
+    # what remains is the O(zeta^2) difference between the Hilbert envelope of a damped cosine
+    # and exp(-zeta wn t) and the spline's fit of the ends: 0.2 % of zeta, 1e-4 of amplitude.
+    np.testing.assert_allclose(rd.zeta, zeta, rtol=2e-3)
     exact = 0.05 * np.exp(-zeta * WN * rd.time)
-    np.testing.assert_allclose(rd.amplitude, exact, rtol=2e-3)
+    np.testing.assert_allclose(rd.amplitude, exact, rtol=1e-4)
     np.testing.assert_allclose(rd.frequency_hz, WN * np.sqrt(1 - zeta ** 2) / (2 * np.pi),
                                rtol=1e-3)
     # dB re 1 g of the acceleration amplitude wd^2 A

@@ -248,10 +248,13 @@ def test_energy_writer_streams_and_resumes(tmp_path):
         w.write_rows(np.array([[1e-3, 0.1 + 0.2, -1e-300], [2e-3, 3.0, 4.0]]))
         off, rows = w.tell(), w.rows_written
         w.write_rows(np.array([3e-3, 5.0, 6.0]))
-    assert rows == 3 and off == path.stat().st_size - len(b"0.003,5.0,6.0\n")
+    last = b"3.000000000e-03,5.0000000000000000e+00,6.0000000000000000e+00\n"
+    assert rows == 3 and off == path.stat().st_size - len(last)
     e = read_energy(path)
     assert e.columns == cols and e.data.shape == (4, 3)
-    assert e.data[1, 1] == 0.1 + 0.2 and e.data[1, 2] == -1e-300   # repr reads back exactly
+    # 17 digits read back exactly; the time has the trace's 10 digits
+    assert e.data[1, 1] == 0.1 + 0.2 and e.data[1, 2] == -1e-300
+    assert path.read_text().splitlines()[2].startswith("1.000000000e-03,")
     with pytest.raises(Exception, match="already exists"):
         EnergyWriter(path, cols)
     with open(path, "ab") as f:
@@ -260,12 +263,26 @@ def test_energy_writer_streams_and_resumes(tmp_path):
     with EnergyWriter(path, cols, append_at=(off, rows)) as w:
         w.write_rows(np.array([[3e-3, 5.0, 6.0]]))
     assert read_energy(path).data.shape == (4, 3)
-    assert path.read_text().endswith("0.003,5.0,6.0\n")
+    assert path.read_bytes().endswith(last)
     with pytest.raises(Exception, match="cannot resume"):
         EnergyWriter(path, cols, append_at=(off, rows + 1))
     w = EnergyWriter(path, cols, overwrite=True)
     w.close()
     assert (tmp_path / "e.csv.bak").is_file() and read_energy(path).data.shape == (0, 3)
+
+
+def test_energy_times_are_written_as_the_trace_writes_them(tmp_path):
+    """t = 7 ms computed as 14000 * 5e-7 is 0.006999999999999999 in binary; the trace prints
+    7.000000000e-03 and so does the energy file, so rows of one time match textually."""
+    from x3dpd.io.trace import NUMBER_FORMAT
+
+    t = 14000 * 5e-7
+    assert repr(t) == "0.006999999999999999"
+    path = tmp_path / "e.csv"
+    with EnergyWriter(path, ("time", "a")) as w:
+        w.write_rows(np.array([[t, 1.0]]))
+    row = path.read_text().splitlines()[1]
+    assert row.split(",")[0] == (NUMBER_FORMAT % t).strip() == "7.000000000e-03"
 
 
 # ------------------------------------------------------------------- rough edges of a run

@@ -122,3 +122,33 @@ def test_added_mass_baseline_is_the_closed_form_with_the_particles_mass():
     assert added.m == pytest.approx(sdof.m + mp, rel=1e-12)
     # a deck with particles is not a linear SDOF
     assert linear_sdof(build_model(deck), 9, 1) is None
+
+
+def row(config, f, amp, direction="", drive=1.0, **kw):
+    return {"config": config, "frequency_hz": f, "amplitude": amp, "direction": direction,
+            "drive": drive, "change": 0.001, "irregular": False, **kw}
+
+
+def test_hysteresis_puts_points_on_high_and_low_branches():
+    from x3dpd.design.sweep import label_branches
+
+    rows = [row("deck", 37.0, 1.0, "up"), row("deck", 37.0, 0.5, "down"),
+            row("deck", 38.0, 0.30, "up"), row("deck", 38.0, 0.301, "down"),
+            row("deck", 39.0, 0.2, "up", irregular=True), row("deck", 39.0, 0.2, "down")]
+    label_branches(rows)
+    assert [r["branch"] for r in rows] == ["high", "low", "single", "single", "irregular",
+                                           "single"]
+
+
+def test_peak_attenuation_is_20_log10_of_the_peaks_ratio():
+    import numpy as np
+
+    from x3dpd.analysis.design_plots import attenuations
+
+    rows = [row("deck", 37.0, 0.01), row("deck", 38.0, 0.02), row("undamped", 37.0, 0.05),
+            row("undamped", 38.0, 0.1)]
+    curve = {("added-mass", 1.0): (np.array([37.0, 37.5, 38.0]), np.array([0.1, 0.2, 0.1]))}
+    att = {a["baseline"]: a["attenuation_db"] for a in attenuations(rows, curve)}
+    # swept undamped peak 0.1 / damper peak 0.02 = 5 -> 13.98 dB; closed-form curve peak 0.2
+    assert att["undamped"] == pytest.approx(20 * math.log10(5.0), rel=1e-12)
+    assert att["added-mass"] == pytest.approx(20 * math.log10(10.0), rel=1e-12)

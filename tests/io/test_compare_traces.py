@@ -132,9 +132,10 @@ def test_time_grid_mismatch():
     assert "B has 5 output times" in short.time_mismatch
     assert "time grids differ" in short.format()
     assert compare_traces(trace(b[:3]), trace(b), until=2e-3).agree
+    # an output time that only one grid has is left out (4 common times; same span: agree)
     shifted = compare_traces(trace(b, times=[0, 1e-3, 2e-3, 3.5e-3, 4e-3]), trace(b))
-    assert not shifted.agree and shifted.n_times == 3
-    assert "output time 4" in shifted.time_mismatch
+    assert shifted.agree and shifted.n_times == 4 and shifted.time_mismatch is None
+    assert "compared the 4 common ones" in shifted.format()
     # the last printed digit may differ: still the same output time
     assert compare_traces(trace(b, times=np.arange(5) * 1e-3 * (1 + 1e-9)), trace(b)).agree
 
@@ -150,3 +151,25 @@ def test_report_text_lists_every_column():
     assert "first difference: t=1.000000000e-03 node 10 column vx: run.txt=1.500000000e+00 " \
            "ref.txt=1.000000000e+00" in text
     assert "1 value(s) differ within rtol=1e-09, atol=0 up to t=1.000000000e-03" in text
+
+
+def test_different_output_intervals_are_compared_at_common_times():
+    """A every 1 ms, B every 2 ms over the same 8 ms: the 5 shared times are compared; a change
+    at a time B does not have is invisible, one at a shared time is found."""
+    rng = np.random.default_rng(5)
+    fine = rng.normal(size=(9, 2, 9))
+    t_fine = np.arange(9) * 1e-3
+    a = trace(fine, times=t_fine)
+    b = trace(fine[::2], times=t_fine[::2])
+    rep = compare_traces(a, b)
+    assert rep.agree and rep.n_times == 5 and rep.t_end == pytest.approx(8e-3)
+    assert "A has 9 output times" in rep.format() and "compared the 5 common ones" in rep.format()
+    odd = fine.copy()
+    odd[3, 1, 4] += 1.0          # t = 3 ms: not in B
+    assert compare_traces(trace(odd, times=t_fine), b).agree
+    even = fine.copy()
+    even[4, 1, 4] += 1.0         # t = 4 ms: in both
+    rep = compare_traces(trace(even, times=t_fine), b)
+    assert not rep.agree and rep.first.time == pytest.approx(4e-3) and rep.first.time_index == 4
+    with pytest.raises(TraceError, match="no output time in common"):
+        compare_traces(trace(fine[:2], times=[0.5e-3, 1.5e-3]), trace(fine[:2]))

@@ -13,6 +13,27 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 
+def _pyplot():
+    """matplotlib.pyplot on the non-interactive Agg backend (imported on first use)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _finish(fig, ax, png, title: str) -> str:
+    """Legend, title, save at 90 dpi, close."""
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(png, dpi=90)
+    _pyplot().close(fig)
+    return str(png)
+
+
 def peak_attenuation_db(reference_peak: float, damped_peak: float) -> float:
     """Attenuation at the peak, 20 log10(reference peak / damped peak) [dB]."""
     return 20.0 * math.log10(reference_peak / damped_peak)
@@ -48,11 +69,7 @@ def attenuations(rows: Sequence[Mapping], curves: Mapping | None = None) -> list
 def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping | None = None,
                title: str = "", units: str = "in") -> str:
     """Amplitude versus frequency, one panel per drive: baselines and the damper overlaid."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = _pyplot()
     curves = curves or {}
     drives = sorted({r["drive"] for r in rows})
     att = attenuations(rows, curves)
@@ -105,11 +122,7 @@ def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping 
 def plot_ringdown(png: str | os.PathLike, series: Mapping[str, Mapping[str, np.ndarray]],
                   title: str = "") -> str:
     """% zeta versus amplitude in dB re 1 g (Figure 6, right), one line per series."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = _pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4.0))
     for k, (name, cols) in enumerate(series.items()):
         ax.plot(cols["amplitude_db"], 100.0 * np.asarray(cols["zeta"]),
@@ -117,10 +130,33 @@ def plot_ringdown(png: str | os.PathLike, series: Mapping[str, Mapping[str, np.n
     ax.set_xlabel("amplitude [dB re 1 g]")
     ax.set_ylabel("damping [% zeta]")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    if title:
-        ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
-    return str(png)
+    return _finish(fig, ax, png, title)
+
+
+def plot_configurations(png: str | os.PathLike, series: Mapping[str, Sequence[Mapping]],
+                        curves: Mapping[str, tuple[np.ndarray, np.ndarray]],
+                        title: str = "", units: str = "in") -> str:
+    """One drive level, several designs (Figures 45-48): closed-form baselines as lines,
+    each damper's swept points as markers joined by lines, amplitude on a log scale.
+
+    ``series`` maps a label to its rows (one direction, one drive); ``curves`` a baseline
+    label to (f, X).
+    """
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for (label, (f, a)), ls in zip(curves.items(), ("--", ":", "-.")):
+        ax.plot(f, a, color="k", ls=ls, lw=1.2, label=label)
+    for k, (label, rows) in enumerate(series.items()):
+        pts = sorted((r["frequency_hz"], r["amplitude"], bool(r["converged"])) for r in rows)
+        if not pts:
+            continue
+        f, a, ok = zip(*pts)
+        ax.plot(f, a, color=f"C{k}", marker="o", ms=4, lw=1.2, label=label)
+        bad = [(x, y) for x, y, c in pts if not c]
+        if bad:
+            ax.plot(*zip(*bad), ls="none", marker="x", color="k", ms=8)
+    ax.set_yscale("log")
+    ax.set_xlabel("drive frequency [Hz]")
+    ax.set_ylabel(f"displacement amplitude [{units}]")
+    ax.grid(True, which="both", alpha=0.3)
+    return _finish(fig, ax, png, title)

@@ -30,6 +30,18 @@ def first_node_history(trace_path: str | os.PathLike, n_rows: int) -> tuple[np.n
     return np.asarray(times), np.asarray(xs)
 
 
+def _sidecar_units(trace_path) -> dict:
+    """The units the trace's sidecar records (the deck's UNITS), {} without one."""
+    import json
+
+    try:
+        with open(os.fspath(trace_path) + ".json", encoding="utf-8") as f:
+            units = json.load(f).get("units")
+    except (OSError, ValueError, AttributeError):
+        return {}
+    return units if isinstance(units, dict) else {}
+
+
 def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
              energy=None, title: str = "") -> str:
     """Write a PNG: the first TRACE node's x displacement and the energy dissipated vs time.
@@ -51,13 +63,14 @@ def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
     import matplotlib.pyplot as plt
 
     node_ids = list(node_ids)
+    units = _sidecar_units(trace_path)
     t, x = first_node_history(trace_path, len(node_ids))
     panels = 2 if energy is not None else 1
     fig, axes = plt.subplots(panels, 1, figsize=(8, 3.2 * panels), sharex=True, squeeze=False)
     ax = axes[0, 0]
     u = x - x[0] if x.size else x
     ax.plot(t, u, lw=0.8, color="C0")
-    ax.set_ylabel(f"node {node_ids[0]} x displacement [in]")
+    ax.set_ylabel(f"node {node_ids[0]} x displacement [{units.get('length', 'in')}]")
     ax.grid(True, lw=0.3)
     if energy is not None:
         ax2 = axes[1, 0]
@@ -71,7 +84,7 @@ def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
         if "external_work" in energy.columns:
             ax2.plot(et, energy.column("external_work"), lw=0.8, ls="--", color="C4",
                      label="external work")
-        ax2.set_ylabel("energy [lbf in]")
+        ax2.set_ylabel(f"energy [{units.get('energy', 'lbf in')}]")
         ax2.legend(fontsize=7, loc="upper left")
         ax2.grid(True, lw=0.3)
     axes[-1, 0].set_xlabel("time [s]")

@@ -58,19 +58,52 @@ class Ringdown:
 
 
 def hilbert_envelope(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Envelope |x + i H[x]| and unwrapped phase of a zero-mean signal (Hilbert transform).
+    """Envelope |x + i H[x]| and unwrapped phase of a decaying zero-mean signal (Hilbert).
 
-    The FFT-based transform is circular: the record's large start would leak into its small end.
-    The record is therefore extended by its mirror image before the start (a ring-down released
-    at a peak continues smoothly into it) and by zeros after the end, and cut back afterwards.
+    The FFT-based transform is circular and a record's ends are abrupt, and any jump in the
+    envelope or the slope leaks into the whole record. So the record (cut at upward zero
+    crossings, :func:`zero_crossing_span`) is extended on both sides by signals whose
+    envelope keeps decaying away from it, as a two-sided ring-down would: before the start,
+    its point reflection through the zero crossing, -x(t0 - t) (value and slope continue;
+    reflecting through the first sample instead would add a DC offset that leaks); after the end,
+    its last cycle repeated, each copy scaled by the last two cycles' amplitude ratio. Both
+    extensions fade to zero over their far half; they are cut off afterwards.
     """
     from scipy.signal import hilbert
 
     x = np.asarray(x, dtype=float)
     n = x.size
-    padded = np.concatenate([x[:0:-1], x, np.zeros(n)])
-    analytic = hilbert(padded)[n - 1: 2 * n - 1]
+    before = -x[:0:-1] * _fade(n - 1)[::-1]
+    after = _continued_decay(x, n) * _fade(n)
+    analytic = hilbert(np.concatenate([before, x, after]))[n - 1: 2 * n - 1]
     return np.abs(analytic), np.unwrap(np.angle(analytic))
+
+
+def _fade(m: int) -> np.ndarray:
+    """1 over the first half, a half cosine down to 0 over the second half (m samples)."""
+    w = np.ones(m)
+    half = m // 2
+    w[half:] = 0.5 * (1.0 + np.cos(np.pi * np.arange(m - half) / max(m - half - 1, 1)))
+    return w
+
+
+def _continued_decay(x: np.ndarray, m: int) -> np.ndarray:
+    """m samples continuing ``x`` past its end: its last cycle, decaying cycle by cycle."""
+    up = np.flatnonzero((x[:-1] < 0.0) & (x[1:] >= 0.0)) + 1
+    if up.size < 3:
+        return np.zeros(m)
+    last, prev = x[up[-2]:up[-1]], x[up[-3]:up[-2]]
+    q = min(1.0, float(np.sqrt(np.mean(last ** 2) / np.mean(prev ** 2))))
+    copies = int(np.ceil(m / last.size))
+    return np.concatenate([last * q ** (j + 1) for j in range(copies)])[:m]
+
+
+def zero_crossing_span(x: np.ndarray) -> slice:
+    """From the first to the last upward zero crossing of ``x`` (the whole record if < 2)."""
+    up = np.flatnonzero((x[:-1] < 0.0) & (x[1:] >= 0.0)) + 1
+    if up.size < 2:
+        return slice(0, x.size)
+    return slice(int(up[0]), int(up[-1]) + 1)
 
 
 def _lsq_spline(t: np.ndarray, y: np.ndarray, piece: float):
@@ -110,6 +143,8 @@ def damping_vs_amplitude(time, signal, *, kind: str = "displacement", g: float =
         raise InputError("ring-down: time and signal must be 1-D arrays of the same length (>= 16)")
     if kind not in ("displacement", "acceleration"):
         raise InputError(f"ring-down: kind must be 'displacement' or 'acceleration', not {kind!r}")
+    span = zero_crossing_span(x)
+    t, x = t[span], x[span]
     env, phase = hilbert_envelope(x)
     duration = t[-1] - t[0]
     cycles = abs(phase[-1] - phase[0]) / (2.0 * np.pi)
@@ -143,8 +178,19 @@ def damping_vs_amplitude(time, signal, *, kind: str = "displacement", g: float =
                     amplitude_db=20.0 * np.log10(amp_g), zeta=zeta)
 
 
-def rest_offset(signal: np.ndarray, tail: float = 0.1) -> float:
-    """Equilibrium estimate: the mean of the last ``tail`` fraction of a ring-down [signal units]."""
+def rest_offset(signal: np.ndarray, cycles: int = 10) -> float:
+    """Equilibrium estimate: the Hann-weighted mean of the record's last ``cycles`` cycles.
+
+    The window keeps the decaying oscillation out of the mean (a plain mean over whole cycles of
+    e^{-s t} sin(w t) is biased by ~ s / w of the amplitude); it matters, since an offset of 1 %
+    of the final amplitude ripples the envelope by 1 %.
+    """
     x = np.asarray(signal, dtype=float)
-    n = max(1, int(len(x) * tail))
-    return float(np.mean(x[-n:]))
+    tail = x[-max(2, x.size // 10):]
+    centre = float(np.median(tail))
+    up = np.flatnonzero((x[:-1] < centre) & (x[1:] >= centre))
+    if up.size < 2:
+        return float(np.mean(tail))
+    seg = x[up[max(0, up.size - 1 - cycles)]:up[-1]]
+    w = np.hanning(seg.size + 2)[1:-1]
+    return float(np.sum(w * seg) / np.sum(w))

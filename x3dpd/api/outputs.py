@@ -52,6 +52,8 @@ def deck_key(deck) -> str:
 
 
 _POSITION_FIELDS = frozenset({"pos", "positions", "slave_positions", "path"})
+#: Cards added to the language later: absent, they leave the key of older decks unchanged.
+_ABSENT_IS_OLD = frozenset({"units", "hooke"})
 
 
 def _plain(obj):
@@ -59,7 +61,8 @@ def _plain(obj):
     if is_dataclass(obj) and not isinstance(obj, type):
         return (type(obj).__name__,) + tuple(
             (f.name, _plain(getattr(obj, f.name))) for f in fields(obj)
-            if f.name not in _POSITION_FIELDS)
+            if f.name not in _POSITION_FIELDS
+            and not (f.name in _ABSENT_IS_OLD and getattr(obj, f.name) is None))
     if isinstance(obj, (tuple, list)):
         return tuple(_plain(v) for v in obj)
     if isinstance(obj, float):

@@ -211,10 +211,11 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
                    "scene after installing or changing x3dpd takes 20-60 s; later runs load it "
                    "from the cache in about a second)")
     dt, itrac, t0 = sim.dt, sim.itrac, model.t0
-    n_end = int(round((tmax - t0) / dt))
+    n_end = _step_count((tmax - t0) / dt, f"TMAX {tmax:g} s from the start time {t0:g} s")
     if n_end < 0:
         raise InputError(f"TMAX {tmax:g} s is before the start time {t0:g} s")
-    trest_steps = int(round(model.trest / dt)) if model.trest > 0 else 0
+    trest_steps = (_step_count(model.trest / dt, f"TREST {model.trest:g} s")
+                   if model.trest > 0 else 0)
     key = deck_key(deck_obj)
     if initial_state is not None:
         _continue_from(sim, initial_state, key, model)
@@ -418,6 +419,18 @@ def _step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
             if stop(Chunk(block.times, ids, block.data, block.energy)):
                 return True
     return False
+
+
+#: Most steps a run may ask for (2^53: beyond it step * dt no longer counts every step).
+MAX_STEPS = 2**53
+
+
+def _step_count(steps: float, what: str) -> int:
+    """round(steps), or an InputError when it is not a countable number of steps."""
+    if not math.isfinite(steps) or abs(steps) > MAX_STEPS:
+        raise InputError(f"{what} is {steps:.4g} time steps: not a number of steps a run can "
+                         f"count (at most 2^53)")
+    return int(round(steps))
 
 
 def _rows_up_to(times: np.ndarray, exc: UnstableRunError, sim) -> int:

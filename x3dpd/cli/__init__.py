@@ -36,12 +36,29 @@ def cli() -> None:
 
 
 def _register() -> None:
-    from x3dpd.cli import check, run, sweep, tracediff
+    from x3dpd.cli import (
+        check,
+        export,
+        fill,
+        movie,
+        plot,
+        ringdown,
+        run,
+        study,
+        sweep,
+        tracediff,
+    )
 
     cli.add_command(run.run)
     cli.add_command(check.check)
     cli.add_command(tracediff.tracediff)
     cli.add_command(sweep.sweep)
+    cli.add_command(ringdown.ringdown)
+    cli.add_command(study.study)
+    cli.add_command(movie.movie)
+    cli.add_command(export.export)
+    cli.add_command(plot.plot)
+    cli.add_command(fill.fill)
 
 
 def main(argv: list[str] | None = None) -> None:

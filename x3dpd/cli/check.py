@@ -6,6 +6,7 @@ Exit status 0 when clean, 1 with warnings, 2 with errors (any deck error, printe
 
 from __future__ import annotations
 
+import os
 import sys
 
 import click
@@ -13,6 +14,7 @@ import click
 from x3dpd.errors import InputError, X3dpdError
 from x3dpd.model.check import CheckReport, check_model
 from x3dpd.model.timestep import STEPS_PER_CONTACT, peak_force_error
+from x3dpd.units import labels_for
 
 
 def _read_deck(path: str):
@@ -25,35 +27,60 @@ def _read_deck(path: str):
 
 
 @click.command("check")
-@click.argument("deck", type=click.Path(exists=True, dir_okay=False))
+@click.argument("decks", nargs=-1, required=True, type=click.Path(dir_okay=False),
+                metavar="DECK...")
 @click.option("--usrfrc", "usrfrc", multiple=True, metavar="SPEC",
               help="External force spec, as for `x3dpd run` (repeatable).")
 @click.option("--motion", "motion", multiple=True, metavar="SPEC",
               help="Prescribed motion spec, as for `x3dpd run` (repeatable).")
 @click.option("--steps-per-contact", type=click.IntRange(min=1), default=STEPS_PER_CONTACT,
               show_default=True, help="Time steps a Hertz contact should span.")
-def check(deck: str, usrfrc: tuple[str, ...], motion: tuple[str, ...],
+def check(decks: tuple[str, ...], usrfrc: tuple[str, ...], motion: tuple[str, ...],
           steps_per_contact: int) -> None:
-    """Check DECK: model summary, recommended time step and geometry warnings.
+    """Check each DECK: model summary, recommended time step and geometry warnings.
 
-    Exit status: 0 clean, 1 warnings, 2 errors.
+    Several decks are checked one after the other, each report separated by a blank line; an
+    unreadable deck is reported and the others are still checked. Exit status: the worst of
+    the decks' (0 clean, 1 warnings, 2 errors).
     """
+    worst = 0
+    for k, deck in enumerate(decks):
+        if k:
+            click.echo("")
+        worst = max(worst, _check_one(deck, usrfrc, motion, steps_per_contact))
+    # SystemExit, not ctx.exit: `x3dpd.cli.main` runs click with standalone_mode=False, where
+    # click turns ctx.exit(n) into a return value that main() does not pass on.
+    sys.exit(worst)
+
+
+def _check_one(deck: str, usrfrc, motion, steps_per_contact: int) -> int:
     from x3dpd.model.build import build_model
 
     try:
+        if not os.path.isfile(deck):
+            raise InputError(f"{deck}: no such deck file")
         model = build_model(_read_deck(deck), usrfrc=usrfrc, motion=motion)
     except X3dpdError as exc:
         click.echo(f"x3dpd: error: {exc}", err=True)
-        sys.exit(2)
+        return 2
     report = check_model(model, steps_per_contact=steps_per_contact)
-    click.echo(format_report(report))
-    # SystemExit, not ctx.exit: `x3dpd.cli.main` runs click with standalone_mode=False, where
-    # click turns ctx.exit(n) into a return value that main() does not pass on.
-    sys.exit(report.exit_status)
+    click.echo(format_report(report, labels_for(model.units)))
+    return report.exit_status
 
 
-def format_report(report: CheckReport) -> str:
-    """Verdict line, each finding (headline, then indented details), then the summary."""
+def format_report(report: CheckReport, units: dict | None = None) -> str:
+    """Verdict line, each finding (headline, then indented details), then the summary, in the
+    deck's ``units`` (labels of x3dpd.units.labels_for; default inch-lbf-s)."""
+    units = units or labels_for(None)
+    return _in_units("\n".join(_report_lines(report, units)), units)
+
+
+def _in_units(text: str, units: dict) -> str:
+    """The model's messages say "length/s" for a speed; name the deck's unit instead."""
+    return text.replace("length/s", units["velocity"])
+
+
+def _report_lines(report: CheckReport, units: dict) -> list[str]:
     n_w, n_e = len(report.warnings), len(report.errors)
     verdict = ("clean" if not (n_w or n_e) else
                ", ".join(p for p in (_plural(n_e, "error"), _plural(n_w, "warning")) if p))
@@ -68,10 +95,11 @@ def format_report(report: CheckReport) -> str:
                                f"{n_p} particles)"))
     for g in report.groups:
         lines.append(_row(f"particle group {g.group + 1}",
-                          f"{g.count} (nodes {g.nodes}), radius {g.radius:g}, mass {g.mass:.6g} "
-                          f"each"))
-    lines.append(_row("particle mass", f"{report.particle_mass:.6g}"))
-    lines.append(_row("structure mass", f"{report.structure_mass:.6g} (rigid bodies included)"))
+                          f"{g.count} (nodes {g.nodes}), radius {g.radius:g} "
+                          f"{units['length']}, mass {g.mass:.6g} {units['mass']} each"))
+    lines.append(_row("particle mass", f"{report.particle_mass:.6g} {units['mass']}"))
+    lines.append(_row("structure mass", f"{report.structure_mass:.6g} {units['mass']} (rigid "
+                                        f"bodies included)"))
     for c in report.cavities:
         box = ", ".join(f"{a} {lo:g} .. {hi:g}" for a, lo, hi in zip("xyz", c.lo, c.hi))
         box += " (extent " + " x ".join(f"{hi - lo:g}" for lo, hi in zip(c.lo, c.hi)) + ")"
@@ -85,6 +113,8 @@ def format_report(report: CheckReport) -> str:
         else:
             lines.append(_row("", "open: the faces do not close, so no volume or fill ratio"))
     lines.append(_row("effects", ", ".join(sorted(report.effects)) or "none"))
+    lines.append(_row("units", f"{units['system']} (declare with a UNITS card; mass "
+                               f"{units['mass']}, energy {units['energy']})"))
     ts = report.time_step
     if ts.binding == "none":
         lines.append(_row("time step", f"DTMAX {ts.dt_deck:.3g} s; no limit (no contacts and no "
@@ -102,7 +132,7 @@ def format_report(report: CheckReport) -> str:
         lines.append(_row("", f"structure: omega <= {ts.omega_max:.4g} rad/s (node "
                               f"{ts.omega_node} {ts.omega_dof}); 0.2 x critical step = "
                               f"{ts.dt_structure:.3g} s"))
-    return "\n".join(lines)
+    return lines
 
 
 def _row(label: str, text: str) -> str:

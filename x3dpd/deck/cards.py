@@ -228,6 +228,20 @@ class Hooke:
 
 
 @dataclass(frozen=True)
+class Units:
+    """UNITS (our extension): the deck's unit system, ``LENGTH FORCE TIME`` (x3dpd.units)."""
+
+    length: str = "in"
+    force: str = "lbf"
+    time: str = "s"
+    pos: Pos = NOWHERE
+
+    @property
+    def system(self) -> tuple[str, str, str]:
+        return (self.length, self.force, self.time)
+
+
+@dataclass(frozen=True)
 class Deck:
     """A whole parsed deck. Cards that may repeat are tuples, in file order."""
 
@@ -246,4 +260,5 @@ class Deck:
     contacts: tuple[Contact, ...] = ()
     initials: tuple[Initial, ...] = ()
     usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
-    hooke: tuple[Hooke, ...] = ()
+    hooke: tuple[Hooke, ...] | None = None   # None: no HOOKE card
+    units: Units | None = None

@@ -65,6 +65,7 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("INITIAL", "INIT", ("NODE", "VX", "VY", "VZ", "WX", "WY", "WZ")),
     CardSpec("USRFRC", "USRF", ("SPEC",)),
     CardSpec("HOOKE", "HOOK", ("NODLIM", "KN", "E")),
+    CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
 )
 
 #: Card spec by canonical name.
@@ -74,7 +75,7 @@ BY_KEY: dict[str, CardSpec] = {c.key: c for c in CARDS}
 #: Fields of a CONTACT slave record (its second block).
 CONTACT_SLAVES = CardSpec("CONTACT", "CONT", ("SET",), "SLAVE")
 #: Cards that may appear at most once.
-SINGLE_CARDS = ("TITLE", "PARAMETERS", "BODY", "TRACE")
+SINGLE_CARDS = ("TITLE", "PARAMETERS", "BODY", "TRACE", "UNITS")
 
 
 def card_for_word(word: str) -> CardSpec | None:

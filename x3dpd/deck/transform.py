@@ -38,10 +38,12 @@ from x3dpd.deck.cards import (
     Title,
     Trace,
     Triangle,
+    Units,
     Usrfrc,
 )
 from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, SINGLE_CARDS, CardSpec
 from x3dpd.errors import DeckError
+from x3dpd.units import parse_units
 
 _WORD = re.compile(r"[^\s,&]+")
 #: Largest integer a float field may spell as an integer id (2**53: exact in float64).
@@ -207,6 +209,15 @@ class DeckTransformer(Transformer):
 
     def usrfrc(self, c: list[Token]) -> _Card:
         return "USRFRC", c[0], Usrfrc(tuple(t.strip() for t in c[1:-1]), _pos(c[0]))
+
+    def units(self, c: list[Token]) -> _Card:
+        words = " ".join(str(t) for t in c[1:-1]).replace(",", " ").split()
+        at = c[1] if len(c) > 2 else c[0]
+        try:
+            system = parse_units(words)
+        except ValueError as exc:
+            raise DeckError(str(exc), "<deck>", at.line, at.column, "UNITS") from None
+        return "UNITS", c[0], Units(*system, _pos(c[0]))
 
     # -- value cards ------------------------------------------------------------------------
     def parameters(self, c: list[Any]) -> _Card:
@@ -440,4 +451,5 @@ class DeckTransformer(Transformer):
                     trace=single.get("TRACE"), nodes=many("NODE COORDINATES"),
                     elements=many("ELEMENTS"), masses=many("MASS"), rbels=many("RBEL"),
                     boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
-                    initials=many("INITIAL"), usrfrc=many("USRFRC"), hooke=many("HOOKE"))
+                    initials=many("INITIAL"), usrfrc=many("USRFRC"),
+                    units=single.get("UNITS"), hooke=many("HOOKE") or None)

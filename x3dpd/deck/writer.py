@@ -178,6 +178,8 @@ def format_deck(deck: Deck) -> str:
         for h in deck.hooke:
             _record([_i(h.nodlim), _f(h.kn), _f(h.e)], out)
         out.append("END")
+    if deck.units is not None:
+        out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]
     for u in deck.usrfrc:
         out.append("USRFRC")
         out.extend(_INDENT + _text_line(spec.strip(), "USRFRC spec") for spec in u.specs)

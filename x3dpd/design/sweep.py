@@ -31,7 +31,6 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.deck.cards import Deck
 from x3dpd.design.baselines import baseline_decks, linear_sdof
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import SweepPoint, run_point
@@ -209,7 +208,7 @@ def _run_dask(todo, finished, workers: int, scheduler: str | None) -> None:
         client, cluster = Client(scheduler), None
     else:
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=":0")
         client = Client(cluster)
     try:
         futures = {}

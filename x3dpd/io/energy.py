@@ -7,8 +7,10 @@
     dissipated_viscoelastic,dissipated_friction,dissipated_dampers,external_work,total_energy,
     residual
 
-then one row per output time (t = t0 and every ITRAC steps, the trace's times), every number
-in Python's shortest round-trip form (``repr``: it reads back bit for bit). Energies are in the
+then one row per output time (t = t0 and every ITRAC steps, the trace's times). The time is
+written as the trace writes it (:data:`TIME_FORMAT`, ``7.000000000e-03``: the same text as the
+trace's rows of that time), every energy with 17 significant digits (:data:`VALUE_FORMAT`,
+``3.7042430000000001e-03``: it reads back bit for bit). Energies are in the
 deck's units (lbf·in for the report's decks). ``residual`` is the ledger's imbalance: the
 change of the stored energy since t0, plus what was dissipated, minus the external work; zero
 for a perfect integration (docs/running.md).
@@ -30,6 +32,11 @@ import numpy as np
 
 from x3dpd.errors import InputError
 from x3dpd.io._streamed import create_new, reopen_at
+
+#: Format of the time column: the trace's 10 significant digits (x3dpd.io.trace.NUMBER_FORMAT).
+TIME_FORMAT = "{:.9e}"
+#: Format of the energy columns: 17 significant digits, enough to read a double back exactly.
+VALUE_FORMAT = "{:.16e}"
 
 
 class EnergyWriter:
@@ -108,7 +115,7 @@ class EnergyWriter:
             raise ValueError(f"energy rows must have {len(self.columns)} columns, got {a.shape}")
         if a.shape[0] == 0:
             return
-        text = "".join(",".join(map(repr, r)) + "\n" for r in a.tolist()).encode("ascii")
+        text = "".join(_row(r) for r in a.tolist()).encode("ascii")
         self._f.write(text)
         self._offset += len(text)
         self._rows += a.shape[0]
@@ -133,6 +140,11 @@ class EnergyWriter:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _row(values: list[float]) -> str:
+    return (TIME_FORMAT.format(values[0]) + "".join("," + VALUE_FORMAT.format(v)
+                                                      for v in values[1:]) + "\n")
 
 
 @dataclass(frozen=True)

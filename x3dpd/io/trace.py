@@ -32,6 +32,7 @@ from x3dpd import __version__
 from x3dpd.errors import TraceError, UnstableRunError
 from x3dpd.io._streamed import create_new, reopen_at
 from x3dpd.io.restart import to_jsonable, write_atomically
+from x3dpd.units import trace_units
 
 TRACE_FORMAT = "x3dpd-trace/1"
 """Format tag of the sidecar; :func:`read_trace` refuses sidecars with another tag."""
@@ -54,6 +55,16 @@ _ROWS_PER_CHUNK = 32768  # rows formatted per pass of write_block (bounds the me
 
 class TraceWarning(UserWarning):
     """A trace was readable but not whole (its last output time was cut off)."""
+
+
+def _units(units) -> dict[str, str]:
+    """Sidecar units from a mapping (merged over :data:`DEFAULT_UNITS`) or from a deck's unit
+    system ``(length, force, time)`` (``Model.units``, the UNITS card: x3dpd.units)."""
+    if units is None:
+        return dict(DEFAULT_UNITS)
+    if isinstance(units, Mapping):
+        return {**DEFAULT_UNITS, **dict(units)}
+    return trace_units(tuple(units))
 
 
 def sidecar_path(path: str | os.PathLike) -> str:
@@ -168,7 +179,7 @@ class TraceWriter:
         self._meta.update({
             "format": TRACE_FORMAT,
             "columns": list(COLUMNS),
-            "units": {**DEFAULT_UNITS, **dict(units or {})},
+            "units": _units(units),
             "node_ids": self.node_ids.tolist(),
             "x3dpd_version": __version__,
         })

@@ -7,6 +7,12 @@ Two values ``a`` (first trace) and ``b`` (second, the reference) *differ* when
 (the ``numpy.isclose`` rule). Equal values, including equal infinities and NaN against NaN,
 never differ; NaN against a number always does. The relative error reported per column is
 ``|a - b| / |b|`` (``inf`` where ``b = 0 != a``).
+
+The traces are compared at the output times they share (equal within 1e-3 of the finer output
+interval): two runs written with different ITRAC or DT are compared where both have a row, and
+the report says how many times that was. Traces that do not end at the same time (a run cut
+short) do not agree, even where their values do, unless ``until`` limits the comparison to the
+common span.
 """
 
 from __future__ import annotations
@@ -65,8 +71,9 @@ class DiffReport:
     n_differ : int
         Number of values that differ.
     time_mismatch : str or None
-        Why the time grids do not match (different output times or lengths); the traces then
-        do not agree even if all compared values do.
+        Why the traces do not cover the same time span (one ends earlier); they then do not
+        agree even if all compared values do. Different output grids over the same span (another
+        ITRAC or DT) are compared at their common output times, with a note.
     """
 
     rtol: float
@@ -103,7 +110,7 @@ class DiffReport:
         tol = f"rtol={self.rtol:g}, atol={self.atol:g}"
         upto = f"t={self.t_end:.9e}" if self.t_end is not None else "the start"
         if self.time_mismatch:
-            out.append(f"time grids differ: {self.time_mismatch}")
+            out.append(f"time spans differ: {self.time_mismatch}")
         if self.first is not None:
             d = self.first
             lim = self.atol + self.rtol * abs(d.b)
@@ -173,20 +180,22 @@ def compare_traces(a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float =
     if until is not None and (ka == 0 or kb == 0):
         first_t = (a.times[:1].tolist() or b.times[:1].tolist() or [None])[0]
         raise TraceError(f"--until {until:g} is before the first output time ({first_t})")
-    k = min(ka, kb)
+    ia, ib = _common_times(a.times[:ka], b.times[:kb], ttol)
+    if ia.size == 0:
+        raise TraceError(f"the traces have no output time in common (A: {_span(a.times[:ka])}; "
+                         f"B: {_span(b.times[:kb])})")
+    k = int(ia.size)
     mismatch = None
-    dt = np.abs(a.times[:k] - b.times[:k])
-    off = np.flatnonzero(dt > ttol)
-    if off.size:
-        i = int(off[0])
-        mismatch = (f"output time {i + 1} is t={a.times[i]:.9e} in A but t={b.times[i]:.9e} in "
-                    "B (different DT or ITRAC?)")
-        k = i
-    elif ka != kb:
-        longer, shorter = ("A", "B") if ka > kb else ("B", "A")
-        tt = a.times if ka > kb else b.times
-        mismatch = (f"{longer} has {max(ka, kb)} output times (to t={tt[max(ka, kb) - 1]:.9e}), "
-                    f"{shorter} only {k}; compare the common part with --until")
+    if not (ka == kb == k):
+        notes.append(f"time grids differ: A has {ka} output times ({_span(a.times[:ka])}), B "
+                     f"{kb} ({_span(b.times[:kb])}); compared the {k} common ones")
+    if abs(a.times[ka - 1] - b.times[kb - 1]) > ttol:
+        longer, shorter = ("A", "B") if a.times[ka - 1] > b.times[kb - 1] else ("B", "A")
+        tt = a.times[:ka] if longer == "A" else b.times[:kb]
+        other = b.times[kb - 1] if longer == "A" else a.times[ka - 1]
+        mismatch = (f"{longer} has {ka if longer == 'A' else kb} output times (to "
+                    f"t={tt[-1]:.9e}), {shorter} ends at t={other:.9e}; compare the common "
+                    f"part with --until")
 
     R, C = len(ida), len(a.columns)
     max_abs = np.zeros(C)
@@ -199,8 +208,8 @@ def compare_traces(a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float =
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         for s in range(0, k, step):
             e = min(s + step, k)
-            xa = a.data[s:e]
-            xb = b.data[s:e]
+            xa = a.data[ia[s:e]]
+            xb = b.data[ib[s:e]]
             same = (xa == xb) | (np.isnan(xa) & np.isnan(xb))
             err = np.where(same, 0.0, np.abs(xa - xb))
             err[np.isnan(err)] = np.inf  # NaN against a number
@@ -212,7 +221,7 @@ def compare_traces(a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float =
             better = vmax > max_abs
             max_abs = np.where(better, vmax, max_abs)
             ti, ni = np.divmod(imax, R)
-            max_abs_time = np.where(better, a.times[s + ti], max_abs_time)
+            max_abs_time = np.where(better, a.times[ia[s + ti]], max_abs_time)
             max_abs_node = np.where(better, node_ids[ni], max_abs_node)
             max_rel = np.maximum(max_rel, rel.reshape(-1, C).max(axis=0))
             cnt = int(np.count_nonzero(differ))
@@ -220,15 +229,35 @@ def compare_traces(a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float =
                 pos = int(np.argmax(differ.ravel()))
                 ti, rest = divmod(pos, R * C)
                 ni, ci = divmod(rest, C)
-                first = Difference(time=float(a.times[s + ti]), node_id=int(node_ids[ni]),
+                first = Difference(time=float(a.times[ia[s + ti]]), node_id=int(node_ids[ni]),
                                    column=a.columns[ci], a=float(xa[ti, ni, ci]),
-                                   b=float(xb[ti, ni, ci]), time_index=s + ti, node_index=ni)
+                                   b=float(xb[ti, ni, ci]), time_index=int(ia[s + ti]),
+                                   node_index=ni)
             n_differ += cnt
     return DiffReport(rtol=rtol, atol=atol, until=until, n_times=k,
-                      t_end=float(a.times[k - 1]) if k else None, node_ids=node_ids,
+                      t_end=float(a.times[ia[-1]]), node_ids=node_ids,
                       columns=tuple(a.columns), max_abs=max_abs, max_rel=max_rel,
                       max_abs_time=max_abs_time, max_abs_node=max_abs_node, first=first,
                       n_differ=n_differ, time_mismatch=mismatch, notes=tuple(notes))
+
+
+def _common_times(ta: np.ndarray, tb: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Indices ``(ia, ib)`` of the output times the two (increasing) grids share within ``tol``."""
+    if ta.size == 0 or tb.size == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    j = np.clip(np.searchsorted(tb, ta), 1, tb.size - 1) if tb.size > 1 else np.zeros(
+        ta.size, np.int64)
+    if tb.size > 1:
+        j = np.where(np.abs(tb[j - 1] - ta) <= np.abs(tb[j] - ta), j - 1, j)
+    hit = np.abs(tb[j] - ta) <= tol
+    return np.flatnonzero(hit).astype(np.int64), j[hit].astype(np.int64)
+
+
+def _span(t: np.ndarray) -> str:
+    if t.size == 0:
+        return "none"
+    step = f", every {np.median(np.diff(t)):.6g} s" if t.size > 1 else ""
+    return f"t = {t[0]:.6g} .. {t[-1]:.6g} s{step}"
 
 
 def _abbrev(items: list, n: int = 6) -> str:

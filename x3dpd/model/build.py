@@ -130,6 +130,8 @@ class _Builder:
             effects=self._effects(body),
             usrfrc=self._deck_usrfrc(),
             title=deck.title.text if deck.title is not None else "",
+            units=(deck.units.system if getattr(deck, "units", None) is not None
+                   else ("in", "lbf", "s")),
             path=deck.path,
             **self._normal_law(),
         )

@@ -80,6 +80,7 @@ class Model:
     effects : frozenset[str], subset of :data:`EFFECTS`.
     usrfrc : tuple[str, ...], force specs from the deck's USRFRC card.
     title : str, path : str.
+    units : (length, force, time) unit names the deck declares (UNITS card; x3dpd.units).
     """
 
     node_ids: np.ndarray
@@ -131,6 +132,7 @@ class Model:
     path: str = "<deck>"
     normal_law: str = "lee_radok"
     hooke: np.ndarray | None = None
+    units: tuple = ("in", "lbf", "s")
 
     @property
     def n_nodes(self) -> int:

@@ -1,0 +1,41 @@
+"""Short traces of every shipped deck that runs, shared by the post-processing command tests."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from x3dpd.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+DECKS = ROOT / "decks"
+#: Every shipped deck but appendix_a.inp (its printed geometry is refused: nothing to draw),
+#: with a run short enough for a test: TMAX [s] (a few output times each).
+SHORT_RUNS = {
+    "appendix_a_cube.inp": 0.003,
+    "beam_1.inp": 0.003,
+    "beam_64.inp": 0.003,
+    "beam_512.inp": 0.002,
+    "impact_wall.inp": 2e-7,         # ITRAC 10 x 1e-9 s: 21 output times
+}
+
+
+def run_cli(*args) -> int:
+    try:
+        main([str(a) for a in args])
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    return 0
+
+
+@pytest.fixture(scope="session")
+def short_traces(tmp_path_factory) -> dict[str, Path]:
+    """deck name -> trace path of a short run in a temporary folder (decks given by path)."""
+    out = {}
+    folder = tmp_path_factory.mktemp("short_traces")
+    for name, tmax in SHORT_RUNS.items():
+        trace = folder / name.replace(".inp", ".trace.txt")
+        assert run_cli(DECKS / name, "--tmax", tmax, "--trace", trace, "--quiet") == 0
+        out[name] = trace
+    return out

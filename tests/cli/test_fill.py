@@ -1,0 +1,99 @@
+"""``x3dpd fill``: a deck's cavity filled with particles, on every shipped deck with a cavity."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import DECKS, run_cli
+
+from x3dpd.deck import read_deck
+from x3dpd.model.build import build_model
+from x3dpd.model.check import check_model
+
+BOXES = ["appendix_a_cube.inp", "beam_1.inp", "beam_64.inp", "beam_512.inp"]
+
+
+@pytest.mark.parametrize("name", BOXES)
+@pytest.mark.parametrize("packing", ["cubic", "hcp", "random"])
+def test_filled_deck_checks_clean_and_reports_its_fill(name, packing, tmp_path, capsys):
+    out = tmp_path / "out.inp"
+    tpl = read_deck(DECKS / name)
+    r = tpl.pdmp[0].rzero
+    assert run_cli("fill", DECKS / name, "--n", 20, "--radius", r, "--packing", packing,
+                   "--gap", 0.02 * r, "--seed", 1, "-o", out) == 0
+    msg = capsys.readouterr().out
+    deck = read_deck(out)
+    model = build_model(deck)
+    report = check_model(model)
+    assert not report.errors
+    assert not [w for w in report.warnings if "overlap" in w.headline or "outside" in
+                w.headline or "penetrat" in w.headline]
+    n = model.n_particles
+    fits = "only" not in msg
+    assert n == 20 or not fits
+    # the reported fill ratio, recomputed from the deck: N 4/3 pi R^3 / cavity volume
+    cav = report.cavities[0]
+    ratio = n * 4 / 3 * math.pi * r ** 3 / cav.volume
+    assert f"fill ratio {ratio:.3f}" in msg
+    # structure untouched, particles after NODLIM, traced after the structure's nodes
+    nodlim = tpl.pdmp[0].nodlim
+    assert [(nd.nid, nd.x, nd.y, nd.z) for nd in deck.nodes if nd.nid <= nodlim] == \
+        [(nd.nid, nd.x, nd.y, nd.z) for nd in tpl.nodes if nd.nid <= nodlim]
+    assert deck.trace.nodes[-n:] == tuple(range(nodlim + 1, nodlim + 1 + n))
+
+
+def test_as_many_as_fit_in_a_box_is_the_cubic_lattice_count(tmp_path, capsys):
+    """beam_64's cavity 0.263 x 0.372 x 0.372, R = 0.03125, no gap: floor((L - 2R) / 2R) + 1
+    per axis = 4 x 5 x 5 = 100."""
+    out = tmp_path / "out.inp"
+    assert run_cli("fill", DECKS / "beam_64.inp", "-o", out) == 0
+    size = np.array([0.263, 0.372, 0.372])
+    r = 0.03125
+    expect = int(np.prod(np.floor((size - 2 * r) / (2 * r) + 1e-9) + 1))
+    assert build_model(read_deck(out)).n_particles == expect == 100
+    assert "100 particles" in capsys.readouterr().out
+
+
+def test_refill_of_a_shipped_beam_deck_reproduces_it(tmp_path):
+    """tools/make_decks.py builds the beam decks through the same library: filling beam_64 with
+    its own recipe gives its particles back exactly."""
+    out = tmp_path / "out.inp"
+    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 64, "--gap", 0.05 * 0.03125,
+                   "--jitter", 0.5, "--seed", 2003, "-o", out) == 0
+    a, b = read_deck(DECKS / "beam_64.inp"), read_deck(out)
+    strip = [(n.nid, n.x, n.y, n.z) for n in a.nodes]
+    assert strip == [(n.nid, n.x, n.y, n.z) for n in b.nodes]
+
+
+def test_impossible_fill_is_an_error_and_writes_nothing(tmp_path, capsys):
+    out = tmp_path / "out.inp"
+    assert run_cli("fill", DECKS / "beam_64.inp", "--radius", 1.0, "-o", out) == 2
+    assert "no particle of radius 1" in capsys.readouterr().err and not out.exists()
+    assert run_cli("fill", DECKS / "impact_wall.inp", "-o", out) == 2   # an open wall: no cavity
+    assert "not a closed surface" in capsys.readouterr().err and not out.exists()
+
+
+def test_short_fill_says_so(tmp_path, capsys):
+    out = tmp_path / "out.inp"
+    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 500, "-o", out) == 0
+    assert "asked for 500: only 100 fit" in capsys.readouterr().out
+
+
+def test_settle_lets_the_particles_fall_onto_the_floor(tmp_path, capsys):
+    """20 spheres from a lattice stacked up from y = R + gap with 0.05 R gaps: after falling
+    they rest on the floor (y = R within the Hertz approach under their weight, << 1 % of R),
+    none left the cavity, none overlaps (x3dpd check)."""
+    out = tmp_path / "out.inp"
+    r = 0.03125
+    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 20, "--packing", "random", "--seed", 4,
+                   "--settle", 0.15, "-o", out) == 0
+    assert "settled for 0.15 s" in capsys.readouterr().out
+    model = build_model(read_deck(out))
+    y = model.x0[model.particle_start:, 1]
+    report = check_model(model)
+    assert not report.errors
+    assert not [w for w in report.warnings if "overlap" in w.headline or "outside" in w.headline]
+    lowest = np.sort(y)[:5]
+    np.testing.assert_allclose(lowest, r, rtol=1e-2)     # several resting on the floor

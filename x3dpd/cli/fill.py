@@ -1,0 +1,81 @@
+"""``x3dpd fill TEMPLATE.inp --n N --radius R --packing cubic|hcp|random -o OUT.inp``."""
+
+from __future__ import annotations
+
+import click
+
+from x3dpd.cli.outputs import refuse_existing
+from x3dpd.deck.fill import fill_positions, filled_deck
+from x3dpd.errors import InputError
+from x3dpd.geometry.packing import PACKINGS
+
+
+@click.command("fill")
+@click.argument("template", type=click.Path(exists=True, dir_okay=False))
+@click.option("--n", "n", type=click.IntRange(min=1), default=None,
+              help="Number of particles (default: as many as fit).")
+@click.option("--radius", type=click.FloatRange(min=0.0, min_open=True), default=None,
+              help="Particle radius [length] (default: the template's PDMP RZERO).")
+@click.option("--packing", type=click.Choice(PACKINGS), default="cubic", show_default=True)
+@click.option("--gap", type=click.FloatRange(min=0.0), default=0.0, show_default=True,
+              help="Clearance to the walls and between lattice neighbours [length].")
+@click.option("--seed", type=int, default=None, help="Seed of the random packing / jitter.")
+@click.option("--jitter", type=click.FloatRange(0.0, 1.0), default=0.0, show_default=True,
+              help="Box + cubic: move coordinates by up to JITTER x gap / 2.")
+@click.option("--set", "set_id", type=int, default=None,
+              help="CONTACT set to fill (default: the first).")
+@click.option("--settle", type=click.FloatRange(min=0.0, min_open=True), default=None,
+              metavar="T", help="Let the particles fall for T seconds under the deck's BODY "
+              "gravity (a run of the filled deck without its USRFRC drive) and write where "
+              "they come to rest.")
+@click.option("-o", "--output", required=True, metavar="OUT.inp", help="The deck to write.")
+@click.option("--overwrite", is_flag=True, help="Replace an existing OUT.inp.")
+def fill(template, n, radius, packing, gap, seed, jitter, set_id, settle, output,
+         overwrite) -> None:
+    """Fill TEMPLATE's cavity with particles and write the deck OUT.inp."""
+    from x3dpd.deck import format_deck, read_deck
+    from x3dpd.deck.writer import write_deck
+
+    refuse_existing([output], overwrite)
+    deck = read_deck(template)
+    result = fill_positions(deck, n=n, radius=radius, packing=packing, gap=gap, seed=seed,
+                            jitter=jitter, set_id=set_id)
+    m = result.positions.shape[0]
+    if m == 0:
+        raise InputError(f"{template}: no particle of radius {result.radius:g} fits in the "
+                         f"cavity with gap {gap:g}")
+    out = filled_deck(deck, result, set_id)
+    if settle:
+        out = _settled(out, settle)
+    format_deck(out)  # raises before anything is written if the deck cannot be written
+    write_deck(out, output)
+    short = f" (asked for {n}: only {m} fit)" if n is not None and m < n else ""
+    click.echo(f"x3dpd: {template} -> {output}: {m} particles of radius {result.radius:g}, "
+               f"{packing} packing{short}; fill ratio {result.fill_ratio:.3f} of the cavity "
+               f"volume {result.volume:.6g}" + (f"; settled for {settle:g} s" if settle else ""))
+
+
+def _settled(deck, seconds: float):
+    """``deck`` with its particles where a run of ``seconds`` without USRFRC leaves them,
+    shifted back by the cavity's mean displacement (the structure sags under their weight)."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from x3dpd.deck.cards import Node
+    from x3dpd.model.build import build_model
+    from x3dpd.solver.simulation import Simulation
+
+    model = build_model(replace(deck, usrfrc=()))
+    sim = Simulation(model)
+    end = int(round(seconds / sim.dt))
+    while sim.state.step < end:      # one output row at a time: memory stays small
+        sim.advance(end - sim.state.step, max_rows=1)
+    x = sim.state.x
+    walls = np.unique(model.tri_nodes)
+    shift = (x[walls] - model.x0[walls]).mean(axis=0) if walls.size else np.zeros(3)
+    p0 = model.particle_start
+    where = {int(model.node_ids[i]): x[i] - shift for i in range(p0, model.n_nodes)}
+    nodes = tuple(Node(nd.nid, *map(float, where[nd.nid])) if nd.nid in where else nd
+                  for nd in deck.nodes)
+    return replace(deck, nodes=nodes)

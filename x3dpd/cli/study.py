@@ -1,0 +1,80 @@
+"""``x3dpd study DECK``: what accuracy costs in time on this deck (docs/study.md).
+
+Runs the deck at a ladder of time steps and fidelity choices through the Python API, prints a
+table and a one-line verdict, and writes ``DIR/study.csv`` and ``DIR/study.png``.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import click
+
+from x3dpd.errors import InputError
+
+
+def _tolerance(text: str) -> float:
+    t = text.strip()
+    try:
+        value = float(t[:-1]) / 100.0 if t.endswith("%") else float(t)
+    except ValueError:
+        raise InputError(f"--tol: expected a fraction or a percentage like 1%, got {text!r}")
+    if not 0.0 < value < 1.0:
+        raise InputError(f"--tol: expected a tolerance between 0 and 100 %, got {text!r}")
+    return value
+
+
+def _steps(text: str | None):
+    if not text:
+        return None
+    try:
+        dts = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise InputError(f"--dt: expected comma-separated steps in s, got {text!r}")
+    if not dts or not all(0.0 < d < float("inf") for d in dts):
+        raise InputError(f"--dt: expected positive steps in s, got {text!r}")
+    return dts
+
+
+@click.command("study")
+@click.argument("deck", type=click.Path(dir_okay=False))
+@click.option("--tmax", type=float, default=None, help="End time of every run [s].")
+@click.option("--out", "out", default=None, metavar="DIR",
+              help="Directory for study.csv and study.png (default <deck stem>.study).")
+@click.option("--tol", default="1%", show_default=True,
+              help="Accepted error of the main quantity (1% or 0.01).")
+@click.option("--workers", type=click.IntRange(min=1), default=None,
+              help="Local worker processes (default: one per core).")
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="Run on the Dask cluster at ADDRESS instead of local workers.")
+@click.option("--dt", "dts", default=None, metavar="LIST",
+              help="Steps to run, comma-separated [s] (default DTMAX x 1/4 ... 8).")
+@click.option("--usrfrc", multiple=True, metavar="SPEC",
+              help="Force spec replacing the deck's USRFRC card (repeatable).")
+@click.option("--no-fidelity", "no_fidelity", is_flag=True,
+              help="Run the step ladder only (no elastic / bare-Coulomb variants).")
+@click.option("--overwrite", is_flag=True, help="Replace an existing study in DIR.")
+@click.option("-q", "--quiet", is_flag=True, help="Print the verdict only.")
+def study(deck, tmax, out, tol, workers, scheduler, dts, usrfrc, no_fidelity, overwrite,
+          quiet):
+    """Measure what accuracy costs in time on DECK."""
+    from x3dpd.study import run_study
+    from x3dpd.study.report import table
+
+    if not os.path.isfile(deck):
+        raise InputError(f"deck {deck} does not exist")
+    out = out or f"{Path(deck).stem}.study"
+    n = workers or (1 if scheduler else max(1, os.cpu_count() or 1))
+
+    def done(row):
+        if not quiet:
+            click.echo(f"  {row['setting'].label}: {row['status']}", err=True)
+
+    result = run_study(deck, out, tmax=tmax, tol=_tolerance(tol), workers=n,
+                       scheduler=scheduler, dts=_steps(dts), usrfrc=usrfrc,
+                       overwrite=overwrite, progress=done, fidelity=not no_fidelity)
+    if not quiet:
+        click.echo(table(result))
+        click.echo(f"wrote {', '.join(result.files)}")
+    click.echo(f"verdict: {result.verdict}")
