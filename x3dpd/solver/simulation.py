@@ -20,7 +20,7 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
     from x3dpd.model.model import Model
 
 from x3dpd.errors import InputError, UnstableRunError
-from x3dpd.physics.motion import motion_table, start_motion
+from x3dpd.physics.motion import MOTION_COLUMNS, motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
 from x3dpd.solver.bundles import Loads, Output, Status, build_bundles, contact_scratch, pack
 from x3dpd.solver.diagnosis import energy_source_advice
@@ -88,7 +88,8 @@ class Simulation:
         specs = list(model.usrfrc) + list(usrfrc)
         self._force_specs = specs
         self.ext = build_external_forces(specs, model, allow_python=allow_python_usrfrc)
-        self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros((0, 7))
+        self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros(
+            (0, len(MOTION_COLUMNS)))
         prescribed = self.motion[:, :2].astype(np.int64) if len(self.motion) else None
         self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed)
         effects = set(model.effects)
