@@ -57,7 +57,7 @@ class Loads(NamedTuple):
     user: np.ndarray         # (n_u, 6) scratch: this step's user-file forces
     user_prev: np.ndarray    # (n_u, 6) user-file forces at the last step
     python: np.ndarray       # (n, 6) forces of Python user files (set between steps)
-    motion: np.ndarray       # (M, 7) prescribed motions (x3dpd.physics.motion)
+    motion: np.ndarray       # (M, MOTION_COLUMNS) prescribed motions (x3dpd.physics.motion)
     motion_prev: np.ndarray  # (M,) actuator force of each motion at the last step
 
 
