@@ -101,3 +101,13 @@ def test_every_shipped_deck_can_be_studied(tmp_path, deck, args):
     res = run_study(str(DECKS / deck), tmp_path / "s", tmax=2e-3 if "beam" in deck or
                     "cube" in deck else None, workers=2, **args)
     assert res.verdict and (tmp_path / "s" / "study.csv").exists()
+
+
+def test_the_step_chosen_by_accuracy_shows_as_auto(tmp_path):
+    res = run_study(str(DECKS / "beam_1.inp"), tmp_path / "a", tmax=0.02,
+                    dts=[2.5e-7, 5e-7, "auto"], fidelity=False)
+    auto = [r for r in res.rows if r["setting"].auto]
+    assert len(auto) == 1 and auto[0]["status"] == "complete"
+    assert auto[0]["error"] < 0.01          # within the 1 % the study accepts by default
+    with open(tmp_path / "a" / "study.csv") as f:
+        assert [r["dt"] for r in csv.DictReader(f)][-1] == "auto"

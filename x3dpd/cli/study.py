@@ -28,13 +28,14 @@ def _tolerance(text: str) -> float:
 def _steps(text: str | None):
     if not text:
         return None
+    words = [v.strip() for v in text.split(",") if v.strip()]
     try:
-        dts = [float(v) for v in text.split(",") if v.strip()]
+        dts = [float(v) for v in words if v != "auto"]
     except ValueError:
-        raise InputError(f"--dt: expected comma-separated steps in s, got {text!r}")
-    if not dts or not all(0.0 < d < float("inf") for d in dts):
+        raise InputError(f"--dt: expected comma-separated steps in s (or auto), got {text!r}")
+    if not all(0.0 < d < float("inf") for d in dts) or not words:
         raise InputError(f"--dt: expected positive steps in s, got {text!r}")
-    return dts
+    return dts + (["auto"] if "auto" in words else [])
 
 
 @click.command("study")
@@ -49,7 +50,8 @@ def _steps(text: str | None):
 @click.option("--scheduler", default=None, metavar="ADDRESS",
               help="Run on the Dask cluster at ADDRESS instead of local workers.")
 @click.option("--dt", "dts", default=None, metavar="LIST",
-              help="Steps to run, comma-separated [s] (default DTMAX x 1/4 ... 8).")
+              help="Steps to run, comma-separated [s], and/or auto (the step chosen by "
+                   "accuracy); default DTMAX x 1/4 ... 8.")
 @click.option("--usrfrc", multiple=True, metavar="SPEC",
               help="Force spec replacing the deck's USRFRC card (repeatable).")
 @click.option("--no-fidelity", "no_fidelity", is_flag=True,

@@ -6,6 +6,8 @@ import csv
 import math
 import os
 
+import numpy as np
+
 from x3dpd.study.scene import QUANTITIES
 
 _FIRST = ("setting", "dt", "contact", "friction", "repeat", "own", "status",
@@ -23,7 +25,8 @@ def records(result) -> list[dict]:
     out = []
     for r in result.rows:
         s = r["setting"]
-        rec = {"setting": s.label, "dt": repr(float(s.dt)), "contact": s.contact,
+        rec = {"setting": s.label, "dt": "auto" if s.auto else repr(float(s.dt)),
+               "contact": s.contact,
                "friction": s.friction, "repeat": s.repeat, "own": int(s.own),
                "status": r["status"]}
         for c in columns(result.scene.kind)[len(rec):]:
@@ -45,8 +48,10 @@ def write_csv(path, result) -> None:
 
 
 def _fmt(v):
-    if isinstance(v, float):
-        return "" if math.isnan(v) else repr(v)
+    if isinstance(v, (float, np.floating)):
+        return "" if math.isnan(v) else repr(float(v))
+    if isinstance(v, np.integer):
+        return int(v)
     return v
 
 

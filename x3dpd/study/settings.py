@@ -23,31 +23,33 @@ PERTURBATION = 1e-9
 class Setting:
     """One run of a study: ``dt`` [s], ``contact`` ("deck" | "elastic"), ``friction``
     ("regularized" | "coulomb"), ``repeat`` (0: unperturbed; k: perturbed with seed k),
-    ``own`` (the deck's own setting)."""
+    ``own`` (the deck's own setting), ``auto`` (a step chosen by accuracy up to ``dt``)."""
 
     dt: float
     contact: str = "deck"
     friction: str = "regularized"
     repeat: int = 0
     own: bool = False
+    auto: bool = False  # the step chosen by accuracy (x3dpd.study.variable_step), dt = DTMAX
 
     @property
     def label(self) -> str:
-        parts = [f"dt {self.dt:.3g}"]
+        parts = ["dt auto" if self.auto else f"dt {self.dt:.3g}"]
         if self.contact != "deck":
             parts.append(self.contact)
         if self.friction != "regularized":
             parts.append(self.friction)
         if self.repeat:
             parts.append(f"repeat {self.repeat}")
-        return ", ".join(parts)
+        return " ".join(parts)
 
 
 def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
-           chaotic: bool) -> list[Setting]:
+           chaotic: bool, auto: bool = False) -> list[Setting]:
     """The settings to run: every step of ``dts`` (default DTMAX x :data:`LADDER`) with the
     deck's physics, the fidelity choices at the deck's step, and perturbed repeats of the
-    deck's setting for a chaotic scene. The deck's own setting is marked ``own``."""
+    deck's setting for a chaotic scene, and with ``auto`` the step chosen by accuracy up to
+    DTMAX. The deck's own setting is marked ``own``."""
     steps = sorted({float(d) for d in (dts if dts else [dt_deck * f for f in LADDER])}
                    | {float(dt_deck)})
     out = [Setting(d, own=np.isclose(d, dt_deck, rtol=1e-12, atol=0.0)) for d in steps]
@@ -55,6 +57,8 @@ def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
         out.append(Setting(dt_deck, contact="elastic"))
     if friction:
         out.append(Setting(dt_deck, friction="coulomb"))
+    if auto:
+        out.append(Setting(dt_deck, auto=True))
     if chaotic:
         out += [Setting(dt_deck, repeat=k) for k in range(1, REPEATS + 1)]
     return out

@@ -38,7 +38,8 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     """Run the study of ``deck`` (a path) and write ``out/study.csv`` and ``out/study.png``.
 
     ``tmax`` ends every run (default the deck's TMAX); ``tol`` is the accepted relative error of
-    the main quantity; ``dts`` replaces the default ladder DTMAX x (1/4 ... 8); ``usrfrc``
+    the main quantity; ``dts`` replaces the default ladder DTMAX x (1/4 ... 8) and may hold
+    ``"auto"``: the step chosen by accuracy, also run whenever the deck's DTMIN < DTMAX; ``usrfrc``
     replaces the deck's USRFRC card (as ``x3dpd run --usrfrc``); ``fidelity=False`` runs the
     step ladder only (no elastic or bare-Coulomb variants, each a kernel compile). Raises InputError when ``out``
     holds a study and ``overwrite`` is not set, or when the finest run goes unstable.
@@ -56,9 +57,12 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
             raise InputError(f"{existing[0]} exists; pass --overwrite to replace it")
     scene = classify(model, usrfrc)
     dt_deck = float(model.dt)
+    dts = list(dts or [])
+    auto = "auto" in dts or cards.parameters.dtmin < cards.parameters.dtmax
+    dts = [d for d in dts if d != "auto"] or None
     settings = ladder(dt_deck, dts=dts, viscoelastic=fidelity and scene.viscoelastic,
-                      friction=fidelity and scene.friction, chaotic=scene.chaotic)
-    steps = sorted({s.dt for s in settings})
+                      friction=fidelity and scene.friction, chaotic=scene.chaotic, auto=auto)
+    steps = sorted({s.dt for s in settings if not s.auto})
     if scene.kind == "impact":
         interval = steps[0]
     else:
