@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from conftest import DECKS, run_cli
+from cli_helpers import DECKS, run_cli
 
 
 def test_several_decks_are_all_reported(capsys):

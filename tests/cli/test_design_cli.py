@@ -79,3 +79,5 @@ def test_ringdown_of_a_solver_trace_gives_the_structures_zeta(capsys, tmp_path):
     assert code == 2 and "--overwrite" in err
     code, _, err = x3dpd(capsys, "ringdown", trace, "--node", 7, "--out", tmp_path / "rd2")
     assert code == 2 and "node 7 is not in the trace" in err
+    code, _, err = x3dpd(capsys, "ringdown", trace, "--out", tmp_path / "rd3")
+    assert code == 2 and "give --node N" in err

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import DECKS, run_cli
+from cli_helpers import DECKS, run_cli
 
 from x3dpd.deck import read_deck
 from x3dpd.model.build import build_model
@@ -73,6 +73,9 @@ def test_impossible_fill_is_an_error_and_writes_nothing(tmp_path, capsys):
     assert "no particle of radius 1" in capsys.readouterr().err and not out.exists()
     assert run_cli("fill", DECKS / "impact_wall.inp", "-o", out) == 2   # an open wall: no cavity
     assert "not a closed surface" in capsys.readouterr().err and not out.exists()
+    # the printed Appendix A deck: its triangles do not close either (docs/running.md)
+    assert run_cli("fill", DECKS / "appendix_a.inp", "-o", out) == 2
+    assert "not a closed surface" in capsys.readouterr().err and not out.exists()
 
 
 def test_short_fill_says_so(tmp_path, capsys):
@@ -97,3 +100,13 @@ def test_settle_lets_the_particles_fall_onto_the_floor(tmp_path, capsys):
     assert not [w for w in report.warnings if "overlap" in w.headline or "outside" in w.headline]
     lowest = np.sort(y)[:5]
     np.testing.assert_allclose(lowest, r, rtol=1e-2)     # several resting on the floor
+
+
+def test_cards_only_holds_what_changes(tmp_path):
+    out = tmp_path / "cards.inp"
+    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 10, "--cards", "-o", out) == 0
+    deck = read_deck(out)
+    assert deck.parameters is None and not deck.rbels and not deck.materials
+    assert [nd.nid for nd in deck.nodes] == list(range(10, 20))
+    assert deck.contacts[0].slaves[0].nodes == tuple(range(10, 20))
+    assert deck.trace.nodes == (9, *range(10, 20)) and deck.pdmp[0].nodlim == 9

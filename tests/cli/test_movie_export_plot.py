@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DECKS, SHORT_RUNS, run_cli
+from cli_helpers import DECKS, SHORT_RUNS, run_cli
 
 from x3dpd.analysis.export import read_lammps_dump
 from x3dpd.analysis.scene import scene_from_model
@@ -207,3 +207,38 @@ def test_labels_follow_the_decks_declared_units(tmp_path):
         ("m", "J", "m/s")
     _, _, scene = load_scene(str(SHORT_RUNS_TRACES["beam_1.inp"]), None)
     assert scene.units["length"] == "in"
+
+
+@pytest.mark.parametrize("name", DECK_NAMES)
+def test_still_frames_the_particles(name, tmp_path):
+    """The view holds the cavity and the particles (Fig. 28's sphere sits beside its lone wall,
+    outside the wall's own extent)."""
+    from PIL import Image
+
+    from x3dpd.analysis.movie import write_movie
+
+    tr, _, scene = _scene(name)
+    lo, hi = scene.bounds(tr.data[0])
+    p = tr.data[0, scene.particle_rows, :3]
+    assert np.all(p - scene.radius[:, None] >= lo - 1e-12)
+    assert np.all(p + scene.radius[:, None] <= hi + 1e-12)
+    out = tmp_path / "s.png"
+    assert write_movie(out, scene, iter([(tr.times[0], tr.data[0])])) == 1
+    pixels = np.asarray(Image.open(out).convert("RGB")).reshape(-1, 3).astype(int)
+    assert np.count_nonzero(pixels[:, 2] > pixels[:, 0] + 40) > 500    # particles drawn
+
+
+def test_a_cavity_whose_master_is_not_traced_is_flagged(tmp_path, capsys):
+    """beam_1 traced without its master node 9: the cavity cannot be placed; the command warns
+    and draws it where the deck puts it."""
+    text = (DECKS / "beam_1.inp").read_text()
+    deck = tmp_path / "beam_1.inp"
+    deck.write_text(text.replace("TRACE\n   9 10\n", "TRACE\n   10\n"))
+    assert "TRACE\n   10\n" in deck.read_text()
+    trace = tmp_path / "b.trace.txt"
+    assert run_cli(deck, "--tmax", 0.001, "--trace", trace, "--quiet") == 0
+    capsys.readouterr()
+    assert run_cli("movie", trace, "-o", tmp_path / "m.png") == 0
+    assert "8 wall vertices can move" in capsys.readouterr().err
+    assert run_cli("movie", SHORT_RUNS_TRACES["beam_1.inp"], "-o", tmp_path / "n.png") == 0
+    assert "warning" not in capsys.readouterr().err

@@ -9,7 +9,7 @@ import shutil
 import subprocess
 
 import pytest
-from conftest import DECKS, ROOT, run_cli
+from cli_helpers import DECKS, ROOT, run_cli
 
 GIT = shutil.which("git")
 

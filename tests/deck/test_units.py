@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from x3dpd.deck import format_deck, parse_deck, read_deck
+from x3dpd.deck import format_deck, parse_deck
 from x3dpd.errors import DeckError
 from x3dpd.model.build import build_model
 from x3dpd.units import labels_for, parse_units, trace_units

@@ -106,6 +106,20 @@ def test_a_chain_continues_from_the_previous_points_state(tmp_path):
             assert r["branch"] == "single"  # a linear structure has one steady state
 
 
+def test_a_point_inserted_into_a_finished_chain_is_refused(tmp_path):
+    path = sdof_file(tmp_path)
+    run_sweep(spec_for(path, (37.0, 39.0), direction="up"), tmp_path / "out", workers=1)
+    # appending at the chain's end continues from its last state: allowed
+    computed = []
+    run_sweep(spec_for(path, (37.0, 39.0, 40.0), direction="up"), tmp_path / "out",
+              workers=1, on_point=computed.append)
+    assert [r["frequency_hz"] for r in computed] == [40.0]
+    # inserting 38 Hz would rewrite the history of 39 and 40 Hz: refused
+    with pytest.raises(InputError, match="inserted before 39 Hz"):
+        run_sweep(spec_for(path, (37.0, 38.0, 39.0, 40.0), direction="up"), tmp_path / "out",
+                  workers=1)
+
+
 def test_added_mass_baseline_is_the_closed_form_with_the_particles_mass():
     deck = read_deck(DECKS / "beam_64.inp")
     bare = build_model(without_particles(deck))

@@ -44,3 +44,31 @@ def test_the_check_can_fail():
 def test_the_step_loop_runs_without_reference_counting():
     source = (PACKAGE / "solver" / "_advance_template.py").read_text()
     assert "@loop_kernel\ndef advance(" in source
+
+
+def test_loop_kernels_really_compile_without_reference_counting():
+    """The private ``_nrt=False`` option of numba (x3dpd._jit.loop_kernel) must still remove the
+    reference counting around array arguments; pyproject.toml pins numba to versions where it
+    does. A plain kernel of the same code keeps it (the check can fail)."""
+    import numpy as np
+
+    from x3dpd._jit import kernel, loop_kernel, step_kernel
+
+    def body(a, b):
+        for i in range(a.shape[0]):
+            a[i] += _inner(b, i)
+
+    @step_kernel
+    def _inner(b, i):
+        return b[i] * 2.0
+
+    free = loop_kernel(cache=False)(body)
+    counted = kernel(cache=False)(body)
+    a, b = np.zeros(4), np.arange(4.0)
+    free(a, b)
+    counted(a, b)
+    assert a.tolist() == [0.0, 4.0, 8.0, 12.0]
+    ir_free = "".join(free.inspect_llvm().values())
+    ir_counted = "".join(counted.inspect_llvm().values())
+    assert "NRT_incref" not in ir_free and "NRT_decref" not in ir_free
+    assert "NRT_incref" in ir_counted or "NRT_decref" in ir_counted

@@ -23,14 +23,14 @@ X0 = np.arange(12, dtype=np.float64).reshape(4, 3) * 0.1
 def test_table_layout():
     table = motion_table(["node=25,dof=1,amp=0.01,hz=37.21",
                           "sine:node=40,dof=3,amp=-2e-3,omega=100,phase=90,t0=0.5",
-                          "node=3,dof=5,amp=0.1,hz=2,phase=0.25rad"], IDS, x0=X0)
+                          "node=3,dof=5,amp=0.1,hz=2,phase=0.25rad,ramp=0.3"], IDS, x0=X0)
     np.testing.assert_allclose(table, [
-        [2, 0, 0.01, 2 * math.pi * 37.21, 0.0, 0.0, X0[2, 0]],
-        [3, 2, -2e-3, 100.0, math.pi / 2, 0.5, X0[3, 2]],
-        [0, 4, 0.1, 4 * math.pi, 0.25, 0.0, 0.0],
+        [2, 0, 0.01, 2 * math.pi * 37.21, 0.0, 0.0, X0[2, 0], 0.0],
+        [3, 2, -2e-3, 100.0, math.pi / 2, 0.5, X0[3, 2], 0.0],
+        [0, 4, 0.1, 4 * math.pi, 0.25, 0.0, 0.0, 0.3],
     ], rtol=1e-15)
     assert motion_table(["node=25,dof=2,amp=1,hz=1"], IDS)[0, 6] == 0.0  # no x0 given
-    assert motion_table([], IDS).shape == (0, 7)
+    assert motion_table([], IDS).shape == (0, 8)
 
     class FakeModel:
         node_ids = IDS
@@ -117,3 +117,28 @@ def test_prescribed_mask():
     table = motion_table(["node=25,dof=2,amp=1,hz=5", "node=40,dof=6,amp=1,hz=3"], IDS)
     mask = prescribed_mask(table, 4)
     assert mask.dtype == bool and mask.sum() == 2 and mask[2, 1] and mask[3, 5]
+
+
+def test_ramp_starts_smoothly_and_reaches_the_sine():
+    """ramp=TR: u = h A sin(w tau), h = (1 - cos(pi tau / TR)) / 2 (computed here); u and u'
+    are 0 at t0 (no velocity jump) and the plain sine from t0 + TR on."""
+    amp, hz, tr, t0 = 0.01, 37.21, 0.05, 0.02
+    w = 2 * math.pi * hz
+    table = motion_table([f"node=25,dof=1,amp={amp},hz={hz},t0={t0},ramp={tr},phase=30"], IDS)
+    t = np.linspace(0.0, 0.2, 400001)
+    u, v, a = (c[:, 0] for c in motion_history(t, table))
+    tau = t - t0
+    h = np.where(tau < 0, 0.0, np.where(tau < tr, 0.5 * (1 - np.cos(np.pi * tau / tr)), 1.0))
+    np.testing.assert_allclose(u, h * amp * np.sin(w * tau + math.pi / 6), rtol=0,
+                               atol=1e-15)
+    assert u[t < t0].max() == 0.0 and v[t < t0].max() == 0.0
+    # u and u' continuous everywhere (central differences of u match u' across t0 and
+    # t0 + TR); u'' is continuous but at those two instants, where h'' jumps by pi^2/(2 TR^2)
+    dt = t[1] - t[0]
+    du = (u[2:] - u[:-2]) / (2 * dt)
+    dv = (v[2:] - v[:-2]) / (2 * dt)
+    np.testing.assert_allclose(du, v[1:-1], rtol=0, atol=2e-4 * amp * w)
+    inner = (np.abs(t[1:-1] - t0) > 2 * dt) & (np.abs(t[1:-1] - t0 - tr) > 2 * dt)
+    np.testing.assert_allclose(dv[inner], a[1:-1][inner], rtol=0, atol=5e-4 * amp * w * w)
+    with pytest.raises(UsrfrcError, match="ramp="):
+        motion_table(["node=25,dof=1,amp=1,hz=3,ramp=-1"], IDS)

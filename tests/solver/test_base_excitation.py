@@ -120,3 +120,15 @@ def test_delayed_start_counts_the_jump_when_it_happens():
     assert energy[-1, col["external_work"]] > 0.5 * jump
     scale = np.abs(energy[:, 1:11]).max()
     assert np.abs(energy[:, col["residual"]]).max() < 1e-11 * scale  # measured 1e-13
+
+
+def test_ramped_start_needs_no_impulse_and_the_ledger_closes():
+    """ramp=0.05: the base starts at rest (no velocity jump, so no work at t0) and reaches the
+    full sine after 50 ms; the actuator's work is counted step by step as before."""
+    _, data, energy, _ = _run(1e-5, 0.2, itrac=100, motion=MOTION + ",ramp=0.05")
+    col = {name: k for k, name in enumerate(ENERGY_COLUMNS)}
+    assert energy[0, col["external_work"]] == 0.0 and energy[0, col["kinetic_translation"]] == 0.0
+    assert data[0, 0, 3] == 0.0                     # base velocity at t0
+    scale = np.abs(energy[:, 1:11]).max()
+    assert energy[-1, col["external_work"]] > 0.0
+    assert np.abs(energy[:, col["residual"]]).max() < 1e-11 * scale

@@ -127,12 +127,9 @@ def test_forces_match_reference(seed, rotated):
     assert sim.variant.friction and sim.variant.walls and sim.variant.pairs
     assert not sim.variant.viscoelastic and sim.variant.friction_law == "regularized"
 
-    # one call of the compiled kernel, on the state initialize() prepared (lists built)
-    args = sim._force_args(model.t0)
-    status = sim.kernels._forces(*args)
-    assert status == 0
-    force = args[4]
-    assert force is sim.state.force
+    # one evaluation of the compiled force kernel, on the state initialize() prepared
+    assert sim.compute_forces(model.t0) == 0
+    force = sim.state.force
 
     n_a, n_b = len(world_a), len(world_b)
     radius = np.r_[np.full(n_a, MAT_A["radius"]), np.full(n_b, MAT_B["radius"])]

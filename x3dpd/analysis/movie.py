@@ -26,7 +26,8 @@ VIEWS = {"xy": (0, 1, 2), "xz": (0, 2, 1), "yz": (1, 2, 0), "zy": (2, 1, 0)}
 FORMATS = (".mp4", ".gif", ".png")
 
 
-def _figure(scene: Scene, view: str, size_px: tuple[int, int], dpi: int = 100):
+def _figure(scene: Scene, view: str, size_px: tuple[int, int], lo: np.ndarray, hi: np.ndarray,
+            dpi: int = 100):
     import matplotlib
 
     matplotlib.use("Agg", force=True)
@@ -38,7 +39,6 @@ def _figure(scene: Scene, view: str, size_px: tuple[int, int], dpi: int = 100):
     fig = Figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.add_axes((0.12, 0.1, 0.84, 0.8))
-    lo, hi = scene.bounds()
     pad = 0.08 * float(np.max(hi - lo) or 1.0)
     ax.set_xlim(lo[a] - pad, hi[a] + pad)
     ax.set_ylim(lo[b] - pad, hi[b] + pad)
@@ -79,7 +79,7 @@ def _draw(scene: Scene, view: str, parts, t: float, data: np.ndarray,
     balls.set_widths(2 * scene.radius[order])
     balls.set_heights(2 * scene.radius[order])
     balls.set_array(np.clip(depth[order], 0.0, 1.0))
-    label.set_text(f"t = {t:.4f} {scene.units.get('time', 's')}")
+    label.set_text(f"t = {t:.6g} {scene.units.get('time', 's')}")
     fig.canvas.restore_region(background)
     ax = walls.axes
     for artist in (walls, balls, label):
@@ -104,12 +104,17 @@ def write_movie(path: str | os.PathLike, scene: Scene, blocks: Iterable[tuple[fl
         raise InputError(f"{path}: movie format must be one of {', '.join(FORMATS)}")
     if view not in VIEWS:
         raise InputError(f"view {view!r}: expected one of {', '.join(VIEWS)}")
-    parts = _figure(scene, view, size_px)
-    lo, hi = scene.bounds()
+    parts = None
     c = VIEWS[view][2]
-    depth_range = (float(lo[c]), float(hi[c]))
+
+    def start(data):
+        """Figure and depth range framing the cavity and the particles of the first frame."""
+        lo, hi = scene.bounds(data)
+        return _figure(scene, view, size_px, lo, hi), (float(lo[c]), float(hi[c]))
+
     if ext == ".png":
         for t, data in blocks:
+            parts, depth_range = start(data)
             _draw(scene, view, parts, t, data, depth_range)
             from PIL import Image
 
@@ -122,6 +127,8 @@ def write_movie(path: str | os.PathLike, scene: Scene, blocks: Iterable[tuple[fl
     n = 0
     try:
         for t, data in blocks:
+            if parts is None:
+                parts, depth_range = start(data)
             _draw(scene, view, parts, t, data, depth_range)
             frame = _rgb(parts[0])
             if writer is None:

@@ -38,6 +38,8 @@ class Scene:
     outline : (E, 2) vertex indices of the cavity's feature edges (between triangles that are
         not coplanar, or on the border of an open surface): its outline without the diagonals
         that split a flat face into triangles.
+    unplaced : number of vertices that can move (free, or slaves of an untraced master) but
+        have no traced position: they are drawn at their deck coordinates.
     vertex_x0 : (V, 3) deck coordinates of the vertices.
     vertex_row : (V,) trace row of each vertex, -1 if not traced.
     vertex_master_row : (V,) trace row of its traced rigid master, -1 if none.
@@ -58,6 +60,7 @@ class Scene:
     units: dict = field(default_factory=dict)
     title: str = ""
     outline: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
+    unplaced: int = 0
 
     def vertices(self, data: np.ndarray) -> np.ndarray:
         """(V, 3) vertex positions at one output time; ``data`` (R, 9) is the trace block."""
@@ -69,11 +72,19 @@ class Scene:
         out[own] = data[self.vertex_row[own], :3]
         return out
 
-    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """Lower and upper corner of the deck-time cavity and particles (for fixed axes)."""
-        pts = [self.vertex_x0] if self.vertex_x0.shape[0] else []
-        lo = np.min(np.vstack(pts), axis=0) if pts else np.zeros(3)
-        hi = np.max(np.vstack(pts), axis=0) if pts else np.ones(3)
+    def bounds(self, data: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper corner of the cavity at the deck's coordinates and, given a trace
+        block ``data`` (R, 9), of its particles' spheres (for fixed axes)."""
+        lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+        if self.vertex_x0.shape[0]:
+            lo, hi = self.vertex_x0.min(axis=0), self.vertex_x0.max(axis=0)
+        if data is not None and self.particle_rows.shape[0]:
+            p = data[self.particle_rows, :3]
+            r = self.radius[:, None]
+            lo = np.minimum(lo, (p - r).min(axis=0))
+            hi = np.maximum(hi, (p + r).max(axis=0))
+        if not np.all(np.isfinite(lo) & np.isfinite(hi)):
+            return np.zeros(3), np.ones(3)
         return lo, hi
 
     @property
@@ -107,9 +118,13 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
     vmx0 = np.array([model.x0[m] if m >= 0 else np.zeros(3) for m in vmaster]).reshape(-1, 3)
     tri = tri.reshape(-1, 3).astype(np.int64)
     vx0 = np.asarray(model.x0)[verts].reshape(-1, 3)
+    fixed = getattr(model, "fixed", None)
+    held = (np.all(np.asarray(fixed)[verts, :3], axis=1) if fixed is not None
+            else np.zeros(verts.shape[0], bool))
+    unplaced = int(np.count_nonzero((vrow < 0) & (vmrow < 0) & ((vmaster >= 0) | ~held)))
     return Scene(node_ids, np.asarray(rows, np.int64), np.asarray(radius), np.asarray(mass),
                  tri, vx0, vrow, vmrow, vmx0, dict(units or {}), str(getattr(model, "title", "")),
-                 feature_edges(tri, vx0))
+                 feature_edges(tri, vx0), unplaced)
 
 
 def feature_edges(tri: np.ndarray, x: np.ndarray, cos_tol: float = 1.0 - 1e-9) -> np.ndarray:

@@ -462,6 +462,7 @@ def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dum
         "last_energy": dict(zip(columns, map(float, e))) if e is not None else None,
         "usrfrc": list(applied), "usrfrc_replaced": list(replaced), "trace_file": trace_path,
         "energy_file": energy_path, "restart_file": dump_path, "dumps": stats.dumps,
+        "units": list(getattr(sim.model, "units", ("in", "lbf", "s"))),
     }
 
 

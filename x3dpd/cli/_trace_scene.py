@@ -50,4 +50,9 @@ def load_scene(trace: str, deck: str | None) -> tuple[TraceInfo, object, Scene]:
                    f"drawing its geometry anyway", err=True)
     model = build_model(read_deck(path))
     units = labels_for(getattr(model, "units", None))
-    return info, model, scene_from_model(model, info.node_ids, units)
+    scene = scene_from_model(model, info.node_ids, units)
+    if scene.unplaced:
+        click.echo(f"x3dpd: warning: {scene.unplaced} wall vertices can move but neither they "
+                   f"nor their rigid master node are traced; they are drawn at their deck "
+                   f"coordinates (add the master node to the deck's TRACE card)", err=True)
+    return info, model, scene

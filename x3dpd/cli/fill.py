@@ -28,9 +28,12 @@ from x3dpd.geometry.packing import PACKINGS
               metavar="T", help="Let the particles fall for T seconds under the deck's BODY "
               "gravity (a run of the filled deck without its USRFRC drive) and write where "
               "they come to rest.")
+@click.option("--cards", is_flag=True,
+              help="Write only the PDMP, TRACE, NODE COORDINATES (the particles) and CONTACT "
+              "cards, to paste into a deck, instead of the whole deck.")
 @click.option("-o", "--output", required=True, metavar="OUT.inp", help="The deck to write.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing OUT.inp.")
-def fill(template, n, radius, packing, gap, seed, jitter, set_id, settle, output,
+def fill(template, n, radius, packing, gap, seed, jitter, set_id, settle, cards, output,
          overwrite) -> None:
     """Fill TEMPLATE's cavity with particles and write the deck OUT.inp."""
     from x3dpd.deck import format_deck, read_deck
@@ -47,6 +50,12 @@ def fill(template, n, radius, packing, gap, seed, jitter, set_id, settle, output
     out = filled_deck(deck, result, set_id)
     if settle:
         out = _settled(out, settle)
+    if cards:
+        from x3dpd.deck.cards import Deck
+
+        nodlim = out.pdmp[0].nodlim
+        out = Deck(path=out.path, pdmp=out.pdmp, trace=out.trace, contacts=out.contacts,
+                   nodes=tuple(nd for nd in out.nodes if nd.nid > nodlim))
     format_deck(out)  # raises before anything is written if the deck cannot be written
     write_deck(out, output)
     short = f" (asked for {n}: only {m} fit)" if n is not None and m < n else ""

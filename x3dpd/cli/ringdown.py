@@ -10,7 +10,9 @@ import click
 
 @click.command("ringdown", context_settings={"help_option_names": ["-h", "--help"]})
 @click.argument("source", type=click.Path(exists=True, dir_okay=False))
-@click.option("--node", type=int, required=True, help="Node whose ring-down is analysed.")
+@click.option("--node", type=int, help="Node whose ring-down is analysed [deck input: default "
+                                       "the USRFRC drive node, else the first cavity's master; "
+                                       "required for a trace].")
 @click.option("--dof", type=int, default=1, show_default=True, help="Direction, 1-3.")
 @click.option("--out", "out", required=True, metavar="DIR", help="Output folder.")
 @click.option("--baseline", "baseline", metavar="TRACE",

@@ -179,8 +179,11 @@ def format_summary(deck: str, s: dict) -> str:
         lines.append(f"  restart dumps  {s['dumps']} written to {s['restart_file']}")
     e = s["last_energy"]
     if e is not None:
-        lines.append(f"  energy ledger at t = {e['time']:.9g} s (deck units, lbf in for inch "
-                     "decks)")
+        from x3dpd.units import labels_for
+
+        lab = labels_for(s.get("units"))
+        lines.append(f"  energy ledger at t = {e['time']:.9g} {lab['time']} (energies in "
+                     f"{lab['energy']})")
         for name in ENERGY_COLUMNS[1:11]:
             lines.append(f"    {name:<24} {e[name]: .6e}")
         total = e["dissipated_viscoelastic"] + e["dissipated_friction"] + e["dissipated_dampers"]

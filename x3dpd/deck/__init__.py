@@ -11,6 +11,7 @@ from x3dpd.deck.cards import (
                               Boundary,
                               Contact,
                               Deck,
+                              Hooke,
                               Element,
                               Initial,
                               Mass,
@@ -30,7 +31,7 @@ from x3dpd.deck.parser import parse_deck, read_deck
 from x3dpd.deck.writer import format_deck, write_deck
 
 __all__ = [
-    "Body", "Boundary", "Contact", "Deck", "Element", "Initial", "Mass", "Material", "Node",
+    "Body", "Boundary", "Contact", "Deck", "Element", "Hooke", "Initial", "Mass", "Material", "Node",
     "Parameters", "Pdmp", "Pos", "Rbel", "SlaveSet", "Title", "Trace", "Triangle", "Usrfrc",
     "format_deck", "parse_deck", "read_deck", "write_deck",
 ]

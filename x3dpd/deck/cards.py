@@ -216,6 +216,18 @@ class Usrfrc:
 
 
 @dataclass(frozen=True)
+class Hooke:
+    """One HOOKE record (our extension): the PDMP group starting after node ``nodlim`` uses the
+    linear spring-dashpot normal law with stiffness ``kn`` [force/length] and restitution ``e``
+    (x3dpd.physics.hooke)."""
+
+    nodlim: int
+    kn: float
+    e: float
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
 class Units:
     """UNITS (our extension): the deck's unit system, ``LENGTH FORCE TIME`` (x3dpd.units)."""
 
@@ -248,4 +260,5 @@ class Deck:
     contacts: tuple[Contact, ...] = ()
     initials: tuple[Initial, ...] = ()
     usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
+    hooke: tuple[Hooke, ...] | None = None   # None: no HOOKE card
     units: Units | None = None

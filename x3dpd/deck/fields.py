@@ -64,6 +64,7 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("CONTACT", "CONT", ("SET", "N1", "N2", "N3")),
     CardSpec("INITIAL", "INIT", ("NODE", "VX", "VY", "VZ", "WX", "WY", "WZ")),
     CardSpec("USRFRC", "USRF", ("SPEC",)),
+    CardSpec("HOOKE", "HOOK", ("NODLIM", "KN", "E")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
 )
 

@@ -25,6 +25,7 @@ from x3dpd.deck.cards import (
     Contact,
     Deck,
     Element,
+    Hooke,
     Initial,
     Mass,
     Material,
@@ -394,6 +395,22 @@ class DeckTransformer(Transformer):
             out.append(Initial(_int(spec, rec, v, 0), tuple(vel), _first(rec)))
         return "INITIAL", c[0], out
 
+    def hooke(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["HOOKE"]
+        out = []
+        for rec in _records(c[1:-1]):
+            v = _split(rec)
+            _count(spec, rec, v, 3, 3, "3 values: NODLIM KN E")
+            nodlim = _int(spec, rec, v, 0, None)
+            kn, e = _floats(spec, rec, v, 1)
+            if not kn > 0.0:
+                raise _fail(spec, rec, 1, f"KN (normal stiffness) must be > 0; got {v[1]}")
+            if not 0.0 < e <= 1.0:
+                raise _fail(spec, rec, 2, f"E (coefficient of restitution) must be in (0, 1]; "
+                                          f"got {v[2]}")
+            out.append(Hooke(nodlim, kn, e, _first(rec)))
+        return "HOOKE", c[0], out
+
     def contact(self, c: list[Any]) -> _Card:
         spec = BY_NAME["CONTACT"]
         split = next(i for i, x in enumerate(c) if isinstance(x, Token) and x.type == "END")
@@ -437,4 +454,4 @@ class DeckTransformer(Transformer):
                     elements=many("ELEMENTS"), masses=many("MASS"), rbels=many("RBEL"),
                     boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
                     initials=many("INITIAL"), usrfrc=many("USRFRC"),
-                    units=single.get("UNITS"))
+                    units=single.get("UNITS"), hooke=many("HOOKE") or None)

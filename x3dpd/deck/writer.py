@@ -173,6 +173,11 @@ def format_deck(deck: Deck) -> str:
                 raise ValueError(f"INITIAL node {ini.nid} needs 3 or 6 velocities")
             _record([_i(ini.nid), *map(_f, ini.velocity)], out)
         out.append("END")
+    if deck.hooke:
+        _card(out, "HOOKE", ("NODLIM", "KN", "E"))
+        for h in deck.hooke:
+            _record([_i(h.nodlim), _f(h.kn), _f(h.e)], out)
+        out.append("END")
     if deck.units is not None:
         out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]
     for u in deck.usrfrc:

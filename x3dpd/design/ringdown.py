@@ -18,6 +18,7 @@ from x3dpd.analysis.ringdown import G_IN_S2, Ringdown, damping_vs_amplitude, res
 from x3dpd.api import read_trace, run
 from x3dpd.deck.cards import Deck
 from x3dpd.design.baselines import without_particles
+from x3dpd.design.spec import default_drive_point
 from x3dpd.errors import InputError
 
 #: Samples per cycle recorded for a deck's ring-down (the analysis needs >= ~20).
@@ -94,7 +95,7 @@ def write_outputs(out: str | os.PathLike, series: dict[str, Ringdown], overwrite
     return csv, png
 
 
-def ringdown_command(source: str, *, node: int, dof: int, out: str, baseline: str | None = None,
+def ringdown_command(source: str, *, node: int | None, dof: int, out: str, baseline: str | None = None,
                      t_from: float | None = None, drive_until: float = 1.0, ring: float = 2.0,
                      no_baseline: bool = False, g: float = G_IN_S2, overwrite: bool = False,
                      echo=print) -> dict[str, Ringdown]:
@@ -105,11 +106,15 @@ def ringdown_command(source: str, *, node: int, dof: int, out: str, baseline: st
     is_trace = src.name.endswith(".txt") or Path(str(src) + ".json").exists()
     series: dict[str, Ringdown] = {}
     if is_trace:
+        if node is None:
+            raise InputError(f"{src}: give --node N (the node of the trace to analyse)")
         series["damper"] = ringdown_of_trace(src, node, dof, t_from=t_from, g=g)
         if baseline:
             series["baseline"] = ringdown_of_trace(baseline, node, dof, t_from=t_from, g=g)
     else:
         deck = load_deck(src)
+        if node is None:
+            node = default_drive_point(deck)[0]
         echo(f"ringdown {src}: driven to t = {drive_until:g} s, then {ring:g} s free")
         series["damper"] = ringdown_of_deck(deck, node, dof, drive_until=drive_until, ring=ring,
                                             g=g)

@@ -175,6 +175,12 @@ def run_sweep(spec: SweepSpec, out: str | os.PathLike, *, workers: int | None = 
         for k, point in enumerate(chain):
             done = store.load(point, need_state=keep_state and k < len(chain) - 1)
             if done is None:
+                later = [p for p in chain[k + 1:] if store.load(p, need_state=False)]
+                if later:
+                    raise InputError(
+                        f"{store.out}: a point inserted before {later[0].frequency_hz:g} Hz in "
+                        f"the {point.direction} chain would change the history of points "
+                        "already computed; give another --out, or --overwrite to recompute")
                 todo.append((chain[k:], previous))
                 break
             rows.append(done[0])

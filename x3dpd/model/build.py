@@ -133,6 +133,7 @@ class _Builder:
             units=(deck.units.system if getattr(deck, "units", None) is not None
                    else ("in", "lbf", "s")),
             path=deck.path,
+            **self._normal_law(),
         )
 
     def _parameters(self):
@@ -203,6 +204,35 @@ class _Builder:
                 taus[j, m] = tau if e != 0.0 else 1.0
         self.moduli = moduli[self.group].reshape(-1, k)
         self.taus = taus[self.group].reshape(-1, k)
+
+    def _normal_law(self) -> dict:
+        """The HOOKE card (our extension): the linear spring-dashpot law for the PDMP groups it
+        names. A scene runs one normal law, so it must name every group."""
+        records = self.deck.hooke
+        if not records:
+            return {}
+        cards = self.deck.pdmp
+        by_nodlim = {c.nodlim: k for k, c in enumerate(cards)}
+        params = np.full((len(cards), 2), np.nan)
+        for r in records:
+            if r.nodlim not in by_nodlim:
+                raise self.error(f"NODLIM {r.nodlim} names no PDMP group (PDMP NODLIMs: "
+                                 f"{', '.join(str(c.nodlim) for c in cards) or 'none'})",
+                                 r.pos, "HOOKE")
+            k = by_nodlim[r.nodlim]
+            if not np.isnan(params[k, 0]):
+                raise self.error(f"PDMP group NODLIM {r.nodlim} is given twice", r.pos, "HOOKE")
+            if cards[k].e1 != 0.0 or cards[k].extra_terms:
+                raise self.error(f"PDMP group NODLIM {r.nodlim} has Maxwell terms (E1 = "
+                                 f"{cards[k].e1:g}): the HOOKE law replaces the viscoelastic "
+                                 f"law; set E1 to 0", r.pos, "HOOKE")
+            params[k] = r.kn, r.e
+        missing = [c.nodlim for c, p in zip(cards, params) if np.isnan(p[0])]
+        if missing:
+            raise self.error(f"a scene runs one normal law: give every PDMP group a HOOKE record "
+                             f"(missing NODLIM {', '.join(map(str, missing))})", records[0].pos,
+                             "HOOKE")
+        return {"normal_law": "hooke", "hooke": _ro(params[self.group].reshape(-1, 2))}
 
     def _check_pdmp(self, c) -> None:
         def bad(message: str) -> DeckError:

@@ -50,6 +50,10 @@ class Model:
     taus : (P, K) float64, relaxation times; column 0 is ``inf`` (the long-term spring).
     particle_group : (P,) int64, index of the PDMP card the particle belongs to.
     particle_cavity : (P,) int64, cavity index whose walls the particle meets (-1: none).
+    normal_law : str, the normal contact law of every particle (x3dpd.physics.normal_laws):
+        "lee_radok" (the report's), or "hooke" (HOOKE card).
+    hooke : (P, 2) float64, k_n [force/length] and restitution e per particle (HOOKE card;
+        zeros under another law).
 
     spring_nodes : (S, 2) int64, node indices; second is -1 for a spring to ground.
     spring_k, spring_c : (S, 3) float64, stiffness [force/length] and damping [force s/length]
@@ -126,6 +130,8 @@ class Model:
     usrfrc: tuple = ()
     title: str = ""
     path: str = "<deck>"
+    normal_law: str = "lee_radok"
+    hooke: np.ndarray | None = None
     units: tuple = ("in", "lbf", "s")
 
     @property

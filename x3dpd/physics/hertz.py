@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 
-from x3dpd._jit import kernel
+from x3dpd._jit import kernel, step_kernel
 
 #: :math:`\\int_0^1 (1-x^{5/2})^{-1/2} dx = \\tfrac25 B(\\tfrac25, \\tfrac12)`, the dimensionless
 #: time to maximum compression.
@@ -30,7 +30,8 @@ HERTZ_TIME_FACTOR = 0.4 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
 
 __all__ = [
     "HERTZ_TIME_FACTOR", "effective_modulus_pair", "effective_modulus_wall", "effective_radius",
-    "hertz_constant", "hertz_force", "hertz_energy", "hertz_impact",
+    "hertz_constant", "hertz_force", "hertz_energy", "hertz_impact", "three_halves",
+    "stored_energy_of_force",
 ]
 
 
@@ -70,6 +71,18 @@ def hertz_energy(a: float, k: float) -> float:
     if a <= 0.0:
         return 0.0
     return 0.4 * k * a * a * math.sqrt(a)
+
+
+@step_kernel
+def three_halves(a: float) -> float:
+    """a^{3/2} = a sqrt(a) for a >= 0: the step loop's Hertz force is K times this [length^1.5]."""
+    return a * math.sqrt(a)
+
+
+@step_kernel
+def stored_energy_of_force(fn: float, a: float) -> float:
+    """U = 2/5 F a, the energy stored in a Hertz contact carrying F = K a^{3/2} [energy]."""
+    return 0.4 * fn * a
 
 
 def hertz_impact(m_eff: float, k: float, v: float) -> tuple[float, float, float]:

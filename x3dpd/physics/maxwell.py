@@ -31,9 +31,18 @@ from __future__ import annotations
 
 import math
 
-from x3dpd._jit import kernel
+from x3dpd._jit import kernel, step_kernel
+from x3dpd.physics.hertz import stored_energy_of_force, three_halves
 
-__all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update"]
+__all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update", "maxwell_terms",
+           "CLAMPED", "USES_RATE", "DAMPED", "wall_force", "pair_force", "stored_energy"]
+
+#: The step loop's normal law "lee_radok" (x3dpd.physics.normal_laws): the applied force is
+#: max(0, F) (report: "force set to zero when negative"); it does not read the approach rate;
+#: its dissipation is reported when the scene has Maxwell terms (n_terms > 0).
+CLAMPED = True
+USES_RATE = False
+DAMPED = False
 
 
 def maxwell_step_factors(tau: float, dt: float) -> tuple[float, float]:
@@ -54,3 +63,58 @@ def maxwell_update(f_k: float, decay: float, half: float, k_k: float, a32_new: f
     ``K_k = 4/3 E*_k sqrt(R*)`` [force/length^{3/2}]; returns the new F_k [force].
     """
     return f_k * decay + half * k_k * (a32_new - a32_old)
+
+
+@step_kernel
+def maxwell_terms(states, s, col, decay, half, moduli, p, scale, dg, n_terms):
+    """Advance the ``n_terms`` Maxwell histories of body ``p`` in contact row ``s`` and return
+    their sum: F_k <- F_k e^{-dt/tau_k} + e^{-dt/2tau_k} (scale * moduli[p, k]) dg (Eqs. 25-26,
+    :func:`maxwell_update`); the histories sit in ``states[s, col:col + n_terms]``, the moduli
+    and factors of term k in column k (column 0 is the long-term modulus)."""
+    total = 0.0
+    for k in range(n_terms):
+        h = states[s, col + k] * decay[p, k + 1] + half[p, k + 1] * scale * moduli[p, k + 1] * dg
+        states[s, col + k] = h
+        total += h
+    return total
+
+
+@step_kernel
+def wall_force(a, a_old, a_rate, p, particles, states, s, col, n_terms):
+    """Normal force of particle ``p`` on a rigid wall at approach ``a`` > 0 (last step:
+    ``a_old``): the long-term Hertz term K_0 a^{3/2} exactly, the Maxwell terms incrementally
+    (histories in ``states[s, col:]``). ``particles.kw`` holds K_k = 4/3 E*_k sqrt(R) [force /
+    length^1.5]. Not yet clamped at zero (the loop applies CLAMPED)."""
+    a32 = three_halves(a)
+    fn = particles.kw[p, 0] * a32
+    if n_terms > 0:
+        ao = a_old if a_old > 0.0 else 0.0
+        fn += maxwell_terms(states, s, col, particles.decay, particles.half, particles.kw, p, 1.0,
+                            a32 - three_halves(ao), n_terms)
+    return fn
+
+
+@step_kernel
+def pair_force(a, a_old, a_rate, pi, pj, ki, kj, particles, states, s, col, n_terms):
+    """Normal force between particles ``pi``, ``pj`` (kinds ``ki``, ``kj``): the pair's Hertz
+    factor (x3dpd.physics.mixing) times sum_k (E_ik + E_jk)/(1-nu^2), long-term term exact, the
+    Maxwell terms of i (``states[s, col:]``) and of j (after them) incrementally."""
+    kfac = particles.pair_c[ki, kj, 0]
+    ep = particles.ep
+    a32 = three_halves(a)
+    fn = kfac * (ep[pi, 0] + ep[pj, 0]) * a32
+    if n_terms > 0:
+        ao = a_old if a_old > 0.0 else 0.0
+        da32 = a32 - three_halves(ao)
+        fn += maxwell_terms(states, s, col, particles.decay, particles.half, ep, pi, kfac, da32,
+                            n_terms)
+        fn += maxwell_terms(states, s, col + n_terms, particles.decay, particles.half, ep, pj,
+                            kfac, da32, n_terms)
+    return fn
+
+
+@step_kernel
+def stored_energy(fn, a, k):
+    """U = 2/5 F a of an open contact (exact for Hertz; the report's estimate with Maxwell
+    terms) [energy]."""
+    return stored_energy_of_force(fn, a)

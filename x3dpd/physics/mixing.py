@@ -48,14 +48,15 @@ def _fill_table(radius, cinst, inv_mt, mu, rep, out):
             out[a, b, 2] = mu_ab
 
 
-def particle_kinds(radius, cinst, inv_mt, mu) -> tuple[np.ndarray, np.ndarray]:
-    """Group particles with bit-identical contact properties.
+def particle_kinds(radius, cinst, inv_mt, mu, *more) -> tuple[np.ndarray, np.ndarray]:
+    """Group particles with bit-identical contact properties (``more``: further per-particle
+    properties that must agree, e.g. a normal law's constants).
 
     Returns ``(kind, rep)``: the kind index of every particle (int64, in order of first
     appearance) and one representative particle per kind.
     """
     props = np.column_stack([np.asarray(v, dtype=np.float64) for v in
-                             (radius, cinst, inv_mt, mu)])
+                             (radius, cinst, inv_mt, mu, *more)])
     if props.shape[0] == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     _, first, inverse = np.unique(props, axis=0, return_index=True, return_inverse=True)

@@ -1,7 +1,7 @@
 """Prescribed sinusoidal motion of node DOFs (shaker base excitation, report Figure 9).
 
-A spec ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0]`` (CLI ``--motion``, repeatable; an
-optional leading ``sine:`` is accepted) drives DOF ``D`` (1..6) of node ``N`` on
+A spec ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0][,ramp=TR]`` (CLI ``--motion``,
+repeatable; an optional leading ``sine:`` is accepted) drives DOF ``D`` (1..6) of node ``N`` on
 
 .. math::
 
@@ -11,6 +11,9 @@ optional leading ``sine:`` is accepted) drives DOF ``D`` (1..6) of node ``N`` on
 
 for ``t >= t0``; before ``t0`` the DOF rests at ``u = A sin(phi)`` with zero velocity and
 acceleration (continuous displacement; the velocity jumps to ``A omega cos(phi)`` at ``t0``).
+``ramp=TR`` [s] starts smoothly instead: ``u`` is multiplied by
+``h = (1 - cos(pi (t - t0) / TR)) / 2`` for ``t0 <= t < t0 + TR`` (``h = 0`` before, 1 after), so
+the DOF rests at ``u = 0`` before ``t0`` and ``u`` and ``u'`` are continuous (no jump).
 ``u`` is a displacement from the initial coordinate [length] for DOFs 1-3 and a rotation [rad]
 for DOFs 4-6; ``phase`` is in degrees unless suffixed ``rad``; ``hz`` in Hz, ``omega`` in rad/s.
 
@@ -42,22 +45,30 @@ from x3dpd.physics.usrfrc import _node_dof, _node_ids, _number, _omega, _parse_p
 
 #: Columns of a motion table. ``x_initial`` is the DOF's initial coordinate (0 for rotations or
 #: when no coordinates were given); the kernel reads ``x0`` itself.
-MOTION_COLUMNS = ("node_index", "dof_index", "amp", "omega", "phase", "t0", "x_initial")
+MOTION_COLUMNS = ("node_index", "dof_index", "amp", "omega", "phase", "t0", "x_initial", "ramp")
 
 _REQUIRED = ("node", "dof", "amp")
-_OPTIONAL = ("hz", "omega", "phase", "t0")
+_OPTIONAL = ("hz", "omega", "phase", "t0", "ramp")
 
 
 @step_kernel
 def _motion_state(t, table, r):
-    """``(u, u', u'')`` of row ``r`` at time ``t``."""
-    amp, omega, phase = table[r, 2], table[r, 3], table[r, 4]
+    """``(u, u', u'')`` of row ``r`` at time ``t`` (with the smooth start of a ``ramp`` > 0)."""
+    amp, omega, phase, ramp = table[r, 2], table[r, 3], table[r, 4], table[r, 7]
     tau = t - table[r, 5]
     if tau < 0.0:
-        return amp * math.sin(phase), 0.0, 0.0
+        return (0.0 if ramp > 0.0 else amp * math.sin(phase)), 0.0, 0.0
     arg = omega * tau + phase
-    s = math.sin(arg)
-    return amp * s, amp * omega * math.cos(arg), -amp * omega * omega * s
+    s = amp * math.sin(arg)
+    c = amp * omega * math.cos(arg)
+    if tau < ramp:
+        # u = h(tau) A sin(.), h = (1 - cos(pi tau / T)) / 2: h, h' vanish at tau = 0
+        k = math.pi / ramp
+        h = 0.5 * (1.0 - math.cos(k * tau))
+        h1 = 0.5 * k * math.sin(k * tau)
+        h2 = 0.5 * k * k * math.cos(k * tau)
+        return h * s, h1 * s + h * c, h2 * s + 2.0 * h1 * c - h * omega * omega * s
+    return s, c, -omega * omega * s
 
 
 @step_kernel
@@ -125,12 +136,12 @@ def _motion_history(times, table, u, v, a):
 
 
 def motion_table(specs, model_or_node_ids, x0=None) -> np.ndarray:
-    """Parse ``--motion`` specs into a ``(m, 7)`` float table (columns :data:`MOTION_COLUMNS`).
+    """Parse ``--motion`` specs into a ``(m, 8)`` float table (columns :data:`MOTION_COLUMNS`).
 
     Parameters
     ----------
     specs : iterable of str
-        ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0]``.
+        ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0][,ramp=TR]``.
     model_or_node_ids : Model or (n,) int array
         Ascending user node ids; a Model also supplies ``x0`` for column ``x_initial``.
     x0 : (n, 3) array, optional
@@ -159,8 +170,12 @@ def motion_table(specs, model_or_node_ids, x0=None) -> np.ndarray:
         omega = _omega("motion spec", spec, pairs)
         phase = _phase("motion spec", spec, pairs["phase"]) if "phase" in pairs else 0.0
         t0 = _number("motion spec", spec, "t0", pairs["t0"]) if "t0" in pairs else 0.0
+        ramp = _number("motion spec", spec, "ramp", pairs["ramp"]) if "ramp" in pairs else 0.0
+        if ramp < 0.0:
+            raise UsrfrcError(f"motion spec {spec!r}: ramp={pairs['ramp']!r}: expected a "
+                              f"duration >= 0 [s]")
         xi = float(x0[node, dof]) if (x0 is not None and dof < 3) else 0.0
-        rows.append([node, dof, amp, omega, phase, t0, xi])
+        rows.append([node, dof, amp, omega, phase, t0, xi, ramp])
     return np.array(rows, dtype=np.float64).reshape(len(rows), len(MOTION_COLUMNS))
 
 

@@ -12,25 +12,28 @@ Integration: velocity Verlet (central difference) with a constant step,
     v(n+1) = v(n+1/2) + dt/2 a(n+1).
 
 Velocity-dependent forces (dampers, friction, wall velocities) use the half-step velocity, as
-X3D's central-difference scheme does. Every function here takes arrays and scalars only.
+X3D's central-difference scheme does. The kernels take the named bundles of
+:mod:`x3dpd.solver.bundles` (``nodes``, ``particles``, ``walls`` ...), never positional arrays;
+the per-step ones are inlined into ``advance`` (x3dpd._jit.step_kernel).
 """
 
 # --- VARIANT BEGIN ---
 HAS_GRAVITY = True
 HAS_SPRINGS = True
 HAS_RIGID = True
-HAS_RIGID_ROT = True
+HAS_RIGID_ROTATION = True
 HAS_WALLS = True
 HAS_PAIRS = True
 HAS_FRICTION = True
-HAS_VISCO = True
-HAS_EXT = True
+HAS_VISCOELASTIC = True
+HAS_EXTERNAL = True
 HAS_USER_FORCE = False
-HAS_PY_FORCE = False
+HAS_PYTHON_FORCE = False
 HAS_MOTION = True
 N_MAXWELL = 1
-WALLS_TRANSLATE = False
+HAS_WALLS_TRANSLATE = False
 from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: E402,E501
+from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as NORMAL_PAIR_FORCE, stored_energy as NORMAL_STORED_ENERGY, CLAMPED as NORMAL_CLAMPED, USES_RATE as NORMAL_USES_RATE, DAMPED as NORMAL_DAMPED  # noqa: E402,E501
 USER_FORCE = None
 # --- VARIANT END ---
 
@@ -48,8 +51,10 @@ from x3dpd.physics.rigid_link import (  # noqa: E402
     _gather_slaves, _rigid_angular_kick, _rotate, _update_slaves)
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
 from x3dpd.physics.usrfrc import _force_value  # noqa: E402
+from x3dpd.solver.bundles import (  # noqa: E402
+    ContactList, Faces, Loads, Nodes, Output, Particles, RigidBodies, Springs, Status, Stepping)
 from x3dpd.solver.contact_lists import (  # noqa: E402
-    S_A, S_FN, S_FT, S_H, _active_flags, _contact_energy, _merge_states, _pair_approach)
+    S_A, S_FN, S_FT, S_H, _active_flags, _merge_states, _pair_approach)
 
 @kernel
 def _no_user_force(t, x, vel, force):
@@ -60,12 +65,12 @@ def _no_user_force(t, x, vel, force):
 if USER_FORCE is None:
     USER_FORCE = _no_user_force
 
-# status bits returned by advance()
-OK = 0
-PENETRATION = 1
-NONFINITE = 2
-REALLOC_PAIRS = 4
-REALLOC_WALLS = 8
+# status bits returned by advance() and _forces() (x3dpd.solver.bundles.Status, as int constants)
+OK = int(Status.OK)
+PENETRATION = int(Status.PENETRATION)
+NONFINITE = int(Status.NONFINITE)
+REALLOC_PAIRS = int(Status.REALLOC_PAIRS)
+REALLOC_WALLS = int(Status.REALLOC_WALLS)
 
 #: Slip speeds at or below this [length/s] count as rolling (no friction force). The stick
 #: regularisation halves the slip every step; without a floor a settled bed's slips -- and the
@@ -83,30 +88,16 @@ L_DDAMP = 3     # energy dissipated by structural dampers
 
 @step_kernel
 def _record_normal(states, on, s, a, a_old, fn, fn_old):
-    """Clamp the normal force at zero (the report's modified Lee & Radok rule), keep it and the
-    approach in the contact's state row, mark the contact open, and return the applied force
-    with the work the contact absorbed this step, 1/2 (F_old + F) (a - a_old)."""
-    if fn < 0.0:
+    """Clamp the normal force at zero if the law says so (the report's modified Lee & Radok
+    rule), keep it and the approach in the contact's state row, mark the contact open, and
+    return the applied force with the work the contact absorbed this step,
+    1/2 (F_old + F) (a - a_old)."""
+    if NORMAL_CLAMPED and fn < 0.0:
         fn = 0.0
     states[s, S_A] = a
     states[s, S_FN] = fn
     on[s] = 1
     return fn, 0.5 * (fn_old + fn) * (a - a_old)
-
-
-@step_kernel
-def _maxwell_terms(states, s, col, decay, half, moduli, p, scale, dg):
-    """Advance the Maxwell histories of body ``p`` in contact ``s`` and return their sum.
-
-    F_k <- F_k e^{-dt/tau_k} + e^{-dt/2tau_k} (scale * moduli[p, k]) dg (report Eqs. 25-26,
-    x3dpd.physics.maxwell); the histories sit in ``states[s, col:col + N_MAXWELL]``.
-    """
-    total = 0.0
-    for k in range(N_MAXWELL):
-        h = states[s, col + k] * decay[p, k + 1] + half[p, k + 1] * scale * moduli[p, k + 1] * dg
-        states[s, col + k] = h
-        total += h
-    return total
 
 
 @step_kernel
@@ -140,12 +131,16 @@ def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
 
 
 @step_kernel
-def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p, wl_f, ws, wl_on,
-                   nw, face_n, face_d, face_ptr, face_tris, tri_nodes, dt, ledger, pen_limit, diag,
-                   w, busy):
+def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     """Particle-wall contact forces (report Figure 40): Hertz / Lee-Radok normal force, Coulomb
-    friction with spin, reaction on the wall's nodes. ``w`` is a 3-element scratch array.
-    Returns a status bit."""
+    friction with spin, reaction on the wall's nodes. ``w`` is a 3-element scratch array,
+    ``busy`` an int scratch of the list's capacity. Returns a status bit."""
+    x, vel, force = nodes.x, nodes.vel, nodes.force
+    p0, radius, mu, inv_mt = particles.p0, particles.radius, particles.mu, particles.inv_mt
+    wl_p, wl_f, ws, wl_on, nw = walls.first, walls.second, walls.state, walls.on, walls.count[0]
+    face_n, face_d, face_ptr, face_tris, tri_nodes = (faces.normal, faces.offset, faces.tri_ptr,
+                                                      faces.tris, faces.tri_nodes)
+    dt, ledger, pen_limit, diag = stepping.dt, stepping.ledger, stepping.pen_limit, stepping.diag
     status = OK
     w_normal = 0.0
     w_fric = 0.0
@@ -194,13 +189,15 @@ def _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
             diag[1] = f
             diag[2] = a
             diag[3] = r
-        # normal force: long-term Hertz term exactly, Maxwell terms incrementally
-        a32 = a * math.sqrt(a)
-        fn = kw[p, 0] * a32
-        if HAS_VISCO:
-            ao = a_old if a_old > 0.0 else 0.0
-            a32_old = ao * math.sqrt(ao)
-            fn += _maxwell_terms(ws, s, S_H, decay, half, kw, p, 1.0, a32 - a32_old)
+        # normal force: the scene's law (x3dpd.physics.normal_laws)
+        a_rate = 0.0
+        if NORMAL_USES_RATE:
+            # approach rate: the wall point's velocity minus the particle's, along n
+            a_rate = -(nx * vel[i, 0] + ny * vel[i, 1] + nz * vel[i, 2])
+            for e in range(3):
+                nd = tri_nodes[t, e]
+                a_rate += w[e] * (nx * vel[nd, 0] + ny * vel[nd, 1] + nz * vel[nd, 2])
+        fn = NORMAL_WALL_FORCE(a, a_old, a_rate, p, particles, ws, s, S_H, N_MAXWELL)
         fn, dw = _record_normal(ws, wl_on, s, a, a_old, fn, fn_old)
         w_normal += dw
         fx = fn * nx
@@ -278,10 +275,15 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy):
 
 
 @step_kernel
-def _pair_contacts(x, vel, force, p0, radius, ep, pkind, pair_c, decay, half, pl_i, pl_j,
-                   ps, pl_on, npairs, dt, ledger, pen_limit, diag, busy):
+def _pair_contacts(nodes, particles, pairs, stepping, busy):
     """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
-    force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j."""
+    force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j. ``busy`` is
+    an int scratch of the list's capacity."""
+    x, vel, force = nodes.x, nodes.vel, nodes.force
+    p0, radius, pkind, pair_c = particles.p0, particles.radius, particles.kind, particles.pair_c
+    pl_i, pl_j, ps, pl_on, npairs = (pairs.first, pairs.second, pairs.state, pairs.on,
+                                     pairs.count[0])
+    dt, ledger, pen_limit, diag = stepping.dt, stepping.ledger, stepping.pen_limit, stepping.diag
     status = OK
     w_normal = 0.0
     w_fric = 0.0
@@ -330,14 +332,11 @@ def _pair_contacts(x, vel, force, p0, radius, ep, pkind, pair_c, decay, half, pl
         # the pair's mixed constants (x3dpd.physics.mixing), looked up by particle kind
         ki = pkind[pi]
         kj = pkind[pj]
-        kfac = pair_c[ki, kj, 0]
-        a32 = a * math.sqrt(a)
-        fn = kfac * (ep[pi, 0] + ep[pj, 0]) * a32
-        if HAS_VISCO:
-            ao = a_old if a_old > 0.0 else 0.0
-            da32 = a32 - ao * math.sqrt(ao)
-            fn += _maxwell_terms(ps, s, S_H, decay, half, ep, pi, kfac, da32)
-            fn += _maxwell_terms(ps, s, S_H + N_MAXWELL, decay, half, ep, pj, kfac, da32)
+        a_rate = 0.0
+        if NORMAL_USES_RATE:
+            a_rate = -(nx * (vel[j, 0] - vel[i, 0]) + ny * (vel[j, 1] - vel[i, 1])
+                       + nz * (vel[j, 2] - vel[i, 2]))
+        fn = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, ps, s, S_H, N_MAXWELL)
         fn, dw = _record_normal(ps, pl_on, s, a, a_old, fn, fn_old)
         w_normal += dw
         # force on j along +n, on i along -n
@@ -386,9 +385,10 @@ def _pair_contacts(x, vel, force, p0, radius, ep, pkind, pair_c, decay, half, pl
 
 
 @kernel
-def _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes, sp_k, ws, nw,
-              ps, npairs, dt, out):
+def _energies(nodes, springs, particles, walls, pairs, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction)."""
+    x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
+    kin_mass, kin_inertia, inv_m = nodes.kin_mass, nodes.kin_inertia, nodes.inv_m
     ke_t = 0.0
     ke_r = 0.0
     shadow = 0.0
@@ -402,33 +402,54 @@ def _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes
             shadow += force[i, d] ** 2 * inv_m[i, d]
     out[0] = ke_t
     out[1] = ke_r
-    out[2] = _gravity_energy(mass, x, x0, g) if HAS_GRAVITY else 0.0
-    out[3] = _spring_energy(x, x0, sp_nodes, sp_k) if HAS_SPRINGS else 0.0
-    out[4] = _contact_energy(ws, nw, ps, npairs) if (HAS_WALLS or HAS_PAIRS) else 0.0
+    out[2] = _gravity_energy(nodes.mass, x, x0, nodes.g) if HAS_GRAVITY else 0.0
+    out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
+    out[4] = _contact_energy(particles, walls, pairs) if (HAS_WALLS or HAS_PAIRS) else 0.0
     out[5] = dt * dt / 8.0 * shadow
 
 
 @kernel
-def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_nodes, sp_k, sp_c,
-            fd_prev, rig_master, rig_ptr, rig_slaves, p0, radius, kw, ep, pkind, pair_c, decay,
-            half, mu, inv_mt, wl_p, wl_f, ws, wl_on, nw, wall_busy, pl_i, pl_j, ps, pl_on, npairs,
-            pair_busy, face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes, tri_sign,
-            dt, ledger, pen_limit, diag, wsc, frow_prev):
-    """All forces at time t from x and the (half-step) velocities; updates the ledger.
+def _contact_energy(particles, walls, pairs):
+    """Elastic energy stored in the open contacts, by the normal law's ``stored_energy``."""
+    u = 0.0
+    ws = walls.state
+    for s in range(walls.count[0]):
+        if ws[s, S_A] > 0.0:
+            k = particles.law_wall[walls.first[s], 0]
+            u += NORMAL_STORED_ENERGY(ws[s, S_FN], ws[s, S_A], k)
+    ps = pairs.state
+    kind = particles.kind
+    for s in range(pairs.count[0]):
+        if ps[s, S_A] > 0.0:
+            k = particles.law_pair[kind[pairs.first[s]], kind[pairs.second[s]], 0]
+            u += NORMAL_STORED_ENERGY(ps[s, S_FN], ps[s, S_A], k)
+    return u
 
-    ``wsc`` is a 3-element scratch array; ``frow_prev`` the built-in forces of the last step.
-    """
-    ff = force.reshape(-1)
+
+@kernel
+def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, stepping):
+    """All forces at time t from x and the (half-step) velocities into ``nodes.force``; updates
+    the ledger. Returns the status bits (x3dpd.solver.bundles.Status)."""
+    ff = nodes.force.reshape(-1)
     for k in range(ff.shape[0]):
         ff[k] = 0.0
     if HAS_GRAVITY:
-        _gravity_forces(mass, g, force)
-    # --- FORCES BEGIN ---
-    # (``force`` holds the body forces m g here: advance() resets it to them in its kick pass)
+        _gravity_forces(nodes.mass, nodes.g, nodes.force)
+    return _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs,
+                        stepping)
+
+
+@step_kernel
+def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, stepping):
+    """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t."""
+    x, vel, force = nodes.x, nodes.vel, nodes.force
+    dt, ledger = stepping.dt, stepping.ledger
     status = OK
     if HAS_SPRINGS:
-        ledger[L_DDAMP] += _spring_forces(x, x0, vel, sp_nodes, sp_k, sp_c, force, fd_prev, dt)
-    if HAS_EXT:
+        ledger[L_DDAMP] += _spring_forces(x, nodes.x0, vel, springs.nodes, springs.k, springs.c,
+                                          force, springs.fd_prev, dt)
+    if HAS_EXTERNAL:
+        ext_table, frow_prev = loads.table, loads.row_prev
         wext = 0.0
         # built-in forces act on a few DOFs: work row by row (exact even if rows share a DOF)
         for r in range(ext_table.shape[0]):
@@ -438,16 +459,17 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
             force[i, d] += fe
             wext += 0.5 * (frow_prev[r] + fe) * vel[i, d] * dt
             frow_prev[r] = fe
-        if HAS_USER_FORCE or HAS_PY_FORCE:
+        if HAS_USER_FORCE or HAS_PYTHON_FORCE:
             # user forces may touch any DOF
+            fext, fext_prev = loads.user, loads.user_prev
             fe_flat = fext.reshape(-1)
             for k in range(fe_flat.shape[0]):
                 fe_flat[k] = 0.0
             if HAS_USER_FORCE:
                 USER_FORCE(t, x, vel, fext)
-            if HAS_PY_FORCE:
+            if HAS_PYTHON_FORCE:
                 for k in range(fe_flat.shape[0]):
-                    fe_flat[k] += fpy.reshape(-1)[k]
+                    fe_flat[k] += loads.python.reshape(-1)[k]
             for i in range(fext.shape[0]):
                 for d in range(6):
                     fe = fext[i, d]
@@ -457,57 +479,92 @@ def _forces(t, x, x0, vel, force, mass, g, fext, fext_prev, ext_table, fpy, sp_n
                         fext_prev[i, d] = fe
         ledger[L_WEXT] += wext
     if HAS_WALLS:
-        if WALLS_TRANSLATE:
-            _face_offsets(x, tri_nodes, face_first_tri, face_n, face_d)
+        if HAS_WALLS_TRANSLATE:
+            _face_offsets(x, faces.tri_nodes, faces.first_tri, faces.normal, faces.offset)
         else:
-            _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d)
-        status |= _wall_contacts(x, vel, force, p0, radius, kw, decay, half, mu, inv_mt, wl_p,
-                                 wl_f, ws, wl_on, nw, face_n, face_d, face_ptr, face_tris,
-                                 tri_nodes, dt, ledger, pen_limit, diag, wsc, wall_busy)
+            _face_planes(x, faces.tri_nodes, faces.tri_sign, faces.first_tri, faces.normal,
+                         faces.offset)
+        # the rebuild's scratch is free while forces run
+        status |= _wall_contacts(nodes, particles, faces, walls, stepping,
+                                 stepping.small[6:9], walls.first_new)
     if HAS_PAIRS:
-        status |= _pair_contacts(x, vel, force, p0, radius, ep, pkind, pair_c, decay, half,
-                                 pl_i, pl_j, ps, pl_on, npairs, dt, ledger, pen_limit, diag,
-                                 pair_busy)
+        status |= _pair_contacts(nodes, particles, pairs, stepping, pairs.first_new)
     if HAS_RIGID:
-        _gather_slaves(x, force, rig_master, rig_ptr, rig_slaves, HAS_RIGID_ROT)
-    # --- FORCES END ---
+        _gather_slaves(x, force, rigid.master, rigid.ptr, rigid.slaves, HAS_RIGID_ROTATION)
     return status
 
 
+@step_kernel
+def _rebuild_lists(nodes, particles, faces, walls, pairs, skin):
+    """Rebuild the candidate lists of walls and pairs within ``skin``, carrying the histories of
+    lasting contacts over. Returns REALLOC_WALLS / REALLOC_PAIRS when a list is full (the
+    caller grows it and calls again), else OK."""
+    x, p0, radius = nodes.x, particles.p0, particles.radius
+    if HAS_WALLS:
+        m = _build_wall_list(x, p0, radius, particles.cavity, faces.cav_ptr, faces.cav_faces,
+                             faces.normal, faces.offset, faces.tri_ptr, faces.tris,
+                             faces.tri_nodes, skin, walls.first_new, walls.second_new,
+                             walls.approach_new)
+        if m < 0:
+            return REALLOC_WALLS
+        _adopt_new_list(walls, m)
+    if HAS_PAIRS:
+        npart = radius.shape[0]
+        xp = x[p0:p0 + npart]
+        m = _find_pairs(xp, radius, particles.cavity, skin, pairs.first_new, pairs.second_new)
+        if m < 0:
+            return REALLOC_PAIRS
+        _pair_approach(x, p0, radius, pairs.first_new, pairs.second_new, m, pairs.approach_new)
+        _adopt_new_list(pairs, m)
+    return OK
+
+
+@step_kernel
+def _adopt_new_list(lst, m):
+    """Make the rebuilt list (``*_new``, ``m`` entries) the live one, with carried histories."""
+    _merge_states(lst.first, lst.second, lst.state, lst.count[0], lst.first_new,
+                  lst.second_new, lst.state_new, m, lst.approach_new)
+    for k in range(m):
+        lst.first[k] = lst.first_new[k]
+        lst.second[k] = lst.second_new[k]
+        for c in range(lst.state.shape[1]):
+            lst.state[k, c] = lst.state_new[k, c]
+    _active_flags(lst.state, m, lst.on)
+    lst.count[0] = m
+
+
 @loop_kernel
-def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, kin_mass,
-            kin_inertia, g,
-            fext, fext_prev, frow_prev, ext_table, fpy, motion_table, motion_prev,
-            sp_nodes, sp_k, sp_c, fd_prev,
-            rig_master, rig_ptr, rig_slaves, rig_r0, rot, rig_inv_ib, rig_ib, rig_free_rot,
-            p0, radius, kw, ep, pkind, pair_c, decay, half, mu, inv_mt, pcav,
-            cav_ptr, cav_faces, face_n, face_d, face_first_tri, face_ptr, face_tris, tri_nodes,
-            tri_sign,
-            wl_p, wl_f, ws, wl_on, nwl, wl_p2, wl_f2, ws2, wl_a,
-            pl_i, pl_j, ps, pl_on, npl, pl_i2, pl_j2, ps2, pl_a,
-            nbr, skin, ledger, pen_limit, diag, small,
-            itrac, trace_nodes, out_t, out_data, out_energy, e_ref):
+def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, faces, walls, pairs,
+            stepping, output):
     """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
 
-    ``nwl``/``npl`` (1-element arrays) hold the live lengths of the wall and pair candidate lists;
-    ``nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list state (-1:
-    rebuild now), unused, last largest particle speed, last largest wall-node speed]; ``small``
-    is 9 floats of scratch (this loop allocates nothing: see x3dpd._jit.loop_kernel). Every
-    ``itrac``-th step appends one row to the trace buffers. Returns
-    (status, steps done, rows written); the run stops at the first non-zero status or a full
-    output buffer.
+    ``stepping.nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list
+    state (-1: rebuild now), last largest particle speed, last largest wall-node speed, unused];
+    ``stepping.small`` is 9 floats of scratch (this loop allocates nothing: see
+    x3dpd._jit.loop_kernel). Every ``output.itrac``-th step appends one row to the output
+    buffers. Returns (status, steps done, rows written); the run stops at the first non-zero
+    status or a full output buffer.
     """
+    x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
+    kin_mass, kin_inertia, inv_m, fgrav = (nodes.kin_mass, nodes.kin_inertia, nodes.inv_m,
+                                           nodes.fgrav)
+    motion_table, motion_prev = loads.motion, loads.motion_prev
+    rig_master, rig_ptr, rig_slaves, rig_r0, rot = (rigid.master, rigid.ptr, rigid.slaves,
+                                                    rigid.r0, rigid.rot)
+    rig_inv_ib, rig_ib, rig_free_rot = rigid.inv_ib, rigid.ib, rigid.free_rot
+    p0 = particles.p0
+    dt, skin, ledger, nbr, diag = (stepping.dt, stepping.skin, stepping.ledger, stepping.nbr,
+                                   stepping.diag)
+    itrac, trace_nodes, out_t, out_data, out_energy = (output.itrac, output.trace_nodes,
+                                                       output.times, output.data, output.energy)
     n = x.shape[0]
-    npart = radius.shape[0]
     rows = 0
     h = 0.5 * dt
-    en = small[0:6]   # energies at an output step
-    wsc = small[6:9]  # noqa: F841 (barycentric weights, used by the spliced force body)
+    en = stepping.small[0:6]   # energies at an output step
     vf = vel.reshape(-1)
     ff = force.reshape(-1)
     imf = inv_m.reshape(-1)
     fgf = fgrav.reshape(-1)   # body forces m g (zero without gravity): what force starts from
-    status = OK
     synced = True   # vel holds full-step velocities and force the forces of this step
     out_in = itrac - step0 % itrac   # steps to the next trace output
     for it in range(nsteps):
@@ -520,42 +577,18 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
             dp = nbr[0] + 2.0 * dt * nbr[4]
             dw = nbr[1] + 2.0 * dt * nbr[5]
             if nbr[3] < 0.0 or 2.0 * dp > skin or dp + dw > skin:
-                if HAS_WALLS:
-                    m = _build_wall_list(x, p0, radius, pcav, cav_ptr, cav_faces, face_n, face_d,
-                                         face_ptr, face_tris, tri_nodes, skin, wl_p2, wl_f2, wl_a)
-                    if m < 0:
-                        return REALLOC_WALLS, it, rows
-                    _merge_states(wl_p, wl_f, ws, nwl[0], wl_p2, wl_f2, ws2, m, wl_a)
-                    for k in range(m):
-                        wl_p[k] = wl_p2[k]
-                        wl_f[k] = wl_f2[k]
-                        for c in range(ws.shape[1]):
-                            ws[k, c] = ws2[k, c]
-                    _active_flags(ws, m, wl_on)
-                    nwl[0] = m
-                if HAS_PAIRS:
-                    xp = x[p0:p0 + npart]
-                    m = _find_pairs(xp, radius, pcav, skin, pl_i2, pl_j2)
-                    if m < 0:
-                        return REALLOC_PAIRS, it, rows
-                    _pair_approach(x, p0, radius, pl_i2, pl_j2, m, pl_a)
-                    _merge_states(pl_i, pl_j, ps, npl[0], pl_i2, pl_j2, ps2, m, pl_a)
-                    for k in range(m):
-                        pl_i[k] = pl_i2[k]
-                        pl_j[k] = pl_j2[k]
-                        for c in range(ps.shape[1]):
-                            ps[k, c] = ps2[k, c]
-                    _active_flags(ps, m, pl_on)
-                    npl[0] = m
+                full = _rebuild_lists(nodes, particles, faces, walls, pairs, skin)
+                if full != OK:
+                    return full, it, rows
                 nbr[0] = 0.0
                 nbr[1] = 0.0
                 nbr[2] += 1.0
                 nbr[3] = 1.0
         # ---- first half kick (unless the last step's pass already did it) and drift
         if synced:
-            if HAS_RIGID_ROT:
+            if HAS_RIGID_ROTATION:
                 _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h)
+                                    rig_free_rot, h, False)
             for k in range(vf.shape[0]):
                 vf[k] += h * ff[k] * imf[k]
                 ff[k] = fgf[k]
@@ -571,7 +604,7 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
             if HAS_WALLS or HAS_PAIRS:
                 v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
                 vmax2 = max(vmax2, v2)
-        if HAS_RIGID_ROT:
+        if HAS_RIGID_ROTATION:
             _rotate(rot, rig_master, vel, dt)
         t = t_start + (step + 1) * dt
         if HAS_MOTION:
@@ -579,20 +612,15 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
         vwall = 0.0
         if HAS_RIGID:
             vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True,
-                                   HAS_RIGID_ROT)
+                                   HAS_RIGID_ROTATION)
         nbr[4] = math.sqrt(vmax2)
         nbr[5] = vwall
         nbr[0] += dt * nbr[4]
         nbr[1] += dt * vwall
-        # ---- forces at the new positions
-        # names the spliced force body reads (F841: the template alone cannot see that)
-        nw = nwl[0]  # noqa: F841
-        npairs = npl[0]  # noqa: F841
-        pair_busy = pl_i2  # noqa: F841 (the rebuilds' scratch is free while forces run)
-        wall_busy = wl_p2  # noqa: F841
-        # @FORCES@ (the generator splices the body of _forces here: one call with ~50 arrays
-        # would cost more in reference counting than the forces of a small scene)
-        st = status
+        # ---- forces at the new positions (``force`` holds the body forces m g: the kick pass
+        # reset it to them)
+        st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls,
+                                   pairs, stepping)
         if HAS_MOTION:
             # work of the motion's actuators (x3dpd.physics.motion._motion_work)
             ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
@@ -604,24 +632,26 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
         out_in -= 1
         synced = st != OK or it == nsteps - 1 or out_in == 0
         if not synced:
-            if HAS_RIGID_ROT:
+            if HAS_RIGID_ROTATION:
+                # the second half kick of this step (implicit), the first of the next
                 _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h)
+                                    rig_free_rot, h, True)
                 _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h)
+                                    rig_free_rot, h, False)
             for k in range(vf.shape[0]):
                 vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
                 ff[k] = fgf[k]
             continue
         for k in range(vf.shape[0]):
             vf[k] += h * ff[k] * imf[k]
-        if HAS_RIGID_ROT:
-            _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h)
+        if HAS_RIGID_ROTATION:
+            _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h,
+                                True)
         if HAS_MOTION:
             _apply_motion(t, motion_table, x0, x, vel)
         if HAS_RIGID:
             _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, False,
-                           HAS_RIGID_ROT)
+                           HAS_RIGID_ROTATION)
         if st != OK:
             diag[4] = t
             diag[5] = step + 1
@@ -636,9 +666,8 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
                 for d in range(6):
                     out_data[rows, k, 3 + d] = vel[i, d]
             out_t[rows] = t
-            _energies(x, x0, vel, force, kin_mass, kin_inertia, inv_m, mass, g, sp_nodes, sp_k,
-                      ws, nwl[0], ps, npl[0], dt, en)
-            _ledger_row(t, en, ledger, e_ref, out_energy[rows])
+            _energies(nodes, springs, particles, walls, pairs, dt, en)
+            _ledger_row(t, en, ledger, output.e_ref, out_energy[rows])
             rows += 1
             # non-finite state is caught at output steps (cheap), before it reaches the trace
             bad = False
@@ -655,17 +684,30 @@ def advance(nsteps, step0, t_start, dt, x, x0, vel, force, inv_m, mass, fgrav, k
     return OK, nsteps, rows
 
 
+@loop_kernel
+def advance_packed(nsteps, step0, t_start, packed):
+    """``advance`` with its bundles as plain tuples in its argument order
+    (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
+    named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps of a small
+    scene. The named tuples are rebuilt here, in compiled code, at no cost."""
+    nodes, loads, springs, rigid, particles, faces, walls, pairs, stepping, output = packed
+    return advance(nsteps, step0, t_start, Nodes(*nodes), Loads(*loads), Springs(*springs),
+                   RigidBodies(*rigid), Particles(*particles), Faces(*faces),
+                   ContactList(*walls), ContactList(*pairs), Stepping(*stepping),
+                   Output(*output))
+
+
 @kernel
 def _ledger_row(t, en, ledger, e_ref, row):
     """row = t, KE_t, KE_r, U_g, U_s, U_c, D_visc, D_fric, D_damp, W_ext, E_total, residual.
 
-    D_visc = W_N - U_c when contacts are viscoelastic (absorbed minus still stored); elastic
+    D_visc = W_N - U_c when contacts are viscoelastic or damped (absorbed minus still stored); elastic
     contacts dissipate nothing by definition, so their integration error shows in the residual.
     """
     row[0] = t
     for k in range(5):
         row[1 + k] = en[k]
-    if HAS_VISCO:
+    if HAS_VISCOELASTIC or NORMAL_DAMPED:
         row[6] = ledger[L_WN] - en[4]
     else:
         row[6] = 0.0

@@ -1,5 +1,5 @@
 """Candidate contact lists of the step loop: state-row layout, carrying histories across list
-rebuilds, open-contact flags, and the elastic energy stored in open contacts.
+rebuilds and open-contact flags.
 
 A candidate list holds pairs (particle, face) or (particle, particle) that may touch before the
 next rebuild; each candidate owns a row of contact state (columns below). All functions take
@@ -12,7 +12,7 @@ import math
 
 from x3dpd._jit import kernel
 
-__all__ = ["S_A", "S_FN", "S_FT", "S_H", "_active_flags", "_contact_energy", "_merge_states",
+__all__ = ["S_A", "S_FN", "S_FT", "S_H", "_active_flags", "_merge_states",
            "_pair_approach"]
 
 # columns of a contact state row
@@ -59,18 +59,3 @@ def _pair_approach(x, p0, radius, pi, pj, n, out_a):
         dz = x[j, 2] - x[i, 2]
         a = radius[pi[q]] + radius[pj[q]] - math.sqrt(dx * dx + dy * dy + dz * dz)
         out_a[q] = a if a > 0.0 else 0.0
-
-
-@kernel
-def _contact_energy(ws, nw, ps, npairs):
-    """Elastic energy stored in contacts, U = 2/5 F_N a per contact (exact for Hertz)."""
-    u = 0.0
-    for s in range(nw):
-        if ws[s, S_A] > 0.0:
-            u += 0.4 * ws[s, S_FN] * ws[s, S_A]
-    for s in range(npairs):
-        if ps[s, S_A] > 0.0:
-            u += 0.4 * ps[s, S_FN] * ps[s, S_A]
-    return u
-
-

@@ -20,8 +20,9 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
     from x3dpd.model.model import Model
 
 from x3dpd.errors import InputError, UnstableRunError
-from x3dpd.physics.motion import motion_table, start_motion
+from x3dpd.physics.motion import MOTION_COLUMNS, motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
+from x3dpd.solver.bundles import Loads, Output, Status, build_bundles, contact_scratch, pack
 from x3dpd.solver.diagnosis import energy_source_advice
 from x3dpd.solver.ledger_checks import (
     SAFE_FRACTION,
@@ -38,6 +39,9 @@ ENERGY_COLUMNS = ("time", "kinetic_translation", "kinetic_rotation", "gravity_po
                   "spring_energy", "contact_energy", "dissipated_viscoelastic",
                   "dissipated_friction", "dissipated_dampers", "external_work", "total_energy",
                   "residual")
+
+#: Status bits of a full contact list (an int: no enum arithmetic per call).
+_LIST_FULL = int(Status.REALLOC_PAIRS | Status.REALLOC_WALLS)
 
 #: Trace columns after time (report Appendix E order).
 TRACE_COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz")
@@ -84,7 +88,8 @@ class Simulation:
         specs = list(model.usrfrc) + list(usrfrc)
         self._force_specs = specs
         self.ext = build_external_forces(specs, model, allow_python=allow_python_usrfrc)
-        self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros((0, 7))
+        self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros(
+            (0, len(MOTION_COLUMNS)))
         prescribed = self.motion[:, :2].astype(np.int64) if len(self.motion) else None
         self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed)
         effects = set(model.effects)
@@ -101,7 +106,8 @@ class Simulation:
                                             user_force=bool(compiled),
                                             python_force=bool(self.python_forces),
                                             walls_translate=_walls_only_translate(
-                                                self.setup, self.motion[:, 0].astype(np.int64)))
+                                                self.setup, self.motion[:, 0].astype(np.int64)),
+                                            normal_law=model.normal_law)
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
         self.compile_seconds = 0.0
@@ -133,7 +139,7 @@ class Simulation:
                                         k.rig_r0, s.rot, True, True)
         self._direct_rebuild()
         self._python_force(self.model.t0)
-        st = self.kernels._forces(*self._force_args(self.model.t0, scratch_ledger=True))
+        st = self.compute_forces(self.model.t0)
         self._check_status(st, self.model.t0, 0)
         rows = self.motion[:, :2].astype(np.int64)
         s.motion_prev[:] = s.force[rows[:, 0], rows[:, 1]]
@@ -191,16 +197,18 @@ class Simulation:
                     chunk = 1
                     self._python_force(self.time + self.dt)
                 t0 = _time.perf_counter()
-                status, steps, got = self.kernels.advance(
-                    chunk, self.state.step, self.model.t0, self.dt, *self._advance_args(),
-                    out_t[rows:], out_data[rows:], out_energy[rows:], self.state.e_ref)
+                output = Output(self.itrac, self.trace_nodes, out_t[rows:], out_data[rows:],
+                                out_energy[rows:], self.state.e_ref)
+                status, steps, got = self.kernels.advance_packed(
+                    chunk, self.state.step, self.model.t0, self._packed_bundles(output))
                 if not self._timed_first_call:
                     self.compile_seconds += _time.perf_counter() - t0
                     self._timed_first_call = True
                 self.state.step += steps
                 done += steps
                 rows += got
-                if status & 12:  # list overflow: grow and go on from this step boundary
+                if status & _LIST_FULL:
+                    # list overflow: grow and go on from this step boundary
                     self._grow(status)
                     continue
                 if status:
@@ -404,25 +412,21 @@ class Simulation:
             uf.function(t, s.x[:, :3].copy(), s.vel.copy(), self.fpy)
 
     def _energy_now(self) -> np.ndarray:
-        s, k = self.state, self.setup
         en = np.empty(6)
-        self.kernels._energies(s.x, k.x0, s.vel, s.force, k.kin_mass, k.kin_inertia, k.inv_m,
-                               k.mass, k.g, k.sp_nodes, k.sp_k, s.ws, int(s.nwl[0]), s.ps,
-                               int(s.npl[0]), self.dt, en)
+        b = self._bundles()
+        self.kernels._energies(b["nodes"], b["springs"], b["particles"], b["walls"], b["pairs"],
+                               self.dt, en)
         return en
 
-    def _force_args(self, t, scratch_ledger=False):
-        s, k = self.state, self.setup
-        ledger = np.zeros(4) if scratch_ledger else s.ledger
-        face_n, face_d = self._faces()
-        return (t, s.x, k.x0, s.vel, s.force, k.mass, k.g, np.zeros_like(s.fext_prev),
-                s.fext_prev, self.ext.table, self.fpy, k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
-                k.rig_master, k.rig_ptr, k.rig_slaves, k.p0, k.radius, k.kw, k.ep, k.pkind,
-                k.pair_c, k.decay, k.half, k.mu, k.inv_mt, s.wl_p, s.wl_f, s.ws, s.wl_on,
-                int(s.nwl[0]), np.empty_like(s.wl_p), s.pl_i, s.pl_j, s.ps, s.pl_on, int(s.npl[0]),
-                np.empty_like(s.pl_i), face_n, face_d, k.face_first_tri, k.face_ptr,
-                k.face_tris, k.tri_nodes, k.tri_sign, self.dt, ledger, self.penetration_limit,
-                self.diag, np.zeros(3), s.frow_prev)
+    def compute_forces(self, t: float | None = None) -> Status:
+        """Evaluate every force at time ``t`` (default: now) from the current positions and
+        velocities into ``state.force``, without counting work in the ledger; return the status
+        flags (``Status.PENETRATION`` when an approach exceeds the limit).
+
+        Contact lists are used as they are (``initialize`` builds them)."""
+        t = self.time if t is None else float(t)
+        b = self._bundles(ledger=np.zeros_like(self.state.ledger))
+        return Status(self.kernels._forces(t, **b))
 
     def _faces(self):
         if not hasattr(self, "_face_n"):
@@ -430,96 +434,57 @@ class Simulation:
             self._face_n, self._face_d = np.zeros((nf, 3)), np.zeros(nf)
         return self._face_n, self._face_d
 
-    def _direct_rebuild(self) -> None:
-        s, k = self.state, self.setup
-        K = self.kernels
-        face_n, face_d = self._faces()
-        if k.tri_nodes.shape[0]:
-            K._face_planes(s.x, k.tri_nodes, k.tri_sign, k.face_first_tri, face_n, face_d)
-        while True:
-            ok = True
-            if self.variant.walls:
-                p2, f2, a2 = (np.empty_like(s.wl_p), np.empty_like(s.wl_f),
-                              np.empty(s.wl_p.shape[0]))
-                m = K._build_wall_list(s.x, k.p0, k.radius, k.pcav, k.cav_ptr, k.cav_faces,
-                                       face_n, face_d, k.face_ptr, k.face_tris, k.tri_nodes,
-                                       k.skin, p2, f2, a2)
-                if m < 0:
-                    self._grow(8)
-                    ok = False
-                else:
-                    ws2 = np.zeros_like(s.ws)
-                    K._merge_states(s.wl_p, s.wl_f, s.ws, int(s.nwl[0]), p2, f2, ws2, m, a2)
-                    s.wl_p[:m], s.wl_f[:m], s.ws[:m] = p2[:m], f2[:m], ws2[:m]
-                    K._active_flags(s.ws, m, s.wl_on)
-                    s.nwl[0] = m
-            if self.variant.pairs and ok:
-                i2, j2 = np.empty_like(s.pl_i), np.empty_like(s.pl_j)
-                a2 = np.empty(s.pl_i.shape[0])
-                xp = np.ascontiguousarray(s.x[k.p0:])
-                from x3dpd.geometry.cells import _find_pairs
-                m = _find_pairs(xp, k.radius, k.pcav, k.skin, i2, j2)
-                if m < 0:
-                    self._grow(4)
-                    ok = False
-                else:
-                    K._pair_approach(s.x, k.p0, k.radius, i2, j2, m, a2)
-                    ps2 = np.zeros_like(s.ps)
-                    K._merge_states(s.pl_i, s.pl_j, s.ps, int(s.npl[0]), i2, j2, ps2, m, a2)
-                    s.pl_i[:m], s.pl_j[:m], s.ps[:m] = i2[:m], j2[:m], ps2[:m]
-                    K._active_flags(s.ps, m, s.pl_on)
-                    s.npl[0] = m
-            if ok:
-                break
-        s.nbr[:2] = 0.0
-        s.nbr[3] = 1.0
-
-    def _advance_args(self):
-        s, k = self.state, self.setup
-        face_n, face_d = self._faces()
-        sc = self._scratch()
-        return (s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass, k.kin_inertia,
-                k.g,
-                sc["fext"], s.fext_prev, s.frow_prev, self.ext.table, self.fpy, self.motion,
-                s.motion_prev,
-                k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev,
-                k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot, k.rig_inv_ib, k.rig_ib,
-                k.rig_free_rot,
-                k.p0, k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay, k.half, k.mu, k.inv_mt,
-                k.pcav,
-                k.cav_ptr, k.cav_faces, face_n, face_d, k.face_first_tri, k.face_ptr,
-                k.face_tris, k.tri_nodes, k.tri_sign,
-                s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, sc["wl_p2"], sc["wl_f2"], sc["ws2"],
-                sc["wl_a"],
-                s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, sc["pl_i2"], sc["pl_j2"], sc["ps2"],
-                sc["pl_a"],
-                s.nbr, k.skin, s.ledger, self.penetration_limit, self.diag, sc["small"],
-                self.itrac, self.trace_nodes)
-
-    def _scratch(self) -> dict:
+    def _bundles(self, ledger: np.ndarray | None = None) -> dict:
+        """The kernels' named bundles over the current state (built here and only here)."""
         s = self.state
         sc = getattr(self, "_sc", None)
         if sc is None or sc["ws2"].shape != s.ws.shape or sc["ps2"].shape != s.ps.shape:
-            sc = {
-                "fext": np.zeros((self.model.n_nodes, 6)),
-                "wl_p2": np.zeros_like(s.wl_p), "wl_f2": np.zeros_like(s.wl_f),
-                "ws2": np.zeros_like(s.ws), "wl_a": np.zeros(s.wl_p.shape[0]),
-                "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
-                "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
-                "small": np.zeros(9),
-            }
-            self._sc = sc
-        return sc
+            sc = self._sc = contact_scratch(s)
+            self._user_scratch = np.zeros((self.model.n_nodes, 6))
+        loads = Loads(self.ext.table, s.frow_prev, self._user_scratch, s.fext_prev, self.fpy,
+                      self.motion, s.motion_prev)
+        return build_bundles(self.setup, s, loads=loads, faces_now=self._faces(), scratch=sc,
+                             dt=self.dt, pen_limit=self.penetration_limit, diag=self.diag,
+                             ledger=ledger)
+
+    def _packed_bundles(self, output: Output) -> tuple:
+        """``advance_packed``'s argument: the bundles packed once and kept while every array of
+        the state is the same object (a grown list or another state packs them anew; the
+        packed tuple holds the arrays, so their ids cannot be reused meanwhile)."""
+        key = (id(getattr(self, "_sc", None)),
+               *(id(v) for v in vars(self.state).values() if isinstance(v, np.ndarray)))
+        cached = getattr(self, "_packed", None)
+        if cached is None or cached[0] != key:
+            b = self._bundles()
+            cached = self._packed = (key, pack(b, output)[:-1])
+        return cached[1] + (tuple(output),)
+
+    def _direct_rebuild(self) -> None:
+        """Build the contact lists from scratch (at t0), growing them until they fit."""
+        s, k = self.state, self.setup
+        face_n, face_d = self._faces()
+        if k.tri_nodes.shape[0]:
+            self.kernels._face_planes(s.x, k.tri_nodes, k.tri_sign, k.face_first_tri, face_n,
+                                      face_d)
+        while True:
+            b = self._bundles()
+            full = Status(self.kernels._rebuild_lists(b["nodes"], b["particles"], b["faces"],
+                                                      b["walls"], b["pairs"], k.skin))
+            if not full:
+                break
+            self._grow(full)
+        s.nbr[:2] = 0.0
+        s.nbr[3] = 1.0
 
     def _grow(self, status: int) -> None:
         s = self.state
-        if status & 8:
+        if status & Status.REALLOC_WALLS:
             cap = 2 * s.wl_p.shape[0]
             s.wl_p = _grown(s.wl_p, cap)
             s.wl_f = _grown(s.wl_f, cap)
             s.ws = _grown(s.ws, cap)
             s.wl_on = _grown(s.wl_on, cap)
-        if status & 4:
+        if status & Status.REALLOC_PAIRS:
             cap = 2 * s.pl_i.shape[0]
             s.pl_i = _grown(s.pl_i, cap)
             s.pl_j = _grown(s.pl_j, cap)

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from x3dpd.physics.hooke import hooke_tables
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
 
 if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime import of it
@@ -111,6 +112,8 @@ class Setup:
     ep: np.ndarray
     pkind: np.ndarray   # (P,) particle kind (x3dpd.physics.mixing.particle_kinds)
     pair_c: np.ndarray  # (K, K, 3) per pair of kinds: Hertz factor, m_t, mu
+    law_wall: np.ndarray  # (P, 2) normal-law constants on a wall (hooke: k_n, c_n)
+    law_pair: np.ndarray  # (K, K, 2) normal-law constants per pair of kinds
     decay: np.ndarray
     half: np.ndarray
     mu: np.ndarray
@@ -227,8 +230,16 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     np.add.at(cav_ptr, fc + 1, 1)
     cav_ptr = np.cumsum(cav_ptr)
 
-    pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu)
+    hooke = (np.zeros((npart, 2)) if model.hooke is None
+             else _f64(model.hooke, (npart, 2)))
+    pm_all = mass[p0:] if npart else np.zeros(0)
+    # the hooke law's own constants distinguish kinds too
+    extra = (hooke[:, 0], hooke[:, 1], pm_all) if model.normal_law == "hooke" else ()
+    pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu, *extra)
     pair_c = pair_constant_table(radius, cinst, inv_mt, model.mu, rep)
+    law_wall, law_pair = np.zeros((npart, 2)), np.zeros((rep.shape[0], rep.shape[0], 2))
+    if model.normal_law == "hooke":
+        law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
 
     if skin is None:
         skin = 0.25 * float(radius.min()) if npart else 0.0
@@ -243,6 +254,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
         rig_free_rot=rig_free_rot,
         p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), pkind=pkind, pair_c=pair_c,
+        law_wall=_f64(law_wall), law_pair=_f64(law_pair),
         decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),

@@ -4,8 +4,9 @@
 scene's constants (``HAS_FRICTION = False`` ...) into x3dpd's kernel cache and imports it. Numba
 treats module globals as compile-time constants, so an absent effect is a constant-false branch
 that LLVM deletes: no per-step test, no cost. Because every variant is a real file, numba's
-on-disk cache works for it; the cache folder's name includes a hash of all x3dpd sources and the
-numba version, so editing any kernel can never reuse stale machine code.
+on-disk cache works for it; the cache folder's name includes a hash of every source the kernels
+are built from (:func:`kernel_sources`) and the numba version, so editing any kernel can never
+reuse stale machine code.
 
 The cache lives in ``$X3DPD_CACHE_DIR`` or ``~/.cache/x3dpd``. A variant that calls user USRFRC
 files imports content-hashed copies of them from the same folder (:func:`_user_modules`), so it
@@ -15,24 +16,23 @@ second instead of compiling for half a minute; an edited file gets new copies.
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import importlib.util
 import os
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numba
 import numpy as np
 
 from x3dpd.physics.coulomb import FRICTION_LAWS
+from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAWS
 
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 _BEGIN = "# --- VARIANT BEGIN ---"
 _END = "# --- VARIANT END ---"
-_FORCES_BEGIN = "# --- FORCES BEGIN ---\n"
-_FORCES_END = "    # --- FORCES END ---"
-_FORCES_HERE = "# @FORCES@"
 _LOADED: dict[tuple, object] = {}
 
 
@@ -55,11 +55,12 @@ class Variant:
     n_maxwell: int = 0
     friction_law: str = "regularized"
     walls_translate: bool = False
+    normal_law: str = "lee_radok"
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
                      user_force: bool = False, python_force: bool = False,
-                     walls_translate: bool = False) -> "Variant":
+                     walls_translate: bool = False, normal_law: str = "lee_radok") -> "Variant":
         e = set(effects)
         return cls(
             gravity="gravity" in e,
@@ -77,55 +78,85 @@ class Variant:
             n_maxwell=n_maxwell if "viscoelastic" in e else 0,
             friction_law=friction_law,
             walls_translate=walls_translate and "wall_contact" in e,
+            normal_law=normal_law,
         )
 
     def header(self) -> str:
-        law = FRICTION_LAWS
-        if self.friction_law not in law:
-            raise ValueError(f"unknown friction law {self.friction_law!r}; "
-                             f"use one of {sorted(law)}")
-        lines = [
-            f"HAS_GRAVITY = {self.gravity}",
-            f"HAS_SPRINGS = {self.springs}",
-            f"HAS_RIGID = {self.rigid}",
-            f"HAS_RIGID_ROT = {self.rigid_rotation}",
-            f"HAS_WALLS = {self.walls}",
-            f"HAS_PAIRS = {self.pairs}",
-            f"HAS_FRICTION = {self.friction}",
-            f"HAS_VISCO = {self.viscoelastic}",
-            f"HAS_EXT = {self.external}",
-            f"HAS_USER_FORCE = {self.user_force}",
-            f"HAS_PY_FORCE = {self.python_force}",
-            f"HAS_MOTION = {self.motion}",
-            f"N_MAXWELL = {max(self.n_maxwell, 1)}",
-            f"WALLS_TRANSLATE = {self.walls_translate}",
-            f"from x3dpd.physics.coulomb import {law[self.friction_law]} as FRICTION_LAW",
-            "USER_FORCE = None",
-        ]
+        """The VARIANT block of the generated module, one constant per field: a flag ``f``
+        becomes ``HAS_F``, a count ``n`` becomes ``N``, a law its function imported as ``LAW``."""
+        lines = []
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name in _LAWS:
+                registry, imports = _LAWS[f.name]
+                if value not in registry:
+                    raise ValueError(f"unknown {f.name.replace('_', ' ')} {value!r}; "
+                                     f"use one of {sorted(registry)}")
+                lines.append(imports(value))
+            elif isinstance(value, bool):
+                lines.append(f"HAS_{f.name.upper()} = {value}")
+            else:
+                lines.append(f"{f.name.upper()} = {value!r}")
+        lines.append("USER_FORCE = None")
         return "\n".join(lines)
 
     def name(self) -> str:
-        flags = "".join("1" if getattr(self, f) else "0" for f in (
-            "gravity", "springs", "rigid", "rigid_rotation", "walls", "pairs", "friction",
-            "viscoelastic", "external", "user_force", "python_force", "motion",
-            "walls_translate"))
-        return f"advance_{flags}_m{self.n_maxwell}_{self.friction_law}"
+        """The generated module's file stem: the flags as bits, then the other fields."""
+        flags = "".join("1" if getattr(self, f.name) else "0" for f in fields(self)
+                        if f.type in ("bool", bool))
+        rest = "_".join(str(getattr(self, f.name)) for f in fields(self)
+                        if f.type not in ("bool", bool))
+        return f"advance_{flags}_{rest}"
 
 
-#: The sources a compiled step loop is made of (its cache key): the template, the laws and
-#: helpers it calls, and the compile flags. Editing any other file keeps the cache.
-_KERNEL_SOURCES = ("_jit.py", "solver/_advance_template.py", "solver/variants.py",
-                   "solver/contact_lists.py", "geometry/faces.py",
-                   "physics/*.py", "geometry/cells.py")
+def _friction_import(name: str) -> str:
+    return f"from x3dpd.physics.coulomb import {FRICTION_LAWS[name]} as FRICTION_LAW"
+
+
+def _normal_import(name: str) -> str:
+    names = ", ".join(f"{a} as NORMAL_{a.upper()}" for a in NORMAL_LAW_API)
+    return f"from {NORMAL_LAWS[name].__name__} import {names}"
+
+
+#: Law fields of a Variant: (registry, the VARIANT line importing a law into the loop).
+_LAWS = {"friction_law": (FRICTION_LAWS, _friction_import),
+         "normal_law": (NORMAL_LAWS, _normal_import)}
+
+_ROOT = Path(__file__).resolve().parents[1]
+
+
+def kernel_sources() -> list[Path]:
+    """Every x3dpd source file a compiled step loop is built from: the template, this factory,
+    and every x3dpd module they import, followed through imports (the modules of all laws a
+    variant may select are imported here). Editing any of them changes the cache key."""
+    todo = [_TEMPLATE, Path(__file__).resolve(), _ROOT / "_jit.py"]
+    seen: set[Path] = set()
+    while todo:
+        path = todo.pop()
+        if path in seen:
+            continue
+        seen.add(path)
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = []
+            if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+            elif isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            for name in names:
+                if name.split(".")[0] != "x3dpd":
+                    continue
+                rel = Path(*name.split(".")[1:])
+                for cand in (_ROOT / rel.with_suffix(".py"), _ROOT / rel / "__init__.py"):
+                    if cand.is_file():
+                        todo.append(cand.resolve())
+    return sorted(seen)
 
 
 def _source_hash() -> str:
     """Hash of the kernel sources and the numba version (the cache folder's name)."""
-    root = Path(__file__).resolve().parents[1]
     h = hashlib.sha256(numba.__version__.encode())
-    paths = sorted({p for pattern in _KERNEL_SOURCES for p in root.glob(pattern)})
-    for path in paths:
-        h.update(path.relative_to(root).as_posix().encode())
+    for path in kernel_sources():
+        h.update(path.relative_to(_ROOT).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()[:16]
 
@@ -138,27 +169,12 @@ def cache_dir() -> Path:
 
 
 def variant_source(variant: Variant) -> str:
-    """Source text of the module for ``variant``.
-
-    Besides the VARIANT constants, the body of ``_forces`` (between the FORCES markers) is
-    copied into ``advance`` at its ``# @FORCES@`` line, re-indented: numba cannot inline a
-    function of that many arguments, and calling it every step costs more than small scenes'
-    physics (every array argument's reference count is touched).
-    """
+    """Source text of the module for ``variant``: the template with its VARIANT block replaced
+    by the variant's constants."""
     text = _TEMPLATE.read_text()
     head, rest = text.split(_BEGIN, 1)
     _, tail = rest.split(_END, 1)
-    text = f"{head}{_BEGIN}\n{variant.header()}\n{_END}{tail}"
-    body = text.split(_FORCES_BEGIN, 1)[1].split(_FORCES_END, 1)[0]
-    lines = text.splitlines(keepends=True)
-    out = []
-    for line in lines:
-        if line.strip().startswith(_FORCES_HERE):
-            indent = line[: len(line) - len(line.lstrip())]
-            out.extend(indent + b[4:] if b.strip() else b for b in body.splitlines(keepends=True))
-        else:
-            out.append(line)
-    return "".join(out)
+    return f"{head}{_BEGIN}\n{variant.header()}\n{_END}{tail}"
 
 
 def make_advance(variant: Variant, user_files=()):

@@ -1,0 +1,28 @@
+"""Helpers of the post-processing command tests: the shipped decks and an in-process CLI call."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from x3dpd.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+DECKS = ROOT / "decks"
+#: Every shipped deck but appendix_a.inp (its printed geometry is refused: nothing to draw),
+#: with a run short enough for a test: TMAX [s] (a few output times each).
+SHORT_RUNS = {
+    "appendix_a_cube.inp": 0.003,
+    "beam_1.inp": 0.003,
+    "beam_64.inp": 0.003,
+    "beam_512.inp": 0.002,
+    "impact_wall.inp": 2e-7,         # ITRAC 10 x 1e-9 s: 21 output times
+}
+
+
+def run_cli(*args) -> int:
+    """``x3dpd ARGS`` in this process; its exit status."""
+    try:
+        main([str(a) for a in args])
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    return 0

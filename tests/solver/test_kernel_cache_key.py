@@ -1,0 +1,98 @@
+"""The kernel cache can never return stale machine code.
+
+The cache folder's name hashes :func:`x3dpd.solver.variants.kernel_sources`; a source file the
+compiled loop is built from but that the hash misses would let an edit of it reuse old machine
+code silently. The variant's header and cache name are generated from its fields, so a field
+that changes neither would share a cache entry with a different loop.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import inspect
+from pathlib import Path
+
+from numba.core.registry import CPUDispatcher
+
+from x3dpd.solver import variants
+from x3dpd.solver.variants import Variant, kernel_sources, make_advance
+
+PACKAGE = Path(variants.__file__).resolve().parents[1]
+
+
+def _sources_used(module) -> set[Path]:
+    """x3dpd files of every compiled function reachable from ``module``'s globals (following
+    each function's own globals), plus the files of the modules it names."""
+    files: set[Path] = set()
+    seen: set[int] = set()
+    todo = [module.__dict__]
+    while todo:
+        names = todo.pop()
+        for value in list(names.values()):
+            if id(value) in seen:
+                continue
+            seen.add(id(value))
+            if isinstance(value, CPUDispatcher):
+                fn = value.py_func
+                files.add(Path(inspect.getsourcefile(fn)).resolve())
+                todo.append(fn.__globals__)
+            elif inspect.isclass(value) and value.__module__.startswith("x3dpd"):
+                files.add(Path(inspect.getsourcefile(value)).resolve())
+    return {f for f in files if PACKAGE in f.parents}
+
+
+def _missing(module, hashed) -> set[Path]:
+    """Files the loop is built from that ``hashed`` leaves out (the generated variant file stands
+    for the template)."""
+    template = Path(variants._TEMPLATE).resolve()
+    used = {template if f.name.startswith("advance_") else f for f in _sources_used(module)}
+    return used - set(hashed)
+
+
+def test_every_kernel_source_is_hashed():
+    variant = Variant(gravity=True, springs=True, rigid=True, rigid_rotation=True, walls=True,
+                      pairs=True, friction=True, viscoelastic=True, external=True, motion=True,
+                      n_maxwell=2)
+    module = make_advance(variant)
+    hashed = kernel_sources()
+    assert not _missing(module, hashed), "kernel sources left out of the cache key"
+    # the check can fail: drop a source the loop really uses
+    used = _sources_used(module)
+    faces = PACKAGE / "geometry" / "faces.py"
+    assert faces in used
+    assert _missing(module, [p for p in hashed if p != faces]) == {faces}
+
+
+def test_every_variant_field_changes_the_header_and_the_name():
+    base = Variant()
+    for f in dataclasses.fields(Variant):
+        value = getattr(base, f.name)
+        if isinstance(value, bool):
+            other = not value
+        elif isinstance(value, int):
+            other = value + 2
+        else:
+            continue   # laws: see the registry test below
+        changed = dataclasses.replace(base, **{f.name: other})
+        assert changed.name() != base.name(), f.name
+        assert changed.header() != base.header(), f.name
+
+
+def test_every_registered_law_is_a_variant():
+    for f in dataclasses.fields(Variant):
+        if f.name not in variants._LAWS:
+            continue
+        registry, _ = variants._LAWS[f.name]
+        names = {dataclasses.replace(Variant(), **{f.name: law}).name() for law in registry}
+        headers = {dataclasses.replace(Variant(), **{f.name: law}).header() for law in registry}
+        assert len(names) == len(headers) == len(registry)
+
+
+def test_the_packed_entry_passes_bundles_in_advance_order():
+    """``advance_packed`` unpacks plain tuples in ADVANCE_BUNDLES order: that order must be
+    ``advance``'s own argument order."""
+    from x3dpd.solver.bundles import ADVANCE_BUNDLES
+
+    module = make_advance(Variant(walls=True, pairs=True))
+    names = list(inspect.signature(module.advance.py_func).parameters)
+    assert names == ["nsteps", "step0", "t_start", *ADVANCE_BUNDLES]

@@ -1,0 +1,208 @@
+"""The named bundles of arrays the step kernels take, the status flags they return, and the one
+place that builds the bundles from a scene's :class:`~x3dpd.solver.state.Setup` and
+:class:`~x3dpd.solver.state.State`.
+
+Every kernel of the step loop (``advance``, ``_forces``, ``_energies``, the list rebuild) takes a
+handful of these named tuples instead of dozens of positional arrays, so an array is always
+reached by name (``nodes.vel``, ``pairs.state``) and two arrays of the same dtype can no longer
+be swapped by position. numba compiles a named tuple of arrays as a struct of array descriptors:
+a field access costs nothing at run time, and the compiled loop is the same machine code as with
+separate arguments (``tools/bench`` instruction counts).
+
+The tuples hold references to the state's arrays (the kernels update them in place); build them
+again after anything replaces an array (a grown contact list, a restored state).
+"""
+
+from __future__ import annotations
+
+import enum
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["Status", "Nodes", "Loads", "Springs", "RigidBodies", "Particles", "Faces",
+           "ContactList", "Stepping", "Output"]
+
+
+class Status(enum.IntFlag):
+    """Status bits returned by the step kernels (``advance``, ``_forces``): 0 is success."""
+
+    OK = 0
+    PENETRATION = 1     # an approach exceeded the penetration limit (diag holds the contact)
+    NONFINITE = 2       # a traced value or the ledger became inf or NaN
+    REALLOC_PAIRS = 4   # the pair candidate list is full: grow it, go on from this step
+    REALLOC_WALLS = 8   # the wall candidate list is full
+
+
+class Nodes(NamedTuple):
+    """Every node, structure and particles, indexed by node index (n nodes)."""
+
+    x: np.ndarray            # (n, 3) coordinates [length]
+    x0: np.ndarray           # (n, 3) coordinates at t0
+    vel: np.ndarray          # (n, 6) velocities v [length/s], omega [rad/s]
+    force: np.ndarray        # (n, 6) force [force] and moment [force*length] sums
+    inv_m: np.ndarray        # (n, 6) inverse mass / inertia per DOF (0: fixed or slave)
+    mass: np.ndarray         # (n,) node mass
+    fgrav: np.ndarray        # (n, 6) body forces m g (what ``force`` starts each step from)
+    kin_mass: np.ndarray     # (n,) mass for kinetic energy (a rigid master carries its body)
+    kin_inertia: np.ndarray  # (n, 3) principal inertia for kinetic energy
+    g: np.ndarray            # (3,) body acceleration [length/s^2]
+
+
+class Loads(NamedTuple):
+    """Forces and motions applied from outside: USRFRC rows, user force files, base motion."""
+
+    table: np.ndarray        # (m, 8) built-in force rows (x3dpd.physics.usrfrc)
+    row_prev: np.ndarray     # (m,) each row's force at the last step
+    user: np.ndarray         # (n_u, 6) scratch: this step's user-file forces
+    user_prev: np.ndarray    # (n_u, 6) user-file forces at the last step
+    python: np.ndarray       # (n, 6) forces of Python user files (set between steps)
+    motion: np.ndarray       # (M, MOTION_COLUMNS) prescribed motions (x3dpd.physics.motion)
+    motion_prev: np.ndarray  # (M,) actuator force of each motion at the last step
+
+
+class Springs(NamedTuple):
+    """Springs and dashpots between node pairs (report Section 7.1)."""
+
+    nodes: np.ndarray        # (S, 2) node indices
+    k: np.ndarray            # (S, 3) stiffness per direction [force/length]
+    c: np.ndarray            # (S, 3) damping per direction [force*s/length]
+    fd_prev: np.ndarray      # (S, 3) damper forces at the last step
+
+
+class RigidBodies(NamedTuple):
+    """Rigid links (RBEL): masters, their slaves, rotations (B bodies)."""
+
+    master: np.ndarray       # (B,) master node index
+    ptr: np.ndarray          # (B+1,) CSR offsets into ``slaves``
+    slaves: np.ndarray       # slave node indices
+    r0: np.ndarray           # (len(slaves), 3) slave offsets from the master at t0
+    rot: np.ndarray          # (B, 3, 3) rotation of each body since t0
+    inv_ib: np.ndarray       # (B, 3, 3) inverse body inertia tensor
+    ib: np.ndarray           # (B, 3, 3) body inertia tensor
+    free_rot: np.ndarray     # (B, 3) bool: which rotations of the master are free
+
+
+class Particles(NamedTuple):
+    """The spheres (P particles, node indices p0 .. p0+P-1) and their contact constants."""
+
+    p0: int                  # node index of the first particle
+    radius: np.ndarray       # (P,) [length]
+    kw: np.ndarray           # (P, K) wall Hertz constants 4/3 E*_k sqrt(R) per Maxwell term
+    ep: np.ndarray           # (P, K) plane-strain moduli E_k / (1 - nu^2)
+    kind: np.ndarray         # (P,) particle kind (x3dpd.physics.mixing.particle_kinds)
+    pair_c: np.ndarray       # (kinds, kinds, 3): Hertz factor, tangential mass m_t, mu
+    decay: np.ndarray        # (P, K) e^{-dt/tau_k}
+    half: np.ndarray         # (P, K) e^{-dt/(2 tau_k)}
+    mu: np.ndarray           # (P,) friction coefficient against walls
+    inv_mt: np.ndarray       # (P,) 1/m + R^2/I (inverse tangential mass on a wall)
+    cavity: np.ndarray       # (P,) cavity index of each particle
+    law_wall: np.ndarray     # (P, 2) constants of the normal law on a wall (hooke: k_n, c_n)
+    law_pair: np.ndarray     # (kinds, kinds, 2) constants of the normal law between kinds
+
+
+class Faces(NamedTuple):
+    """Cavity walls: planar faces made of triangles, grouped by cavity (CSR)."""
+
+    cav_ptr: np.ndarray      # (C+1,) offsets into ``cav_faces``
+    cav_faces: np.ndarray    # face indices of each cavity
+    normal: np.ndarray       # (F, 3) unit normal of each face's plane, into the cavity
+    offset: np.ndarray       # (F,) plane offset: n . x = offset on the face
+    first_tri: np.ndarray    # (F,) one triangle of each face (its plane's source)
+    tri_ptr: np.ndarray      # (F+1,) offsets into ``tris``
+    tris: np.ndarray         # triangle indices of each face
+    tri_nodes: np.ndarray    # (T, 3) node indices of each triangle
+    tri_sign: np.ndarray     # (T,) +-1: orientation of the triangle's normal
+
+
+class ContactList(NamedTuple):
+    """A candidate contact list (walls: particle, face; pairs: particle i, particle j), one
+    state row per candidate (x3dpd.solver.contact_lists), and the rebuild's scratch space."""
+
+    first: np.ndarray        # (L,) particle (walls) or particle i (pairs)
+    second: np.ndarray       # (L,) face (walls) or particle j (pairs)
+    state: np.ndarray        # (L, columns) contact state rows
+    on: np.ndarray           # (L,) int8: 1 while the contact is open
+    count: np.ndarray        # (1,) live length of the list
+    first_new: np.ndarray    # (L,) scratch of the rebuild (also the contact loops' busy list)
+    second_new: np.ndarray   # (L,) scratch of the rebuild
+    state_new: np.ndarray    # (L, columns) scratch of the rebuild
+    approach_new: np.ndarray  # (L,) scratch of the rebuild: approach of new candidates
+
+
+class Stepping(NamedTuple):
+    """Step size, list bookkeeping, the energy ledger and the diagnosis of a stop."""
+
+    dt: float                # time step [s]
+    skin: float              # neighbour-list skin [length]
+    pen_limit: float         # penetration limit, fraction of the radius
+    ledger: np.ndarray       # (4,) cumulative work and dissipation (slots L_* of the loop)
+    nbr: np.ndarray          # (7,) neighbour-list bookkeeping (see advance)
+    diag: np.ndarray         # (8,) what stopped a run: particle, other, depth, radius, t, step
+    small: np.ndarray        # (9,) scratch: energies of an output step, barycentric weights
+
+
+class Output(NamedTuple):
+    """Trace and ledger buffers of one ``advance`` call."""
+
+    itrac: int               # steps between trace rows
+    trace_nodes: np.ndarray  # (R,) node indices of the TRACE nodes
+    times: np.ndarray        # (rows,) output times
+    data: np.ndarray         # (rows, R, 9) x, v, omega of the trace nodes
+    energy: np.ndarray       # (rows, 12) energy ledger rows
+    e_ref: float             # total energy at t0
+
+
+def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict, dt: float,
+                  pen_limit: float, diag: np.ndarray, ledger: np.ndarray | None = None) -> dict:
+    """The kernels' bundles of one scene (everything but :class:`Output`), by name.
+
+    ``faces_now``: (normal, offset) arrays the kernels refresh from the wall nodes;
+    ``scratch``: the rebuild scratch arrays of both lists and ``small`` (see
+    :func:`contact_scratch`); ``ledger`` replaces the state's ledger (a scratch one for force
+    evaluations that must not count work).
+    """
+    k, s = setup, state
+    walls = ContactList(s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, scratch["wl_p2"], scratch["wl_f2"],
+                        scratch["ws2"], scratch["wl_a"])
+    pairs = ContactList(s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, scratch["pl_i2"],
+                        scratch["pl_j2"], scratch["ps2"], scratch["pl_a"])
+    return {
+        "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
+                       k.kin_inertia, k.g),
+        "loads": loads,
+        "springs": Springs(k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev),
+        "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,
+                             k.rig_inv_ib, k.rig_ib, k.rig_free_rot),
+        "particles": Particles(int(k.p0), k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay,
+                               k.half, k.mu, k.inv_mt, k.pcav, k.law_wall, k.law_pair),
+        "faces": Faces(k.cav_ptr, k.cav_faces, faces_now[0], faces_now[1], k.face_first_tri,
+                       k.face_ptr, k.face_tris, k.tri_nodes, k.tri_sign),
+        "walls": walls,
+        "pairs": pairs,
+        "stepping": Stepping(float(dt), float(k.skin), float(pen_limit),
+                             s.ledger if ledger is None else ledger, s.nbr, diag,
+                             scratch["small"]),
+    }
+
+
+def contact_scratch(state) -> dict:
+    """Scratch arrays of the list rebuilds, sized like the state's lists."""
+    s = state
+    return {"wl_p2": np.zeros_like(s.wl_p), "wl_f2": np.zeros_like(s.wl_f),
+            "ws2": np.zeros_like(s.ws), "wl_a": np.zeros(s.wl_p.shape[0]),
+            "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
+            "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
+            "small": np.zeros(9)}
+
+
+#: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start).
+ADVANCE_BUNDLES = ("nodes", "loads", "springs", "rigid", "particles", "faces", "walls", "pairs",
+                   "stepping", "output")
+
+
+def pack(bundles: dict, output: Output) -> tuple:
+    """The argument of ``advance_packed``: every bundle as a plain tuple, in
+    :data:`ADVANCE_BUNDLES` order (numba types plain tuples of arrays in C, fast)."""
+    named = {**bundles, "output": output}
+    return tuple(tuple(named[name]) for name in ADVANCE_BUNDLES)
