@@ -99,7 +99,9 @@ def test_a_deleted_duplicated_or_cut_line_gives_exit_0_to_3(tmp_path, capsys, k,
 
 
 @pytest.mark.validate
-@settings(max_examples=300, **_SETTINGS)
+@settings(max_examples=150, **_SETTINGS)
 @given(k=st.sampled_from(DATA), t=st.integers(0, 12), value=VALUES)
 def test_any_mutated_token_gives_exit_0_to_3(tmp_path, capsys, k, t, value):
-    check_and_run(tmp_path, replace_token(LINES, k, t, value), capsys)
+    # not the start time: TIME = -1e6 is a valid deck asking for 1e15 steps of the fixed window
+    if (k, t) != (_PARAM, 0):
+        check_and_run(tmp_path, replace_token(LINES, k, t, value), capsys)

@@ -111,3 +111,9 @@ def test_the_step_chosen_by_accuracy_shows_as_auto(tmp_path):
     assert auto[0]["error"] < 0.01          # within the 1 % the study accepts by default
     with open(tmp_path / "a" / "study.csv") as f:
         assert [r["dt"] for r in csv.DictReader(f)][-1] == "auto"
+
+
+def test_a_window_too_short_to_measure_says_so(tmp_path):
+    res = run_study(str(DECKS / "beam_1.inp"), None, tmax=2e-6, dts=[2.5e-7, 5e-7],
+                    fidelity=False)
+    assert "longer --tmax" in res.verdict or "within" in res.verdict

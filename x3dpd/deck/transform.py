@@ -149,6 +149,8 @@ def _int(spec: CardSpec, record: Record, values: list[str], i: int, least: int |
             message = f"{spec.label(i)} must be an integer; got {text}"
             raise _fail(spec, record, i, message) from None
         value = int(x)
+    if abs(value) >= _EXACT_INT:  # ids and counts index int64 arrays; floats count steps
+        raise _fail(spec, record, i, f"{spec.label(i)} must be an integer below 2^53; got {text}")
     if least is not None and value < least:
         what = "a positive integer" if least == 1 else f"an integer >= {least}"
         raise _fail(spec, record, i, f"{spec.label(i)} must be {what}; got {text}")
@@ -309,7 +311,7 @@ class DeckTransformer(Transformer):
                 if len(v) == 4:
                     try:
                         nid, x, y, z = int(v[0]), float(v[1]), float(v[2]), float(v[3])
-                        if nid > 0 and isfinite(abs(x) + abs(y) + abs(z)):
+                        if 0 < nid < _EXACT_INT and isfinite(abs(x) + abs(y) + abs(z)):
                             indent = len(text) - len(text.lstrip())
                             node = Node(nid, x, y, z, Pos(line, col + indent))
                     except ValueError:  # 1.0D0, 25., a bad field: the slow path decides

@@ -125,6 +125,9 @@ def make_verdict(rows, scene: Scene, tol: float, spread: float) -> str:
     pool = [r for r in rows if r["status"] == "complete" and not r["setting"].repeat]
     own = next(r for r in rows if r["setting"].own)
     within = [r for r in pool if r["error"] <= accept]
+    if not within:  # the reference's quantity is zero or undefined: nothing to compare
+        return (f"the {name} of the finest run is {pool[0].get(scene.main, math.nan):.4g}: "
+                f"nothing to compare in this window; use a longer --tmax")
     prefix = ""
     if scene.chaotic:
         prefix = (f"chaotic scene (trajectories part ways; compared as statistics): the "
