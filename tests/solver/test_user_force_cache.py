@@ -101,8 +101,8 @@ from x3dpd.solver.simulation import Simulation
 sim = Simulation(build_model(sdof_deck(dt={dt!r}, hz=1.0, drive=0.0)), usrfrc=[{user!r}],
                  itrac=100)
 sim.advance(100)
-print(json.dumps({{"hits": sum(sim.kernels.advance.stats.cache_hits.values()),
-                  "misses": sum(sim.kernels.advance.stats.cache_misses.values())}}))
+print(json.dumps({{"hits": sum(sim.kernels.advance_packed.stats.cache_hits.values()),
+                  "misses": sum(sim.kernels.advance_packed.stats.cache_misses.values())}}))
 """
 
 

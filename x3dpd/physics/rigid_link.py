@@ -170,6 +170,13 @@ def _angular_acceleration(b, w0, w1, w2, m0, m1, m2, rot, inertia_body_inv, iner
 
 
 @step_kernel
+def _kicked(b, w0, w1, w2, a0, a1, a2, h, free_rot):
+    """omega + h alpha on the free rotational DOFs of body ``b`` (fixed ones keep omega)."""
+    return (w0 + h * a0 if free_rot[b, 0] else w0, w1 + h * a1 if free_rot[b, 1] else w1,
+            w2 + h * a2 if free_rot[b, 2] else w2)
+
+
+@step_kernel
 def _rigid_angular_kick(vel, force, masters, rot, inertia_body_inv, inertia_body, free_rot, h,
                         implicit):
     """omega += h I_w^{-1} (M - omega x I_w omega), I_w = R I_b R^T, on free rotational DOFs.
@@ -187,17 +194,13 @@ def _rigid_angular_kick(vel, force, masters, rot, inertia_body_inv, inertia_body
         w2 = vel[m, 5]
         a0, a1, a2 = _angular_acceleration(b, w0, w1, w2, force[m, 3], force[m, 4], force[m, 5],
                                            rot, inertia_body_inv, inertia_body)
-        n0 = w0 + h * a0 if free_rot[b, 0] else w0
-        n1 = w1 + h * a1 if free_rot[b, 1] else w1
-        n2 = w2 + h * a2 if free_rot[b, 2] else w2
+        n0, n1, n2 = _kicked(b, w0, w1, w2, a0, a1, a2, h, free_rot)
         if implicit:
             for _ in range(IMPLICIT_ITERATIONS):
                 a0, a1, a2 = _angular_acceleration(b, n0, n1, n2, force[m, 3], force[m, 4],
                                                    force[m, 5], rot, inertia_body_inv,
                                                    inertia_body)
-                n0 = w0 + h * a0 if free_rot[b, 0] else w0
-                n1 = w1 + h * a1 if free_rot[b, 1] else w1
-                n2 = w2 + h * a2 if free_rot[b, 2] else w2
+                n0, n1, n2 = _kicked(b, w0, w1, w2, a0, a1, a2, h, free_rot)
         vel[m, 3] = n0
         vel[m, 4] = n1
         vel[m, 5] = n2

@@ -22,7 +22,8 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import MOTION_COLUMNS, motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
-from x3dpd.solver.bundles import Loads, Output, Status, build_bundles, contact_scratch, pack
+from x3dpd.solver.bundles import (ContactList, Loads, Output, Status, build_bundles,
+                                  contact_scratch, pack)
 from x3dpd.solver.diagnosis import energy_source_advice
 from x3dpd.solver.ledger_checks import (
     SAFE_FRACTION,
@@ -162,7 +163,23 @@ class Simulation:
             face_n, face_d = self._faces()
             self.kernels._face_planes(state.x, k.tri_nodes, k.tri_sign, k.face_first_tri, face_n,
                                       face_d)
+        self._compile_loop_callees()
         self._initialized = True
+
+    def _compile_loop_callees(self) -> None:
+        """Compile the kernels the step loop calls (the list rebuild's allocate) from Python,
+        on copies of the lists.
+
+        numba compiles a kernel first needed inside the step loop with the loop's flags, i.e.
+        without reference counting, where an allocating kernel does not compile (a resumed run
+        on a cold cache stopped with a TypingError). ``initialize`` compiles them through its
+        own rebuild and energies; a restored state skips those, so this does it without
+        touching the saved lists."""
+        self._energy_now()
+        b = self._bundles()
+        walls, pairs = (ContactList(*(a.copy() for a in b[name])) for name in ("walls", "pairs"))
+        self.kernels._rebuild_lists(b["nodes"], b["particles"], b["faces"], walls, pairs,
+                                    self.setup.skin)
 
     def snapshot(self) -> Block:
         """The trace rows and ledger at the current step (used for t = t0)."""
