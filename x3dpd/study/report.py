@@ -83,17 +83,19 @@ def write_png(path, result, title: str = "") -> None:
     floor = min(errs) / 10 if errs else 1e-6
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=100)
     xs = [r["wall_s_per_sim_s"] for r in rows]
-    ys = [max(r["error"], floor) for r in rows]
+    ys = [r["error"] if r["error"] > floor else floor for r in rows]  # nan, 0: at the floor
     ax.scatter(xs, ys, color="0.5", zorder=2, label="settings")
     front = sorted((r for r in rows if r.get("pareto")), key=lambda r: r["wall_s_per_sim_s"])
-    ax.plot([r["wall_s_per_sim_s"] for r in front], [max(r["error"], floor) for r in front],
+    ax.plot([r["wall_s_per_sim_s"] for r in front],
+            [r["error"] if r["error"] > floor else floor for r in front],
             "-", color="tab:blue", zorder=1, label="Pareto front")
     for r, x, y in zip(rows, xs, ys):
         ax.annotate(r["setting"].label, (x, y), fontsize=7, xytext=(4, 3),
                     textcoords="offset points")
     own = [r for r in rows if r["setting"].own]
     if own:
-        ax.scatter([own[0]["wall_s_per_sim_s"]], [max(own[0]["error"], floor)], s=160,
+        e_own = own[0]["error"]
+        ax.scatter([own[0]["wall_s_per_sim_s"]], [e_own if e_own > floor else floor], s=160,
                    marker="*", color="tab:red", zorder=3, label="deck's setting")
     if result.spread > 0:
         ax.axhline(result.spread, color="tab:orange", ls="--", lw=1,
