@@ -36,7 +36,7 @@ def test_cube_deck_is_clean():
     result = run(DECKS / "appendix_a_cube.inp")
     assert result.exit_code == 0, result.output
     lines = result.output.splitlines()
-    assert lines[0].endswith("appendix_a_cube.inp: clean")
+    assert lines[0].endswith("appendix_a_cube.inp: clean, 1 note")
     assert "9.6 steps per contact, peak force within about 1.5 %" in result.output
     assert "closed, interior volume 0.015625; fill ratio 0.409" in result.output
     assert "structure: omega <= 61.86 rad/s (node 25 x)" in result.output
@@ -92,3 +92,17 @@ def _has_mix_stderr() -> bool:
 def test_usrfrc_option_adds_the_external_force_effect(spec):
     result = run("--usrfrc", spec, DECKS / "appendix_a_cube.inp")
     assert "external_force" in result.output
+
+
+def test_clean_deck_above_the_recommended_step_says_why():
+    """beam_64's DTMAX is about 5x the recommended step: still clean (its contacts span enough
+    steps), but the verdict carries a note that names both steps, so verdict and advice agree."""
+    from pathlib import Path
+
+    deck = Path(__file__).resolve().parents[2] / "decks" / "beam_64.inp"
+    result = CliRunner().invoke(check, [str(deck)])
+    assert result.exit_code == 0, result.output
+    first, second = result.output.splitlines()[:2]
+    assert first.endswith("beam_64.inp: clean, 1 note")
+    assert second.startswith("note: DTMAX 5e-07 s is ") and "x the recommended" in second
+    assert "x3dpd study" in second
