@@ -88,6 +88,13 @@ def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
         ax2.legend(fontsize=7, loc="upper left")
         ax2.grid(True, lw=0.3)
     axes[-1, 0].set_xlabel("time [s]")
+    return save_figure(fig, png, title)
+
+
+def save_figure(fig, png: str | os.PathLike, title: str | None = None) -> str:
+    """Title (the first line of ``title``), tight layout, write ``png`` at 110 dpi, close."""
+    import matplotlib.pyplot as plt
+
     if title:
         fig.suptitle(title.splitlines()[0], fontsize=9)
     fig.tight_layout()
@@ -96,4 +103,4 @@ def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
     return os.fspath(png)
 
 
-__all__ = ["first_node_history", "plot_run"]
+__all__ = ["first_node_history", "plot_run", "save_figure"]

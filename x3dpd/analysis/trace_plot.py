@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from x3dpd.analysis.plots import save_figure
 from x3dpd.analysis.scene import Scene
 
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
@@ -109,9 +110,4 @@ def plot_trace(png: str | os.PathLike, hist: Histories, labels: list[str],
         ax.set_ylabel(f"particle KE [{E}]")
         ax.grid(True, lw=0.3)
     fig.axes[-1].set_xlabel(f"time [{T}]")
-    if title:
-        fig.suptitle(title.splitlines()[0], fontsize=9)
-    fig.tight_layout()
-    fig.savefig(png, dpi=110)
-    plt.close(fig)
-    return os.fspath(png)
+    return save_figure(fig, png, title)

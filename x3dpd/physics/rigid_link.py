@@ -139,34 +139,35 @@ IMPLICIT_ITERATIONS = 3
 
 
 @step_kernel
+def _times(m, b, x0, x1, x2):
+    """m[b] @ x for a stack of 3x3 matrices ``m`` (written out: no array in the loop)."""
+    return (m[b, 0, 0] * x0 + m[b, 0, 1] * x1 + m[b, 0, 2] * x2,
+            m[b, 1, 0] * x0 + m[b, 1, 1] * x1 + m[b, 1, 2] * x2,
+            m[b, 2, 0] * x0 + m[b, 2, 1] * x1 + m[b, 2, 2] * x2)
+
+
+@step_kernel
+def _times_transposed(m, b, x0, x1, x2):
+    """m[b]^T @ x for a stack of 3x3 matrices ``m``."""
+    return (m[b, 0, 0] * x0 + m[b, 1, 0] * x1 + m[b, 2, 0] * x2,
+            m[b, 0, 1] * x0 + m[b, 1, 1] * x1 + m[b, 2, 1] * x2,
+            m[b, 0, 2] * x0 + m[b, 1, 2] * x1 + m[b, 2, 2] * x2)
+
+
+@step_kernel
 def _angular_acceleration(b, w0, w1, w2, m0, m1, m2, rot, inertia_body_inv, inertia_body):
     """I_w^{-1} (M - omega x I_w omega) of body ``b``, I_w = R I_b R^T (Euler's equations in the
     space frame) [rad/s^2]."""
-    # world-frame inertia times omega: R I_b R^T w
-    wb0 = rot[b, 0, 0] * w0 + rot[b, 1, 0] * w1 + rot[b, 2, 0] * w2
-    wb1 = rot[b, 0, 1] * w0 + rot[b, 1, 1] * w1 + rot[b, 2, 1] * w2
-    wb2 = rot[b, 0, 2] * w0 + rot[b, 1, 2] * w1 + rot[b, 2, 2] * w2
-    ib = inertia_body
-    lb0 = ib[b, 0, 0] * wb0 + ib[b, 0, 1] * wb1 + ib[b, 0, 2] * wb2
-    lb1 = ib[b, 1, 0] * wb0 + ib[b, 1, 1] * wb1 + ib[b, 1, 2] * wb2
-    lb2 = ib[b, 2, 0] * wb0 + ib[b, 2, 1] * wb1 + ib[b, 2, 2] * wb2
-    l0 = rot[b, 0, 0] * lb0 + rot[b, 0, 1] * lb1 + rot[b, 0, 2] * lb2
-    l1 = rot[b, 1, 0] * lb0 + rot[b, 1, 1] * lb1 + rot[b, 1, 2] * lb2
-    l2 = rot[b, 2, 0] * lb0 + rot[b, 2, 1] * lb1 + rot[b, 2, 2] * lb2
+    # world-frame angular momentum R I_b R^T w
+    wb0, wb1, wb2 = _times_transposed(rot, b, w0, w1, w2)
+    lb0, lb1, lb2 = _times(inertia_body, b, wb0, wb1, wb2)
+    l0, l1, l2 = _times(rot, b, lb0, lb1, lb2)
     t0 = m0 - (w1 * l2 - w2 * l1)
     t1 = m1 - (w2 * l0 - w0 * l2)
     t2 = m2 - (w0 * l1 - w1 * l0)
-    tb0 = rot[b, 0, 0] * t0 + rot[b, 1, 0] * t1 + rot[b, 2, 0] * t2
-    tb1 = rot[b, 0, 1] * t0 + rot[b, 1, 1] * t1 + rot[b, 2, 1] * t2
-    tb2 = rot[b, 0, 2] * t0 + rot[b, 1, 2] * t1 + rot[b, 2, 2] * t2
-    iv = inertia_body_inv
-    ab0 = iv[b, 0, 0] * tb0 + iv[b, 0, 1] * tb1 + iv[b, 0, 2] * tb2
-    ab1 = iv[b, 1, 0] * tb0 + iv[b, 1, 1] * tb1 + iv[b, 1, 2] * tb2
-    ab2 = iv[b, 2, 0] * tb0 + iv[b, 2, 1] * tb1 + iv[b, 2, 2] * tb2
-    a0 = rot[b, 0, 0] * ab0 + rot[b, 0, 1] * ab1 + rot[b, 0, 2] * ab2
-    a1 = rot[b, 1, 0] * ab0 + rot[b, 1, 1] * ab1 + rot[b, 1, 2] * ab2
-    a2 = rot[b, 2, 0] * ab0 + rot[b, 2, 1] * ab1 + rot[b, 2, 2] * ab2
-    return a0, a1, a2
+    tb0, tb1, tb2 = _times_transposed(rot, b, t0, t1, t2)
+    ab0, ab1, ab2 = _times(inertia_body_inv, b, tb0, tb1, tb2)
+    return _times(rot, b, ab0, ab1, ab2)
 
 
 @step_kernel
