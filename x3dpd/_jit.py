@@ -14,7 +14,12 @@ import numba
 
 #: Flags shared by all kernels. ``cache=True`` stores compiled machine code beside the sources
 #: (or in NUMBA_CACHE_DIR) so a second run starts in about a second.
-JIT_FLAGS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True}
+JIT_FLAGS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True,
+             # explicit, so that a kernel first compiled from inside a loop kernel keeps numba's
+             # runtime: numba lets an unset flag inherit the caller's _nrt=False, and an
+             # allocating kernel (a list rebuild) then fails to compile (a fresh checkout
+             # resuming a state from a warm kernel cache stopped with a TypingError)
+             "_nrt": True}
 
 #: True when NUMBA_DISABLE_JIT=1 (coverage runs of the kernels in pure Python).
 JIT_DISABLED = os.environ.get("NUMBA_DISABLE_JIT", "0") == "1"
