@@ -53,7 +53,7 @@ def deck_key(deck) -> str:
 
 _POSITION_FIELDS = frozenset({"pos", "positions", "slave_positions", "path"})
 #: Cards added to the language later: absent, they leave the key of older decks unchanged.
-_ABSENT_IS_OLD = frozenset({"units", "hooke"})
+_ABSENT_IS_OLD = frozenset({"units", "hooke", "cylinders"})
 
 
 def _plain(obj):

@@ -228,6 +228,19 @@ class Hooke:
 
 
 @dataclass(frozen=True)
+class Cylinder:
+    """One CYLINDER record (our extension): an analytic cylindrical cavity for the particles of
+    CONTACT slave set ``set_id``, with axis end nodes ``node_a``, ``node_b`` (the centres of its
+    end caps) and inner ``radius`` [length] (x3dpd.geometry.cylinder)."""
+
+    set_id: int
+    node_a: int
+    node_b: int
+    radius: float
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
 class Units:
     """UNITS (our extension): the deck's unit system, ``LENGTH FORCE TIME`` (x3dpd.units)."""
 
@@ -261,4 +274,5 @@ class Deck:
     initials: tuple[Initial, ...] = ()
     usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
     hooke: tuple[Hooke, ...] | None = None   # None: no HOOKE card
+    cylinders: tuple[Cylinder, ...] | None = None   # None: no CYLINDER card
     units: Units | None = None

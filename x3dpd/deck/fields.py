@@ -65,6 +65,7 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("INITIAL", "INIT", ("NODE", "VX", "VY", "VZ", "WX", "WY", "WZ")),
     CardSpec("USRFRC", "USRF", ("SPEC",)),
     CardSpec("HOOKE", "HOOK", ("NODLIM", "KN", "E")),
+    CardSpec("CYLINDER", "CYLI", ("SET", "NODE_A", "NODE_B", "RADIUS")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
 )
 

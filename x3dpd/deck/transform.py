@@ -23,6 +23,7 @@ from x3dpd.deck.cards import (
     Body,
     Boundary,
     Contact,
+    Cylinder,
     Deck,
     Element,
     Hooke,
@@ -411,6 +412,22 @@ class DeckTransformer(Transformer):
             out.append(Hooke(nodlim, kn, e, _first(rec)))
         return "HOOKE", c[0], out
 
+    def cylinder(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["CYLINDER"]
+        out = []
+        for rec in _records(c[1:-1]):
+            v = _split(rec)
+            _count(spec, rec, v, 4, 4, "4 values: SET NODE_A NODE_B RADIUS")
+            ids = [_int(spec, rec, v, i) for i in range(3)]
+            (radius,) = _floats(spec, rec, v, 3)
+            if not radius > 0.0:
+                raise _fail(spec, rec, 3, f"RADIUS must be > 0; got {v[3]}")
+            if ids[1] == ids[2]:
+                raise _fail(spec, rec, 2, f"NODE_B must differ from NODE_A ({ids[1]}): the "
+                                          "axis runs from one to the other")
+            out.append(Cylinder(ids[0], ids[1], ids[2], radius, _first(rec)))
+        return "CYLINDER", c[0], out
+
     def contact(self, c: list[Any]) -> _Card:
         spec = BY_NAME["CONTACT"]
         split = next(i for i, x in enumerate(c) if isinstance(x, Token) and x.type == "END")
@@ -454,4 +471,5 @@ class DeckTransformer(Transformer):
                     elements=many("ELEMENTS"), masses=many("MASS"), rbels=many("RBEL"),
                     boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
                     initials=many("INITIAL"), usrfrc=many("USRFRC"),
-                    units=single.get("UNITS"), hooke=many("HOOKE") or None)
+                    units=single.get("UNITS"), hooke=many("HOOKE") or None,
+                    cylinders=many("CYLINDER") or None)

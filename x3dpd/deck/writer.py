@@ -178,6 +178,11 @@ def format_deck(deck: Deck) -> str:
         for h in deck.hooke:
             _record([_i(h.nodlim), _f(h.kn), _f(h.e)], out)
         out.append("END")
+    if deck.cylinders:
+        _card(out, "CYLINDER", ("SET", "NODE_A", "NODE_B", "RADIUS"))
+        for cy in deck.cylinders:
+            _record([_i(cy.set_id), _i(cy.node_a), _i(cy.node_b), _f(cy.radius)], out)
+        out.append("END")
     if deck.units is not None:
         out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]
     for u in deck.usrfrc:

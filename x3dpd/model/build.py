@@ -124,6 +124,9 @@ class _Builder:
             tri_nodes=_ro(self.tri_nodes.reshape(-1, 3), np.int64), tri_sign=_ro(self.tri_sign),
             tri_face=_ro(self.tri_face, np.int64), face_cavity=_ro(self.face_cavity, np.int64),
             cavity_set_ids=_ro(self.cavity_set_ids, np.int64),
+            cylinder_nodes=_ro(self.cylinder_nodes.reshape(-1, 2), np.int64),
+            cylinder_radius=_ro(self.cylinder_radius),
+            cylinder_cavity=_ro(self.cylinder_cavity, np.int64),
             trace_nodes=_ro(trace, np.int64),
             t0=float(par.time), tmax=float(par.tmax), dt=float(par.dtmax), trest=float(par.trest),
             itrac=int(par.itrac), irest=int(par.irest), incmax=float(par.incmax),
@@ -386,15 +389,15 @@ class _Builder:
             if not area[k] > PLANE_TOL * longest[k] ** 2:
                 raise self.error(f"triangle {k + 1} (nodes {' '.join(map(str, t.nodes))}) is "
                                  f"degenerate: area {area[k]:.6g}", t.pos, "CONTACT")
-        set_ids = sorted({t.set_id for t in tris})
+        set_ids = sorted({t.set_id for t in tris} | {c.set_id for c in self.deck.cylinders or ()})
         cav_of_set = {s: c for c, s in enumerate(set_ids)}
         pcav = np.full(self.ids.shape[0] - self.pstart, -1, dtype=np.int64)
         where: dict[int, Pos] = {}
         for ss in sets:
             if ss.set_id not in cav_of_set:
-                raise self.error(f"slave set {ss.set_id} has no master triangles (the CONTACT "
-                                 f"triangles use set ids {', '.join(map(str, set_ids)) or 'none'})",
-                                 ss.pos, "CONTACT")
+                raise self.error(f"slave set {ss.set_id} has no master triangles and no "
+                                 f"CYLINDER (the CONTACT triangles and cylinders use set ids "
+                                 f"{', '.join(map(str, set_ids)) or 'none'})", ss.pos, "CONTACT")
             for k, nid in enumerate(ss.nodes):
                 pos = _pos_at(ss.positions, k, ss.pos)
                 i = self.node(nid, pos, "CONTACT", "slave node")
@@ -412,7 +415,9 @@ class _Builder:
         face_cavity: list[int] = []
         n_hat = unit_normals(p0, p1, p2)
         for c, sid in enumerate(set_ids):
-            mine = np.array([k for k, t in enumerate(tris) if t.set_id == sid])
+            mine = np.array([k for k, t in enumerate(tris) if t.set_id == sid], dtype=np.int64)
+            if mine.size == 0:   # a cavity of cylinders only
+                continue
             corners = np.unique(idx[mine].reshape(-1))
             s = inward_signs(p0[mine], p1[mine], p2[mine], self.x0[corners].mean(axis=0))
             if np.any(s == 0.0):  # e.g. a flat floor: the master nodes' centroid is in its plane
@@ -439,6 +444,32 @@ class _Builder:
         self.face_cavity = np.array(face_cavity, dtype=np.int64)
         self.cavity_set_ids = np.array(set_ids, dtype=np.int64)
         self.particle_cavity = pcav
+        self._cylinders(cav_of_set)
+
+    def _cylinders(self, cav_of_set: dict[int, int]) -> None:
+        """The CYLINDER card (our extension): analytic cylindrical cavities. Their axis nodes
+        must move rigidly together (one rigid body, or both fixed), so that the reaction and
+        the wall's velocity formed from them are exact (x3dpd.geometry.cylinder)."""
+        nodes, radius, cavity = [], [], []
+        for cy in self.deck.cylinders or ():
+            ends = [self.structural(nid, cy.pos, "CYLINDER", what)
+                    for nid, what in ((cy.node_a, "axis node A"), (cy.node_b, "axis node B"))]
+            bodies = [self.slave_of.get(i, self.body_of_master.get(i)) for i in ends]
+            fixed = all(self.fixed[i].all() for i in ends)
+            if not fixed and (bodies[0] is None or bodies[0] != bodies[1]):
+                raise self.error(f"axis nodes {cy.node_a} and {cy.node_b} must move as one "
+                                 f"rigid cavity: make both RBEL slaves (or the master) of one "
+                                 f"rigid body, or fix all their DOFs", cy.pos, "CYLINDER")
+            length = float(np.linalg.norm(self.x0[ends[1]] - self.x0[ends[0]]))
+            if not length > 0.0:
+                raise self.error(f"axis nodes {cy.node_a} and {cy.node_b} coincide: the "
+                                 f"cylinder has no length", cy.pos, "CYLINDER")
+            nodes.append(ends)
+            radius.append(cy.radius)
+            cavity.append(cav_of_set[cy.set_id])
+        self.cylinder_nodes = np.array(nodes, dtype=np.int64).reshape(-1, 2)
+        self.cylinder_radius = np.array(radius, dtype=np.float64)
+        self.cylinder_cavity = np.array(cavity, dtype=np.int64)
 
     def _initial_velocities(self) -> np.ndarray:
         v0 = np.zeros((self.ids.shape[0], 6))
@@ -574,6 +605,8 @@ class _Builder:
         pc = self.particle_cavity
         if self.tri_nodes.shape[0] and np.any(pc >= 0):
             eff.add("wall_contact")
+        if np.any(np.isin(pc, self.cylinder_cavity)):
+            eff.add("cylinder_contact")
         counts = np.bincount(pc[pc >= 0], minlength=1)
         if np.any(counts >= 2) or (n - pstart >= 2 and np.any(pc < 0)):
             eff.add("pair_contact")

@@ -21,6 +21,7 @@ EFFECTS = (
     "rigid_links",       # RBEL cards
     "rigid_rotation",    # a rigid body whose master has a free rotational DOF
     "wall_contact",      # CONTACT triangles with slave particles
+    "cylinder_contact",  # CYLINDER cavities with slave particles
     "pair_contact",      # two or more particles sharing a cavity
     "viscoelastic",      # some particle with E1 != 0 (Maxwell terms)
     "friction",          # some particle with PCOF > 0
@@ -71,7 +72,12 @@ class Model:
         cavity (from the geometry, never from the winding).
     tri_face : (T,) int64, the face (coplanar triangles with one inward normal) of each triangle.
     face_cavity : (F,) int64, cavity index of each face.
-    cavity_set_ids : (C,) int64, CONTACT set id of each cavity.
+    cavity_set_ids : (C,) int64, CONTACT set id of each cavity (of its triangles, its
+        cylinders or both).
+    cylinder_nodes : (Y, 2) int64, axis end node indices A, B of each analytic cylinder
+        (CYLINDER card; x3dpd.geometry.cylinder).
+    cylinder_radius : (Y,) float64, inner radius of each cylinder [length].
+    cylinder_cavity : (Y,) int64, cavity index of each cylinder.
 
     trace_nodes : (R,) int64, node indices to trace, in TRACE order.
 
@@ -133,6 +139,9 @@ class Model:
     normal_law: str = "lee_radok"
     hooke: np.ndarray | None = None
     units: tuple = ("in", "lbf", "s")
+    cylinder_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
+    cylinder_radius: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    cylinder_cavity: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
 
     @property
     def n_nodes(self) -> int:

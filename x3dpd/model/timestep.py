@@ -144,7 +144,9 @@ def _contact_limit(model: Model) -> tuple[float, float, str]:
     groups = np.unique(model.particle_group)
     first = {int(g): int(np.flatnonzero(model.particle_group == g)[0]) for g in groups}
     m = model.mass[model.particle_start:]
-    if "wall_contact" in model.effects:
+    # a concave cylinder wall is softer than a flat one (a larger relative radius): the flat
+    # wall's contact time bounds its contacts from below
+    if "wall_contact" in model.effects or "cylinder_contact" in model.effects:
         for g, i in first.items():
             if np.any((model.particle_group == g) & (model.particle_cavity >= 0)):
                 t = hertz_contact_time(m[i], model.radius[i],

@@ -32,6 +32,7 @@ HAS_PYTHON_FORCE = False
 HAS_MOTION = True
 N_MAXWELL = 1
 HAS_WALLS_TRANSLATE = False
+HAS_CYLINDERS = True
 from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: E402,E501
 from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as NORMAL_PAIR_FORCE, stored_energy as NORMAL_STORED_ENERGY, CLAMPED as NORMAL_CLAMPED, USES_RATE as NORMAL_USES_RATE, DAMPED as NORMAL_DAMPED  # noqa: E402,E501
 USER_FORCE = None
@@ -43,6 +44,7 @@ import numpy as np  # noqa: E402
 
 from x3dpd._jit import kernel, loop_kernel, step_kernel  # noqa: E402
 from x3dpd.geometry.cells import _find_pairs  # noqa: E402
+from x3dpd.geometry.cylinder import _cylinder_frame, _locate_on_cylinder  # noqa: E402
 from x3dpd.geometry.faces import (  # noqa: E402
     _build_wall_list, _face_offsets, _face_planes, _locate_on_face)
 from x3dpd.physics.gravity import _gravity_energy, _gravity_forces  # noqa: E402
@@ -52,7 +54,8 @@ from x3dpd.physics.rigid_link import (  # noqa: E402
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
 from x3dpd.physics.usrfrc import _force_value  # noqa: E402
 from x3dpd.solver.bundles import (  # noqa: E402
-    ContactList, Faces, Loads, Nodes, Output, Particles, RigidBodies, Springs, Status, Stepping)
+    ContactList, Cylinders, Faces, Loads, Nodes, Output, Particles, RigidBodies, Springs, Status,
+    Stepping)
 from x3dpd.solver.contact_lists import (  # noqa: E402
     S_A, S_FN, S_FT, S_H, _active_flags, _merge_states, _pair_approach)
 
@@ -131,20 +134,129 @@ def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
 
 
 @step_kernel
-def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
-    """Particle-wall contact forces (report Figure 40): Hertz / Lee-Radok normal force, Coulomb
-    friction with spin, reaction on the wall's nodes. ``w`` is a 3-element scratch array,
-    ``busy`` an int scratch of the list's capacity. Returns a status bit."""
+def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, nx, ny, nz,
+                   wall_nodes, row, w, n_w, lever, lx, ly, lz, other):
+    """The contact response of particle ``p`` on a wall entity, whatever its shape: the
+    scene's normal law (x3dpd.physics.normal_laws) at approach ``a`` along the unit normal n
+    (from the wall into the particle), Coulomb friction with spin, and the reaction on the
+    wall's nodes ``wall_nodes[row, :n_w]`` with weights ``w``. The wall point moves with
+    sum_e w_e v_e, plus omega x l when ``lever`` (omega of the first node; l = (lx, ly, lz) from
+    the weighted node point to the wall point, whose moment l x F then goes to the first node).
+    A locator (x3dpd.geometry: ``_locate_on_face``, ``_locate_on_cylinder``) supplies a, n,
+    the weights and l; ``other`` names the entity in a penetration diagnosis. State row ``s``
+    of ``ws`` / ``on`` keeps the contact's history. Returns (status, normal work, friction
+    loss)."""
     x, vel, force = nodes.x, nodes.vel, nodes.force
-    p0, radius, mu, inv_mt = particles.p0, particles.radius, particles.mu, particles.inv_mt
+    radius, mu, inv_mt = particles.radius, particles.mu, particles.inv_mt
+    dt, pen_limit, diag = stepping.dt, stepping.pen_limit, stepping.diag
+    gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
+    i = particles.p0 + p
+    r = radius[p]
+    status = OK
+    if a > pen_limit * r:
+        status = PENETRATION
+        diag[0] = p
+        diag[1] = other
+        diag[2] = a
+        diag[3] = r
+    n0 = wall_nodes[row, 0]
+    # normal force: the scene's law (x3dpd.physics.normal_laws)
+    a_rate = 0.0
+    if NORMAL_USES_RATE:
+        # approach rate: the wall point's velocity minus the particle's, along n
+        a_rate = -(nx * vel[i, 0] + ny * vel[i, 1] + nz * vel[i, 2])
+        for e in range(n_w):
+            nd = wall_nodes[row, e]
+            a_rate += w[e] * (nx * vel[nd, 0] + ny * vel[nd, 1] + nz * vel[nd, 2])
+        if lever:
+            a_rate += (nx * (vel[n0, 4] * lz - vel[n0, 5] * ly)
+                       + ny * (vel[n0, 5] * lx - vel[n0, 3] * lz)
+                       + nz * (vel[n0, 3] * ly - vel[n0, 4] * lx))
+    fn = NORMAL_WALL_FORCE(a, a_old, a_rate, p, particles, ws, s, S_H, N_MAXWELL)
+    fn, dw = _record_normal(ws, on, s, a, a_old, fn, fn_old)
+    lost = 0.0
+    fx = fn * nx
+    fy = fn * ny
+    fz = fn * nz
+    if HAS_FRICTION:
+        # relative velocity of the particle's contact point (at -R n) and the wall point
+        rcx = -r * nx
+        rcy = -r * ny
+        rcz = -r * nz
+        wx = vel[i, 3]
+        wy = vel[i, 4]
+        wz = vel[i, 5]
+        vrx = vel[i, 0] + wy * rcz - wz * rcy
+        vry = vel[i, 1] + wz * rcx - wx * rcz
+        vrz = vel[i, 2] + wx * rcy - wy * rcx
+        vwx = w[0] * vel[n0, 0]
+        vwy = w[0] * vel[n0, 1]
+        vwz = w[0] * vel[n0, 2]
+        for e in range(1, n_w):
+            nd = wall_nodes[row, e]
+            vwx += w[e] * vel[nd, 0]
+            vwy += w[e] * vel[nd, 1]
+            vwz += w[e] * vel[nd, 2]
+        vrx -= vwx
+        vry -= vwy
+        vrz -= vwz
+        if lever:
+            vrx -= vel[n0, 4] * lz - vel[n0, 5] * ly
+            vry -= vel[n0, 5] * lx - vel[n0, 3] * lz
+            vrz -= vel[n0, 3] * ly - vel[n0, 4] * lx
+        ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn, mu[p],
+                                        1.0 / inv_mt[p], dt, gamma, ws, s)
+        fx += ftx
+        fy += fty
+        fz += ftz
+        force[i, 3] += rcy * ftz - rcz * fty
+        force[i, 4] += rcz * ftx - rcx * ftz
+        force[i, 5] += rcx * fty - rcy * ftx
+    force[i, 0] += fx
+    force[i, 1] += fy
+    force[i, 2] += fz
+    for e in range(n_w):
+        nd = wall_nodes[row, e]
+        force[nd, 0] -= w[e] * fx
+        force[nd, 1] -= w[e] * fy
+        force[nd, 2] -= w[e] * fz
+    if lever:
+        force[n0, 3] -= ly * fz - lz * fy
+        force[n0, 4] -= lz * fx - lx * fz
+        force[n0, 5] -= lx * fy - ly * fx
+    return status, dw, lost
+
+
+@step_kernel
+def _close_contact(ws, on, s, a, a_old, fn_old):
+    """End the contact of state row ``s`` (apart, or off its entity): its history is cleared;
+    returns the work 1/2 F_old (a - a_old) of an open contact's last step."""
+    dw = 0.0
+    if fn_old != 0.0 or a_old > 0.0:
+        dw = 0.5 * fn_old * (a - a_old)
+        for c in range(S_FT, ws.shape[1]):
+            ws[s, c] = 0.0
+    ws[s, S_A] = 0.0
+    ws[s, S_FN] = 0.0
+    on[s] = 0
+    return dw
+
+
+@step_kernel
+def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
+    """Particle-wall contact forces on the triangulated walls (report Figure 40): the face
+    locator (x3dpd.geometry.faces) then the shared contact response ``_wall_response``. ``w``
+    is a 3-element scratch array, ``busy`` an int scratch of the list's capacity. Returns a
+    status bit."""
+    x = nodes.x
+    p0, radius = particles.p0, particles.radius
     wl_p, wl_f, ws, wl_on, nw = walls.first, walls.second, walls.state, walls.on, walls.count[0]
     face_n, face_d, face_ptr, face_tris, tri_nodes = (faces.normal, faces.offset, faces.tri_ptr,
                                                       faces.tris, faces.tri_nodes)
-    dt, ledger, pen_limit, diag = stepping.dt, stepping.ledger, stepping.pen_limit, stepping.diag
+    ledger = stepping.ledger
     status = OK
     w_normal = 0.0
     w_fric = 0.0
-    gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
     # pass 1, tight: candidates within reach of their face's plane now or at the last step
     nbusy = 0
     for s in range(nw):
@@ -175,71 +287,61 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
                                 f, x, face_ptr, face_tris, tri_nodes, r, w)
         if t < 0:
             # no contact (or the particle left the face): close any open contact
-            if fn_old != 0.0 or a_old > 0.0:
-                w_normal += 0.5 * fn_old * (a - a_old)
-                for c in range(S_FT, ws.shape[1]):
-                    ws[s, c] = 0.0
-            ws[s, S_A] = 0.0
-            ws[s, S_FN] = 0.0
-            wl_on[s] = 0
+            w_normal += _close_contact(ws, wl_on, s, a, a_old, fn_old)
             continue
-        if a > pen_limit * r:
-            status |= PENETRATION
-            diag[0] = p
-            diag[1] = f
-            diag[2] = a
-            diag[3] = r
-        # normal force: the scene's law (x3dpd.physics.normal_laws)
-        a_rate = 0.0
-        if NORMAL_USES_RATE:
-            # approach rate: the wall point's velocity minus the particle's, along n
-            a_rate = -(nx * vel[i, 0] + ny * vel[i, 1] + nz * vel[i, 2])
-            for e in range(3):
-                nd = tri_nodes[t, e]
-                a_rate += w[e] * (nx * vel[nd, 0] + ny * vel[nd, 1] + nz * vel[nd, 2])
-        fn = NORMAL_WALL_FORCE(a, a_old, a_rate, p, particles, ws, s, S_H, N_MAXWELL)
-        fn, dw = _record_normal(ws, wl_on, s, a, a_old, fn, fn_old)
+        st, dw, lost = _wall_response(nodes, particles, stepping, ws, wl_on, s, p, a, a_old,
+                                      fn_old, nx, ny, nz, tri_nodes, t, w, 3, False, 0.0, 0.0,
+                                      0.0, f)
+        status |= st
         w_normal += dw
-        fx = fn * nx
-        fy = fn * ny
-        fz = fn * nz
-        if HAS_FRICTION:
-            # relative velocity of the particle's contact point (at -R n) and the wall point q
-            nd0 = tri_nodes[t, 0]
-            nd1 = tri_nodes[t, 1]
-            nd2 = tri_nodes[t, 2]
-            rcx = -r * nx
-            rcy = -r * ny
-            rcz = -r * nz
-            wx = vel[i, 3]
-            wy = vel[i, 4]
-            wz = vel[i, 5]
-            vrx = vel[i, 0] + wy * rcz - wz * rcy
-            vry = vel[i, 1] + wz * rcx - wx * rcz
-            vrz = vel[i, 2] + wx * rcy - wy * rcx
-            vrx -= w[0] * vel[nd0, 0] + w[1] * vel[nd1, 0] + w[2] * vel[nd2, 0]
-            vry -= w[0] * vel[nd0, 1] + w[1] * vel[nd1, 1] + w[2] * vel[nd2, 1]
-            vrz -= w[0] * vel[nd0, 2] + w[1] * vel[nd1, 2] + w[2] * vel[nd2, 2]
-            ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn, mu[p],
-                                            1.0 / inv_mt[p], dt, gamma, ws, s)
-            w_fric += lost
-            fx += ftx
-            fy += fty
-            fz += ftz
-            force[i, 3] += rcy * ftz - rcz * fty
-            force[i, 4] += rcz * ftx - rcx * ftz
-            force[i, 5] += rcx * fty - rcy * ftx
-        force[i, 0] += fx
-        force[i, 1] += fy
-        force[i, 2] += fz
-        for e in range(3):
-            nd = tri_nodes[t, e]
-            force[nd, 0] -= w[e] * fx
-            force[nd, 1] -= w[e] * fy
-            force[nd, 2] -= w[e] * fz
+        w_fric += lost
     # the ledger is touched once per call, not per contact (no dependency through memory)
     ledger[L_WN] += w_normal
     ledger[L_DFRIC] += w_fric
+    return status
+
+
+@step_kernel
+def _cylinder_contacts(nodes, particles, cylinders, stepping, w, n_faces):
+    """Particle contacts with analytic cylinders (x3dpd.geometry.cylinder): every (particle,
+    cylinder) pair of ``cylinders`` against the curved wall and both end caps, each a state row
+    (3 k + part); the cylinder locator, then the shared contact response ``_wall_response``
+    (reaction on the two axis nodes, moment to the first). A penetration names the entity as
+    ``n_faces + 3 cylinder + part``. Returns a status bit."""
+    x = nodes.x
+    p0, radius = particles.p0, particles.radius
+    cs, con, axis = cylinders.state, cylinders.on, cylinders.nodes
+    status = OK
+    w_normal = 0.0
+    w_fric = 0.0
+    for k in range(cylinders.particle.shape[0]):
+        p = cylinders.particle[k]
+        c = cylinders.cylinder[k]
+        i = p0 + p
+        r = radius[p]
+        big_r = cylinders.radius[c]
+        length, ux, uy, uz, sx, rx, ry, rz, rho = _cylinder_frame(
+            x, axis[c, 0], axis[c, 1], x[i, 0], x[i, 1], x[i, 2])
+        for part in range(3):
+            s = 3 * k + part
+            ok, a, nx, ny, nz, xi, lx, ly, lz = _locate_on_cylinder(
+                part, r, big_r, length, ux, uy, uz, sx, rx, ry, rz, rho)
+            a_old = cs[s, S_A]
+            fn_old = cs[s, S_FN]
+            if not ok or a <= 0.0:
+                if con[s] != 0 or fn_old != 0.0 or a_old > 0.0:
+                    w_normal += _close_contact(cs, con, s, a, a_old, fn_old)
+                continue
+            w[0] = 1.0 - xi
+            w[1] = xi
+            st, dw, lost = _wall_response(nodes, particles, stepping, cs, con, s, p, a, a_old,
+                                          fn_old, nx, ny, nz, axis, c, w, 2, True, lx, ly, lz,
+                                          n_faces + 3 * c + part)
+            status |= st
+            w_normal += dw
+            w_fric += lost
+    stepping.ledger[L_WN] += w_normal
+    stepping.ledger[L_DFRIC] += w_fric
     return status
 
 
@@ -385,7 +487,7 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
 
 
 @kernel
-def _energies(nodes, springs, particles, walls, pairs, dt, out):
+def _energies(nodes, springs, particles, walls, pairs, cylinders, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction)."""
     x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
     kin_mass, kin_inertia, inv_m = nodes.kin_mass, nodes.kin_inertia, nodes.inv_m
@@ -404,12 +506,13 @@ def _energies(nodes, springs, particles, walls, pairs, dt, out):
     out[1] = ke_r
     out[2] = _gravity_energy(nodes.mass, x, x0, nodes.g) if HAS_GRAVITY else 0.0
     out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
-    out[4] = _contact_energy(particles, walls, pairs) if (HAS_WALLS or HAS_PAIRS) else 0.0
+    out[4] = (_contact_energy(particles, walls, pairs, cylinders)
+              if (HAS_WALLS or HAS_PAIRS or HAS_CYLINDERS) else 0.0)
     out[5] = dt * dt / 8.0 * shadow
 
 
 @kernel
-def _contact_energy(particles, walls, pairs):
+def _contact_energy(particles, walls, pairs, cylinders):
     """Elastic energy stored in the open contacts, by the normal law's ``stored_energy``."""
     u = 0.0
     ws = walls.state
@@ -423,11 +526,17 @@ def _contact_energy(particles, walls, pairs):
         if ps[s, S_A] > 0.0:
             k = particles.law_pair[kind[pairs.first[s]], kind[pairs.second[s]], 0]
             u += NORMAL_STORED_ENERGY(ps[s, S_FN], ps[s, S_A], k)
+    if HAS_CYLINDERS:
+        cs = cylinders.state
+        for s in range(cs.shape[0]):
+            if cs[s, S_A] > 0.0:
+                k = particles.law_wall[cylinders.particle[s // 3], 0]
+                u += NORMAL_STORED_ENERGY(cs[s, S_FN], cs[s, S_A], k)
     return u
 
 
 @kernel
-def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, stepping):
+def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, cylinders, stepping):
     """All forces at time t from x and the (half-step) velocities into ``nodes.force``; updates
     the ledger. Returns the status bits (x3dpd.solver.bundles.Status)."""
     ff = nodes.force.reshape(-1)
@@ -436,11 +545,12 @@ def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, ste
     if HAS_GRAVITY:
         _gravity_forces(nodes.mass, nodes.g, nodes.force)
     return _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs,
-                        stepping)
+                        cylinders, stepping)
 
 
 @step_kernel
-def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, stepping):
+def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, cylinders,
+                 stepping):
     """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t."""
     x, vel, force = nodes.x, nodes.vel, nodes.force
     dt, ledger = stepping.dt, stepping.ledger
@@ -487,6 +597,9 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
         # the rebuild's scratch is free while forces run
         status |= _wall_contacts(nodes, particles, faces, walls, stepping,
                                  stepping.small[6:9], walls.first_new)
+    if HAS_CYLINDERS:
+        status |= _cylinder_contacts(nodes, particles, cylinders, stepping, stepping.small[6:9],
+                                     faces.offset.shape[0])
     if HAS_PAIRS:
         status |= _pair_contacts(nodes, particles, pairs, stepping, pairs.first_new)
     if HAS_RIGID:
@@ -535,7 +648,7 @@ def _adopt_new_list(lst, m):
 
 @loop_kernel
 def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, faces, walls, pairs,
-            stepping, output):
+            cylinders, stepping, output):
     """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
 
     ``stepping.nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list
@@ -620,7 +733,7 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
         # ---- forces at the new positions (``force`` holds the body forces m g: the kick pass
         # reset it to them)
         st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls,
-                                   pairs, stepping)
+                                   pairs, cylinders, stepping)
         if HAS_MOTION:
             # work of the motion's actuators (x3dpd.physics.motion._motion_work)
             ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
@@ -666,7 +779,7 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
                 for d in range(6):
                     out_data[rows, k, 3 + d] = vel[i, d]
             out_t[rows] = t
-            _energies(nodes, springs, particles, walls, pairs, dt, en)
+            _energies(nodes, springs, particles, walls, pairs, cylinders, dt, en)
             _ledger_row(t, en, ledger, output.e_ref, out_energy[rows])
             rows += 1
             # non-finite state is caught at output steps (cheap), before it reaches the trace
@@ -690,11 +803,12 @@ def advance_packed(nsteps, step0, t_start, packed):
     (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
     named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps of a small
     scene. The named tuples are rebuilt here, in compiled code, at no cost."""
-    nodes, loads, springs, rigid, particles, faces, walls, pairs, stepping, output = packed
+    (nodes, loads, springs, rigid, particles, faces, walls, pairs, cylinders, stepping,
+     output) = packed
     return advance(nsteps, step0, t_start, Nodes(*nodes), Loads(*loads), Springs(*springs),
                    RigidBodies(*rigid), Particles(*particles), Faces(*faces),
-                   ContactList(*walls), ContactList(*pairs), Stepping(*stepping),
-                   Output(*output))
+                   ContactList(*walls), ContactList(*pairs), Cylinders(*cylinders),
+                   Stepping(*stepping), Output(*output))
 
 
 @kernel

@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["Status", "Nodes", "Loads", "Springs", "RigidBodies", "Particles", "Faces",
-           "ContactList", "Stepping", "Output"]
+           "ContactList", "Cylinders", "Stepping", "Output"]
 
 
 class Status(enum.IntFlag):
@@ -130,6 +130,19 @@ class ContactList(NamedTuple):
     approach_new: np.ndarray  # (L,) scratch of the rebuild: approach of new candidates
 
 
+class Cylinders(NamedTuple):
+    """Analytic cylindrical cavities (x3dpd.geometry.cylinder; C cylinders) and their static
+    contact list: every particle of a cylinder's cavity against its three wall parts (K
+    (particle, cylinder) pairs, state row 3 k + part)."""
+
+    nodes: np.ndarray        # (C, 2) node indices of the axis ends A, B
+    radius: np.ndarray       # (C,) inner radius [length]
+    particle: np.ndarray     # (K,) particle of each pair
+    cylinder: np.ndarray     # (K,) cylinder of each pair
+    state: np.ndarray        # (3K, columns) contact state rows (x3dpd.solver.contact_lists)
+    on: np.ndarray           # (3K,) int8: 1 while the contact is open
+
+
 class Stepping(NamedTuple):
     """Step size, list bookkeeping, the energy ledger and the diagnosis of a stop."""
 
@@ -180,6 +193,8 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
                        k.face_ptr, k.face_tris, k.tri_nodes, k.tri_sign),
         "walls": walls,
         "pairs": pairs,
+        "cylinders": Cylinders(k.cyl_nodes, k.cyl_radius, k.cyl_particle, k.cyl_cylinder, s.cs,
+                               s.cs_on),
         "stepping": Stepping(float(dt), float(k.skin), float(pen_limit),
                              s.ledger if ledger is None else ledger, s.nbr, diag,
                              scratch["small"]),
@@ -198,7 +213,7 @@ def contact_scratch(state) -> dict:
 
 #: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start).
 ADVANCE_BUNDLES = ("nodes", "loads", "springs", "rigid", "particles", "faces", "walls", "pairs",
-                   "stepping", "output")
+                   "cylinders", "stepping", "output")
 
 
 def pack(bundles: dict, output: Output) -> tuple:

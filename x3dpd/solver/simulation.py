@@ -20,6 +20,7 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
     from x3dpd.model.model import Model
 
 from x3dpd.errors import InputError, UnstableRunError
+from x3dpd.geometry.cylinder import CYLINDER_PARTS, PART_NAMES, cylinder_clearance
 from x3dpd.physics.motion import MOTION_COLUMNS, motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
 from x3dpd.solver.bundles import (ContactList, Loads, Output, Status, build_bundles,
@@ -346,6 +347,7 @@ class Simulation:
                 f"non-finite position or velocity. Likely cause: the time step {self.dt:.3g} s "
                 f"is too large; run `x3dpd check` for a recommended step.",
                 time=self.time, step=s.step, node=int(m.node_ids[bad]))
+        self._check_cylinder_containment()
         if m.n_particles == 0 or k.tri_nodes.shape[0] == 0:
             return
         xp = s.x[k.p0:]
@@ -366,6 +368,27 @@ class Simulation:
                     f"(CONTACT set {int(m.cavity_set_ids[c])}) at {np.round(xp[p], 6).tolist()}. "
                     f"Likely cause: the time step {self.dt:.3g} s is too large for the wall "
                     f"contact stiffness, so the particle tunnelled through a wall.",
+                    time=self.time, step=s.step, node=nid)
+
+    def _check_cylinder_containment(self) -> None:
+        """Every particle of an analytic cylinder's cavity with its centre inside it."""
+        m, k, s = self.model, self.setup, self.state
+        for c in range(k.cyl_radius.shape[0]):
+            members = k.cyl_particle[k.cyl_cylinder == c]
+            if members.size == 0:
+                continue
+            a, b = s.x[k.cyl_nodes[c, 0]], s.x[k.cyl_nodes[c, 1]]
+            _, inside = cylinder_clearance(s.x[k.p0 + members], k.radius[members], a, b,
+                                           float(k.cyl_radius[c]))
+            if not inside.all():
+                p = int(members[np.argmin(inside)])
+                nid = int(m.node_ids[k.p0 + p])
+                axis = ", ".join(str(int(m.node_ids[q])) for q in k.cyl_nodes[c])
+                raise UnstableRunError(
+                    f"unstable run at t = {self.time:.6g} s: particle node {nid} left its "
+                    f"cylinder (axis nodes {axis}) at {np.round(s.x[k.p0 + p], 6).tolist()}. "
+                    f"Likely cause: the time step {self.dt:.3g} s is too large for the wall "
+                    f"contact stiffness, so the particle tunnelled through the wall.",
                     time=self.time, step=s.step, node=nid)
 
     def _cavity_nodes(self) -> list:
@@ -401,7 +424,12 @@ class Simulation:
             depth = self.diag[2]
             r = self.diag[3]
             nid = int(m.node_ids[k.p0 + p])
-            if other >= 0:
+            nf = k.face_first_tri.shape[0]
+            if other >= nf:
+                c, part = divmod(other - nf, CYLINDER_PARTS)
+                what = (f"the {PART_NAMES[part]} of the cylinder on axis nodes "
+                        f"{', '.join(str(int(m.node_ids[q])) for q in k.cyl_nodes[c])}")
+            elif other >= 0:
                 tri = int(k.face_tris[k.face_ptr[other]])
                 what = (f"wall triangle {tri + 1} (nodes "
                         f"{', '.join(str(int(m.node_ids[q])) for q in k.tri_nodes[tri])})")
@@ -432,7 +460,7 @@ class Simulation:
         en = np.empty(6)
         b = self._bundles()
         self.kernels._energies(b["nodes"], b["springs"], b["particles"], b["walls"], b["pairs"],
-                               self.dt, en)
+                               b["cylinders"], self.dt, en)
         return en
 
     def compute_forces(self, t: float | None = None) -> Status:

@@ -35,7 +35,8 @@ class State:
     step; wl_p, wl_f, ws, wl_on (Lw) wall candidate list (particle, face, state row, open-contact
     flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
-    ledger (4,) cumulative work/dissipation; step: steps done since t0; e_ref: energy at t0;
+    ledger (4,) cumulative work/dissipation; cs, cs_on (3K) contact state rows and open flags of
+    the analytic cylinders' static list (x3dpd.solver.bundles.Cylinders; empty without any); step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
 
@@ -59,6 +60,8 @@ class State:
     npl: np.ndarray
     nbr: np.ndarray
     ledger: np.ndarray
+    cs: np.ndarray = None
+    cs_on: np.ndarray = None
     step: int = 0
     e_ref: float = 0.0
     scale: float = 0.0
@@ -75,6 +78,8 @@ class State:
     def from_arrays(cls, arrays: dict) -> "State":
         kw = {}
         for f in fields(cls):
+            if f.name in _CYLINDER_STATE and f.name not in arrays:
+                continue   # a dump written before cylinders existed: a scene without any
             v = arrays[f.name]
             if f.name == "step":
                 kw[f.name] = int(v)
@@ -82,7 +87,15 @@ class State:
                 kw[f.name] = float(v)
             else:
                 kw[f.name] = np.array(v)
-        return cls(**kw)
+        state = cls(**kw)
+        if state.cs is None:
+            state.cs = np.zeros((0, state.ws.shape[1]))
+            state.cs_on = np.zeros(0, np.int8)
+        return state
+
+
+#: State fields of the cylinders' contacts (absent from dumps of older versions).
+_CYLINDER_STATE = ("cs", "cs_on")
 
 
 @dataclass(frozen=True)
@@ -126,6 +139,10 @@ class Setup:
     face_tris: np.ndarray
     tri_nodes: np.ndarray
     tri_sign: np.ndarray
+    cyl_nodes: np.ndarray     # (C, 2) axis end nodes of each analytic cylinder
+    cyl_radius: np.ndarray    # (C,) inner radius [length]
+    cyl_particle: np.ndarray  # (K,) particle of each (particle, cylinder) contact pair
+    cyl_cylinder: np.ndarray  # (K,) cylinder of each pair (every particle of its cavity)
     n_maxwell: int
     skin: float
     dt: float
@@ -241,6 +258,12 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     if model.normal_law == "hooke":
         law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
 
+    cyl_nodes = _i64(model.cylinder_nodes).reshape(-1, 2)
+    cyl_cav = _i64(model.cylinder_cavity)
+    cyl_pairs = [(p, c) for c in range(cyl_cav.shape[0])
+                 for p in np.flatnonzero(pcav == cyl_cav[c])]
+    cyl_pairs = np.array(cyl_pairs, dtype=np.int64).reshape(-1, 2)
+
     if skin is None:
         skin = 0.25 * float(radius.min()) if npart else 0.0
 
@@ -258,7 +281,9 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
-        tri_sign=_f64(model.tri_sign), n_maxwell=n_maxwell, skin=float(skin), dt=float(dt),
+        tri_sign=_f64(model.tri_sign), cyl_nodes=cyl_nodes,
+        cyl_radius=_f64(model.cylinder_radius), cyl_particle=_i64(cyl_pairs[:, 0]),
+        cyl_cylinder=_i64(cyl_pairs[:, 1]), n_maxwell=n_maxwell, skin=float(skin), dt=float(dt),
     )
 
 
@@ -295,7 +320,9 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         pl_i=np.zeros(lp, np.int64), pl_j=np.zeros(lp, np.int64), ps=np.zeros((lp, ncols_pair)),
         pl_on=np.zeros(lp, np.int8),
         npl=np.zeros(1, np.int64),
-        nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(4), step=0, e_ref=0.0,
+        nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(4),
+        cs=np.zeros((3 * setup.cyl_particle.shape[0], ncols)),
+        cs_on=np.zeros(3 * setup.cyl_particle.shape[0], np.int8), step=0, e_ref=0.0,
     )
 
 

@@ -56,6 +56,7 @@ class Variant:
     friction_law: str = "regularized"
     walls_translate: bool = False
     normal_law: str = "lee_radok"
+    cylinders: bool = False
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
@@ -79,6 +80,7 @@ class Variant:
             friction_law=friction_law,
             walls_translate=walls_translate and "wall_contact" in e,
             normal_law=normal_law,
+            cylinders="cylinder_contact" in e,
         )
 
     def header(self) -> str:
