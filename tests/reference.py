@@ -53,6 +53,19 @@ def hertz_impact(m_eff: float, k: float, v: float) -> HertzImpact:
     return HertzImpact(a_max, t_max, k * a_max**1.5)
 
 
+def zero_crossing(t, y, falling: bool) -> float:
+    """Linearly interpolated time of the last sign change of y (+ to - if falling)."""
+    k = np.nonzero((y[:-1] > 0) & (y[1:] <= 0) if falling else (y[:-1] < 0) & (y[1:] >= 0))[0][-1]
+    return t[k] + (t[k + 1] - t[k]) * y[k] / (y[k] - y[k + 1])
+
+
+def refined_peak(y) -> float:
+    """Maximum of samples refined by the parabola through the largest sample and its neighbours."""
+    k = int(np.argmax(y))
+    y0, y1, y2 = y[k - 1:k + 2]
+    return y1 + (y2 - y0) ** 2 / (8.0 * (2.0 * y1 - y0 - y2))
+
+
 # ---------------------------------------------------------------------------------------------
 # Lee & Radok viscoelastic impact on a rigid wall
 # ---------------------------------------------------------------------------------------------

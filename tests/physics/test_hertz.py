@@ -128,17 +128,8 @@ def _wall_impact(dt: float, nsteps: int, material=None):
     return np.array(rows)
 
 
-def _zero_crossing(t, y, falling: bool) -> float:
-    """Linearly interpolated time of the last sign change of y (+ to - if falling)."""
-    k = np.nonzero((y[:-1] > 0) & (y[1:] <= 0) if falling else (y[:-1] < 0) & (y[1:] >= 0))[0][-1]
-    return t[k] + (t[k + 1] - t[k]) * y[k] / (y[k] - y[k + 1])
-
-
-def _peak(y) -> float:
-    """Maximum of samples refined by the parabola through the largest sample and its neighbours."""
-    k = int(np.argmax(y))
-    y0, y1, y2 = y[k - 1:k + 2]
-    return y1 + (y2 - y0) ** 2 / (8.0 * (2.0 * y1 - y0 - y2))
+_zero_crossing = ref.zero_crossing
+_peak = ref.refined_peak
 
 
 def test_elastic_sphere_on_wall_matches_hertz():

@@ -16,8 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from x3dpd.deck.cards import (Body, Boundary, Contact, Deck, Element, Mass, Material, Node,
-                              Parameters, Pdmp, Rbel, SlaveSet, Title, Trace, Triangle, Usrfrc)
+from x3dpd.deck.cards import (Body, Boundary, Contact, Cylinder, Deck, Element, Initial, Mass,
+                              Material, Node, Parameters, Pdmp, Rbel, SlaveSet, Title, Trace, Triangle,
+                              Usrfrc)
+from x3dpd.geometry.cylinder import cylinder_clearance, cylinder_mesh
 
 #: Corner order of the box (unit cube) and its 12 triangles, two per face.
 _CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
@@ -135,4 +137,80 @@ def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material: Mat
         contacts=(Contact(tuple(Triangle(1, t) for t in _TRIANGLES),
                           (SlaveSet(1, tuple(ids)),)),),
         usrfrc=(Usrfrc(tuple(usrfrc)),) if usrfrc else (),
+    )
+
+
+#: Node ids of a cylinder deck: the master, then the axis end nodes A and B (cap centres).
+CYL_MASTER, CYL_A, CYL_B = 1, 2, 3
+
+
+def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.ndarray,
+                         radius: float, material: Material3, structure_mass: float,
+                         stiffness: float, damping: float, facets: int | None = None,
+                         gravity=(0.0, -386.1, 0.0), dt: float = 5e-7, tmax: float = 15.0,
+                         itrac: int = 2000, trest: float = 0.0, title: str = "", usrfrc=(),
+                         free_dofs=(1,), transverse_stiffness: float = 1.0e12,
+                         rotary_inertia: float = 1.0e20,
+                         velocities: np.ndarray | None = None) -> Deck:
+    """A deck for a cylindrical cavity along x: axis from A = (0, 0, 0) to B = (``length``, 0,
+    0), inner radius ``cavity_radius``, holding ``particles`` (their initial ``velocities``
+    (P, 3), if given, as INITIAL records).
+
+    ``facets=None`` writes the analytic cylinder (CYLINDER card, x3dpd.geometry.cylinder);
+    an integer n writes the same cylinder as CONTACT triangles instead
+    (:func:`x3dpd.geometry.cylinder.cylinder_mesh`: n flat facets with their corners on the
+    radius, fans on the caps), with its ring nodes after B. Node 1 is the master (mass,
+    rotary inertias ``rotary_inertia``, spring and damper to ground along x, as
+    :func:`box_cavity_deck`), 2 and 3 the axis nodes, all structure nodes rigidly linked to it;
+    particles follow (PDMP NODLIM = the last structure node).
+    """
+    a = np.zeros(3)
+    b = np.array([float(length), 0.0, 0.0])
+    particles = np.asarray(particles, float).reshape(-1, 3)
+    gap, inside = cylinder_clearance(particles, np.full(len(particles), radius), a, b,
+                                     cavity_radius)
+    if not (inside.all() and np.all(gap >= -1e-12)):
+        bad = int(np.argmin(gap))
+        raise ValueError(f"particle {bad + 1} at {particles[bad].tolist()} is not inside the "
+                         f"cylinder")
+    nodes = [Node(CYL_MASTER, 0.0, 0.0, 0.0), Node(CYL_A, *map(float, a)),
+             Node(CYL_B, *map(float, b))]
+    contact_tris: tuple = ()
+    cylinders: tuple = (Cylinder(1, CYL_A, CYL_B, float(cavity_radius)),)
+    if facets is not None:
+        verts, tris = cylinder_mesh(a, b, cavity_radius, facets)
+        ring_ids = list(range(CYL_B + 1, CYL_B + 1 + 2 * facets))
+        nodes += [Node(nid, *map(float, v)) for nid, v in zip(ring_ids, verts[:2 * facets])]
+        vid = ring_ids + [CYL_A, CYL_B]
+        contact_tris = tuple(Triangle(1, tuple(vid[k] for k in tri)) for tri in tris)
+        cylinders = ()
+    last = nodes[-1].nid
+    ids = list(range(last + 1, last + 1 + len(particles)))
+    nodes += [Node(nid, *map(float, p)) for nid, p in zip(ids, particles)]
+    fixed = tuple(d for d in range(1, 7) if d not in free_dofs)
+    initials = ()
+    if velocities is not None:
+        initials = tuple(Initial(nid, tuple(map(float, v)))
+                         for nid, v in zip(ids, np.asarray(velocities, float).reshape(-1, 3)))
+    m = material
+    return Deck(
+        path="<generated>",
+        title=Title(title) if title else None,
+        parameters=Parameters(0.0, float(tmax), float(trest), float(dt), float(dt), 0, 1.0e9, 0,
+                              5, 0, int(itrac)),
+        materials=(Material(2, 1, 1.0e-12, 1.0, float(stiffness), transverse_stiffness,
+                            transverse_stiffness, float(damping)),),
+        pdmp=(Pdmp(last, float(radius), float(m.density), float(m.nu), float(m.e0), float(m.e1),
+                   float(m.tau1), float(m.mu)),),
+        body=Body(*map(float, gravity)),
+        trace=Trace(tuple([CYL_MASTER] + ids)),
+        nodes=tuple(nodes),
+        elements=(Element(1, 2, (CYL_MASTER,)),),
+        masses=(Mass(CYL_MASTER, float(structure_mass), *(3 * (float(rotary_inertia),))),),
+        rbels=(Rbel(CYL_MASTER, (1, 2, 3, 4, 5, 6), tuple(range(CYL_A, last + 1))),),
+        boundaries=(Boundary(1, CYL_MASTER, 1, fixed),) if fixed else (),
+        contacts=(Contact(contact_tris, (SlaveSet(1, tuple(ids)),)),),
+        initials=initials,
+        usrfrc=(Usrfrc(tuple(usrfrc)),) if usrfrc else (),
+        cylinders=cylinders or None,
     )
