@@ -11,6 +11,9 @@ each output time by the first rule that applies:
    trace, so a turning cavity is drawn translated only);
 3. otherwise (a fixed wall, e.g. decks/impact_wall.inp's floor): its deck coordinates.
 
+An analytic cylinder (CYLINDER card) is drawn as :data:`CYLINDER_FACETS` flat facets
+(x3dpd.geometry.cylinder.cylinder_mesh) whose vertices follow its axis node A by the same rules.
+
 :func:`scene_from_model` takes a :class:`x3dpd.model.model.Model` (any object with its
 attributes), so this module does not depend on the model package.
 """
@@ -23,6 +26,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from x3dpd.geometry.cavity import geometry_size, merge_vertices
+from x3dpd.geometry.cylinder import cylinder_mesh
+
+#: Facets around a drawn analytic cylinder (its sagitta is 0.2 % of the radius).
+CYLINDER_FACETS = 48
 
 
 @dataclass(frozen=True)
@@ -118,6 +125,22 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
     vmx0 = np.array([model.x0[m] if m >= 0 else np.zeros(3) for m in vmaster]).reshape(-1, 3)
     tri = tri.reshape(-1, 3).astype(np.int64)
     vx0 = np.asarray(model.x0)[verts].reshape(-1, 3)
+    for c, (a, b) in enumerate(np.asarray(getattr(model, "cylinder_nodes",
+                                                  np.zeros((0, 2), np.int64)))):
+        # a drawn cylinder's vertices translate with its axis node A (traced) or A's master
+        cv, ct = cylinder_mesh(model.x0[a], model.x0[b], float(model.cylinder_radius[c]),
+                               CYLINDER_FACETS)
+        k = cv.shape[0]
+        ref = int(a) if int(ids[a]) in index else int(master_of[a])
+        row = index.get(int(ids[ref]), -1) if ref >= 0 else -1
+        tri = np.concatenate([tri, ct + vx0.shape[0]])
+        vx0 = np.concatenate([vx0, cv])
+        verts = np.concatenate([verts, np.full(k, a)])
+        vrow = np.concatenate([vrow, np.full(k, -1, np.int64)])
+        vmaster = np.concatenate([vmaster, np.full(k, master_of[a])])
+        vmrow = np.concatenate([vmrow, np.full(k, row, np.int64)])
+        vmx0 = np.concatenate([vmx0, np.tile(model.x0[ref] if ref >= 0 else np.zeros(3),
+                                             (k, 1))])
     fixed = getattr(model, "fixed", None)
     held = (np.all(np.asarray(fixed)[verts, :3], axis=1) if fixed is not None
             else np.zeros(verts.shape[0], bool))

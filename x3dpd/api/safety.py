@@ -11,6 +11,10 @@ def initial_penetration_error(model, limit: float, deck_path: str) -> InputError
     ``limit`` x its radius (or behind a wall), None when there is none."""
     from x3dpd.model.check import particle_wall_penetrations, particles_outside
 
+    if model.n_particles and model.cylinder_radius.shape[0]:
+        err = _cylinder_error(model, limit, deck_path)
+        if err is not None:
+            return err
     if model.n_particles == 0 or model.tri_nodes.shape[0] == 0:
         return None
     r = model.radius
@@ -39,3 +43,22 @@ def initial_penetration_error(model, limit: float, deck_path: str) -> InputError
         f"{limit:g} R{others}. The run would blow up at its first step: see "
         f"`x3dpd check {deck_path}`; decks/appendix_a_cube.inp is the repaired geometry of "
         f"the report's Appendix A deck.")
+
+
+def _cylinder_error(model, limit: float, deck_path: str) -> InputError | None:
+    """The deepest particle that starts outside its analytic cylinder or deeper than ``limit``
+    x its radius in the cylinder's wall."""
+    from x3dpd.model.check_cylinders import cylinder_clearances, describe_cylinder
+
+    r = model.radius
+    bad = [f for f in cylinder_clearances(model)
+           if not f.inside or -f.gap > limit * r[f.particle]]
+    if not bad:
+        return None
+    f = min(bad, key=lambda f: (f.inside, f.gap))
+    where = ("its centre lies outside it" if not f.inside else
+             f"{-f.gap:.6g} ({-f.gap / r[f.particle]:.3g} R) deep in its wall")
+    return InputError(
+        f"{deck_path}: particle node {f.node_id} starts in {describe_cylinder(model, f.cylinder)}"
+        f" wrongly: {where}, beyond the penetration limit {limit:g} R. The run would blow up "
+        f"at its first step: see `x3dpd check {deck_path}`.")

@@ -108,9 +108,10 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
     for c in report.cavities:
         box = ", ".join(f"{a} {lo:g} .. {hi:g}" for a, lo, hi in zip("xyz", c.lo, c.hi))
         box += " (extent " + " x ".join(f"{hi - lo:g}" for lo, hi in zip(c.lo, c.hi)) + ")"
+        walls = f"{c.n_triangles} triangles in {c.n_faces} faces; " if c.n_triangles else ""
         lines.append(_row(f"cavity set {c.set_id}",
-                          f"{box}; {c.n_triangles} triangles in {c.n_faces} faces; "
-                          f"{c.n_particles} particles"))
+                          f"{box}; {walls}{c.n_particles} particles"))
+        lines += [_row("", text) for text in c.cylinders]
         if c.volume is not None and c.closed:
             fill = (f"fill ratio {c.fill_ratio:.3g} (particle volume {c.particle_volume:.6g})"
                     if c.fill_ratio is not None else "")

@@ -26,6 +26,8 @@ from x3dpd.geometry.cavity import (
 from x3dpd.geometry.pairs import overlapping_pairs
 from x3dpd.geometry.triangle import unit_normals
 from x3dpd.geometry.walls import sphere_triangle_pairs
+from x3dpd.model.check_cylinders import (cylinder_extent, cylinder_volume, cylinder_warnings,
+                                         describe_cylinder, smallest_clearance)
 from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
 from x3dpd.model.timestep import (
@@ -123,8 +125,8 @@ def particles_outside(model: Model) -> list[OutsideParticle]:
         if i not in worst or v > worst[i][0]:
             worst[i] = (v, k)
     for c in range(model.cavity_set_ids.shape[0]):
-        if not _closed(model, c)[0]:
-            continue
+        if not np.any(model.face_cavity[model.tri_face] == c) or not _closed(model, c)[0]:
+            continue   # (a cylinder's own test: x3dpd.model.check_cylinders)
         lo, hi = cavity_extents(model.x0[model.tri_nodes[model.face_cavity[model.tri_face] == c]
                                          .reshape(-1)])
         tol = REL_TOL * geometry_size(np.stack([lo, hi]))
@@ -174,6 +176,7 @@ class CavitySummary:
     volume: float | None  # None when the faces do not close
     n_particles: int
     particle_volume: float
+    cylinders: tuple[str, ...] = ()  # each analytic cylinder, with its smallest clearance
 
     @property
     def fill_ratio(self) -> float | None:
@@ -263,6 +266,8 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
             f"{pen[0].depth / r[pen[0].particle]:.3g} R into {_tri(model, pen[0].triangle)})",
             _listed([f"particle node {p.node_id}: {p.depth:.6g} ({p.depth / r[p.particle]:.3g} R) "
                      f"into {_tri(model, p.triangle)}" for p in pen])))
+    warnings += [Finding(code, head, _listed(lines))
+                 for code, head, lines in cylinder_warnings(model, REL_TOL)]
     pairs, depth = particle_overlaps(model)
     if pairs.shape[0]:
         rad = dict(zip(model.node_ids[ps:].tolist(), model.radius.tolist()))
@@ -285,7 +290,7 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
             warnings.append(Finding("empty-cavity",
                                     f"cavity set {cav.set_id} has no slave particles"))
     loose = model.node_ids[ps:][model.particle_cavity < 0]
-    if loose.size and model.tri_nodes.shape[0]:
+    if loose.size and (model.tri_nodes.shape[0] or model.cylinder_radius.shape[0]):
         warnings.append(Finding(
             "no-cavity",
             f"{loose.size} particles are in no CONTACT slave set and will pass through every "
@@ -320,16 +325,28 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
     pvol = 4.0 / 3.0 * math.pi * model.radius**3
     for c, sid in enumerate(model.cavity_set_ids.tolist()):
         mine = np.flatnonzero(tri_cav == c)
-        corners = model.x0[model.tri_nodes[mine]]  # (T, 3 corners, 3)
-        lo, hi = cavity_extents(corners.reshape(-1, 3))
-        closed, consistent = _closed(model, c)
-        volume = enclosed_volume(corners[:, 0], corners[:, 1], corners[:, 2],
-                                 model.tri_sign[mine]) if closed else None
+        cyl = np.flatnonzero(model.cylinder_cavity == c)
         inside = model.particle_cavity == c
+        if mine.size == 0:   # a cavity of analytic cylinders (CYLINDER card)
+            ends = np.concatenate([np.stack(cylinder_extent(model, k)) for k in cyl])
+            lo, hi = cavity_extents(ends)
+            closed = consistent = True
+            volume = sum(cylinder_volume(model, k) for k in cyl)
+        else:
+            corners = model.x0[model.tri_nodes[mine]]  # (T, 3 corners, 3)
+            lo, hi = cavity_extents(corners.reshape(-1, 3))
+            closed, consistent = _closed(model, c)
+            volume = enclosed_volume(corners[:, 0], corners[:, 1], corners[:, 2],
+                                     model.tri_sign[mine]) if closed else None
+        cylinders = []
+        for k in cyl:
+            gap = smallest_clearance(model, k)
+            cylinders.append(describe_cylinder(model, k) + (
+                "" if gap is None else f"; smallest particle clearance {gap:.6g}"))
         out.append(CavitySummary(
             int(sid), tuple(lo.tolist()), tuple(hi.tolist()), int(mine.size),
             int(np.unique(model.tri_face[mine]).size), closed, consistent, volume,
-            int(inside.sum()), float(pvol[inside].sum())))
+            int(inside.sum()), float(pvol[inside].sum()), tuple(cylinders)))
     return out
 
 
