@@ -28,6 +28,7 @@ SHIPPED = [
     ("beam_1.inp", [], {}, 2e-3),
     ("beam_64.inp", [], {}, 2e-3),
     ("beam_512.inp", [], {}, 1e-3),
+    ("cylinder_64.inp", [], {}, 2e-3),
     ("impact_wall.inp", [], {}, None),
 ]
 

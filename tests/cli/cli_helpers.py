@@ -15,6 +15,7 @@ SHORT_RUNS = {
     "beam_1.inp": 0.003,
     "beam_64.inp": 0.003,
     "beam_512.inp": 0.002,
+    "cylinder_64.inp": 0.003,
     "impact_wall.inp": 2e-7,         # ITRAC 10 x 1e-9 s: 21 output times
 }
 

@@ -11,7 +11,7 @@ import pytest
 from cli_helpers import DECKS, SHORT_RUNS, run_cli
 
 from x3dpd.analysis.export import read_lammps_dump
-from x3dpd.analysis.scene import scene_from_model
+from x3dpd.analysis.scene import CYLINDER_FACETS, scene_from_model
 from x3dpd.analysis.trace_plot import collect
 from x3dpd.deck import read_deck
 from x3dpd.io.trace import read_trace
@@ -56,8 +56,9 @@ def test_cavity_moves_with_its_master_node(name):
                                        rtol=0, atol=1e-12)
         elif scene.vertex_row[v] < 0:
             assert np.all(moved[v] == 0.0)       # a fixed wall stays put
-    # the outline of a box is its 12 edges (no face diagonals); Fig. 28's lone square: 4
-    n_edges = 4 if name == "impact_wall.inp" else 12
+    # the outline of a box is its 12 edges (no face diagonals); Fig. 28's lone square: 4; a
+    # drawn cylinder its two rims of CYLINDER_FACETS edges
+    n_edges = {"impact_wall.inp": 4, "cylinder_64.inp": 2 * CYLINDER_FACETS}.get(name, 12)
     assert scene.outline.shape == (n_edges, 2)
 
 

@@ -125,6 +125,7 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
     vmx0 = np.array([model.x0[m] if m >= 0 else np.zeros(3) for m in vmaster]).reshape(-1, 3)
     tri = tri.reshape(-1, 3).astype(np.int64)
     vx0 = np.asarray(model.x0)[verts].reshape(-1, 3)
+    outline = feature_edges(tri, vx0)
     for c, (a, b) in enumerate(np.asarray(getattr(model, "cylinder_nodes",
                                                   np.zeros((0, 2), np.int64)))):
         # a drawn cylinder's vertices translate with its axis node A (traced) or A's master
@@ -134,6 +135,9 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
         ref = int(a) if int(ids[a]) in index else int(master_of[a])
         row = index.get(int(ids[ref]), -1) if ref >= 0 else -1
         tri = np.concatenate([tri, ct + vx0.shape[0]])
+        # its outline: the two rims (the creases between facets are the drawing's, not its)
+        rims = feature_edges(ct, cv, cos_tol=math.cos(3.0 * math.pi / CYLINDER_FACETS))
+        outline = np.concatenate([outline, rims + vx0.shape[0]])
         vx0 = np.concatenate([vx0, cv])
         verts = np.concatenate([verts, np.full(k, a)])
         vrow = np.concatenate([vrow, np.full(k, -1, np.int64)])
@@ -147,7 +151,7 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
     unplaced = int(np.count_nonzero((vrow < 0) & (vmrow < 0) & ((vmaster >= 0) | ~held)))
     return Scene(node_ids, np.asarray(rows, np.int64), np.asarray(radius), np.asarray(mass),
                  tri, vx0, vrow, vmrow, vmx0, dict(units or {}), str(getattr(model, "title", "")),
-                 feature_edges(tri, vx0), unplaced)
+                 outline, unplaced)
 
 
 def feature_edges(tri: np.ndarray, x: np.ndarray, cos_tol: float = 1.0 - 1e-9) -> np.ndarray:
