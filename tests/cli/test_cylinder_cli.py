@@ -1,0 +1,126 @@
+"""The CYLINDER card through the public interfaces: bad cards and cross references as
+FILE:LINE:COL errors, ``x3dpd check`` and the start refusal for spheres outside or in the wall,
+the solver's stops naming the cylinder, and a restart of decks/cylinder_64.inp continuing bit
+for bit."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+from cli_helpers import DECKS, run_cli
+
+from x3dpd.deck import parse_deck
+from x3dpd.deck.generate import Material3, cylinder_cavity_deck
+from x3dpd.deck.writer import format_deck
+from x3dpd.errors import DeckError, UnstableRunError
+from x3dpd.model.build import build_model
+from x3dpd.model.check import check_model
+from x3dpd.solver.simulation import Simulation
+
+DECK = DECKS / "cylinder_64.inp"
+STEEL = Material3(27.5e6, 0.0, 1.0, 0.3, 0.0, 7.32971e-4)
+R, BIG_R, LENGTH = 0.03125, 0.2, 0.3
+
+
+def _text(pos, vel=None, *, dt=5e-7):
+    deck = cylinder_cavity_deck(length=LENGTH, cavity_radius=BIG_R, particles=pos, radius=R,
+                                material=STEEL, structure_mass=1e-3, stiffness=10.0,
+                                damping=0.0, free_dofs=(), gravity=(0.0, 0.0, 0.0), dt=dt,
+                                itrac=10, velocities=vel)
+    return format_deck(deck)
+
+
+def _with_card(text, card):
+    start = text.index("\nCYLINDER\n") + 1
+    end = text.index("END", start) + 3
+    return text[:start] + card + text[end:]
+
+
+@pytest.mark.parametrize("card, message, column", [
+    ("CYLINDER\n 1 2 3\nEND", "CYLINDER needs 4 values", None),
+    ("CYLINDER\n 1 2 3 -0.2\nEND", "RADIUS must be > 0", 8),
+    ("CYLINDER\n 1 2 2 0.2\nEND", "NODE_B must differ from NODE_A", 6),
+])
+def test_bad_cylinder_records_are_deck_errors_at_the_field(card, message, column):
+    text = _with_card(_text([[0.15, 0.0, 0.0]]), card)
+    with pytest.raises(DeckError, match=message) as err:
+        parse_deck(text, "deck.inp")
+    assert err.value.card == "CYLINDER"
+    assert err.value.line == text[:text.index("\nCYLINDER\n")].count("\n") + 3
+    if column is not None:
+        assert err.value.column == column
+
+
+@pytest.mark.parametrize("card, message", [
+    ("CYLINDER\n 1 2 99 0.2\nEND", "axis node B 99 is not defined"),
+    ("CYLINDER\n 1 2 5 0.2\nEND", "axis node B 5 is a particle node"),
+    ("CYLINDER\n 7 2 3 0.2\nEND", "slave set 1 has no master triangles and no CYLINDER"),
+])
+def test_bad_cylinder_references_are_deck_errors(card, message):
+    text = _with_card(_text([[0.15, 0.0, 0.0], [0.15, 0.1, 0.0]]), card)
+    with pytest.raises(DeckError, match=message) as err:
+        build_model(parse_deck(text, "deck.inp"))
+    assert err.value.card in ("CYLINDER", "CONTACT")
+
+
+def test_axis_nodes_must_move_as_one_rigid_cavity():
+    text = _text([[0.15, 0.0, 0.0]])
+    # node 3 leaves the rigid body (RBEL lists 2 and 3; keep only 2) and is free
+    text = text.replace("   1 123456 2 2 3\n", "   1 123456 1 2\n")
+    with pytest.raises(DeckError, match="must move as one rigid cavity") as err:
+        build_model(parse_deck(text, "deck.inp"))
+    assert err.value.card == "CYLINDER"
+
+
+def test_check_flags_spheres_outside_and_in_the_wall(tmp_path):
+    # one sphere 0.01 deep in the curved wall (0.32 R, beyond the 0.25 R refusal limit), one
+    # with its centre beyond the cap at x = LENGTH, one clean
+    pos = [[0.15, BIG_R - R + 0.01, 0.0], [LENGTH + 0.01, 0.0, 0.0], [0.15, 0.0, 0.0]]
+    text = _text([[0.15, 0.0, 0.0]] * 3)
+    for k, p in enumerate(pos):
+        old = f"   {4 + k} 0.15 0.0 0.0\n"
+        text = text.replace(old, f"   {4 + k} {p[0]!r} {p[1]!r} {p[2]!r}\n", 1)
+    report = check_model(build_model(parse_deck(text, "deck.inp")))
+    codes = {w.code: w for w in report.warnings}
+    assert "particle node 5: centre outside the cylinder on axis nodes 2, 3" in \
+        codes["particles-outside"].details[0]
+    assert codes["wall-penetration"].details[0].startswith("particle node 4: 0.01 (0.32 R)")
+    path = tmp_path / "bad.inp"
+    path.write_text(text)
+    assert run_cli("check", path) == 1
+    assert run_cli(path, "--quiet") == 2                 # refused: the run would blow up
+    assert not (tmp_path / "bad.trace.txt").exists()
+
+
+def test_a_penetration_names_the_cylinder_part():
+    # a sphere at 100 in/s towards the curved wall with a step 100 x too coarse
+    text = _text([[0.15, 0.0, 0.0]], [[0.0, 100.0, 0.0]], dt=2e-5)
+    sim = Simulation(build_model(parse_deck(text, "deck.inp")))
+    with pytest.raises(UnstableRunError, match="penetrated the curved wall of the cylinder on "
+                                               "axis nodes 2, 3"):
+        sim.advance(2000)
+
+
+def test_a_sphere_that_tunnels_out_is_caught():
+    # one step of 0.4 in carries a sphere from the axis through the wall (R = 0.2); with the
+    # penetration and energy checks off, the containment check stops it
+    text = _text([[0.15, 0.0, 0.0]], [[0.0, 0.0, -2000.0]], dt=2e-4)
+    sim = Simulation(build_model(parse_deck(text, "deck.inp")), penetration_limit=1e9,
+                     energy_tolerance=1e300)
+    with pytest.raises(UnstableRunError, match="particle node 4 left its cylinder"):
+        sim.advance(1)
+
+
+def test_restart_continues_cylinder_64_bit_for_bit(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    shutil.copy(DECK, "c.inp")
+    assert run_cli("c.inp", "--tmax", 0.004, "--trace", "whole.trace.txt", "--quiet") == 0
+    assert run_cli("c.inp", "--tmax", 0.002, "--trace", "part.trace.txt", "--quiet") == 0
+    assert run_cli("c.inp", "--tmax", 0.004, "--trace", "part.trace.txt", "--restart",
+                   "--quiet") == 0
+    whole = (tmp_path / "whole.trace.txt").read_bytes()
+    assert (tmp_path / "part.trace.txt").read_bytes() == whole
+    rows = np.loadtxt(tmp_path / "whole.trace.txt", delimiter=";")
+    assert rows[-1, 0] == pytest.approx(0.004, rel=1e-12)
