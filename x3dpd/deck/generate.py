@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.deck.cards import (Body, Boundary, Contact, Cylinder, Deck, Element, Initial, Mass,
-                              Material, Node, Parameters, Pdmp, Rbel, SlaveSet, Title, Trace, Triangle,
-                              Usrfrc)
+                              Material, Node, Parameters, Pdmp, Rbel, SlaveSet, Title, Trace,
+                              Triangle, Usrfrc)
 from x3dpd.geometry.cylinder import cylinder_clearance, cylinder_mesh
 
 #: Corner order of the box (unit cube) and its 12 triangles, two per face.

@@ -36,7 +36,8 @@ class State:
     flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
     ledger (4,) cumulative work/dissipation; cs, cs_on (3K) contact state rows and open flags of
-    the analytic cylinders' static list (x3dpd.solver.bundles.Cylinders; empty without any); step: steps done since t0; e_ref: energy at t0;
+    the analytic cylinders' static list (x3dpd.solver.bundles.Cylinders; empty without any);
+    step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
 
