@@ -125,6 +125,12 @@ class Simulation:
     def time(self) -> float:
         return self.model.t0 + self.state.step * self.dt
 
+    @property
+    def clock(self) -> int:
+        """Steps of ``dt`` since t0: where a run stands (x3dpd.solver.variable_step's driver
+        counts DTMAX steps)."""
+        return self.state.step
+
     def initialize(self) -> None:
         """Forces at t0 (velocity Verlet needs them), initial contacts, the reference energy."""
         if self._initialized:

@@ -30,7 +30,7 @@ class Setting:
     friction: str = "regularized"
     repeat: int = 0
     own: bool = False
-    auto: bool = False  # the step chosen by accuracy (x3dpd.study.variable_step), dt = DTMAX
+    auto: bool = False  # the step chosen by accuracy (x3dpd.run(dt="auto")), dt = DTMAX
 
     @property
     def label(self) -> str:
