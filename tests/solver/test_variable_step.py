@@ -1,6 +1,7 @@
-"""The step chosen by accuracy (x3dpd.study.variable_step): it reproduces the fine fixed-step
-answer within the error it claims, sees a contact coming, keeps the ledger continuous across
-step changes, and continues from a saved state bit for bit.
+"""The variable-step driver itself (x3dpd.solver.variable_step): it switches to the contact step
+before a contact begins and back to DTMAX in free flight, and its levels are the ones DTMIN and
+DTMAX allow. Accuracy, penetration, the ledger and restarts through ``x3dpd.run(dt="auto")``:
+tests/api/test_auto_step.py; through the command line: tests/cli/test_auto_step_cli.py.
 
 Claimed error: 50 steps per contact, for which velocity Verlet's peak-force error is at most
 1.35 % (10/50)^2 = 0.054 % (x3dpd.model.timestep.peak_force_error, re-measured in
@@ -9,76 +10,31 @@ tests/model/test_model_timestep.py); restitution errs less than peak force.
 
 from __future__ import annotations
 
-import pickle
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from dataclasses import replace  # noqa: E402
+from factories import floor_deck  # noqa: E402
 
-from factories import FIG30_E0, FIG30_E1, FIG30_TAU1, floor_deck, sdof_deck  # noqa: E402
-
-from x3dpd.deck.cards import Usrfrc  # noqa: E402
-
-from x3dpd.errors import UnstableRunError  # noqa: E402
+from x3dpd.errors import InputError  # noqa: E402
 from x3dpd.model.build import build_model  # noqa: E402
 from x3dpd.model.timestep import peak_force_error  # noqa: E402
 from x3dpd.solver.simulation import Simulation  # noqa: E402
-from x3dpd.study.variable_step import VariableStep  # noqa: E402
+from x3dpd.solver.variable_step import VariableStep, auto_floor  # noqa: E402
 
-R, V, T = 0.03125, 62.8, 8e-5
-VISCO = dict(e0=FIG30_E0, e1=FIG30_E1, tau1=FIG30_TAU1, radius=R)
-
-
-def lee_radok_model(**material):
-    """A 0.03125 in sphere 0.003 in above a wall, flying at it at 62.8 in/s (contact ~3.8 us)."""
-    deck = floor_deck(dt=2e-6, height=R + 0.003, velocity=(0.0, -V, 0.0), **(material or VISCO))
-    return build_model(deck)
+R, V = 0.03125, 62.8
 
 
-def variable(model, t_end=T):
-    return VariableStep(model, dtmin=1e-10, dtmax=2e-6, interval=2e-6).run(t_end)
-
-
-def test_the_lee_radok_wall_impact_gets_its_restitution_right():
-    res = variable(lee_radok_model())
-    fine = Simulation(lee_radok_model(), dt=1e-9, itrac=2000).advance(int(round(T / 1e-9)))
-    e_var, e_fine = res.data[-1, 0, 4] / V, fine.data[-1, 0, 4] / V
-    assert 0.5 < e_fine < 1.0
-    assert e_var == pytest.approx(e_fine, rel=peak_force_error(50) / 100)
-    # the step was refined before the contact began (seen coming), not after
-    assert res.steps[1][0] == 0.0 and res.steps[1][1] <= 3.8e-6 / 50
-    # the same deck at its fixed DTMAX of 2e-6 s cannot: a diagnosed stop
-    with pytest.raises(UnstableRunError):
-        Simulation(lee_radok_model(), itrac=1).advance(int(T / 2e-6))
-
-
-def test_the_ledger_stays_continuous_across_step_changes():
-    """A spring (omega = 10 rad/s) under a constant load from rest, DTMAX = 0.1 s: the structure
-    asks for 0.2 x 2/omega = 0.04 s, so the run switches to DTMAX/4 at t = 0, where the load's
-    force makes the Verlet term S = dt^2/8 F^2/m jump by 6 % of the energy scale. For a linear
-    system the ledger balances to round-off, before and after the switch."""
-    deck = replace(sdof_deck(dt=0.1, hz=1.0, mass=1.0, k=100.0, c=0.0, drive=0.0, itrac=1),
-                   usrfrc=(Usrfrc(("constant:node=1,dof=1,amp=5.0",)),))
-    res = VariableStep(build_model(deck), dtmin=1e-3, dtmax=0.1, interval=0.1).run(5.0)
-    assert [dt for _, dt in res.steps] == [0.1, 0.025]
-    scale = np.max(np.abs(res.energy[:, 1:11]))
-    assert np.max(np.abs(res.energy[:, 11])) < 1e-12 * scale
-    assert np.allclose(res.times, np.arange(res.times.size) * 0.1, rtol=0, atol=1e-12)
-
-
-def test_a_continued_run_repeats_the_uninterrupted_one_bit_for_bit():
-    model = lee_radok_model()
-    whole = variable(model)
-    half = variable(model, T / 2)
-    state, level = pickle.loads(pickle.dumps((half.state, half.level)))
-    rest = VariableStep(model, dtmin=1e-10, dtmax=2e-6, interval=2e-6).run(T, state=state,
-                                                                           level=level)
-    assert np.array_equal(np.concatenate([half.data, rest.data]), whole.data)
-    assert np.array_equal(np.concatenate([half.energy, rest.energy]), whole.energy)
+def test_the_levels_halve_dtmax_down_to_dtmin():
+    model = build_model(floor_deck(dt=2e-6, radius=R))
+    vs = VariableStep(model, dtmin=2.4e-7, dtmax=2e-6, itrac=1)
+    assert vs.levels == [2e-6, 1e-6, 5e-7, 2.5e-7]
+    assert auto_floor(0.0, 2e-6) == auto_floor(2e-6, 2e-6) == 2e-6 / 1024
+    assert auto_floor(1e-7, 2e-6) == 1e-7
+    with pytest.raises(InputError):
+        VariableStep(model, dtmin=1e-6, dtmax=2e-6, interval=3e-6)
 
 
 def test_free_flight_runs_at_dtmax_and_the_step_is_refined_before_the_contact():
