@@ -14,6 +14,9 @@ from x3dpd.study.execute import Job, run_jobs
 from x3dpd.study.scene import QUANTITIES, Scene, classify, trace_norm
 from x3dpd.study.settings import Setting, ladder
 
+#: Fewest output rows a study's window gets (its output interval shrinks to give them).
+MIN_ROWS = 100
+
 _NAMES = {"peak_force": "peak force", "restitution": "restitution",
           "contact_time": "contact time", "amplitude": "amplitude",
           "power_per_cycle": "power dissipated per cycle", "dissipated": "energy dissipated"}
@@ -70,7 +73,10 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     if scene.kind == "impact":
         interval = steps[0]
     else:
-        base = model.itrac * dt_deck
+        # the deck's output interval, or finer when the window would hold fewer than
+        # MIN_ROWS rows (a short window's amplitude needs rows to be seen at all)
+        window = (tmax if tmax is not None else model.tmax) - model.t0
+        base = min(model.itrac * dt_deck, window / MIN_ROWS)
         interval = steps[-1] * max(1, math.ceil(base / steps[-1] - 1e-9))
     jobs = [Job(cards, s, tmax, tuple(usrfrc), interval, scene) for s in settings]
     rows = run_jobs(jobs, workers=workers, scheduler=scheduler, done=progress)
