@@ -143,3 +143,13 @@ def test_stopped_then_restarted_writes_the_same_bytes(tmp_path):
 def test_bad_step_words_are_refused():
     with pytest.raises(InputError, match="'auto'"):
         x3dpd.run(lee_radok(), dt="fast")
+
+
+def test_no_shipped_deck_changes_behaviour():
+    """Every shipped deck has DTMIN = DTMAX, so its runs keep the fixed step DTMAX."""
+    from x3dpd.api.stepping import wants_auto
+
+    decks = sorted((Path(__file__).resolve().parents[2] / "decks").glob("*.inp"))
+    assert decks
+    for path in decks:
+        assert not wants_auto(None, x3dpd.load_deck(path).parameters), path.name

@@ -20,7 +20,6 @@ from x3dpd.physics.hertz import (  # noqa: F401  (hertz_contact_time re-exported
     effective_modulus_pair,
     effective_modulus_wall,
     effective_radius,
-    hertz_constant,
     hertz_contact_time,
 )
 
