@@ -153,3 +153,21 @@ def test_no_shipped_deck_changes_behaviour():
     assert decks
     for path in decks:
         assert not wants_auto(None, x3dpd.load_deck(path).parameters), path.name
+
+
+def test_a_hooke_contact_is_resolved_by_its_own_half_period():
+    """decks/hooke_wall.inp (linear spring-dashpot, k_n = 1e4 lbf/in, e = 0.8, 10 in/s) with
+    DTMAX raised to 1e-6 s: the step is chosen from the undamped half period
+    pi sqrt(m/k_n) (not from a Hertz contact), 50 steps per contact, and the sphere leaves at
+    e x 10 in/s (closed form) within 5e-3: the dashpot force is evaluated from the half-step
+    velocity, a first-order error of order zeta omega dt = 0.071 x pi/50 = 4.5e-3 (central
+    differences add (omega dt)^2/24 = 1.6e-4); the Hertz time of a steel sphere (~7 us) would
+    ask for a step 4x finer than the half period does."""
+    deck = x3dpd.load_deck(Path(__file__).resolve().parents[2] / "decks" / "hooke_wall.inp")
+    deck = replace(deck, parameters=replace(deck.parameters, dtmin=1e-10, dtmax=1e-6))
+    res = x3dpd.run(deck)
+    m = res.model.mass[res.model.particle_start]
+    half = math.pi * math.sqrt(m / 1.0e4)
+    st = res.summary["step"]
+    assert half / 100 < st["min"] <= half / 50 and st["max"] == 1e-6
+    assert abs(res.trace.velocity[-1, -1, 0]) == pytest.approx(8.0, rel=5e-3)

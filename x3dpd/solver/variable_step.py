@@ -49,6 +49,7 @@ from x3dpd.geometry.cells import find_pairs
 from x3dpd.geometry.triangle import unit_normals
 from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
                                  effective_radius, hertz_contact_time)
+from x3dpd.physics.hooke import hooke_impact
 from x3dpd.solver.simulation import Block, Simulation
 
 #: Floor of the closing speed a decision assumes [length/s].
@@ -289,11 +290,17 @@ class VariableStep:
         return False
 
     def _contact_time(self, v: float) -> float:
+        """The shortest contact at impact speed ``v``: Hertz's (instantaneous modulus), or for
+        the HOOKE law the undamped half period pi sqrt(m*/k_n) (shorter than the damped one)."""
         m = self.model
         e_inst = m.moduli.sum(axis=1)
         best = math.inf
         mass = m.mass[m.particle_start:]
         for i in np.unique(m.particle_group, return_index=True)[1]:
+            if m.normal_law == "hooke":
+                m_eff = mass[i] / 2.0 if "pair_contact" in m.effects else mass[i]
+                best = min(best, hooke_impact(m_eff, float(m.hooke[i, 0]), 1.0, v)[0])
+                continue
             if "wall_contact" in m.effects:
                 best = min(best, hertz_contact_time(
                     mass[i], m.radius[i], effective_modulus_wall(e_inst[i], m.poisson[i]), v))
