@@ -11,32 +11,19 @@ so a resumed run that lost its level would step differently.
 from __future__ import annotations
 
 import json
-import signal
-import subprocess
 import sys
-import time
 from dataclasses import replace
 from pathlib import Path
 
-import pytest
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 from factories import G, floor_deck  # noqa: E402
+from processes import kill_after_first_dump, x3dpd  # noqa: E402
 
 from x3dpd.deck.writer import format_deck  # noqa: E402
 from x3dpd.io.restart import load_restart  # noqa: E402
 
-TIMEOUT = 600   # a cold kernel cache compiles first
 TMAX = 0.02     # 10,000 output intervals of 2e-6 s: a few seconds of wall time
 TREST = 0.002
-
-
-def x3dpd(*args, cwd, wait=True):
-    cmd = [sys.executable, "-m", "x3dpd", *map(str, args)]
-    if wait:
-        return subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=TIMEOUT)
-    return subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True)
 
 
 def write_deck(path: Path) -> None:
@@ -60,14 +47,7 @@ def test_sigkill_during_an_auto_step_run_then_restart_loses_nothing(tmp_path):
     assert side["dt"] == "auto" and step["mode"] == "auto"
     assert 2e-6 / 1024 <= step["min"] <= step["mean"] <= step["max"] <= 2e-6
     dump = part / "drop.trace.txt.restart.npz"
-    proc = x3dpd(*args, "--quiet", cwd=part, wait=False)
-    t_end = time.monotonic() + TIMEOUT
-    while not dump.exists() and proc.poll() is None and time.monotonic() < t_end:
-        time.sleep(0.005)
-    if proc.poll() is not None:
-        pytest.fail(f"the run ended ({proc.returncode}) before it could be killed")
-    proc.send_signal(signal.SIGKILL)
-    proc.communicate()
+    kill_after_first_dump(*args, "--quiet", cwd=part, dump=dump)
     _, meta = load_restart(dump)
     assert 0 < meta["step"] < round(TMAX / 2e-6)
     assert meta["variable_step"]["level"] > 0
