@@ -41,7 +41,7 @@ from x3dpd.api.outputs import (
 )
 from x3dpd.api.results import Chunk, FinalState, Recorder, RunResult
 from x3dpd.api.safety import initial_penetration_error
-from x3dpd.api.stepping import is_auto, make_stepper
+from x3dpd.api.stepping import auto_summary, is_auto, make_stepper
 from x3dpd.errors import InputError, UnstableRunError
 
 #: Wall time one ``Simulation.advance`` call should take [s] (chunks adapt to the speed).
@@ -317,7 +317,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         summary = _summary(sim, stats, st, applied, replaced, trace_path, energy_path,
                            dump_path if writes else None, ENERGY_COLUMNS)
         if auto:
-            _auto_summary(summary, sim, steps_before)
+            auto_summary(summary, sim, steps_before)
         final = FinalState(state=_copy_state(sim.state), deck_key=key, dt=dt, time=sim.time,
                            checkpoint=sim.checkpoint() if auto else None)
         return RunResult(trace=recorder.trace({"status": st, "dt": dt, "itrac": itrac}),
@@ -490,16 +490,6 @@ def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dum
         "energy_file": energy_path, "restart_file": dump_path, "dumps": stats.dumps,
         "units": list(getattr(sim.model, "units", ("in", "lbf", "s"))),
     }
-
-
-def _auto_summary(summary: dict, sim, steps_before: int) -> None:
-    """A run with a step chosen by accuracy: ``steps`` counts steps of every size, ``itrac``
-    stays in DTMAX steps, ``step`` records the steps used (min, max, mean [s])."""
-    ticks, steps = summary["steps"], sim.steps_taken - steps_before
-    summary["steps"] = steps
-    if ticks:
-        summary["steps_per_s"] *= steps / ticks
-    summary["step"] = sim.step_record()
 
 
 def _copy_state(state):

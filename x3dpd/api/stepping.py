@@ -45,3 +45,13 @@ def is_auto(sim) -> bool:
     from x3dpd.solver.variable_step import VariableStep
 
     return isinstance(sim, VariableStep)
+
+
+def auto_summary(summary: dict, sim, steps_before: int) -> None:
+    """A run with a step chosen by accuracy: ``steps`` counts steps of every size, ``itrac``
+    stays in DTMAX steps, ``step`` records the steps used (min, max, mean [s])."""
+    ticks, steps = summary["steps"], sim.steps_taken - steps_before
+    summary["steps"] = steps
+    if ticks:
+        summary["steps_per_s"] *= steps / ticks
+    summary["step"] = sim.step_record()
