@@ -51,8 +51,15 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
              f"{row['frequency_hz']:8.4f} Hz  X={row['amplitude']:.5e}  "
              f"{row['cycles']:4d} cycles  {row['wall_s']:6.1f} s{flag}")
 
-    rows = run_sweep(spec, out, workers=workers, scheduler=scheduler, overwrite=overwrite,
-                     on_point=on_point)
+    done = []
+    try:
+        rows = run_sweep(spec, out, workers=workers, scheduler=scheduler,
+                         overwrite=overwrite, on_point=lambda row: (done.append(row),
+                                                                    on_point(row)))
+    except KeyboardInterrupt:
+        echo(f"interrupted: {len(done)} point(s) finished in this call are kept in {out}; "
+             "the same command resumes the sweep")
+        raise
     curves = baseline_curves(spec)
     plot_sweep(Path(out) / "sweep.png", rows, curves, title=Path(deck_path).name)
     for a in attenuations(rows, curves):
