@@ -22,7 +22,7 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
                   baselines: Sequence[str] = (), out: str, workers: int | None = None,
                   scheduler: str | None = None, dt: float | None = None, tol: float = 0.01,
                   window: int = 5, max_cycles: int = 400, samples_per_cycle: int = 200,
-                  extrapolate: bool = True, overwrite: bool = False,
+                  extrapolate: bool = True, predict: bool = True, overwrite: bool = False,
                   echo: Callable[[str], None] = print) -> list[dict]:
     """Run a sweep into ``out`` (sweep.csv, sweep.png, points/); returns its rows."""
     deck = read_deck(deck_path)
@@ -37,7 +37,7 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
                      baselines=tuple(baselines), dt=dt,
                      criterion=Criterion(tol=tol, window=window, max_cycles=max_cycles,
                                          samples_per_cycle=samples_per_cycle,
-                                         extrapolate=extrapolate))
+                                         extrapolate=extrapolate, predict=predict))
     start = time.perf_counter()
     echo(f"sweep {deck_path}: node {node} dof {dof}, {len(frequencies)} frequencies "
          f"{frequencies[0]:g}-{frequencies[-1]:g} Hz, drive {', '.join(f'{d:g}' for d in drives)}"

@@ -44,7 +44,7 @@ from x3dpd.model.build import build_model
 COLUMNS = ("config", "frequency_hz", "drive", "direction", "amplitude", "phase", "velocity",
            "acceleration", "accelerance", "peak", "mean", "spread", "dissipated_per_cycle",
            "dissipated_particles_per_cycle", "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
-           "branch", "measured_amplitude", "change", "method", "t_start", "t_end", "steps",
+           "branch", "measured_amplitude", "change", "method", "start", "t_start", "t_end", "steps",
            "compile_s", "wall_s")
 DIRECTIONS = ("up", "down", "both")
 
@@ -95,7 +95,7 @@ def closed_form_rows(config: str, sdof, spec: SweepSpec) -> list[dict]:
                 "dissipated_particles_per_cycle": 0.0,
                 "input_work_per_cycle": sdof.dissipated_per_cycle(amp, w), "cycles": 0, "converged": True,
                 "extrapolated": False, "irregular": False, "measured_amplitude": amp,
-                "change": 0.0, "method": "closed-form", "t_start": 0.0, "t_end": 0.0,
+                "change": 0.0, "method": "closed-form", "start": "", "t_start": 0.0, "t_end": 0.0,
                 "steps": 0, "compile_s": 0.0, "wall_s": 0.0})
     return rows
 
