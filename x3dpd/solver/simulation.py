@@ -434,6 +434,11 @@ class Simulation:
         for uf in self.python_forces:
             uf.function(t, s.x[:, :3].copy(), s.vel.copy(), self.fpy)
 
+    def energy_now(self) -> np.ndarray:
+        """The energies of the current state: KE_trans, KE_rot, U_grav, U_spring, U_contact and
+        the Verlet term S; the ledger's total is the sum of the first five minus S [energy]."""
+        return self._energy_now()
+
     def _energy_now(self) -> np.ndarray:
         en = np.empty(6)
         b = self._bundles()
