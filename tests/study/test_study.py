@@ -1,5 +1,5 @@
 """`x3dpd study`: the ladder, the errors against the finest run, the Pareto front, the verdict,
-the files, and every shipped deck (short windows).
+the files (every shipped deck: test_study_decks.py).
 
 Closed form for the impact scene: the Hertz peak force of a sphere on a rigid wall,
 F_max = K a_max^(3/2) with a_max = (5 m v^2 / 4K)^(2/5), K = 4/3 E/(1-nu^2) sqrt(R) (report
@@ -89,18 +89,6 @@ def test_a_driven_many_particle_deck_is_called_chaotic_and_compared_with_its_spr
     assert sum(1 for r in res.rows if r["setting"].repeat) == 3
     for r in res.rows:
         assert r["status"] == "complete" and r["amplitude"] > 0
-
-
-@pytest.mark.validate
-@pytest.mark.parametrize("deck, args", [
-    ("appendix_a_cube.inp", {"usrfrc": ("sine:node=25,dof=1,amp=4.84040e-3,hz=37.21",)}),
-    ("beam_1.inp", {}), ("beam_64.inp", {}), ("beam_512.inp", {}),
-    ("impact_wall.inp", {}),
-])
-def test_every_shipped_deck_can_be_studied(tmp_path, deck, args):
-    res = run_study(str(DECKS / deck), tmp_path / "s", tmax=2e-3 if "beam" in deck or
-                    "cube" in deck else None, workers=2, **args)
-    assert res.verdict and (tmp_path / "s" / "study.csv").exists()
 
 
 def test_the_step_chosen_by_accuracy_shows_as_auto(tmp_path):

@@ -35,7 +35,7 @@ ROWS = {
     "falling_50": ["--n", "50", "--steps", "20000", "--repeat", "3"],
     "falling_64": ["--n", "64", "--steps", "20000", "--repeat", "3"],
     "falling_512": ["--n", "512", "--steps", "20000", "--repeat", "3"],
-    "settled_512": ["--settled", "--n", "512", "--steps", "10000", "--repeat", "3"],
+    "settled_512": ["--settled", "--n", "512", "--steps", "10000", "--repeat", "3", "--accel-g", "0"],
     "sdof": ["--sdof"],
 }
 

@@ -7,7 +7,7 @@ Each measurement runs in its own process on one core (OMP/NUMBA threads = 1). x3
 force-driven spring-mounted cavity; LAMMPS the same particles in a box on a prescribed path, in
 its fastest form (``--style classic``: gran/hertz/history pair and wall styles). Two tables:
 the falling window (the scene's start), and a settled bed (``--settled-n``, default 512 spheres:
-settled for 300,000 steps, then shaken at 2 g; 0 skips it). Also reported: compile time with a cold and a warm numba cache, and the
+settled for 300,000 steps, at rest; 0 skips it). Also reported: compile time with a cold and a warm numba cache, and the
 structure-only (SDOF) step rate. LAMMPS rows are skipped when `lammps` is not installed.
 Both codes time the same window ``--repeat`` times from scratch (default 3) and
 report their fastest, so a stray background process cannot tilt the ratio either way.
@@ -97,7 +97,7 @@ def main(argv=None) -> int:
     ap.add_argument("--style", choices=("classic", "granular"), default="classic",
                     help="LAMMPS's pair/wall styles (classic: gran/hertz/history, its fastest)")
     ap.add_argument("--settled-n", type=int, default=512,
-                    help="particles of the settled, shaken bed (0: skip that table)")
+                    help="particles of the settled bed (0: skip that table)")
     args = ap.parse_args(argv)
     rows = []
     for n in args.n:
@@ -120,7 +120,7 @@ def main(argv=None) -> int:
         ratio = f"{r['speedup']:.1f}×" if r["speedup"] else "–"
         print(f"| {r['n']} | {r['x3dpd_us']:.2f} | {lam} | {ratio} |")
     if settled:
-        print(f"\nSettled bed of {settled['n']}, shaken at 2 g (LAMMPS --style {args.style}):")
+        print(f"\nSettled bed of {settled['n']} at rest (LAMMPS --style {args.style}):")
         print("| particles | x3dpd µs/step | contacts/sphere | LAMMPS µs/step | "
               "contacts/sphere | LAMMPS / x3dpd |")
         print("|---:|---:|---:|---:|---:|---:|")

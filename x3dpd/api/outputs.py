@@ -114,10 +114,12 @@ def load_dump(dump_path: str, *, asked_by: str, sim, key: str, options: dict, mo
     if meta.get("itrac") != sim.itrac:
         diffs.append(f"ITRAC {sim.itrac} (the dump's is {meta.get('itrac')})")
     old = meta.get("options", {})
-    for name in ("usrfrc", "motion", "friction", "usrfrc_files", "usrfrc_mode"):
-        theirs = old.get(name, "add" if name == "usrfrc_mode" else None)
+    defaults = {"usrfrc_mode": "add", "step": "fixed"}
+    for name in ("usrfrc", "motion", "friction", "usrfrc_files", "usrfrc_mode", "step"):
+        theirs = old.get(name, defaults.get(name))
         if theirs != options[name]:
             label = {"usrfrc_files": "user force file contents",
+                     "step": "the step (auto: chosen by accuracy; fixed: --dt or DTMAX)",
                      "usrfrc_mode": "--usrfrc replacing or adding to the deck's USRFRC"
                      }.get(name, f"--{name}")
             diffs.append(f"{label}: {options[name]!r} (the dump's: {theirs!r})")
@@ -133,7 +135,10 @@ def load_dump(dump_path: str, *, asked_by: str, sim, key: str, options: dict, mo
     if state.x.shape != (model.n_nodes, 3):
         raise InputError(f"{dump_path}: the restart dump holds {state.x.shape[0]} nodes, the "
                          f"deck {model.n_nodes}")
-    sim.restore(state)   # the state carries the audit's energy scale too
+    if options["step"] == "auto":   # the driver's level and step record too
+        sim.restore(state, meta.get("variable_step"))
+    else:
+        sim.restore(state)   # the state carries the audit's energy scale too
     return meta
 
 

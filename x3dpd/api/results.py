@@ -31,6 +31,7 @@ class FinalState:
     deck_key: str
     dt: float
     time: float
+    checkpoint: dict | None = None   # a step chosen by accuracy: its level (dt is DTMAX)
 
     def __repr__(self) -> str:
         return f"FinalState(time={self.time!r}, dt={self.dt!r}, step={self.state.step})"

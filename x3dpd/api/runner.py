@@ -41,6 +41,7 @@ from x3dpd.api.outputs import (
 )
 from x3dpd.api.results import Chunk, FinalState, Recorder, RunResult
 from x3dpd.api.safety import initial_penetration_error
+from x3dpd.api.stepping import auto_summary, is_auto, make_stepper
 from x3dpd.errors import InputError, UnstableRunError
 
 #: Wall time one ``Simulation.advance`` call should take [s] (chunks adapt to the speed).
@@ -94,7 +95,7 @@ class _Stats:
     t_start: float = 0.0
 
 
-def run(deck, *, tmax: float | None = None, dt: float | None = None,
+def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         usrfrc: Sequence[str] = (), usrfrc_mode: str = "replace", motion: Sequence[str] = (),
         friction: str = "regularized", trace: str | os.PathLike | None = None,
         energy: str | os.PathLike | None = None, overwrite: bool = False, restart: bool = False,
@@ -111,8 +112,11 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
     ----------
     deck : str, PathLike or Deck
         A deck file, or a deck read by :func:`x3dpd.load_deck`.
-    tmax, dt : float, optional
-        End time and time step [s]; default the deck's TMAX and DTMAX.
+    tmax : float, optional
+        End time [s]; default the deck's TMAX.
+    dt : float or "auto", optional
+        Time step [s], or ``"auto"``: a step chosen by accuracy in DTMIN ... DTMAX
+        (docs/running.md). Default: the deck's DTMAX, or ``"auto"`` when its DTMIN < DTMAX.
     usrfrc : sequence of str
         External forces (built-in laws such as ``"sine:node=9,dof=1,amp=4.84e-3,hz=37.21"`` or
         user force files, docs/usrfrc.md).
@@ -132,7 +136,8 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
     restart : bool
         Resume from ``<trace>.restart.npz`` (as IREST = 1).
     itrac : int, optional
-        Record every ``itrac`` steps (default the deck's ITRAC).
+        Record every ``itrac`` steps (default the deck's ITRAC; with ``dt="auto"``, every
+        ``itrac`` x DTMAX of simulated time).
     trace_nodes : sequence of int, optional
         User node ids to record (default the deck's TRACE card).
     keep_trace : bool
@@ -164,7 +169,7 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
     """
     from x3dpd.deck import Deck, read_deck
     from x3dpd.model.build import build_model
-    from x3dpd.solver.simulation import ENERGY_COLUMNS, Simulation
+    from x3dpd.solver.simulation import ENERGY_COLUMNS
 
     stats = _Stats()
     if usrfrc_mode not in ("replace", "add"):
@@ -201,9 +206,10 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
         if err is not None:
             raise err
 
-    sim = Simulation(model, usrfrc=usrfrc, motion=motion, dt=dt, friction=friction,
-                     penetration_limit=penetration_limit, allow_python_usrfrc=usrfrc_python,
-                     itrac=itrac)
+    sim = make_stepper(model, dt=dt, parameters=deck_obj.parameters, itrac=itrac,
+                       usrfrc=usrfrc, motion=motion, friction=friction,
+                       penetration_limit=penetration_limit, allow_python_usrfrc=usrfrc_python)
+    auto = is_auto(sim)
     if trace_nodes is not None:
         sim.trace_nodes = _node_indices(model, trace_nodes)
     if on_compile is not None and not _kernels_cached(sim):
@@ -224,7 +230,8 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
     options = {"usrfrc": list(usrfrc), "motion": list(motion), "friction": friction,
                "tmax": tmax, "usrfrc_python": usrfrc_python,
                "usrfrc_files": user_file_hashes(applied),
-               "usrfrc_mode": "replace" if replaced else "add"}
+               "usrfrc_mode": "replace" if replaced else "add",
+               "step": "auto" if auto else "fixed"}
     meta = None
     writer = ewriter = None
     if writes:
@@ -237,6 +244,9 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
             "usrfrc": applied, "motion": list(motion), "friction": friction,
             "energy_file": energy_path, "restart_file": dump_path, "command": command,
         }
+        if auto:
+            sidecar["dt"] = "auto"
+            sidecar["step"] = sim.step_record()
         if replaced:
             sidecar["usrfrc_replaced"] = replaced
         units = getattr(model, "units", None)
@@ -247,6 +257,8 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
             meta = load_dump(dump_path, asked_by=asked, sim=sim, key=key, options=options,
                              model=model)
             sidecar["resumed_at"] = meta["time"]
+            if auto:
+                sidecar["step"] = sim.step_record()
             if meta["step"] >= n_end:
                 raise InputError(f"{dump_path}: the restart dump is at t = {meta['time']:.9g} "
                                  f"s, not before TMAX {tmax:.9g} s: nothing to run (give a "
@@ -259,22 +271,25 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
             except FileNotFoundError:
                 pass
 
-    if initial_state is not None and sim.state.step >= n_end:
+    if initial_state is not None and sim.clock >= n_end:
         raise InputError(f"the initial state is at t = {sim.time:.9g} s, not before TMAX "
                          f"{tmax:.9g} s: nothing to run (give a larger tmax)")
 
     def dump(reason: str) -> None:
         if not writes:
             return
+        if auto:
+            writer.describe(step=sim.step_record())
         writer.flush()
         ewriter.flush()
         from x3dpd.io.restart import save_restart
 
-        save_restart(dump_path, sim.state.to_arrays(), {
+        extra = {"variable_step": sim.checkpoint()} if auto else {}
+        save_restart(dump_path, sim.state.to_arrays(), {**extra,
             "reason": reason, "x3dpd_version": __version__,
             "deck_path": deck_path, "deck_abspath": os.path.abspath(deck_path),
             "deck_sha256": deck_sha, "deck_key": key, "dt": dt, "itrac": itrac, "t0": t0,
-            "step": int(sim.state.step), "time": sim.time,
+            "step": int(sim.clock), "time": sim.time,
             "trace": {"path": trace_path, "bytes": writer.tell(),
                       "blocks": writer.blocks_written},
             "energy": {"path": energy_path, "bytes": ewriter.tell(),
@@ -287,6 +302,8 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
     ids = model.node_ids[sim.trace_nodes]
     recorder = Recorder(ids, ENERGY_COLUMNS, keep_trace)
     sink = _Sink(writer, ewriter, recorder)
+    if auto and writes:  # the sidecar's record of the steps used, as of the last row
+        sink.on_close = lambda: writer.describe(step=sim.step_record())
     status = "complete"
     if (meta is None and initial_state is None):
         snap = sim.snapshot()
@@ -294,11 +311,15 @@ def run(deck, *, tmax: float | None = None, dt: float | None = None,
         _note(stats, snap.energy)
     stats.setup_seconds = time.perf_counter() - stats.wall_start
     stats.t_start = sim.time
+    steps_before = sim.steps_taken if auto else 0
 
     def result(st: str) -> RunResult:
         summary = _summary(sim, stats, st, applied, replaced, trace_path, energy_path,
                            dump_path if writes else None, ENERGY_COLUMNS)
-        final = FinalState(state=_copy_state(sim.state), deck_key=key, dt=dt, time=sim.time)
+        if auto:
+            auto_summary(summary, sim, steps_before)
+        final = FinalState(state=_copy_state(sim.state), deck_key=key, dt=dt, time=sim.time,
+                           checkpoint=sim.checkpoint() if auto else None)
         return RunResult(trace=recorder.trace({"status": st, "dt": dt, "itrac": itrac}),
                          energy=recorder.energy(), summary=summary, final_state=final,
                          model=model)
@@ -329,6 +350,7 @@ class _Sink:
 
     def __init__(self, writer, ewriter, recorder: Recorder):
         self.writer, self.ewriter, self.recorder = writer, ewriter, recorder
+        self.on_close = None   # called before the trace is closed (sidecar additions)
 
     def write(self, times, data, energy) -> None:
         if self.writer is not None:
@@ -343,6 +365,8 @@ class _Sink:
 
     def close(self, status: str) -> None:
         if self.writer is not None:
+            if self.on_close is not None:
+                self.on_close()
             self.writer.close(status)
 
     def __enter__(self):
@@ -351,6 +375,8 @@ class _Sink:
     def __exit__(self, exc_type, exc, tb):
         if self.writer is not None:
             try:
+                if self.on_close is not None:
+                    self.on_close()
                 self.writer.__exit__(exc_type, exc, tb)
             finally:
                 self.ewriter.__exit__(exc_type, exc, tb)
@@ -369,8 +395,8 @@ def _step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
     rate = 0.0
     last_flush = time.perf_counter()
     first = True
-    while sim.state.step < n_end and not intr.signum:
-        step = sim.state.step
+    while sim.clock < n_end and not intr.signum:
+        step = sim.clock
         target = min(n_end, step + chunk)
         if trest_steps:
             next_dump = (step // trest_steps + 1) * trest_steps
@@ -386,10 +412,10 @@ def _step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
                 keep = _rows_up_to(partial.times, exc, sim)
                 sink.write(partial.times[:keep], partial.data[:keep], partial.energy[:keep])
                 _note(stats, partial.energy[:keep])
-            stats.steps += sim.state.step - step
+            stats.steps += sim.clock - step
             raise
         wall = time.perf_counter() - t
-        done = sim.state.step - step
+        done = sim.clock - step
         sink.write(block.times, block.data, block.energy)
         _note(stats, block.energy)
         stats.steps += done
@@ -404,14 +430,14 @@ def _step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
         elif done == target - step:
             chunk = min(chunk * 4, max(1, n_end))
         first = False
-        if trest_steps and sim.state.step % trest_steps == 0 and sim.state.step < n_end:
+        if trest_steps and sim.clock % trest_steps == 0 and sim.clock < n_end:
             dump("trest")
             last_flush = time.perf_counter()
         elif time.perf_counter() - last_flush > FLUSH_SECONDS:
             sink.flush()
             last_flush = time.perf_counter()
         if progress is not None:
-            left = n_end - sim.state.step
+            left = n_end - sim.clock
             eta = left / rate if rate > 0 else float("nan")
             progress(sim.time, rate, eta, _relative_residual(stats, sim),
                      sim.model.t0 + n_end * sim.dt)
@@ -478,13 +504,19 @@ def _continue_from(sim, initial: FinalState, key: str, model) -> None:
     if initial.deck_key != key:
         raise InputError("initial_state belongs to another deck (its cards differ; only TMAX, "
                          "TREST and IREST may change)")
-    if initial.dt != sim.dt:
-        raise InputError(f"initial_state was computed at dt {initial.dt!r} s; continue it at "
-                         f"the same step (this run's is {sim.dt!r} s)")
+    auto = is_auto(sim)
+    if initial.dt != sim.dt or (initial.checkpoint is not None) != auto:
+        what = lambda a, d: f"a step chosen by accuracy up to {d!r} s" if a else f"dt {d!r} s"
+        raise InputError(f"initial_state was computed at "
+                         f"{what(initial.checkpoint is not None, initial.dt)}; continue it at "
+                         f"the same step (this run's is {what(auto, sim.dt)})")
     state = _copy_state(initial.state)
     if state.motion_prev.shape[0] != len(sim.motion):
         state.motion_prev = np.zeros(len(sim.motion))
-    sim.restore(state)
+    if auto:
+        sim.restore(state, initial.checkpoint)
+    else:
+        sim.restore(state)
 
 
 def _node_indices(model, node_ids) -> np.ndarray:

@@ -27,7 +27,7 @@ def resume_command(opts: RunOptions) -> str:
     if opts.usrfrc_python:
         args.append("--usrfrc-python")
     if opts.dt is not None:
-        args += ["--dt", repr(opts.dt)]
+        args += ["--dt", opts.dt if isinstance(opts.dt, str) else repr(opts.dt)]
     if opts.tmax is not None:
         args += ["--tmax", repr(opts.tmax)]
     if opts.friction != "regularized":

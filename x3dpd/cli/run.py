@@ -29,7 +29,7 @@ class RunOptions:
     deck: str
     trace: str | None = None
     tmax: float | None = None
-    dt: float | None = None
+    dt: float | str | None = None
     usrfrc: tuple[str, ...] = ()
     usrfrc_add: bool = False
     usrfrc_python: bool = False
@@ -49,7 +49,9 @@ class RunOptions:
 @click.option("--trace", "trace", metavar="PATH",
               help="Trace file [default: <deck stem>.trace.txt in the current directory].")
 @click.option("--tmax", type=float, metavar="T", help="End time [s] [default: the deck's TMAX].")
-@click.option("--dt", type=float, metavar="DT", help="Time step [s] [default: the deck's DTMAX].")
+@click.option("--dt", metavar="DT",
+              help="Time step [s], or auto: a step chosen by accuracy within DTMIN ... DTMAX "
+                   "[default: the deck's DTMAX; auto when its DTMIN < DTMAX].")
 @click.option("--usrfrc", multiple=True, metavar="SPEC",
               help="External force: a built-in law (sine:node=25,dof=1,amp=4.84e-3,hz=37.21) or "
                    "a user file force.py (repeatable). Replaces the deck's USRFRC card (the "
@@ -80,7 +82,7 @@ def run(deck, trace, tmax, dt, usrfrc, usrfrc_add, usrfrc_python, motion, energy
     Exit status: 0 done, 2 bad input, 3 unstable run (diagnosis printed, trace kept),
     130 interrupted (Ctrl-C: restart dump written; resume with --restart).
     """
-    opts = RunOptions(deck=deck, trace=trace, tmax=tmax, dt=dt, usrfrc=tuple(usrfrc),
+    opts = RunOptions(deck=deck, trace=trace, tmax=tmax, dt=_step(dt), usrfrc=tuple(usrfrc),
                       usrfrc_add=usrfrc_add, usrfrc_python=usrfrc_python, motion=tuple(motion),
                       energy=energy, plot=plot, overwrite=overwrite, restart=restart,
                       friction=friction, quiet=quiet, argv=_command_line())
@@ -88,6 +90,19 @@ def run(deck, trace, tmax, dt, usrfrc, usrfrc_add, usrfrc_python, motion, energy
     if status:
         # SystemExit rather than ctx.exit(): x3dpd.cli.main runs click with standalone_mode=False
         sys.exit(status)
+
+
+def _step(text: str | None) -> float | str | None:
+    """``--dt``: a positive number of seconds or ``auto``."""
+    if text is None:
+        return None
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"--dt: expected a time step in s or auto, got {text!r}") from None
+    return value
 
 
 def _command_line() -> tuple[str, ...]:
@@ -167,9 +182,17 @@ def format_summary(deck: str, s: dict) -> str:
     if s.get("usrfrc_replaced"):
         lines.append(f"  drive          {'; '.join(s['usrfrc'])} (replaces the deck's USRFRC "
                      f"{'; '.join(s['usrfrc_replaced'])}; --usrfrc-add adds instead)")
+    step = s.get("step")
+    if step:
+        at = (f"at a step chosen by accuracy ({step['min']:.4g} .. {step['max']:.4g} s, mean "
+              f"{step['mean']:.4g} s since t0; bounds {step['dtmin']:.4g} .. "
+              f"{step['dtmax']:.4g} s), trace every {s['itrac'] * s['dt']:.6g} s"
+              if step["steps"] else "at a step chosen by accuracy")
+    else:
+        at = f"at dt {s['dt']:.6g} s, trace every {s['itrac']} steps"
     lines += [
         f"  steps          {s['steps']} this run; t = {s['t_start']:.9g} .. {s['t_end']:.9g} s "
-        f"at dt {s['dt']:.6g} s, trace every {s['itrac']} steps",
+        f"{at}",
         f"  wall time      {s['wall_s']:.2f} s (setup and first-call compile/load "
         f"{s['compile_s']:.2f} s)"]
     rate = s["steps_per_s"]

@@ -51,7 +51,8 @@ def _steps(text: str | None):
               help="Run on the Dask cluster at ADDRESS instead of local workers.")
 @click.option("--dt", "dts", default=None, metavar="LIST",
               help="Steps to run, comma-separated [s], and/or auto (the step chosen by "
-                   "accuracy); default DTMAX x 1/4 ... 8.")
+                   "accuracy, within the deck's DTMIN ... DTMAX when DTMIN < DTMAX, else up to "
+                   "the coarsest step); default DTMAX x 1/4 ... 8.")
 @click.option("--usrfrc", multiple=True, metavar="SPEC",
               help="Force spec replacing the deck's USRFRC card (repeatable).")
 @click.option("--no-fidelity", "no_fidelity", is_flag=True,

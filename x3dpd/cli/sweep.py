@@ -39,10 +39,13 @@ from x3dpd.errors import InputError
               help="Recorded samples per drive cycle (amplitude measurement).")
 @click.option("--no-extrapolate", is_flag=True,
               help="Never extrapolate a linear transient; wait for it to die.")
+@click.option("--no-predict", is_flag=True,
+              help="Start each point from the deck's or the previous point's state as it is, "
+                   "not with the structure put on its predicted steady-state motion.")
 @click.option("--overwrite", is_flag=True, help="Discard a different sweep stored in DIR.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
 def sweep(deck, freq, amp, node, dof, direction, baseline, out, workers, scheduler, dt, tol,
-          window, max_cycles, samples_per_cycle, no_extrapolate, overwrite, quiet):
+          window, max_cycles, samples_per_cycle, no_extrapolate, no_predict, overwrite, quiet):
     """Steady-state response of a node across frequencies (DIR/sweep.csv, DIR/sweep.png)."""
     from x3dpd.design.commands import sweep_command
 
@@ -55,5 +58,5 @@ def sweep(deck, freq, amp, node, dof, direction, baseline, out, workers, schedul
                   baselines=tuple(b for b in baseline.split(",") if b.strip()), out=out,
                   workers=workers, scheduler=scheduler, dt=dt, tol=tol, window=window,
                   max_cycles=max_cycles, samples_per_cycle=samples_per_cycle,
-                  extrapolate=not no_extrapolate, overwrite=overwrite,
+                  extrapolate=not no_extrapolate, predict=not no_predict, overwrite=overwrite,
                   echo=(lambda s: None) if quiet else click.echo)

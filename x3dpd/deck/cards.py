@@ -32,7 +32,8 @@ class Parameters:
     """PARAMETERS: TIME TMAX TREST DTMIN DTMAX INCR INCMAX IREST NINTPL ISTAT ITRAC.
 
     TIME start time [s]; TMAX end time [s]; TREST restart-dump interval [s] (0 = none);
-    DTMIN, DTMAX time-step bounds [s] (x3dpd runs a constant step DTMAX); INCR starting increment;
+    DTMIN, DTMAX time-step bounds [s] (a constant step DTMAX; a step chosen by accuracy between
+    them when DTMIN < DTMAX, x3dpd.solver.variable_step); INCR starting increment;
     INCMAX maximum number of increments; IREST 1 = resume from the last restart dump;
     NINTPL, ISTAT kept for X3D compatibility (no effect); ITRAC trace output every ITRAC steps.
     """

@@ -22,7 +22,7 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
                   baselines: Sequence[str] = (), out: str, workers: int | None = None,
                   scheduler: str | None = None, dt: float | None = None, tol: float = 0.01,
                   window: int = 5, max_cycles: int = 400, samples_per_cycle: int = 200,
-                  extrapolate: bool = True, overwrite: bool = False,
+                  extrapolate: bool = True, predict: bool = True, overwrite: bool = False,
                   echo: Callable[[str], None] = print) -> list[dict]:
     """Run a sweep into ``out`` (sweep.csv, sweep.png, points/); returns its rows."""
     deck = read_deck(deck_path)
@@ -37,7 +37,7 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
                      baselines=tuple(baselines), dt=dt,
                      criterion=Criterion(tol=tol, window=window, max_cycles=max_cycles,
                                          samples_per_cycle=samples_per_cycle,
-                                         extrapolate=extrapolate))
+                                         extrapolate=extrapolate, predict=predict))
     start = time.perf_counter()
     echo(f"sweep {deck_path}: node {node} dof {dof}, {len(frequencies)} frequencies "
          f"{frequencies[0]:g}-{frequencies[-1]:g} Hz, drive {', '.join(f'{d:g}' for d in drives)}"
@@ -51,8 +51,15 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
              f"{row['frequency_hz']:8.4f} Hz  X={row['amplitude']:.5e}  "
              f"{row['cycles']:4d} cycles  {row['wall_s']:6.1f} s{flag}")
 
-    rows = run_sweep(spec, out, workers=workers, scheduler=scheduler, overwrite=overwrite,
-                     on_point=on_point)
+    done = []
+    try:
+        rows = run_sweep(spec, out, workers=workers, scheduler=scheduler,
+                         overwrite=overwrite, on_point=lambda row: (done.append(row),
+                                                                    on_point(row)))
+    except KeyboardInterrupt:
+        echo(f"interrupted: {len(done)} point(s) finished in this call are kept in {out}; "
+             "the same command resumes the sweep")
+        raise
     curves = baseline_curves(spec)
     plot_sweep(Path(out) / "sweep.png", rows, curves, title=Path(deck_path).name)
     for a in attenuations(rows, curves):

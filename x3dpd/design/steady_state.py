@@ -6,7 +6,8 @@ per drive period (not at the deck's trace interval), and a
 :class:`~x3dpd.analysis.steady_state.SteadyStateMonitor` watches every computed chunk and ends
 the run as soon as the criterion of ``x3dpd/analysis/steady_state.py`` is met, or at the cap.
 A point of a chain starts from the previous point's final state (``initial_state``), its drive
-phase origin at the time it starts.
+phase origin at the time it starts; by default the structure is first put on its predicted
+steady-state motion (:mod:`x3dpd.design.predict`; ``Criterion.predict``).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from dataclasses import dataclass, field
 from x3dpd.analysis.steady_state import SteadyStateMonitor
 from x3dpd.api import run as run_deck
 from x3dpd.deck.cards import Deck
+from x3dpd.design.predict import predicted_start
 from x3dpd.errors import InputError
 from x3dpd.solver.simulation import ENERGY_COLUMNS
 
@@ -41,6 +43,7 @@ class Criterion:
     max_cycles: int = 400
     samples_per_cycle: int = 200
     extrapolate: bool = True
+    predict: bool = True
 
 
 @dataclass(frozen=True)
@@ -93,6 +96,11 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     spec = (f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
             f"hz={point.frequency_hz!r},t0={t_start!r}")
     wall = _time.perf_counter()
+    start = "previous" if previous is not None else "deck"
+    if crit.predict:
+        predicted = predicted_start(point, previous, dt, t_start, (spec,))
+        if predicted is not None:
+            state, start = predicted, "predicted"
     result = run_deck(point.deck, tmax=t_start + (crit.max_cycles + 1) * period, dt=dt,
                       usrfrc=(spec,), usrfrc_mode="replace", itrac=itrac,
                       trace_nodes=(point.node,), keep_trace=False, initial_state=state,
@@ -115,7 +123,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         * math.sin(-math.radians(ss.phase_deg)),
         "cycles": ss.cycles, "converged": ss.converged, "extrapolated": ss.extrapolated,
         "irregular": ss.irregular, "measured_amplitude": ss.measured_amplitude,
-        "change": ss.change, "method": "simulated",
+        "change": ss.change, "method": "simulated", "start": start,
         "t_start": t_start, "t_end": float(summary["t_end"]), "steps": int(summary["steps"]),
         "compile_s": float(summary.get("compile_s", 0.0)), "wall_s": wall,
     }

@@ -23,9 +23,12 @@ from __future__ import annotations
 
 import hashlib
 import json
+import logging
 import math
 import os
 import pickle
+import signal
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -41,7 +44,7 @@ from x3dpd.model.build import build_model
 COLUMNS = ("config", "frequency_hz", "drive", "direction", "amplitude", "phase", "velocity",
            "acceleration", "accelerance", "peak", "mean", "spread", "dissipated_per_cycle",
            "dissipated_particles_per_cycle", "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
-           "branch", "measured_amplitude", "change", "method", "t_start", "t_end", "steps",
+           "branch", "measured_amplitude", "change", "method", "start", "t_start", "t_end", "steps",
            "compile_s", "wall_s")
 DIRECTIONS = ("up", "down", "both")
 
@@ -92,7 +95,7 @@ def closed_form_rows(config: str, sdof, spec: SweepSpec) -> list[dict]:
                 "dissipated_particles_per_cycle": 0.0,
                 "input_work_per_cycle": sdof.dissipated_per_cycle(amp, w), "cycles": 0, "converged": True,
                 "extrapolated": False, "irregular": False, "measured_amplitude": amp,
-                "change": 0.0, "method": "closed-form", "t_start": 0.0, "t_end": 0.0,
+                "change": 0.0, "method": "closed-form", "start": "", "t_start": 0.0, "t_end": 0.0,
                 "steps": 0, "compile_s": 0.0, "wall_s": 0.0})
     return rows
 
@@ -213,11 +216,20 @@ def _run_dask(todo, finished, workers: int, scheduler: str | None) -> None:
     if scheduler is not None:
         client, cluster = Client(scheduler), None
     else:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=":0")
+        # the worker processes start with SIGINT ignored (a process inherits that, and Python
+        # then installs no KeyboardInterrupt of its own): Ctrl-C reaches the whole process
+        # group, and this process, not each worker, decides what happens
+        main = threading.current_thread() is threading.main_thread()
+        old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+        try:
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0")
+        finally:
+            if main:
+                signal.signal(signal.SIGINT, old)
         client = Client(cluster)
+    futures = {}
     try:
-        futures = {}
         for chain, previous in todo:
             for point in chain:
                 previous = client.submit(run_point, point, previous, pure=False)
@@ -225,10 +237,17 @@ def _run_dask(todo, finished, workers: int, scheduler: str | None) -> None:
         for future in as_completed(list(futures)):
             point, n = futures[future]
             finished(point, n, future.result())
+    except KeyboardInterrupt:
+        # Ctrl-C: finished points are already on disk; closing the cluster drops the queued
+        # ones, and a worker inside a compiled step loop (which cannot be interrupted) is
+        # killed by its nanny after a few seconds. The nannies live in this process and
+        # narrate the shutdown at length.
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        raise
     finally:
-        client.close()
+        client.close(timeout=10)
         if cluster is not None:
-            cluster.close()
+            cluster.close(timeout=10)
 
 
 def sort_rows(rows: Sequence[dict]) -> list[dict]:

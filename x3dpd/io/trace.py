@@ -325,6 +325,11 @@ class TraceWriter:
             raise TraceError(f"cannot write trace sidecar {sidecar_path(self.path)}: "
                              f"{exc}") from None
 
+    def describe(self, **fields: Any) -> None:
+        """Add or update run-description fields of the sidecar (written at the next flush or
+        close)."""
+        self._meta.update(fields)
+
     def flush(self) -> None:
         """Flush and ``fsync`` the trace, then update the sidecar (blocks, bytes, status)."""
         if self._closed:

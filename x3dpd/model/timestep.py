@@ -16,12 +16,11 @@ import numpy as np
 
 from x3dpd.model.model import Model
 from x3dpd.model.magnitudes import safe_norms
-from x3dpd.physics.hertz import (
-    HERTZ_TIME_FACTOR,
+from x3dpd.physics.hertz import (  # noqa: F401  (hertz_contact_time re-exported)
     effective_modulus_pair,
     effective_modulus_wall,
     effective_radius,
-    hertz_constant,
+    hertz_contact_time,
 )
 
 #: Steps per Hertz contact the recommendation asks for (see :func:`recommended_time_step`).
@@ -37,39 +36,6 @@ STRUCTURE_SAFETY = 0.2
 #: Floor of the characteristic impact speed [length/s] (1 in/s in the report's units).
 MIN_IMPACT_SPEED = 1.0
 _AXES = "xyz"
-
-
-def hertz_contact_time(m_eff, r_eff, e_star, v):
-    r"""Duration of an elastic Hertz impact, :math:`t_c = 2.868\,(m^2/(R E^{*2} v))^{1/5}` [s].
-
-    Derivation. With the approach :math:`\delta`, Hertz's law (report Eq. 5; Johnson, *Contact
-    Mechanics* §4.2) is :math:`F = K\delta^{3/2}`, :math:`K = \tfrac43 E^*\sqrt{R}`. Energy
-    conservation :math:`\tfrac12 m\dot\delta^2 + \tfrac25 K\delta^{5/2} = \tfrac12 m v^2` gives
-    the largest approach :math:`\delta_m = (5mv^2/4K)^{2/5}` and the duration
-    :math:`t_c = 2\int_0^{\delta_m} d\delta/\dot\delta = (2\delta_m/v)\int_0^1(1-x^{5/2})^{-1/2}dx
-    = 2.9432\,\delta_m/v`. Substituting :math:`K`:
-    :math:`t_c = 2.9432\,(15/16)^{2/5}\,(m^2/(R E^{*2} v))^{1/5} = 2.868\,(m^2/(R E^{*2} v))^{1/5}`.
-    :math:`R` enters to the first power (:math:`m^2/(R E^{*2} v)` has units of time^5), not
-    squared. The report's Table 3 (two steel spheres, R = 0.0625 in) lists :math:`t_c/2`; this
-    function reproduces it within 0.5 % (the table's last digit is not always rounded).
-
-    Effective values: sphere on a rigid flat wall :math:`m, R, E^* = E/(1-\nu^2)` (report
-    §7.2.2); two identical spheres :math:`m/2, R/2, E^* = E/(2(1-\nu^2))`; in general
-    :math:`m = m_1m_2/(m_1+m_2)`, :math:`R = R_1R_2/(R_1+R_2)`,
-    :math:`1/E^* = (1-\nu_1^2)/E_1 + (1-\nu_2^2)/E_2` (:mod:`x3dpd.physics.hertz`).
-
-    Parameters
-    ----------
-    m_eff : effective mass [mass]
-    r_eff : effective radius [length]
-    e_star : effective modulus [force/length^2]
-    v : normal impact speed [length/s]
-    """
-    # written as 2 F (5 m / 4 K)^(2/5) v^(-1/5) (F = HERTZ_TIME_FACTOR; the same number as
-    # 2 F a_max / v of hertz_impact), so that no intermediate under- or overflows for extreme
-    # decks (a speed of 1e300, a density of 1e-300)
-    k = hertz_constant(e_star, r_eff)
-    return 2.0 * HERTZ_TIME_FACTOR * (1.25 * m_eff / k) ** 0.4 * v ** -0.2
 
 
 def peak_force_error(steps_per_contact):

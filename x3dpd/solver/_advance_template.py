@@ -395,11 +395,12 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy)
     # pass 2: the contact law on those
     for q in range(nbusy):
-        s = busy[q]
-        pi = pl_i[s]
-        pj = pl_j[s]
-        i = p0 + pi
-        j = p0 + pj
+        # unsigned indices, as in the filter: no wrap-around code for negative indices
+        s = np.uint64(busy[q])
+        pi = np.uint64(pl_i[s])
+        pj = np.uint64(pl_j[s])
+        i = np.uint64(p0 + pl_i[s])
+        j = np.uint64(p0 + pl_j[s])
         dx = x[j, 0] - x[i, 0]
         dy = x[j, 1] - x[i, 1]
         dz = x[j, 2] - x[i, 2]
@@ -424,7 +425,7 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
         if a > pen_limit * rmin:
             status |= PENETRATION
             diag[0] = pi
-            diag[1] = -1 - pj
+            diag[1] = -1 - pl_j[s]
             diag[2] = a
             diag[3] = rmin
         inv_dist = 1.0 / dist
@@ -432,8 +433,8 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
         ny = dy * inv_dist
         nz = dz * inv_dist
         # the pair's mixed constants (x3dpd.physics.mixing), looked up by particle kind
-        ki = pkind[pi]
-        kj = pkind[pj]
+        ki = np.uint64(pkind[pi])
+        kj = np.uint64(pkind[pj])
         a_rate = 0.0
         if NORMAL_USES_RATE:
             a_rate = -(nx * (vel[j, 0] - vel[i, 0]) + ny * (vel[j, 1] - vel[i, 1])

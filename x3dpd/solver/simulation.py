@@ -126,6 +126,12 @@ class Simulation:
     def time(self) -> float:
         return self.model.t0 + self.state.step * self.dt
 
+    @property
+    def clock(self) -> int:
+        """Steps of ``dt`` since t0: where a run stands (x3dpd.solver.variable_step's driver
+        counts DTMAX steps)."""
+        return self.state.step
+
     def initialize(self) -> None:
         """Forces at t0 (velocity Verlet needs them), initial contacts, the reference energy."""
         if self._initialized:
@@ -455,6 +461,11 @@ class Simulation:
         s = self.state
         for uf in self.python_forces:
             uf.function(t, s.x[:, :3].copy(), s.vel.copy(), self.fpy)
+
+    def energy_now(self) -> np.ndarray:
+        """The energies of the current state: KE_trans, KE_rot, U_grav, U_spring, U_contact and
+        the Verlet term S; the ledger's total is the sum of the first five minus S [energy]."""
+        return self._energy_now()
 
     def _energy_now(self) -> np.ndarray:
         en = np.empty(6)

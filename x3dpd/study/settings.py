@@ -30,11 +30,11 @@ class Setting:
     friction: str = "regularized"
     repeat: int = 0
     own: bool = False
-    auto: bool = False  # the step chosen by accuracy (x3dpd.study.variable_step), dt = DTMAX
+    auto: bool = False  # the step chosen by accuracy (x3dpd.run(dt="auto")) up to dt
 
     @property
     def label(self) -> str:
-        parts = ["dt auto" if self.auto else f"dt {self.dt:.3g}"]
+        parts = [f"dt auto <= {self.dt:.3g}" if self.auto else f"dt {self.dt:.3g}"]
         if self.contact != "deck":
             parts.append(self.contact)
         if self.friction != "regularized":
@@ -45,11 +45,11 @@ class Setting:
 
 
 def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
-           chaotic: bool, auto: bool = False) -> list[Setting]:
+           chaotic: bool) -> list[Setting]:
     """The settings to run: every step of ``dts`` (default DTMAX x :data:`LADDER`) with the
     deck's physics, the fidelity choices at the deck's step, and perturbed repeats of the
-    deck's setting for a chaotic scene, and with ``auto`` the step chosen by accuracy up to
-    DTMAX. The deck's own setting is marked ``own``."""
+    deck's setting for a chaotic scene. The deck's own setting is marked ``own``. (The step
+    chosen by accuracy is added by :func:`x3dpd.study.run_study`.)"""
     steps = sorted({float(d) for d in (dts if dts else [dt_deck * f for f in LADDER])}
                    | {float(dt_deck)})
     out = [Setting(d, own=np.isclose(d, dt_deck, rtol=1e-12, atol=0.0)) for d in steps]
@@ -57,8 +57,6 @@ def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
         out.append(Setting(dt_deck, contact="elastic"))
     if friction:
         out.append(Setting(dt_deck, friction="coulomb"))
-    if auto:
-        out.append(Setting(dt_deck, auto=True))
     if chaotic:
         out += [Setting(dt_deck, repeat=k) for k in range(1, REPEATS + 1)]
     return out

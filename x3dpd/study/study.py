@@ -12,7 +12,10 @@ import numpy as np
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.study.execute import Job, run_jobs
 from x3dpd.study.scene import QUANTITIES, Scene, classify, trace_norm
-from x3dpd.study.settings import ladder
+from x3dpd.study.settings import Setting, ladder
+
+#: Fewest output rows a study's window gets (its output interval shrinks to give them).
+MIN_ROWS = 100
 
 _NAMES = {"peak_force": "peak force", "restitution": "restitution",
           "contact_time": "contact time", "amplitude": "amplitude",
@@ -58,15 +61,22 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     scene = classify(model, usrfrc)
     dt_deck = float(model.dt)
     dts = list(dts or [])
-    auto = "auto" in dts or cards.parameters.dtmin < cards.parameters.dtmax
+    own_auto = cards.parameters.dtmin < cards.parameters.dtmax
+    auto = "auto" in dts or own_auto
     dts = [d for d in dts if d != "auto"] or None
     settings = ladder(dt_deck, dts=dts, viscoelastic=fidelity and scene.viscoelastic,
-                      friction=fidelity and scene.friction, chaotic=scene.chaotic, auto=auto)
+                      friction=fidelity and scene.friction, chaotic=scene.chaotic)
+    if auto:  # the deck's own DTMIN ... DTMAX, else up to the coarsest step of the ladder
+        settings.append(Setting(dt_deck if own_auto else max(s.dt for s in settings),
+                                auto=True))
     steps = sorted({s.dt for s in settings if not s.auto})
     if scene.kind == "impact":
         interval = steps[0]
     else:
-        base = model.itrac * dt_deck
+        # the deck's output interval, or finer when the window would hold fewer than
+        # MIN_ROWS rows (a short window's amplitude needs rows to be seen at all)
+        window = (tmax if tmax is not None else model.tmax) - model.t0
+        base = min(model.itrac * dt_deck, window / MIN_ROWS)
         interval = steps[-1] * max(1, math.ceil(base / steps[-1] - 1e-9))
     jobs = [Job(cards, s, tmax, tuple(usrfrc), interval, scene) for s in settings]
     rows = run_jobs(jobs, workers=workers, scheduler=scheduler, done=progress)

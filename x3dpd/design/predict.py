@@ -1,0 +1,104 @@
+"""A predicted start for a sweep point: the structure put on its expected steady-state motion.
+
+A lightly damped structure forgets its start slowly: the report's beam (zeta = 0.32 %,
+tau = 1 / (zeta omega) = 1.3 s) needs about 170 drive cycles for a start-up transient to fall
+below 1 %, whatever the particles do. A sweep point therefore starts, by default, with the
+structure already moving on the motion it is expected to settle on, a *predictor* in the sense
+of numerical continuation:
+
+* the expected response is the steady state of the linear added-mass structure (the particles'
+  mass rigidly on the driven node; :mod:`x3dpd.design.baselines`), a complex amplitude
+  :math:`X_a(\\omega) = F / (k - M\\omega^2 + i c\\omega)`;
+* in a chain it is scaled by what the particles did at the previous point,
+  :math:`X = \\rho X_a(\\omega)` with :math:`\\rho = X_{prev} / X_a(\\omega_{prev})` (amplitude
+  ratio and phase shift of the measured response to the added-mass one), so a point continues on
+  the branch its predecessor was on;
+* with the drive :math:`F \\sin(\\omega (t - t_0))` starting at the point's start ``t0``, the
+  driven DOF gets :math:`u = |X| \\sin\\varphi` and :math:`\\dot u = |X| \\omega \\cos\\varphi`
+  (:math:`\\varphi = \\arg X`): every node free along that DOF (the structure, its cavity and the
+  particles in it) is translated and given the same velocity change, so the particles keep their
+  places, contacts and histories relative to the cavity; only the springs to ground see the
+  change.
+
+The energy this adds or removes is booked in the ledger's reference energy (the residual stays
+continuous; the point's dissipation per cycle is measured from ledger differences anyway). The
+steady state reached does not depend on the start where it is unique; where several coexist the
+chain's scaling keeps the branch. Only structures the added-mass baseline can solve in closed
+form (a linear SDOF on the driven node) are predicted; any other deck starts as before.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+
+from x3dpd.api import FinalState
+from x3dpd.api.outputs import deck_key
+from x3dpd.design.baselines import linear_sdof, particle_mass, with_added_mass
+from x3dpd.model.build import build_model
+from x3dpd.solver.simulation import Simulation
+from x3dpd.solver.state import State
+
+#: Bounds of the chain's scale |rho|: outside them the previous point is no guide.
+RHO_RANGE = (1e-3, 1e3)
+
+
+def added_mass_response(deck, node: int, dof: int, drive: float, omega: float) -> complex | None:
+    """Complex steady-state amplitude X of the added-mass structure under drive sin(omega t)
+    [length], or None when it is not a linear SDOF."""
+    model = build_model(deck)
+    sdof = linear_sdof(build_model(with_added_mass(deck, node, particle_mass(model))), node, dof)
+    if sdof is None:
+        return None
+    amp, phi = sdof.response(drive, omega)
+    return cmath.rect(amp, phi)
+
+
+def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple):
+    """The state to start ``point`` from (``previous`` = (row, FinalState) of the point before
+    in a chain, or None), with the structure on its predicted steady-state motion; None when the
+    structure cannot be predicted (the caller then starts as before)."""
+    omega = 2.0 * math.pi * point.frequency_hz
+    target = added_mass_response(point.deck, point.node, point.dof, point.drive, omega)
+    if target is None:
+        return None
+    if previous is not None:
+        row = previous[0]
+        before = added_mass_response(point.deck, point.node, point.dof, row["drive"],
+                                     2.0 * math.pi * row["frequency_hz"])
+        measured = cmath.rect(row["amplitude"], math.radians(row["phase"]))
+        rho = measured / before if before else 0.0
+        if not (cmath.isfinite(rho) and RHO_RANGE[0] <= abs(rho) <= RHO_RANGE[1]):
+            return None
+        target *= rho
+    model = build_model(point.deck)
+    sim = Simulation(model, usrfrc=usrfrc, dt=dt)
+    if previous is not None:
+        sim.restore(State.from_arrays({k: np.array(v, copy=True)
+                                       for k, v in previous[1].state.to_arrays().items()}))
+    else:
+        sim.initialize()
+    state = sim.state
+    i = model.index_of(point.node)
+    d = point.dof - 1
+    u = abs(target) * math.sin(cmath.phase(target))
+    v = abs(target) * omega * math.cos(cmath.phase(target))
+    dx = model.x0[i, d] + u - state.x[i, d]
+    dv = v - state.vel[i, d]
+    before = total_energy(sim)
+    moving = ~np.asarray(model.fixed[:, d])
+    state.x[moving, d] += dx
+    state.vel[moving, d] += dv
+    sim.restore(state)   # wall planes follow the moved nodes
+    sim.compute_forces(t_start)
+    state.e_ref += total_energy(sim) - before
+    return FinalState(state=state, deck_key=deck_key(point.deck), dt=dt, time=t_start)
+
+
+def total_energy(sim: Simulation) -> float:
+    """Kinetic + potential + stored contact energy minus the Verlet term, as the ledger counts
+    it [energy]."""
+    en = sim.energy_now()
+    return float(en[:5].sum() - en[5])
