@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from x3dpd.model.check_cylinders import cylinder_extent
 from x3dpd.model.model import Model
 from x3dpd.model.magnitudes import safe_norms
 from x3dpd.physics.hertz import (  # noqa: F401  (hertz_contact_time re-exported)
@@ -89,6 +90,9 @@ def characteristic_speed(model: Model) -> float:
     :math:`L` is the extent of the particle cloud plus a diameter.
     """
     pts = model.x0[model.tri_nodes.reshape(-1)]
+    if model.cylinder_radius.shape[0]:   # analytic cylinders: their bounding boxes
+        pts = np.concatenate([pts] + [np.stack(cylinder_extent(model, c))
+                                      for c in range(model.cylinder_radius.shape[0])])
     if pts.shape[0] == 0 and model.n_particles:
         pts = model.x0[model.particle_start:]
         extra = 2.0 * float(model.radius.max())

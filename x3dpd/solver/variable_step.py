@@ -46,6 +46,7 @@ import numpy as np
 
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.geometry.cells import find_pairs
+from x3dpd.geometry.cylinder import cylinder_clearance
 from x3dpd.geometry.triangle import unit_normals
 from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
                                  effective_radius, hertz_contact_time)
@@ -287,6 +288,12 @@ class VariableStep:
                     gap = xp[mine] @ n_in[faces].T - d0[faces] - k.radius[mine][:, None]
                     if np.min(gap) < reach:
                         return True
+        for c in range(k.cyl_radius.shape[0]):   # analytic cylinders: the exact gap
+            mine = k.cyl_particle[k.cyl_cylinder == c]
+            a, b = state.x[k.cyl_nodes[c]]
+            if mine.size and np.min(cylinder_clearance(xp[mine], k.radius[mine], a, b,
+                                                       float(k.cyl_radius[c]))[0]) < reach:
+                return True
         return False
 
     def _contact_time(self, v: float) -> float:
@@ -301,7 +308,7 @@ class VariableStep:
                 m_eff = mass[i] / 2.0 if "pair_contact" in m.effects else mass[i]
                 best = min(best, hooke_impact(m_eff, float(m.hooke[i, 0]), 1.0, v)[0])
                 continue
-            if "wall_contact" in m.effects:
+            if "wall_contact" in m.effects or "cylinder_contact" in m.effects:
                 best = min(best, hertz_contact_time(
                     mass[i], m.radius[i], effective_modulus_wall(e_inst[i], m.poisson[i]), v))
             if "pair_contact" in m.effects:
