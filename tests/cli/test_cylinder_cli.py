@@ -124,3 +124,23 @@ def test_restart_continues_cylinder_64_bit_for_bit(tmp_path, monkeypatch):
     assert (tmp_path / "part.trace.txt").read_bytes() == whole
     rows = np.loadtxt(tmp_path / "whole.trace.txt", delimiter=";")
     assert rows[-1, 0] == pytest.approx(0.004, rel=1e-12)
+
+
+def test_a_dump_from_before_cylinders_restores_without_their_rows():
+    """Restart dumps written before the CYLINDER card have no cylinder state: such a state
+    has empty cylinder rows (a scene without cylinders) and runs on bit for bit."""
+    from x3dpd.solver.state import State
+
+    text = (DECKS / "beam_1.inp").read_text()
+    model = build_model(parse_deck(text, "beam_1.inp"))
+    whole = Simulation(model)
+    whole.advance(400)
+    sim = Simulation(model)
+    sim.advance(200)
+    arrays = {k: v for k, v in sim.state.to_arrays().items() if k not in ("cs", "cs_on")}
+    old = State.from_arrays(arrays)
+    assert old.cs.shape == (0, sim.state.ws.shape[1]) and old.cs_on.shape == (0,)
+    resumed = Simulation(model)
+    resumed.restore(old)
+    resumed.advance(200)
+    np.testing.assert_array_equal(resumed.state.x, whole.state.x)
