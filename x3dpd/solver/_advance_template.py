@@ -135,7 +135,7 @@ def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
 
 @step_kernel
 def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, nx, ny, nz,
-                   wall_nodes, row, w, n_w, lever, lx, ly, lz, other):
+                   wall_nodes, row, w, n_w, lever, lx, ly, lz):
     """The contact response of particle ``p`` on a wall entity, whatever its shape: the
     scene's normal law (x3dpd.physics.normal_laws) at approach ``a`` along the unit normal n
     (from the wall into the particle), Coulomb friction with spin, and the reaction on the
@@ -143,22 +143,14 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
     sum_e w_e v_e, plus omega x l when ``lever`` (omega of the first node; l = (lx, ly, lz) from
     the weighted node point to the wall point, whose moment l x F then goes to the first node).
     A locator (x3dpd.geometry: ``_locate_on_face``, ``_locate_on_cylinder``) supplies a, n,
-    the weights and l; ``other`` names the entity in a penetration diagnosis. State row ``s``
-    of ``ws`` / ``on`` keeps the contact's history. Returns (status, normal work, friction
-    loss)."""
+    the weights and l. State row ``s`` of ``ws`` / ``on`` keeps the contact's history.
+    Returns (normal work, friction loss)."""
     x, vel, force = nodes.x, nodes.vel, nodes.force
     radius, mu, inv_mt = particles.radius, particles.mu, particles.inv_mt
-    dt, pen_limit, diag = stepping.dt, stepping.pen_limit, stepping.diag
+    dt = stepping.dt
     gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
     i = particles.p0 + p
     r = radius[p]
-    status = OK
-    if a > pen_limit * r:
-        status = PENETRATION
-        diag[0] = p
-        diag[1] = other
-        diag[2] = a
-        diag[3] = r
     n0 = wall_nodes[row, 0]
     # normal force: the scene's law (x3dpd.physics.normal_laws)
     a_rate = 0.0
@@ -224,7 +216,18 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
         force[n0, 3] -= ly * fz - lz * fy
         force[n0, 4] -= lz * fx - lx * fz
         force[n0, 5] -= lx * fy - ly * fx
-    return status, dw, lost
+    return dw, lost
+
+
+@step_kernel
+def _penetration(diag, p, other, a, r):
+    """Record a contact deeper than the penetration limit in ``diag`` (particle, the wall
+    entity ``other``, depth, radius) for the stop's diagnosis; return the status bit."""
+    diag[0] = p
+    diag[1] = other
+    diag[2] = a
+    diag[3] = r
+    return PENETRATION
 
 
 @step_kernel
@@ -253,7 +256,7 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     wl_p, wl_f, ws, wl_on, nw = walls.first, walls.second, walls.state, walls.on, walls.count[0]
     face_n, face_d, face_ptr, face_tris, tri_nodes = (faces.normal, faces.offset, faces.tri_ptr,
                                                       faces.tris, faces.tri_nodes)
-    ledger = stepping.ledger
+    ledger, pen_limit = stepping.ledger, stepping.pen_limit
     status = OK
     w_normal = 0.0
     w_fric = 0.0
@@ -289,10 +292,10 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
             # no contact (or the particle left the face): close any open contact
             w_normal += _close_contact(ws, wl_on, s, a, a_old, fn_old)
             continue
-        st, dw, lost = _wall_response(nodes, particles, stepping, ws, wl_on, s, p, a, a_old,
-                                      fn_old, nx, ny, nz, tri_nodes, t, w, 3, False, 0.0, 0.0,
-                                      0.0, f)
-        status |= st
+        if a > pen_limit * r:
+            status |= _penetration(stepping.diag, p, f, a, r)
+        dw, lost = _wall_response(nodes, particles, stepping, ws, wl_on, s, p, a, a_old, fn_old,
+                                  nx, ny, nz, tri_nodes, t, w, 3, False, 0.0, 0.0, 0.0)
         w_normal += dw
         w_fric += lost
     # the ledger is touched once per call, not per contact (no dependency through memory)
@@ -332,12 +335,12 @@ def _cylinder_contacts(nodes, particles, cylinders, stepping, w, n_faces):
                 if con[s] != 0 or fn_old != 0.0 or a_old > 0.0:
                     w_normal += _close_contact(cs, con, s, a, a_old, fn_old)
                 continue
+            if a > stepping.pen_limit * r:
+                status |= _penetration(stepping.diag, p, n_faces + 3 * c + part, a, r)
             w[0] = 1.0 - xi
             w[1] = xi
-            st, dw, lost = _wall_response(nodes, particles, stepping, cs, con, s, p, a, a_old,
-                                          fn_old, nx, ny, nz, axis, c, w, 2, True, lx, ly, lz,
-                                          n_faces + 3 * c + part)
-            status |= st
+            dw, lost = _wall_response(nodes, particles, stepping, cs, con, s, p, a, a_old, fn_old,
+                                      nx, ny, nz, axis, c, w, 2, True, lx, ly, lz)
             w_normal += dw
             w_fric += lost
     stepping.ledger[L_WN] += w_normal
