@@ -131,7 +131,7 @@ def test_nan_and_inf_are_written_and_read(make_trace):
 
 
 def test_many_blocks_streamed_in_chunks(tmp_path, synthetic, monkeypatch):
-    import x3dpd.io.trace as trace_mod
+    import x3dpd.io.trace_writer as trace_mod
 
     monkeypatch.setattr(trace_mod, "_ROWS_PER_CHUNK", 7)  # 2 blocks of 3 rows per pass
     ids = [1, 2, 3]

@@ -64,3 +64,38 @@ def test_structure_bound_is_an_upper_bound_of_the_highest_frequency():
     stiffness = np.array([[k1 + k2, -k2], [-k2, k2]])
     exact = math.sqrt(np.linalg.eigvals(np.diag([1 / m1, 1 / m2]) @ stiffness).real.max())
     assert exact <= bound <= 2.0 * exact
+
+
+def _advice_at(dt: float, speed: float, **material) -> str:
+    from x3dpd.solver.diagnosis import energy_source_advice
+    from x3dpd.solver.state import build_setup, hertz_contact_time_estimate
+    model = build_model(floor_deck(dt=dt, spectator=False, **material))
+    setup = build_setup(model, dt)
+    vel = np.zeros((model.n_nodes, 6))
+    vel[setup.p0:, 1] = -speed
+    return energy_source_advice(setup, vel, dt, []), hertz_contact_time_estimate(setup, speed)
+
+
+@pytest.mark.parametrize("steps, cause", [(3.0, "too large"), (20.0, "coarsely"),
+                                          (200.0, "bookkeeping")])
+def test_the_advice_follows_the_steps_per_contact(steps, cause):
+    """Below 6 steps per contact: too large; 6-50 (x3dpd check's recommendation): coarse, with
+    the half-step test; above: the step is not the cause. The contact time is Hertz's closed
+    form at the top speed (FIG28_V), so the step is chosen from it."""
+    from factories import FIG28_V
+    _, t_c = _advice_at(1e-7, FIG28_V)
+    text, _ = _advice_at(t_c / steps, FIG28_V)
+    assert cause in text
+    if cause == "coarsely":
+        assert "half the step" in text and f"{steps:.3g} steps (50 recommended)" in text
+
+
+def test_a_maxwell_term_relaxing_within_two_steps_is_coarse():
+    """tau1 = 2 dt: the Lee & Radok update is coarse even when the contact has 200 steps."""
+    from factories import FIG28_V
+    _, t_c = _advice_at(1e-7, FIG28_V, e1=5e6, tau1=1e-6)
+    dt = t_c / 200.0
+    text, _ = _advice_at(dt, FIG28_V, e1=5e6, tau1=2.0 * dt)
+    assert "coarsely" in text and "Maxwell term relaxes in 2 steps" in text
+    text, _ = _advice_at(dt, FIG28_V, e1=5e6, tau1=10.0 * dt)
+    assert "bookkeeping" in text

@@ -22,15 +22,21 @@ import dataclasses
 import math
 import os
 import shlex
-import signal
-import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from x3dpd import __version__
+from x3dpd.api.loop import (
+    Interrupts,
+    Sink,
+    Stats,
+    note_energy,
+    relative_residual,
+    step_count,
+    step_loop,
+)
 from x3dpd.api.outputs import (
     check_writable,
     deck_key,
@@ -43,56 +49,6 @@ from x3dpd.api.results import Chunk, FinalState, Recorder, RunResult
 from x3dpd.api.safety import initial_penetration_error
 from x3dpd.api.stepping import auto_summary, is_auto, make_stepper
 from x3dpd.errors import InputError, UnstableRunError
-
-#: Wall time one ``Simulation.advance`` call should take [s] (chunks adapt to the speed).
-CHUNK_SECONDS = 0.3
-#: Wall time between trace flushes (sidecar updates) outside restart dumps [s].
-FLUSH_SECONDS = 30.0
-#: Exit status after SIGINT (128 + 2) and SIGTERM (128 + 15).
-EXIT_INTERRUPTED = 130
-EXIT_TERMINATED = 143
-
-
-class _Interrupts:
-    """SIGINT/SIGTERM during the stepping loop: the first one asks the loop to stop after the
-    current chunk (restart dump, flushed trace); a second one stops at once."""
-
-    def __init__(self, enabled: bool):
-        self.enabled = enabled
-        self.signum = 0
-        self._old = {}
-
-    def __enter__(self):
-        if self.enabled and threading.current_thread() is threading.main_thread():
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                self._old[sig] = signal.signal(sig, self._handle)
-        return self
-
-    def _handle(self, signum, frame):
-        if self.signum:
-            raise KeyboardInterrupt
-        self.signum = signum
-
-    def __exit__(self, *exc):
-        for sig, old in self._old.items():
-            signal.signal(sig, old)
-        return False
-
-    @property
-    def exit_status(self) -> int:
-        return EXIT_TERMINATED if self.signum == signal.SIGTERM else EXIT_INTERRUPTED
-
-
-@dataclass
-class _Stats:
-    steps: int = 0              # steps done by this call
-    timed_steps: int = 0        # steps whose wall time excludes compilation
-    timed_seconds: float = 0.0
-    wall_start: float = field(default_factory=time.perf_counter)
-    setup_seconds: float = 0.0
-    last_energy: np.ndarray | None = None
-    dumps: int = 0
-    t_start: float = 0.0
 
 
 def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
@@ -171,7 +127,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
     from x3dpd.model.build import build_model
     from x3dpd.solver.simulation import ENERGY_COLUMNS
 
-    stats = _Stats()
+    stats = Stats()
     if usrfrc_mode not in ("replace", "add"):
         raise InputError(f"usrfrc_mode must be 'replace' or 'add', got {usrfrc_mode!r}")
     if isinstance(deck, Deck):
@@ -217,10 +173,10 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
                    "scene after installing or changing x3dpd takes 20-60 s; later runs load it "
                    "from the cache in about a second)")
     dt, itrac, t0 = sim.dt, sim.itrac, model.t0
-    n_end = _step_count((tmax - t0) / dt, f"TMAX {tmax:g} s from the start time {t0:g} s")
+    n_end = step_count((tmax - t0) / dt, f"TMAX {tmax:g} s from the start time {t0:g} s")
     if n_end < 0:
         raise InputError(f"TMAX {tmax:g} s is before the start time {t0:g} s")
-    trest_steps = (_step_count(model.trest / dt, f"TREST {model.trest:g} s")
+    trest_steps = (step_count(model.trest / dt, f"TREST {model.trest:g} s")
                    if model.trest > 0 else 0)
     key = deck_key(deck_obj)
     if initial_state is not None:
@@ -301,14 +257,14 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
 
     ids = model.node_ids[sim.trace_nodes]
     recorder = Recorder(ids, ENERGY_COLUMNS, keep_trace)
-    sink = _Sink(writer, ewriter, recorder)
+    sink = Sink(writer, ewriter, recorder)
     if auto and writes:  # the sidecar's record of the steps used, as of the last row
         sink.on_close = lambda: writer.describe(step=sim.step_record())
     status = "complete"
     if (meta is None and initial_state is None):
         snap = sim.snapshot()
         sink.write(snap.times, snap.data, snap.energy)
-        _note(stats, snap.energy)
+        note_energy(stats, snap.energy)
     stats.setup_seconds = time.perf_counter() - stats.wall_start
     stats.t_start = sim.time
     steps_before = sim.steps_taken if auto else 0
@@ -325,17 +281,16 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
                          model=model)
 
     try:
-        with sink:
-            with _Interrupts(handle_signals) as intr:
-                stopped = _step_loop(sim, sink, n_end, trest_steps, stats, progress, dump,
-                                     intr, stop, ids)
-                if intr.signum:
-                    dump("interrupted")
-                    status = "interrupted"
-                    sink.close("interrupted")
-                else:
-                    status = "stopped" if stopped else "complete"
-                    dump("stopped" if stopped else "end")
+        with sink, Interrupts(handle_signals) as intr:
+            stopped = step_loop(sim, sink, n_end, trest_steps, stats, progress, dump,
+                                 intr, stop, ids)
+            if intr.signum:
+                dump("interrupted")
+                status = "interrupted"
+                sink.close("interrupted")
+            else:
+                status = "stopped" if stopped else "complete"
+                dump("stopped" if stopped else "end")
     except UnstableRunError as exc:
         exc.result = result("unstable")
         raise
@@ -343,135 +298,6 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
     if status == "interrupted":
         out.summary["exit_status"] = intr.exit_status
     return out
-
-
-class _Sink:
-    """Where rows go: the trace and energy writers (when writing files) and the recorder."""
-
-    def __init__(self, writer, ewriter, recorder: Recorder):
-        self.writer, self.ewriter, self.recorder = writer, ewriter, recorder
-        self.on_close = None   # called before the trace is closed (sidecar additions)
-
-    def write(self, times, data, energy) -> None:
-        if self.writer is not None:
-            self.writer.write_block(times, data)
-            self.ewriter.write_rows(energy)
-        self.recorder.add(times, data, energy)
-
-    def flush(self) -> None:
-        if self.writer is not None:
-            self.writer.flush()
-            self.ewriter.flush()
-
-    def close(self, status: str) -> None:
-        if self.writer is not None:
-            if self.on_close is not None:
-                self.on_close()
-            self.writer.close(status)
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, exc_type, exc, tb):
-        if self.writer is not None:
-            try:
-                if self.on_close is not None:
-                    self.on_close()
-                self.writer.__exit__(exc_type, exc, tb)
-            finally:
-                self.ewriter.__exit__(exc_type, exc, tb)
-        return False
-
-
-def _note(stats: _Stats, energy: np.ndarray) -> None:
-    if energy.shape[0]:
-        stats.last_energy = energy[-1].copy()
-
-
-def _step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
-               ids) -> bool:
-    """Advance to step ``n_end``; return True when ``stop`` ended the run early."""
-    chunk = max(1, min(sim.itrac, 1000))
-    rate = 0.0
-    last_flush = time.perf_counter()
-    first = True
-    while sim.clock < n_end and not intr.signum:
-        step = sim.clock
-        target = min(n_end, step + chunk)
-        if trest_steps:
-            next_dump = (step // trest_steps + 1) * trest_steps
-            target = min(target, next_dump)
-        compile_before = sim.compile_seconds
-        t = time.perf_counter()
-        try:
-            block = sim.advance(target - step)
-        except UnstableRunError as exc:
-            # write the rows computed before the failure, up to the step the diagnosis names
-            partial = getattr(exc, "block", None)
-            if partial is not None and partial.times.shape[0]:
-                keep = _rows_up_to(partial.times, exc, sim)
-                sink.write(partial.times[:keep], partial.data[:keep], partial.energy[:keep])
-                _note(stats, partial.energy[:keep])
-            stats.steps += sim.clock - step
-            raise
-        wall = time.perf_counter() - t
-        done = sim.clock - step
-        sink.write(block.times, block.data, block.energy)
-        _note(stats, block.energy)
-        stats.steps += done
-        compiled = sim.compile_seconds > compile_before
-        if not (first and compiled):
-            stats.timed_steps += done
-            stats.timed_seconds += wall
-            inst = done / wall if wall > 0 else float("inf")
-            rate = inst if rate == 0.0 else 0.5 * rate + 0.5 * inst
-            if done == target - step and math.isfinite(rate):
-                chunk = int(min(max(rate * CHUNK_SECONDS, chunk / 4, 1), chunk * 4, 1e9))
-        elif done == target - step:
-            chunk = min(chunk * 4, max(1, n_end))
-        first = False
-        if trest_steps and sim.clock % trest_steps == 0 and sim.clock < n_end:
-            dump("trest")
-            last_flush = time.perf_counter()
-        elif time.perf_counter() - last_flush > FLUSH_SECONDS:
-            sink.flush()
-            last_flush = time.perf_counter()
-        if progress is not None:
-            left = n_end - sim.clock
-            eta = left / rate if rate > 0 else float("nan")
-            progress(sim.time, rate, eta, _relative_residual(stats, sim),
-                     sim.model.t0 + n_end * sim.dt)
-        if stop is not None and block.times.shape[0]:
-            if stop(Chunk(block.times, ids, block.data, block.energy)):
-                return True
-    return False
-
-
-#: Most steps a run may ask for (2^53: beyond it step * dt no longer counts every step).
-MAX_STEPS = 2**53
-
-
-def _step_count(steps: float, what: str) -> int:
-    """round(steps), or an InputError when it is not a countable number of steps."""
-    if not math.isfinite(steps) or abs(steps) > MAX_STEPS:
-        raise InputError(f"{what} is {steps:.4g} time steps: not a number of steps a run can "
-                         f"count (at most 2^53)")
-    return int(round(steps))
-
-
-def _rows_up_to(times: np.ndarray, exc: UnstableRunError, sim) -> int:
-    """How many of a failed chunk's rows lie at or before the time the diagnosis names."""
-    t_bad = getattr(exc, "time", None)
-    if t_bad is None or not math.isfinite(t_bad):
-        return times.shape[0]
-    return int(np.searchsorted(times, t_bad + 0.5 * sim.dt, side="right"))
-
-
-def _relative_residual(stats: _Stats, sim) -> float:
-    scale = sim.state.scale
-    if stats.last_energy is None or scale <= 0:
-        return 0.0
-    return float(stats.last_energy[11]) / scale
 
 
 def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dump_path,
@@ -484,7 +310,7 @@ def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dum
         "status": status, "t_start": stats.t_start, "t_end": sim.time, "steps": stats.steps,
         "dt": sim.dt, "itrac": sim.itrac, "wall_s": wall, "step_wall_s": stats.timed_seconds,
         "compile_s": compile_s, "steps_per_s": rate, "effects": sorted(sim.effects),
-        "energy_scale": float(sim.state.scale), "residual": _relative_residual(stats, sim),
+        "energy_scale": float(sim.state.scale), "residual": relative_residual(stats, sim),
         "last_energy": dict(zip(columns, map(float, e))) if e is not None else None,
         "usrfrc": list(applied), "usrfrc_replaced": list(replaced), "trace_file": trace_path,
         "energy_file": energy_path, "restart_file": dump_path, "dumps": stats.dumps,
