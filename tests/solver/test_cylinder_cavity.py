@@ -8,14 +8,15 @@ from __future__ import annotations
 import math
 import pathlib
 import sys
-import time
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "tools" / "bench")]  # shared helpers
 
 import reference as ref
+from bench_solver import best_seconds_per_step
 from factories import STEEL_E, STEEL_NU, STEEL_R, STEEL_RHO, sphere_mass
 
 from x3dpd.deck.generate import Material3, cylinder_cavity_deck
@@ -146,12 +147,7 @@ def test_analytic_cylinder_is_faster_than_the_triangulated_one():
     sims = {f: _bouncer(f, tmax=1.0, itrac=10**9) for f in (None, FACETS)}
     for sim in sims.values():
         sim.advance(2000)
-    best = {f: math.inf for f in sims}
-    for _ in range(3):
-        for f, sim in sims.items():
-            t0 = time.perf_counter()
-            sim.advance(20_000, max_rows=1)
-            best[f] = min(best[f], (time.perf_counter() - t0) / 20_000)
+    best = best_seconds_per_step(sims, 20_000)
     print(f"\nper step: analytic {best[None] * 1e9:.0f} ns, {FACETS} facets "
           f"{best[FACETS] * 1e9:.0f} ns")
     assert best[None] < best[FACETS]

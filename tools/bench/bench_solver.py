@@ -50,6 +50,19 @@ def scene_model(n: int, *, e1: float = 0.0, mu: float | None = None, seed: int =
     return build_model(deck), sc
 
 
+def best_seconds_per_step(sims: dict, steps: int, repeats: int = 3) -> dict:
+    """Seconds per step of each simulation in ``sims``, the best of ``repeats`` windows of
+    ``steps`` steps taken in turn (interleaved, so that outside load hits all alike; the best
+    filters it out)."""
+    best = {key: math.inf for key in sims}
+    for _ in range(repeats):
+        for key, sim in sims.items():
+            t = time.perf_counter()
+            sim.advance(steps, max_rows=1)
+            best[key] = min(best[key], (time.perf_counter() - t) / steps)
+    return best
+
+
 def time_steps(sim: Simulation, warmup: int, steps: int) -> float:
     """Seconds per step over ``steps`` steps after ``warmup`` steps (one advance call each)."""
     sim.advance(warmup, max_rows=1)

@@ -7,17 +7,16 @@ after 0.1 s of simulated time (the spheres have settled into the trough).
 
 from __future__ import annotations
 
-import math
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
+sys.path[:0] = [str(ROOT / "tools"), str(ROOT / "tools" / "bench")]
 
 import make_decks as md  # noqa: E402
+from bench_solver import best_seconds_per_step  # noqa: E402
 
 from x3dpd.deck import read_deck  # noqa: E402
 from x3dpd.deck.generate import CYL_B, cylinder_cavity_deck  # noqa: E402
@@ -40,12 +39,7 @@ def main() -> int:
             usrfrc=(md.CYL_DRIVE,), facets=facets)
         sims[facets] = Simulation(build_model(deck))
         sims[facets].advance(200_000, max_rows=1)
-    best = {f: math.inf for f in sims}
-    for _ in range(3):
-        for f, sim in sims.items():
-            t0 = time.perf_counter()
-            sim.advance(20_000, max_rows=1)
-            best[f] = min(best[f], (time.perf_counter() - t0) / 20_000)
+    best = best_seconds_per_step(sims, 20_000)
     print(f"analytic cylinder {best[None] * 1e6:.2f} us/step, {FACETS} facets "
           f"{best[FACETS] * 1e6:.2f} us/step: {best[FACETS] / best[None]:.2f}x")
     return 0

@@ -116,6 +116,23 @@ def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material: Mat
     nodes.append(Node(MASTER, *map(float, origin)))
     ids = list(range(FIRST_PARTICLE, FIRST_PARTICLE + len(particles)))
     nodes += [Node(nid, *map(float, p)) for nid, p in zip(ids, particles)]
+    return _spring_mounted_deck(
+        master=MASTER, nodlim=MASTER, nodes=nodes, ids=ids, slaves=tuple(range(1, 9)),
+        triangles=tuple(Triangle(1, t) for t in _TRIANGLES), material=material, radius=radius,
+        structure_mass=structure_mass, rotary_inertia=1.0e20, stiffness=stiffness,
+        damping=damping, transverse_stiffness=transverse_stiffness, gravity=gravity, dt=dt,
+        tmax=tmax, itrac=itrac, trest=trest, title=title, usrfrc=usrfrc, free_dofs=free_dofs)
+
+
+def _spring_mounted_deck(*, master, nodlim, nodes, ids, slaves, triangles, material, radius,
+                         structure_mass, rotary_inertia, stiffness, damping,
+                         transverse_stiffness, gravity, dt, tmax, itrac, trest, title, usrfrc,
+                         free_dofs, initials=(), cylinders=None) -> Deck:
+    """What the generated decks share: a master node with the structure's mass, rotary
+    inertias, a spring and damper to ground (``transverse_stiffness`` along y, z), free only in
+    ``free_dofs``, rigidly linked to the cavity's ``slaves``; one PDMP group after ``nodlim``,
+    all of it CONTACT slave set 1 of the cavity's ``triangles`` (and ``cylinders``); TRACE the
+    master, then the particles ``ids``."""
     fixed = tuple(d for d in range(1, 7) if d not in free_dofs)
     m = material
     return Deck(
@@ -125,18 +142,19 @@ def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material: Mat
                               5, 0, int(itrac)),
         materials=(Material(2, 1, 1.0e-12, 1.0, float(stiffness), transverse_stiffness,
                             transverse_stiffness, float(damping)),),
-        pdmp=(Pdmp(MASTER, float(radius), float(m.density), float(m.nu), float(m.e0), float(m.e1),
-                   float(m.tau1), float(m.mu)),),
+        pdmp=(Pdmp(nodlim, float(radius), float(m.density), float(m.nu), float(m.e0),
+                   float(m.e1), float(m.tau1), float(m.mu)),),
         body=Body(*map(float, gravity)),
-        trace=Trace(tuple([MASTER] + ids)),
+        trace=Trace(tuple([master] + ids)),
         nodes=tuple(nodes),
-        elements=(Element(1, 2, (MASTER,)),),
-        masses=(Mass(MASTER, float(structure_mass), 1.0e20, 1.0e20, 1.0e20),),
-        rbels=(Rbel(MASTER, (1, 2, 3, 4, 5, 6), tuple(range(1, 9))),),
-        boundaries=(Boundary(1, MASTER, 1, fixed),) if fixed else (),
-        contacts=(Contact(tuple(Triangle(1, t) for t in _TRIANGLES),
-                          (SlaveSet(1, tuple(ids)),)),),
+        elements=(Element(1, 2, (master,)),),
+        masses=(Mass(master, float(structure_mass), *(3 * (float(rotary_inertia),))),),
+        rbels=(Rbel(master, (1, 2, 3, 4, 5, 6), tuple(slaves)),),
+        boundaries=(Boundary(1, master, 1, fixed),) if fixed else (),
+        contacts=(Contact(tuple(triangles), (SlaveSet(1, tuple(ids)),)),),
+        initials=tuple(initials),
         usrfrc=(Usrfrc(tuple(usrfrc)),) if usrfrc else (),
+        cylinders=cylinders or None,
     )
 
 
@@ -187,30 +205,14 @@ def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.n
     last = nodes[-1].nid
     ids = list(range(last + 1, last + 1 + len(particles)))
     nodes += [Node(nid, *map(float, p)) for nid, p in zip(ids, particles)]
-    fixed = tuple(d for d in range(1, 7) if d not in free_dofs)
     initials = ()
     if velocities is not None:
         initials = tuple(Initial(nid, tuple(map(float, v)))
                          for nid, v in zip(ids, np.asarray(velocities, float).reshape(-1, 3)))
-    m = material
-    return Deck(
-        path="<generated>",
-        title=Title(title) if title else None,
-        parameters=Parameters(0.0, float(tmax), float(trest), float(dt), float(dt), 0, 1.0e9, 0,
-                              5, 0, int(itrac)),
-        materials=(Material(2, 1, 1.0e-12, 1.0, float(stiffness), transverse_stiffness,
-                            transverse_stiffness, float(damping)),),
-        pdmp=(Pdmp(last, float(radius), float(m.density), float(m.nu), float(m.e0), float(m.e1),
-                   float(m.tau1), float(m.mu)),),
-        body=Body(*map(float, gravity)),
-        trace=Trace(tuple([CYL_MASTER] + ids)),
-        nodes=tuple(nodes),
-        elements=(Element(1, 2, (CYL_MASTER,)),),
-        masses=(Mass(CYL_MASTER, float(structure_mass), *(3 * (float(rotary_inertia),))),),
-        rbels=(Rbel(CYL_MASTER, (1, 2, 3, 4, 5, 6), tuple(range(CYL_A, last + 1))),),
-        boundaries=(Boundary(1, CYL_MASTER, 1, fixed),) if fixed else (),
-        contacts=(Contact(contact_tris, (SlaveSet(1, tuple(ids)),)),),
-        initials=initials,
-        usrfrc=(Usrfrc(tuple(usrfrc)),) if usrfrc else (),
-        cylinders=cylinders or None,
-    )
+    return _spring_mounted_deck(
+        master=CYL_MASTER, nodlim=last, nodes=nodes, ids=ids, slaves=range(CYL_A, last + 1),
+        triangles=contact_tris, material=material, radius=radius,
+        structure_mass=structure_mass, rotary_inertia=rotary_inertia, stiffness=stiffness,
+        damping=damping, transverse_stiffness=transverse_stiffness, gravity=gravity, dt=dt,
+        tmax=tmax, itrac=itrac, trest=trest, title=title, usrfrc=usrfrc, free_dofs=free_dofs,
+        initials=initials, cylinders=cylinders)

@@ -367,14 +367,8 @@ class Simulation:
             r = k.radius[members][:, None]
             out = np.any((pos < lo - r) | (pos > hi + r), axis=1)
             if out.any():
-                p = int(members[np.argmax(out)])
-                nid = int(m.node_ids[k.p0 + p])
-                raise UnstableRunError(
-                    f"unstable run at t = {self.time:.6g} s: particle node {nid} left its cavity "
-                    f"(CONTACT set {int(m.cavity_set_ids[c])}) at {np.round(xp[p], 6).tolist()}. "
-                    f"Likely cause: the time step {self.dt:.3g} s is too large for the wall "
-                    f"contact stiffness, so the particle tunnelled through a wall.",
-                    time=self.time, step=s.step, node=nid)
+                self._escaped(int(members[np.argmax(out)]),
+                              f"cavity (CONTACT set {int(m.cavity_set_ids[c])})", "a wall")
 
     def _check_cylinder_containment(self) -> None:
         """Every particle of an analytic cylinder's cavity with its centre inside it."""
@@ -387,15 +381,19 @@ class Simulation:
             _, inside = cylinder_clearance(s.x[k.p0 + members], k.radius[members], a, b,
                                            float(k.cyl_radius[c]))
             if not inside.all():
-                p = int(members[np.argmin(inside)])
-                nid = int(m.node_ids[k.p0 + p])
                 axis = ", ".join(str(int(m.node_ids[q])) for q in k.cyl_nodes[c])
-                raise UnstableRunError(
-                    f"unstable run at t = {self.time:.6g} s: particle node {nid} left its "
-                    f"cylinder (axis nodes {axis}) at {np.round(s.x[k.p0 + p], 6).tolist()}. "
-                    f"Likely cause: the time step {self.dt:.3g} s is too large for the wall "
-                    f"contact stiffness, so the particle tunnelled through the wall.",
-                    time=self.time, step=s.step, node=nid)
+                self._escaped(int(members[np.argmin(inside)]), f"cylinder (axis nodes {axis})",
+                              "the wall")
+
+    def _escaped(self, p: int, home: str, wall: str) -> None:
+        """Stop: particle ``p`` left its ``home`` (it tunnelled through ``wall``)."""
+        nid = int(self.model.node_ids[self.setup.p0 + p])
+        where = np.round(self.state.x[self.setup.p0 + p], 6).tolist()
+        raise UnstableRunError(
+            f"unstable run at t = {self.time:.6g} s: particle node {nid} left its {home} at "
+            f"{where}. Likely cause: the time step {self.dt:.3g} s is too large for the wall "
+            f"contact stiffness, so the particle tunnelled through {wall}.",
+            time=self.time, step=self.state.step, node=nid)
 
     def _cavity_nodes(self) -> list:
         """Node indices of each *closed* cavity (an empty array for an open one: a particle
