@@ -145,6 +145,13 @@ def summarize(out: Path) -> None:
                          f"{sum(int(r['converged']) for r in rs)}")
     (out / "study.csv").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+    # steady state: the ledger's dissipation per cycle equals the drive's work pi F X sin(-phi)
+    for label, rs in rows.items():
+        rel = sorted(abs(r["dissipated_per_cycle"] - r["input_work_per_cycle"])
+                     / abs(r["input_work_per_cycle"]) for r in rs if r["config"] == "deck")
+        if rel:
+            print(f"{label}: ledger dissipation vs drive work per cycle, median "
+                  f"{100 * rel[len(rel) // 2]:.1f} %, largest {100 * rel[-1]:.1f} %")
 
 
 if __name__ == "__main__":
