@@ -1,0 +1,105 @@
+"""Where a settled bed's step time goes: the pair-contact pass timed alone, whole and with parts
+of its friction code removed.
+
+    python tools/bench/contact_costs.py [--n 512] [--calls 2000]
+
+Settles the benchmark bed (``bench_solver.py --settled``: 300,000 steps at rest), then calls the
+scene's compiled ``_pair_contacts`` ``--calls`` times on that frozen state (forces zeroed each
+call) and reports microseconds per call for the kernel as compiled and for copies of its source
+with one part cut out: the whole friction block, the torques of friction, and its slip-work
+bookkeeping. The cut copies compute wrong forces on purpose; they only measure what each part
+costs. The difference to the full kernel is that part's cost.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import numpy as np  # noqa: E402
+from bench_solver import scene_model  # noqa: E402
+
+from x3dpd._jit import kernel  # noqa: E402
+from x3dpd.solver.simulation import Simulation  # noqa: E402
+
+#: name -> (text in the kernel module, replacement)
+CUTS = {
+    "friction": ("        if HAS_FRICTION:\n            wix = vel[i, 3]",
+                 "        if HAS_FRICTION and npairs < 0:\n            wix = vel[i, 3]"),
+    "friction torques": ("            force[i, 3] -= ri * (ny * ftz - nz * fty)\n"
+                         "            force[i, 4] -= ri * (nz * ftx - nx * ftz)\n"
+                         "            force[i, 5] -= ri * (nx * fty - ny * ftx)\n"
+                         "            force[j, 3] -= rj * (ny * ftz - nz * fty)\n"
+                         "            force[j, 4] -= rj * (nz * ftx - nx * ftz)\n"
+                         "            force[j, 5] -= rj * (nx * fty - ny * ftx)\n", ""),
+    "friction slip work": ("    lost = -0.5 * ((states[s, S_FT] + ftx) * vtx + (states[s, S_FT + 1] + fty) * vty\n"
+                           "                   + (states[s, S_FT + 2] + ftz) * vtz) * dt",
+                           "    lost = 0.0"),
+}
+
+
+def time_pair_pass(module_path: Path, sim: Simulation, calls: int) -> float:
+    """Microseconds per ``_pair_contacts`` call of the module at ``module_path``."""
+    spec = importlib.util.spec_from_file_location(f"cut_{abs(hash(module_path))}", module_path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    pair_pass = mod._pair_contacts
+    b = sim._bundles()
+    busy = np.zeros(b["pairs"].first.shape[0], dtype=np.int64)
+
+    def repeat(k, nodes, particles, pairs, stepping, busy):
+        status = 0
+        for _ in range(k):
+            nodes.force[:, :] = 0.0
+            status |= pair_pass(nodes, particles, pairs, stepping, busy)
+        return status
+
+    run = kernel(repeat, cache=False)
+    args = (b["nodes"], b["particles"], b["pairs"], b["stepping"], busy)
+    state0, on0, force0 = b["pairs"].state.copy(), b["pairs"].on.copy(), b["nodes"].force.copy()
+    run(1, *args)
+    best = float("inf")
+    for _ in range(5):
+        t = time.perf_counter()
+        run(calls, *args)
+        best = min(best, (time.perf_counter() - t) / calls)
+    b["pairs"].state[:], b["pairs"].on[:], b["nodes"].force[:] = state0, on0, force0
+    return best * 1e6
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=512)
+    ap.add_argument("--calls", type=int, default=2000)
+    args = ap.parse_args()
+    model, _ = scene_model(args.n, drive=False)
+    sim = Simulation(model, itrac=10**9)
+    sim.initialize()
+    sim.advance(300_000, max_rows=1)
+    st = sim.state
+    contacts = int(st.pl_on[:int(st.npl[0])].sum())
+    source = Path(sim.kernels.__file__).read_text()
+    full = time_pair_pass(Path(sim.kernels.__file__), sim, args.calls)
+    print(f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
+          f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, (old, new) in CUTS.items():
+            if source.count(old) != 1:
+                print(f"  {name}: its code was not found in the kernel (changed?)")
+                continue
+            path = Path(tmp) / f"cut_{name.replace(' ', '_')}.py"
+            path.write_text(source.replace(old, new))
+            cut = time_pair_pass(path, sim, args.calls)
+            print(f"  {name:20s} costs {full - cut:6.2f} us/call")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
