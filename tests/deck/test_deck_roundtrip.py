@@ -48,7 +48,8 @@ text_chars = st.characters(codec="utf-8", exclude_characters="$\n\r",
 
 
 def _writable_line(line: str) -> bool:
-    return bool(line.strip()) and line == line.rstrip() and line.strip().upper() != "END"
+    return (bool(line.strip(" \t,")) and line == line.rstrip()
+            and line.strip().upper() != "END")
 
 
 title_lines = st.text(text_chars, min_size=1, max_size=30).filter(_writable_line)
@@ -186,6 +187,7 @@ def test_write_deck_is_atomic_and_round_trips(tmp_path):
 def test_writer_refuses_what_the_language_cannot_hold():
     for bad in (Deck(body=Body(math.inf, 0, 0)), Deck(title=Title("a\nEND")),
                 Deck(title=Title("cost $5")), Deck(trace=Trace((1.5,))),
-                Deck(usrfrc=(Usrfrc(("",)),)), Deck(rbels=(Rbel(1, (), (2,)),))):
+                Deck(usrfrc=(Usrfrc(("",)),)), Deck(usrfrc=(Usrfrc((" , ,",)),)),
+                Deck(title=Title(",")), Deck(rbels=(Rbel(1, (), (2,)),))):
         with pytest.raises(ValueError):
             format_deck(bad)

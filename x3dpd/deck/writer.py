@@ -54,8 +54,10 @@ def _text_line(line: str, what: str) -> str:
     """Check that a TITLE line or USRFRC spec reads back unchanged; return it."""
     if "$" in line or any(ord(ch) < 32 and ch != "\t" for ch in line):
         raise ValueError(f"{what} {line!r} cannot hold '$' or control characters")
-    if not line.strip() or line != line.rstrip() or line.strip().upper() == "END":
-        raise ValueError(f"{what} {line!r} must be non-blank, not END, without trailing blanks")
+    # a line of blanks and commas alone reads back as a blank line (the free format's separators)
+    if not line.strip(" \t,") or line != line.rstrip() or line.strip().upper() == "END":
+        raise ValueError(f"{what} {line!r} must be non-blank (not only commas), not END, without "
+                         "trailing blanks")
     return line
 
 

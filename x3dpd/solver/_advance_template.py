@@ -145,7 +145,7 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
     A locator (x3dpd.geometry: ``_locate_on_face``, ``_locate_on_cylinder``) supplies a, n,
     the weights and l. State row ``s`` of ``ws`` / ``on`` keeps the contact's history.
     Returns (normal work, friction loss)."""
-    x, vel, force = nodes.x, nodes.vel, nodes.force
+    vel, force = nodes.vel, nodes.force
     radius, mu, inv_mt = particles.radius, particles.mu, particles.inv_mt
     dt = stepping.dt
     gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
