@@ -274,7 +274,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
                            dump_path if writes else None, ENERGY_COLUMNS)
         if auto:
             auto_summary(summary, sim, steps_before)
-        final = FinalState(state=_copy_state(sim.state), deck_key=key, dt=dt, time=sim.time,
+        final = FinalState(state=sim.state.copy(), deck_key=key, dt=dt, time=sim.time,
                            checkpoint=sim.checkpoint() if auto else None)
         return RunResult(trace=recorder.trace({"status": st, "dt": dt, "itrac": itrac}),
                          energy=recorder.energy(), summary=summary, final_state=final,
@@ -318,12 +318,6 @@ def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dum
     }
 
 
-def _copy_state(state):
-    from x3dpd.solver.state import State
-
-    return State.from_arrays({k: np.array(v, copy=True) for k, v in state.to_arrays().items()})
-
-
 def _continue_from(sim, initial: FinalState, key: str, model) -> None:
     if not isinstance(initial, FinalState):
         raise InputError("initial_state must be the final_state of an earlier x3dpd.run result")
@@ -336,7 +330,7 @@ def _continue_from(sim, initial: FinalState, key: str, model) -> None:
         raise InputError(f"initial_state was computed at "
                          f"{what(initial.checkpoint is not None, initial.dt)}; continue it at "
                          f"the same step (this run's is {what(auto, sim.dt)})")
-    state = _copy_state(initial.state)
+    state = initial.state.copy()
     if state.motion_prev.shape[0] != len(sim.motion):
         state.motion_prev = np.zeros(len(sim.motion))
     if auto:

@@ -39,45 +39,47 @@ from x3dpd.api.outputs import deck_key
 from x3dpd.design.baselines import linear_sdof, particle_mass, with_added_mass
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
-from x3dpd.solver.state import State
 
 #: Bounds of the chain's scale |rho|: outside them the previous point is no guide.
 RHO_RANGE = (1e-3, 1e3)
 
 
-def added_mass_response(deck, node: int, dof: int, drive: float, omega: float) -> complex | None:
+def added_mass_response(deck, node: int, dof: int, drive: float, omega: float,
+                        model=None) -> complex | None:
     """Complex steady-state amplitude X of the added-mass structure under drive sin(omega t)
-    [length], or None when it is not a linear SDOF."""
-    model = build_model(deck)
+    [length], or None when it is not a linear SDOF. ``model``: the deck's built model, if at
+    hand."""
+    model = build_model(deck) if model is None else model
     sdof = linear_sdof(build_model(with_added_mass(deck, node, particle_mass(model))), node, dof)
     if sdof is None:
         return None
-    amp, phi = sdof.response(drive, omega)
-    return cmath.rect(amp, phi)
+    return cmath.rect(*sdof.response(drive, omega))
 
 
 def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple):
     """The state to start ``point`` from (``previous`` = (row, FinalState) of the point before
     in a chain, or None), with the structure on its predicted steady-state motion; None when the
     structure cannot be predicted (the caller then starts as before)."""
+    model = build_model(point.deck)
+
+    def response(drive: float, hz: float) -> complex | None:
+        return added_mass_response(point.deck, point.node, point.dof, drive,
+                                   2.0 * math.pi * hz, model)
+
     omega = 2.0 * math.pi * point.frequency_hz
-    target = added_mass_response(point.deck, point.node, point.dof, point.drive, omega)
+    target = response(point.drive, point.frequency_hz)
     if target is None:
         return None
     if previous is not None:
         row = previous[0]
-        before = added_mass_response(point.deck, point.node, point.dof, row["drive"],
-                                     2.0 * math.pi * row["frequency_hz"])
-        measured = cmath.rect(row["amplitude"], math.radians(row["phase"]))
-        rho = measured / before if before else 0.0
+        before = response(row["drive"], row["frequency_hz"])
+        rho = cmath.rect(row["amplitude"], math.radians(row["phase"])) / before if before else 0
         if not (cmath.isfinite(rho) and RHO_RANGE[0] <= abs(rho) <= RHO_RANGE[1]):
             return None
         target *= rho
-    model = build_model(point.deck)
     sim = Simulation(model, usrfrc=usrfrc, dt=dt)
     if previous is not None:
-        sim.restore(State.from_arrays({k: np.array(v, copy=True)
-                                       for k, v in previous[1].state.to_arrays().items()}))
+        sim.restore(previous[1].state.copy())
     else:
         sim.initialize()
     state = sim.state
@@ -87,13 +89,13 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple):
     v = abs(target) * omega * math.cos(cmath.phase(target))
     dx = model.x0[i, d] + u - state.x[i, d]
     dv = v - state.vel[i, d]
-    before = total_energy(sim)
+    e_before = total_energy(sim)
     moving = ~np.asarray(model.fixed[:, d])
     state.x[moving, d] += dx
     state.vel[moving, d] += dv
     sim.restore(state)   # wall planes follow the moved nodes
     sim.compute_forces(t_start)
-    state.e_ref += total_energy(sim) - before
+    state.e_ref += total_energy(sim) - e_before
     return FinalState(state=state, deck_key=deck_key(point.deck), dt=dt, time=t_start)
 
 

@@ -56,6 +56,12 @@ def structure_omega_bound(setup: Setup) -> float:
     return math.sqrt(bound)
 
 
+def _top_speed(setup: Setup, vel: np.ndarray) -> float:
+    """The fastest particle's speed [length/s] (0 without particles; nan or inf if non-finite)."""
+    vp = vel[setup.p0:, :3]
+    return float(np.sqrt(np.max(np.sum(vp * vp, axis=1)))) if vp.shape[0] else 0.0
+
+
 def step_limit_text(setup: Setup, vel: np.ndarray, dt: float) -> str | None:
     """Why ``dt`` [s] is too large for the current state, or None when it resolves everything.
 
@@ -66,11 +72,9 @@ def step_limit_text(setup: Setup, vel: np.ndarray, dt: float) -> str | None:
         return (f"the stiffest structural spring has omega up to {omega:.4g} rad/s and "
                 f"omega*dt = {omega * dt:.3g} > 2, the explicit stability limit")
     vp = vel[setup.p0:, :3]
-    if vp.shape[0] == 0:
-        return None
-    if not np.all(np.isfinite(vp)):
+    if vp.shape[0] and not np.all(np.isfinite(vp)):
         return "particle velocities became non-finite"
-    speed = float(np.sqrt(np.max(np.sum(vp * vp, axis=1))))
+    speed = _top_speed(setup, vel)
     if speed <= 0.0:
         return None
     t_c = hertz_contact_time_estimate(setup, speed)
@@ -84,10 +88,9 @@ def step_limit_text(setup: Setup, vel: np.ndarray, dt: float) -> str | None:
 def coarse_step_text(setup: Setup, vel: np.ndarray, dt: float) -> str | None:
     """Why ``dt`` [s] follows the contacts only coarsely (see the module docstring), or None."""
     reasons = []
-    vp = vel[setup.p0:, :3]
-    if vp.shape[0] and np.all(np.isfinite(vp)):
-        speed = float(np.sqrt(np.max(np.sum(vp * vp, axis=1))))
-        t_c = hertz_contact_time_estimate(setup, speed) if speed > 0.0 else math.inf
+    speed = _top_speed(setup, vel)
+    if speed > 0.0 and math.isfinite(speed):
+        t_c = hertz_contact_time_estimate(setup, speed)
         if t_c < RECOMMENDED_STEPS_PER_CONTACT * dt:
             reasons.append(f"a wall contact at the current top speed {speed:.4g} length/s lasts "
                            f"{t_c / dt:.3g} steps ({RECOMMENDED_STEPS_PER_CONTACT} recommended)")

@@ -75,6 +75,11 @@ class State:
             out[f.name] = np.asarray(v)
         return out
 
+    def copy(self) -> "State":
+        """An independent copy (every array copied): a final state to continue from, or to
+        change without touching the running simulation's."""
+        return State.from_arrays({k: np.array(v, copy=True) for k, v in self.to_arrays().items()})
+
     @classmethod
     def from_arrays(cls, arrays: dict) -> "State":
         kw = {}
