@@ -11,6 +11,8 @@ from __future__ import annotations
 import os
 
 import numba
+from numba.core import cpu as _numba_cpu
+from numba.core import options as _numba_options
 
 #: Flags shared by all kernels. ``cache=True`` stores compiled machine code beside the sources
 #: (or in NUMBA_CACHE_DIR) so a second run starts in about a second.
@@ -47,6 +49,29 @@ def loop_kernel(fn=None, **overrides):
     (which may allocate) remain allowed.
     """
     return kernel(fn, _nrt=False, **overrides)
+
+
+# numba has a compiler flag that marks every array argument ``noalias`` (its parallel backend
+# sets it for its own loop bodies) but no public option for it; this maps the option ``_noalias``
+# onto it, as numba maps ``_nrt`` onto its flag. Private behaviour: pinned numba range in
+# pyproject.toml, checked by tests/meta/test_kernel_flags.py.
+if not hasattr(_numba_cpu.CPUTargetOptions, "_noalias"):
+    _numba_cpu.CPUTargetOptions._noalias = _numba_options._mapping("noalias")
+
+
+def vector_kernel(fn=None, **overrides):
+    """Compile a loop over contiguous columns that LLVM should vectorize: its own function
+    (never inlined), without NRT like the step loop, and with every array argument declared
+    not to overlap any other (LLVM ``noalias``).
+
+    LLVM vectorizes a loop only when it can prove that its stores do not feed its loads. Across
+    a dozen output columns it cannot (it gives up on runtime overlap checks past a handful of
+    arrays), and the loop stays scalar. The caller promises what ``noalias`` says: no two array
+    arguments share memory that the function writes (distinct arrays, or distinct rows of one
+    array). Results are bit for bit those of the scalar loop: ``fastmath`` stays off, so the
+    packed instructions round exactly as the scalar ones do.
+    """
+    return kernel(fn, inline="never", _nrt=False, _noalias=True, **overrides)
 
 
 def kernel(fn=None, **overrides):

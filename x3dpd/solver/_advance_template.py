@@ -42,7 +42,7 @@ import math  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from x3dpd._jit import kernel, loop_kernel, step_kernel  # noqa: E402
+from x3dpd._jit import kernel, loop_kernel, step_kernel, vector_kernel  # noqa: E402
 from x3dpd.geometry.cells import _find_pairs  # noqa: E402
 from x3dpd.geometry.cylinder import _cylinder_frame, _locate_on_cylinder  # noqa: E402
 from x3dpd.geometry.faces import (  # noqa: E402
@@ -57,7 +57,7 @@ from x3dpd.solver.bundles import (  # noqa: E402
     ContactList, Cylinders, Faces, Loads, Nodes, Output, Particles, RigidBodies, Springs, Status,
     Stepping)
 from x3dpd.solver.contact_lists import (  # noqa: E402
-    S_A, S_FN, S_FT, S_H, _active_flags, _merge_states, _pair_approach)
+    PAIR_COLUMNS, S_A, S_FN, S_FT, S_H, _active_flags, _merge_states, _pair_approach)
 
 @kernel
 def _no_user_force(t, x, vel, force):
@@ -82,6 +82,13 @@ REALLOC_WALLS = int(Status.REALLOC_WALLS)
 #: in any unit system and far above the subnormal range (its square, 1e-200, is still normal).
 SLIP_FLOOR = 1e-100
 
+# rows of the pair pass's column scratch (x3dpd.solver.contact_lists.PAIR_COLUMNS)
+C_FX, C_FY, C_FZ = (PAIR_COLUMNS.index(c) for c in ("fx", "fy", "fz"))
+C_TIX, C_TIY, C_TIZ = (PAIR_COLUMNS.index(c) for c in ("tix", "tiy", "tiz"))
+C_TJX, C_TJY, C_TJZ = (PAIR_COLUMNS.index(c) for c in ("tjx", "tjy", "tjz"))
+C_A, C_FN, C_DW, C_LOST, C_RMIN = (PAIR_COLUMNS.index(c) for c in ("a", "fn", "dw", "lost", "rmin"))
+C_FTX, C_FTY, C_FTZ = (PAIR_COLUMNS.index(c) for c in ("ftx", "fty", "ftz"))
+
 # ledger slots (cumulative since t0)
 L_WEXT = 0      # work of external forces and prescribed motions on the system
 L_WN = 1        # work absorbed by the normal contact forces (sum of 1/2 (F0+F1) da)
@@ -104,13 +111,14 @@ def _record_normal(states, on, s, a, a_old, fn, fn_old):
 
 
 @step_kernel
-def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
-    """Friction force (on the body whose contact point moves with v_r relative to the other).
+def _friction_force(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, ftx_old, fty_old, ftz_old):
+    """Friction force on the body whose contact point moves with v_r relative to the other.
 
     Splits v_r into normal and tangential parts, applies FRICTION_LAW to the slip speed
-    (report Eq. 29/30; ``gamma`` = 1/(2 dt), the stick rate) and keeps F_t in the contact's
-    state row ``states[s]``. Returns
-    (F_tx, F_ty, F_tz, dissipated) with the trapezoidal slip work -1/2 (F_t(n) + F_t(n+1)) . v_t dt.
+    (report Eq. 29/30; ``gamma`` = 1/(2 dt), the stick rate): F_t = -c(|v_t|) v_t, zero at slip
+    speeds up to SLIP_FLOOR. Returns (F_tx, F_ty, F_tz, dissipated) with the trapezoidal slip
+    work -1/2 (F_t,old + F_t) . v_t dt (F_t,old: the last step's force). Reads and writes no
+    state, so the vectorized pair response can call it.
     """
     vn = vrx * nx + vry * ny + vrz * nz
     vtx = vrx - vn * nx
@@ -125,8 +133,18 @@ def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
         ftx = -mag * vtx
         fty = -mag * vty
         ftz = -mag * vtz
-    lost = -0.5 * ((states[s, S_FT] + ftx) * vtx + (states[s, S_FT + 1] + fty) * vty
-                   + (states[s, S_FT + 2] + ftz) * vtz) * dt
+    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty + (ftz_old + ftz) * vtz) * dt
+    return ftx, fty, ftz, lost
+
+
+@step_kernel
+def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
+    """:func:`_friction_force` with the last step's force read from, and the new one kept in,
+    the contact's state row ``states[s]`` (columns S_FT ...). Returns (F_tx, F_ty, F_tz,
+    dissipated)."""
+    ftx, fty, ftz, lost = _friction_force(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma,
+                                          states[s, S_FT], states[s, S_FT + 1],
+                                          states[s, S_FT + 2])
     states[s, S_FT] = ftx
     states[s, S_FT + 1] = fty
     states[s, S_FT + 2] = ftz
@@ -379,24 +397,25 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy):
     return nbusy
 
 
-@step_kernel
-def _pair_contacts(nodes, particles, pairs, stepping, busy):
-    """Particle-particle contact forces (report Figure 41). State column S_FT holds the friction
-    force on particle j; histories: N_MAXWELL terms of i, then N_MAXWELL terms of j. ``busy`` is
-    an int scratch of the list's capacity."""
-    x, vel, force = nodes.x, nodes.vel, nodes.force
+@vector_kernel
+def _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, dt,
+                   fx_, fy_, fz_, tix_, tiy_, tiz_, tjx_, tjy_, tjz_, a_, fn_, ftx_, fty_, ftz_,
+                   dw_, lost_, rmin_):
+    """Pass 2 of the pair contacts: the contact response of every busy candidate ``busy[:nbusy]``
+    (report Figure 41), written into columns (one entry per busy candidate; names in
+    x3dpd.solver.contact_lists.PAIR_COLUMNS) for pass 3 to apply.
+
+    The normal law is the scene's (x3dpd.physics.normal_laws), with n = (x_j - x_i)/|x_j - x_i|
+    and approach a = R_i + R_j - |x_j - x_i|; friction with spin acts at the contact points
+    x_i + R_i n and x_j - R_j n. A candidate that no longer touches (a <= 0) gets F = 0 and the
+    work 1/2 F_old (a - a_old) of its last step. Nothing here writes the contact state or the
+    forces -- pass 3 does, in list order -- so the loop has no stores through indices and LLVM
+    vectorizes it (x3dpd._jit.vector_kernel): the gathers of x and v become packed gathers, and
+    the square roots and divisions packed ones. Laws with Maxwell histories write their history
+    columns of the state row and stay scalar.
+    """
     p0, radius, pkind, pair_c = particles.p0, particles.radius, particles.kind, particles.pair_c
-    pl_i, pl_j, ps, pl_on, npairs = (pairs.first, pairs.second, pairs.state, pairs.on,
-                                     pairs.count[0])
-    dt, ledger, pen_limit, diag = stepping.dt, stepping.ledger, stepping.pen_limit, stepping.diag
-    status = OK
-    w_normal = 0.0
-    w_fric = 0.0
     gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
-    # pass 1, tight: the candidates that touch now or touched at the last step (``busy`` is an
-    # int scratch of at least ``npairs``); most candidates are apart and cost about 2 ns each
-    nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy)
-    # pass 2: the contact law on those
     for q in range(nbusy):
         # unsigned indices, as in the filter: no wrap-around code for negative indices
         s = np.uint64(busy[q])
@@ -409,28 +428,10 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
         dz = x[j, 2] - x[i, 2]
         ri = radius[pi]
         rj = radius[pj]
-        d2 = dx * dx + dy * dy + dz * dz
-        cut = ri + rj
+        dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+        a = (ri + rj) - dist
         a_old = ps[s, S_A]
-        dist = math.sqrt(d2)
-        a = cut - dist
         fn_old = ps[s, S_FN]
-        if a <= 0.0:
-            if fn_old != 0.0 or a_old > 0.0:
-                w_normal += 0.5 * fn_old * (a - a_old)
-                for c in range(S_FT, ps.shape[1]):
-                    ps[s, c] = 0.0
-            ps[s, S_A] = 0.0
-            ps[s, S_FN] = 0.0
-            pl_on[s] = 0
-            continue
-        rmin = ri if ri < rj else rj
-        if a > pen_limit * rmin:
-            status |= PENETRATION
-            diag[0] = pi
-            diag[1] = -1 - pl_j[s]
-            diag[2] = a
-            diag[3] = rmin
         inv_dist = 1.0 / dist
         nx = dx * inv_dist
         ny = dy * inv_dist
@@ -438,17 +439,30 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
         # the pair's mixed constants (x3dpd.physics.mixing), looked up by particle kind
         ki = np.uint64(pkind[pi])
         kj = np.uint64(pkind[pj])
-        a_rate = 0.0
-        if NORMAL_USES_RATE:
-            a_rate = -(nx * (vel[j, 0] - vel[i, 0]) + ny * (vel[j, 1] - vel[i, 1])
-                       + nz * (vel[j, 2] - vel[i, 2]))
-        fn = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, ps, s, S_H, N_MAXWELL)
-        fn, dw = _record_normal(ps, pl_on, s, a, a_old, fn, fn_old)
-        w_normal += dw
+        touching = a > 0.0
+        fn = 0.0
+        if touching:
+            a_rate = 0.0
+            if NORMAL_USES_RATE:
+                a_rate = -(nx * (vel[j, 0] - vel[i, 0]) + ny * (vel[j, 1] - vel[i, 1])
+                           + nz * (vel[j, 2] - vel[i, 2]))
+            fn = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, ps, s, S_H,
+                                   N_MAXWELL)
+            if NORMAL_CLAMPED and fn < 0.0:
+                fn = 0.0
+        # work of the normal force, 1/2 (F_old + F) (a - a_old); of the last step if apart
+        dw = 0.5 * (fn_old + fn) * (a - a_old)
         # force on j along +n, on i along -n
         fx = fn * nx
         fy = fn * ny
         fz = fn * nz
+        tx = 0.0
+        ty = 0.0
+        tz = 0.0
+        ftx = 0.0
+        fty = 0.0
+        ftz = 0.0
+        lost = 0.0
         if HAS_FRICTION:
             wix = vel[i, 3]
             wiy = vel[i, 4]
@@ -463,22 +477,95 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
             vjx = vel[j, 0] - rj * (wjy * nz - wjz * ny)
             vjy = vel[j, 1] - rj * (wjz * nx - wjx * nz)
             vjz = vel[j, 2] - rj * (wjx * ny - wjy * nx)
-            vrx = vjx - vix
-            vry = vjy - viy
-            vrz = vjz - viz
-            ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn, pair_c[ki, kj, 2],
-                                            pair_c[ki, kj, 1], dt, gamma, ps, s)
-            w_fric += lost
+            ftx, fty, ftz, lost = _friction_force(vjx - vix, vjy - viy, vjz - viz, nx, ny, nz,
+                                                  fn, pair_c[ki, kj, 2], pair_c[ki, kj, 1], dt,
+                                                  gamma, ps[s, S_FT], ps[s, S_FT + 1],
+                                                  ps[s, S_FT + 2])
             fx += ftx
             fy += fty
             fz += ftz
             # torques: r_i x (-F_t) with r_i = ri n ; r_j x F_t with r_j = -rj n
-            force[i, 3] -= ri * (ny * ftz - nz * fty)
-            force[i, 4] -= ri * (nz * ftx - nx * ftz)
-            force[i, 5] -= ri * (nx * fty - ny * ftx)
-            force[j, 3] -= rj * (ny * ftz - nz * fty)
-            force[j, 4] -= rj * (nz * ftx - nx * ftz)
-            force[j, 5] -= rj * (nx * fty - ny * ftx)
+            tx = ny * ftz - nz * fty
+            ty = nz * ftx - nx * ftz
+            tz = nx * fty - ny * ftx
+        fx_[q] = fx
+        fy_[q] = fy
+        fz_[q] = fz
+        tix_[q] = ri * tx
+        tiy_[q] = ri * ty
+        tiz_[q] = ri * tz
+        tjx_[q] = rj * tx
+        tjy_[q] = rj * ty
+        tjz_[q] = rj * tz
+        a_[q] = a
+        fn_[q] = fn
+        ftx_[q] = ftx
+        fty_[q] = fty
+        ftz_[q] = ftz
+        dw_[q] = dw
+        lost_[q] = lost
+        rmin_[q] = ri if ri < rj else rj
+
+
+@step_kernel
+def _pair_contacts(nodes, particles, pairs, stepping, busy):
+    """Particle-particle contact forces (report Figure 41) in three passes: the candidates that
+    touch (``_pair_filter``), their contact response in columns (``_pair_response``,
+    vectorized), and here, in list order, the contact states, the forces on both particles
+    and the ledger. State column S_FT holds the friction force on particle j; histories:
+    N_MAXWELL terms of i, then N_MAXWELL terms of j. ``busy`` is an int scratch of the list's
+    capacity."""
+    x, vel, force = nodes.x, nodes.vel, nodes.force
+    p0, radius = particles.p0, particles.radius
+    pl_i, pl_j, ps, pl_on, npairs = (pairs.first, pairs.second, pairs.state, pairs.on,
+                                     pairs.count[0])
+    dt, ledger, pen_limit, diag = stepping.dt, stepping.ledger, stepping.pen_limit, stepping.diag
+    status = OK
+    w_normal = 0.0
+    w_fric = 0.0
+    # pass 1, tight: the candidates that touch now or touched at the last step; most
+    # candidates are apart and cost about 2 ns each
+    nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy)
+    # pass 2: the contact response, into columns
+    c = pairs.columns
+    fx_, fy_, fz_ = c[C_FX], c[C_FY], c[C_FZ]
+    tix_, tiy_, tiz_, tjx_, tjy_, tjz_ = c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY], c[C_TJZ]
+    a_, fn_, dw_, lost_, rmin_ = c[C_A], c[C_FN], c[C_DW], c[C_LOST], c[C_RMIN]
+    ftx_, fty_, ftz_ = c[C_FTX], c[C_FTY], c[C_FTZ]
+    _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, dt,
+                   fx_, fy_, fz_, tix_, tiy_, tiz_, tjx_, tjy_, tjz_, a_, fn_, ftx_, fty_, ftz_,
+                   dw_, lost_, rmin_)
+    # pass 3, in list order: states, forces and the ledger (the same sums, in the same order,
+    # as a single scalar loop)
+    for q in range(nbusy):
+        s = np.uint64(busy[q])
+        a = a_[q]
+        if a <= 0.0:
+            w_normal += _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
+            continue
+        rmin = rmin_[q]
+        if a > pen_limit * rmin:
+            status |= _penetration(diag, pl_i[s], -1 - pl_j[s], a, rmin)
+        ps[s, S_A] = a
+        ps[s, S_FN] = fn_[q]
+        pl_on[s] = 1
+        w_normal += dw_[q]
+        i = np.uint64(p0 + pl_i[s])
+        j = np.uint64(p0 + pl_j[s])
+        fx = fx_[q]
+        fy = fy_[q]
+        fz = fz_[q]
+        if HAS_FRICTION:
+            w_fric += lost_[q]
+            ps[s, S_FT] = ftx_[q]
+            ps[s, S_FT + 1] = fty_[q]
+            ps[s, S_FT + 2] = ftz_[q]
+            force[i, 3] -= tix_[q]
+            force[i, 4] -= tiy_[q]
+            force[i, 5] -= tiz_[q]
+            force[j, 3] -= tjx_[q]
+            force[j, 4] -= tjy_[q]
+            force[j, 5] -= tjz_[q]
         force[j, 0] += fx
         force[j, 1] += fy
         force[j, 2] += fz

@@ -20,6 +20,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from x3dpd.solver.contact_lists import pair_columns
+
 __all__ = ["Status", "Nodes", "Loads", "Springs", "RigidBodies", "Particles", "Faces",
            "ContactList", "Cylinders", "Stepping", "Output"]
 
@@ -128,6 +130,7 @@ class ContactList(NamedTuple):
     second_new: np.ndarray   # (L,) scratch of the rebuild
     state_new: np.ndarray    # (L, columns) scratch of the rebuild
     approach_new: np.ndarray  # (L,) scratch of the rebuild: approach of new candidates
+    columns: np.ndarray      # (C, L + pad) scratch of the contact pass (contact_lists.pair_columns)
 
 
 class Cylinders(NamedTuple):
@@ -177,9 +180,9 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
     """
     k, s = setup, state
     walls = ContactList(s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, scratch["wl_p2"], scratch["wl_f2"],
-                        scratch["ws2"], scratch["wl_a"])
+                        scratch["ws2"], scratch["wl_a"], scratch["wl_c"])
     pairs = ContactList(s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, scratch["pl_i2"],
-                        scratch["pl_j2"], scratch["ps2"], scratch["pl_a"])
+                        scratch["pl_j2"], scratch["ps2"], scratch["pl_a"], scratch["pl_c"])
     return {
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
                        k.kin_inertia, k.g),
@@ -208,6 +211,7 @@ def contact_scratch(state) -> dict:
             "ws2": np.zeros_like(s.ws), "wl_a": np.zeros(s.wl_p.shape[0]),
             "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
             "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
+            "wl_c": np.zeros((1, 1)), "pl_c": pair_columns(s.pl_i.shape[0]),
             "small": np.zeros(9)}
 
 

@@ -10,16 +10,40 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from x3dpd._jit import kernel
 
-__all__ = ["S_A", "S_FN", "S_FT", "S_H", "_active_flags", "_merge_states",
-           "_pair_approach"]
+__all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "pair_columns", "_active_flags",
+           "_merge_states", "_pair_approach"]
 
 # columns of a contact state row
 S_A = 0         # geometric approach at the last step (may be negative)
 S_FN = 1        # applied normal force (>= 0)
 S_FT = 2        # friction force vector on the particle (i for pairs), 3 values
 S_H = 5         # Maxwell histories
+
+#: Rows of the pair pass's column scratch (``ContactList.columns``): what the vectorized
+#: contact response (``_pair_response`` in the step loop) hands to the scalar pass that applies
+#: it, one column entry per busy candidate.
+PAIR_COLUMNS = ("fx", "fy", "fz",            # force on particle j (minus on i)
+                "tix", "tiy", "tiz",         # r_i (n x F_t): subtracted from i's moment
+                "tjx", "tjy", "tjz",         # r_j (n x F_t): subtracted from j's moment
+                "a", "fn",                   # approach and applied normal force
+                "ftx", "fty", "ftz",         # friction force (the state's S_FT columns)
+                "dw", "lost",                # normal work and friction loss of the step
+                "rmin")                      # the smaller radius (penetration limit)
+
+#: Padding of each column row: a row stride that is a multiple of 4096 bytes (a list
+#: capacity of 512, 1024 ...) maps all 17 columns onto the same L1 cache sets, more than its
+#: ways, and the pair pass ran 1.5x slower (measured on a settled bed of 512).
+COLUMN_PAD = 24
+
+
+def pair_columns(capacity: int):
+    """The column scratch of a pair list of ``capacity`` candidates: one padded row per name in
+    :data:`PAIR_COLUMNS`."""
+    return np.zeros((len(PAIR_COLUMNS), capacity + COLUMN_PAD))
 
 
 @kernel
