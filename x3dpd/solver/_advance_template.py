@@ -33,6 +33,7 @@ HAS_MOTION = True
 N_MAXWELL = 1
 HAS_WALLS_TRANSLATE = False
 HAS_CYLINDERS = True
+HAS_ONE_PARTICLE_KIND = False
 from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: E402,E501
 from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as NORMAL_PAIR_FORCE, stored_energy as NORMAL_STORED_ENERGY, CLAMPED as NORMAL_CLAMPED, USES_RATE as NORMAL_USES_RATE, DAMPED as NORMAL_DAMPED  # noqa: E402,E501
 USER_FORCE = None
@@ -263,7 +264,7 @@ def _close_contact(ws, on, s, a, a_old, fn_old):
     return dw
 
 
-@step_kernel
+@loop_kernel(inline="never")
 def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     """Particle-wall contact forces on the triangulated walls (report Figure 40): the face
     locator (x3dpd.geometry.faces) then the shared contact response ``_wall_response``. ``w``
@@ -419,10 +420,16 @@ def _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, dt,
     for q in range(nbusy):
         # unsigned indices, as in the filter: no wrap-around code for negative indices
         s = np.uint64(busy[q])
-        pi = np.uint64(pl_i[s])
-        pj = np.uint64(pl_j[s])
         i = np.uint64(p0 + pl_i[s])
         j = np.uint64(p0 + pl_j[s])
+        if HAS_ONE_PARTICLE_KIND:
+            # all particles alike (x3dpd.solver.variants): their constants are read once,
+            # not gathered per contact
+            pi = np.uint64(0)
+            pj = np.uint64(0)
+        else:
+            pi = np.uint64(pl_i[s])
+            pj = np.uint64(pl_j[s])
         dx = x[j, 0] - x[i, 0]
         dy = x[j, 1] - x[i, 1]
         dz = x[j, 2] - x[i, 2]
@@ -507,36 +514,20 @@ def _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, dt,
         rmin_[q] = ri if ri < rj else rj
 
 
-@step_kernel
-def _pair_contacts(nodes, particles, pairs, stepping, busy):
-    """Particle-particle contact forces (report Figure 41) in three passes: the candidates that
-    touch (``_pair_filter``), their contact response in columns (``_pair_response``,
-    vectorized), and here, in list order, the contact states, the forces on both particles
-    and the ledger. State column S_FT holds the friction force on particle j; histories:
-    N_MAXWELL terms of i, then N_MAXWELL terms of j. ``busy`` is an int scratch of the list's
-    capacity."""
-    x, vel, force = nodes.x, nodes.vel, nodes.force
-    p0, radius = particles.p0, particles.radius
-    pl_i, pl_j, ps, pl_on, npairs = (pairs.first, pairs.second, pairs.state, pairs.on,
-                                     pairs.count[0])
-    dt, ledger, pen_limit, diag = stepping.dt, stepping.ledger, stepping.pen_limit, stepping.diag
+@loop_kernel(inline="never")
+def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, c):
+    """Pass 3 of the pair contacts, in list order: the contact states, the forces on both
+    particles and the ledger's sums from the columns ``c`` of ``_pair_response`` -- the same
+    sums in the same order as a single scalar loop. Returns (status, normal work, friction
+    loss). Its own function, like the filter: inlined into the step loop, the column pointers
+    were reloaded from the stack at every contact (measured with tools/bench/profile_jit.py)."""
     status = OK
     w_normal = 0.0
     w_fric = 0.0
-    # pass 1, tight: the candidates that touch now or touched at the last step; most
-    # candidates are apart and cost about 2 ns each
-    nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy)
-    # pass 2: the contact response, into columns
-    c = pairs.columns
     fx_, fy_, fz_ = c[C_FX], c[C_FY], c[C_FZ]
     tix_, tiy_, tiz_, tjx_, tjy_, tjz_ = c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY], c[C_TJZ]
     a_, fn_, dw_, lost_, rmin_ = c[C_A], c[C_FN], c[C_DW], c[C_LOST], c[C_RMIN]
     ftx_, fty_, ftz_ = c[C_FTX], c[C_FTY], c[C_FTZ]
-    _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, dt,
-                   fx_, fy_, fz_, tix_, tiy_, tiz_, tjx_, tjy_, tjz_, a_, fn_, ftx_, fty_, ftz_,
-                   dw_, lost_, rmin_)
-    # pass 3, in list order: states, forces and the ledger (the same sums, in the same order,
-    # as a single scalar loop)
     for q in range(nbusy):
         s = np.uint64(busy[q])
         a = a_[q]
@@ -572,6 +563,34 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
         force[i, 0] -= fx
         force[i, 1] -= fy
         force[i, 2] -= fz
+    return status, w_normal, w_fric
+
+
+@step_kernel
+def _pair_contacts(nodes, particles, pairs, stepping, busy):
+    """Particle-particle contact forces (report Figure 41) in three passes: the candidates that
+    touch (``_pair_filter``), their contact response in columns (``_pair_response``,
+    vectorized), and the contact states, the forces on both particles and the ledger in list
+    order (``_pair_apply``). State column S_FT holds the friction force on particle j;
+    histories: N_MAXWELL terms of i, then N_MAXWELL terms of j. ``busy`` is an int scratch of
+    the list's capacity."""
+    x, vel = nodes.x, nodes.vel
+    p0, radius = particles.p0, particles.radius
+    pl_i, pl_j, ps, pl_on, npairs = (pairs.first, pairs.second, pairs.state, pairs.on,
+                                     pairs.count[0])
+    ledger = stepping.ledger
+    # pass 1, tight: the candidates that touch now or touched at the last step; most
+    # candidates are apart and cost about 2 ns each
+    nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy)
+    # pass 2: the contact response, into columns
+    c = pairs.columns
+    _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, stepping.dt,
+                   c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
+                   c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
+                   c[C_RMIN])
+    # pass 3: states, forces and the ledger
+    status, w_normal, w_fric = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, nodes.force,
+                                           stepping.pen_limit, stepping.diag, c)
     ledger[L_WN] += w_normal
     ledger[L_DFRIC] += w_fric
     return status

@@ -108,7 +108,8 @@ class Simulation(RunChecks):
                                             python_force=bool(self.python_forces),
                                             walls_translate=_walls_only_translate(
                                                 self.setup, self.motion[:, 0].astype(np.int64)),
-                                            normal_law=model.normal_law)
+                                            normal_law=model.normal_law,
+                                            one_particle_kind=_one_particle_kind(self.setup))
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
         self.compile_seconds = 0.0
@@ -346,6 +347,16 @@ class Simulation(RunChecks):
             s.ps = _grown(s.ps, cap)
             s.pl_on = _grown(s.pl_on, cap)
         s.nbr[3] = -1.0
+
+
+def _one_particle_kind(setup) -> bool:
+    """True when every particle is alike in all the pair contact response reads per particle:
+    one kind (x3dpd.physics.mixing.particle_kinds) and bit-identical radius, moduli and
+    Maxwell factors. The step loop then reads particle 0's values for every contact."""
+    if setup.radius.shape[0] == 0 or setup.pair_c.shape[0] != 1:
+        return False
+    return all(bool(np.all(a == a[:1])) for a in (setup.radius, setup.ep, setup.decay,
+                                                   setup.half))
 
 
 def _walls_only_translate(setup, prescribed_nodes) -> bool:

@@ -57,11 +57,15 @@ class Variant:
     walls_translate: bool = False
     normal_law: str = "lee_radok"
     cylinders: bool = False
+    #: every particle has the same radius, kind and law constants: the pair response reads
+    #: them once instead of gathering them per contact
+    one_particle_kind: bool = False
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
                      user_force: bool = False, python_force: bool = False,
-                     walls_translate: bool = False, normal_law: str = "lee_radok") -> "Variant":
+                     walls_translate: bool = False, normal_law: str = "lee_radok",
+                     one_particle_kind: bool = False) -> "Variant":
         e = set(effects)
         return cls(
             gravity="gravity" in e,
@@ -81,6 +85,7 @@ class Variant:
             walls_translate=walls_translate and "wall_contact" in e,
             normal_law=normal_law,
             cylinders="cylinder_contact" in e,
+            one_particle_kind=one_particle_kind and "pair_contact" in e,
         )
 
     def header(self) -> str:
