@@ -89,6 +89,7 @@ C_TIX, C_TIY, C_TIZ = (PAIR_COLUMNS.index(c) for c in ("tix", "tiy", "tiz"))
 C_TJX, C_TJY, C_TJZ = (PAIR_COLUMNS.index(c) for c in ("tjx", "tjy", "tjz"))
 C_A, C_FN, C_DW, C_LOST, C_RMIN = (PAIR_COLUMNS.index(c) for c in ("a", "fn", "dw", "lost", "rmin"))
 C_FTX, C_FTY, C_FTZ = (PAIR_COLUMNS.index(c) for c in ("ftx", "fty", "ftz"))
+C_DX, C_DY, C_DZ = (PAIR_COLUMNS.index(c) for c in ("dx", "dy", "dz"))
 
 # ledger slots (cumulative since t0)
 L_WEXT = 0      # work of external forces and prescribed motions on the system
@@ -368,9 +369,9 @@ def _cylinder_contacts(nodes, particles, cylinders, stepping, w, n_faces):
 
 
 @loop_kernel(inline="never")
-def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy):
+def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_):
     """Pass 1 of the pair contacts: write into ``busy`` the candidates that touch now or had an
-    open contact, and return how many.
+    open contact, and their x_j - x_i into ``dx_``, ``dy_``, ``dz_``; return how many.
 
     A function of its own, not inlined: inside the step loop's single large function the
     filter's array pointers spill to the stack and are reloaded for every candidate; here they
@@ -394,12 +395,15 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy):
         cut = radius[pi] + radius[pj]
         if dx * dx + dy * dy + dz * dz < cut * cut or pl_on[s] != 0:
             busy[nbusy] = s
+            dx_[nbusy] = dx
+            dy_[nbusy] = dy
+            dz_[nbusy] = dz
             nbusy += 1
     return nbusy
 
 
 @vector_kernel
-def _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, dt,
+def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, dt,
                    fx_, fy_, fz_, tix_, tiy_, tiz_, tjx_, tjy_, tjz_, a_, fn_, ftx_, fty_, ftz_,
                    dw_, lost_, rmin_):
     """Pass 2 of the pair contacts: the contact response of every busy candidate ``busy[:nbusy]``
@@ -430,9 +434,9 @@ def _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, dt,
         else:
             pi = np.uint64(pl_i[s])
             pj = np.uint64(pl_j[s])
-        dx = x[j, 0] - x[i, 0]
-        dy = x[j, 1] - x[i, 1]
-        dz = x[j, 2] - x[i, 2]
+        dx = dx_[q]
+        dy = dy_[q]
+        dz = dz_[q]
         ri = radius[pi]
         rj = radius[pj]
         dist = math.sqrt(dx * dx + dy * dy + dz * dz)
@@ -581,10 +585,12 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     ledger = stepping.ledger
     # pass 1, tight: the candidates that touch now or touched at the last step; most
     # candidates are apart and cost about 2 ns each
-    nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy)
-    # pass 2: the contact response, into columns
     c = pairs.columns
-    _pair_response(nbusy, busy, x, vel, particles, pl_i, pl_j, ps, stepping.dt,
+    nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, c[C_DX], c[C_DY],
+                         c[C_DZ])
+    # pass 2: the contact response, into columns
+    _pair_response(nbusy, busy, c[C_DX], c[C_DY], c[C_DZ], vel, particles, pl_i, pl_j, ps,
+                   stepping.dt,
                    c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
                    c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
                    c[C_RMIN])

@@ -32,10 +32,11 @@ PAIR_COLUMNS = ("fx", "fy", "fz",            # force on particle j (minus on i)
                 "a", "fn",                   # approach and applied normal force
                 "ftx", "fty", "ftz",         # friction force (the state's S_FT columns)
                 "dw", "lost",                # normal work and friction loss of the step
-                "rmin")                      # the smaller radius (penetration limit)
+                "rmin",                      # the smaller radius (penetration limit)
+                "dx", "dy", "dz")            # x_j - x_i (written by the filter)
 
 #: Padding of each column row: a row stride that is a multiple of 4096 bytes (a list
-#: capacity of 512, 1024 ...) maps all 17 columns onto the same L1 cache sets, more than its
+#: capacity of 512, 1024 ...) maps all the columns onto the same L1 cache sets, more than its
 #: ways, and the pair pass ran 1.5x slower (measured on a settled bed of 512).
 COLUMN_PAD = 24
 
