@@ -64,9 +64,10 @@ def vector_kernel(fn=None, **overrides):
     (never inlined), without NRT like the step loop, and with every array argument declared
     not to overlap any other (LLVM ``noalias``).
 
-    LLVM vectorizes a loop only when it can prove that its stores do not feed its loads. Across
-    a dozen output columns it cannot (it gives up on runtime overlap checks past a handful of
-    arrays), and the loop stays scalar. The caller promises what ``noalias`` says: no two array
+    LLVM vectorizes a loop only when it can prove that its stores do not feed its loads. A loop
+    that gathers rows of 2-D arrays through an index list and writes columns gives it no such
+    proof (a column might overlap the rows it reads), and it stays scalar: the pair response
+    ran 39.8 instead of 26 us per step on the settled bed of 512. The caller promises what ``noalias`` says: no two array
     arguments share memory that the function writes (distinct arrays, or distinct rows of one
     array). Results are bit for bit those of the scalar loop: ``fastmath`` stays off, so the
     packed instructions round exactly as the scalar ones do.

@@ -36,13 +36,13 @@ def _rotation(seed: int) -> np.ndarray:
     return q * np.sign(np.linalg.det(q))
 
 
-def _configuration(seed: int):
+def _configuration(seed: int, radius_b: float = MAT_B["radius"]):
     """Particles in the unit box (local coordinates) with random overlaps: 2 per face against a
     wall, 2 along edges against two walls, pairs and triangles of touching particles inside, and
     some free ones. Every group of intended contacts is redrawn until it keeps 0.005 in of
     clearance from everything placed before. Returns (local positions A, local positions B)."""
     rng = np.random.default_rng(seed)
-    rad = (MAT_A["radius"], MAT_B["radius"])
+    rad = (MAT_A["radius"], radius_b)
     placed: list = []                               # (group, position)
 
     def depth(r):
@@ -109,9 +109,14 @@ def _velocities(rng, n):
     return np.hstack([v, w])
 
 
-@pytest.mark.parametrize("seed, rotated", [(1, False), (2, False), (3, True), (4, True)])
-def test_forces_match_reference(seed, rotated):
-    local_a, local_b = _configuration(seed)
+@pytest.mark.parametrize("seed, rotated, mixed", [(1, False, True), (2, False, True),
+                                                  (3, True, True), (4, True, True),
+                                                  (5, False, False), (6, True, False)])
+def test_forces_match_reference(seed, rotated, mixed):
+    """``mixed``: two materials; else all particles are of material A, and the step loop reads
+    their constants once (the variant flag one_particle_kind) instead of per contact."""
+    mat_b = MAT_B if mixed else MAT_A
+    local_a, local_b = _configuration(seed, mat_b["radius"])
     rot = _rotation(seed) if rotated else np.eye(3)
     origin = np.array([0.3, -0.2, 0.1]) if rotated else np.zeros(3)
     world_a = origin + local_a @ rot.T
@@ -120,11 +125,12 @@ def test_forces_match_reference(seed, rotated):
     vel_a = _velocities(rng, len(world_a))
     vel_b = _velocities(rng, len(world_b))
     deck = closed_box_deck(world_a, vel_a, dt=DT, rotation=rot, origin=origin, gravity=G,
-                           groups=[(world_b, vel_b, MAT_B)], **MAT_A)
+                           groups=[(world_b, vel_b, mat_b)], **MAT_A)
     model = build_model(deck)
     sim = Simulation(model, penetration_limit=0.25)
     sim.initialize()
     assert sim.variant.friction and sim.variant.walls and sim.variant.pairs
+    assert sim.variant.one_particle_kind == (not mixed)
     assert not sim.variant.viscoelastic and sim.variant.friction_law == "regularized"
 
     # one evaluation of the compiled force kernel, on the state initialize() prepared
@@ -132,12 +138,12 @@ def test_forces_match_reference(seed, rotated):
     force = sim.state.force
 
     n_a, n_b = len(world_a), len(world_b)
-    radius = np.r_[np.full(n_a, MAT_A["radius"]), np.full(n_b, MAT_B["radius"])]
-    e = np.r_[np.full(n_a, MAT_A["e0"]), np.full(n_b, MAT_B["e0"])]
-    nu = np.r_[np.full(n_a, MAT_A["nu"]), np.full(n_b, MAT_B["nu"])]
-    mu = np.r_[np.full(n_a, MAT_A["mu"]), np.full(n_b, MAT_B["mu"])]
+    radius = np.r_[np.full(n_a, MAT_A["radius"]), np.full(n_b, mat_b["radius"])]
+    e = np.r_[np.full(n_a, MAT_A["e0"]), np.full(n_b, mat_b["e0"])]
+    nu = np.r_[np.full(n_a, MAT_A["nu"]), np.full(n_b, mat_b["nu"])]
+    mu = np.r_[np.full(n_a, MAT_A["mu"]), np.full(n_b, mat_b["mu"])]
     mass = np.r_[np.full(n_a, sphere_mass(MAT_A["radius"], MAT_A["density"])),
-                 np.full(n_b, sphere_mass(MAT_B["radius"], MAT_B["density"]))]
+                 np.full(n_b, sphere_mass(mat_b["radius"], mat_b["density"]))]
     x = np.vstack([origin + (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1],
                                        [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)) @ rot.T,
                    world_a, world_b])

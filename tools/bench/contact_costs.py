@@ -32,15 +32,12 @@ from x3dpd.solver.simulation import Simulation  # noqa: E402
 #: name -> (text in the kernel module, replacement)
 CUTS = {
     "friction": ("        if HAS_FRICTION:\n            wix = vel[i, 3]",
-                 "        if HAS_FRICTION and npairs < 0:\n            wix = vel[i, 3]"),
-    "friction torques": ("            force[i, 3] -= ri * (ny * ftz - nz * fty)\n"
-                         "            force[i, 4] -= ri * (nz * ftx - nx * ftz)\n"
-                         "            force[i, 5] -= ri * (nx * fty - ny * ftx)\n"
-                         "            force[j, 3] -= rj * (ny * ftz - nz * fty)\n"
-                         "            force[j, 4] -= rj * (nz * ftx - nx * ftz)\n"
-                         "            force[j, 5] -= rj * (nx * fty - ny * ftx)\n", ""),
-    "friction slip work": ("    lost = -0.5 * ((states[s, S_FT] + ftx) * vtx + (states[s, S_FT + 1] + fty) * vty\n"
-                           "                   + (states[s, S_FT + 2] + ftz) * vtz) * dt",
+                 "        if HAS_FRICTION and nbusy < 0:\n            wix = vel[i, 3]"),
+    "friction torques": ("            tx = ny * ftz - nz * fty\n"
+                         "            ty = nz * ftx - nx * ftz\n"
+                         "            tz = nx * fty - ny * ftx\n", ""),
+    "friction slip work": ("    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty"
+                           " + (ftz_old + ftz) * vtz) * dt",
                            "    lost = 0.0"),
 }
 

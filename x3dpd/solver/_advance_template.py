@@ -292,10 +292,10 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
             nbusy += 1
     # pass 2: the contact law on those
     for q in range(nbusy):
-        s = busy[q]
-        p = wl_p[s]
-        f = wl_f[s]
-        i = p0 + p
+        s = np.uint64(busy[q])
+        p = np.uint64(wl_p[s])
+        f = np.uint64(wl_f[s])
+        i = np.uint64(p0 + wl_p[s])
         nx = face_n[f, 0]
         ny = face_n[f, 1]
         nz = face_n[f, 2]
