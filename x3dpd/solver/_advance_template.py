@@ -265,7 +265,7 @@ def _close_contact(ws, on, s, a, a_old, fn_old):
     return dw
 
 
-@loop_kernel(inline="never")
+@step_kernel
 def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     """Particle-wall contact forces on the triangulated walls (report Figure 40): the face
     locator (x3dpd.geometry.faces) then the shared contact response ``_wall_response``. ``w``
@@ -588,6 +588,9 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     c = pairs.columns
     nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, c[C_DX], c[C_DY],
                          c[C_DZ])
+    if nbusy == 0:
+        # nothing touches (a falling or sparse scene): skip the calls and their arguments
+        return OK
     # pass 2: the contact response, into columns
     _pair_response(nbusy, busy, c[C_DX], c[C_DY], c[C_DZ], vel, particles, pl_i, pl_j, ps,
                    stepping.dt,
