@@ -369,9 +369,10 @@ def _cylinder_contacts(nodes, particles, cylinders, stepping, w, n_faces):
 
 
 @loop_kernel(inline="never")
-def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_):
+def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_, ps, hist):
     """Pass 1 of the pair contacts: write into ``busy`` the candidates that touch now or had an
-    open contact, and their x_j - x_i into ``dx_``, ``dy_``, ``dz_``; return how many.
+    open contact, their x_j - x_i into ``dx_``, ``dy_``, ``dz_`` and (with Maxwell terms) their
+    histories into the rows of ``hist``; return how many.
 
     A function of its own, not inlined: inside the step loop's single large function the
     filter's array pointers spill to the stack and are reloaded for every candidate; here they
@@ -398,12 +399,15 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_):
             dx_[nbusy] = dx
             dy_[nbusy] = dy
             dz_[nbusy] = dz
+            if N_MAXWELL > 0:
+                for k in range(2 * N_MAXWELL):
+                    hist[nbusy, k] = ps[s, S_H + k]
             nbusy += 1
     return nbusy
 
 
 @vector_kernel
-def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, dt,
+def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, hist, dt,
                    fx_, fy_, fz_, tix_, tiy_, tiz_, tjx_, tjy_, tjz_, a_, fn_, ftx_, fty_, ftz_,
                    dw_, lost_, rmin_):
     """Pass 2 of the pair contacts: the contact response of every busy candidate ``busy[:nbusy]``
@@ -416,8 +420,9 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, d
     work 1/2 F_old (a - a_old) of its last step. Nothing here writes the contact state or the
     forces -- pass 3 does, in list order -- so the loop has no stores through indices and LLVM
     vectorizes it (x3dpd._jit.vector_kernel): the gathers of x and v become packed gathers, and
-    the square roots and divisions packed ones. Laws with Maxwell histories write their history
-    columns of the state row and stay scalar.
+    the square roots and divisions packed ones. Maxwell histories are read and written in
+    ``hist`` (row q: busy candidate q, Fortran order), which the filter fills from the state
+    rows and pass 3 copies back, so that they too are contiguous stores.
     """
     p0, radius, pkind, pair_c = particles.p0, particles.radius, particles.kind, particles.pair_c
     gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
@@ -457,7 +462,9 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, d
             if NORMAL_USES_RATE:
                 a_rate = -(nx * (vel[j, 0] - vel[i, 0]) + ny * (vel[j, 1] - vel[i, 1])
                            + nz * (vel[j, 2] - vel[i, 2]))
-            fn = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, ps, s, S_H,
+            # Maxwell histories in the busy candidates' rows of ``hist`` (the filter copied
+            # them there; pass 3 copies them back): row q, columns 0 ..
+            fn = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, hist, q, 0,
                                    N_MAXWELL)
             if NORMAL_CLAMPED and fn < 0.0:
                 fn = 0.0
@@ -519,7 +526,7 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, d
 
 
 @loop_kernel(inline="never")
-def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, c):
+def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, c, hist):
     """Pass 3 of the pair contacts, in list order: the contact states, the forces on both
     particles and the ledger's sums from the columns ``c`` of ``_pair_response`` -- the same
     sums in the same order as a single scalar loop. Returns (status, normal work, friction
@@ -543,6 +550,9 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
             status |= _penetration(diag, pl_i[s], -1 - pl_j[s], a, rmin)
         ps[s, S_A] = a
         ps[s, S_FN] = fn_[q]
+        if N_MAXWELL > 0:
+            for k in range(2 * N_MAXWELL):
+                ps[s, S_H + k] = hist[q, k]
         pl_on[s] = 1
         w_normal += dw_[q]
         i = np.uint64(p0 + pl_i[s])
@@ -587,19 +597,19 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     # candidates are apart and cost about 2 ns each
     c = pairs.columns
     nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, c[C_DX], c[C_DY],
-                         c[C_DZ])
+                         c[C_DZ], ps, pairs.history)
     if nbusy == 0:
         # nothing touches (a falling or sparse scene): skip the calls and their arguments
         return OK
     # pass 2: the contact response, into columns
     _pair_response(nbusy, busy, c[C_DX], c[C_DY], c[C_DZ], vel, particles, pl_i, pl_j, ps,
-                   stepping.dt,
+                   pairs.history, stepping.dt,
                    c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
                    c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
                    c[C_RMIN])
     # pass 3: states, forces and the ledger
     status, w_normal, w_fric = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, nodes.force,
-                                           stepping.pen_limit, stepping.diag, c)
+                                           stepping.pen_limit, stepping.diag, c, pairs.history)
     ledger[L_WN] += w_normal
     ledger[L_DFRIC] += w_fric
     return status

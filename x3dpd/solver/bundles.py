@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from x3dpd.solver.contact_lists import pair_columns
+from x3dpd.solver.contact_lists import S_H, history_columns, pair_columns
 
 __all__ = ["Status", "Nodes", "Loads", "Springs", "RigidBodies", "Particles", "Faces",
            "ContactList", "Cylinders", "Stepping", "Output"]
@@ -131,6 +131,7 @@ class ContactList(NamedTuple):
     state_new: np.ndarray    # (L, columns) scratch of the rebuild
     approach_new: np.ndarray  # (L,) scratch of the rebuild: approach of new candidates
     columns: np.ndarray      # (C, L + pad) scratch of the contact pass (contact_lists.pair_columns)
+    history: np.ndarray      # (L + pad, H) Fortran-order scratch: histories of busy candidates
 
 
 class Cylinders(NamedTuple):
@@ -180,9 +181,9 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
     """
     k, s = setup, state
     walls = ContactList(s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, scratch["wl_p2"], scratch["wl_f2"],
-                        scratch["ws2"], scratch["wl_a"], scratch["wl_c"])
+                        scratch["ws2"], scratch["wl_a"], scratch["wl_c"], scratch["wl_h"])
     pairs = ContactList(s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, scratch["pl_i2"],
-                        scratch["pl_j2"], scratch["ps2"], scratch["pl_a"], scratch["pl_c"])
+                        scratch["pl_j2"], scratch["ps2"], scratch["pl_a"], scratch["pl_c"], scratch["pl_h"])
     return {
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
                        k.kin_inertia, k.g),
@@ -212,6 +213,8 @@ def contact_scratch(state) -> dict:
             "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
             "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
             "wl_c": np.zeros((1, 1)), "pl_c": pair_columns(s.pl_i.shape[0]),
+            "wl_h": np.zeros((1, 1), order="F"),
+            "pl_h": history_columns(s.pl_i.shape[0], s.ps.shape[1] - S_H),
             "small": np.zeros(9)}
 
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from x3dpd._jit import kernel
 
-__all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "pair_columns", "_active_flags",
+__all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "pair_columns", "history_columns", "_active_flags",
            "_merge_states", "_pair_approach"]
 
 # columns of a contact state row
@@ -45,6 +45,13 @@ def pair_columns(capacity: int):
     """The column scratch of a pair list of ``capacity`` candidates: one padded row per name in
     :data:`PAIR_COLUMNS`."""
     return np.zeros((len(PAIR_COLUMNS), capacity + COLUMN_PAD))
+
+
+def history_columns(capacity: int, n_history: int):
+    """The Maxwell histories of a pair list's busy candidates while the vectorized response
+    updates them: (capacity + pad, n_history) in Fortran order, so that one history of
+    consecutive busy candidates is contiguous (the law writes ``h[q, k]`` for candidate q)."""
+    return np.zeros((capacity + COLUMN_PAD, max(n_history, 1)), order="F")
 
 
 @kernel

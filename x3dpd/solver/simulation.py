@@ -184,7 +184,9 @@ class Simulation(RunChecks):
         touching the saved lists."""
         self._energy_now()
         b = self._bundles()
-        walls, pairs = (ContactList(*(a.copy() for a in b[name])) for name in ("walls", "pairs"))
+        # copies in the same memory order (numba compiles per layout)
+        walls, pairs = (ContactList(*(a.copy(order="K") for a in b[name]))
+                        for name in ("walls", "pairs"))
         self.kernels._rebuild_lists(b["nodes"], b["particles"], b["faces"], walls, pairs,
                                     self.setup.skin)
 
