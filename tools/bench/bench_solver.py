@@ -89,7 +89,7 @@ def bench_n(n: int, warmup: int, steps: int, repeat: int = 1, **kw) -> dict:
 
 
 def settled_bed(n: int, settle_steps: int, steps: int, repeat: int, accel_g: float = 0.0,
-                warmup: int | None = None) -> dict:
+                warmup: int | None = None, e1: float = 0.0) -> dict:
     """Per-step time of a settled bed: the scene without drive (particles fall, pile up
     and come to rest on the floor under gravity) for ``settle_steps`` steps, then ``warmup``
     steps (default 2000) before ``repeat`` consecutive timed windows. Every particle has lasting
@@ -102,8 +102,9 @@ def settled_bed(n: int, settle_steps: int, steps: int, repeat: int, accel_g: flo
     37.21 Hz, started smoothly over one period (``--motion ... ramp=``), and warms up for one
     more period by default. The scene's particles are elastic (no normal damping): shaken at
     0.25 g it keeps 0.9 contacts per sphere, at 2 g a few per hundred spheres: it is no longer a
-    settled bed."""
-    model, sc = scene_model(n, drive=False)
+    settled bed. ``e1`` > 0 makes the spheres viscoelastic (one Maxwell term, E1 with
+    tau1 = 2e-6 s, as in decks/beam_*.inp)."""
+    model, sc = scene_model(n, drive=False, e1=e1)
     sim = Simulation(model, itrac=10**9)
     sim.initialize()
     sim.advance(settle_steps, max_rows=1)
@@ -201,6 +202,9 @@ def main(argv=None) -> int:
     ap.add_argument("--settled", action="store_true",
                     help="a settled bed of --n particles (default 512) after 300000 steps "
                          "(at rest, or shaken at --accel-g)")
+    ap.add_argument("--e1", type=float, default=0.0,
+                    help="with --settled: Maxwell modulus E1 [psi] of the spheres (default 0: "
+                         "elastic; decks/beam_*.inp have 5e6)")
     ap.add_argument("--accel-g", type=float, default=0.0,
                     help="with --settled: peak acceleration of the cavity's prescribed motion "
                          "in g (default 0: the bed at rest)")
@@ -226,12 +230,13 @@ def main(argv=None) -> int:
         ns = args.n if args.n != [50, 64, 512, 4096] else [512]
         for n in ns:
             r = settled_bed(n, 300_000, args.steps, max(args.repeat, 3), args.accel_g,
-                            args.warmup if args.warmup_given else None)
+                            args.warmup if args.warmup_given else None, args.e1)
             results.append(r)
             print(f"x3dpd settled n={n} us_per_step={r['us_per_step']:.2f} "
                   f"({r['pair_contacts']:.0f} pair + {r['wall_contacts']:.0f} wall contacts, "
                   f"{r['contacts_per_sphere']:.2f} per sphere, "
-                  f"{r['ns_per_contact']:.0f} ns per contact, {r['accel_g']:g} g)")
+                  f"{r['ns_per_contact']:.0f} ns per contact, {r['accel_g']:g} g, "
+                  f"E1 {args.e1:g})")
     elif args.effects:
         for n in args.n:
             for r in effect_costs(n, args.warmup, args.steps, args.repeat, args.settled):

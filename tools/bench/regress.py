@@ -36,6 +36,8 @@ ROWS = {
     "falling_64": ["--n", "64", "--steps", "20000", "--repeat", "3"],
     "falling_512": ["--n", "512", "--steps", "20000", "--repeat", "3"],
     "settled_512": ["--settled", "--n", "512", "--steps", "10000", "--repeat", "3", "--accel-g", "0"],
+    "settled_visco_512": ["--settled", "--n", "512", "--steps", "10000", "--repeat", "3",
+                          "--e1", "5e6"],
     "sdof": ["--sdof"],
 }
 
