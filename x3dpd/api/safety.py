@@ -9,7 +9,7 @@ from x3dpd.errors import InputError
 def initial_penetration_error(model, limit: float, deck_path: str) -> InputError | None:
     """An :class:`InputError` naming the deepest particle that starts inside a wall deeper than
     ``limit`` x its radius (or behind a wall), None when there is none."""
-    from x3dpd.model.check import particle_wall_penetrations, particles_outside
+    from x3dpd.model.check_geometry import particle_wall_penetrations, particles_outside
 
     if model.n_particles and model.cylinder_radius.shape[0]:
         err = _cylinder_error(model, limit, deck_path)

@@ -29,7 +29,8 @@ from lark.exceptions import UnexpectedEOF, UnexpectedInput
 
 from x3dpd.deck.cards import Deck
 from x3dpd.deck.fields import BY_KEY, BY_NAME, CARDS, CONTACT_SLAVES, CardSpec, card_for_word
-from x3dpd.deck.transform import DeckTransformer, _split
+from x3dpd.deck.records import _split
+from x3dpd.deck.transform import DeckTransformer
 from x3dpd.errors import DeckError
 
 #: Longest line accepted [bytes]; a longer one is not a deck (a list continues with '&').

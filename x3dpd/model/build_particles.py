@@ -1,0 +1,119 @@
+"""Model builder steps for the particles: PDMP groups (report Appendix B), the HOOKE law,
+initial velocities."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from x3dpd.errors import DeckError
+from x3dpd.model.build_base import BuilderBase, _ro
+
+
+class ParticleSteps(BuilderBase):
+    """The particle arrays: radius, density, moduli, groups and their initial velocities."""
+
+    def _particles(self) -> None:
+        """Particle groups from the PDMP cards (report Appendix B)."""
+        cards = self.deck.pdmp
+        for prev, card in zip(cards, cards[1:]):
+            if card.nodlim <= prev.nodlim:
+                raise self.error(f"NODLIM {card.nodlim} must be larger than the previous PDMP "
+                                 f"card's NODLIM {prev.nodlim} (line {prev.pos.line}): each card "
+                                 f"starts a new group of particles", card.pos, "PDMP")
+        for card in cards:
+            self._check_pdmp(card)
+        if cards:
+            self.nodlim = cards[0].nodlim
+            self.pstart = int(np.searchsorted(self.ids, self.nodlim, side="right"))
+        else:
+            self.nodlim = None
+            self.pstart = self.ids.shape[0]
+        pid = self.ids[self.pstart:]
+        limits = np.array([c.nodlim for c in cards], dtype=np.int64)
+        self.group = (np.searchsorted(limits, pid, side="left") - 1).astype(np.int64)
+        g = [cards[k] for k in self.group]
+        self.radius = np.array([c.rzero for c in g], dtype=np.float64)
+        self.density = np.array([c.prho for c in g], dtype=np.float64)
+        self.poisson = np.array([c.ppoi for c in g], dtype=np.float64)
+        self.mu = np.array([c.pcof for c in g], dtype=np.float64)
+        # Report Appendix B note 2: M = PRHO * 4/3 * pi * RZERO^3.
+        self.p_mass = self.density * (4.0 / 3.0) * math.pi * self.radius**3
+        terms = [[(c.e1, c.t1), *c.extra_terms] for c in cards]
+        viscous = any(e != 0.0 for t in terms for e, _ in t)
+        k = 1 + (max(len(t) for t in terms) if viscous else 0)
+        moduli = np.zeros((len(cards), k))
+        taus = np.ones((len(cards), k))
+        taus[:, 0] = np.inf
+        for j, (c, t) in enumerate(zip(cards, terms)):
+            moduli[j, 0] = c.e0
+            for m, (e, tau) in enumerate(t[: k - 1], start=1):
+                moduli[j, m] = e
+                taus[j, m] = tau if e != 0.0 else 1.0
+        self.moduli = moduli[self.group].reshape(-1, k)
+        self.taus = taus[self.group].reshape(-1, k)
+
+    def _normal_law(self) -> dict:
+        """The HOOKE card (our extension): the linear spring-dashpot law for the PDMP groups it
+        names. A scene runs one normal law, so it must name every group."""
+        records = self.deck.hooke
+        if not records:
+            return {}
+        cards = self.deck.pdmp
+        by_nodlim = {c.nodlim: k for k, c in enumerate(cards)}
+        params = np.full((len(cards), 2), np.nan)
+        for r in records:
+            if r.nodlim not in by_nodlim:
+                raise self.error(f"NODLIM {r.nodlim} names no PDMP group (PDMP NODLIMs: "
+                                 f"{', '.join(str(c.nodlim) for c in cards) or 'none'})",
+                                 r.pos, "HOOKE")
+            k = by_nodlim[r.nodlim]
+            if not np.isnan(params[k, 0]):
+                raise self.error(f"PDMP group NODLIM {r.nodlim} is given twice", r.pos, "HOOKE")
+            if cards[k].e1 != 0.0 or cards[k].extra_terms:
+                raise self.error(f"PDMP group NODLIM {r.nodlim} has Maxwell terms (E1 = "
+                                 f"{cards[k].e1:g}): the HOOKE law replaces the viscoelastic "
+                                 f"law; set E1 to 0", r.pos, "HOOKE")
+            params[k] = r.kn, r.e
+        missing = [c.nodlim for c, p in zip(cards, params) if np.isnan(p[0])]
+        if missing:
+            raise self.error(f"a scene runs one normal law: give every PDMP group a HOOKE record "
+                             f"(missing NODLIM {', '.join(map(str, missing))})", records[0].pos,
+                             "HOOKE")
+        return {"normal_law": "hooke", "hooke": _ro(params[self.group].reshape(-1, 2))}
+
+    def _check_pdmp(self, c) -> None:
+        def bad(message: str) -> DeckError:
+            return self.error(message, c.pos, "PDMP")
+
+        if not c.rzero > 0.0:
+            raise bad(f"particle radius RZERO must be > 0, got {c.rzero:g}")
+        if not c.prho > 0.0:
+            raise bad(f"particle density PRHO must be > 0, got {c.prho:g}")
+        if not c.e0 > 0.0:
+            raise bad(f"particle modulus E0 must be > 0, got {c.e0:g}")
+        if not -1.0 < c.ppoi < 0.5:
+            raise bad(f"Poisson's ratio PPOI must lie in (-1, 0.5), got {c.ppoi:g}")
+        if c.pcof < 0.0:
+            raise bad(f"friction coefficient PCOF must be >= 0, got {c.pcof:g}")
+        for m, (e, tau) in enumerate([(c.e1, c.t1), *c.extra_terms], start=1):
+            if e < 0.0:
+                raise bad(f"Maxwell modulus E{m} must be >= 0, got {e:g}")
+            if e != 0.0 and not tau > 0.0:
+                raise bad(f"relaxation time T{m} must be > 0 when E{m} is not zero, got {tau:g}")
+
+
+    def _initial_velocities(self) -> np.ndarray:
+        v0 = np.zeros((self.ids.shape[0], 6))
+        for k, card in enumerate(self.deck.pdmp):
+            v0[self.pstart + np.flatnonzero(self.group == k), :3] = (card.vx0, card.vy0, card.vz0)
+        for rec in self.deck.initials:
+            i = self.node(rec.nid, rec.pos, "INITIAL", "node")
+            if len(rec.velocity) not in (3, 6):
+                raise self.error(f"node {rec.nid}: give 3 (vx vy vz) or 6 (and wx wy wz) "
+                                 f"velocity components, got {len(rec.velocity)}", rec.pos,
+                                 "INITIAL")
+            v0[i, :len(rec.velocity)] = rec.velocity
+        v0[self.fixed] = 0.0  # report Appendix B note 5: initial velocities obey BOUNDARY
+        return v0

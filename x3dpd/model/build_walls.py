@@ -1,0 +1,115 @@
+"""Model builder steps for the cavities: CONTACT triangles and slave sets, CYLINDER cavities.
+
+Wall orientation comes from geometry, never from the winding of the triangles: each triangle's
+inward side is the side facing the centroid of its cavity's triangle nodes (the "master nodes").
+The report's Appendix A winds some cavity triangles one way and some the other.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from x3dpd.errors import Pos
+from x3dpd.geometry.cavity import geometry_size, group_faces
+from x3dpd.geometry.triangle import PLANE_TOL, inward_signs, triangle_areas, unit_normals
+from x3dpd.model.build_base import BuilderBase, _pos_at
+
+
+class WallSteps(BuilderBase):
+    """The cavities' walls: triangles, their inward sides and faces, cylinders, slave sets."""
+
+    def _walls(self) -> None:
+        tris = [t for c in self.deck.contacts for t in c.triangles]
+        sets = [s for c in self.deck.contacts for s in c.slaves]
+        idx = np.array([[self.structural(nid, t.pos, "CONTACT", "triangle node")
+                         for nid in t.nodes] for t in tris], dtype=np.int64).reshape(-1, 3)
+        p0, p1, p2 = (self.x0[idx[:, k]] for k in range(3))
+        area = triangle_areas(p0, p1, p2)
+        longest = np.max(np.stack([np.linalg.norm(p1 - p0, axis=1),
+                                   np.linalg.norm(p2 - p1, axis=1),
+                                   np.linalg.norm(p0 - p2, axis=1)]), axis=0, initial=0.0)
+        for k, t in enumerate(tris):
+            if not area[k] > PLANE_TOL * longest[k] ** 2:
+                raise self.error(f"triangle {k + 1} (nodes {' '.join(map(str, t.nodes))}) is "
+                                 f"degenerate: area {area[k]:.6g}", t.pos, "CONTACT")
+        set_ids = sorted({t.set_id for t in tris} | {c.set_id for c in self.deck.cylinders or ()})
+        cav_of_set = {s: c for c, s in enumerate(set_ids)}
+        pcav = np.full(self.ids.shape[0] - self.pstart, -1, dtype=np.int64)
+        where: dict[int, Pos] = {}
+        for ss in sets:
+            if ss.set_id not in cav_of_set:
+                raise self.error(f"slave set {ss.set_id} has no master triangles and no "
+                                 f"CYLINDER (the CONTACT triangles and cylinders use set ids "
+                                 f"{', '.join(map(str, set_ids)) or 'none'})", ss.pos, "CONTACT")
+            for k, nid in enumerate(ss.nodes):
+                pos = _pos_at(ss.positions, k, ss.pos)
+                i = self.node(nid, pos, "CONTACT", "slave node")
+                if i < self.pstart:
+                    raise self.error(f"slave node {nid} is not a particle (particles are the "
+                                     f"nodes above PDMP NODLIM {self.nodlim})", pos, "CONTACT")
+                if i in where:
+                    raise self.error(f"particle {nid} is already a slave of another set (line "
+                                     f"{where[i].line}); a particle belongs to one cavity",
+                                     pos, "CONTACT")
+                where[i] = pos
+                pcav[i - self.pstart] = cav_of_set[ss.set_id]
+        sign = np.zeros(len(tris))
+        face = np.zeros(len(tris), dtype=np.int64)
+        face_cavity: list[int] = []
+        n_hat = unit_normals(p0, p1, p2)
+        for c, sid in enumerate(set_ids):
+            mine = np.array([k for k, t in enumerate(tris) if t.set_id == sid], dtype=np.int64)
+            if mine.size == 0:   # a cavity of cylinders only
+                continue
+            corners = np.unique(idx[mine].reshape(-1))
+            s = inward_signs(p0[mine], p1[mine], p2[mine], self.x0[corners].mean(axis=0))
+            if np.any(s == 0.0):  # e.g. a flat floor: the master nodes' centroid is in its plane
+                own = self.pstart + np.flatnonzero(pcav == c)
+                if own.size:
+                    ref = self.x0[own].mean(axis=0)
+                    s = np.where(s == 0.0, inward_signs(p0[mine], p1[mine], p2[mine], ref), s)
+            if np.any(s == 0.0):
+                k = int(mine[np.flatnonzero(s == 0.0)[0]])
+                raise self.error(
+                    f"cannot tell the inside of triangle {k + 1} (nodes "
+                    f"{' '.join(map(str, tris[k].nodes))}): the centroid of cavity {sid}'s "
+                    f"triangle nodes and of its particles lie in the triangle's plane",
+                    tris[k].pos, "CONTACT")
+            sign[mine] = s
+            local = group_faces(s[:, None] * n_hat[mine], p0[mine],
+                                geometry_size(self.x0[corners]))
+            face[mine] = len(face_cavity) + local
+            face_cavity.extend([c] * (int(local.max()) + 1))
+        self.triangles = tris
+        self.tri_nodes = idx
+        self.tri_sign = sign
+        self.tri_face = face
+        self.face_cavity = np.array(face_cavity, dtype=np.int64)
+        self.cavity_set_ids = np.array(set_ids, dtype=np.int64)
+        self.particle_cavity = pcav
+        self._cylinders(cav_of_set)
+
+    def _cylinders(self, cav_of_set: dict[int, int]) -> None:
+        """The CYLINDER card (our extension): analytic cylindrical cavities. Their axis nodes
+        must move rigidly together (one rigid body, or both fixed), so that the reaction and
+        the wall's velocity formed from them are exact (x3dpd.geometry.cylinder)."""
+        nodes, radius, cavity = [], [], []
+        for cy in self.deck.cylinders or ():
+            ends = [self.structural(nid, cy.pos, "CYLINDER", what)
+                    for nid, what in ((cy.node_a, "axis node A"), (cy.node_b, "axis node B"))]
+            bodies = [self.slave_of.get(i, self.body_of_master.get(i)) for i in ends]
+            fixed = all(self.fixed[i].all() for i in ends)
+            if not fixed and (bodies[0] is None or bodies[0] != bodies[1]):
+                raise self.error(f"axis nodes {cy.node_a} and {cy.node_b} must move as one "
+                                 f"rigid cavity: make both RBEL slaves (or the master) of one "
+                                 f"rigid body, or fix all their DOFs", cy.pos, "CYLINDER")
+            length = float(np.linalg.norm(self.x0[ends[1]] - self.x0[ends[0]]))
+            if not length > 0.0:
+                raise self.error(f"axis nodes {cy.node_a} and {cy.node_b} coincide: the "
+                                 f"cylinder has no length", cy.pos, "CYLINDER")
+            nodes.append(ends)
+            radius.append(cy.radius)
+            cavity.append(cav_of_set[cy.set_id])
+        self.cylinder_nodes = np.array(nodes, dtype=np.int64).reshape(-1, 2)
+        self.cylinder_radius = np.array(radius, dtype=np.float64)
+        self.cylinder_cavity = np.array(cavity, dtype=np.int64)
