@@ -369,10 +369,9 @@ def _cylinder_contacts(nodes, particles, cylinders, stepping, w, n_faces):
 
 
 @loop_kernel(inline="never")
-def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_, ps, hist):
+def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_):
     """Pass 1 of the pair contacts: write into ``busy`` the candidates that touch now or had an
-    open contact, their x_j - x_i into ``dx_``, ``dy_``, ``dz_`` and (with Maxwell terms) their
-    histories into the rows of ``hist``; return how many.
+    open contact and their x_j - x_i into ``dx_``, ``dy_``, ``dz_``; return how many.
 
     A function of its own, not inlined: inside the step loop's single large function the
     filter's array pointers spill to the stack and are reloaded for every candidate; here they
@@ -399,9 +398,6 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_, 
             dx_[nbusy] = dx
             dy_[nbusy] = dy
             dz_[nbusy] = dz
-            if N_MAXWELL > 0:
-                for k in range(2 * N_MAXWELL):
-                    hist[nbusy, k] = ps[s, S_H + k]
             nbusy += 1
     return nbusy
 
@@ -421,8 +417,8 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
     forces -- pass 3 does, in list order -- so the loop has no stores through indices and LLVM
     vectorizes it (x3dpd._jit.vector_kernel): the gathers of x and v become packed gathers, and
     the square roots and divisions packed ones. Maxwell histories are read and written in
-    ``hist`` (row q: busy candidate q, Fortran order), which the filter fills from the state
-    rows and pass 3 copies back, so that they too are contiguous stores.
+    ``hist`` (row q: busy candidate q, Fortran order), filled from the state rows before this
+    pass and copied back by pass 3, so that they too are contiguous stores.
     """
     p0, radius, pkind, pair_c = particles.p0, particles.radius, particles.kind, particles.pair_c
     gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
@@ -462,8 +458,8 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
             if NORMAL_USES_RATE:
                 a_rate = -(nx * (vel[j, 0] - vel[i, 0]) + ny * (vel[j, 1] - vel[i, 1])
                            + nz * (vel[j, 2] - vel[i, 2]))
-            # Maxwell histories in the busy candidates' rows of ``hist`` (the filter copied
-            # them there; pass 3 copies them back): row q, columns 0 ..
+            # Maxwell histories in the busy candidates' rows of ``hist`` (copied there from
+            # the state rows; pass 3 copies them back): row q, columns 0 ..
             fn = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, hist, q, 0,
                                    N_MAXWELL)
             if NORMAL_CLAMPED and fn < 0.0:
@@ -597,19 +593,26 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     # candidates are apart and cost about 2 ns each
     c = pairs.columns
     nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, c[C_DX], c[C_DY],
-                         c[C_DZ], ps, pairs.history)
+                         c[C_DZ])
+    hist = pairs.history
+    if N_MAXWELL > 0:
+        # the busy candidates' Maxwell histories, row q for candidate q (pass 3 copies them back)
+        for q in range(nbusy):
+            s = np.uint64(busy[q])
+            for k in range(2 * N_MAXWELL):
+                hist[q, k] = ps[s, S_H + k]
     if nbusy == 0:
         # nothing touches (a falling or sparse scene): skip the calls and their arguments
         return OK
     # pass 2: the contact response, into columns
     _pair_response(nbusy, busy, c[C_DX], c[C_DY], c[C_DZ], vel, particles, pl_i, pl_j, ps,
-                   pairs.history, stepping.dt,
+                   hist, stepping.dt,
                    c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
                    c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
                    c[C_RMIN])
     # pass 3: states, forces and the ledger
     status, w_normal, w_fric = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, nodes.force,
-                                           stepping.pen_limit, stepping.diag, c, pairs.history)
+                                           stepping.pen_limit, stepping.diag, c, hist)
     ledger[L_WN] += w_normal
     ledger[L_DFRIC] += w_fric
     return status
