@@ -7,6 +7,7 @@ Short windows of the shipped decks (their step loops are compiled by the golden 
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 from pathlib import Path
@@ -124,6 +125,33 @@ def test_stop_trace_nodes_and_itrac():
     np.testing.assert_allclose(np.diff(r.trace.time), 50 * 5e-7, rtol=1e-9)
     with pytest.raises(x3dpd.InputError, match="not in the deck"):
         x3dpd.run(DECKS / "beam_1.inp", tmax=1e-3, trace_nodes=[12345])
+
+
+def test_where_a_stopped_run_ends_does_not_depend_on_the_machines_speed(monkeypatch):
+    """With ``stop``, the run is asked after every ``stop_every`` rows, a fixed step count:
+    the chunks a run without ``stop`` adapts to its measured speed (CHUNK_SECONDS) would make
+    the stopping step -- and the state a chained sweep point starts from -- depend on the load
+    of the machine. Two runs, one told its chunks should last a microsecond and one a minute,
+    stop at the same step with the same state (the check can fail: the adaptive chunks differ
+    by orders of magnitude)."""
+    import x3dpd.api.loop as loop
+
+    def stop(chunk):
+        return chunk.time[-1] >= 1.9e-3
+
+    ends = []
+    for seconds in (1e-6, 60.0):
+        monkeypatch.setattr(loop, "CHUNK_SECONDS", seconds)
+        r = x3dpd.run(DECKS / "beam_1.inp", tmax=0.1, trace_nodes=[9], itrac=5, stop=stop,
+                      stop_every=200)
+        assert r.summary["status"] == "stopped"
+        ends.append((r.summary["t_end"], r.summary["steps"], r.final_state))
+    (t_a, n_a, s_a), (t_b, n_b, s_b) = ends
+    assert (t_a, n_a) == (t_b, n_b)
+    # the stop is checked every 200 rows of 5 steps: the first check at or after 1.9 ms
+    dt = 5e-7
+    assert n_a == 200 * 5 * math.ceil(1.9e-3 / (200 * 5 * dt))
+    np.testing.assert_array_equal(s_a.state.x, s_b.state.x)
 
 
 def test_usrfrc_replaces_the_decks_drive_unless_added():

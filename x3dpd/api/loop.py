@@ -19,6 +19,10 @@ from x3dpd.errors import InputError, UnstableRunError
 CHUNK_SECONDS = 0.3
 #: Wall time between trace flushes (sidecar updates) outside restart dumps [s].
 FLUSH_SECONDS = 30.0
+#: With a ``stop`` callback, it is asked after every this many trace rows (the default of
+#: ``run(stop_every=)``): a fixed step count, so that where a run stops -- and the state a
+#: chained sweep point starts from -- does not depend on how fast the machine ran.
+STOP_CHECK_ROWS = 20
 #: Exit status after SIGINT (128 + 2) and SIGTERM (128 + 15).
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
@@ -110,9 +114,13 @@ def note_energy(stats: Stats, energy: np.ndarray) -> None:
 
 
 def step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
-               ids) -> bool:
-    """Advance to step ``n_end``; return True when ``stop`` ended the run early."""
-    chunk = max(1, min(sim.itrac, 1000))
+               ids, stop_every: int = STOP_CHECK_ROWS) -> bool:
+    """Advance to step ``n_end``; return True when ``stop`` ended the run early (asked after
+    every ``stop_every`` trace rows)."""
+    # steps per sim.advance call: adapted to the measured speed (CHUNK_SECONDS), except with a
+    # stop callback, where a fixed count keeps the stopping step deterministic
+    fixed_chunk = stop is not None
+    chunk = sim.itrac * max(1, int(stop_every)) if fixed_chunk else max(1, min(sim.itrac, 1000))
     rate = 0.0
     last_flush = time.perf_counter()
     first = True
@@ -146,9 +154,9 @@ def step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
             stats.timed_seconds += wall
             inst = done / wall if wall > 0 else float("inf")
             rate = inst if rate == 0.0 else 0.5 * rate + 0.5 * inst
-            if done == target - step and math.isfinite(rate):
+            if done == target - step and math.isfinite(rate) and not fixed_chunk:
                 chunk = int(min(max(rate * CHUNK_SECONDS, chunk / 4, 1), chunk * 4, 1e9))
-        elif done == target - step:
+        elif done == target - step and not fixed_chunk:
             chunk = min(chunk * 4, max(1, n_end))
         first = False
         if trest_steps and sim.clock % trest_steps == 0 and sim.clock < n_end:

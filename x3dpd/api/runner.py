@@ -29,6 +29,7 @@ import numpy as np
 
 from x3dpd import __version__
 from x3dpd.api.loop import (
+    STOP_CHECK_ROWS,
     Interrupts,
     Sink,
     Stats,
@@ -57,7 +58,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         energy: str | os.PathLike | None = None, overwrite: bool = False, restart: bool = False,
         itrac: int | None = None, trace_nodes: Sequence[int] | None = None,
         keep_trace: bool = True, initial_state: FinalState | None = None,
-        stop: Callable[[Chunk], bool] | None = None,
+        stop: Callable[[Chunk], bool] | None = None, stop_every: int = STOP_CHECK_ROWS,
         progress: Callable[[float, float, float, float, float], None] | None = None,
         on_compile: Callable[[str], None] | None = None,
         usrfrc_python: bool = False, penetration_limit: float = 0.25,
@@ -102,8 +103,12 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         ``result.final_state`` of an earlier run of the same deck at the same ``dt``: continue
         from it (its time, particles, structure and ledger).
     stop : callable, optional
-        ``stop(chunk) -> bool`` after each chunk of steps (:class:`Chunk`); True ends the run
-        there (summary status ``"stopped"``).
+        ``stop(chunk) -> bool`` after every ``stop_every`` trace rows (:class:`Chunk`); True
+        ends the run there (summary status ``"stopped"``).
+    stop_every : int
+        Trace rows between calls of ``stop`` (default 20). A fixed step count, so that where a
+        run stops -- and the state a chained run continues from -- does not depend on the
+        machine's speed.
     progress : callable, optional
         ``progress(time, steps_per_s, eta_s, relative_residual, t_end)`` after each chunk.
     on_compile : callable, optional
@@ -283,7 +288,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
     try:
         with sink, Interrupts(handle_signals) as intr:
             stopped = step_loop(sim, sink, n_end, trest_steps, stats, progress, dump,
-                                 intr, stop, ids)
+                                 intr, stop, ids, stop_every)
             if intr.signum:
                 dump("interrupted")
                 status = "interrupted"

@@ -104,7 +104,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     result = run_deck(point.deck, tmax=t_start + (crit.max_cycles + 1) * period, dt=dt,
                       usrfrc=(spec,), usrfrc_mode="replace", itrac=itrac,
                       trace_nodes=(point.node,), keep_trace=False, initial_state=state,
-                      stop=stop)
+                      stop=stop, stop_every=crit.samples_per_cycle)
     wall = _time.perf_counter() - wall
     ss = monitor.result()
     summary = result.summary
