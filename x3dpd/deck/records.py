@@ -137,6 +137,15 @@ def _count(spec: CardSpec, record: Record, values: list[str], low: int, high: in
         raise _fail(spec, record, 0 if n < low else high, f"{spec.name} needs {expected}; got {n}")
 
 
+def _counted(spec: CardSpec, items: list[Any], low: int, high: int | None,
+             expected: str) -> Iterator[tuple[Record, list[str]]]:
+    """Each record of a card's ``items`` with its values, checked by :func:`_count`."""
+    for rec in _records(items):
+        values = _split(rec)
+        _count(spec, rec, values, low, high, expected)
+        yield rec, values
+
+
 def _dof(spec: CardSpec, record: Record, values: list[str], i: int, seen: list[int]) -> int:
     """Field ``i`` as a DOF number 1..6 (x y z rx ry rz), not already in ``seen``."""
     dof = _int(spec, record, values, i, None)

@@ -46,6 +46,7 @@ from x3dpd.deck.records import (  # noqa: F401  (Piece, to_float re-exported)
     Piece,
     Record,
     _count,
+    _counted,
     _dof,
     _dof_code,
     _fail,
@@ -115,10 +116,8 @@ class DeckTransformer(Transformer):
     def matid(self, c: list[Any]) -> _Card:
         spec = BY_NAME["MATID"]
         out = []
-        for rec in _records(c[1:-1]):
-            v = _split(rec)
-            _count(spec, rec, v, 8, None, "at least 8 values: " + " ".join(spec.fields)
-                   + " [EXTRA...]")
+        expected = "at least 8 values: " + " ".join(spec.fields) + " [EXTRA...]"
+        for rec, v in _counted(spec, c[1:-1], 8, None, expected):
             mid, mtype = _int(spec, rec, v, 0), _int(spec, rec, v, 1, None)
             f = _floats(spec, rec, v, 2)
             if f[0] < 0:
@@ -130,9 +129,7 @@ class DeckTransformer(Transformer):
         spec = BY_NAME["PDMP"]
         expected = "8 to 11 values: " + " ".join(spec.fields) + " (then pairs E2 T2 ...)"
         out = []
-        for rec in _records(c[1:-1]):
-            v = _split(rec)
-            _count(spec, rec, v, 8, None, expected)
+        for rec, v in _counted(spec, c[1:-1], 8, None, expected):
             if len(v) > 11 and (len(v) - 11) % 2:
                 message = f"PDMP extra Maxwell terms come in pairs E2 T2 E3 T3 ... after VZ0; got " \
                           f"{len(v)} values"
@@ -203,9 +200,7 @@ class DeckTransformer(Transformer):
     def elements(self, c: list[Any]) -> _Card:
         spec = BY_NAME["ELEMENTS"]
         out = []
-        for rec in _records(c[1:-1]):
-            v = _split(rec)
-            _count(spec, rec, v, 3, 4, "3 or 4 values: ID MID NODE1 [NODE2]")
+        for rec, v in _counted(spec, c[1:-1], 3, 4, "3 or 4 values: ID MID NODE1 [NODE2]"):
             ids = [_int(spec, rec, v, i) for i in range(len(v))]
             out.append(Element(ids[0], ids[1], tuple(ids[2:]), _first(rec)))
         return "ELEMENTS", c[0], out
@@ -213,9 +208,7 @@ class DeckTransformer(Transformer):
     def mass(self, c: list[Any]) -> _Card:
         spec = BY_NAME["MASS"]
         out = []
-        for rec in _records(c[1:-1]):
-            v = _split(rec)
-            _count(spec, rec, v, 2, 5, "2 to 5 values: NODE MASS [IXX IYY IZZ]")
+        for rec, v in _counted(spec, c[1:-1], 2, 5, "2 to 5 values: NODE MASS [IXX IYY IZZ]"):
             f = _floats(spec, rec, v, 1) + [0.0] * (5 - len(v))
             for i, x in enumerate(f[:len(v) - 1], start=1):
                 if x < 0:
@@ -226,9 +219,8 @@ class DeckTransformer(Transformer):
     def rbel(self, c: list[Any]) -> _Card:
         spec = BY_NAME["RBEL"]
         out = []
-        for rec in _records(c[1:-1]):
-            v = _split(rec)
-            _count(spec, rec, v, 4, None, "MASTER DOFS COUNT and COUNT slave node ids")
+        for rec, v in _counted(spec, c[1:-1], 4, None,
+                               "MASTER DOFS COUNT and COUNT slave node ids"):
             master = _int(spec, rec, v, 0)
             dofs = _dof_code(spec, rec, v, 1)
             count = _int(spec, rec, v, 2)
@@ -242,9 +234,8 @@ class DeckTransformer(Transformer):
     def boundary(self, c: list[Any]) -> _Card:
         spec = BY_NAME["BOUNDARY CONDITIONS"]
         out = []
-        for rec in _records(c[1:-1]):
-            v = _split(rec)
-            _count(spec, rec, v, 4, None, "FIRST LAST INC and at least one DOF (1..6)")
+        for rec, v in _counted(spec, c[1:-1], 4, None,
+                               "FIRST LAST INC and at least one DOF (1..6)"):
             first, last, inc = (_int(spec, rec, v, i) for i in range(3))
             if last < first:
                 raise _fail(spec, rec, 1, f"LAST must be >= FIRST ({first}); got {last}")
@@ -268,9 +259,7 @@ class DeckTransformer(Transformer):
     def hooke(self, c: list[Any]) -> _Card:
         spec = BY_NAME["HOOKE"]
         out = []
-        for rec in _records(c[1:-1]):
-            v = _split(rec)
-            _count(spec, rec, v, 3, 3, "3 values: NODLIM KN E")
+        for rec, v in _counted(spec, c[1:-1], 3, 3, "3 values: NODLIM KN E"):
             nodlim = _int(spec, rec, v, 0, None)
             kn, e = _floats(spec, rec, v, 1)
             if not kn > 0.0:
@@ -284,9 +273,7 @@ class DeckTransformer(Transformer):
     def cylinder(self, c: list[Any]) -> _Card:
         spec = BY_NAME["CYLINDER"]
         out = []
-        for rec in _records(c[1:-1]):
-            v = _split(rec)
-            _count(spec, rec, v, 4, 4, "4 values: SET NODE_A NODE_B RADIUS")
+        for rec, v in _counted(spec, c[1:-1], 4, 4, "4 values: SET NODE_A NODE_B RADIUS"):
             ids = [_int(spec, rec, v, i) for i in range(3)]
             (radius,) = _floats(spec, rec, v, 3)
             if not radius > 0.0:
@@ -301,16 +288,14 @@ class DeckTransformer(Transformer):
         spec = BY_NAME["CONTACT"]
         split = next(i for i, x in enumerate(c) if isinstance(x, Token) and x.type == "END")
         triangles = []
-        for rec in _records(c[1:split]):
-            v = _split(rec)
-            _count(spec, rec, v, 4, 4, "4 values per master triangle: SET N1 N2 N3")
+        for rec, v in _counted(spec, c[1:split], 4, 4,
+                               "4 values per master triangle: SET N1 N2 N3"):
             ids = [_int(spec, rec, v, i) for i in range(4)]
             triangles.append(Triangle(ids[0], (ids[1], ids[2], ids[3]), _first(rec)))
         slaves = []
         sspec = CONTACT_SLAVES
-        for rec in _records(c[split + 1:-1]):
-            v = _split(rec)
-            _count(sspec, rec, v, 2, None, "SET and at least one slave node id per slave record")
+        for rec, v in _counted(sspec, c[split + 1:-1], 2, None,
+                               "SET and at least one slave node id per slave record"):
             ids = tuple(_int(sspec, rec, v, i) for i in range(len(v)))
             slaves.append(SlaveSet(ids[0], ids[1:], _positions(rec, 1), _first(rec)))
         return "CONTACT", c[0], Contact(tuple(triangles), tuple(slaves), _pos(c[0]))
