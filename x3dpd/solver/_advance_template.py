@@ -412,8 +412,8 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
 
     The normal law is the scene's (x3dpd.physics.normal_laws), with n = (x_j - x_i)/|x_j - x_i|
     and approach a = R_i + R_j - |x_j - x_i|; friction with spin acts at the contact points
-    x_i + R_i n and x_j - R_j n. A candidate that no longer touches (a <= 0) gets F = 0 and the
-    work 1/2 F_old (a - a_old) of its last step. Nothing here writes the contact state or the
+    x_i + R_i n and x_j - R_j n. A candidate that no longer touches (a <= 0) gets F = 0; pass 3
+    closes it as a wall contact is closed (``_close_contact``). Nothing here writes the contact state or the
     forces -- pass 3 does, in list order -- so the loop has no stores through indices and LLVM
     vectorizes it (x3dpd._jit.vector_kernel): the gathers of x and v become packed gathers, and
     the square roots and divisions packed ones. Maxwell histories are read and written in
@@ -464,7 +464,8 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
                                    N_MAXWELL)
             if NORMAL_CLAMPED and fn < 0.0:
                 fn = 0.0
-        # work of the normal force, 1/2 (F_old + F) (a - a_old); of the last step if apart
+        # work of the normal force over the step, 1/2 (F_old + F) (a - a_old) (pass 3 books it
+        # for touching candidates only)
         dw = 0.5 * (fn_old + fn) * (a - a_old)
         # force on j along +n, on i along -n
         fx = fn * nx
