@@ -130,8 +130,9 @@ class ContactList(NamedTuple):
     second_new: np.ndarray   # (L,) scratch of the rebuild
     state_new: np.ndarray    # (L, columns) scratch of the rebuild
     approach_new: np.ndarray  # (L,) scratch of the rebuild: approach of new candidates
-    columns: np.ndarray      # (C, L + pad) scratch of the contact pass (contact_lists.pair_columns)
-    history: np.ndarray      # (L + pad, H) Fortran-order scratch: histories of busy candidates
+    # scratch of the pair pass (walls, answered one contact at a time, hold 1 x 1 placeholders):
+    columns: np.ndarray      # (C, L + pad) response columns (contact_lists.pair_columns)
+    history: np.ndarray      # (L + pad, H) Fortran-order histories of busy candidates
 
 
 class Cylinders(NamedTuple):
