@@ -11,8 +11,9 @@ each output time by the first rule that applies:
    trace, so a turning cavity is drawn translated only);
 3. otherwise (a fixed wall, e.g. decks/impact_wall.inp's floor): its deck coordinates.
 
-An analytic cylinder (CYLINDER card) is drawn as :data:`CYLINDER_FACETS` flat facets
-(x3dpd.geometry.cylinder.cylinder_mesh) whose vertices follow its axis node A by the same rules.
+An analytic wall (CYLINDER, CAPSULE ... card) is drawn as its shape's mesh with
+:data:`CYLINDER_FACETS` flat facets around (x3dpd.geometry.shapes), whose vertices follow its
+node A by the same rules.
 
 :func:`scene_from_model` takes a :class:`x3dpd.model.model.Model` (any object with its
 attributes), so this module does not depend on the model package.
@@ -26,9 +27,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from x3dpd.geometry.cavity import geometry_size, merge_vertices
-from x3dpd.geometry.cylinder import cylinder_mesh
+from x3dpd.geometry.shapes import SHAPES, node_positions
 
-#: Facets around a drawn analytic cylinder (its sagitta is 0.2 % of the radius).
+#: Facets around a drawn analytic wall (a cylinder's sagitta is 0.2 % of its radius).
 CYLINDER_FACETS = 48
 
 
@@ -126,16 +127,17 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
     tri = tri.reshape(-1, 3).astype(np.int64)
     vx0 = np.asarray(model.x0)[verts].reshape(-1, 3)
     outline = feature_edges(tri, vx0)
-    for c, (a, b) in enumerate(np.asarray(getattr(model, "cylinder_nodes",
-                                                  np.zeros((0, 2), np.int64)))):
-        # a drawn cylinder's vertices translate with its axis node A (traced) or A's master
-        cv, ct = cylinder_mesh(model.x0[a], model.x0[b], float(model.cylinder_radius[c]),
-                               CYLINDER_FACETS)
+    for w in range(np.asarray(getattr(model, "shape_kind", np.zeros(0))).shape[0]):
+        # a drawn analytic wall's vertices translate with its node A (traced) or A's master
+        a = int(model.shape_nodes[w, 0])
+        shape = SHAPES[int(model.shape_kind[w])]
+        cv, ct = shape.mesh(node_positions(shape, model.x0, model.shape_nodes[w]),
+                            model.shape_params[w, :len(shape.param_fields)], CYLINDER_FACETS)
         k = cv.shape[0]
         ref = int(a) if int(ids[a]) in index else int(master_of[a])
         row = index.get(int(ids[ref]), -1) if ref >= 0 else -1
         tri = np.concatenate([tri, ct + vx0.shape[0]])
-        # its outline: the two rims (the creases between facets are the drawing's, not its)
+        # its outline: its rims (the creases between facets are the drawing's, not its)
         rims = feature_edges(ct, cv, cos_tol=math.cos(3.0 * math.pi / CYLINDER_FACETS))
         outline = np.concatenate([outline, rims + vx0.shape[0]])
         vx0 = np.concatenate([vx0, cv])

@@ -53,21 +53,41 @@ def deck_key(deck) -> str:
 
 _POSITION_FIELDS = frozenset({"pos", "positions", "slave_positions", "path"})
 #: Cards added to the language later: absent, they leave the key of older decks unchanged.
-_ABSENT_IS_OLD = frozenset({"units", "hooke", "cylinders"})
+_ABSENT_IS_OLD = frozenset({"units", "hooke", "analytic_walls"})
 
 
 def _plain(obj):
     """Cards as nested tuples of (field, value), positions left out; floats as repr."""
     if is_dataclass(obj) and not isinstance(obj, type):
-        return (type(obj).__name__,) + tuple(
-            (f.name, _plain(getattr(obj, f.name))) for f in fields(obj)
-            if f.name not in _POSITION_FIELDS
-            and not (f.name in _ABSENT_IS_OLD and getattr(obj, f.name) is None))
+        out = (type(obj).__name__,)
+        for f in fields(obj):
+            value = getattr(obj, f.name)
+            if f.name in _POSITION_FIELDS or (f.name in _ABSENT_IS_OLD and value is None):
+                continue
+            out += (_analytic_plain(value) if f.name == "analytic_walls"
+                    else ((f.name, _plain(value)),))
+        return out
     if isinstance(obj, (tuple, list)):
         return tuple(_plain(v) for v in obj)
     if isinstance(obj, float):
         return repr(obj)
     return obj
+
+
+def _analytic_plain(walls) -> tuple:
+    """The analytic wall records in the form the CYLINDER card had before shapes were
+    registered -- a field ``cylinders`` of ``Cylinder(set_id, node_a, node_b, radius)`` --
+    one field per shape (``capsules`` ...), so restart dumps of earlier runs keep their key."""
+    from x3dpd.geometry.shapes import BY_SHAPE_NAME
+
+    groups: dict[str, list] = {}
+    for w in walls:
+        shape = BY_SHAPE_NAME[w.shape]
+        names = ("set_id",) + tuple(n.lower() for n in shape.node_fields + shape.param_fields)
+        values = (w.set_id,) + tuple(w.nodes) + tuple(repr(float(v)) for v in w.params)
+        groups.setdefault(w.shape, []).append(
+            (w.shape.capitalize(),) + tuple(zip(names, values)))
+    return tuple((f"{name}s", tuple(records)) for name, records in groups.items())
 
 
 def user_file_hashes(specs) -> dict[str, str]:

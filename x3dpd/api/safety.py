@@ -11,8 +11,8 @@ def initial_penetration_error(model, limit: float, deck_path: str) -> InputError
     ``limit`` x its radius (or behind a wall), None when there is none."""
     from x3dpd.model.check_geometry import particle_wall_penetrations, particles_outside
 
-    if model.n_particles and model.cylinder_radius.shape[0]:
-        err = _cylinder_error(model, limit, deck_path)
+    if model.n_particles and model.shape_kind.shape[0]:
+        err = _analytic_wall_error(model, limit, deck_path)
         if err is not None:
             return err
     if model.n_particles == 0 or model.tri_nodes.shape[0] == 0:
@@ -45,13 +45,13 @@ def initial_penetration_error(model, limit: float, deck_path: str) -> InputError
         f"the report's Appendix A deck.")
 
 
-def _cylinder_error(model, limit: float, deck_path: str) -> InputError | None:
-    """The deepest particle that starts outside its analytic cylinder or deeper than ``limit``
-    x its radius in the cylinder's wall."""
-    from x3dpd.model.check_cylinders import cylinder_clearances, describe_cylinder
+def _analytic_wall_error(model, limit: float, deck_path: str) -> InputError | None:
+    """The deepest particle that starts outside its analytic wall (cylinder, capsule ...) or
+    deeper than ``limit`` x its radius in it."""
+    from x3dpd.model.check_shapes import describe_shape, shape_clearances
 
     r = model.radius
-    bad = [f for f in cylinder_clearances(model)
+    bad = [f for f in shape_clearances(model)
            if not f.inside or -f.gap > limit * r[f.particle]]
     if not bad:
         return None
@@ -59,6 +59,6 @@ def _cylinder_error(model, limit: float, deck_path: str) -> InputError | None:
     where = ("its centre lies outside it" if not f.inside else
              f"{-f.gap:.6g} ({-f.gap / r[f.particle]:.3g} R) deep in its wall")
     return InputError(
-        f"{deck_path}: particle node {f.node_id} starts in {describe_cylinder(model, f.cylinder)}"
+        f"{deck_path}: particle node {f.node_id} starts in {describe_shape(model, f.shape)}"
         f" wrongly: {where}, beyond the penetration limit {limit:g} R. The run would blow up "
         f"at its first step: see `x3dpd check {deck_path}`.")

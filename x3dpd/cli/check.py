@@ -111,7 +111,7 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
         walls = f"{c.n_triangles} triangles in {c.n_faces} faces; " if c.n_triangles else ""
         lines.append(_row(f"cavity set {c.set_id}",
                           f"{box}; {walls}{c.n_particles} particles"))
-        lines += [_row("", text) for text in c.cylinders]
+        lines += [_row("", text) for text in c.analytic_walls]
         if c.volume is not None and c.closed:
             fill = (f"fill ratio {c.fill_ratio:.3g} (particle volume {c.particle_volume:.6g})"
                     if c.fill_ratio is not None else "")

@@ -10,7 +10,7 @@ from x3dpd.deck.cards import (
                               Body,
                               Boundary,
                               Contact,
-                              Cylinder,
+                              AnalyticWall,
                               Deck,
                               Hooke,
                               Element,
@@ -32,7 +32,7 @@ from x3dpd.deck.parser import parse_deck, read_deck
 from x3dpd.deck.writer import format_deck, write_deck
 
 __all__ = [
-    "Body", "Boundary", "Contact", "Cylinder", "Deck", "Element", "Hooke", "Initial", "Mass",
+    "AnalyticWall", "Body", "Boundary", "Contact", "Deck", "Element", "Hooke", "Initial", "Mass",
     "Material", "Node",
     "Parameters", "Pdmp", "Pos", "Rbel", "SlaveSet", "Title", "Trace", "Triangle", "Usrfrc",
     "format_deck", "parse_deck", "read_deck", "write_deck",

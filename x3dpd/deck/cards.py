@@ -229,15 +229,16 @@ class Hooke:
 
 
 @dataclass(frozen=True)
-class Cylinder:
-    """One CYLINDER record (our extension): an analytic cylindrical cavity for the particles of
-    CONTACT slave set ``set_id``, with axis end nodes ``node_a``, ``node_b`` (the centres of its
-    end caps) and inner ``radius`` [length] (x3dpd.geometry.cylinder)."""
+class AnalyticWall:
+    """One record of an analytic wall shape's card (our extension; CYLINDER, CAPSULE ...,
+    x3dpd.geometry.shapes): the cavity of CONTACT slave set ``set_id`` is bounded by a
+    ``shape`` ("cylinder") on the node ids ``nodes`` with the lengths ``params``, both in the
+    card's field order (CYLINDER: NODE_A NODE_B, RADIUS)."""
 
+    shape: str
     set_id: int
-    node_a: int
-    node_b: int
-    radius: float
+    nodes: tuple[int, ...]
+    params: tuple[float, ...]
     pos: Pos = NOWHERE
 
 
@@ -275,5 +276,6 @@ class Deck:
     initials: tuple[Initial, ...] = ()
     usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
     hooke: tuple[Hooke, ...] | None = None   # None: no HOOKE card
-    cylinders: tuple[Cylinder, ...] | None = None   # None: no CYLINDER card
+    #: records of the analytic wall cards in file order (None: no such card)
+    analytic_walls: tuple[AnalyticWall, ...] | None = None
     units: Units | None = None

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from x3dpd.geometry.shapes import SHAPES
+
 
 @dataclass(frozen=True)
 class CardSpec:
@@ -65,9 +67,8 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("INITIAL", "INIT", ("NODE", "VX", "VY", "VZ", "WX", "WY", "WZ")),
     CardSpec("USRFRC", "USRF", ("SPEC",)),
     CardSpec("HOOKE", "HOOK", ("NODLIM", "KN", "E")),
-    CardSpec("CYLINDER", "CYLI", ("SET", "NODE_A", "NODE_B", "RADIUS")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
-)
+) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)   # CYLINDER, CAPSULE ...
 
 #: Card spec by canonical name.
 BY_NAME: dict[str, CardSpec] = {c.name: c for c in CARDS}

@@ -16,10 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from x3dpd.deck.cards import (Body, Boundary, Contact, Cylinder, Deck, Element, Initial, Mass,
+from x3dpd.deck.cards import (AnalyticWall, Body, Boundary, Contact, Deck, Element, Initial, Mass,
                               Material, Node, Parameters, Pdmp, Rbel, SlaveSet, Title, Trace,
                               Triangle, Usrfrc)
-from x3dpd.geometry.cylinder import cylinder_clearance, cylinder_mesh
+from x3dpd.geometry.shapes import BY_SHAPE_NAME
 
 #: Corner order of the box (unit cube) and its 12 triangles, two per face.
 _CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
@@ -127,11 +127,11 @@ def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material: Mat
 def _spring_mounted_deck(*, master, nodlim, nodes, ids, slaves, triangles, material, radius,
                          structure_mass, rotary_inertia, stiffness, damping,
                          transverse_stiffness, gravity, dt, tmax, itrac, trest, title, usrfrc,
-                         free_dofs, initials=(), cylinders=None) -> Deck:
+                         free_dofs, initials=(), analytic_walls=None) -> Deck:
     """What the generated decks share: a master node with the structure's mass, rotary
     inertias, a spring and damper to ground (``transverse_stiffness`` along y, z), free only in
     ``free_dofs``, rigidly linked to the cavity's ``slaves``; one PDMP group after ``nodlim``,
-    all of it CONTACT slave set 1 of the cavity's ``triangles`` (and ``cylinders``); TRACE the
+    all of it CONTACT slave set 1 of the cavity's ``triangles`` (and ``analytic_walls``); TRACE the
     master, then the particles ``ids``."""
     fixed = tuple(d for d in range(1, 7) if d not in free_dofs)
     m = material
@@ -154,7 +154,7 @@ def _spring_mounted_deck(*, master, nodlim, nodes, ids, slaves, triangles, mater
         contacts=(Contact(tuple(triangles), (SlaveSet(1, tuple(ids)),)),),
         initials=tuple(initials),
         usrfrc=(Usrfrc(tuple(usrfrc)),) if usrfrc else (),
-        cylinders=cylinders or None,
+        analytic_walls=analytic_walls or None,
     )
 
 
@@ -169,15 +169,16 @@ def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.n
                          itrac: int = 2000, trest: float = 0.0, title: str = "", usrfrc=(),
                          free_dofs=(1,), transverse_stiffness: float = 1.0e12,
                          rotary_inertia: float = 1.0e20,
-                         velocities: np.ndarray | None = None) -> Deck:
+                         velocities: np.ndarray | None = None, shape: str = "cylinder") -> Deck:
     """A deck for a cylindrical cavity along x: axis from A = (0, 0, 0) to B = (``length``, 0,
     0), inner radius ``cavity_radius``, holding ``particles`` (their initial ``velocities``
-    (P, 3), if given, as INITIAL records).
+    (P, 3), if given, as INITIAL records). ``shape`` is any registered analytic wall whose
+    card is SET NODE_A NODE_B RADIUS (x3dpd.geometry.shapes).
 
-    ``facets=None`` writes the analytic cylinder (CYLINDER card, x3dpd.geometry.cylinder);
-    an integer n writes the same cylinder as CONTACT triangles instead
-    (:func:`x3dpd.geometry.cylinder.cylinder_mesh`: n flat facets with their corners on the
-    radius, fans on the caps), with its ring nodes after B. Node 1 is the master (mass,
+    ``facets=None`` writes the analytic shape (CYLINDER or CAPSULE card, x3dpd.geometry.shapes);
+    an integer n writes the same shape as CONTACT triangles instead (the shape's ``mesh``: n
+    flat facets around with their corners on the wall), with its vertices after B (a vertex
+    at A or B is that node). Node 1 is the master (mass,
     rotary inertias ``rotary_inertia``, spring and damper to ground along x, as
     :func:`box_cavity_deck`), 2 and 3 the axis nodes, all structure nodes rigidly linked to it;
     particles follow (PDMP NODLIM = the last structure node).
@@ -185,23 +186,28 @@ def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.n
     a = np.zeros(3)
     b = np.array([float(length), 0.0, 0.0])
     particles = np.asarray(particles, float).reshape(-1, 3)
-    gap, inside = cylinder_clearance(particles, np.full(len(particles), radius), a, b,
-                                     cavity_radius)
+    kind = BY_SHAPE_NAME[shape]
+    gap, inside = kind.clearance(particles, np.full(len(particles), radius), np.stack([a, b]),
+                                 (float(cavity_radius),))
     if not (inside.all() and np.all(gap >= -1e-12)):
         bad = int(np.argmin(gap))
         raise ValueError(f"particle {bad + 1} at {particles[bad].tolist()} is not inside the "
-                         f"cylinder")
+                         f"{shape}")
     nodes = [Node(CYL_MASTER, 0.0, 0.0, 0.0), Node(CYL_A, *map(float, a)),
              Node(CYL_B, *map(float, b))]
     contact_tris: tuple = ()
-    cylinders: tuple = (Cylinder(1, CYL_A, CYL_B, float(cavity_radius)),)
+    walls: tuple = (AnalyticWall(shape, 1, (CYL_A, CYL_B), (float(cavity_radius),)),)
     if facets is not None:
-        verts, tris = cylinder_mesh(a, b, cavity_radius, facets)
-        ring_ids = list(range(CYL_B + 1, CYL_B + 1 + 2 * facets))
-        nodes += [Node(nid, *map(float, v)) for nid, v in zip(ring_ids, verts[:2 * facets])]
-        vid = ring_ids + [CYL_A, CYL_B]
+        verts, tris = kind.mesh(np.stack([a, b]), (float(cavity_radius),), facets)
+        vid = []
+        for v in verts:
+            if np.array_equal(v, a) or np.array_equal(v, b):
+                vid.append(CYL_A if np.array_equal(v, a) else CYL_B)
+            else:
+                vid.append(CYL_B + 1 + len(nodes) - 3)
+                nodes.append(Node(vid[-1], *map(float, v)))
         contact_tris = tuple(Triangle(1, tuple(vid[k] for k in tri)) for tri in tris)
-        cylinders = ()
+        walls = ()
     last = nodes[-1].nid
     ids = list(range(last + 1, last + 1 + len(particles)))
     nodes += [Node(nid, *map(float, p)) for nid, p in zip(ids, particles)]
@@ -215,4 +221,4 @@ def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.n
         structure_mass=structure_mass, rotary_inertia=rotary_inertia, stiffness=stiffness,
         damping=damping, transverse_stiffness=transverse_stiffness, gravity=gravity, dt=dt,
         tmax=tmax, itrac=itrac, trest=trest, title=title, usrfrc=usrfrc, free_dofs=free_dofs,
-        initials=initials, cylinders=cylinders)
+        initials=initials, analytic_walls=walls)

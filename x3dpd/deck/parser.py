@@ -23,6 +23,7 @@ import re
 from collections.abc import Iterator
 from dataclasses import replace
 from functools import cache
+from pathlib import Path
 
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedEOF, UnexpectedInput
@@ -32,6 +33,7 @@ from x3dpd.deck.fields import BY_KEY, BY_NAME, CARDS, CONTACT_SLAVES, CardSpec, 
 from x3dpd.deck.records import _split
 from x3dpd.deck.transform import DeckTransformer
 from x3dpd.errors import DeckError
+from x3dpd.geometry.shapes import SHAPES
 
 #: Longest line accepted [bytes]; a longer one is not a deck (a list continues with '&').
 MAX_LINE = 1 << 20
@@ -55,10 +57,20 @@ _KEYWORD_LINE = re.compile(r"[ \t]*+([A-Za-z]{4})[A-Za-z]*+"
 _WORD_AT = re.compile(r"[^\s,$&]*")
 
 
+def grammar() -> str:
+    """The deck grammar: ``x3d.lark`` with a keyword for every registered analytic wall shape
+    (x3dpd.geometry.shapes)."""
+    text = (Path(__file__).with_name("x3d.lark")).read_text()
+    terminals = [s.card for s in SHAPES]
+    keywords = "\n".join(f"{s.card}: /{s.key}/i _MORE" for s in SHAPES)
+    return (text.replace("%SHAPE_TERMINALS%", " | ".join(terminals))
+            .replace("%SHAPE_KEYWORDS%", keywords))
+
+
 @cache
 def _parser() -> Lark:
-    return Lark.open("x3d.lark", rel_to=__file__, parser="lalr", lexer="contextual",
-                     transformer=DeckTransformer(), maybe_placeholders=False)
+    return Lark(grammar(), parser="lalr", lexer="contextual", transformer=DeckTransformer(),
+                maybe_placeholders=False)
 
 
 # -- stage 1: lines -----------------------------------------------------------------------------

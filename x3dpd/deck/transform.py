@@ -21,7 +21,7 @@ from x3dpd.deck.cards import (
     Body,
     Boundary,
     Contact,
-    Cylinder,
+    AnalyticWall,
     Deck,
     Element,
     Hooke,
@@ -61,6 +61,7 @@ from x3dpd.deck.records import (  # noqa: F401  (Piece, to_float re-exported)
     to_float,
 )
 from x3dpd.errors import DeckError
+from x3dpd.geometry.shapes import BY_SHAPE_CARD
 from x3dpd.units import parse_units
 
 #: What a card callback returns: canonical card name, keyword token, card or list of records.
@@ -270,19 +271,27 @@ class DeckTransformer(Transformer):
             out.append(Hooke(nodlim, kn, e, _first(rec)))
         return "HOOKE", c[0], out
 
-    def cylinder(self, c: list[Any]) -> _Card:
-        spec = BY_NAME["CYLINDER"]
+    def shape(self, c: list[Any]) -> _Card:
+        """A card of an analytic wall shape (x3dpd.geometry.shapes): SET, the node ids (two of
+        them must differ), the lengths (each > 0)."""
+        shape = BY_SHAPE_CARD[c[0].type]   # the grammar's terminal is the card's name
+        spec = BY_NAME[shape.card]
+        n_nodes, n = len(shape.node_fields), len(shape.fields)
         out = []
-        for rec, v in _counted(spec, c[1:-1], 4, 4, "4 values: SET NODE_A NODE_B RADIUS"):
-            ids = [_int(spec, rec, v, i) for i in range(3)]
-            (radius,) = _floats(spec, rec, v, 3)
-            if not radius > 0.0:
-                raise _fail(spec, rec, 3, f"RADIUS must be > 0; got {v[3]}")
-            if ids[1] == ids[2]:
-                raise _fail(spec, rec, 2, f"NODE_B must differ from NODE_A ({ids[1]}): the "
-                                          "axis runs from one to the other")
-            out.append(Cylinder(ids[0], ids[1], ids[2], radius, _first(rec)))
-        return "CYLINDER", c[0], out
+        for rec, v in _counted(spec, c[1:-1], n, n, f"{n} values: {' '.join(shape.fields)}"):
+            ids = [_int(spec, rec, v, i) for i in range(1 + n_nodes)]
+            params = _floats(spec, rec, v, 1 + n_nodes)
+            for k, value in enumerate(params):
+                if not value > 0.0:
+                    raise _fail(spec, rec, 1 + n_nodes + k,
+                                f"{shape.param_fields[k]} must be > 0; got {v[1 + n_nodes + k]}")
+            if n_nodes == 2 and ids[1] == ids[2]:
+                raise _fail(spec, rec, 2, f"{shape.node_fields[1]} must differ from "
+                                          f"{shape.node_fields[0]} ({ids[1]}): the axis runs "
+                                          "from one to the other")
+            out.append(AnalyticWall(shape.name, ids[0], tuple(ids[1:]), tuple(params),
+                                    _first(rec)))
+        return "ANALYTIC", c[0], out
 
     def contact(self, c: list[Any]) -> _Card:
         spec = BY_NAME["CONTACT"]
@@ -326,4 +335,4 @@ class DeckTransformer(Transformer):
                     boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
                     initials=many("INITIAL"), usrfrc=many("USRFRC"),
                     units=single.get("UNITS"), hooke=many("HOOKE") or None,
-                    cylinders=many("CYLINDER") or None)
+                    analytic_walls=many("ANALYTIC") or None)

@@ -16,6 +16,7 @@ from collections.abc import Iterable
 from x3dpd._files import write_atomically
 from x3dpd.deck.cards import Deck
 from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, MATID_FIELDS, PARAMETER_FIELDS, PDMP_FIELDS
+from x3dpd.geometry.shapes import SHAPES
 
 #: Values per line before a list record (TRACE, RBEL, slave set) is continued with ``&``.
 PER_LINE = 10
@@ -180,11 +181,14 @@ def format_deck(deck: Deck) -> str:
         for h in deck.hooke:
             _record([_i(h.nodlim), _f(h.kn), _f(h.e)], out)
         out.append("END")
-    if deck.cylinders:
-        _card(out, "CYLINDER", ("SET", "NODE_A", "NODE_B", "RADIUS"))
-        for cy in deck.cylinders:
-            _record([_i(cy.set_id), _i(cy.node_a), _i(cy.node_b), _f(cy.radius)], out)
-        out.append("END")
+    for shape in SHAPES:   # analytic wall cards (CYLINDER, CAPSULE ...), one per shape used
+        mine = [w for w in deck.analytic_walls or () if w.shape == shape.name]
+        if mine:
+            _card(out, shape.card, shape.fields)
+            for w in mine:
+                _record([_i(w.set_id)] + [_i(n) for n in w.nodes] + [_f(v) for v in w.params],
+                        out)
+            out.append("END")
     if deck.units is not None:
         out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]
     for u in deck.usrfrc:

@@ -31,9 +31,10 @@ import math
 import numpy as np
 
 from x3dpd._jit import step_kernel
+from x3dpd.geometry.shape import Shape
 
-__all__ = ["CYLINDER_PARTS", "cylinder_clearance", "cylinder_coordinates", "cylinder_mesh",
-           "_cylinder_frame", "_locate_on_cylinder"]
+__all__ = ["CYLINDER_PARTS", "SHAPE", "cylinder_clearance", "cylinder_coordinates",
+           "cylinder_mesh", "locate_parts", "_cylinder_frame", "_locate_on_cylinder"]
 
 #: Contact entities of one cylinder: the curved wall, the cap at A, the cap at B.
 CYLINDER_PARTS = 3
@@ -86,6 +87,26 @@ def _locate_on_cylinder(part, r, big_r, length, ux, uy, uz, s, rx, ry, rz, rho):
     return True, r - (length - s), -ux, -uy, -uz, 1.0, rx, ry, rz
 
 
+@step_kernel
+def locate_parts(x, na, nb, params, c, px, py, pz, r, out):
+    """The three parts' rows (valid, a, n, xi, l) for a sphere at p of radius r in cylinder
+    ``c`` (radius ``params[c, 0]``) with axis nodes ``na``, ``nb`` (x3dpd.geometry.shapes)."""
+    length, ux, uy, uz, s, rx, ry, rz, rho = _cylinder_frame(x, na, nb, px, py, pz)
+    big_r = params[c, 0]
+    for part in range(CYLINDER_PARTS):
+        ok, a, nx, ny, nz, xi, lx, ly, lz = _locate_on_cylinder(
+            part, r, big_r, length, ux, uy, uz, s, rx, ry, rz, rho)
+        out[part, 0] = 1.0 if ok else 0.0
+        out[part, 1] = a
+        out[part, 2] = nx
+        out[part, 3] = ny
+        out[part, 4] = nz
+        out[part, 5] = xi
+        out[part, 6] = lx
+        out[part, 7] = ly
+        out[part, 8] = lz
+
+
 def cylinder_coordinates(points: np.ndarray, a: np.ndarray, b: np.ndarray
                          ) -> tuple[np.ndarray, np.ndarray, float]:
     """Axial coordinate s and radial distance |rho| of ``points`` (N, 3) in the cylinder with
@@ -133,3 +154,35 @@ def cylinder_mesh(a, b, big_r: float, n: int) -> tuple[np.ndarray, np.ndarray]:
     caps = np.concatenate([np.stack([np.full(n, 2 * n), nxt, k], axis=1),
                            np.stack([np.full(n, 2 * n + 1), n + k, n + nxt], axis=1)])
     return verts, np.concatenate([side, caps]).astype(np.int64)
+
+
+def _length(ends) -> float:
+    return float(np.linalg.norm(np.asarray(ends[1], float) - np.asarray(ends[0], float)))
+
+
+def _extent(ends, params) -> tuple[np.ndarray, np.ndarray]:
+    """Bounding box: the two end discs (a disc of radius R normal to the unit axis u reaches
+    R sqrt(1 - u_k^2) along axis k)."""
+    a, b = np.asarray(ends[0], float), np.asarray(ends[1], float)
+    u = (b - a) / np.linalg.norm(b - a)
+    reach = float(params[0]) * np.sqrt(np.maximum(1.0 - u * u, 0.0))
+    return np.minimum(a, b) - reach, np.maximum(a, b) + reach
+
+
+def _problem(ends, params) -> str | None:
+    if not _length(ends) > 0.0:
+        return "coincide: the cylinder has no length"
+    return None
+
+
+SHAPE = Shape(
+    name="cylinder", card="CYLINDER", node_fields=("NODE_A", "NODE_B"), param_fields=("RADIUS",),
+    part_names=PART_NAMES, locate_parts=locate_parts,
+    clearance=lambda points, radii, ends, params: cylinder_clearance(
+        points, radii, ends[0], ends[1], float(params[0])),
+    volume=lambda ends, params: math.pi * float(params[0]) ** 2 * _length(ends),
+    extent=_extent,
+    mesh=lambda ends, params, n: cylinder_mesh(ends[0], ends[1], float(params[0]), n),
+    describe=lambda ends, params: f"radius {float(params[0]):g}, length {_length(ends):.6g}",
+    problem=_problem,
+    doc="a closed circular cylinder: curved wall and two flat end caps (Sections 5-6, 9-10)")

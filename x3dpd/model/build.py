@@ -6,7 +6,7 @@ builder only sums masses, applies material scale factors and reads geometry.
 
 The steps live beside this module: errors and node lookups in ``build_base``, particles in
 ``build_particles``, masses, springs, boundaries and rigid bodies in ``build_structure``, cavity
-walls and cylinders in ``build_walls`` (wall orientation), USRFRC loads and the zero-mass check
+walls and analytic walls in ``build_walls`` (wall orientation), USRFRC loads and the zero-mass check
 in ``build_loads``. This module runs them in order and assembles the :class:`Model`.
 """
 
@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from x3dpd.errors import NOWHERE, Pos
+from x3dpd.geometry.shapes import SHAPES
 from x3dpd.model.build_base import _pos_at, _ro
 from x3dpd.model.build_loads import LoadSteps
 from x3dpd.model.build_particles import ParticleSteps
@@ -94,9 +95,10 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps):
             tri_nodes=_ro(self.tri_nodes.reshape(-1, 3), np.int64), tri_sign=_ro(self.tri_sign),
             tri_face=_ro(self.tri_face, np.int64), face_cavity=_ro(self.face_cavity, np.int64),
             cavity_set_ids=_ro(self.cavity_set_ids, np.int64),
-            cylinder_nodes=_ro(self.cylinder_nodes.reshape(-1, 2), np.int64),
-            cylinder_radius=_ro(self.cylinder_radius),
-            cylinder_cavity=_ro(self.cylinder_cavity, np.int64),
+            shape_kind=_ro(self.shape_kind, np.int64),
+            shape_nodes=_ro(self.shape_nodes.reshape(-1, 2), np.int64),
+            shape_params=_ro(self.shape_params),
+            shape_cavity=_ro(self.shape_cavity, np.int64),
             trace_nodes=_ro(trace, np.int64),
             t0=float(par.time), tmax=float(par.tmax), dt=float(par.dtmax), trest=float(par.trest),
             itrac=int(par.itrac), irest=int(par.irest), incmax=float(par.incmax),
@@ -166,8 +168,9 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps):
         pc = self.particle_cavity
         if self.tri_nodes.shape[0] and np.any(pc >= 0):
             eff.add("wall_contact")
-        if np.any(np.isin(pc, self.cylinder_cavity)):
-            eff.add("cylinder_contact")
+        for kind, shape in enumerate(SHAPES):   # analytic walls: "cylinder_contact" ...
+            if np.any(np.isin(pc, self.shape_cavity[self.shape_kind == kind])):
+                eff.add(shape.effect)
         counts = np.bincount(pc[pc >= 0], minlength=1)
         if np.any(counts >= 2) or (n - pstart >= 2 and np.any(pc < 0)):
             eff.add("pair_contact")

@@ -1,4 +1,4 @@
-"""Model builder steps for the cavities: CONTACT triangles and slave sets, CYLINDER cavities.
+"""Model builder steps for the cavities: CONTACT triangles and slave sets, analytic walls.
 
 Wall orientation comes from geometry, never from the winding of the triangles: each triangle's
 inward side is the side facing the centroid of its cavity's triangle nodes (the "master nodes").
@@ -11,12 +11,13 @@ import numpy as np
 
 from x3dpd.errors import Pos
 from x3dpd.geometry.cavity import geometry_size, group_faces
+from x3dpd.geometry.shapes import MAX_SHAPE_NODES, MAX_SHAPE_PARAMS, SHAPES, kind_of
 from x3dpd.geometry.triangle import PLANE_TOL, inward_signs, triangle_areas, unit_normals
 from x3dpd.model.build_base import BuilderBase, _pos_at
 
 
 class WallSteps(BuilderBase):
-    """The cavities' walls: triangles, their inward sides and faces, cylinders, slave sets."""
+    """The cavities' walls: triangles, their inward sides and faces, analytic walls, slave sets."""
 
     def _walls(self) -> None:
         tris = [t for c in self.deck.contacts for t in c.triangles]
@@ -32,14 +33,16 @@ class WallSteps(BuilderBase):
             if not area[k] > PLANE_TOL * longest[k] ** 2:
                 raise self.error(f"triangle {k + 1} (nodes {' '.join(map(str, t.nodes))}) is "
                                  f"degenerate: area {area[k]:.6g}", t.pos, "CONTACT")
-        set_ids = sorted({t.set_id for t in tris} | {c.set_id for c in self.deck.cylinders or ()})
+        set_ids = sorted({t.set_id for t in tris}
+                         | {w.set_id for w in self.deck.analytic_walls or ()})
         cav_of_set = {s: c for c, s in enumerate(set_ids)}
         pcav = np.full(self.ids.shape[0] - self.pstart, -1, dtype=np.int64)
         where: dict[int, Pos] = {}
         for ss in sets:
             if ss.set_id not in cav_of_set:
                 raise self.error(f"slave set {ss.set_id} has no master triangles and no "
-                                 f"CYLINDER (the CONTACT triangles and cylinders use set ids "
+                                 f"{' or '.join(s.card for s in SHAPES)} (the CONTACT triangles "
+                                 f"and analytic walls use set ids "
                                  f"{', '.join(map(str, set_ids)) or 'none'})", ss.pos, "CONTACT")
             for k, nid in enumerate(ss.nodes):
                 pos = _pos_at(ss.positions, k, ss.pos)
@@ -59,7 +62,7 @@ class WallSteps(BuilderBase):
         n_hat = unit_normals(p0, p1, p2)
         for c, sid in enumerate(set_ids):
             mine = np.array([k for k, t in enumerate(tris) if t.set_id == sid], dtype=np.int64)
-            if mine.size == 0:   # a cavity of cylinders only
+            if mine.size == 0:   # a cavity of analytic walls only
                 continue
             corners = np.unique(idx[mine].reshape(-1))
             s = inward_signs(p0[mine], p1[mine], p2[mine], self.x0[corners].mean(axis=0))
@@ -87,29 +90,33 @@ class WallSteps(BuilderBase):
         self.face_cavity = np.array(face_cavity, dtype=np.int64)
         self.cavity_set_ids = np.array(set_ids, dtype=np.int64)
         self.particle_cavity = pcav
-        self._cylinders(cav_of_set)
+        self._analytic_walls(cav_of_set)
 
-    def _cylinders(self, cav_of_set: dict[int, int]) -> None:
-        """The CYLINDER card (our extension): analytic cylindrical cavities. Their axis nodes
-        must move rigidly together (one rigid body, or both fixed), so that the reaction and
-        the wall's velocity formed from them are exact (x3dpd.geometry.cylinder)."""
-        nodes, radius, cavity = [], [], []
-        for cy in self.deck.cylinders or ():
-            ends = [self.structural(nid, cy.pos, "CYLINDER", what)
-                    for nid, what in ((cy.node_a, "axis node A"), (cy.node_b, "axis node B"))]
+    def _analytic_walls(self, cav_of_set: dict[int, int]) -> None:
+        """The analytic wall cards (our extension: CYLINDER, CAPSULE ...; x3dpd.geometry.shapes).
+        A shape's nodes must move rigidly together (one rigid body, or all fixed), so that the
+        reaction and the wall's velocity formed from them are exact."""
+        kinds, nodes, params, cavity = [], [], [], []
+        for w in self.deck.analytic_walls or ():
+            kind = kind_of(w.shape)
+            shape = SHAPES[kind]
+            ends = [self.structural(nid, w.pos, shape.card, what)
+                    for nid, what in zip(w.nodes, shape.node_words)]
+            ids = " and ".join(map(str, w.nodes))
             bodies = [self.slave_of.get(i, self.body_of_master.get(i)) for i in ends]
             fixed = all(self.fixed[i].all() for i in ends)
-            if not fixed and (bodies[0] is None or bodies[0] != bodies[1]):
-                raise self.error(f"axis nodes {cy.node_a} and {cy.node_b} must move as one "
-                                 f"rigid cavity: make both RBEL slaves (or the master) of one "
-                                 f"rigid body, or fix all their DOFs", cy.pos, "CYLINDER")
-            length = float(np.linalg.norm(self.x0[ends[1]] - self.x0[ends[0]]))
-            if not length > 0.0:
-                raise self.error(f"axis nodes {cy.node_a} and {cy.node_b} coincide: the "
-                                 f"cylinder has no length", cy.pos, "CYLINDER")
-            nodes.append(ends)
-            radius.append(cy.radius)
-            cavity.append(cav_of_set[cy.set_id])
-        self.cylinder_nodes = np.array(nodes, dtype=np.int64).reshape(-1, 2)
-        self.cylinder_radius = np.array(radius, dtype=np.float64)
-        self.cylinder_cavity = np.array(cavity, dtype=np.int64)
+            if len(ends) > 1 and not fixed and (bodies[0] is None or len(set(bodies)) > 1):
+                raise self.error(f"{shape.nodes_word} {ids} must move as one rigid cavity: "
+                                 f"make them RBEL slaves (or the master) of one rigid body, or "
+                                 f"fix all their DOFs", w.pos, shape.card)
+            problem = shape.problem(self.x0[ends], np.asarray(w.params, float))
+            if problem is not None:
+                raise self.error(f"{shape.nodes_word} {ids} {problem}", w.pos, shape.card)
+            kinds.append(kind)
+            nodes.append((ends + ends)[:MAX_SHAPE_NODES])
+            params.append(list(w.params) + [0.0] * (MAX_SHAPE_PARAMS - len(w.params)))
+            cavity.append(cav_of_set[w.set_id])
+        self.shape_kind = np.array(kinds, dtype=np.int64)
+        self.shape_nodes = np.array(nodes, dtype=np.int64).reshape(-1, MAX_SHAPE_NODES)
+        self.shape_params = np.array(params, dtype=np.float64).reshape(-1, MAX_SHAPE_PARAMS)
+        self.shape_cavity = np.array(cavity, dtype=np.int64)

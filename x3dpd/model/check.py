@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.geometry.cavity import cavity_extents, enclosed_volume
-from x3dpd.model.check_cylinders import (cylinder_extent, cylinder_volume, cylinder_warnings,
-                                         describe_cylinder, smallest_clearance)
+from x3dpd.model.check_shapes import (describe_shape, shape_extent, shape_volume,
+                                      shape_warnings, smallest_clearance)
 from x3dpd.model.check_geometry import (  # noqa: F401  (WallPenetration re-exported)
     REL_TOL,
     OutsideParticle,
@@ -64,7 +64,7 @@ class CavitySummary:
     volume: float | None  # None when the faces do not close
     n_particles: int
     particle_volume: float
-    cylinders: tuple[str, ...] = ()  # each analytic cylinder, with its smallest clearance
+    analytic_walls: tuple[str, ...] = ()  # each analytic wall, with its smallest clearance
 
     @property
     def fill_ratio(self) -> float | None:
@@ -155,7 +155,7 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
             _listed([f"particle node {p.node_id}: {p.depth:.6g} ({p.depth / r[p.particle]:.3g} R) "
                      f"into {_tri(model, p.triangle)}" for p in pen])))
     warnings += [Finding(code, head, _listed(lines))
-                 for code, head, lines in cylinder_warnings(model, REL_TOL)]
+                 for code, head, lines in shape_warnings(model, REL_TOL)]
     pairs, depth = particle_overlaps(model)
     if pairs.shape[0]:
         rad = dict(zip(model.node_ids[ps:].tolist(), model.radius.tolist()))
@@ -178,7 +178,7 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
             warnings.append(Finding("empty-cavity",
                                     f"cavity set {cav.set_id} has no slave particles"))
     loose = model.node_ids[ps:][model.particle_cavity < 0]
-    if loose.size and (model.tri_nodes.shape[0] or model.cylinder_radius.shape[0]):
+    if loose.size and (model.tri_nodes.shape[0] or model.shape_kind.shape[0]):
         warnings.append(Finding(
             "no-cavity",
             f"{loose.size} particles are in no CONTACT slave set and will pass through every "
@@ -205,28 +205,28 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
     pvol = 4.0 / 3.0 * math.pi * model.radius**3
     for c, sid in enumerate(model.cavity_set_ids.tolist()):
         mine = np.flatnonzero(tri_cav == c)
-        cyl = np.flatnonzero(model.cylinder_cavity == c)
+        walls = np.flatnonzero(model.shape_cavity == c)
         inside = model.particle_cavity == c
-        if mine.size == 0:   # a cavity of analytic cylinders (CYLINDER card)
-            ends = np.concatenate([np.stack(cylinder_extent(model, k)) for k in cyl])
+        if mine.size == 0:   # a cavity of analytic walls (CYLINDER, CAPSULE ... cards)
+            ends = np.concatenate([np.stack(shape_extent(model, k)) for k in walls])
             lo, hi = cavity_extents(ends)
             closed = consistent = True
-            volume = sum(cylinder_volume(model, k) for k in cyl)
+            volume = sum(shape_volume(model, k) for k in walls)
         else:
             corners = model.x0[model.tri_nodes[mine]]  # (T, 3 corners, 3)
             lo, hi = cavity_extents(corners.reshape(-1, 3))
             closed, consistent = _closed(model, c)
             volume = enclosed_volume(corners[:, 0], corners[:, 1], corners[:, 2],
                                      model.tri_sign[mine]) if closed else None
-        cylinders = []
-        for k in cyl:
+        analytic = []
+        for k in walls:
             gap = smallest_clearance(model, k)
-            cylinders.append(describe_cylinder(model, k) + (
+            analytic.append(describe_shape(model, k) + (
                 "" if gap is None else f"; smallest particle clearance {gap:.6g}"))
         out.append(CavitySummary(
             int(sid), tuple(lo.tolist()), tuple(hi.tolist()), int(mine.size),
             int(np.unique(model.tri_face[mine]).size), closed, consistent, volume,
-            int(inside.sum()), float(pvol[inside].sum()), tuple(cylinders)))
+            int(inside.sum()), float(pvol[inside].sum()), tuple(analytic)))
     return out
 
 

@@ -100,7 +100,7 @@ def particles_outside(model: Model) -> list[OutsideParticle]:
             worst[i] = (v, k)
     for c in range(model.cavity_set_ids.shape[0]):
         if not np.any(model.face_cavity[model.tri_face] == c) or not _closed(model, c)[0]:
-            continue   # (a cylinder's own test: x3dpd.model.check_cylinders)
+            continue   # (an analytic wall's own test: x3dpd.model.check_shapes)
         lo, hi = cavity_extents(model.x0[model.tri_nodes[model.face_cavity[model.tri_face] == c]
                                          .reshape(-1)])
         tol = REL_TOL * geometry_size(np.stack([lo, hi]))

@@ -73,11 +73,13 @@ class Model:
     tri_face : (T,) int64, the face (coplanar triangles with one inward normal) of each triangle.
     face_cavity : (F,) int64, cavity index of each face.
     cavity_set_ids : (C,) int64, CONTACT set id of each cavity (of its triangles, its
-        cylinders or both).
-    cylinder_nodes : (Y, 2) int64, axis end node indices A, B of each analytic cylinder
-        (CYLINDER card; x3dpd.geometry.cylinder).
-    cylinder_radius : (Y,) float64, inner radius of each cylinder [length].
-    cylinder_cavity : (Y,) int64, cavity index of each cylinder.
+        analytic walls or both).
+    shape_kind : (W,) int64, kind of each analytic wall (CYLINDER, CAPSULE ... card): its
+        index in x3dpd.geometry.shapes.SHAPES.
+    shape_nodes : (W, 2) int64, node indices of each analytic wall, in card order (a one-node
+        shape repeats its node).
+    shape_params : (W, P) float64, its lengths in card order (RADIUS ...) [length], zero-padded.
+    shape_cavity : (W,) int64, cavity index of each analytic wall.
 
     trace_nodes : (R,) int64, node indices to trace, in TRACE order.
 
@@ -139,9 +141,10 @@ class Model:
     normal_law: str = "lee_radok"
     hooke: np.ndarray | None = None
     units: tuple = ("in", "lbf", "s")
-    cylinder_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
-    cylinder_radius: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    cylinder_cavity: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    shape_kind: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    shape_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
+    shape_params: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
+    shape_cavity: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
 
     @property
     def n_nodes(self) -> int:

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from x3dpd.model.check_cylinders import cylinder_extent
+from x3dpd.geometry.shapes import SHAPES
+from x3dpd.model.check_shapes import shape_extent
 from x3dpd.model.model import Model
 from x3dpd.model.magnitudes import safe_norms
 from x3dpd.physics.hertz import (  # noqa: F401  (hertz_contact_time re-exported)
@@ -90,9 +91,9 @@ def characteristic_speed(model: Model) -> float:
     :math:`L` is the extent of the particle cloud plus a diameter.
     """
     pts = model.x0[model.tri_nodes.reshape(-1)]
-    if model.cylinder_radius.shape[0]:   # analytic cylinders: their bounding boxes
-        pts = np.concatenate([pts] + [np.stack(cylinder_extent(model, c))
-                                      for c in range(model.cylinder_radius.shape[0])])
+    if model.shape_kind.shape[0]:   # analytic walls: their bounding boxes
+        pts = np.concatenate([pts] + [np.stack(shape_extent(model, w))
+                                      for w in range(model.shape_kind.shape[0])])
     if pts.shape[0] == 0 and model.n_particles:
         pts = model.x0[model.particle_start:]
         extra = 2.0 * float(model.radius.max())
@@ -114,9 +115,9 @@ def _contact_limit(model: Model) -> tuple[float, float, str]:
     groups = np.unique(model.particle_group)
     first = {int(g): int(np.flatnonzero(model.particle_group == g)[0]) for g in groups}
     m = model.mass[model.particle_start:]
-    # a concave cylinder wall is softer than a flat one (a larger relative radius): the flat
-    # wall's contact time bounds its contacts from below
-    if "wall_contact" in model.effects or "cylinder_contact" in model.effects:
+    # a concave analytic wall (cylinder, capsule) is softer than a flat one (a larger relative
+    # radius): the flat wall's contact time bounds its contacts from below
+    if "wall_contact" in model.effects or any(s.effect in model.effects for s in SHAPES):
         for g, i in first.items():
             if np.any((model.particle_group == g) & (model.particle_cavity >= 0)):
                 t = hertz_contact_time(m[i], model.radius[i],

@@ -32,10 +32,11 @@ HAS_PYTHON_FORCE = False
 HAS_MOTION = True
 N_MAXWELL = 1
 HAS_WALLS_TRANSLATE = False
-HAS_CYLINDERS = True
+HAS_SHAPES = True
 HAS_ONE_PARTICLE_KIND = False
 from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: E402,E501
 from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as NORMAL_PAIR_FORCE, stored_energy as NORMAL_STORED_ENERGY, CLAMPED as NORMAL_CLAMPED, USES_RATE as NORMAL_USES_RATE, DAMPED as NORMAL_DAMPED  # noqa: E402,E501
+SHAPE_LOCATE = None
 USER_FORCE = None
 # --- VARIANT END ---
 
@@ -45,7 +46,6 @@ import numpy as np  # noqa: E402
 
 from x3dpd._jit import kernel, loop_kernel, step_kernel, vector_kernel  # noqa: E402
 from x3dpd.geometry.cells import _find_pairs  # noqa: E402
-from x3dpd.geometry.cylinder import _cylinder_frame, _locate_on_cylinder  # noqa: E402
 from x3dpd.geometry.faces import (  # noqa: E402
     _build_wall_list, _face_offsets, _face_planes, _locate_on_face)
 from x3dpd.physics.gravity import _gravity_energy, _gravity_forces  # noqa: E402
@@ -55,7 +55,7 @@ from x3dpd.physics.rigid_link import (  # noqa: E402
 from x3dpd.physics.spring_damper import _spring_energy, _spring_forces  # noqa: E402
 from x3dpd.physics.usrfrc import _force_value  # noqa: E402
 from x3dpd.solver.bundles import (  # noqa: E402
-    ContactList, Cylinders, Faces, Loads, Nodes, Output, Particles, RigidBodies, Springs, Status,
+    ContactList, Faces, Loads, Nodes, Output, Particles, RigidBodies, Shapes, Springs, Status,
     Stepping)
 from x3dpd.solver.contact_lists import (  # noqa: E402
     PAIR_COLUMNS, S_A, S_FN, S_FT, S_H, _active_flags, _merge_states, _pair_approach)
@@ -68,6 +68,16 @@ def _no_user_force(t, x, vel, force):
 
 if USER_FORCE is None:
     USER_FORCE = _no_user_force
+
+
+@kernel
+def _no_shape_locate(kind, x, na, nb, params, c, px, py, pz, r, out):
+    """Stand-in for SHAPE_LOCATE in variants without analytic walls (never called)."""
+    return
+
+
+if SHAPE_LOCATE is None:
+    SHAPE_LOCATE = _no_shape_locate
 
 # status bits returned by advance() and _forces() (x3dpd.solver.bundles.Status, as int constants)
 OK = int(Status.OK)
@@ -162,7 +172,7 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
     wall's nodes ``wall_nodes[row, :n_w]`` with weights ``w``. The wall point moves with
     sum_e w_e v_e, plus omega x l when ``lever`` (omega of the first node; l = (lx, ly, lz) from
     the weighted node point to the wall point, whose moment l x F then goes to the first node).
-    A locator (x3dpd.geometry: ``_locate_on_face``, ``_locate_on_cylinder``) supplies a, n,
+    A locator (``_locate_on_face``, an analytic wall's ``locate_parts``) supplies a, n,
     the weights and l. State row ``s`` of ``ws`` / ``on`` keeps the contact's history.
     Returns (normal work, friction loss)."""
     vel, force = nodes.vel, nodes.force
@@ -325,42 +335,45 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
 
 
 @step_kernel
-def _cylinder_contacts(nodes, particles, cylinders, stepping, w, n_faces):
-    """Particle contacts with analytic cylinders (x3dpd.geometry.cylinder): every (particle,
-    cylinder) pair of ``cylinders`` against the curved wall and both end caps, each a state row
-    (3 k + part); the cylinder locator, then the shared contact response ``_wall_response``
-    (reaction on the two axis nodes, moment to the first). A penetration names the entity as
-    ``n_faces + 3 cylinder + part``. Returns a status bit."""
+def _shape_contacts(nodes, particles, shapes, stepping, w, n_faces):
+    """Particle contacts with the analytic walls (x3dpd.geometry.shapes): for every (particle,
+    wall) pair of ``shapes``, the wall's locator (``SHAPE_LOCATE``: the shape's
+    ``locate_parts``, chosen by its kind) gives each part's overlap, normal, node weights and
+    lever; a touching part goes to the shared contact response ``_wall_response`` (reaction on
+    the wall's two nodes, moment to the first). Each part is a state row (``shapes.row``); a
+    penetration names the entity as ``n_faces + shapes.entity[wall] + part``. Returns a
+    status bit."""
     x = nodes.x
     p0, radius = particles.p0, particles.radius
-    cs, con, axis = cylinders.state, cylinders.on, cylinders.nodes
+    cs, con, loc = shapes.state, shapes.on, shapes.located
     status = OK
     w_normal = 0.0
     w_fric = 0.0
-    for k in range(cylinders.particle.shape[0]):
-        p = cylinders.particle[k]
-        c = cylinders.cylinder[k]
+    for k in range(shapes.particle.shape[0]):
+        p = shapes.particle[k]
+        c = shapes.wall[k]
         i = p0 + p
         r = radius[p]
-        big_r = cylinders.radius[c]
-        length, ux, uy, uz, sx, rx, ry, rz, rho = _cylinder_frame(
-            x, axis[c, 0], axis[c, 1], x[i, 0], x[i, 1], x[i, 2])
-        for part in range(3):
-            s = 3 * k + part
-            ok, a, nx, ny, nz, xi, lx, ly, lz = _locate_on_cylinder(
-                part, r, big_r, length, ux, uy, uz, sx, rx, ry, rz, rho)
+        SHAPE_LOCATE(shapes.kind[c], x, shapes.nodes[c, 0], shapes.nodes[c, 1], shapes.params,
+                     c, x[i, 0], x[i, 1], x[i, 2], r, loc)
+        for part in range(shapes.parts[c]):
+            s = shapes.row[k] + part
+            valid = loc[part, 0] != 0.0
+            a = loc[part, 1] if valid else 0.0
             a_old = cs[s, S_A]
             fn_old = cs[s, S_FN]
-            if not ok or a <= 0.0:
+            if not valid or a <= 0.0:
                 if con[s] != 0 or fn_old != 0.0 or a_old > 0.0:
                     w_normal += _close_contact(cs, con, s, a, a_old, fn_old)
                 continue
             if a > stepping.pen_limit * r:
-                status |= _penetration(stepping.diag, p, n_faces + 3 * c + part, a, r)
+                status |= _penetration(stepping.diag, p, n_faces + shapes.entity[c] + part, a, r)
+            xi = loc[part, 5]
             w[0] = 1.0 - xi
             w[1] = xi
             dw, lost = _wall_response(nodes, particles, stepping, cs, con, s, p, a, a_old, fn_old,
-                                      nx, ny, nz, axis, c, w, 2, True, lx, ly, lz)
+                                      loc[part, 2], loc[part, 3], loc[part, 4], shapes.nodes, c,
+                                      w, 2, True, loc[part, 6], loc[part, 7], loc[part, 8])
             w_normal += dw
             w_fric += lost
     stepping.ledger[L_WN] += w_normal
@@ -620,7 +633,7 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
 
 
 @kernel
-def _energies(nodes, springs, particles, walls, pairs, cylinders, dt, out):
+def _energies(nodes, springs, particles, walls, pairs, shapes, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction)."""
     x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
     kin_mass, kin_inertia, inv_m = nodes.kin_mass, nodes.kin_inertia, nodes.inv_m
@@ -639,13 +652,13 @@ def _energies(nodes, springs, particles, walls, pairs, cylinders, dt, out):
     out[1] = ke_r
     out[2] = _gravity_energy(nodes.mass, x, x0, nodes.g) if HAS_GRAVITY else 0.0
     out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
-    out[4] = (_contact_energy(particles, walls, pairs, cylinders)
-              if (HAS_WALLS or HAS_PAIRS or HAS_CYLINDERS) else 0.0)
+    out[4] = (_contact_energy(particles, walls, pairs, shapes)
+              if (HAS_WALLS or HAS_PAIRS or HAS_SHAPES) else 0.0)
     out[5] = dt * dt / 8.0 * shadow
 
 
 @kernel
-def _contact_energy(particles, walls, pairs, cylinders):
+def _contact_energy(particles, walls, pairs, shapes):
     """Elastic energy stored in the open contacts, by the normal law's ``stored_energy``."""
     u = 0.0
     ws = walls.state
@@ -659,17 +672,17 @@ def _contact_energy(particles, walls, pairs, cylinders):
         if ps[s, S_A] > 0.0:
             k = particles.law_pair[kind[pairs.first[s]], kind[pairs.second[s]], 0]
             u += NORMAL_STORED_ENERGY(ps[s, S_FN], ps[s, S_A], k)
-    if HAS_CYLINDERS:
-        cs = cylinders.state
+    if HAS_SHAPES:
+        cs = shapes.state
         for s in range(cs.shape[0]):
             if cs[s, S_A] > 0.0:
-                k = particles.law_wall[cylinders.particle[s // 3], 0]
+                k = particles.law_wall[shapes.row_particle[s], 0]
                 u += NORMAL_STORED_ENERGY(cs[s, S_FN], cs[s, S_A], k)
     return u
 
 
 @kernel
-def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, cylinders, stepping):
+def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, stepping):
     """All forces at time t from x and the (half-step) velocities into ``nodes.force``; updates
     the ledger. Returns the status bits (x3dpd.solver.bundles.Status)."""
     ff = nodes.force.reshape(-1)
@@ -678,11 +691,11 @@ def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, cyl
     if HAS_GRAVITY:
         _gravity_forces(nodes.mass, nodes.g, nodes.force)
     return _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs,
-                        cylinders, stepping)
+                        shapes, stepping)
 
 
 @step_kernel
-def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, cylinders,
+def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes,
                  stepping):
     """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t."""
     x, vel, force = nodes.x, nodes.vel, nodes.force
@@ -730,9 +743,9 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
         # the rebuild's scratch is free while forces run
         status |= _wall_contacts(nodes, particles, faces, walls, stepping,
                                  stepping.small[6:9], walls.first_new)
-    if HAS_CYLINDERS:
-        status |= _cylinder_contacts(nodes, particles, cylinders, stepping, stepping.small[6:9],
-                                     faces.offset.shape[0])
+    if HAS_SHAPES:
+        status |= _shape_contacts(nodes, particles, shapes, stepping, stepping.small[6:9],
+                                  faces.offset.shape[0])
     if HAS_PAIRS:
         status |= _pair_contacts(nodes, particles, pairs, stepping, pairs.first_new)
     if HAS_RIGID:
@@ -781,7 +794,7 @@ def _adopt_new_list(lst, m):
 
 @loop_kernel
 def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, faces, walls, pairs,
-            cylinders, stepping, output):
+            shapes, stepping, output):
     """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
 
     ``stepping.nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list
@@ -866,7 +879,7 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
         # ---- forces at the new positions (``force`` holds the body forces m g: the kick pass
         # reset it to them)
         st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls,
-                                   pairs, cylinders, stepping)
+                                   pairs, shapes, stepping)
         if HAS_MOTION:
             # work of the motion's actuators (x3dpd.physics.motion._motion_work)
             ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
@@ -912,7 +925,7 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
                 for d in range(6):
                     out_data[rows, k, 3 + d] = vel[i, d]
             out_t[rows] = t
-            _energies(nodes, springs, particles, walls, pairs, cylinders, dt, en)
+            _energies(nodes, springs, particles, walls, pairs, shapes, dt, en)
             _ledger_row(t, en, ledger, output.e_ref, out_energy[rows])
             rows += 1
             # non-finite state is caught at output steps (cheap), before it reaches the trace
@@ -936,11 +949,11 @@ def advance_packed(nsteps, step0, t_start, packed):
     (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
     named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps of a small
     scene. The named tuples are rebuilt here, in compiled code, at no cost."""
-    (nodes, loads, springs, rigid, particles, faces, walls, pairs, cylinders, stepping,
+    (nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, stepping,
      output) = packed
     return advance(nsteps, step0, t_start, Nodes(*nodes), Loads(*loads), Springs(*springs),
                    RigidBodies(*rigid), Particles(*particles), Faces(*faces),
-                   ContactList(*walls), ContactList(*pairs), Cylinders(*cylinders),
+                   ContactList(*walls), ContactList(*pairs), Shapes(*shapes),
                    Stepping(*stepping), Output(*output))
 
 

@@ -20,10 +20,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from x3dpd.geometry.shapes import MAX_SHAPE_PARTS
 from x3dpd.solver.contact_lists import S_H, history_columns, pair_columns
 
 __all__ = ["Status", "Nodes", "Loads", "Springs", "RigidBodies", "Particles", "Faces",
-           "ContactList", "Cylinders", "Stepping", "Output"]
+           "ContactList", "Shapes", "Stepping", "Output"]
 
 
 class Status(enum.IntFlag):
@@ -135,17 +136,23 @@ class ContactList(NamedTuple):
     history: np.ndarray      # (L + pad, H) Fortran-order histories of busy candidates
 
 
-class Cylinders(NamedTuple):
-    """Analytic cylindrical cavities (x3dpd.geometry.cylinder; C cylinders) and their static
-    contact list: every particle of a cylinder's cavity against its three wall parts (K
-    (particle, cylinder) pairs, state row 3 k + part)."""
+class Shapes(NamedTuple):
+    """Analytic walls (x3dpd.geometry.shapes; W walls) and their static contact list: every
+    particle of a wall's cavity against each of the wall's parts (K (particle, wall) pairs;
+    pair k owns the state rows row[k] .. row[k] + parts[wall[k]] - 1)."""
 
-    nodes: np.ndarray        # (C, 2) node indices of the axis ends A, B
-    radius: np.ndarray       # (C,) inner radius [length]
+    kind: np.ndarray         # (W,) shape kind (index in x3dpd.geometry.shapes.SHAPES)
+    nodes: np.ndarray        # (W, 2) node indices A, B
+    params: np.ndarray       # (W, P) lengths [length] (RADIUS ...)
+    parts: np.ndarray        # (W,) parts of each wall
+    entity: np.ndarray       # (W,) number of its first part (a stop names n_faces + it + part)
     particle: np.ndarray     # (K,) particle of each pair
-    cylinder: np.ndarray     # (K,) cylinder of each pair
-    state: np.ndarray        # (3K, columns) contact state rows (x3dpd.solver.contact_lists)
-    on: np.ndarray           # (3K,) int8: 1 while the contact is open
+    wall: np.ndarray         # (K,) wall of each pair
+    row: np.ndarray          # (K,) first state row of each pair
+    row_particle: np.ndarray  # (R,) particle of each state row
+    state: np.ndarray        # (R, columns) contact state rows (x3dpd.solver.contact_lists)
+    on: np.ndarray           # (R,) int8: 1 while the contact is open
+    located: np.ndarray      # (MAX_PARTS, 9) scratch: the locator's rows
 
 
 class Stepping(NamedTuple):
@@ -198,8 +205,7 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
                        k.face_ptr, k.face_tris, k.tri_nodes, k.tri_sign),
         "walls": walls,
         "pairs": pairs,
-        "cylinders": Cylinders(k.cyl_nodes, k.cyl_radius, k.cyl_particle, k.cyl_cylinder, s.cs,
-                               s.cs_on),
+        "shapes": Shapes(*k.shapes, s.cs, s.cs_on, scratch["located"]),
         "stepping": Stepping(float(dt), float(k.skin), float(pen_limit),
                              s.ledger if ledger is None else ledger, s.nbr, diag,
                              scratch["small"]),
@@ -216,12 +222,12 @@ def contact_scratch(state) -> dict:
             "wl_c": np.zeros((1, 1)), "pl_c": pair_columns(s.pl_i.shape[0]),
             "wl_h": np.zeros((1, 1), order="F"),
             "pl_h": history_columns(s.pl_i.shape[0], s.ps.shape[1] - S_H),
-            "small": np.zeros(9)}
+            "small": np.zeros(9), "located": np.zeros((MAX_SHAPE_PARTS, 9))}
 
 
 #: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start).
 ADVANCE_BUNDLES = ("nodes", "loads", "springs", "rigid", "particles", "faces", "walls", "pairs",
-                   "cylinders", "stepping", "output")
+                   "shapes", "stepping", "output")
 
 
 def pack(bundles: dict, output: Output) -> tuple:

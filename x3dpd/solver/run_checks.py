@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from x3dpd.errors import UnstableRunError
-from x3dpd.geometry.cylinder import CYLINDER_PARTS, PART_NAMES, cylinder_clearance
+from x3dpd.geometry.shapes import SHAPES, node_positions
 from x3dpd.solver.diagnosis import energy_source_advice
 from x3dpd.solver.ledger_checks import (
     SAFE_FRACTION,
@@ -131,7 +131,7 @@ class RunChecks:
                 f"non-finite position or velocity. Likely cause: the time step {self.dt:.3g} s "
                 f"is too large; run `x3dpd check` for a recommended step.",
                 time=self.time, step=s.step, node=int(m.node_ids[bad]))
-        self._check_cylinder_containment()
+        self._check_shape_containment()
         if m.n_particles == 0 or k.tri_nodes.shape[0] == 0:
             return
         xp = s.x[k.p0:]
@@ -148,20 +148,28 @@ class RunChecks:
                 self._escaped(int(members[np.argmax(out)]),
                               f"cavity (CONTACT set {int(m.cavity_set_ids[c])})", "a wall")
 
-    def _check_cylinder_containment(self) -> None:
-        """Every particle of an analytic cylinder's cavity with its centre inside it."""
-        m, k, s = self.model, self.setup, self.state
-        for c in range(k.cyl_radius.shape[0]):
-            members = k.cyl_particle[k.cyl_cylinder == c]
+    def _check_shape_containment(self) -> None:
+        """Every particle of an analytic wall's cavity with its centre inside the wall."""
+        k, s = self.setup, self.state
+        table = k.shapes
+        for w in range(table.kind.shape[0]):
+            members = table.particle[table.wall == w]
             if members.size == 0:
                 continue
-            a, b = s.x[k.cyl_nodes[c, 0]], s.x[k.cyl_nodes[c, 1]]
-            _, inside = cylinder_clearance(s.x[k.p0 + members], k.radius[members], a, b,
-                                           float(k.cyl_radius[c]))
+            shape = SHAPES[int(table.kind[w])]
+            _, inside = shape.clearance(s.x[k.p0 + members], k.radius[members],
+                                        node_positions(shape, s.x, table.nodes[w]),
+                                        table.params[w, :len(shape.param_fields)])
             if not inside.all():
-                axis = ", ".join(str(int(m.node_ids[q])) for q in k.cyl_nodes[c])
-                self._escaped(int(members[np.argmin(inside)]), f"cylinder (axis nodes {axis})",
-                              "the wall")
+                self._escaped(int(members[np.argmin(inside)]),
+                              f"{shape.name} ({self._shape_nodes(w)})", "the wall")
+
+    def _shape_nodes(self, w: int) -> str:
+        """'axis nodes 2, 3' of analytic wall ``w``."""
+        table = self.setup.shapes
+        shape = SHAPES[int(table.kind[w])]
+        ids = table.nodes[w][:len(shape.node_fields)]
+        return f"{shape.nodes_word} {', '.join(str(int(self.model.node_ids[q])) for q in ids)}"
 
     def _escaped(self, p: int, home: str, wall: str) -> None:
         """Stop: particle ``p`` left its ``home`` (it tunnelled through ``wall``)."""
@@ -207,10 +215,13 @@ class RunChecks:
             r = self.diag[3]
             nid = int(m.node_ids[k.p0 + p])
             nf = k.face_first_tri.shape[0]
-            if other >= nf:
-                c, part = divmod(other - nf, CYLINDER_PARTS)
-                what = (f"the {PART_NAMES[part]} of the cylinder on axis nodes "
-                        f"{', '.join(str(int(m.node_ids[q])) for q in k.cyl_nodes[c])}")
+            if other >= nf:   # an analytic wall's part: n_faces + its entity number
+                table = k.shapes
+                w = int(np.searchsorted(table.entity, other - nf, side="right") - 1)
+                shape = SHAPES[int(table.kind[w])]
+                part = other - nf - int(table.entity[w])
+                what = (f"the {shape.part_names[part]} of the {shape.name} on "
+                        f"{self._shape_nodes(w)}")
             elif other >= 0:
                 tri = int(k.face_tris[k.face_ptr[other]])
                 what = (f"wall triangle {tri + 1} (nodes "

@@ -273,7 +273,7 @@ class Simulation(RunChecks):
         en = np.empty(6)
         b = self._bundles()
         self.kernels._energies(b["nodes"], b["springs"], b["particles"], b["walls"], b["pairs"],
-                               b["cylinders"], self.dt, en)
+                               b["shapes"], self.dt, en)
         return en
 
     def compute_forces(self, t: float | None = None) -> Status:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
@@ -35,8 +35,9 @@ class State:
     step; wl_p, wl_f, ws, wl_on (Lw) wall candidate list (particle, face, state row, open-contact
     flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
-    ledger (4,) cumulative work/dissipation; cs, cs_on (3K) contact state rows and open flags of
-    the analytic cylinders' static list (x3dpd.solver.bundles.Cylinders; empty without any);
+    ledger (4,) cumulative work/dissipation; cs, cs_on (R) contact state rows and open flags of
+    the analytic walls' static list, one row per part of each (particle, wall) pair
+    (x3dpd.solver.bundles.Shapes; empty without any);
     step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
@@ -84,8 +85,8 @@ class State:
     def from_arrays(cls, arrays: dict) -> "State":
         kw = {}
         for f in fields(cls):
-            if f.name in _CYLINDER_STATE and f.name not in arrays:
-                continue   # a dump written before cylinders existed: a scene without any
+            if f.name in _SHAPE_STATE and f.name not in arrays:
+                continue   # a dump written before analytic walls existed: a scene without any
             v = arrays[f.name]
             if f.name == "step":
                 kw[f.name] = int(v)
@@ -100,8 +101,8 @@ class State:
         return state
 
 
-#: State fields of the cylinders' contacts (absent from dumps of older versions).
-_CYLINDER_STATE = ("cs", "cs_on")
+#: State fields of the analytic walls' contacts (absent from dumps of older versions).
+_SHAPE_STATE = ("cs", "cs_on")
 
 
 @dataclass(frozen=True)
@@ -145,10 +146,7 @@ class Setup:
     face_tris: np.ndarray
     tri_nodes: np.ndarray
     tri_sign: np.ndarray
-    cyl_nodes: np.ndarray     # (C, 2) axis end nodes of each analytic cylinder
-    cyl_radius: np.ndarray    # (C,) inner radius [length]
-    cyl_particle: np.ndarray  # (K,) particle of each (particle, cylinder) contact pair
-    cyl_cylinder: np.ndarray  # (K,) cylinder of each pair (every particle of its cavity)
+    shapes: "ShapeTable"      # the analytic walls and their static contact list
     n_maxwell: int
     skin: float
     dt: float
@@ -264,12 +262,6 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     if model.normal_law == "hooke":
         law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
 
-    cyl_nodes = _i64(model.cylinder_nodes).reshape(-1, 2)
-    cyl_cav = _i64(model.cylinder_cavity)
-    cyl_pairs = [(p, c) for c in range(cyl_cav.shape[0])
-                 for p in np.flatnonzero(pcav == cyl_cav[c])]
-    cyl_pairs = np.array(cyl_pairs, dtype=np.int64).reshape(-1, 2)
-
     if skin is None:
         skin = 0.25 * float(radius.min()) if npart else 0.0
 
@@ -287,10 +279,44 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
-        tri_sign=_f64(model.tri_sign), cyl_nodes=cyl_nodes,
-        cyl_radius=_f64(model.cylinder_radius), cyl_particle=_i64(cyl_pairs[:, 0]),
-        cyl_cylinder=_i64(cyl_pairs[:, 1]), n_maxwell=n_maxwell, skin=float(skin), dt=float(dt),
+        tri_sign=_f64(model.tri_sign), shapes=shape_table(model, pcav), n_maxwell=n_maxwell,
+        skin=float(skin), dt=float(dt),
     )
+
+
+class ShapeTable(NamedTuple):
+    """The analytic walls (W of them; x3dpd.geometry.shapes) and their static contact list:
+    every particle of a wall's cavity against each of the wall's parts (K (particle, wall)
+    pairs; pair k owns the state rows row[k] .. row[k] + parts[wall[k]] - 1)."""
+
+    kind: np.ndarray          # (W,) shape kind (index in SHAPES)
+    nodes: np.ndarray         # (W, 2) node indices (A, B)
+    params: np.ndarray        # (W, P) lengths [length]
+    parts: np.ndarray         # (W,) contact entities (parts) of each wall
+    entity: np.ndarray        # (W,) number of its first part among all walls' parts
+    particle: np.ndarray      # (K,) particle of each pair
+    wall: np.ndarray          # (K,) wall of each pair
+    row: np.ndarray           # (K,) first state row of each pair
+    row_particle: np.ndarray  # (R,) particle of each state row
+
+
+def shape_table(model, pcav: np.ndarray) -> ShapeTable:
+    """The analytic walls of ``model`` and every (particle of its cavity, wall) pair, pairs in
+    wall order (a cylinder's pair k owns rows 3 k .. 3 k + 2, as before shapes were
+    registered, so restart dumps carry over)."""
+    from x3dpd.geometry.shapes import SHAPES
+
+    kind = _i64(model.shape_kind)
+    parts = np.array([SHAPES[k].parts for k in kind], dtype=np.int64)
+    entity = np.cumsum(parts) - parts
+    pairs = [(p, w) for w in range(kind.shape[0])
+             for p in np.flatnonzero(pcav == model.shape_cavity[w])]
+    pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+    per_pair = parts[pairs[:, 1]]
+    row = np.cumsum(per_pair) - per_pair
+    return ShapeTable(kind, _i64(model.shape_nodes).reshape(-1, 2), _f64(model.shape_params),
+                      parts, _i64(entity), _i64(pairs[:, 0]), _i64(pairs[:, 1]), _i64(row),
+                      _i64(np.repeat(pairs[:, 0], per_pair)))
 
 
 def _body_forces(mass: np.ndarray, model) -> np.ndarray:
@@ -327,8 +353,8 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         pl_on=np.zeros(lp, np.int8),
         npl=np.zeros(1, np.int64),
         nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(4),
-        cs=np.zeros((3 * setup.cyl_particle.shape[0], ncols)),
-        cs_on=np.zeros(3 * setup.cyl_particle.shape[0], np.int8), step=0, e_ref=0.0,
+        cs=np.zeros((setup.shapes.row_particle.shape[0], ncols)),
+        cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8), step=0, e_ref=0.0,
     )
 
 

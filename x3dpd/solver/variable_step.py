@@ -46,7 +46,7 @@ import numpy as np
 
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.geometry.cells import find_pairs
-from x3dpd.geometry.cylinder import cylinder_clearance
+from x3dpd.geometry.shapes import SHAPES, node_positions
 from x3dpd.geometry.triangle import unit_normals
 from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
                                  effective_radius, hertz_contact_time)
@@ -288,11 +288,13 @@ class VariableStep:
                     gap = xp[mine] @ n_in[faces].T - d0[faces] - k.radius[mine][:, None]
                     if np.min(gap) < reach:
                         return True
-        for c in range(k.cyl_radius.shape[0]):   # analytic cylinders: the exact gap
-            mine = k.cyl_particle[k.cyl_cylinder == c]
-            a, b = state.x[k.cyl_nodes[c]]
-            if mine.size and np.min(cylinder_clearance(xp[mine], k.radius[mine], a, b,
-                                                       float(k.cyl_radius[c]))[0]) < reach:
+        table = k.shapes
+        for w in range(table.kind.shape[0]):   # analytic walls: the exact gap
+            mine = table.particle[table.wall == w]
+            shape = SHAPES[int(table.kind[w])]
+            if mine.size and np.min(shape.clearance(
+                    xp[mine], k.radius[mine], node_positions(shape, state.x, table.nodes[w]),
+                    table.params[w, :len(shape.param_fields)])[0]) < reach:
                 return True
         return False
 
@@ -308,7 +310,7 @@ class VariableStep:
                 m_eff = mass[i] / 2.0 if "pair_contact" in m.effects else mass[i]
                 best = min(best, hooke_impact(m_eff, float(m.hooke[i, 0]), 1.0, v)[0])
                 continue
-            if "wall_contact" in m.effects or "cylinder_contact" in m.effects:
+            if "wall_contact" in m.effects or any(s.effect in m.effects for s in SHAPES):
                 best = min(best, hertz_contact_time(
                     mass[i], m.radius[i], effective_modulus_wall(e_inst[i], m.poisson[i]), v))
             if "pair_contact" in m.effects:

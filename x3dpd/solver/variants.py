@@ -27,6 +27,7 @@ from pathlib import Path
 import numba
 import numpy as np
 
+from x3dpd.geometry.shapes import BY_SHAPE_NAME, SHAPES, kind_of
 from x3dpd.physics.coulomb import FRICTION_LAWS
 from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAWS
 
@@ -56,7 +57,9 @@ class Variant:
     friction_law: str = "regularized"
     walls_translate: bool = False
     normal_law: str = "lee_radok"
-    cylinders: bool = False
+    #: the analytic wall shapes of the scene, by name in registry order ("cylinder",
+    #: "cylinder+capsule"; x3dpd.geometry.shapes), "" for none
+    shapes: str = ""
     #: every particle has the same radius, kind and law constants: the pair response reads
     #: them once instead of gathering them per contact
     one_particle_kind: bool = False
@@ -84,7 +87,7 @@ class Variant:
             friction_law=friction_law,
             walls_translate=walls_translate and "wall_contact" in e,
             normal_law=normal_law,
-            cylinders="cylinder_contact" in e,
+            shapes="+".join(s.name for s in SHAPES if s.effect in e),
             one_particle_kind=one_particle_kind and "pair_contact" in e,
         )
 
@@ -94,7 +97,9 @@ class Variant:
         lines = []
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.name in _LAWS:
+            if f.name == "shapes":
+                lines.append(_shapes_source(value))
+            elif f.name in _LAWS:
                 registry, imports = _LAWS[f.name]
                 if value not in registry:
                     raise ValueError(f"unknown {f.name.replace('_', ' ')} {value!r}; "
@@ -114,6 +119,30 @@ class Variant:
         rest = "_".join(str(getattr(self, f.name)) for f in fields(self)
                         if f.type not in ("bool", bool))
         return f"advance_{flags}_{rest}"
+
+
+def _shapes_source(names: str) -> str:
+    """``HAS_SHAPES`` and ``SHAPE_LOCATE``: the locators of the scene's analytic wall shapes,
+    imported from their modules and chosen by kind (x3dpd.geometry.shapes)."""
+    if not names:
+        return "HAS_SHAPES = False\nSHAPE_LOCATE = None"
+    lines = ["HAS_SHAPES = True",
+             "from x3dpd._jit import step_kernel as _shape_kernel  # noqa: E402"]
+    calls = []
+    for name in names.split("+"):
+        if name not in BY_SHAPE_NAME:
+            raise ValueError(f"unknown analytic wall shape {name!r}; use one of "
+                             f"{sorted(BY_SHAPE_NAME)}")
+        kind = kind_of(name)
+        lines.append(f"from {BY_SHAPE_NAME[name].module} import locate_parts as "
+                     f"_locate_shape_{kind}  # noqa: E402")
+        calls.append((kind, f"_locate_shape_{kind}(x, na, nb, params, c, px, py, pz, r, out)"))
+    body = [f"    {calls[0][1]}"] if len(calls) == 1 else [
+        f"    {'if' if j == 0 else 'elif'} kind == {kind}:\n        {call}"
+        for j, (kind, call) in enumerate(calls)]
+    return "\n".join(lines + ["", "", "@_shape_kernel",
+                               "def SHAPE_LOCATE(kind, x, na, nb, params, c, px, py, pz, r, out):"]
+                      + body + ["", ""])
 
 
 def _friction_import(name: str) -> str:

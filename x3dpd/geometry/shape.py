@@ -1,0 +1,63 @@
+"""The description every analytic wall shape gives of itself (x3dpd.geometry.shapes).
+
+Kept apart from the registry so that a shape module can import it while the registry imports
+the shape modules.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+#: Largest number of nodes a shape may have (A and B).
+MAX_SHAPE_NODES = 2
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One analytic wall shape (a module of x3dpd.geometry; see the module docstring).
+
+    ``clearance(points (N, 3), radii (N,), ends (k, 3), params (P,))`` returns the gap of each
+    sphere to the nearest part [length] (negative: overlap) and whether its centre is inside;
+    ``volume(ends, params)`` [length^3]; ``extent(ends, params)`` the bounding box (lo, hi);
+    ``mesh(ends, params, n)`` a closed triangulation (vertices, triangles) with ``n`` facets
+    around, for the viewers and tests; ``describe(ends, params)`` the words after "radius 0.2,"
+    in messages; ``problem(ends, params)`` what makes the shape impossible (coinciding axis
+    nodes ...), or None. ``ends`` holds the positions of the shape's nodes, in card order.
+    """
+
+    name: str                      # lower case: "cylinder"; its effect is "cylinder_contact"
+    card: str                      # the deck keyword: "CYLINDER"
+    node_fields: tuple[str, ...]   # ("NODE_A", "NODE_B"): one or two
+    param_fields: tuple[str, ...]  # ("RADIUS",): lengths, each > 0
+    part_names: tuple[str, ...]    # the contact entities one shape consists of
+    locate_parts: object           # compiled, see the module docstring
+    clearance: Callable
+    volume: Callable
+    extent: Callable
+    mesh: Callable
+    describe: Callable
+    problem: Callable
+    #: how messages name the nodes, in card order, and all of them
+    node_words: tuple[str, ...] = ("axis node A", "axis node B")
+    nodes_word: str = "axis nodes"
+    module: str = ""               # the defining module (set by the registry)
+    doc: str = ""                  # one line for docs and messages
+
+    @property
+    def key(self) -> str:
+        """The four letters X3D reads of a keyword."""
+        return self.card[:4]
+
+    @property
+    def effect(self) -> str:
+        return f"{self.name}_contact"
+
+    @property
+    def parts(self) -> int:
+        return len(self.part_names)
+
+    @property
+    def fields(self) -> tuple[str, ...]:
+        """A record's fields: SET, the nodes, the parameters."""
+        return ("SET",) + self.node_fields + self.param_fields

@@ -1,0 +1,103 @@
+"""Pre-run checks of the analytic walls (CYLINDER, CAPSULE ... cards; x3dpd.geometry.shapes):
+which particles start outside their shape or overlapping its wall, each one's clearance, and
+each shape's size and volume for the summary of ``x3dpd check``."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from x3dpd.geometry.shapes import SHAPES, Shape, node_positions
+from x3dpd.model.model import Model
+
+
+class ShapeClearance(NamedTuple):
+    """One particle of an analytic wall's cavity at t0: its gap to the nearest wall part
+    (negative: overlap) and whether its centre is inside."""
+
+    particle: int   # 0-based particle number
+    node_id: int
+    shape: int      # 0-based analytic wall, in file order
+    gap: float      # [length]
+    inside: bool
+
+
+def shape_of(model: Model, w: int) -> Shape:
+    return SHAPES[int(model.shape_kind[w])]
+
+
+def shape_ends(model: Model, w: int, x: np.ndarray | None = None) -> np.ndarray:
+    """(k, 3) positions of analytic wall ``w``'s nodes (at t0, or in ``x``)."""
+    return node_positions(shape_of(model, w), model.x0 if x is None else x, model.shape_nodes[w])
+
+
+def shape_params(model: Model, w: int) -> np.ndarray:
+    return model.shape_params[w, :len(shape_of(model, w).param_fields)]
+
+
+def shape_clearances(model: Model) -> list[ShapeClearance]:
+    """Every (particle, analytic wall of its cavity) pair at the deck's coordinates."""
+    out = []
+    p0 = model.particle_start
+    for w in range(model.shape_kind.shape[0]):
+        mine = np.flatnonzero(model.particle_cavity == model.shape_cavity[w])
+        if mine.size == 0:
+            continue
+        gap, inside = shape_of(model, w).clearance(model.x0[p0 + mine], model.radius[mine],
+                                                   shape_ends(model, w), shape_params(model, w))
+        out += [ShapeClearance(int(i), int(model.node_ids[p0 + i]), w, float(g), bool(ok))
+                for i, g, ok in zip(mine, gap, inside)]
+    return out
+
+
+def describe_shape(model: Model, w: int) -> str:
+    """'the cylinder on axis nodes 2, 3 (radius 0.2, length 0.263)'."""
+    shape = shape_of(model, w)
+    ids = ", ".join(str(int(model.node_ids[i]))
+                    for i in model.shape_nodes[w][:len(shape.node_fields)])
+    return (f"the {shape.name} on {shape.nodes_word} {ids} "
+            f"({shape.describe(shape_ends(model, w), shape_params(model, w))})")
+
+
+def shape_volume(model: Model, w: int) -> float:
+    """The volume inside analytic wall ``w`` [length^3]."""
+    return float(shape_of(model, w).volume(shape_ends(model, w), shape_params(model, w)))
+
+
+def shape_extent(model: Model, w: int) -> tuple[np.ndarray, np.ndarray]:
+    """Bounding box (lo, hi) of analytic wall ``w`` at t0."""
+    return shape_of(model, w).extent(shape_ends(model, w), shape_params(model, w))
+
+
+def shape_warnings(model: Model, rel_tol: float) -> list[tuple[str, str, list[str]]]:
+    """(code, headline, detail lines) of particles that start outside their analytic wall or
+    in it (deeper than ``rel_tol`` of their radius)."""
+    found = shape_clearances(model)
+    out = []
+    outside = [f for f in found if not f.inside]
+    names = " or ".join(sorted({shape_of(model, f.shape).name for f in found})) or "shape"
+    if outside:
+        out.append(("particles-outside",
+                    f"{len(outside)} of the {model.n_particles} particles start outside the "
+                    f"{names} they belong to, so its walls would push them from the wrong side",
+                    [f"particle node {f.node_id}: centre outside "
+                     f"{describe_shape(model, f.shape)}" for f in outside]))
+    r = model.radius
+    deep = sorted((f for f in found if f.inside and f.gap < -rel_tol * r[f.particle]),
+                  key=lambda f: f.gap)
+    if deep:
+        worst = deep[0]
+        out.append(("wall-penetration",
+                    f"{len(deep)} particles start penetrating a {names} wall (deepest: particle "
+                    f"node {worst.node_id}, {-worst.gap:.6g} = {-worst.gap / r[worst.particle]:.3g}"
+                    f" R into {describe_shape(model, worst.shape)})",
+                    [f"particle node {f.node_id}: {-f.gap:.6g} ({-f.gap / r[f.particle]:.3g} R) "
+                     f"into {describe_shape(model, f.shape)}" for f in deep]))
+    return out
+
+
+def smallest_clearance(model: Model, w: int) -> float | None:
+    """The smallest gap of any particle to analytic wall ``w`` at t0 (None: no particles)."""
+    gaps = [f.gap for f in shape_clearances(model) if f.shape == w]
+    return min(gaps) if gaps else None
