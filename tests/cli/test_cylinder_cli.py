@@ -74,7 +74,7 @@ def test_axis_nodes_must_move_as_one_rigid_cavity():
     assert err.value.card == "CYLINDER"
 
 
-def test_check_flags_spheres_outside_and_in_the_wall(tmp_path):
+def test_check_flags_spheres_outside_and_in_the_wall(tmp_path, monkeypatch):
     # one sphere 0.01 deep in the curved wall (0.32 R, beyond the 0.25 R refusal limit), one
     # with its centre beyond the cap at x = LENGTH, one clean
     pos = [[0.15, BIG_R - R + 0.01, 0.0], [LENGTH + 0.01, 0.0, 0.0], [0.15, 0.0, 0.0]]
@@ -89,6 +89,7 @@ def test_check_flags_spheres_outside_and_in_the_wall(tmp_path):
     assert codes["wall-penetration"].details[0].startswith("particle node 4: 0.01 (0.32 R)")
     path = tmp_path / "bad.inp"
     path.write_text(text)
+    monkeypatch.chdir(tmp_path)          # a run writes its outputs to the working directory
     assert run_cli("check", path) == 1
     assert run_cli(path, "--quiet") == 2                 # refused: the run would blow up
     assert not (tmp_path / "bad.trace.txt").exists()
