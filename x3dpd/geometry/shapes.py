@@ -34,14 +34,14 @@ allocate nothing (it runs inside the step loop) and be decorated with
 Adding a shape
 --------------
 Write ``x3dpd/geometry/<name>.py`` with ``SHAPE = Shape(...)`` and ``locate_parts``, then add
-the module to :data:`SHAPES` below. ``x3dpd.geometry.cylinder`` is a complete example.
+the module to :data:`SHAPES` below. ``x3dpd.geometry.capsule`` is a complete example.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from x3dpd.geometry import cylinder
+from x3dpd.geometry import capsule, cylinder
 from x3dpd.geometry.shape import MAX_SHAPE_NODES, Shape
 
 __all__ = ["SHAPES", "BY_SHAPE_NAME", "BY_SHAPE_CARD", "MAX_SHAPE_NODES", "MAX_SHAPE_PARAMS",
@@ -65,7 +65,7 @@ def _register(*modules) -> tuple[Shape, ...]:
 
 #: The registered shapes; a shape's kind number is its index here (kept in restart dumps'
 #: order: append new shapes at the end).
-SHAPES: tuple[Shape, ...] = _register(cylinder)
+SHAPES: tuple[Shape, ...] = _register(cylinder, capsule)
 
 #: Shape by name ("cylinder"), and by card keyword ("CYLINDER").
 BY_SHAPE_NAME: dict[str, Shape] = {s.name: s for s in SHAPES}
