@@ -16,31 +16,13 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(ROOT / "tests")]  # shared helpers
 
-import reference as ref
-from factories import STEEL_E, STEEL_NU, STEEL_R, STEEL_RHO, sphere_mass
+from bore_scenes import (BIG_R, LENGTH, V, angular_momentum, bore_deck, check_against_hertz,
+                         head_on_impact)
+from factories import STEEL_R
 
-from x3dpd.deck.generate import Material3, cylinder_cavity_deck
 from x3dpd.geometry.capsule import capsule_mesh
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
-
-M = sphere_mass()
-K_WALL = ref.hertz_k(STEEL_E / (1.0 - STEEL_NU**2), STEEL_R)
-V = 62.832
-LENGTH = 0.8
-BIG_R = 0.3
-STRUCTURE = {"structure_mass": 1e-3, "stiffness": 10.0, "damping": 0.0}
-
-
-def _deck(pos, vel, *, dt, tmax, mu=0.3, facets=None, free_dofs=(), itrac=1, radius=STEEL_R,
-          e=STEEL_E, length=LENGTH, big_r=BIG_R, structure=None):
-    mat = Material3(e, 0.0, 1.0, STEEL_NU, mu, STEEL_RHO)
-    return cylinder_cavity_deck(length=length, cavity_radius=big_r, particles=pos,
-                                radius=radius, material=mat, facets=facets,
-                                gravity=(0.0, 0.0, 0.0), dt=dt, tmax=tmax, itrac=itrac,
-                                free_dofs=free_dofs, velocities=vel, shape="capsule",
-                                **(structure or STRUCTURE))
-
 
 def _segment_distance(x, a, b):
     """Distance of points (N, 3) to the segment a-b (the capsule's axis)."""
@@ -55,37 +37,6 @@ def _approach(x):
     return STEEL_R + _segment_distance(x, [0, 0, 0], [LENGTH, 0, 0]) - BIG_R
 
 
-def _impact(pos, vel):
-    """Run one sphere touching a fixed capsule's wall at t = 0, moving into it at V, at
-    dt = t_c / 2000 for 1.15 t_c; the closed form, and per output the time, the approach and
-    the velocity component along ``vel``. Head-on, friction (on, as in the other fixed-capsule
-    scenes here: one compiled loop) has no slip to act on."""
-    h = ref.hertz_impact(M, K_WALL, V)
-    dt = h.contact_time / 2000
-    sim = Simulation(build_model(_deck([pos], [vel], dt=dt, tmax=1.0)))
-    first = sim.snapshot()
-    block = sim.advance(2300)
-    t = np.concatenate([first.times, block.times])
-    data = np.concatenate([first.data, block.data])[:, 1]     # trace: master, then the sphere
-    unit = np.asarray(vel) / np.linalg.norm(vel)
-    return h, t, _approach(data[:, :3]), data[:, 3:6] @ unit
-
-
-def _check_against_hertz(h, t, a, v_in):
-    """Contact time, maximum approach and rebound speed within 2e-5 (velocity Verlet at 2000
-    steps per contact errs by O((pi/2000)^2) ~ 2.5e-6; the interpolated zero crossing and the
-    parabola-refined peak are O(dt^2) and O(dt^3): the bound of tests/physics/test_hertz.py's
-    flat-wall impact, which this must equal -- the wall law uses the flat-wall Hertz stiffness
-    and does not see the curvature)."""
-    contact = ref.zero_crossing(t, a, falling=True)
-    errors = {"contact time": contact / h.contact_time - 1,
-              "max approach": ref.refined_peak(a) / h.a_max - 1,
-              "rebound speed": -v_in[-1] / V - 1}
-    for name, err in errors.items():
-        assert abs(err) < 2e-5, (name, err)
-    assert a[-1] < 0.0
-
-
 @pytest.mark.parametrize("end", ["A", "B"])
 def test_head_on_impact_on_a_hemispherical_end_matches_hertz(end):
     """Sphere touching at C + (R - r) e, C the cap centre (A = origin or B), e a unit vector
@@ -95,13 +46,14 @@ def test_head_on_impact_on_a_hemispherical_end_matches_hertz(end):
         c, e = np.zeros(3), np.array([-0.48, 0.6, -0.64])
     else:
         c, e = np.array([LENGTH, 0.0, 0.0]), np.array([0.48, 0.6, 0.64])
-    _check_against_hertz(*_impact(c + (BIG_R - STEEL_R) * e, V * e))
+    check_against_hertz(*head_on_impact("capsule", c + (BIG_R - STEEL_R) * e, V * e,
+                                        _approach))
 
 
 def test_head_on_impact_on_the_cylindrical_part_matches_hertz():
     e = np.array([0.0, 0.6, 0.8])                       # radial direction, off the axes
     pos = np.array([0.4, 0.0, 0.0]) + (BIG_R - STEEL_R) * e
-    _check_against_hertz(*_impact(pos, V * e))
+    check_against_hertz(*head_on_impact("capsule", pos, V * e, _approach))
 
 
 # --- the same scene, analytic and triangulated -------------------------------------------------
@@ -171,8 +123,9 @@ def _zigzag(facets, tmax=0.062, itrac=100):
     around (8 latitude rings per hemisphere, 1024 triangles): the cylinder test's 128
     would make 16384 triangles, minutes of model building."""
     nu, _, _ = _aim()
-    deck = _deck([[CAP_L, 0.0, 0.0]], [SPEED * nu], dt=2e-7, tmax=tmax, mu=0.3, facets=facets,
-                 itrac=itrac, radius=SMALL_R, e=27.5e6, length=CAP_L, big_r=CAP_R)
+    deck = bore_deck("capsule", [[CAP_L, 0.0, 0.0]], [SPEED * nu], dt=2e-7, tmax=tmax, mu=0.3,
+                     facets=facets, itrac=itrac, radius=SMALL_R, e=27.5e6,
+                     length=CAP_L, big_r=CAP_R)
     return Simulation(build_model(deck))
 
 
@@ -224,19 +177,6 @@ def test_analytic_and_triangulated_capsules_agree_within_the_facet_error():
 
 # --- a capsule that turns ---------------------------------------------------------------------
 
-def _angular_momentum(model, state):
-    """Total angular momentum about the origin: spheres m x v + I omega, and the rigid cavity
-    (its mass and inertia tensor at the master node) M x_m v_m + R J R^T omega."""
-    x, v = state.x, state.vel
-    total = np.zeros(3)
-    for i in range(model.particle_start, model.n_nodes):
-        total += model.mass[i] * np.cross(x[i], v[i, :3]) + model.inertia[i] * v[i, 3:]
-    m = int(model.rigid_master[0])
-    rot = state.rot[0]
-    inertia = rot @ model.rigid_inertia[0] @ rot.T
-    return total + model.rigid_mass[0] * np.cross(x[m], v[m, :3]) + inertia @ v[m, 3:]
-
-
 def _turning(dt, chunk):
     """A light capsule free to move and turn (no springs, no gravity) hit by two spheres with
     friction, run for 0.03 s in chunks of ``chunk`` steps. Returns the angular momentum's
@@ -250,15 +190,15 @@ def _turning(dt, chunk):
     vel = [15.0 * e1 + [4.0, 0.0, 0.0], -12.0 * e2 + [9.0, 0.0, 0.0]]
     free = {"structure_mass": 1e-5, "rotary_inertia": 1e-7, "stiffness": 0.0, "damping": 0.0,
             "transverse_stiffness": 0.0}
-    deck = _deck(pos, vel, dt=dt, tmax=1.0, mu=0.4, free_dofs=(1, 2, 3, 4, 5, 6), itrac=1000,
-                 structure=free)
+    deck = bore_deck("capsule", pos, vel, dt=dt, tmax=1.0, mu=0.4, free_dofs=(1, 2, 3, 4, 5, 6),
+                     itrac=1000, structure=free)
     model = build_model(deck)
     assert {"rigid_rotation", "capsule_contact"} <= model.effects
     ids = model.node_ids.tolist()
     ia, ib = ids.index(2), ids.index(3)                # the cap centres (deck nodes 2, 3)
     sim = Simulation(model)
     energy = [sim.snapshot().energy]
-    l0 = _angular_momentum(model, sim.state)
+    l0 = angular_momentum(model, sim.state)
     touches = []
     for _ in range(round(0.03 / dt) // chunk):
         block = sim.advance(chunk)
@@ -269,7 +209,7 @@ def _turning(dt, chunk):
         t = np.clip((p - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
         dist = np.linalg.norm(p - a - t[:, None] * (b - a), axis=1)
         touches += [(k, t[k]) for k in np.flatnonzero(dist > BIG_R - STEEL_R)]
-    drift = np.linalg.norm(_angular_momentum(model, sim.state) - l0) / np.linalg.norm(l0)
+    drift = np.linalg.norm(angular_momentum(model, sim.state) - l0) / np.linalg.norm(l0)
     m = int(model.rigid_master[0])
     return drift, np.concatenate(energy), sim.state.vel[m, 3:], touches
 

@@ -10,67 +10,18 @@ import pathlib
 import sys
 
 import numpy as np
-import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "tools" / "bench")]  # shared helpers
 
-import reference as ref
+from bore_scenes import (BIG_R, LENGTH, V, angular_momentum, bore_deck, check_against_hertz,
+                         head_on_impact)
 from bench_solver import best_seconds_per_step
-from factories import STEEL_E, STEEL_NU, STEEL_R, STEEL_RHO, sphere_mass
+from factories import STEEL_R
 
-from x3dpd.deck.generate import Material3, cylinder_cavity_deck
 from x3dpd.geometry.cylinder import cylinder_coordinates, cylinder_mesh
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
-
-M = sphere_mass()
-K_WALL = ref.hertz_k(STEEL_E / (1.0 - STEEL_NU**2), STEEL_R)
-V = 62.832
-LENGTH = 0.8
-BIG_R = 0.3
-STRUCTURE = dict(structure_mass=1e-3, stiffness=10.0, damping=0.0)
-
-
-def _deck(pos, vel, *, dt, tmax, mu=0.3, facets=None, free_dofs=(), itrac=1, radius=STEEL_R,
-          e=STEEL_E, length=LENGTH, big_r=BIG_R, structure=None):
-    mat = Material3(e, 0.0, 1.0, STEEL_NU, mu, STEEL_RHO)
-    return cylinder_cavity_deck(length=length, cavity_radius=big_r, particles=pos,
-                                radius=radius, material=mat, facets=facets,
-                                gravity=(0.0, 0.0, 0.0), dt=dt, tmax=tmax, itrac=itrac,
-                                free_dofs=free_dofs, velocities=vel,
-                                **(structure or STRUCTURE))
-
-
-def _impact(pos, vel, approach):
-    """Run one sphere touching a fixed cylinder's wall at t = 0, moving into it at V, at
-    dt = t_c / 2000 for 1.15 t_c; the closed form, and per output the time, the approach
-    ``approach(x)`` and the velocity component along ``vel``. Head-on, friction (on, as in
-    the other scenes here: one compiled loop) has no slip to act on."""
-    h = ref.hertz_impact(M, K_WALL, V)
-    dt = h.contact_time / 2000
-    sim = Simulation(build_model(_deck([pos], [vel], dt=dt, tmax=1.0)))
-    first = sim.snapshot()
-    block = sim.advance(2300)
-    t = np.concatenate([first.times, block.times])
-    data = np.concatenate([first.data, block.data])[:, 1]     # trace: master, then the sphere
-    unit = np.asarray(vel) / np.linalg.norm(vel)
-    return h, t, approach(data[:, :3]), data[:, 3:6] @ unit
-
-
-def _check_against_hertz(h, t, a, v_in):
-    """Contact time, maximum approach and rebound speed within 2e-5 (velocity Verlet at 2000
-    steps per contact errs by O((pi/2000)^2) ~ 2.5e-6; the interpolated zero crossing and the
-    parabola-refined peak are O(dt^2) and O(dt^3): the bound of tests/physics/test_hertz.py's
-    flat-wall impact, which this must equal -- the wall law does not see the curvature)."""
-    contact = ref.zero_crossing(t, a, falling=True)
-    errors = {"contact time": contact / h.contact_time - 1,
-              "max approach": ref.refined_peak(a) / h.a_max - 1,
-              "rebound speed": -v_in[-1] / V - 1}
-    for name, err in errors.items():
-        assert abs(err) < 2e-5, (name, err)
-    assert a[-1] < 0.0
-
 
 def test_head_on_impact_on_the_curved_wall_matches_hertz():
     e = np.array([0.0, 0.6, 0.8])                       # radial direction, off the axes
@@ -80,7 +31,7 @@ def test_head_on_impact_on_the_curved_wall_matches_hertz():
         _, rho, _ = cylinder_coordinates(x, [0, 0, 0], [LENGTH, 0, 0])
         return STEEL_R + rho - BIG_R
 
-    _check_against_hertz(*_impact(pos, V * e, approach))
+    check_against_hertz(*head_on_impact("cylinder", pos, V * e, approach))
 
 
 def test_head_on_impact_on_an_end_cap_matches_hertz():
@@ -89,7 +40,7 @@ def test_head_on_impact_on_an_end_cap_matches_hertz():
     def approach(x):
         return x[:, 0] - (LENGTH - STEEL_R)
 
-    _check_against_hertz(*_impact(pos, [V, 0.0, 0.0], approach))
+    check_against_hertz(*head_on_impact("cylinder", pos, [V, 0.0, 0.0], approach))
 
 
 # --- the same scene, analytic and triangulated -------------------------------------------------
@@ -109,8 +60,9 @@ def _bouncer(facets, tmax=0.05, itrac=500):
     mid = 0.5 * (verts[0] + verts[1])
     e = mid / np.linalg.norm(mid)
     vel = 20.0 * e + [5.0, 0.0, 0.0]
-    deck = _deck([[BEAM_L / 2, 0.0, 0.0]], [vel], dt=2e-7, tmax=tmax, mu=0.3, facets=facets,
-                 itrac=itrac, radius=SMALL_R, e=27.5e6, length=BEAM_L, big_r=BEAM_RC)
+    deck = bore_deck("cylinder", [[BEAM_L / 2, 0.0, 0.0]], [vel], dt=2e-7, tmax=tmax, mu=0.3,
+                     facets=facets, itrac=itrac, radius=SMALL_R, e=27.5e6,
+                     length=BEAM_L, big_r=BEAM_RC)
     return Simulation(build_model(deck))
 
 
@@ -153,19 +105,6 @@ def test_analytic_cylinder_is_faster_than_the_triangulated_one():
     assert best[None] < best[FACETS]
 
 
-def _angular_momentum(model, state):
-    """Total angular momentum about the origin: spheres m x v + I omega, and the rigid cavity
-    (its mass and inertia tensor at the master node) M x_m v_m + R J R^T omega."""
-    x, v = state.x, state.vel
-    total = np.zeros(3)
-    for i in range(model.particle_start, model.n_nodes):
-        total += model.mass[i] * np.cross(x[i], v[i, :3]) + model.inertia[i] * v[i, 3:]
-    m = int(model.rigid_master[0])
-    rot = state.rot[0]
-    inertia = rot @ model.rigid_inertia[0] @ rot.T
-    return total + model.rigid_mass[0] * np.cross(x[m], v[m, :3]) + inertia @ v[m, 3:]
-
-
 def test_a_turning_cylinder_conserves_momentum_and_energy():
     """A light cavity free to move and turn (no springs, no gravity) hit by spheres with
     friction: no external force or moment acts, so the total angular momentum stays put --
@@ -184,15 +123,15 @@ def test_a_turning_cylinder_conserves_momentum_and_energy():
     vel = [15.0 * e1 + [4.0, 0.0, 0.0], -12.0 * e2 + [-6.0, 0.0, 0.0]]
     free = dict(structure_mass=1e-5, rotary_inertia=1e-7, stiffness=0.0, damping=0.0,
                 transverse_stiffness=0.0)
-    deck = _deck(pos, vel, dt=2e-7, tmax=1.0, mu=0.4, free_dofs=(1, 2, 3, 4, 5, 6), itrac=1000,
-                 structure=free)
+    deck = bore_deck("cylinder", pos, vel, dt=2e-7, tmax=1.0, mu=0.4, free_dofs=(1, 2, 3, 4, 5, 6),
+                     itrac=1000, structure=free)
     model = build_model(deck)
     assert "rigid_rotation" in model.effects
     sim = Simulation(model)
     first = sim.snapshot()
-    l0 = _angular_momentum(model, sim.state)
+    l0 = angular_momentum(model, sim.state)
     block = sim.advance(150_000)
-    drift = np.linalg.norm(_angular_momentum(model, sim.state) - l0) / np.linalg.norm(l0)
+    drift = np.linalg.norm(angular_momentum(model, sim.state) - l0) / np.linalg.norm(l0)
     assert drift < 1e-3, drift
     energy = np.concatenate([first.energy, block.energy])
     assert energy[-1, 7] > 0.05 * energy[0, 10]     # friction did work: the spheres hit walls
