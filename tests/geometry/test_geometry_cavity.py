@@ -55,6 +55,46 @@ def test_opposite_normals_in_one_plane_are_different_faces():
     np.testing.assert_array_equal(group_faces(n, p0, 1.0), [0, 1, 2])
 
 
+def _group_faces_reference(n_in, p0, size, tol):
+    """The definition, literally: each triangle joins the first face (in order of appearance)
+    whose first triangle's normal and plane offset are within tol (offset: tol * size)."""
+    offsets = np.einsum("tk,tk->t", n_in, p0)
+    face, reps = np.full(n_in.shape[0], -1), []
+    for t in range(n_in.shape[0]):
+        for f, r in enumerate(reps):
+            if (np.max(np.abs(n_in[t] - n_in[r])) <= tol
+                    and abs(offsets[t] - offsets[r]) <= tol * size):
+                face[t] = f
+                break
+        else:
+            face[t] = len(reps)
+            reps.append(t)
+    return face
+
+
+def test_face_grouping_matches_its_definition_at_the_tolerance():
+    """group_faces looks only at the neighbouring cells of side tol around a key; triangles
+    whose keys differ by just under and just over tol, on both sides of cell boundaries, and
+    chains a < tol < a + b (where the first-face rule decides), must group exactly as
+    comparing every triangle with every face does."""
+    rng = np.random.default_rng(7)
+    tol, size = 1e-3, 2.0
+    base = rng.normal(size=(12, 3))
+    base /= np.linalg.norm(base, axis=1)[:, None]
+    normals, p0 = [], []
+    for n in base:
+        for _ in range(8):
+            step = rng.choice([0.0, 0.4, 0.7, 0.99, 1.01, 1.6]) * tol
+            normals.append(n + step * rng.choice([-1.0, 1.0], size=3) * (rng.random(3) < 0.5))
+            p0.append(rng.choice([0.0, 0.3, 0.999, 1.001]) * tol * size * n)
+    normals, p0 = np.array(normals), np.array(p0)
+    order = rng.permutation(normals.shape[0])
+    normals, p0 = normals[order], p0[order]
+    expected = _group_faces_reference(normals, p0, size, tol)
+    assert 12 < expected.max() + 1 < normals.shape[0]     # some grouped, some apart
+    np.testing.assert_array_equal(group_faces(normals, p0, size, tol), expected)
+
+
 def test_extents_and_size():
     pts, _ = box(size=(2.0, 3.0, 5.0), origin=(-1.0, 0.5, 2.0))
     lo, hi = cavity_extents(pts)

@@ -47,17 +47,31 @@ def group_faces(n_in: np.ndarray, p0: np.ndarray, size: float,
     """
     n_in = np.atleast_2d(np.asarray(n_in, dtype=np.float64))
     offsets = np.einsum("tk,tk->t", n_in, np.atleast_2d(np.asarray(p0, dtype=np.float64)))
+    # Each triangle joins the first face (in order of appearance) whose first triangle is within
+    # the tolerances. Keys (normal, offset / size) within tol of each other lie in the same or
+    # a neighbouring cell of side tol, so only the 3^4 cells around a key can hold a match:
+    # O(T) instead of comparing every triangle with every face (a curved cavity of 16,000
+    # facets has about as many faces).
+    keys = np.column_stack([n_in, offsets / size]) if n_in.shape[0] else np.zeros((0, 4))
+    cells = np.floor(keys / tol).astype(np.int64) if tol > 0 else np.zeros((len(keys), 4),
+                                                                          np.int64)
+    around = np.array(np.meshgrid(*[[-1, 0, 1]] * 4, indexing="ij")).reshape(4, -1).T
     face = np.full(n_in.shape[0], -1, dtype=np.int64)
     reps: list[int] = []
+    by_cell: dict[tuple, list[int]] = {}
     for t in range(n_in.shape[0]):
-        for f, r in enumerate(reps):
-            if (np.max(np.abs(n_in[t] - n_in[r])) <= tol
-                    and abs(offsets[t] - offsets[r]) <= tol * size):
-                face[t] = f
-                break
-        else:
-            face[t] = len(reps)
+        best = -1
+        for cell in map(tuple, cells[t] + around):
+            for f in by_cell.get(cell, ()):
+                r = reps[f]
+                if ((best < 0 or f < best) and np.max(np.abs(n_in[t] - n_in[r])) <= tol
+                        and abs(offsets[t] - offsets[r]) <= tol * size):
+                    best = f
+        if best < 0:
+            best = len(reps)
             reps.append(t)
+            by_cell.setdefault(tuple(cells[t]), []).append(best)
+        face[t] = best
     return face
 
 
