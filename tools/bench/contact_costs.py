@@ -4,7 +4,8 @@ of its friction code removed.
     python tools/bench/contact_costs.py [--n 512] [--calls 2000]
 
 Settles the benchmark bed (``bench_solver.py --settled``: 300,000 steps at rest), then calls the
-scene's compiled ``_pair_contacts`` ``--calls`` times on that frozen state (forces zeroed each
+scene's compiled ``_pair_contacts`` (the variant's copy of
+``x3dpd/solver/_template_pairs.py``) ``--calls`` times on that frozen state (forces zeroed each
 call) and reports microseconds per call for the kernel as compiled and for copies of its source
 with one part cut out: the whole friction block, the torques of friction, and its slip-work
 bookkeeping. The cut copies compute wrong forces on purpose; they only measure what each part
@@ -28,6 +29,7 @@ from bench_solver import scene_model  # noqa: E402
 
 from x3dpd._jit import kernel  # noqa: E402
 from x3dpd.solver.simulation import Simulation  # noqa: E402
+from x3dpd.solver.variants import part_module  # noqa: E402
 
 #: name -> (text in the kernel module, replacement)
 CUTS = {
@@ -43,7 +45,8 @@ CUTS = {
 
 
 def time_pair_pass(module_path: Path, sim: Simulation, calls: int) -> float:
-    """Microseconds per ``_pair_contacts`` call of the module at ``module_path``."""
+    """Microseconds per ``_pair_contacts`` call of the module at ``module_path`` (a variant's
+    generated pair-contact part, x3dpd.solver.variants.part_module, or a cut copy of it)."""
     spec = importlib.util.spec_from_file_location(f"cut_{abs(hash(module_path))}", module_path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
@@ -82,8 +85,9 @@ def main() -> int:
     sim.advance(300_000, max_rows=1)
     st = sim.state
     contacts = int(st.pl_on[:int(st.npl[0])].sum())
-    source = Path(sim.kernels.__file__).read_text()
-    full = time_pair_pass(Path(sim.kernels.__file__), sim, args.calls)
+    pairs_file = Path(part_module(sim.kernels, "pairs").__file__)   # the variant's pair passes
+    source = pairs_file.read_text()
+    full = time_pair_pass(pairs_file, sim, args.calls)
     print(f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
           f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)")
     with tempfile.TemporaryDirectory() as tmp:

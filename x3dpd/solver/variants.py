@@ -1,9 +1,10 @@
 """Factory of compiled step loops: one variant per combination of effects a scene calls for.
 
-:func:`make_advance` writes a copy of ``_advance_template.py`` whose VARIANT block holds the
-scene's constants (``HAS_FRICTION = False`` ...) into x3dpd's kernel cache and imports it. Numba
-treats module globals as compile-time constants, so an absent effect is a constant-false branch
-that LLVM deletes: no per-step test, no cost. Because every variant is a real file, numba's
+:func:`make_advance` writes the step-loop template (``_advance_template.py`` and its parts
+``_template_*.py``) into x3dpd's kernel cache, with the scene's constants (``HAS_FRICTION =
+False`` ...) in its copy of ``_template_variant.py``, and imports it. Numba treats module
+globals as compile-time constants, so an absent effect is a constant-false branch that LLVM
+deletes: no per-step test, no cost. Because every variant is a set of real files, numba's
 on-disk cache works for it; the cache folder's name includes a hash of every source the kernels
 are built from (:func:`kernel_sources`) and the numba version, so editing any kernel can never
 reuse stale machine code.
@@ -20,6 +21,7 @@ import ast
 import hashlib
 import importlib.util
 import os
+import re
 import sys
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -32,6 +34,10 @@ from x3dpd.physics.coulomb import FRICTION_LAWS
 from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAWS
 
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
+#: The template's parts besides the loop, in import order (``_template_<part>.py``): each is
+#: generated per variant beside it, ``variant`` holding the variant's constants.
+PARTS = ("variant", "contact", "walls", "pairs", "energy")
+_PART_MODULE = "x3dpd.solver._template_"
 _BEGIN = "# --- VARIANT BEGIN ---"
 _END = "# --- VARIANT END ---"
 _LOADED: dict[tuple, object] = {}
@@ -118,7 +124,9 @@ class Variant:
                         if f.type in ("bool", bool))
         rest = "_".join(str(getattr(self, f.name)) for f in fields(self)
                         if f.type not in ("bool", bool))
-        return f"advance_{flags}_{rest}"
+        # module names of the generated files: identifier characters only ("cylinder+capsule"
+        # -> "cylinder_capsule")
+        return re.sub(r"\W", "_", f"advance_{flags}_{rest}")
 
 
 def _shapes_source(names: str) -> str:
@@ -204,20 +212,31 @@ def cache_dir() -> Path:
     return Path(base) / "kernels" / _source_hash()
 
 
-def variant_source(variant: Variant) -> str:
-    """Source text of the module for ``variant``: the template with its VARIANT block replaced
-    by the variant's constants."""
-    text = _TEMPLATE.read_text()
-    head, rest = text.split(_BEGIN, 1)
-    _, tail = rest.split(_END, 1)
-    return f"{head}{_BEGIN}\n{variant.header()}\n{_END}{tail}"
+def variant_sources(variant: Variant) -> dict[str, str]:
+    """Source text of each module of ``variant``, by part (:data:`PARTS`; ``""`` the loop):
+    ``_template_variant.py`` with its VARIANT block replaced by the variant's constants, and
+    the template's other files as they are."""
+    out = {}
+    for part in PARTS:
+        text = _TEMPLATE.with_name(f"_template_{part}.py").read_text()
+        if part == "variant":
+            head, rest = text.split(_BEGIN, 1)
+            _, tail = rest.split(_END, 1)
+            text = f"{head}{_BEGIN}\n{variant.header()}\n{_END}{tail}"
+        out[part] = text
+    out[""] = _TEMPLATE.read_text()
+    return out
 
 
 def make_advance(variant: Variant, user_files=()):
     """The module implementing ``variant`` (its ``advance`` and ``_forces`` kernels).
 
-    ``user_files``: ``(path, NODE_INDEX)`` of each compiled user force file, called in order
-    from the step (variant.user_force). Each becomes a cached copy, see :func:`_user_modules`.
+    The loop and each part of the template (:data:`PARTS`) become files of the kernel cache
+    named after the variant, whose imports of one another (``x3dpd.solver._template_<part>``)
+    name their generated copies: numba compiles one variant from files of its own, and caches
+    them on disk. ``user_files``: ``(path, NODE_INDEX)`` of each compiled user force file,
+    called in order from the step (variant.user_force). Each becomes a cached copy, see
+    :func:`_user_modules`.
     """
     user_files = tuple((os.fspath(p), np.ascontiguousarray(ix, np.int64)) for p, ix in user_files)
     folder = cache_dir()
@@ -226,16 +245,26 @@ def make_advance(variant: Variant, user_files=()):
     key = (variant, users)
     if key in _LOADED:
         return _LOADED[key]
-    source = variant_source(variant)
+    sources = variant_sources(variant)
     stem = variant.name()
     if users:
-        source = source.replace("\nUSER_FORCE = None\n", "\n" + _user_force_source(users) + "\n", 1)
+        sources["variant"] = sources["variant"].replace(
+            "\nUSER_FORCE = None\n", "\n" + _user_force_source(users) + "\n", 1)
         stem += "_" + hashlib.sha256(" ".join(users).encode()).hexdigest()[:12]
-    path = folder / f"{stem}.py"
-    _write_if_changed(path, source)
-    module = _import_file(f"x3dpd_kernels_{_source_hash()}_{stem}", path)
+    name = f"x3dpd_kernels_{_source_hash()}_{stem}"
+    module = None
+    for part in PARTS + ("",):
+        suffix = f"__{part}" if part else ""
+        path = folder / f"{stem}{suffix}.py"
+        _write_if_changed(path, sources[part].replace(_PART_MODULE, f"{name}__"))
+        module = _import_file(f"{name}{suffix}", path)
     _LOADED[key] = module
     return module
+
+
+def part_module(module, part: str):
+    """The generated module of one template part (:data:`PARTS`) of the loop ``module``."""
+    return sys.modules[f"{module.__name__}__{part}"]
 
 
 def _write_if_changed(path: Path, text: str) -> None:

@@ -1,0 +1,203 @@
+"""Step-loop template, part: what every contact shares (x3dpd.solver.variants).
+
+The normal force's bookkeeping (``_record_normal``), Coulomb friction with spin
+(``_friction_force``, ``_friction``), the end of a contact (``_close_contact``), the record of
+a penetration (``_penetration``) and the contact response of a particle on any wall entity
+(``_wall_response``), with the status bits and ledger slots of the loop. Generated per variant
+beside the loop, with the variant's constants (``_template_variant``).
+"""
+
+import math
+
+from x3dpd._jit import step_kernel
+from x3dpd.solver._template_variant import (FRICTION_LAW, HAS_FRICTION, N_MAXWELL,
+                                            NORMAL_CLAMPED, NORMAL_USES_RATE, NORMAL_WALL_FORCE)
+from x3dpd.solver.bundles import Status
+from x3dpd.solver.contact_lists import S_A, S_FN, S_FT, S_H
+
+# status bits returned by advance() and _forces() (x3dpd.solver.bundles.Status, as int constants)
+OK = int(Status.OK)
+PENETRATION = int(Status.PENETRATION)
+NONFINITE = int(Status.NONFINITE)
+REALLOC_PAIRS = int(Status.REALLOC_PAIRS)
+REALLOC_WALLS = int(Status.REALLOC_WALLS)
+
+#: Slip speeds at or below this [length/s] count as rolling (no friction force). The stick
+#: regularisation halves the slip every step; without a floor a settled bed's slips -- and the
+#: velocity components only friction acts on -- sink into subnormal numbers within ~1000 steps,
+#: where every operation on them costs ~100 times more. 1e-100 is far below any physical slip
+#: in any unit system and far above the subnormal range (its square, 1e-200, is still normal).
+SLIP_FLOOR = 1e-100
+
+# ledger slots (cumulative since t0)
+L_WEXT = 0      # work of external forces and prescribed motions on the system
+L_WN = 1        # work absorbed by the normal contact forces (sum of 1/2 (F0+F1) da)
+L_DFRIC = 2     # energy dissipated by friction
+L_DDAMP = 3     # energy dissipated by structural dampers
+
+
+@step_kernel
+def _record_normal(states, on, s, a, a_old, fn, fn_old):
+    """Clamp the normal force at zero if the law says so (the report's modified Lee & Radok
+    rule), keep it and the approach in the contact's state row, mark the contact open, and
+    return the applied force with the work the contact absorbed this step,
+    1/2 (F_old + F) (a - a_old)."""
+    if NORMAL_CLAMPED and fn < 0.0:
+        fn = 0.0
+    states[s, S_A] = a
+    states[s, S_FN] = fn
+    on[s] = 1
+    return fn, 0.5 * (fn_old + fn) * (a - a_old)
+
+
+@step_kernel
+def _friction_force(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, ftx_old, fty_old, ftz_old):
+    """Friction force on the body whose contact point moves with v_r relative to the other.
+
+    Splits v_r into normal and tangential parts, applies FRICTION_LAW to the slip speed
+    (report Eq. 29/30; ``gamma`` = 1/(2 dt), the stick rate): F_t = -c(|v_t|) v_t, zero at slip
+    speeds up to SLIP_FLOOR. Returns (F_tx, F_ty, F_tz, dissipated) with the trapezoidal slip
+    work -1/2 (F_t,old + F_t) . v_t dt (F_t,old: the last step's force). Reads and writes no
+    state, so the vectorized pair response can call it.
+    """
+    vn = vrx * nx + vry * ny + vrz * nz
+    vtx = vrx - vn * nx
+    vty = vry - vn * ny
+    vtz = vrz - vn * nz
+    vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
+    ftx = 0.0
+    fty = 0.0
+    ftz = 0.0
+    if vt > SLIP_FLOOR:
+        mag = FRICTION_LAW(vt, fn, mu, m_t, gamma)
+        ftx = -mag * vtx
+        fty = -mag * vty
+        ftz = -mag * vtz
+    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty + (ftz_old + ftz) * vtz) * dt
+    return ftx, fty, ftz, lost
+
+
+@step_kernel
+def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
+    """:func:`_friction_force` with the last step's force read from, and the new one kept in,
+    the contact's state row ``states[s]`` (columns S_FT ...). Returns (F_tx, F_ty, F_tz,
+    dissipated)."""
+    ftx, fty, ftz, lost = _friction_force(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma,
+                                          states[s, S_FT], states[s, S_FT + 1],
+                                          states[s, S_FT + 2])
+    states[s, S_FT] = ftx
+    states[s, S_FT + 1] = fty
+    states[s, S_FT + 2] = ftz
+    return ftx, fty, ftz, lost
+
+
+@step_kernel
+def _penetration(diag, p, other, a, r):
+    """Record a contact deeper than the penetration limit in ``diag`` (particle, the wall
+    entity ``other``, depth, radius) for the stop's diagnosis; return the status bit."""
+    diag[0] = p
+    diag[1] = other
+    diag[2] = a
+    diag[3] = r
+    return PENETRATION
+
+
+@step_kernel
+def _close_contact(ws, on, s, a, a_old, fn_old):
+    """End the contact of state row ``s`` (apart, or off its entity): its history is cleared;
+    returns the work 1/2 F_old (a - a_old) of an open contact's last step."""
+    dw = 0.0
+    if fn_old != 0.0 or a_old > 0.0:
+        dw = 0.5 * fn_old * (a - a_old)
+        for c in range(S_FT, ws.shape[1]):
+            ws[s, c] = 0.0
+    ws[s, S_A] = 0.0
+    ws[s, S_FN] = 0.0
+    on[s] = 0
+    return dw
+
+
+@step_kernel
+def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, nx, ny, nz,
+                   wall_nodes, row, w, n_w, lever, lx, ly, lz):
+    """The contact response of particle ``p`` on a wall entity, whatever its shape: the
+    scene's normal law (x3dpd.physics.normal_laws) at approach ``a`` along the unit normal n
+    (from the wall into the particle), Coulomb friction with spin, and the reaction on the
+    wall's nodes ``wall_nodes[row, :n_w]`` with weights ``w``. The wall point moves with
+    sum_e w_e v_e, plus omega x l when ``lever`` (omega of the first node; l = (lx, ly, lz) from
+    the weighted node point to the wall point, whose moment l x F then goes to the first node).
+    A locator (``_locate_on_face``, an analytic wall's ``locate_parts``) supplies a, n,
+    the weights and l. State row ``s`` of ``ws`` / ``on`` keeps the contact's history.
+    Returns (normal work, friction loss)."""
+    vel, force = nodes.vel, nodes.force
+    radius, mu, inv_mt = particles.radius, particles.mu, particles.inv_mt
+    dt = stepping.dt
+    gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
+    i = particles.p0 + p
+    r = radius[p]
+    n0 = wall_nodes[row, 0]
+    # normal force: the scene's law (x3dpd.physics.normal_laws)
+    a_rate = 0.0
+    if NORMAL_USES_RATE:
+        # approach rate: the wall point's velocity minus the particle's, along n
+        a_rate = -(nx * vel[i, 0] + ny * vel[i, 1] + nz * vel[i, 2])
+        for e in range(n_w):
+            nd = wall_nodes[row, e]
+            a_rate += w[e] * (nx * vel[nd, 0] + ny * vel[nd, 1] + nz * vel[nd, 2])
+        if lever:
+            a_rate += (nx * (vel[n0, 4] * lz - vel[n0, 5] * ly)
+                       + ny * (vel[n0, 5] * lx - vel[n0, 3] * lz)
+                       + nz * (vel[n0, 3] * ly - vel[n0, 4] * lx))
+    fn = NORMAL_WALL_FORCE(a, a_old, a_rate, p, particles, ws, s, S_H, N_MAXWELL)
+    fn, dw = _record_normal(ws, on, s, a, a_old, fn, fn_old)
+    lost = 0.0
+    fx = fn * nx
+    fy = fn * ny
+    fz = fn * nz
+    if HAS_FRICTION:
+        # relative velocity of the particle's contact point (at -R n) and the wall point
+        rcx = -r * nx
+        rcy = -r * ny
+        rcz = -r * nz
+        wx = vel[i, 3]
+        wy = vel[i, 4]
+        wz = vel[i, 5]
+        vrx = vel[i, 0] + wy * rcz - wz * rcy
+        vry = vel[i, 1] + wz * rcx - wx * rcz
+        vrz = vel[i, 2] + wx * rcy - wy * rcx
+        vwx = w[0] * vel[n0, 0]
+        vwy = w[0] * vel[n0, 1]
+        vwz = w[0] * vel[n0, 2]
+        for e in range(1, n_w):
+            nd = wall_nodes[row, e]
+            vwx += w[e] * vel[nd, 0]
+            vwy += w[e] * vel[nd, 1]
+            vwz += w[e] * vel[nd, 2]
+        vrx -= vwx
+        vry -= vwy
+        vrz -= vwz
+        if lever:
+            vrx -= vel[n0, 4] * lz - vel[n0, 5] * ly
+            vry -= vel[n0, 5] * lx - vel[n0, 3] * lz
+            vrz -= vel[n0, 3] * ly - vel[n0, 4] * lx
+        ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn, mu[p],
+                                        1.0 / inv_mt[p], dt, gamma, ws, s)
+        fx += ftx
+        fy += fty
+        fz += ftz
+        force[i, 3] += rcy * ftz - rcz * fty
+        force[i, 4] += rcz * ftx - rcx * ftz
+        force[i, 5] += rcx * fty - rcy * ftx
+    force[i, 0] += fx
+    force[i, 1] += fy
+    force[i, 2] += fz
+    for e in range(n_w):
+        nd = wall_nodes[row, e]
+        force[nd, 0] -= w[e] * fx
+        force[nd, 1] -= w[e] * fy
+        force[nd, 2] -= w[e] * fz
+    if lever:
+        force[n0, 3] -= ly * fz - lz * fy
+        force[n0, 4] -= lz * fx - lx * fz
+        force[n0, 5] -= lx * fy - ly * fx
+    return dw, lost

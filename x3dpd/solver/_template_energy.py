@@ -1,0 +1,83 @@
+"""Step-loop template, part: the energies of a state and the ledger row (x3dpd.solver.variants).
+
+Generated per variant beside the loop, with the variant's constants (``_template_variant``).
+"""
+
+from x3dpd._jit import kernel
+from x3dpd.physics.gravity import _gravity_energy
+from x3dpd.physics.spring_damper import _spring_energy
+from x3dpd.solver._template_contact import L_DDAMP, L_DFRIC, L_WEXT, L_WN
+from x3dpd.solver._template_variant import (HAS_GRAVITY, HAS_PAIRS, HAS_SHAPES, HAS_SPRINGS,
+                                            HAS_VISCOELASTIC, HAS_WALLS, NORMAL_DAMPED,
+                                            NORMAL_STORED_ENERGY)
+from x3dpd.solver.contact_lists import S_A, S_FN
+
+@kernel
+def _energies(nodes, springs, particles, walls, pairs, shapes, dt, out):
+    """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction)."""
+    x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
+    kin_mass, kin_inertia, inv_m = nodes.kin_mass, nodes.kin_inertia, nodes.inv_m
+    ke_t = 0.0
+    ke_r = 0.0
+    shadow = 0.0
+    for i in range(x.shape[0]):
+        m = kin_mass[i]
+        if m != 0.0:
+            ke_t += 0.5 * m * (vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+        for d in range(3):
+            ke_r += 0.5 * kin_inertia[i, d] * vel[i, 3 + d] ** 2
+        for d in range(6):
+            shadow += force[i, d] ** 2 * inv_m[i, d]
+    out[0] = ke_t
+    out[1] = ke_r
+    out[2] = _gravity_energy(nodes.mass, x, x0, nodes.g) if HAS_GRAVITY else 0.0
+    out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
+    out[4] = (_contact_energy(particles, walls, pairs, shapes)
+              if (HAS_WALLS or HAS_PAIRS or HAS_SHAPES) else 0.0)
+    out[5] = dt * dt / 8.0 * shadow
+
+
+@kernel
+def _contact_energy(particles, walls, pairs, shapes):
+    """Elastic energy stored in the open contacts, by the normal law's ``stored_energy``."""
+    u = 0.0
+    ws = walls.state
+    for s in range(walls.count[0]):
+        if ws[s, S_A] > 0.0:
+            k = particles.law_wall[walls.first[s], 0]
+            u += NORMAL_STORED_ENERGY(ws[s, S_FN], ws[s, S_A], k)
+    ps = pairs.state
+    kind = particles.kind
+    for s in range(pairs.count[0]):
+        if ps[s, S_A] > 0.0:
+            k = particles.law_pair[kind[pairs.first[s]], kind[pairs.second[s]], 0]
+            u += NORMAL_STORED_ENERGY(ps[s, S_FN], ps[s, S_A], k)
+    if HAS_SHAPES:
+        cs = shapes.state
+        for s in range(cs.shape[0]):
+            if cs[s, S_A] > 0.0:
+                k = particles.law_wall[shapes.row_particle[s], 0]
+                u += NORMAL_STORED_ENERGY(cs[s, S_FN], cs[s, S_A], k)
+    return u
+
+
+@kernel
+def _ledger_row(t, en, ledger, e_ref, row):
+    """row = t, KE_t, KE_r, U_g, U_s, U_c, D_visc, D_fric, D_damp, W_ext, E_total, residual.
+
+    D_visc = W_N - U_c when contacts are viscoelastic or damped (absorbed minus still stored); elastic
+    contacts dissipate nothing by definition, so their integration error shows in the residual.
+    """
+    row[0] = t
+    for k in range(5):
+        row[1 + k] = en[k]
+    if HAS_VISCOELASTIC or NORMAL_DAMPED:
+        row[6] = ledger[L_WN] - en[4]
+    else:
+        row[6] = 0.0
+    row[7] = ledger[L_DFRIC]
+    row[8] = ledger[L_DDAMP]
+    row[9] = ledger[L_WEXT]
+    e_total = en[0] + en[1] + en[2] + en[3] + en[4]
+    row[10] = e_total
+    row[11] = (e_total - en[5]) - e_ref + row[6] + row[7] + row[8] - row[9]

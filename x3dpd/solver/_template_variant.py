@@ -1,0 +1,32 @@
+"""The compile-time constants of one step-loop variant (x3dpd.solver.variants).
+
+:func:`x3dpd.solver.variants.make_advance` writes this module anew for every variant, from
+:meth:`Variant.header`: which effects exist, how many Maxwell terms, which friction and normal
+laws, which analytic wall shapes, which user forces. The step-loop template and its parts
+import their constants from here, and numba freezes them into the machine code: an absent
+effect is a constant-false branch that never reaches it. The values below (every effect on)
+only make the template importable for reading and linting.
+"""
+
+# --- VARIANT BEGIN ---
+HAS_GRAVITY = True
+HAS_SPRINGS = True
+HAS_RIGID = True
+HAS_RIGID_ROTATION = True
+HAS_WALLS = True
+HAS_PAIRS = True
+HAS_FRICTION = True
+HAS_VISCOELASTIC = True
+HAS_EXTERNAL = True
+HAS_USER_FORCE = False
+HAS_PYTHON_FORCE = False
+HAS_MOTION = True
+N_MAXWELL = 1
+HAS_WALLS_TRANSLATE = False
+HAS_SHAPES = True
+HAS_ONE_PARTICLE_KIND = False
+from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: F401,E402,E501
+from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as NORMAL_PAIR_FORCE, stored_energy as NORMAL_STORED_ENERGY, CLAMPED as NORMAL_CLAMPED, USES_RATE as NORMAL_USES_RATE, DAMPED as NORMAL_DAMPED  # noqa: F401,E402,E501
+SHAPE_LOCATE = None
+USER_FORCE = None
+# --- VARIANT END ---
