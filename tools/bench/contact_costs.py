@@ -85,18 +85,33 @@ def main() -> int:
     sim.advance(300_000, max_rows=1)
     st = sim.state
     contacts = int(st.pl_on[:int(st.npl[0])].sum())
-    pairs_file = Path(part_module(sim.kernels, "pairs").__file__)   # the variant's pair passes
+    pairs_mod, contact_mod = (part_module(sim.kernels, p) for p in ("pairs", "contact"))
+    pairs_file = Path(pairs_mod.__file__)   # the variant's pair passes
     source = pairs_file.read_text()
+    contact_source = Path(contact_mod.__file__).read_text()   # friction lives there
     full = time_pair_pass(pairs_file, sim, args.calls)
     print(f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
           f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)")
     with tempfile.TemporaryDirectory() as tmp:
         for name, (old, new) in CUTS.items():
-            if source.count(old) != 1:
+            stem = f"cut_{name.replace(' ', '_')}"
+            cut_pairs = source
+            if source.count(old) == 1:
+                cut_pairs = source.replace(old, new)
+            elif contact_source.count(old) == 1:
+                # a cut copy of the shared contact part, imported by a copy of the pair part
+                path = Path(tmp) / f"{stem}_contact.py"
+                path.write_text(contact_source.replace(old, new))
+                spec = importlib.util.spec_from_file_location(f"{stem}_contact", path)
+                sys.modules[spec.name] = importlib.util.module_from_spec(spec)
+                spec.loader.exec_module(sys.modules[spec.name])
+                cut_pairs = source.replace(f"from {contact_mod.__name__} import",
+                                           f"from {spec.name} import")
+            else:
                 print(f"  {name}: its code was not found in the kernel (changed?)")
                 continue
-            path = Path(tmp) / f"cut_{name.replace(' ', '_')}.py"
-            path.write_text(source.replace(old, new))
+            path = Path(tmp) / f"{stem}.py"
+            path.write_text(cut_pairs)
             cut = time_pair_pass(path, sim, args.calls)
             print(f"  {name:20s} costs {full - cut:6.2f} us/call")
     return 0
