@@ -129,6 +129,8 @@ def _zigzag(facets, tmax=0.062, itrac=100):
     return Simulation(build_model(deck))
 
 
+@pytest.mark.validate   # its own compiled loop; CI covers the same code through the
+# cylinder's test of it and the capsule's locator tests (`python -m pytest -m validate`)
 def test_analytic_and_triangulated_capsules_agree_within_the_facet_error():
     nu, plane, depth_h = _aim()
     runs = []
@@ -214,6 +216,8 @@ def _turning(dt, chunk):
     return drift, np.concatenate(energy), sim.state.vel[m, 3:], touches
 
 
+@pytest.mark.validate   # its own compiled loop; CI covers the same code through the
+# cylinder's test of it and the capsule's locator tests (`python -m pytest -m validate`)
 def test_a_turning_capsule_conserves_momentum_and_energy():
     """A light capsule free to move and turn hit by spheres with friction, one of them on the
     rounded end at B: no external force or moment acts, so the total angular momentum stays
