@@ -67,18 +67,20 @@ def test_bad_capsule_records_are_deck_errors_at_the_field(card, message, column)
         assert err.value.column == column
 
 
-@pytest.mark.parametrize("card, message", [
-    ("CAPSULE\n 1 2 99 0.2\nEND", "axis node B 99 is not defined"),
-    ("CAPSULE\n 1 99 3 0.2\nEND", "axis node A 99 is not defined"),
-    ("CAPSULE\n 1 2 5 0.2\nEND", "axis node B 5 is a particle node"),
+@pytest.mark.parametrize("card, message, column", [
+    ("CAPSULE\n 1 2 99 0.2\nEND", "axis node B 99 is not defined", 6),
+    ("CAPSULE\n 1 99 3 0.2\nEND", "axis node A 99 is not defined", 4),
+    ("CAPSULE\n 1 2 5 0.2\nEND", "axis node B 5 is a particle node", 6),
 ])
-def test_bad_capsule_references_are_deck_errors_at_the_record(card, message):
+def test_bad_capsule_references_are_deck_errors_at_the_node(card, message, column):
+    """The error points at the offending node id's field (1-based column)."""
     text = _with_card(_text([[0.15, 0.0, 0.0], [0.15, 0.1, 0.0]]), card)
     with pytest.raises(DeckError, match=message) as err:
         build_model(parse_deck(text, "deck.inp"))
     assert err.value.card == "CAPSULE"
     assert err.value.line == _record_line(text)
-    assert str(err.value).startswith(f"deck.inp:{_record_line(text)}:{err.value.column}: ")
+    assert err.value.column == column
+    assert str(err.value).startswith(f"deck.inp:{_record_line(text)}:{column}: ")
 
 
 def test_a_slave_set_without_triangles_or_capsule_is_a_deck_error():

@@ -240,6 +240,7 @@ class AnalyticWall:
     nodes: tuple[int, ...]
     params: tuple[float, ...]
     pos: Pos = NOWHERE
+    positions: tuple[Pos, ...] = ()   # where each node id stands (for messages)
 
 
 @dataclass(frozen=True)

@@ -290,7 +290,7 @@ class DeckTransformer(Transformer):
                                           f"{shape.node_fields[0]} ({ids[1]}): the axis runs "
                                           "from one to the other")
             out.append(AnalyticWall(shape.name, ids[0], tuple(ids[1:]), tuple(params),
-                                    _first(rec)))
+                                    _first(rec), _positions(rec, 1)[:n_nodes]))
         return "ANALYTIC", c[0], out
 
     def contact(self, c: list[Any]) -> _Card:

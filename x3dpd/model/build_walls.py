@@ -100,8 +100,8 @@ class WallSteps(BuilderBase):
         for w in self.deck.analytic_walls or ():
             kind = kind_of(w.shape)
             shape = SHAPES[kind]
-            ends = [self.structural(nid, w.pos, shape.card, what)
-                    for nid, what in zip(w.nodes, shape.node_words)]
+            ends = [self.structural(nid, _pos_at(w.positions, k, w.pos), shape.card, what)
+                    for k, (nid, what) in enumerate(zip(w.nodes, shape.node_words))]
             ids = " and ".join(map(str, w.nodes))
             bodies = [self.slave_of.get(i, self.body_of_master.get(i)) for i in ends]
             fixed = all(self.fixed[i].all() for i in ends)
