@@ -148,16 +148,22 @@ def _bore_particles():
     return n, radius, gap, pos
 
 
-def cylinder_deck() -> str:
-    n, radius, gap, pos = _bore_particles()
-    deck = cylinder_cavity_deck(
+def _bore_deck(shape: str, pos, radius: float, title: str):
+    """beam_64's beam, drive and spheres at ``pos`` in a ``shape`` on the bore's axis."""
+    return cylinder_cavity_deck(
         length=CYL_LENGTH, cavity_radius=CYL_RADIUS, particles=pos, radius=radius,
         material=STEEL, structure_mass=BEAM_MASS, stiffness=BEAM_K, damping=BEAM_C,
         gravity=(0.0, -G, 0.0), dt=DT, tmax=TMAX, itrac=ITRAC, trest=TREST,
-        usrfrc=(CYL_DRIVE,), free_dofs=(1,),
-        title=f"Sec. 8.2 beam, ({n}) {2 * radius:g} in diameter steel spheres, viscoelastic\n"
+        usrfrc=(CYL_DRIVE,), free_dofs=(1,), shape=shape, title=title)
+
+
+def cylinder_deck() -> str:
+    n, radius, gap, pos = _bore_particles()
+    deck = _bore_deck(
+        "cylinder", pos, radius,
+        f"Sec. 8.2 beam, ({n}) {2 * radius:g} in diameter steel spheres, viscoelastic\n"
               f"cylindrical cavity {CYL_LENGTH} long (x), radius {CYL_RADIUS:.6g} in, friction "
-              f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz")
+        f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz")
     volume = math.pi * CYL_RADIUS**2 * CYL_LENGTH
     header = [
         "cylinder_64.inp: the beam_64 damper (decks/beam_64.inp) in an analytic cylindrical",
@@ -191,14 +197,11 @@ def cylinder_deck() -> str:
 
 def capsule_deck() -> str:
     n, radius, gap, pos = _bore_particles()
-    deck = cylinder_cavity_deck(
-        length=CYL_LENGTH, cavity_radius=CYL_RADIUS, particles=pos, radius=radius,
-        material=STEEL, structure_mass=BEAM_MASS, stiffness=BEAM_K, damping=BEAM_C,
-        gravity=(0.0, -G, 0.0), dt=DT, tmax=TMAX, itrac=ITRAC, trest=TREST,
-        usrfrc=(CYL_DRIVE,), free_dofs=(1,), shape="capsule",
-        title=f"Sec. 8.2 beam, ({n}) {2 * radius:g} in diameter steel spheres, viscoelastic\n"
+    deck = _bore_deck(
+        "capsule", pos, radius,
+        f"Sec. 8.2 beam, ({n}) {2 * radius:g} in diameter steel spheres, viscoelastic\n"
               f"capsule cavity (cylinder_64's bore with hemispherical ends), friction "
-              f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz")
+        f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz")
     volume = math.pi * CYL_RADIUS**2 * CYL_LENGTH + 4.0 / 3.0 * math.pi * CYL_RADIUS**3
     header = [
         "capsule_64.inp: decks/cylinder_64.inp with its flat end caps rounded: the same bore",

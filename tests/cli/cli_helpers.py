@@ -8,16 +8,32 @@ from x3dpd.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = ROOT / "decks"
-#: Every shipped deck but appendix_a.inp (its printed geometry is refused: nothing to draw),
-#: with a run short enough for a test: TMAX [s] (a few output times each).
+#: Every shipped deck but appendix_a.inp (its printed geometry is refused: nothing to draw) and
+#: hooke_wall.inp (impact_wall's picture with another contact law), with a run short enough
+#: for a test: TMAX [s] (a few output times each).
 SHORT_RUNS = {
     "appendix_a_cube.inp": 0.003,
     "beam_1.inp": 0.003,
     "beam_64.inp": 0.003,
     "beam_512.inp": 0.002,
     "cylinder_64.inp": 0.003,
+    "capsule_64.inp": 0.003,
     "impact_wall.inp": 2e-7,         # ITRAC 10 x 1e-9 s: 21 output times
 }
+
+
+def with_card(text: str, card: str) -> str:
+    """Deck ``text`` with its card named by ``card``'s first line (CYLINDER ...) replaced by
+    ``card`` (keyword, records, END)."""
+    start = text.index(f"\n{card.split()[0]}\n") + 1
+    end = text.index("END", start) + 3
+    return text[:start] + card + text[end:]
+
+
+def first_record_line(text: str, keyword: str) -> int:
+    """Line number of the first record of card ``keyword`` (right after its keyword and a
+    header comment line, as the deck writer puts them)."""
+    return text[:text.index(f"\n{keyword}\n")].count("\n") + 3
 
 
 def run_cli(*args) -> int:

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from cli_helpers import run_cli
+from cli_helpers import first_record_line, run_cli, with_card
 
 from x3dpd.api import safety as x3dpd_safety
 from x3dpd.deck import parse_deck
@@ -39,17 +39,6 @@ def _text(pos, vel=None, *, dt=5e-7):
     return format_deck(_deck(pos, vel, dt=dt))
 
 
-def _with_card(text, card):
-    start = text.index("\nCAPSULE\n") + 1
-    end = text.index("END", start) + 3
-    return text[:start] + card + text[end:]
-
-
-def _record_line(text):
-    """Line number of the first record of the CAPSULE card put in by _with_card."""
-    return text[:text.index("\nCAPSULE\n")].count("\n") + 3
-
-
 @pytest.mark.parametrize("card, message, column", [
     ("CAPSULE\n 1 2 3\nEND", "CAPSULE needs 4 values", None),
     ("CAPSULE\n 1 2 3 -0.2\nEND", "RADIUS must be > 0", 8),
@@ -57,12 +46,13 @@ def _record_line(text):
     ("CAPSULE\n 1 2 2 0.2\nEND", "NODE_B must differ from NODE_A", 6),
 ])
 def test_bad_capsule_records_are_deck_errors_at_the_field(card, message, column):
-    text = _with_card(_text([[0.15, 0.0, 0.0]]), card)
+    text = with_card(_text([[0.15, 0.0, 0.0]]), card)
     with pytest.raises(DeckError, match=message) as err:
         parse_deck(text, "deck.inp")
     assert err.value.card == "CAPSULE"
-    assert err.value.line == _record_line(text)
-    assert str(err.value).startswith(f"deck.inp:{_record_line(text)}:")
+    line = first_record_line(text, "CAPSULE")
+    assert err.value.line == line
+    assert str(err.value).startswith(f"deck.inp:{line}:")
     if column is not None:
         assert err.value.column == column
 
@@ -74,18 +64,19 @@ def test_bad_capsule_records_are_deck_errors_at_the_field(card, message, column)
 ])
 def test_bad_capsule_references_are_deck_errors_at_the_node(card, message, column):
     """The error points at the offending node id's field (1-based column)."""
-    text = _with_card(_text([[0.15, 0.0, 0.0], [0.15, 0.1, 0.0]]), card)
+    text = with_card(_text([[0.15, 0.0, 0.0], [0.15, 0.1, 0.0]]), card)
     with pytest.raises(DeckError, match=message) as err:
         build_model(parse_deck(text, "deck.inp"))
     assert err.value.card == "CAPSULE"
-    assert err.value.line == _record_line(text)
+    line = first_record_line(text, "CAPSULE")
+    assert err.value.line == line
     assert err.value.column == column
-    assert str(err.value).startswith(f"deck.inp:{_record_line(text)}:{column}: ")
+    assert str(err.value).startswith(f"deck.inp:{line}:{column}: ")
 
 
 def test_a_slave_set_without_triangles_or_capsule_is_a_deck_error():
     # the capsule names set 7; the particles' set 1 then has no wall at all
-    text = _with_card(_text([[0.15, 0.0, 0.0]]), "CAPSULE\n 7 2 3 0.2\nEND")
+    text = with_card(_text([[0.15, 0.0, 0.0]]), "CAPSULE\n 7 2 3 0.2\nEND")
     with pytest.raises(DeckError, match="slave set 1 has no master triangles and no "
                                         r"CYLINDER or CAPSULE \(.*set ids 7\)") as err:
         build_model(parse_deck(text, "deck.inp"))

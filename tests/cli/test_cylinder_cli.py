@@ -9,7 +9,7 @@ import shutil
 
 import numpy as np
 import pytest
-from cli_helpers import DECKS, run_cli
+from cli_helpers import DECKS, first_record_line, run_cli, with_card
 
 from x3dpd.deck import parse_deck
 from x3dpd.deck.generate import Material3, cylinder_cavity_deck
@@ -32,23 +32,17 @@ def _text(pos, vel=None, *, dt=5e-7):
     return format_deck(deck)
 
 
-def _with_card(text, card):
-    start = text.index("\nCYLINDER\n") + 1
-    end = text.index("END", start) + 3
-    return text[:start] + card + text[end:]
-
-
 @pytest.mark.parametrize("card, message, column", [
     ("CYLINDER\n 1 2 3\nEND", "CYLINDER needs 4 values", None),
     ("CYLINDER\n 1 2 3 -0.2\nEND", "RADIUS must be > 0", 8),
     ("CYLINDER\n 1 2 2 0.2\nEND", "NODE_B must differ from NODE_A", 6),
 ])
 def test_bad_cylinder_records_are_deck_errors_at_the_field(card, message, column):
-    text = _with_card(_text([[0.15, 0.0, 0.0]]), card)
+    text = with_card(_text([[0.15, 0.0, 0.0]]), card)
     with pytest.raises(DeckError, match=message) as err:
         parse_deck(text, "deck.inp")
     assert err.value.card == "CYLINDER"
-    assert err.value.line == text[:text.index("\nCYLINDER\n")].count("\n") + 3
+    assert err.value.line == first_record_line(text, "CYLINDER")
     if column is not None:
         assert err.value.column == column
 
@@ -59,7 +53,7 @@ def test_bad_cylinder_records_are_deck_errors_at_the_field(card, message, column
     ("CYLINDER\n 7 2 3 0.2\nEND", "slave set 1 has no master triangles and no CYLINDER"),
 ])
 def test_bad_cylinder_references_are_deck_errors(card, message):
-    text = _with_card(_text([[0.15, 0.0, 0.0], [0.15, 0.1, 0.0]]), card)
+    text = with_card(_text([[0.15, 0.0, 0.0], [0.15, 0.1, 0.0]]), card)
     with pytest.raises(DeckError, match=message) as err:
         build_model(parse_deck(text, "deck.inp"))
     assert err.value.card in ("CYLINDER", "CONTACT")

@@ -57,8 +57,10 @@ def test_cavity_moves_with_its_master_node(name):
         elif scene.vertex_row[v] < 0:
             assert np.all(moved[v] == 0.0)       # a fixed wall stays put
     # the outline of a box is its 12 edges (no face diagonals); Fig. 28's lone square: 4; a
-    # drawn cylinder its two rims of CYLINDER_FACETS edges
-    n_edges = {"impact_wall.inp": 4, "cylinder_64.inp": 2 * CYLINDER_FACETS}.get(name, 12)
+    # drawn cylinder its two rims of CYLINDER_FACETS edges; a capsule the two circles where its
+    # hemispheres meet the bore
+    n_edges = {"impact_wall.inp": 4, "cylinder_64.inp": 2 * CYLINDER_FACETS,
+               "capsule_64.inp": 2 * CYLINDER_FACETS}.get(name, 12)
     assert scene.outline.shape == (n_edges, 2)
 
 

@@ -13,7 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from x3dpd.geometry.capsule import SHAPE, capsule_clearance, capsule_mesh, locate_parts
+from x3dpd.geometry.capsule import (SHAPE, capsule_clearance, capsule_mesh, capsule_outline,
+                                    locate_parts)
 
 A = np.array([1.0, -2.0, 0.5])
 U = np.array([2.0, 1.0, -2.0]) / 3.0              # unit axis, tilted
@@ -262,3 +263,27 @@ def test_triangulated_capsule_volume_converges_from_below():
     assert all(d > 0 for d in deficits)
     assert all(d1 < d0 for d0, d1 in itertools.pairwise(deficits))
     assert deficits[2] < deficits[0] / 10 and deficits[4] < deficits[2] / 10
+
+
+@pytest.mark.parametrize("length", [LENGTH, 0.0])
+def test_outline_is_where_the_hemispheres_meet_the_bore(length):
+    """The viewers draw a smooth capsule by the circles of radius R in the planes through A
+    and B normal to the axis (one circle, the equator, for a sphere): closed loops of mesh
+    edges whose vertices lie on those circles (to rounding, 1e-12)."""
+    n = 24
+    b = A + length * U
+    verts, tris = capsule_mesh(A, b, BIG_R, n)
+    edges = capsule_outline(np.stack([A, b]), (BIG_R,), n)
+    circles = 2 if length > 0.0 else 1
+    axis = U if length > 0.0 else np.array([1.0, 0.0, 0.0])   # a sphere's mesh turns about x
+    assert edges.shape == (circles * n, 2)
+    mesh_edges = {frozenset(e) for tri in tris for e in itertools.combinations(tri, 2)}
+    assert all(frozenset(e) in mesh_edges for e in edges.tolist())
+    for centre in ([A, b] if length > 0.0 else [A]):
+        on = [e for e in edges if abs((verts[e[0]] - centre) @ axis) < 1e-12]
+        assert len(on) == n                                  # a whole loop per circle
+        pts = verts[np.unique(np.array(on))]
+        np.testing.assert_allclose(np.linalg.norm(pts - centre, axis=1), BIG_R, atol=1e-12)
+        np.testing.assert_allclose((pts - centre) @ axis, 0.0, atol=1e-12)
+        assert sorted(np.bincount(np.array(on).ravel(), minlength=verts.shape[0])[
+            np.unique(np.array(on))].tolist()) == [2] * n   # each vertex on two edges: a loop

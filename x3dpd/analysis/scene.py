@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from x3dpd.geometry.cavity import geometry_size, merge_vertices
-from x3dpd.geometry.shapes import SHAPES, node_positions
+from x3dpd.geometry.shapes import analytic_wall
 
 #: Facets around a drawn analytic wall (a cylinder's sagitta is 0.2 % of its radius).
 CYLINDER_FACETS = 48
@@ -130,15 +130,17 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
     for w in range(np.asarray(getattr(model, "shape_kind", np.zeros(0))).shape[0]):
         # a drawn analytic wall's vertices translate with its node A (traced) or A's master
         a = int(model.shape_nodes[w, 0])
-        shape = SHAPES[int(model.shape_kind[w])]
-        cv, ct = shape.mesh(node_positions(shape, model.x0, model.shape_nodes[w]),
-                            model.shape_params[w, :len(shape.param_fields)], CYLINDER_FACETS)
+        shape, ends, lengths = analytic_wall(model.shape_kind[w], model.shape_nodes[w],
+                                             model.shape_params[w], model.x0)
+        cv, ct = shape.mesh(ends, lengths, CYLINDER_FACETS)
         k = cv.shape[0]
         ref = int(a) if int(ids[a]) in index else int(master_of[a])
         row = index.get(int(ids[ref]), -1) if ref >= 0 else -1
         tri = np.concatenate([tri, ct + vx0.shape[0]])
-        # its outline: its rims (the creases between facets are the drawing's, not its)
-        rims = feature_edges(ct, cv, cos_tol=math.cos(3.0 * math.pi / CYLINDER_FACETS))
+        # its outline: the shape's own, or its rims (the creases between facets are the
+        # drawing's, not the shape's)
+        rims = (shape.outline(ends, lengths, CYLINDER_FACETS) if shape.outline is not None
+                else feature_edges(ct, cv, cos_tol=math.cos(3.0 * math.pi / CYLINDER_FACETS)))
         outline = np.concatenate([outline, rims + vx0.shape[0]])
         vx0 = np.concatenate([vx0, cv])
         verts = np.concatenate([verts, np.full(k, a)])

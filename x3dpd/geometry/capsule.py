@@ -29,7 +29,7 @@ import numpy as np
 from x3dpd._jit import step_kernel
 from x3dpd.geometry.shape import Shape
 
-__all__ = ["SHAPE", "capsule_clearance", "capsule_mesh", "locate_parts"]
+__all__ = ["SHAPE", "capsule_clearance", "capsule_mesh", "capsule_outline", "locate_parts"]
 
 
 @step_kernel
@@ -130,6 +130,16 @@ def capsule_mesh(a, b, big_r: float, n: int) -> tuple[np.ndarray, np.ndarray]:
     return verts, np.concatenate(tris).astype(np.int64)
 
 
+def capsule_outline(ends, params, n: int) -> np.ndarray:
+    """Edges (E, 2) of :func:`capsule_mesh`'s vertices along the circles where the hemispheres
+    meet the bore (its rings m - 1 and m; one circle, the equator, for a sphere)."""
+    m = max(2, n // 4)
+    rings = (m - 1,) if _length(ends) == 0.0 else (m - 1, m)
+    k = np.arange(n)
+    return np.concatenate([np.stack([j * n + k, j * n + (k + 1) % n], axis=1)
+                           for j in rings]).astype(np.int64)
+
+
 def _length(ends) -> float:
     return float(np.linalg.norm(np.asarray(ends[1], float) - np.asarray(ends[0], float)))
 
@@ -153,4 +163,5 @@ SHAPE = Shape(
     describe=lambda ends, params: (f"radius {float(params[0]):g}, {_length(ends):.6g} between "
                                    f"the cap centres"),
     problem=lambda ends, params: None,
+    outline=capsule_outline,
     doc="a cylinder with hemispherical ends (a bore with rounded ends; a spherical cavity)")

@@ -38,6 +38,10 @@ class Shape:
     mesh: Callable
     describe: Callable
     problem: Callable
+    #: edges (E, 2) into ``mesh(ends, params, n)``'s vertices that the viewers draw as its
+    #: outline; None: the mesh's creases (a cylinder's rims). A smooth shape has none and
+    #: names its own (a capsule: where the hemispheres meet the bore)
+    outline: Callable | None = None
     #: how messages name the nodes, in card order, and all of them
     node_words: tuple[str, ...] = ("axis node A", "axis node B")
     nodes_word: str = "axis nodes"

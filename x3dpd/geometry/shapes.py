@@ -39,6 +39,8 @@ the module to :data:`SHAPES` below. ``x3dpd.geometry.capsule`` is a complete exa
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from x3dpd.geometry import capsule, cylinder
@@ -46,7 +48,7 @@ from x3dpd.geometry.shape import MAX_SHAPE_NODES, Shape
 
 __all__ = ["SHAPES", "BY_SHAPE_NAME", "BY_SHAPE_CARD", "MAX_SHAPE_NODES", "MAX_SHAPE_PARAMS",
            "MAX_SHAPE_PARTS", "Shape",
-           "kind_of", "node_positions"]
+           "analytic_wall", "kind_of"]
 
 
 def _register(*modules) -> tuple[Shape, ...]:
@@ -55,7 +57,7 @@ def _register(*modules) -> tuple[Shape, ...]:
         shape = m.SHAPE
         if len(shape.node_fields) not in range(1, MAX_SHAPE_NODES + 1):
             raise ValueError(f"{m.__name__}: a shape has 1 to {MAX_SHAPE_NODES} nodes")
-        out.append(Shape(**{**shape.__dict__, "module": m.__name__}))
+        out.append(dataclasses.replace(shape, module=m.__name__))
     names = [s.name for s in out]
     keys = [s.key for s in out]
     if len(set(names)) != len(names) or len(set(keys)) != len(keys):
@@ -81,6 +83,10 @@ def kind_of(name: str) -> int:
     return next(k for k, s in enumerate(SHAPES) if s.name == name)
 
 
-def node_positions(shape: Shape, x: np.ndarray, nodes) -> np.ndarray:
-    """(k, 3) positions of a shape's k nodes from the model's (W, 2) node row."""
-    return np.asarray(x)[np.asarray(nodes)[: len(shape.node_fields)]]
+def analytic_wall(kind, nodes, params, x) -> tuple[Shape, np.ndarray, np.ndarray]:
+    """One analytic wall as its shape's helpers take it, from a row of the model's arrays
+    (kind, the (2,) node indices, the zero-padded (P,) lengths): its shape, the positions of
+    its k nodes in ``x`` (k, 3) and its own lengths."""
+    shape = SHAPES[int(kind)]
+    return (shape, np.asarray(x)[np.asarray(nodes)[:len(shape.node_fields)]],
+            np.asarray(params)[:len(shape.param_fields)])

@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.geometry.cavity import cavity_extents, enclosed_volume
-from x3dpd.model.check_shapes import (describe_shape, shape_extent, shape_volume,
-                                      shape_warnings, smallest_clearance)
+from x3dpd.model.check_shapes import (describe_shape, shape_clearances, shape_extent,
+                                      shape_volume, shape_warnings, smallest_clearance)
 from x3dpd.model.check_geometry import (  # noqa: F401  (WallPenetration re-exported)
     REL_TOL,
     OutsideParticle,
@@ -203,6 +203,7 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
     out = []
     tri_cav = model.face_cavity[model.tri_face]
     pvol = 4.0 / 3.0 * math.pi * model.radius**3
+    found = shape_clearances(model) if model.shape_kind.shape[0] else []
     for c, sid in enumerate(model.cavity_set_ids.tolist()):
         mine = np.flatnonzero(tri_cav == c)
         walls = np.flatnonzero(model.shape_cavity == c)
@@ -220,7 +221,7 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
                                      model.tri_sign[mine]) if closed else None
         analytic = []
         for k in walls:
-            gap = smallest_clearance(model, k)
+            gap = smallest_clearance(model, k, found)
             analytic.append(describe_shape(model, k) + (
                 "" if gap is None else f"; smallest particle clearance {gap:.6g}"))
         out.append(CavitySummary(

@@ -8,7 +8,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from x3dpd.geometry.shapes import SHAPES, Shape, node_positions
+from x3dpd.geometry.shapes import analytic_wall
 from x3dpd.model.model import Model
 
 
@@ -23,17 +23,10 @@ class ShapeClearance(NamedTuple):
     inside: bool
 
 
-def shape_of(model: Model, w: int) -> Shape:
-    return SHAPES[int(model.shape_kind[w])]
-
-
-def shape_ends(model: Model, w: int, x: np.ndarray | None = None) -> np.ndarray:
-    """(k, 3) positions of analytic wall ``w``'s nodes (at t0, or in ``x``)."""
-    return node_positions(shape_of(model, w), model.x0 if x is None else x, model.shape_nodes[w])
-
-
-def shape_params(model: Model, w: int) -> np.ndarray:
-    return model.shape_params[w, :len(shape_of(model, w).param_fields)]
+def _wall(model: Model, w: int):
+    """(shape, node positions at t0, lengths) of analytic wall ``w``."""
+    return analytic_wall(model.shape_kind[w], model.shape_nodes[w], model.shape_params[w],
+                         model.x0)
 
 
 def shape_clearances(model: Model) -> list[ShapeClearance]:
@@ -44,8 +37,8 @@ def shape_clearances(model: Model) -> list[ShapeClearance]:
         mine = np.flatnonzero(model.particle_cavity == model.shape_cavity[w])
         if mine.size == 0:
             continue
-        gap, inside = shape_of(model, w).clearance(model.x0[p0 + mine], model.radius[mine],
-                                                   shape_ends(model, w), shape_params(model, w))
+        shape, ends, lengths = _wall(model, w)
+        gap, inside = shape.clearance(model.x0[p0 + mine], model.radius[mine], ends, lengths)
         out += [ShapeClearance(int(i), int(model.node_ids[p0 + i]), w, float(g), bool(ok))
                 for i, g, ok in zip(mine, gap, inside)]
     return out
@@ -53,21 +46,22 @@ def shape_clearances(model: Model) -> list[ShapeClearance]:
 
 def describe_shape(model: Model, w: int) -> str:
     """'the cylinder on axis nodes 2, 3 (radius 0.2, length 0.263)'."""
-    shape = shape_of(model, w)
+    shape, ends, lengths = _wall(model, w)
     ids = ", ".join(str(int(model.node_ids[i]))
                     for i in model.shape_nodes[w][:len(shape.node_fields)])
-    return (f"the {shape.name} on {shape.nodes_word} {ids} "
-            f"({shape.describe(shape_ends(model, w), shape_params(model, w))})")
+    return f"the {shape.name} on {shape.nodes_word} {ids} ({shape.describe(ends, lengths)})"
 
 
 def shape_volume(model: Model, w: int) -> float:
     """The volume inside analytic wall ``w`` [length^3]."""
-    return float(shape_of(model, w).volume(shape_ends(model, w), shape_params(model, w)))
+    shape, ends, lengths = _wall(model, w)
+    return float(shape.volume(ends, lengths))
 
 
 def shape_extent(model: Model, w: int) -> tuple[np.ndarray, np.ndarray]:
     """Bounding box (lo, hi) of analytic wall ``w`` at t0."""
-    return shape_of(model, w).extent(shape_ends(model, w), shape_params(model, w))
+    shape, ends, lengths = _wall(model, w)
+    return shape.extent(ends, lengths)
 
 
 def shape_warnings(model: Model, rel_tol: float) -> list[tuple[str, str, list[str]]]:
@@ -76,7 +70,7 @@ def shape_warnings(model: Model, rel_tol: float) -> list[tuple[str, str, list[st
     found = shape_clearances(model)
     out = []
     outside = [f for f in found if not f.inside]
-    names = " or ".join(sorted({shape_of(model, f.shape).name for f in found})) or "shape"
+    names = " or ".join(sorted({_wall(model, f.shape)[0].name for f in found})) or "shape"
     if outside:
         out.append(("particles-outside",
                     f"{len(outside)} of the {model.n_particles} particles start outside the "
@@ -97,7 +91,10 @@ def shape_warnings(model: Model, rel_tol: float) -> list[tuple[str, str, list[st
     return out
 
 
-def smallest_clearance(model: Model, w: int) -> float | None:
-    """The smallest gap of any particle to analytic wall ``w`` at t0 (None: no particles)."""
-    gaps = [f.gap for f in shape_clearances(model) if f.shape == w]
+def smallest_clearance(model: Model, w: int,
+                       found: list[ShapeClearance] | None = None) -> float | None:
+    """The smallest gap of any particle to analytic wall ``w`` at t0 (None: no particles);
+    ``found``: :func:`shape_clearances`, when the caller has them already."""
+    gaps = [f.gap for f in (shape_clearances(model) if found is None else found)
+            if f.shape == w]
     return min(gaps) if gaps else None

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from x3dpd.errors import UnstableRunError
-from x3dpd.geometry.shapes import SHAPES, node_positions
+from x3dpd.geometry.shapes import SHAPES, analytic_wall
 from x3dpd.solver.diagnosis import energy_source_advice
 from x3dpd.solver.ledger_checks import (
     SAFE_FRACTION,
@@ -156,10 +156,9 @@ class RunChecks:
             members = table.particle[table.wall == w]
             if members.size == 0:
                 continue
-            shape = SHAPES[int(table.kind[w])]
-            _, inside = shape.clearance(s.x[k.p0 + members], k.radius[members],
-                                        node_positions(shape, s.x, table.nodes[w]),
-                                        table.params[w, :len(shape.param_fields)])
+            shape, ends, lengths = analytic_wall(table.kind[w], table.nodes[w], table.params[w],
+                                                 s.x)
+            _, inside = shape.clearance(s.x[k.p0 + members], k.radius[members], ends, lengths)
             if not inside.all():
                 self._escaped(int(members[np.argmin(inside)]),
                               f"{shape.name} ({self._shape_nodes(w)})", "the wall")

@@ -46,7 +46,7 @@ import numpy as np
 
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.geometry.cells import find_pairs
-from x3dpd.geometry.shapes import SHAPES, node_positions
+from x3dpd.geometry.shapes import SHAPES, analytic_wall
 from x3dpd.geometry.triangle import unit_normals
 from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
                                  effective_radius, hertz_contact_time)
@@ -291,10 +291,10 @@ class VariableStep:
         table = k.shapes
         for w in range(table.kind.shape[0]):   # analytic walls: the exact gap
             mine = table.particle[table.wall == w]
-            shape = SHAPES[int(table.kind[w])]
-            if mine.size and np.min(shape.clearance(
-                    xp[mine], k.radius[mine], node_positions(shape, state.x, table.nodes[w]),
-                    table.params[w, :len(shape.param_fields)])[0]) < reach:
+            shape, ends, lengths = analytic_wall(table.kind[w], table.nodes[w], table.params[w],
+                                                 state.x)
+            if mine.size and np.min(shape.clearance(xp[mine], k.radius[mine], ends,
+                                                    lengths)[0]) < reach:
                 return True
         return False
 
