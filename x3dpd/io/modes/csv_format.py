@@ -175,10 +175,10 @@ def _keyword_rows(path, rows, n_modes, mode_cells):
 
 def _values(path, line, cells, n_modes, what, mode_cells, empty_ok) -> np.ndarray:
     if len(cells) > n_modes:
-        raise ModeFileError(path, f"{what}: {len(cells)} values for {n_modes} mode columns; "
+        raise ModeFileError(path, f"{what}: {len(cells)} value(s) for {n_modes} mode columns; "
                                   "expected one per mode column", line)
     if not empty_ok and len(cells) < n_modes:
-        raise ModeFileError(path, f"{what}: {len(cells)} values for {n_modes} mode columns; "
+        raise ModeFileError(path, f"{what}: {len(cells)} value(s) for {n_modes} mode columns; "
                                   "expected one per mode column", line)
     out = np.full(n_modes, np.nan)
     for j, cell in enumerate(cells):

@@ -10,12 +10,15 @@ significant digits). An OP2 declares no units (``units`` is None); no damping ei
 
 pyNastran 1.4.1 (the latest release) declares numpy<2 but its OP2 reader works on numpy 2 except
 that three of its modules take ``numpy.in1d`` (removed in numpy 2.4) at import: the import
-below lends numpy an ``in1d`` for the duration of the import and takes it back.
+below lends numpy an ``in1d`` for the duration of the import and takes it back. Reading also
+touches ``numpy.chararray`` (deprecated in numpy 2.4, so a DeprecationWarning, silenced here); a
+numpy that removes it will need a shim like ``in1d``'s or a newer pyNastran.
 """
 
 from __future__ import annotations
 
 import contextlib
+import warnings
 
 import numpy as np
 
@@ -63,7 +66,10 @@ def read_modes_op2(path) -> ModeSet:
     model = OP2(log=SimpleLogger(level="critical"), debug=None)
     model.set_results(["eigenvectors", "eigenvalues"])
     try:
-        model.read_op2(str(path), build_dataframe=False, skip_undefined_matrices=True)
+        with warnings.catch_warnings():
+            # pyNastran 1.4.1 touches np.chararray, deprecated in numpy 2.4: not the user's concern
+            warnings.simplefilter("ignore")
+            model.read_op2(str(path), build_dataframe=False, skip_undefined_matrices=True)
     except Exception as e:  # pyNastran raises anything from AssertionError to struct.error
         raise ModeFileError(path, f"pyNastran cannot read it as an OP2 file ({_short(e)}); "
                                   "expected a Nastran OP2 written with PARAM,POST,-1") from None
