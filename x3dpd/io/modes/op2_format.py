@@ -18,6 +18,8 @@ numpy that removes it will need a shim like ``in1d``'s or a newer pyNastran.
 from __future__ import annotations
 
 import contextlib
+import io
+import struct
 import warnings
 
 import numpy as np
@@ -66,11 +68,15 @@ def read_modes_op2(path) -> ModeSet:
     model = OP2(log=SimpleLogger(level="critical"), debug=None)
     model.set_results(["eigenvectors", "eigenvalues"])
     try:
-        with warnings.catch_warnings():
-            # pyNastran 1.4.1 touches np.chararray, deprecated in numpy 2.4: not the user's concern
+        # pyNastran 1.4.1 touches np.chararray (deprecated in numpy 2.4) and prints its own
+        # diagnostics of a bad table: neither is the user's concern, the error below says it
+        with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
             warnings.simplefilter("ignore")
             model.read_op2(str(path), build_dataframe=False, skip_undefined_matrices=True)
-    except Exception as e:  # pyNastran raises anything from AssertionError to struct.error
+    except struct.error:
+        raise ModeFileError(path, "the file ends inside an OP2 record (cut short?); expected a "
+                                  "whole Nastran OP2 file") from None
+    except Exception as e:  # pyNastran raises anything from AssertionError to ValueError
         raise ModeFileError(path, f"pyNastran cannot read it as an OP2 file ({_short(e)}); "
                                   "expected a Nastran OP2 written with PARAM,POST,-1") from None
     tables = dict(model.eigenvectors)
