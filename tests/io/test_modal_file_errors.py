@@ -246,8 +246,8 @@ def test_uff_with_other_analysis_types(tmp_path):
     ([mode55(1, modal_m=1.0), mode55(2, modal_m=0.0)], "mode 2 has modal mass 0; expected"),
     ([mode55(1, modal_damp_vis=2.0)], "mode 1 has damping ratio 2; expected"),
     ([units164(5, 1000.0, 1000.0), mode55()],
-     "dataset 164 declares units code 5 (test) with length factor 1000.0 and force factor "
-     "1000.0, which x3dpd cannot name"),
+     ("dataset 164 declares units code 5 (test) with length factor 1000.0 and force factor "
+      "1000.0, which x3dpd cannot name")),
     ([units164(1), units164(7), mode55()], "its datasets 164 declare different units"),
 ])
 def test_uff_errors(tmp_path, sets, words):

@@ -10,8 +10,13 @@ from modal_models import (CANTILEVER_BETA_L, FIXTURES, aligned, cantilever_fe, c
                           make_mode_files, need_pynastran)
 
 from x3dpd.errors import ModeFileError
-from x3dpd.io.modes import (ModeSet, modes_from_matrices, read_modes, write_modes_csv,
-                            write_modes_npz)
+from x3dpd.io.modes import (
+    ModeSet,
+    modes_from_matrices,
+    read_modes,
+    write_modes_csv,
+    write_modes_npz,
+)
 
 TOOL = make_mode_files()
 
@@ -263,3 +268,16 @@ def test_modes_from_matrices_keeps_rigid_body_modes_at_zero_hertz():
 def test_modes_from_matrices_refuses_what_is_not_a_structure(K, M, nodes, dofs, words):
     with pytest.raises(ValueError, match=words):
         modes_from_matrices(K, M, nodes, dofs)
+
+
+def test_the_csv_example_of_the_deck_reference_reads(tmp_path):
+    doc = (FIXTURES.parents[2] / "docs" / "deck-reference.md").read_text()
+    section = doc[doc.index("### CSV layout"):]
+    block = section[section.index("    # comment"):section.index("\n\n*")]
+    path = tmp_path / "example.csv"
+    path.write_text("\n".join(line[4:] for line in block.splitlines()) + "\n")
+    modes = read_modes(path)
+    assert modes.mode_numbers.tolist() == [1, 2, 3] and modes.node_ids.tolist() == [101, 102]
+    np.testing.assert_array_equal(modes.freq_hz, [12.5, 80.1, 220.4])
+    np.testing.assert_array_equal(modes.shapes[:, 0, 1], [0.0001, 0.0002, np.nan])
+    assert modes.units == ("m", "N", "s")

@@ -76,7 +76,7 @@ def read_modes_op2(path) -> ModeSet:
     except struct.error:
         raise ModeFileError(path, "the file ends inside an OP2 record (cut short?); expected a "
                                   "whole Nastran OP2 file") from None
-    except Exception as e:  # pyNastran raises anything from AssertionError to ValueError
+    except Exception as e:  # noqa: BLE001 -- pyNastran raises AssertionError, ValueError, ...
         raise ModeFileError(path, f"pyNastran cannot read it as an OP2 file ({_short(e)}); "
                                   "expected a Nastran OP2 written with PARAM,POST,-1") from None
     tables = dict(model.eigenvectors)

@@ -55,7 +55,7 @@ def read_modes_uff(path) -> ModeSet:
     try:
         uff = pyuff.UFF(str(path))
         types = [int(t) for t in uff.get_set_types()]
-    except Exception as e:  # pyuff raises bare Exception
+    except Exception as e:  # noqa: BLE001 -- pyuff raises bare Exception
         raise ModeFileError(path, f"pyuff cannot read it as a universal file ({e})") from None
     if not types:
         raise ModeFileError(path, "no universal-file datasets (no '    -1' delimited blocks); "
@@ -79,7 +79,7 @@ def _read(uff, path, indices, number) -> list[dict]:
         return []
     try:
         sets = uff.read_sets(indices)
-    except Exception as e:
+    except Exception as e:  # noqa: BLE001 -- pyuff raises bare Exception
         raise ModeFileError(path, f"a dataset {number} cannot be read ({e}); expected the "
                                   f"layout of dataset {number}") from None
     return [sets] if isinstance(sets, dict) else list(sets)
