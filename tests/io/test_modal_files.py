@@ -124,12 +124,13 @@ def test_op2_and_uff_of_one_model_agree():
 
 
 def rich_mode_set(path="rich"):
-    """Modes out of order in nothing, with NaN for some components of some modes, damping,
-    modal masses and units: everything a ModeSet can hold."""
+    """Values over many magnitudes, NaN for some components of some modes and for every
+    component of one node, damping, modal masses and units: everything a ModeSet can hold."""
     rng = np.random.default_rng(7)
     shapes = rng.normal(size=(3, 4, 6)) * 10.0 ** rng.integers(-12, 6, size=(3, 4, 6))
     shapes[:, 1, 3:] = np.nan
     shapes[2, 3, :] = np.nan
+    shapes[:, 2, :] = np.nan  # node 100: no value at all
     return ModeSet(path, [2, 5, 9], [0.0, 1 / 3, 12345.678901234567], [3, 7, 100, 2_000_000_000],
                    shapes, damping=[0.0, 0.05, 0.999], modal_mass=[1.0, 2.5, 1e-9],
                    units=("mm", "N", "s"))

@@ -109,10 +109,10 @@ def write_modes_csv(path, modes: ModeSet) -> None:
             out.write(f"{key},," + ",".join(num(v) for v in values) + "\n")
     out.write("node,dof," + ",".join(str(m) for m in modes.mode_numbers) + "\n")
     for i, node in enumerate(modes.node_ids):
-        for c in range(6):
+        given = [c for c in range(6) if not np.isnan(modes.shapes[:, i, c]).all()]
+        for c in given or [0]:  # a node without any value keeps its place: one empty row
             column = modes.shapes[:, i, c]
-            if not np.isnan(column).all():
-                out.write(f"{node},{DOF_NAMES[c]}," + ",".join(num(v) for v in column) + "\n")
+            out.write(f"{node},{DOF_NAMES[c]}," + ",".join(num(v) for v in column) + "\n")
     data = out.getvalue().encode("utf-8")
     write_atomically(path, lambda f: f.write(data))
 

@@ -54,8 +54,9 @@ class ModeSet:
     node_ids : (N,) int64
         The file's node (grid) ids, increasing.
     shapes : (M, N, 6) float64
-        phi_r at each node: x, y, z [L-normalised], rx, ry, rz [rad-normalised]; NaN where the
-        file gives no value.
+        phi_r at each node: translations x, y, z then rotations rx, ry, rz (mass-normalised:
+        [L / sqrt(M)] and [rad / sqrt(M)], M the unit of mass); NaN where the file gives no
+        value.
     damping : (M,) float64 or None
         Modal viscous damping ratios zeta_r in [0, 1) when the file gives them.
     modal_mass : (M,) float64 or None
