@@ -10,7 +10,7 @@
     Euler-Bernoulli beam elements (cubic Hermite, consistent mass) bending in y (v, rz = dv/dx)
     and in z (w, ry = -dw/dx); inch-lbf-s units. Its first four modes.
 
-Modes are solved with ``x3dpd.io.modes.modes_from_matrices`` (scipy.linalg.eigh; shapes
+Modes are solved with ``x3dpd.deck.modes.modes_from_matrices`` (scipy.linalg.eigh; shapes
 mass-normalised, the component of largest magnitude positive). Each model is written as:
 
 - ``NAME.op2``: a Nastran-style OP2 (MSC header, LAMA eigenvalue summary with generalized mass 1
@@ -40,8 +40,8 @@ sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
 
-from x3dpd.io.modes import ModeSet, modes_from_matrices, write_modes_csv  # noqa: E402
-from x3dpd.io.modes.op2_format import numpy_in1d_for_import  # noqa: E402
+from x3dpd.deck.modes import ModeSet, modes_from_matrices, write_modes_csv  # noqa: E402
+from x3dpd.deck.modes.op2_format import numpy_in1d_for_import  # noqa: E402
 
 #: (a) the chain: mass [kg], stiffness [N/m], node ids, damping ratios written to the UFF file.
 CHAIN = {"m": 2.0, "k": 1.0e4, "nodes": (10, 20, 30), "damping": (0.01, 0.02, 0.03)}

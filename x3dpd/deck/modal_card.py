@@ -71,16 +71,18 @@ class ModalShape:
 
 @dataclass(frozen=True)
 class ModalFile:
-    """FILE PATH [OPTION=VALUE ...]: the modes of a mode file (x3dpd.deck.mode_files).
-    ``options`` maps an option name to (value text, position); ``modes`` is the ModeSet read
-    from the file (set by read_deck; None before)."""
+    """FILE PATH [OPTION=VALUE ...]: the modes of a mode file (x3dpd.deck.modes).
+    ``options`` holds (name, value, position of the value), the value parsed (modes: a tuple
+    of mode numbers; band: (lo, hi); zeta: a tuple; map: {file node: deck node}; units:
+    (length, force, time); format, normalize: lower-case words); ``mode_set`` is the ModeSet
+    read from the file (set by read_deck; None before)."""
 
     path: str
-    options: tuple[tuple[str, str, Pos], ...] = ()
+    options: tuple[tuple[str, Any, Pos], ...] = ()
     pos: Pos = NOWHERE
-    modes: Any = field(default=None, compare=False, repr=False)
+    mode_set: Any = field(default=None, compare=False, repr=False)
 
-    def option(self, name: str) -> tuple[str, Pos] | None:
+    def option(self, name: str) -> tuple[Any, Pos] | None:
         for key, value, pos in self.options:
             if key == name:
                 return value, pos
@@ -187,8 +189,8 @@ def parse_modal(keyword_pos: Pos, lines: list[tuple[str, int, int]]) -> Modal:
                                f"{', '.join(FILE_OPTIONS)}", pos)
                 if any(o[0] == name for o in options):
                     raise _err(f"FILE option {name!r} is given twice", pos)
-                _check_option(name, value, pos)
-                options.append((name, value, Pos(pos.line, pos.column + len(name) + 1)))
+                vpos = Pos(pos.line, pos.column + len(name) + 1)
+                options.append((name, _option_value(name, value, vpos), vpos))
             files.append(ModalFile(path, tuple(options), kpos))
         elif key == "HOUSING":
             if len(rest) != 1 or rest[0][0].lower() not in HOUSINGS:
@@ -223,30 +225,34 @@ def parse_modal(keyword_pos: Pos, lines: list[tuple[str, int, int]]) -> Modal:
                  tuple(kept))
 
 
-def _check_option(name: str, value: str, pos: Pos) -> None:
-    """What a FILE option's value must look like (its meaning is applied by the model)."""
-    vpos = Pos(pos.line, pos.column + len(name) + 1)
+def _option_value(name: str, value: str, vpos: Pos) -> Any:
+    """A FILE option's value, parsed and checked (its meaning is applied by the model)."""
     if name == "format":
         if value.lower() not in ("op2", "uff", "unv", "csv", "npz"):
             raise _err(f"FILE format {value!r}: expected op2, uff, csv or npz", vpos)
-    elif name == "modes":
-        mode_numbers(value, vpos)
-    elif name == "band":
-        band(value, vpos)
-    elif name == "zeta":
+        return value.lower()
+    if name == "modes":
+        return mode_numbers(value, vpos)
+    if name == "band":
+        return band(value, vpos)
+    if name == "zeta":
+        out = []
         for part in value.split(","):
-            if _number(part, vpos, "FILE zeta") < 0.0:
+            z = _number(part, vpos, "FILE zeta")
+            if z < 0.0:
                 raise _err(f"FILE zeta must be >= 0; got {part}", vpos)
-    elif name == "map":
-        node_map(value, vpos)
-    elif name == "units":
+            out.append(z)
+        return tuple(out)
+    if name == "map":
+        return node_map(value, vpos)
+    if name == "units":
         try:
-            parse_units(value.replace(",", " ").split())
+            return parse_units(value.replace(",", " ").split())
         except ValueError as exc:
             raise _err(f"FILE units: {exc}", vpos) from None
-    elif name == "normalize":
-        if value.lower() != "mass":
-            raise _err(f"FILE normalize {value!r}: the only choice is 'mass'", vpos)
+    if value.lower() != "mass":   # normalize
+        raise _err(f"FILE normalize {value!r}: the only choice is 'mass'", vpos)
+    return "mass"
 
 
 def mode_numbers(value: str, pos: Pos) -> tuple[int, ...]:
@@ -297,7 +303,7 @@ def load_mode_files(deck, base_dir: str):
     modal = deck.modal
     if modal is None or not modal.files:
         return deck
-    from x3dpd.deck.mode_files import read_modes
+    from x3dpd.deck.modes import read_modes
     from x3dpd.errors import InputError
 
     files = []
@@ -305,9 +311,9 @@ def load_mode_files(deck, base_dir: str):
         path = rec.path if os.path.isabs(rec.path) else os.path.join(base_dir, rec.path)
         fmt = rec.option("format")
         try:
-            modes = read_modes(path, fmt[0].lower() if fmt else None)
+            modes = read_modes(path, fmt[0] if fmt else None)
         except InputError as exc:
             raise DeckError(f"mode file {rec.path}: {exc}", deck.path, rec.pos.line,
                             rec.pos.column, CARD) from None
-        files.append(replace(rec, modes=modes))
+        files.append(replace(rec, mode_set=modes))
     return replace(deck, modal=replace(modal, files=tuple(files)))

@@ -1,6 +1,5 @@
 """Files x3dpd writes and reads: trace files (:mod:`.trace`), restart dumps (:mod:`.restart`)
-and trace comparison (:mod:`.tracediff`). Formats: ``docs/trace-format.md``. Files of modes
-(MODAL FILE records) are :mod:`x3dpd.io.modes`, imported on its own."""
+and trace comparison (:mod:`.tracediff`). Formats: ``docs/trace-format.md``."""
 
 from x3dpd.io.restart import RESTART_FORMAT, load_restart, save_restart, write_atomically
 from x3dpd.io.trace import (

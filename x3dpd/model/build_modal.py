@@ -97,9 +97,7 @@ class ModalSteps(BuilderBase):
 
     # -- a mode file ----------------------------------------------------------------------------
     def _modes_from_file(self, rec):
-        from x3dpd.deck.modal_card import band, mode_numbers, node_map
-
-        ms = rec.modes
+        ms = rec.mode_set
         if ms is None:
             raise self.error(f"mode file {rec.path} was not read (parse the deck with "
                              "x3dpd.deck.read_deck)", rec.pos, CARD)
@@ -107,8 +105,7 @@ class ModalSteps(BuilderBase):
         numbers = np.asarray(ms.mode_numbers, dtype=np.int64)
         keep = np.ones(numbers.shape[0], dtype=bool)
         if opt("modes"):
-            value, pos = opt("modes")
-            want = mode_numbers(value, pos)
+            want, pos = opt("modes")
             missing = sorted(set(want) - set(numbers.tolist()))
             if missing:
                 raise self.error(f"mode file {rec.path} has no mode {missing[0]} (it holds modes "
@@ -118,17 +115,17 @@ class ModalSteps(BuilderBase):
         deck_units = self._deck_units()
         file_units = tuple(ms.units) if ms.units is not None else None
         if opt("units"):
-            value, pos = opt("units")
-            stated = tuple(_unit_words(value))
+            stated, pos = opt("units")
+            stated = tuple(stated)
             if file_units is not None and stated != file_units:
-                raise self.error(f"FILE units={value} contradicts mode file {rec.path}, which "
-                                 f"says it is in {' '.join(file_units)}", pos, CARD)
+                raise self.error(f"FILE units={','.join(stated)} contradicts mode file "
+                                 f"{rec.path}, which says it is in {' '.join(file_units)}",
+                                 pos, CARD)
             file_units = stated
         f_time, f_shape_t, f_shape_r = unit_factors(file_units or deck_units, deck_units)
         freq = np.asarray(ms.freq_hz, dtype=np.float64) * f_time
         if opt("band"):
-            value, pos = opt("band")
-            lo, hi = band(value, pos)
+            (lo, hi), pos = opt("band")
             keep &= (freq >= lo) & (freq <= hi)
         if not keep.any():
             raise self.error(f"no mode of mode file {rec.path} is kept (it holds modes "
@@ -153,8 +150,7 @@ class ModalSteps(BuilderBase):
                                  rec.pos, CARD)
         # damping
         if opt("zeta"):
-            value, pos = opt("zeta")
-            parts = [float(v) for v in value.split(",")]
+            parts, pos = opt("zeta")
             if len(parts) not in (1, int(keep.sum())):
                 raise self.error(f"FILE zeta gives {len(parts)} values for {int(keep.sum())} "
                                  f"kept modes; give one for all or one per mode", pos, CARD)
@@ -165,14 +161,14 @@ class ModalSteps(BuilderBase):
             raise self.error(f"mode file {rec.path} gives no damping: add zeta=RATIO (one for "
                              "all modes, or one per kept mode)", rec.pos, CARD)
         # nodes
-        mapping = node_map(*opt("map")) if opt("map") else {}
+        mapping = opt("map")[0] if opt("map") else {}
         shapes: dict[int, np.ndarray] = {}
         for n, fid in enumerate(np.asarray(ms.node_ids, dtype=np.int64)):
             did = mapping.get(int(fid), int(fid))
             i = self.index.get(did)
             if i is None:
                 if int(fid) in mapping:
-                    value, pos = opt("map")
+                    pos = opt("map")[1]
                     raise self.error(f"FILE map sends file node {int(fid)} to node {did}, which "
                                      "is not defined in NODE COORDINATES", pos, CARD)
                 continue        # a node of the FE model the deck does not use
@@ -182,7 +178,7 @@ class ModalSteps(BuilderBase):
             shapes[i] = shapes_all[:, n, :].T.copy()      # (6, M)
         for fid in mapping:
             if fid not in set(np.asarray(ms.node_ids).tolist()):
-                value, pos = opt("map")
+                pos = opt("map")[1]
                 raise self.error(f"FILE map names file node {fid}, which mode file {rec.path} "
                                  "does not hold", pos, CARD)
         if not shapes:
@@ -244,12 +240,6 @@ def couple_added_mass(omega: np.ndarray, zeta: np.ndarray, phi: np.ndarray,
 
 def _cross_matrix(v: np.ndarray) -> np.ndarray:
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-def _unit_words(value: str) -> list[str]:
-    from x3dpd.units import parse_units
-
-    return list(parse_units(value.replace(",", " ").split()))
 
 
 def _ranges(numbers) -> str:

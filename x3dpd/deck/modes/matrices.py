@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from x3dpd.io.modes.modeset import ModeSet, parse_dof, sorted_mode_set
+from x3dpd.deck.modes.modeset import ModeSet, parse_dof, sorted_mode_set
 
 
 def modes_from_matrices(K, M, node_ids, dofs, *, n_modes: int | None = None, damping=None,

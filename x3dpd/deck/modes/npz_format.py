@@ -23,7 +23,7 @@ import numpy as np
 
 from x3dpd._files import write_atomically
 from x3dpd.errors import ModeFileError
-from x3dpd.io.modes.modeset import ModeSet, sorted_mode_set
+from x3dpd.deck.modes.modeset import ModeSet, sorted_mode_set
 
 REQUIRED = ("mode_numbers", "freq_hz", "node_ids", "shapes")
 OPTIONAL = ("damping", "modal_mass", "units")

@@ -16,7 +16,7 @@ from pyuff.datasets.dataset_58 import prepare_58
 from pyuff.datasets.dataset_164 import prepare_164
 
 from x3dpd.errors import InputError, ModeFileError
-from x3dpd.io.modes import ModeFileWarning, ModeSet, read_modes, write_modes_npz
+from x3dpd.deck.modes import ModeFileWarning, ModeSet, read_modes, write_modes_npz
 
 
 def fails(path, *words, fmt=None, line=None):

@@ -25,7 +25,7 @@ import numpy as np
 
 from x3dpd._files import write_atomically
 from x3dpd.errors import ModeFileError
-from x3dpd.io.modes.modeset import DOF_NAMES, ModeSet, parse_dof, sorted_mode_set
+from x3dpd.deck.modes.modeset import DOF_NAMES, ModeSet, parse_dof, sorted_mode_set
 from x3dpd.units import parse_units
 
 _PER_MODE = ("freq_hz", "damping", "modal_mass")

@@ -10,7 +10,7 @@ from modal_models import (CANTILEVER_BETA_L, FIXTURES, aligned, cantilever_fe, c
                           make_mode_files, need_pynastran)
 
 from x3dpd.errors import ModeFileError
-from x3dpd.io.modes import (
+from x3dpd.deck.modes import (
     ModeSet,
     modes_from_matrices,
     read_modes,

@@ -25,7 +25,7 @@ def make_mode_files():
 
 def need_pynastran():
     """Skip the calling test unless pyNastran's OP2 reader imports."""
-    from x3dpd.io.modes.op2_format import INSTALL_HINT, pynastran_op2
+    from x3dpd.deck.modes.op2_format import INSTALL_HINT, pynastran_op2
     try:
         pynastran_op2()
         import cpylog  # noqa: F401

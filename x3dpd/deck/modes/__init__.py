@@ -13,12 +13,12 @@ from __future__ import annotations
 import os
 
 from x3dpd.errors import ModeFileError
-from x3dpd.io.modes.csv_format import read_modes_csv, write_modes_csv
-from x3dpd.io.modes.matrices import modes_from_matrices
-from x3dpd.io.modes.modeset import DOF_NAMES, ModeSet, parse_dof
-from x3dpd.io.modes.npz_format import read_modes_npz, write_modes_npz
-from x3dpd.io.modes.op2_format import read_modes_op2
-from x3dpd.io.modes.uff_format import ModeFileWarning, read_modes_uff
+from x3dpd.deck.modes.csv_format import read_modes_csv, write_modes_csv
+from x3dpd.deck.modes.matrices import modes_from_matrices
+from x3dpd.deck.modes.modeset import DOF_NAMES, ModeSet, parse_dof
+from x3dpd.deck.modes.npz_format import read_modes_npz, write_modes_npz
+from x3dpd.deck.modes.op2_format import read_modes_op2
+from x3dpd.deck.modes.uff_format import ModeFileWarning, read_modes_uff
 
 #: fmt -> reader
 READERS = {"op2": read_modes_op2, "uff": read_modes_uff, "csv": read_modes_csv,

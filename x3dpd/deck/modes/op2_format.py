@@ -25,7 +25,7 @@ import warnings
 import numpy as np
 
 from x3dpd.errors import ModeFileError
-from x3dpd.io.modes.modeset import ModeSet, sorted_mode_set
+from x3dpd.deck.modes.modeset import ModeSet, sorted_mode_set
 
 #: How to get the optional OP2 reader (say it in errors).
 INSTALL_HINT = ("pip install cpylog && pip install --no-deps pyNastran==1.4.1 "

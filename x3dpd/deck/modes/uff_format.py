@@ -22,7 +22,7 @@ import warnings
 import numpy as np
 
 from x3dpd.errors import ModeFileError
-from x3dpd.io.modes.modeset import ModeSet, sorted_mode_set
+from x3dpd.deck.modes.modeset import ModeSet, sorted_mode_set
 
 #: Names of common datasets, for saying what a file holds.
 DATASET_NAMES = {15: "nodes", 18: "coordinate systems", 55: "data at nodes",
