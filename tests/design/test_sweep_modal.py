@@ -1,0 +1,84 @@
+"""Sweeps of modal structures (MODAL card): the closed-form baselines come from the modes (the
+particles' mass coupled in like the housing's), a particle-free modal deck's simulated sweep
+equals its FRF, and the predicted start puts the modes on their steady state."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "solver"))
+from modal_decks import modal_deck  # noqa: E402
+
+from x3dpd.deck.parser import read_deck
+from x3dpd.design.baselines import (linear_modal, linear_structure, particle_mass,
+                                    with_added_mass, without_particles)
+from x3dpd.design.spec import SweepSpec
+from x3dpd.design.steady_state import Criterion
+from x3dpd.design.sweep import deck_hash, plan, run_sweep
+from x3dpd.model.build import build_model
+
+DECKS = Path(__file__).resolve().parents[2] / "decks"
+TWO = [(1, 6.0, 0.04), (2, 17.0, 0.05)]
+PHI = {1: (20.0, 14.0), 2: (9.0, -25.0)}
+
+
+def _frf(hz, node_out, node_in=1):
+    w = 2 * math.pi * hz
+    return sum(PHI[node_out][k] * PHI[node_in][k]
+               / ((2 * math.pi * f) ** 2 - w * w + 2j * z * (2 * math.pi * f) * w)
+               for k, (_, f, z) in enumerate(TWO))
+
+
+def test_a_modal_decks_sweep_equals_its_frf(tmp_path):
+    """Two modes, no particles: every point (each from its predicted start) within the
+    criterion's 1e-3 plus the integrator's error of the two-mode FRF, and its ledger's input
+    work per cycle is pi F |X| sin(-phi)."""
+    path = tmp_path / "two.inp"
+    path.write_text(modal_deck(dt=1e-4, tmax=100.0, modes=TWO,
+                               shapes=[(n, 1, v) for n, v in PHI.items()],
+                               drive="sine:node=1,dof=1,amp=0.002,hz=6.0"))
+    spec = SweepSpec(deck=read_deck(path), deck_text_hash=deck_hash(path),
+                     frequencies=(5.0, 6.0, 11.0, 17.0), drives=(0.002,), node=1, dof=1,
+                     criterion=Criterion(tol=1e-3))
+    rows = run_sweep(spec, tmp_path / "out", workers=1)
+    for r in rows:
+        h = 0.002 * _frf(r["frequency_hz"], 1)
+        assert r["converged"]
+        assert r["start"] == "predicted"
+        assert r["amplitude"] == pytest.approx(abs(h), rel=2e-3)
+        assert math.radians(r["phase"]) == pytest.approx(np.angle(h), abs=2e-3)
+        assert r["cycles"] <= 5 * 4      # on the steady state from the start: few windows
+
+
+def test_modal_baselines_are_closed_form_rows(tmp_path):
+    """decks/beam_64_modal.inp: both baselines are linear modal structures, so the sweep plans
+    only the deck's own points; the undamped one is the modes with the cavity, the added-mass
+    one has the particles' mass coupled in too (the reduced eigenproblem, computed here)."""
+    deck = read_deck(DECKS / "beam_64_modal.inp")
+    spec = SweepSpec(deck=deck, deck_text_hash="x", frequencies=(36.0, 37.5),
+                     drives=(4.8404e-3,), node=9, dof=1,
+                     baselines=("undamped", "added-mass"))
+    chains, closed = plan(spec)
+    assert {p.config for chain in chains for p in chain} == {"deck"}
+    assert sorted({r["config"] for r in closed}) == ["added-mass", "undamped"]
+    bare = build_model(without_particles(deck))
+    mp = particle_mass(build_model(deck))
+    added = build_model(with_added_mass(deck, 9, mp))
+    # coupling the particles' mass into the bare modes by hand
+    ms = bare.modal
+    j = int(np.flatnonzero(ms.nodes == bare.index_of(9))[0])
+    phi = ms.shape[j, 0]
+    lam = scipy.linalg.eigh(np.diag(ms.omega ** 2), np.eye(ms.n_modes) + mp * np.outer(phi, phi),
+                            eigvals_only=True)
+    assert np.allclose(added.modal.omega, np.sqrt(lam), rtol=1e-10)
+    lin = linear_structure(added, 9, 1)
+    for r in (r for r in closed if r["config"] == "added-mass"):
+        w = 2 * math.pi * r["frequency_hz"]
+        assert r["amplitude"] == pytest.approx(abs(4.8404e-3 * lin.receptance(w)), rel=1e-12)
+    assert linear_modal(build_model(deck), 9, 1) is None        # particles: not linear
