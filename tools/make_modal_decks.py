@@ -56,7 +56,7 @@ def cantilever_modes(n: int, e: float, rho: float, b: float, h: float, length: f
     (int_0^L mu phi^2 ds = 1, mu = rho b h; bending across the thickness h, I = b h^3 / 12);
     each sign chosen so that the tip value is positive. phi(s) = C [cosh bs - cos bs
     - sigma (sinh bs - sin bs)], sigma = (cosh bL + cos bL)/(sinh bL + sin bL); the tip value of
-    a mass-normalised mode is 2/sqrt(mu L)."""
+    a mass-normalised mode is 2/sqrt(mu L) (C follows from it)."""
     mu = rho * b * h
     inertia = b * h**3 / 12.0
     roots = cantilever_roots(n)
@@ -64,9 +64,12 @@ def cantilever_modes(n: int, e: float, rho: float, b: float, h: float, length: f
     tip, slope = [], []
     for x in roots:
         beta = x / length
-        sigma = (math.cosh(x) + math.cos(x)) / (math.sinh(x) + math.sin(x))
-        value = math.cosh(x) - math.cos(x) - sigma * (math.sinh(x) - math.sin(x))
-        grad = beta * (math.sinh(x) + math.sin(x) - sigma * (math.cosh(x) - math.cos(x)))
+        # the textbook forms with sigma cancel for high modes (cosh x ~ sinh x); expanded:
+        # phi(L) = 2 (cosh x sin x - cos x sinh x) / (sinh x + sin x),
+        # phi'(L) = 2 beta sinh x sin x / (sinh x + sin x)
+        den = 1.0 + math.sin(x) / math.sinh(x)
+        value = 2.0 * (math.sin(x) / math.tanh(x) - math.cos(x)) / den
+        grad = 2.0 * beta * math.sin(x) / den
         scale = 2.0 / math.sqrt(mu * length) / abs(value)
         sign = 1.0 if value > 0 else -1.0
         tip.append(sign * scale * value)
