@@ -82,3 +82,47 @@ def test_modal_baselines_are_closed_form_rows(tmp_path):
         w = 2 * math.pi * r["frequency_hz"]
         assert r["amplitude"] == pytest.approx(abs(4.8404e-3 * lin.receptance(w)), rel=1e-12)
     assert linear_modal(build_model(deck), 9, 1) is None        # particles: not linear
+
+
+def test_a_response_elsewhere_is_the_cross_frf(tmp_path):
+    """Force at node 1, ``--response 2:1``: the response rows are the two-mode structure's cross
+    FRF H_21 (computed here) within the criterion, and the undamped baseline's closed-form rows
+    give it exactly; the CSV has a row per point and measured node."""
+    from x3dpd.design.commands import sweep_command
+    from x3dpd.design.sweep import read_csv
+
+    path = tmp_path / "two.inp"
+    path.write_text(modal_deck(dt=1e-4, tmax=100.0, modes=TWO,
+                               shapes=[(n, 1, v) for n, v in PHI.items()],
+                               drive="sine:node=1,dof=1,amp=0.002,hz=6.0"))
+    rows = sweep_command(str(path), freq="6.0,11.0", amps=["0.002"], node=1, dof=1,
+                         responses=["2:1"], baselines=["undamped"], out=str(tmp_path / "o"),
+                         workers=1, tol=1e-3, echo=lambda s: None)
+    for r in rows:
+        (m,) = r["responses"]
+        h = 0.002 * _frf(r["frequency_hz"], 2)
+        rel = 2e-3 if r["method"] == "simulated" else 1e-12
+        assert (m["response_node"], m["response_dof"]) == (2, 1)
+        assert m["amplitude"] == pytest.approx(abs(h), rel=rel)
+        assert math.radians(m["phase"]) == pytest.approx(np.angle(h), abs=max(rel, 1e-12))
+        w = 2 * math.pi * r["frequency_hz"]
+        assert m["accelerance"] == pytest.approx(w * w * abs(h) / 0.002, rel=rel)
+    csv = read_csv(tmp_path / "o" / "sweep.csv")
+    assert len(csv) == 2 * len(rows)
+    assert sorted({(c["response_node"], c["response_dof"]) for c in csv}) == [(1.0, 1.0),
+                                                                            (2.0, 1.0)]
+    assert (tmp_path / "o" / "sweep_responses.png").stat().st_size > 10000
+
+
+def test_bad_responses_are_refused_before_anything_runs(tmp_path):
+    from x3dpd.design.commands import sweep_command
+    from x3dpd.errors import InputError
+
+    path = tmp_path / "two.inp"
+    path.write_text(modal_deck(dt=1e-4, tmax=1.0, modes=TWO,
+                               shapes=[(n, 1, v) for n, v in PHI.items()]))
+    for bad, says in (("7:1", "not a node"), ("2:5", "DOF 1, 2 or 3"), ("2", "NODE:DOF")):
+        with pytest.raises(InputError, match=says):
+            sweep_command(str(path), freq="6", amps=["1"], node=1, dof=1, responses=[bad],
+                          out=str(tmp_path / "o"), workers=1, echo=lambda s: None)
+        assert not (tmp_path / "o").exists()
