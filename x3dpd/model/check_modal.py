@@ -25,7 +25,8 @@ def modal_table(model: Model) -> list[str]:
     if ms is None:
         return []
     nyquist = 0.5 / model.dt
-    lines = [f"{ms.n_modes} modes from {ms.source}; housing {ms.housing}"
+    plural = "s" if ms.n_modes != 1 else ""
+    lines = [f"{ms.n_modes} mode{plural} from {ms.source}; housing {ms.housing}"
              + (" (the deck's mass on modal nodes coupled in)" if ms.housing == "added" else
                 " (the modes include the deck's mass on modal nodes)")]
     for k in range(ms.n_modes):
