@@ -202,6 +202,8 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     rig_ib = _f64(model.rigid_inertia, (nb, 3, 3)).copy()
     rig_inv_ib = np.zeros((nb, 3, 3))
     slave = np.zeros(n, dtype=bool)
+    modal_bodies = set() if model.modal is None else set(model.modal.body[model.modal.body >= 0]
+                                                         .tolist())
     for b in range(nb):
         m = int(model.rigid_master[b])
         sl = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
@@ -209,7 +211,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_r0[model.rigid_ptr[b]:model.rigid_ptr[b + 1]] = model.x0[sl] - model.x0[m]
         kin_mass[m] = model.rigid_mass[b]
         kin_inertia[m] = np.diag(rig_ib[b])
-        rig_free_rot[b] = ~fixed[m, 3:6]
+        rig_free_rot[b] = ~fixed[m, 3:6] & (b not in modal_bodies)   # the modes turn those
         if rig_free_rot[b].any():
             rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
     kin_mass[slave] = 0.0
