@@ -91,7 +91,8 @@ def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping 
 
 
 def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
-                   curves: Mapping, title: str = "", units: str = "in") -> str:
+                   curves: Mapping, title: str = "", units: str = "in", force: str = "lbf",
+                   time: str = "s") -> str:
     """Accelerance (acceleration amplitude / drive) versus frequency at each measured response
     (``--response``; a row of panels each, one panel per drive), baselines overlaid (``curves``:
     {(node, dof): {(config, drive): (f, X)}})."""
@@ -104,7 +105,7 @@ def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
                     if (m["response_node"], m["response_dof"]) == (node, dof)]
         for ax, drive in zip(row_axes, drives):
             _sweep_axes(ax, measured, curves.get((node, dof), {}), drive, "accelerance",
-                        f"accelerance [{units}/s^2 per force unit]")
+                        f"accelerance [({units}/{time}^2) / {force}]")
             ax.set_title(f"node {node} dof {dof}, drive {drive:.5g}", fontsize=9)
     if title:
         fig.suptitle(title, fontsize=10)

@@ -65,11 +65,12 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
              "the same command resumes the sweep")
         raise
     curves = baseline_curves(spec)
-    plot_sweep(Path(out) / "sweep.png", rows, curves, title=Path(deck_path).name)
+    length, force, unit_t = deck.units.system if deck.units is not None else ("in", "lbf", "s")
+    plot_sweep(Path(out) / "sweep.png", rows, curves, title=Path(deck_path).name, units=length)
     if measured:
         plot_responses(Path(out) / "sweep_responses.png", rows, measured,
                        {r: baseline_curves(spec, response=r) for r in measured},
-                       title=Path(deck_path).name)
+                       title=Path(deck_path).name, units=length, force=force, time=unit_t)
     for a in attenuations(rows, curves):
         echo(f"peak attenuation at drive {a['drive']:g}: {a['attenuation_db']:.2f} dB vs "
              f"{a['baseline']} (peak {a['baseline_peak']:.4e} -> {a['deck_peak']:.4e})")
