@@ -38,6 +38,9 @@ class State:
     ledger (4,) cumulative work/dissipation; cs, cs_on (R) contact state rows and open flags of
     the analytic walls' static list, one row per part of each (particle, wall) pair
     (x3dpd.solver.bundles.Shapes; empty without any);
+    axial_fd_prev (A,3) the axial dampers' force vectors of the last step;
+    rotational_theta (Q,3) each rotational spring's relative rotation about x, y, z since t0
+    [rad]; rotational_md_prev (Q,3) the rotational dampers' moments of the last step;
     step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
@@ -64,6 +67,9 @@ class State:
     ledger: np.ndarray
     cs: np.ndarray = None
     cs_on: np.ndarray = None
+    axial_fd_prev: np.ndarray = None
+    rotational_theta: np.ndarray = None
+    rotational_md_prev: np.ndarray = None
     step: int = 0
     e_ref: float = 0.0
     scale: float = 0.0
@@ -85,8 +91,8 @@ class State:
     def from_arrays(cls, arrays: dict) -> "State":
         kw = {}
         for f in fields(cls):
-            if f.name in _SHAPE_STATE and f.name not in arrays:
-                continue   # a dump written before analytic walls existed: a scene without any
+            if f.name in _SHAPE_STATE + _SPRING_STATE and f.name not in arrays:
+                continue   # a dump written before these existed: a scene without any
             v = arrays[f.name]
             if f.name == "step":
                 kw[f.name] = int(v)
@@ -98,11 +104,16 @@ class State:
         if state.cs is None:
             state.cs = np.zeros((0, state.ws.shape[1]))
             state.cs_on = np.zeros(0, np.int8)
+        for name in _SPRING_STATE:
+            if getattr(state, name) is None:
+                setattr(state, name, np.zeros((0, 3)))
         return state
 
 
 #: State fields of the analytic walls' contacts (absent from dumps of older versions).
 _SHAPE_STATE = ("cs", "cs_on")
+#: State fields of the axial and rotational springs (MATID types 2, 3; absent from older dumps).
+_SPRING_STATE = ("axial_fd_prev", "rotational_theta", "rotational_md_prev")
 
 
 @dataclass(frozen=True)
@@ -119,6 +130,13 @@ class Setup:
     sp_nodes: np.ndarray
     sp_k: np.ndarray
     sp_c: np.ndarray
+    ax_nodes: np.ndarray   # (A, 2) axial elements (MATID type 2): node indices
+    ax_k: np.ndarray       # (A,) stiffness [force/length]
+    ax_c: np.ndarray       # (A,) damping [force s/length]
+    ax_rest: np.ndarray    # (A,) rest length L0 [length]
+    rot_nodes: np.ndarray  # (Q, 2) rotational elements (MATID type 3): node indices (-1: ground)
+    rot_k: np.ndarray      # (Q, 3) stiffness about x, y, z [force length/rad]
+    rot_c: np.ndarray      # (Q, 3) damping [force length s/rad]
     rig_master: np.ndarray
     rig_ptr: np.ndarray
     rig_slaves: np.ndarray
@@ -271,6 +289,11 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
         sp_nodes=_i64(model.spring_nodes).reshape(-1, 2), sp_k=_f64(model.spring_k).reshape(-1, 3),
         sp_c=_f64(model.spring_c).reshape(-1, 3),
+        ax_nodes=_i64(model.axial_nodes).reshape(-1, 2), ax_k=_f64(model.axial_k),
+        ax_c=_f64(model.axial_c), ax_rest=_f64(model.axial_length),
+        rot_nodes=_i64(model.rotational_nodes).reshape(-1, 2),
+        rot_k=_f64(model.rotational_k).reshape(-1, 3),
+        rot_c=_f64(model.rotational_c).reshape(-1, 3),
         rig_master=_i64(model.rigid_master), rig_ptr=_i64(model.rigid_ptr),
         rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
         rig_free_rot=rig_free_rot,
@@ -354,7 +377,10 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         npl=np.zeros(1, np.int64),
         nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(4),
         cs=np.zeros((setup.shapes.row_particle.shape[0], ncols)),
-        cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8), step=0, e_ref=0.0,
+        cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
+        axial_fd_prev=np.zeros((setup.ax_nodes.shape[0], 3)),
+        rotational_theta=np.zeros((setup.rot_nodes.shape[0], 3)),
+        rotational_md_prev=np.zeros((setup.rot_nodes.shape[0], 3)), step=0, e_ref=0.0,
     )
 
 

@@ -69,6 +69,10 @@ class Variant:
     #: every particle has the same radius, kind and law constants: the pair response reads
     #: them once instead of gathering them per contact
     one_particle_kind: bool = False
+    #: MATID type 2 elements: spring-dampers along the line between two nodes
+    axial_springs: bool = False
+    #: MATID type 3 elements: rotational spring-dampers (each integrates its own rotation)
+    rotational_springs: bool = False
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
@@ -95,6 +99,8 @@ class Variant:
             normal_law=normal_law,
             shapes="+".join(s.name for s in SHAPES if s.effect in e),
             one_particle_kind=one_particle_kind and "pair_contact" in e,
+            axial_springs="axial_springs" in e,
+            rotational_springs="rotational_springs" in e,
         )
 
     def header(self) -> str:
