@@ -148,7 +148,10 @@ def _check_omega(text: str):
 def _only(records_matid: list[str], elements: list[str], masses: list[str],
           boundaries: list[str]) -> str:
     nodes = ["1 0.0 0.0 0.0", "2 3.0 4.0 12.0"]
-    card = lambda name, rs: [name, *(f"   {r}" for r in rs), "END"]  # noqa: E731
+
+    def card(name, records):
+        return [name, *(f"   {r}" for r in records), "END"]
+
     return "\n".join(["PARAMETERS", "   0.0 1.0 0.0 1e-5 1e-5 0 1e12 0 5 0 10", "END",
                       *card("MATID", records_matid), *card("NODE COORDINATES", nodes),
                       *card("ELEMENTS", elements), *card("MASS", masses),
@@ -162,7 +165,7 @@ def test_check_bounds_an_axial_spring_by_sqrt_k_over_m():
                  ["1 1 1 1 2 3 4 5 6", "2 2 1 4 5 6"])
     omega, node, dof = _check_omega(text)
     assert omega == pytest.approx(math.sqrt(400.0 / 4.0), rel=1e-15)
-    assert node == 2
+    assert node == 2 and dof in "xyz"
 
 
 def test_check_bounds_a_rotational_spring_by_sqrt_k_over_i():
@@ -173,3 +176,19 @@ def test_check_bounds_a_rotational_spring_by_sqrt_k_over_i():
     omega, node, dof = _check_omega(text)
     assert omega == pytest.approx(math.sqrt(90.0 / 0.1), rel=1e-15)
     assert (node, dof) == (2, "rz")
+
+
+def test_the_linear_sdof_baseline_leaves_the_new_types_out():
+    """Sweeps predict a start and draw baselines from a closed-form SDOF of type 1 springs to
+    ground; a deck with an axial or rotational element is not in that form."""
+    from x3dpd.design.baselines import linear_sdof
+
+    fixed = ["1 1 1 1 2 3 4 5 6", "2 2 1 2 3 4 5 6"]   # node 2 free along x only
+    for extra, element in (("2 2 0.0 1.0 50.0 0.0 0.0 0.0", "2 2 1 2"),
+                           ("3 3 0.0 1.0 1.0 1.0 1.0 0.0", "2 3 2")):
+        text = _only(["1 1 0.0 1.0 400.0 0.0 0.0 0.0", extra], ["1 1 2", element],
+                     ["2 4.0 1.0 1.0 1.0"], fixed)
+        assert linear_sdof(build_model(parse_deck(text, "springs.inp")), 2, 1) is None
+    plain = build_model(parse_deck(_only(["1 1 0.0 1.0 400.0 0.0 0.0 0.0"], ["1 1 2"],
+                                         ["2 4.0"], fixed), "springs.inp"))
+    assert linear_sdof(plain, 2, 1) is not None

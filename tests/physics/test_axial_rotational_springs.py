@@ -10,10 +10,11 @@ against closed forms computed here from k, c, m and I.
 * a rotational spring turns a node with rotary inertia at sqrt(k/I) about each axis, a
   two-node one at sqrt(k (1/I_a + 1/I_b)) with the angular momentum kept, a damped one rings
   down as the closed form;
-* the energy ledger closes in every run.
+* on a rigid body's slave node a rotational spring turns the body at sqrt(k/J);
+* the energy ledger closes in every run; a resumed run continues bit for bit.
 
-Every scene holds both element types (a resting spectator of the other type where it needs
-none), so all runs share one compiled step loop.
+Every scene holds resting spectators (an axial and a rotational element, a free rigid body) so
+that all runs share one compiled step loop.
 """
 
 from __future__ import annotations
@@ -112,8 +113,8 @@ def test_inclined_axial_spring_oscillates_along_its_line(tmp_path):
     err = np.abs(r.trace.node(2)[:, :3] - want).max() / (speed / w)
     print(f"\ninclined: max |x - exact| = {err:.1e} of the amplitude")
     # velocity Verlet's phase error after w t = 25 rad at w dt = 1.3e-3 is w t (w dt)^2 / 24
-    # = 1.7e-6 of the amplitude (measured 1.3e-6); 1e-5 leaves room for it and rounding. An axis-aligned spring
-    # (type 1 with KX alone) would leave y and z free: an error of order 1.
+    # = 1.7e-6 of the amplitude (measured 1.3e-6); 1e-5 leaves room for it and rounding. An
+    # axis-aligned spring (type 1 with KX alone) would leave y and z free: an error of order 1.
     assert err < 1e-5, err
     # linear along the line: the ledger closes to round-off (measured 3e-13)
     _ledger_closes(r, 1e-10)
@@ -147,10 +148,12 @@ def test_axial_spring_whirls_through_large_rotations(tmp_path):
     # r_max: the other root of m V^2 L0^2 / r^2 + k (r - L0)^2 = m V^2 (energy and angular
     # momentum at the turning points), found by bisection
     lo, hi = rest * (1 + 1e-9), 10 * rest
-    f = lambda q: m * speed**2 * rest**2 / q**2 + k * (q - rest) ** 2 - m * speed**2  # noqa: E731
+    def excess(q):
+        return m * speed**2 * rest**2 / q**2 + k * (q - rest) ** 2 - m * speed**2
+
     for _ in range(200):
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if f(mid) < 0 else (lo, mid)
+        lo, hi = (mid, hi) if excess(mid) < 0 else (lo, mid)
     r_max = 0.5 * (lo + hi)
     # sampled every 1e-3 s: near a turning point the radius is off its peak by at most
     # r'' (dt_out / 2)^2 / 2 ~ 1e-5 of it; the integrator's error is smaller
@@ -258,7 +261,8 @@ def test_rotational_spring_turns_at_sqrt_k_over_i(rotational):
     err = np.abs(rotational.trace.node(3)[:, 6:9] - want).max() / np.abs(p["W3"]).max()
     print(f"\nrotational: max |w - exact| = {err:.1e} of W")
     # velocity Verlet's phase error, Omega t (Omega dt)^2 / 24 at Omega dt <= 5.5e-4 for 3 s:
-    # 2e-7 (measured 1e-7); 1e-5 bounds it with rounding. Stiffness about the wrong axis changes the rate by order 1.
+    # 2e-7 (measured 1e-7); 1e-5 bounds it with rounding. Stiffness about the wrong axis
+    # changes the rate by order 1.
     assert err < 1e-5, err
 
 
@@ -375,8 +379,8 @@ def test_a_resumed_run_continues_bit_for_bit(tmp_path, monkeypatch):
     assert np.any(arrays["rotational_md_prev"] != 0.0)
     assert np.any(arrays["axial_fd_prev"] != 0.0)
     x3dpd.run(deck, trace="part.trace.txt", restart=True)
-    assert (tmp_path / "part.trace.txt").read_bytes() == (tmp_path / "whole.trace.txt").read_bytes()
-    assert (tmp_path / "part.energy.csv").read_bytes() == (tmp_path / "whole.energy.csv").read_bytes()
+    for name in ("trace.txt", "energy.csv"):
+        assert (tmp_path / f"part.{name}").read_bytes() == (tmp_path / f"whole.{name}").read_bytes()
 
 
 def test_a_dump_from_before_these_springs_restores_and_runs_on():

@@ -8,7 +8,6 @@ import numpy as np
 from x3dpd.errors import Pos
 from x3dpd.model.build_base import _ALL_DOFS, BuilderBase, _pos_at
 
-
 #: MATID types: 1 as X3D's (axis-aligned), 2 and 3 our extensions (docs/deck-reference.md).
 AXIS_ALIGNED, AXIAL, ROTATIONAL = 1, 2, 3
 MATERIAL_TYPES = {
