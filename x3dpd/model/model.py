@@ -34,8 +34,9 @@ EFFECTS = (
 
 @dataclass(frozen=True)
 class Model:
-    """Arrays of one scene. Shapes: n nodes, P particles, S springs, B rigid bodies, T triangles,
-    F wall faces, C cavities, K viscoelastic terms (K = 1 for elastic particles).
+    """Arrays of one scene. Shapes: n nodes, P particles, S springs (MATID type 1), A axial
+    and Q rotational elements (types 2, 3), B rigid bodies, T triangles, F wall faces,
+    C cavities, K viscoelastic terms (K = 1 for elastic particles).
 
     Attributes
     ----------
