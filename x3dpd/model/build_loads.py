@@ -47,6 +47,9 @@ class LoadSteps(BuilderBase):
             if i >= self.pstart or prescribed[i, a]:
                 continue
             body = self.slave_of.get(i, self.body_of_master.get(i))
+            master = i if body is None else int(self.rigid_master[body])
+            if master in self.modal_nodes:
+                continue   # moved by the modes, whose mass is in them
             if body is None:
                 if self.fixed[i, a] or self.mass[i] > 0.0:
                     continue
@@ -78,6 +81,8 @@ class LoadSteps(BuilderBase):
                         continue
                     body = self.slave_of.get(int(i), self.body_of_master.get(int(i)))
                     m = int(i) if body is None else int(self.rigid_master[body])
+                    if m in self.modal_nodes:
+                        continue   # turned by the modes, whose inertia is in them
                     inertia = (self.inertia[m, a] if body is None
                                else self.rigid_inertia[body, a, a])
                     if self.fixed[m, 3 + a] or inertia > 0.0:

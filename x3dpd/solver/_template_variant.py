@@ -25,6 +25,7 @@ N_MAXWELL = 1
 HAS_WALLS_TRANSLATE = False
 HAS_SHAPES = True
 HAS_ONE_PARTICLE_KIND = False
+HAS_MODAL = True
 HAS_AXIAL_SPRINGS = True
 HAS_ROTATIONAL_SPRINGS = True
 from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: F401,E402,E501

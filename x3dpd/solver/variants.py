@@ -69,6 +69,8 @@ class Variant:
     #: every particle has the same radius, kind and law constants: the pair response reads
     #: them once instead of gathering them per contact
     one_particle_kind: bool = False
+    #: a structure given by its modes (MODAL card, x3dpd.physics.modal)
+    modal: bool = False
     #: MATID type 2 elements: spring-dampers along the line between two nodes
     axial_springs: bool = False
     #: MATID type 3 elements: rotational spring-dampers (each integrates its own rotation)
@@ -99,6 +101,7 @@ class Variant:
             normal_law=normal_law,
             shapes="+".join(s.name for s in SHAPES if s.effect in e),
             one_particle_kind=one_particle_kind and "pair_contact" in e,
+            modal="modal_structure" in e,
             axial_springs="axial_springs" in e,
             rotational_springs="rotational_springs" in e,
         )
