@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from x3dpd.physics.hooke import hooke_tables
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
+from x3dpd.solver.shape_table import ShapeTable, shape_table
 
 if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime import of it
     from x3dpd.model.model import Model
@@ -354,41 +355,6 @@ def _modal_setup(model, dt, inv_m, mass, kin_mass, kin_inertia, rig_free_rot, ri
             "modal_coef": step_coefficients(ms.omega, ms.zeta, dt),
             "modal_diss": dissipation_forms(ms.omega, ms.zeta, dt),
             "modal_coupling": _f64(ms.coupling).reshape(ms.coupling.shape)}
-
-
-class ShapeTable(NamedTuple):
-    """The analytic walls (W of them; x3dpd.geometry.shapes) and their static contact list:
-    every particle of a wall's cavity against each of the wall's parts (K (particle, wall)
-    pairs; pair k owns the state rows row[k] .. row[k] + parts[wall[k]] - 1)."""
-
-    kind: np.ndarray          # (W,) shape kind (index in SHAPES)
-    nodes: np.ndarray         # (W, 2) node indices (A, B)
-    params: np.ndarray        # (W, P) lengths [length]
-    parts: np.ndarray         # (W,) contact entities (parts) of each wall
-    entity: np.ndarray        # (W,) number of its first part among all walls' parts
-    particle: np.ndarray      # (K,) particle of each pair
-    wall: np.ndarray          # (K,) wall of each pair
-    row: np.ndarray           # (K,) first state row of each pair
-    row_particle: np.ndarray  # (R,) particle of each state row
-
-
-def shape_table(model, pcav: np.ndarray) -> ShapeTable:
-    """The analytic walls of ``model`` and every (particle of its cavity, wall) pair, pairs in
-    wall order (a cylinder's pair k owns rows 3 k .. 3 k + 2, as before shapes were
-    registered, so restart dumps carry over)."""
-    from x3dpd.geometry.shapes import SHAPES
-
-    kind = _i64(model.shape_kind)
-    parts = np.array([SHAPES[k].parts for k in kind], dtype=np.int64)
-    entity = np.cumsum(parts) - parts
-    pairs = [(p, w) for w in range(kind.shape[0])
-             for p in np.flatnonzero(pcav == model.shape_cavity[w])]
-    pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
-    per_pair = parts[pairs[:, 1]]
-    row = np.cumsum(per_pair) - per_pair
-    return ShapeTable(kind, _i64(model.shape_nodes).reshape(-1, 2), _f64(model.shape_params),
-                      parts, _i64(entity), _i64(pairs[:, 0]), _i64(pairs[:, 1]), _i64(row),
-                      _i64(np.repeat(pairs[:, 0], per_pair)))
 
 
 def _body_forces(mass: np.ndarray, model) -> np.ndarray:
