@@ -119,6 +119,8 @@ def linear_modal(model: Model, node: int, dof: int) -> ModalLinear | None:
         return None
     if np.any(model.spring_k != 0.0) or np.any(model.spring_c != 0.0):
         return None
+    if model.axial_nodes.shape[0] or model.rotational_nodes.shape[0]:
+        return None
     try:
         i = model.index_of(node)
     except KeyError:
@@ -172,9 +174,12 @@ def linear_sdof(model: Model, node: int, dof: int) -> Sdof | None:
 
     None unless: no particles; ``dof`` is a translation (1-3); the driven node's body (the node,
     or the rigid body it is master of) is free along ``dof`` and fixed in every other DOF; every
-    other node is fixed along ``dof``; every spring joins the body to ground.
+    other node is fixed along ``dof``; every spring joins the body to ground along the global
+    axes (MATID type 1: an axial or rotational element, types 2 and 3, is not in this form).
     """
     if model.n_particles or dof not in (1, 2, 3):
+        return None
+    if model.axial_nodes.shape[0] or model.rotational_nodes.shape[0]:
         return None
     try:
         i = model.index_of(node)
