@@ -99,7 +99,8 @@ def fit_command(measured: str, *, out: str, band: str | None = None,
     paths[0].parent.mkdir(parents=True, exist_ok=True)
     tmp = paths[1].with_name("." + paths[1].name + ".tmp.png")
     try:
-        plot_fit(str(tmp), f[view], source.h[view], fit.model(f[view]), ylabel=q,
+        plot_fit(str(tmp), f[view], source.h[view], fit.model(f[view]),
+                 ylabel=source.unit or f"{q} unit",
                  band=fit.band, title=f"{Path(measured).name}: fn {fit.fn:.5g} Hz, zeta "
                                       f"{100 * fit.zeta:.4g} %")
         write_atomically(paths[0], lambda fh: fh.write(text.encode()))

@@ -5,8 +5,10 @@ Two formats each (docs/testing-like-a-test-engineer.md):
 * **CSV** -- a header row of column names, then one row of numbers per sample; lines starting
   with ``#`` are comments, and a comment ``# quantity: acceleration`` (or ``displacement``,
   ``velocity``) says what the response is. An FRF has the columns ``frequency_hz`` and either
-  ``re, im`` or ``mag, phase_deg`` (optional ``coherence``); a ring-down has ``time`` and
-  ``displacement`` or ``acceleration``. Other columns are ignored; names are case-insensitive.
+  ``re, im`` or ``mag, phase_deg`` (optional ``coherence``) -- or ``h1_re, h1_im``, so that the
+  ``frf.csv`` of ``x3dpd frf`` reads back when it holds one run and one response; a ring-down has
+  ``time`` and ``displacement`` or ``acceleration``. Other columns are ignored; names are
+  case-insensitive.
 * **UFF** (universal file format, ASCII or binary), dataset 58 (function at a nodal DOF), read
   with pyuff: function type 4 (FRF) or 5 (transmissibility) for FRFs, 1 (time response) for a
   ring-down. The ordinate's specific data type gives the quantity (8 displacement, 11 velocity,
@@ -39,7 +41,8 @@ UFF_SUFFIXES = (".uff", ".unv", ".uf")
 @dataclass(frozen=True)
 class MeasuredFrf:
     """A measured FRF: ``frequency`` [Hz] (increasing), complex ``h``, optional ``coherence``,
-    the response ``quantity`` (None when the file does not say) and a ``label``."""
+    the response ``quantity`` (None when the file does not say), a ``label`` and the ``unit``
+    of ``h`` (None when unknown)."""
 
     frequency: np.ndarray
     h: np.ndarray
@@ -47,6 +50,7 @@ class MeasuredFrf:
     quantity: str | None
     label: str
     path: str
+    unit: str | None = None
 
 
 @dataclass(frozen=True)
@@ -147,6 +151,9 @@ def read_frf_csv(path: str | os.PathLike) -> MeasuredFrf:
     path = os.fspath(path)
     need = "frequency_hz and re, im (or mag, phase_deg)"
     cols, meta, line = _read_csv(path, "measured FRF", need)
+    if "re" not in cols and "mag" not in cols and {"h1_re", "h1_im"} <= cols.keys():
+        _one_curve(path, cols, line)
+        cols["re"], cols["im"] = cols["h1_re"], cols["h1_im"]
     if "frequency_hz" not in cols or not ({"re", "im"} <= cols.keys()
                                           or {"mag", "phase_deg"} <= cols.keys()):
         raise InputError(f"{path}:{line}:1: a measured FRF needs the columns {need}; found "
@@ -162,7 +169,17 @@ def read_frf_csv(path: str | os.PathLike) -> MeasuredFrf:
     else:
         h = num["mag"] * np.exp(1j * np.radians(num["phase_deg"]))
     return MeasuredFrf(f, h, num.get("coherence"), _quantity(path, meta.get("quantity")),
-                       meta.get("label", os.path.basename(path)), path)
+                       meta.get("label", os.path.basename(path)), path, meta.get("unit"))
+
+
+def _one_curve(path: str, cols: dict, line: int) -> None:
+    """An ``x3dpd frf`` CSV reads as one FRF only when it holds one run and one response."""
+    for key in ("run", "response"):
+        values = sorted({text.strip() for _, _, text in cols.get(key, [])})
+        if len(values) > 1:
+            raise InputError(f"{path}:{line}:1: the file holds the FRFs of {len(values)} "
+                             f"{key}s ({', '.join(values[:6])}); write one per file (x3dpd frf "
+                             "with one TRACE and one --response)")
 
 
 def read_history_csv(path: str | os.PathLike) -> MeasuredHistory:
@@ -231,7 +248,10 @@ def read_frf_uff(path: str | os.PathLike) -> list[MeasuredFrf]:
         h = np.asarray(s["data"]).astype(complex)
         _check_axis(path, "the abscissa (frequency)", f)
         quantity = UFF_QUANTITY.get(int(s.get("ordinate_spec_data_type", 0)))
-        out.append(MeasuredFrf(f, h, None, quantity, _uff_label(s), path))
+        num, den = (str(s.get(f"{a}_axis_units_lab", "")).strip() for a in ("ordinate",
+                                                                              "orddenom"))
+        unit = f"({num})/({den})" if num and den and num != "NONE" else None
+        out.append(MeasuredFrf(f, h, None, quantity, _uff_label(s), path, unit))
     if not out:
         found = ", ".join(sorted({str(int(s.get("func_type", 0))) for s in sets}))
         raise InputError(f"{path}: its datasets 58 hold function type(s) {found}; an FRF is "
@@ -281,7 +301,8 @@ def read_measured_history(path: str | os.PathLike) -> MeasuredHistory:
 
 
 def write_frf_csv(path: str | os.PathLike, frequency, h, *, coherence=None,
-                  quantity: str | None = None, label: str | None = None) -> None:
+                  quantity: str | None = None, label: str | None = None,
+                  unit: str | None = None) -> None:
     """Write an FRF in the CSV format :func:`read_frf_csv` reads (``repr`` of every float: the
     values read back exactly), atomically."""
     from x3dpd._files import write_atomically
@@ -291,6 +312,8 @@ def write_frf_csv(path: str | os.PathLike, frequency, h, *, coherence=None,
         lines.append(f"# quantity: {_quantity(os.fspath(path), quantity)}")
     if label is not None:
         lines.append(f"# label: {label}")
+    if unit is not None:
+        lines.append(f"# unit: {unit}")
     names = ["frequency_hz", "re", "im"] + (["coherence"] if coherence is not None else [])
     lines.append(",".join(names))
     h = np.asarray(h, dtype=complex)
