@@ -53,7 +53,7 @@ from x3dpd.physics.spec_fields import _node_dof, _node_ids, _number, _omega, _pa
 
 #: Columns of a motion table. ``x_initial`` is the DOF's initial coordinate (0 for rotations or
 #: when no coordinates were given); the kernel reads ``x0`` itself. A random row holds its RMS
-#: acceleration in ``amp``, :data:`RANDOM` in ``omega`` and the flat index of its knots in
+#: acceleration in ``amp``, :data:`RANDOM` in ``omega`` and the first row of its knots in
 #: ``phase``; after the last row, a row with ``node_index`` -1 and the knots follow
 #: (x3dpd.physics.random_signal).
 MOTION_COLUMNS = ("node_index", "dof_index", "amp", "omega", "phase", "t0", "x_initial", "ramp")

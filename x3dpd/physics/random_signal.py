@@ -34,11 +34,12 @@ errs by at most 5e-6 of a line's amplitude in the value, 2e-5 in the slope and 2
 curvature at HI (less below). The value at a time depends on that time alone -- never on how a
 run is cut into chunks or restarted -- and the same spec gives the same table, byte for byte.
 
-The knots live in the law table itself, after the law rows (:func:`attach_blocks`): a header row
-marks where the law rows end, then each signal's block of flat floats
-``[N, rate, 1/rate, s_0, s'_0, s''_0, s_1, ...]`` (``rate = N / T`` knots per second, each
-signal normalised to unit RMS; the law row's amplitude column holds the RMS). The loops over a
-table's laws stop at the header row.
+The knots live in the law table itself, after the law rows (:func:`attach_blocks`): a marker row
+says where the law rows end, then each signal's block: a row ``[N, rate, 1/rate, 0 ...]``
+(``rate = N / T`` knots per second) and one row ``[s_j, s'_j, s''_j, 0 ...]`` per knot, each
+signal normalised to unit RMS (the law row's amplitude column holds the RMS, another column the
+block's first row). One knot per row wastes columns but needs no integer division in the step
+(a lookup costs two row reads); the loops over a table's laws stop at the marker row.
 """
 
 from __future__ import annotations
@@ -56,10 +57,8 @@ from x3dpd.physics.spec_fields import _node_dof, _number, _parse_pairs
 OVERSAMPLE = 8
 #: Default period T of the signal [s] (line spacing 1/T = 0.0625 Hz).
 DEFAULT_PERIOD = 16.0
-#: Largest knot table a signal may use (3 floats per knot: 48 MiB).
-MAX_KNOTS = 2 ** 21
-#: Floats before the knots in a signal's block: N, rate, 1/rate.
-BLOCK_HEADER = 3
+#: Most knots a signal may use (one table row each: 72 MiB in a force table).
+MAX_KNOTS = 2 ** 20
 
 _REQUIRED = ("node", "dof", "band", "seed")
 _OPTIONAL = ("rms", "psd", "t0", "period")
@@ -88,10 +87,13 @@ class RandomLaw:
     rate: float
     knots: np.ndarray
 
-    def block(self) -> np.ndarray:
-        """The flat floats of this signal's block in a law table."""
+    def block(self, ncol: int) -> np.ndarray:
+        """This signal's rows in a law table of ``ncol`` columns (module docstring)."""
         n = self.knots.shape[0]
-        return np.concatenate([[float(n), self.rate, 1.0 / self.rate], self.knots.ravel()])
+        out = np.zeros((n + 1, ncol))
+        out[0, :3] = float(n), self.rate, 1.0 / self.rate
+        out[1:, :3] = self.knots
+        return out
 
 
 def _band(what, spec, text, positive_low):
@@ -187,24 +189,20 @@ def synthesize(first: int, last: int, period: float, n: int, seed: int, *,
 
 
 def attach_blocks(rows: list[list[float]], laws: list[tuple[int, RandomLaw]], start_col: int,
-                  header: list[float]) -> np.ndarray:
-    """The law table: ``rows``, then (when there are random laws) the ``header`` row and every
-    signal's block, packed flat row by row; each random row's ``start_col`` is set to the flat
-    index of its block."""
-    ncol = len(header)
+                  marker: list[float]) -> np.ndarray:
+    """The law table: ``rows``, then (when there are random laws) the ``marker`` row and every
+    signal's block; each random row's ``start_col`` is set to its block's first row."""
+    ncol = len(marker)
     if not laws:
         return np.array(rows, dtype=np.float64).reshape(len(rows), ncol)
-    pos = (len(rows) + 1) * ncol
+    at = len(rows) + 1
     blocks = []
     for r, law in laws:
-        rows[r][start_col] = float(pos)
-        block = law.block()
-        blocks.append(block)
-        pos += block.size
-    flat = np.concatenate(blocks)
-    flat = np.concatenate([flat, np.zeros(-flat.size % ncol)])
-    return np.vstack([np.array(rows, dtype=np.float64), np.array([header], dtype=np.float64),
-                      flat.reshape(-1, ncol)])
+        rows[r][start_col] = float(at)
+        blocks.append(law.block(ncol))
+        at += blocks[-1].shape[0]
+    return np.vstack([np.array(rows, dtype=np.float64), np.array([marker], dtype=np.float64),
+                      *blocks])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -212,39 +210,38 @@ def attach_blocks(rows: list[list[float]], laws: list[tuple[int, RandomLaw]], st
 # ---------------------------------------------------------------------------------------------
 
 @step_kernel
-def _flat(table, i):
-    """Element ``i`` of ``table`` read as one flat row-major array."""
-    ncol = table.shape[1]
-    row = i // ncol
-    return table[row, i - row * ncol]
-
-
-@step_kernel
 def _signal_state(tau, table, start):
-    """``(s, s', s'')`` at ``tau`` >= 0 [s] of the signal whose block starts at flat ``start``.
+    """``(s, s', s'')`` at ``tau`` >= 0 [s] of the signal whose block starts at row ``start``.
 
-    Between knots j and j + 1 (``x = tau rate``, ``j = floor(x)`` modulo N, ``q = x - j``) the
-    quintic Hermite polynomial p(q) = sum c_k q^k with p, p', p'' equal to the knots' h s,
-    h^2 s'' (h = 1 / rate) at q = 0 and 1.
+    ``x = tau rate`` wrapped into one period (exactly: ``x - N k`` with both terms within a
+    factor 2 of each other, Sterbenz), between knots ``j = floor(x)`` and ``j + 1`` (modulo N),
+    ``q = x - j``: the quintic Hermite polynomial p(q) = sum c_k q^k with p, p', p'' equal to
+    the knots' s, h s', h^2 s'' (h = 1 / rate) at q = 0 and 1.
     """
-    n = int(_flat(table, start))
-    rate = _flat(table, start + 1)
-    h = _flat(table, start + 2)
+    n = table[start, 0]
+    rate = table[start, 1]
+    h = table[start, 2]
     x = tau * rate
+    if x >= n:
+        x -= n * math.floor(x / n)
+        if x < 0.0:
+            x += n
     fj = math.floor(x)
     q = x - fj
-    j0 = int(fj) % n
+    j0 = int(fj)
+    if j0 >= int(n):
+        j0 -= int(n)
     j1 = j0 + 1
-    if j1 == n:
+    if j1 == int(n):
         j1 = 0
-    b0 = start + 3 + 3 * j0
-    b1 = start + 3 + 3 * j1
-    u0 = _flat(table, b0)
-    u1 = _flat(table, b1)
-    v0 = h * _flat(table, b0 + 1)
-    v1 = h * _flat(table, b1 + 1)
-    a0 = h * h * _flat(table, b0 + 2)
-    a1 = h * h * _flat(table, b1 + 2)
+    r0 = start + 1 + j0
+    r1 = start + 1 + j1
+    u0 = table[r0, 0]
+    u1 = table[r1, 0]
+    v0 = h * table[r0, 1]
+    v1 = h * table[r1, 1]
+    a0 = h * h * table[r0, 2]
+    a1 = h * h * table[r1, 2]
     d = u1 - u0
     c2 = 0.5 * a0
     c3 = 10.0 * d - 6.0 * v0 - 4.0 * v1 - 1.5 * a0 + 0.5 * a1

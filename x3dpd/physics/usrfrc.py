@@ -60,7 +60,7 @@ KIND_DATA = -1
 #: Meaning of the 9 columns of a force table. ``p1..p5`` per kind:
 #: constant: unused; step: t0, t1 (inf when open); sine: omega [rad/s], phase [rad], t0;
 #: sweep (linear/log): f0 [Hz], f1 [Hz], signed rate k [Hz/s or octaves/s], t0,
-#: end (0 hold, 1 stop); random: flat index of the knots, LO, HI [Hz], t0, seed (amp: RMS).
+#: end (0 hold, 1 stop); random: first row of its knots, LO, HI [Hz], t0, seed (amp: RMS).
 TABLE_COLUMNS = ("kind", "node_index", "dof_index", "amp", "p1", "p2", "p3", "p4", "p5")
 
 _KEYS = {  # kind -> (required keys, optional keys)
