@@ -69,9 +69,32 @@ def _window(t: np.ndarray, t_from: float | None, path: str) -> np.ndarray:
     return keep
 
 
-def _label(path: str, many: bool) -> str:
-    name = Path(path).name
-    return name.removesuffix(".txt").removesuffix(".trace") if many else name
+def _in_band(f: np.ndarray, band: tuple[float, float] | None, df: float) -> np.ndarray:
+    """The frequency lines in ``band`` (all without one); an error when there is none."""
+    if band is None:
+        return np.ones(f.size, bool)
+    sel = (f >= band[0]) & (f <= band[1])
+    if not sel.any():
+        raise InputError(f"--band {band[0]:g}:{band[1]:g} Hz holds no frequency line (lines "
+                         f"every {df:.4g} Hz); widen it or use longer segments")
+    return sel
+
+
+def run_labels(paths: Sequence[str]) -> list[str]:
+    """One label per trace: its name without ``.trace.txt``, with its folder when two names
+    clash, and a number when even those do."""
+    def stem(path: Path) -> str:
+        return path.name.removesuffix(".txt").removesuffix(".trace")
+
+    names = [stem(Path(p)) for p in paths]
+    if len(set(names)) < len(names):
+        names = [f"{Path(p).parent.name}/{stem(Path(p))}" for p in paths]
+    seen: dict[str, int] = {}
+    out = []
+    for name in names:
+        seen[name] = seen.get(name, 0) + 1
+        out.append(name if names.count(name) == 1 else f"{name} #{seen[name]}")
+    return out
 
 
 def measured_curves(files: Sequence[str], quantity: str, scale: float,
@@ -113,7 +136,8 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
         raise InputError(f"--quantity {quantity!r}: expected one of {', '.join(QUANTITY_ORDER)}")
     paths = _outputs(out, ("frf.csv", "frf.png"), overwrite)
     curves, rows, units = [], [], set()
-    for path in traces:
+    labels = run_labels(traces)
+    for path, run in zip(traces, labels):
         trace = read_trace(path)
         fs = sampling_rate(trace, path)
         check_band(band_hz, fs, path)
@@ -135,14 +159,13 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
              f"{nps} ({nps / fs:.4g} s, resolution {fs / nps:.4g} Hz), {window} window, "
              f"{nov} overlap, {est.n_effective:.1f} equivalent averages")
         f = est.frequency
-        sel = np.ones(f.size, bool) if band_hz is None else (f >= band_hz[0]) & (f <= band_hz[1])
+        sel = _in_band(f, band_hz, fs / nps)
         for k, (node, dof) in enumerate(points):
             e = est.divided(difference_gain(f, fs)) if differenced[k] else est
             h1, h2, coh = e.h1[k], e.h2[k], e.coherence[k]
             r95 = e.confidence_radius()[k] if e.n_effective > 2 else np.full(f.size, np.nan)
             unit = f"({response_unit(trace, quantity, dof)})/({source.unit})"
             units.add(unit)
-            run = _label(path, len(traces) > 1)
             name = f"{node}:{dof}"
             label = f"{run} {name}" if len(traces) > 1 else f"node {node} dof {dof}"
             curves.append(Curve(label, f[sel], h1[sel], h2[sel], coh[sel],
@@ -182,7 +205,7 @@ def spectrum_command(traces: Sequence[str], *, node: int, dof: int, out: str,
     band_hz = parse_band(band)
     paths = _outputs(out, ("spectrum.csv", "spectrum.png"), overwrite)
     curves, rows, unit = [], [], ""
-    for path in traces:
+    for path, run in zip(traces, run_labels(traces)):
         trace = read_trace(path)
         fs = sampling_rate(trace, path)
         check_band(band_hz, fs, path)
@@ -198,8 +221,7 @@ def spectrum_command(traces: Sequence[str], *, node: int, dof: int, out: str,
             f, v = power_spectrum(y, fs, nperseg=nps, noverlap=nov, window=window)
             v = v / difference_gain(f, fs) ** 2 if diff else v
         unit = response_unit(trace, quantity, dof)
-        sel = np.ones(f.size, bool) if band_hz is None else (f >= band_hz[0]) & (f <= band_hz[1])
-        run = _label(path, len(traces) > 1)
+        sel = _in_band(f, band_hz, f[1] - f[0])
         curves.append((run, f[sel][1:] if f[sel][0] == 0 else f[sel],
                        v[sel][1:] if f[sel][0] == 0 else v[sel]))
         column = "amplitude" if method == "fft" else "psd"
