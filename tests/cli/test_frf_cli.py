@@ -33,7 +33,8 @@ SPEC = "random:node=1,dof=1,rms=0.01,band=10:150,seed=5,period=8"
 
 def receptance(f, zeta=ZETA):
     w = 2 * np.pi * np.asarray(f)
-    return 1.0 / (TABLE4_K - TABLE4_MASS * w * w + 2j * zeta * math.sqrt(TABLE4_K * TABLE4_MASS) * w)
+    c = 2 * zeta * math.sqrt(TABLE4_K * TABLE4_MASS)
+    return 1.0 / (TABLE4_K - TABLE4_MASS * w * w + 1j * c * w)
 
 
 @pytest.fixture(scope="module")

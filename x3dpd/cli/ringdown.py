@@ -38,4 +38,5 @@ def ringdown(source, node, dof, out, baseline, t_from, drive_until, ring, no_bas
 
     ringdown_command(source, node=node, dof=dof, out=out, baseline=baseline, t_from=t_from,
                      drive_until=drive_until, ring=ring, no_baseline=no_baseline, g=g,
-                     overwrite=overwrite, measured=measured, echo=(lambda s: None) if quiet else click.echo)
+                     overwrite=overwrite, measured=measured,
+                     echo=(lambda s: None) if quiet else click.echo)

@@ -127,6 +127,11 @@ def _numbers(path: str, cells: list[tuple[int, int, str]]) -> np.ndarray:
     return out
 
 
+def _names(cols: dict) -> str:
+    names = [n[:24] for n in cols]
+    return (", ".join(names[:8]) + (" ..." if len(names) > 8 else "")) or "none"
+
+
 def _quantity(path: str, text: str | None) -> str | None:
     if text is None:
         return None
@@ -157,7 +162,7 @@ def read_frf_csv(path: str | os.PathLike) -> MeasuredFrf:
     if "frequency_hz" not in cols or not ({"re", "im"} <= cols.keys()
                                           or {"mag", "phase_deg"} <= cols.keys()):
         raise InputError(f"{path}:{line}:1: a measured FRF needs the columns {need}; found "
-                         f"{', '.join(cols) or 'none'}")
+                         f"{_names(cols)}")
     num = {n: _numbers(path, cols[n]) for n in ("frequency_hz", "re", "im", "mag", "phase_deg",
                                                  "coherence") if n in cols}
     f = num["frequency_hz"]
@@ -190,7 +195,7 @@ def read_history_csv(path: str | os.PathLike) -> MeasuredHistory:
     kinds = [k for k in ("displacement", "acceleration") if k in cols]
     if "time" not in cols or len(kinds) != 1:
         raise InputError(f"{path}:{line}:1: a measured ring-down needs the columns {need} (one of "
-                         f"the two); found {', '.join(cols) or 'none'}")
+                         f"the two); found {_names(cols)}")
     t = _numbers(path, cols["time"])
     _check_axis(path, "time", t, cols["time"])
     _check_uniform(path, t)

@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import MOTION_COLUMNS, motion_rows, motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
+from x3dpd.physics.usrfrc import law_count
 from x3dpd.solver.bundles import (
     ContactList,
     Loads,
@@ -116,7 +117,7 @@ class Simulation(RunChecks):
         self.compile_seconds = 0.0
         self._load_seconds = _time.perf_counter() - t
         self.state = initial_state(model, self.setup, model.n_nodes, len(rows),
-                                   self.ext.table.shape[0])
+                                   law_count(self.ext.table))
         self.fpy = np.zeros((model.n_nodes, 6))
         self.trace_nodes = np.ascontiguousarray(model.trace_nodes, dtype=np.int64)
         self.diag = np.zeros(8)
