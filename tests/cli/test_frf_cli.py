@@ -5,6 +5,7 @@ written here from the SDOF's closed form, and bad input: a clear error and nothi
 from __future__ import annotations
 
 import csv
+import dataclasses
 import math
 import pathlib
 import sys
@@ -20,6 +21,7 @@ from factories import TABLE4_K, TABLE4_MASS, sdof_deck
 from test_measured import write_uff58
 
 import x3dpd
+from x3dpd.deck.cards import Usrfrc
 from x3dpd.deck.writer import write_deck
 from x3dpd.design.frf import measured_curves
 from x3dpd.io.measured import write_frf_csv
@@ -39,13 +41,14 @@ def receptance(f, zeta=ZETA):
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """The SDOF deck, a random run of two periods (16 s) and a released ring-down, traced at
-    1 kHz."""
+    """The SDOF deck with the random law on its USRFRC card, a run of two periods (16 s) and a
+    released ring-down (its --usrfrc replaces the card), traced at 1 kHz."""
     folder = tmp_path_factory.mktemp("frf_cli")
     deck = folder / "sdof.inp"
-    write_deck(sdof_deck(dt=1e-4, hz=1.0, drive=0.0, c=C, itrac=10), deck)
+    cards = sdof_deck(dt=1e-4, hz=1.0, drive=0.0, c=C, itrac=10)
+    write_deck(dataclasses.replace(cards, usrfrc=(Usrfrc((SPEC,)),)), deck)
     random = folder / "random.trace.txt"
-    assert run_cli(deck, "--usrfrc", SPEC, "--tmax", 16, "--trace", random, "--quiet") == 0
+    assert run_cli(deck, "--tmax", 16, "--trace", random, "--quiet") == 0
     ring = folder / "ring.trace.txt"
     assert run_cli(deck, "--usrfrc", "step:node=1,dof=1,amp=0.01,t0=0,t1=0.3", "--tmax", 1.05,
                    "--trace", ring, "--quiet") == 0

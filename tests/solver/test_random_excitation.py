@@ -67,12 +67,13 @@ def test_h1_is_the_closed_form_within_its_95_percent_band(random_run):
     h1 = est.h1[0, sel]
     r95 = est.confidence_radius()[0, sel]
     inside = np.abs(h1 - exact) <= r95
-    # a 95 % band may miss 5 % of the lines; none may be far off (a bias would be)
+    # a 95 % band may miss 5 % of the lines; none may be far off (a bias would be). Measured:
+    # all inside, the largest error 0.75 r
     assert inside.mean() >= 0.95, (f[sel][~inside], inside.mean())
     assert np.max(np.abs(h1 - exact) / r95) < 1.5
-    # and the band is sharp: half of it narrower than 1 % of |H| (1.5e-3 measured)
+    # and the band is sharp: half of it narrower than 1 % of |H| (3.3e-3 measured)
     assert np.median(r95 / np.abs(exact)) < 0.01
-    # the system is linear and noise-free: coherence near 1 over the band (0.990 measured; the
+    # the system is linear and noise-free: coherence near 1 over the band (0.993 measured; the
     # dip at the peak is the window's leakage)
     assert est.coherence[0, sel].min() > 0.95
 
@@ -130,6 +131,30 @@ M_BASE = 0.5 * TABLE4_MASS
 MOTION = f"random:node=1,dof=1,psd=100,band={LO}:{HI},seed=8,period=16,ramp=0.5"
 
 
+def _base_deck(dt: float, itrac: int) -> Deck:
+    """Node 2 (m) on a spring k and damper c to node 1 (the base, M_BASE), along x."""
+    return Deck(path="<base>", parameters=parameters(dt, itrac),
+                materials=(Material(1, 1, 0.0, 1.0, TABLE4_K, 0.0, 0.0, C),),
+                trace=Trace((1, 2)),
+                nodes=(Node(1, 0.0, 0.0, 0.0), Node(2, 1.0, 0.0, 0.0)),
+                elements=(Element(1, 1, (1, 2)),),
+                masses=(Mass(1, M_BASE, 1.0, 1.0, 1.0), Mass(2, TABLE4_MASS, 1.0, 1.0, 1.0)),
+                boundaries=(Boundary(1, 2, 1, (2, 3, 4, 5, 6)),))
+
+
+def test_random_base_motion_restarts_bytewise(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    deck = tmp_path / "base.inp"
+    write_deck(_base_deck(DT / 4, ITRAC * 4), deck)
+    args = (deck, "--motion", MOTION, "--quiet")
+    assert run_cli(*args, "--tmax", 1.0, "--trace", "full.trace.txt") == 0
+    assert run_cli(*args, "--tmax", 0.6, "--trace", "part.trace.txt") == 0
+    assert run_cli(*args, "--tmax", 1.0, "--trace", "part.trace.txt", "--restart") == 0
+    for suffix in (".trace.txt", ".energy.csv"):
+        assert (tmp_path / f"part{suffix}").read_bytes() == \
+            (tmp_path / f"full{suffix}").read_bytes()
+
+
 def test_random_base_motion_transmissibility(tmp_path):
     """Node 2 (m) on a spring k and damper c to node 1, which moves on the random acceleration:
     the absolute acceleration of node 2 over the base's is (k + i c w) / (k - m w^2 + i c w).
@@ -138,13 +163,7 @@ def test_random_base_motion_transmissibility(tmp_path):
     velocity lags it by w dt / 2 (0.3 % of |T| at 150 Hz with the 2e-5 s step above): the step
     is 5e-6 s here (0.08 %), traced at the same 1 kHz.
     """
-    deck = Deck(path="<base>", parameters=parameters(DT / 4, ITRAC * 4),
-                materials=(Material(1, 1, 0.0, 1.0, TABLE4_K, 0.0, 0.0, C),),
-                trace=Trace((1, 2)),
-                nodes=(Node(1, 0.0, 0.0, 0.0), Node(2, 1.0, 0.0, 0.0)),
-                elements=(Element(1, 1, (1, 2)),),
-                masses=(Mass(1, M_BASE, 1.0, 1.0, 1.0), Mass(2, TABLE4_MASS, 1.0, 1.0, 1.0)),
-                boundaries=(Boundary(1, 2, 1, (2, 3, 4, 5, 6)),))
+    deck = _base_deck(DT / 4, ITRAC * 4)
     path = tmp_path / "base.trace.txt"
     x3dpd.run(deck, tmax=16.0, motion=[MOTION], trace=path)
     trace = x3dpd.read_trace(path)
