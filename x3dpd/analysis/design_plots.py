@@ -159,12 +159,15 @@ def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str) -> N
 
 def plot_ringdown(png: str | os.PathLike, series: Mapping[str, Mapping[str, np.ndarray]],
                   title: str = "") -> str:
-    """% zeta versus amplitude in dB re 1 g (Figure 6, right), one line per series."""
+    """% zeta versus amplitude in dB re 1 g (Figure 6, right), one line per series (measured
+    ones, named ``measured ...``, dashed black)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4.0))
     for k, (name, cols) in enumerate(series.items()):
-        ax.plot(cols["amplitude_db"], 100.0 * np.asarray(cols["zeta"]),
-                color="C3" if k == 0 else "C0", lw=1.5, label=name)
+        style = ({"color": "k", "ls": "--"} if name.startswith("measured")
+                 else {"color": "C3" if k == 0 else "C0"})
+        ax.plot(cols["amplitude_db"], 100.0 * np.asarray(cols["zeta"]), lw=1.5, label=name,
+                **style)
     ax.set_xlabel("amplitude [dB re 1 g]")
     ax.set_ylabel("damping [% zeta]")
     ax.grid(True, alpha=0.3)

@@ -50,6 +50,7 @@ from x3dpd.api.results import Chunk, FinalState, Recorder, RunResult
 from x3dpd.api.safety import initial_penetration_error
 from x3dpd.api.stepping import auto_summary, is_auto, make_stepper
 from x3dpd.errors import InputError, UnstableRunError
+from x3dpd.physics.motion import motion_count
 
 
 def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
@@ -336,8 +337,9 @@ def _continue_from(sim, initial: FinalState, key: str, model) -> None:
                          f"{what(initial.checkpoint is not None, initial.dt)}; continue it at "
                          f"the same step (this run's is {what(auto, sim.dt)})")
     state = initial.state.copy()
-    if state.motion_prev.shape[0] != len(sim.motion):
-        state.motion_prev = np.zeros(len(sim.motion))
+    n_motion = motion_count(sim.motion)
+    if state.motion_prev.shape[0] != n_motion:
+        state.motion_prev = np.zeros(n_motion)
     if auto:
         sim.restore(state, initial.checkpoint)
     else:

@@ -40,10 +40,13 @@ def _register() -> None:
         check,
         export,
         fill,
+        fit,
+        frf,
         movie,
         plot,
         ringdown,
         run,
+        spectrum,
         study,
         sweep,
         tracediff,
@@ -59,6 +62,9 @@ def _register() -> None:
     cli.add_command(export.export)
     cli.add_command(plot.plot)
     cli.add_command(fill.fill)
+    cli.add_command(frf.frf)
+    cli.add_command(spectrum.spectrum)
+    cli.add_command(fit.fit)
 
 
 def main(argv: list[str] | None = None) -> None:

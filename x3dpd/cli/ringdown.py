@@ -26,13 +26,17 @@ import click
 @click.option("--no-baseline", is_flag=True, help="Deck input: skip the particle-free run.")
 @click.option("--g", "g", type=float, default=386.1, show_default=True,
               help="Gravity in the deck's units (dB re 1 g).")
+@click.option("--measured", multiple=True, metavar="FILE",
+              help="A measured ring-down to overlay: CSV (time, displacement|acceleration) or UFF "
+                   "dataset 58 (repeatable).")
 @click.option("--overwrite", is_flag=True, help="Replace DIR/ringdown.csv and .png.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
 def ringdown(source, node, dof, out, baseline, t_from, drive_until, ring, no_baseline, g,
-             overwrite, quiet):
+             measured, overwrite, quiet):
     """Damping (% zeta) versus amplitude (dB re 1 g) of a ring-down (DIR/ringdown.csv, .png)."""
     from x3dpd.design.ringdown import ringdown_command
 
     ringdown_command(source, node=node, dof=dof, out=out, baseline=baseline, t_from=t_from,
                      drive_until=drive_until, ring=ring, no_baseline=no_baseline, g=g,
-                     overwrite=overwrite, echo=(lambda s: None) if quiet else click.echo)
+                     overwrite=overwrite, measured=measured,
+                     echo=(lambda s: None) if quiet else click.echo)

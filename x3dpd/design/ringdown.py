@@ -20,6 +20,7 @@ from x3dpd.deck.cards import Deck
 from x3dpd.design.baselines import without_particles
 from x3dpd.design.spec import default_drive_point
 from x3dpd.errors import InputError
+from x3dpd.io.measured import read_measured_history
 
 #: Samples per cycle recorded for a deck's ring-down (the analysis needs >= ~20).
 SAMPLES_PER_CYCLE = 100
@@ -65,6 +66,18 @@ def ringdown_of_deck(deck: Deck, node: int, dof: int, *, drive_until: float, rin
     return signal_of(free.trace.time, free.trace.position[:, 0], dof, g, **options)
 
 
+def ringdown_of_measured(path: str | os.PathLike, *, t_from: float | None = None,
+                         g: float = G_IN_S2, **options) -> tuple[str, Ringdown]:
+    """The ring-down of a measured time history (CSV or UFF, x3dpd.io.measured), from time
+    ``t_from`` on: ``(label, analysis)``. A displacement is taken about its rest offset, an
+    acceleration as it is (its amplitude is already in g)."""
+    m = read_measured_history(path)
+    keep = m.time >= (t_from if t_from is not None else -math.inf)
+    x = m.signal[keep]
+    return m.label, damping_vs_amplitude(m.time[keep], x - rest_offset(x), kind=m.kind, g=g,
+                                         **options)
+
+
 def _period(model, node: int, dof: int) -> float:
     """A guess of the structure's period for the recording rate: 2 pi sqrt(m / k), or a modal
     structure's first mode's."""
@@ -102,10 +115,15 @@ def write_outputs(out: str | os.PathLike, series: dict[str, Ringdown], overwrite
 def ringdown_command(source: str, *, node: int | None, dof: int, out: str, baseline: str | None = None,
                      t_from: float | None = None, drive_until: float = 1.0, ring: float = 2.0,
                      no_baseline: bool = False, g: float = G_IN_S2, overwrite: bool = False,
-                     echo=print) -> dict[str, Ringdown]:
-    """``x3dpd ringdown``: a trace file, or a deck (driven, released, with its baseline)."""
+                     measured: tuple[str, ...] = (), echo=print) -> dict[str, Ringdown]:
+    """``x3dpd ringdown``: a trace file, or a deck (driven, released, with its baseline);
+    ``measured`` ring-downs (CSV or UFF files) are analysed the same way and overlaid."""
     from x3dpd.api import load_deck
 
+    measured_series = {}
+    for path in measured:  # read and analysed first: a bad file stops before any run
+        label, rd = ringdown_of_measured(path, g=g)
+        measured_series[f"measured {label}"] = rd
     src = Path(source)
     is_trace = src.name.endswith(".txt") or Path(str(src) + ".json").exists()
     series: dict[str, Ringdown] = {}
@@ -125,6 +143,7 @@ def ringdown_command(source: str, *, node: int | None, dof: int, out: str, basel
         if not no_baseline:
             series["baseline (no particles)"] = ringdown_of_deck(
                 without_particles(deck), node, dof, drive_until=drive_until, ring=ring, g=g)
+    series.update(measured_series)
     csv, png = write_outputs(out, series, overwrite, title=src.name)
     for name, rd in series.items():
         echo(f"  {name}: zeta {100 * rd.zeta.min():.3g}-{100 * rd.zeta.max():.3g} % over "

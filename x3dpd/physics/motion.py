@@ -1,4 +1,5 @@
-"""Prescribed sinusoidal motion of node DOFs (shaker base excitation, report Figure 9).
+"""Prescribed motion of node DOFs, sinusoidal or band-limited random (shaker base excitation,
+report Figure 9).
 
 A spec ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0][,ramp=TR]`` (CLI ``--motion``,
 repeatable; an optional leading ``sine:`` is accepted) drives DOF ``D`` (1..6) of node ``N`` on
@@ -16,6 +17,12 @@ acceleration (continuous displacement; the velocity jumps to ``A omega cos(phi)`
 the DOF rests at ``u = 0`` before ``t0`` and ``u`` and ``u'`` are continuous (no jump).
 ``u`` is a displacement from the initial coordinate [length] for DOFs 1-3 and a rotation [rad]
 for DOFs 4-6; ``phase`` is in degrees unless suffixed ``rad``; ``hz`` in Hz, ``omega`` in rad/s.
+
+``random:node=N,dof=D,rms=R|psd=P,band=LO:HI,seed=S[,t0=T0][,period=T][,ramp=TR]`` drives the
+DOF on a band-limited random acceleration with a flat PSD (rms and psd are the acceleration's,
+[length/s^2] and [(length/s^2)^2/Hz]); u and u' are its exact integrals, a smooth quintic
+between tabulated knots (:mod:`x3dpd.physics.random_signal`), with the same rest before ``t0``
+and the same ``ramp`` as the sine.
 
 x3dpd keeps no rotation angles, so a rotational DOF is driven through its angular velocity only.
 
@@ -41,11 +48,17 @@ import numpy as np
 
 from x3dpd._jit import kernel, step_kernel
 from x3dpd.errors import UsrfrcError
-from x3dpd.physics.usrfrc import _node_dof, _node_ids, _number, _omega, _parse_pairs, _phase
+from x3dpd.physics.random_signal import _random_motion_state, attach_blocks, parse_random
+from x3dpd.physics.spec_fields import _node_dof, _node_ids, _number, _omega, _parse_pairs, _phase
 
 #: Columns of a motion table. ``x_initial`` is the DOF's initial coordinate (0 for rotations or
-#: when no coordinates were given); the kernel reads ``x0`` itself.
+#: when no coordinates were given); the kernel reads ``x0`` itself. A random row holds its RMS
+#: acceleration in ``amp``, :data:`RANDOM` in ``omega`` and the first row of its knots in
+#: ``phase``; after the last row, a row with ``node_index`` -1 and the knots follow
+#: (x3dpd.physics.random_signal).
 MOTION_COLUMNS = ("node_index", "dof_index", "amp", "omega", "phase", "t0", "x_initial", "ramp")
+#: ``omega`` of a random row (a sine's is > 0).
+RANDOM = -1.0
 
 _REQUIRED = ("node", "dof", "amp")
 _OPTIONAL = ("hz", "omega", "phase", "t0", "ramp")
@@ -56,6 +69,8 @@ def _motion_state(t, table, r):
     """``(u, u', u'')`` of row ``r`` at time ``t`` (with the smooth start of a ``ramp`` > 0)."""
     amp, omega, phase, ramp = table[r, 2], table[r, 3], table[r, 4], table[r, 7]
     tau = t - table[r, 5]
+    if omega == RANDOM:
+        return _random_motion_state(tau, table, amp, int(phase), ramp)
     if tau < 0.0:
         return (0.0 if ramp > 0.0 else amp * math.sin(phase)), 0.0, 0.0
     arg = omega * tau + phase
@@ -75,6 +90,8 @@ def _motion_state(t, table, r):
 def _apply_motion(t, table, x0, x, vel):
     """Impose every prescribed DOF at time ``t``: ``x = x0 + u`` (DOFs 1-3 only), ``vel = u'``."""
     for r in range(table.shape[0]):
+        if table[r, 0] < 0.0:  # random signals' knots follow the rows
+            break
         i = int(table[r, 0])
         d = int(table[r, 1])
         u, v, _ = _motion_state(t, table, r)
@@ -92,6 +109,8 @@ def _apply_motion_step(t_prev, t, table, x0, x, vel):
     dampers and friction see ``dt * vel`` as the DOF's displacement, as for every other DOF.
     """
     for r in range(table.shape[0]):
+        if table[r, 0] < 0.0:  # random signals' knots follow the rows
+            break
         i = int(table[r, 0])
         d = int(table[r, 1])
         u0 = _motion_state(t_prev, table, r)[0]
@@ -110,6 +129,8 @@ def _motion_work(t_prev, t, table, kin_mass, kin_inertia, force, f_prev):
     """
     w = 0.0
     for r in range(table.shape[0]):
+        if table[r, 0] < 0.0:  # random signals' knots follow the rows
+            break
         i = int(table[r, 0])
         d = int(table[r, 1])
         u0, v0, _ = _motion_state(t_prev, table, r)
@@ -125,23 +146,27 @@ def _motion_work(t_prev, t, table, kin_mass, kin_inertia, force, f_prev):
 def _motion_acceleration(t, table, acc):
     """Write ``u''(t)`` of every row into ``acc`` (m,) (for the motion's reaction force)."""
     for r in range(table.shape[0]):
+        if table[r, 0] < 0.0:  # random signals' knots follow the rows
+            break
         acc[r] = _motion_state(t, table, r)[2]
 
 
 @kernel
 def _motion_history(times, table, u, v, a):
     for j in range(times.shape[0]):
-        for r in range(table.shape[0]):
+        for r in range(u.shape[1]):
             u[j, r], v[j, r], a[j, r] = _motion_state(times[j], table, r)
 
 
 def motion_table(specs, model_or_node_ids, x0=None) -> np.ndarray:
-    """Parse ``--motion`` specs into a ``(m, 8)`` float table (columns :data:`MOTION_COLUMNS`).
+    """Parse ``--motion`` specs into a ``(m, 8)`` float table (columns :data:`MOTION_COLUMNS`;
+    with random motions, their knots follow the ``m`` rows: :func:`motion_count`).
 
     Parameters
     ----------
     specs : iterable of str
-        ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0][,ramp=TR]``.
+        ``node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0][,ramp=TR]``, or
+        ``random:node=N,dof=D,rms=R|psd=P,band=LO:HI,seed=S[,t0=T0][,period=T][,ramp=TR]``.
     model_or_node_ids : Model or (n,) int array
         Ascending user node ids; a Model also supplies ``x0`` for column ``x_initial``.
     x0 : (n, 3) array, optional
@@ -155,17 +180,21 @@ def motion_table(specs, model_or_node_ids, x0=None) -> np.ndarray:
     node_ids = _node_ids(model_or_node_ids)
     if x0 is None:
         x0 = getattr(model_or_node_ids, "x0", None)
-    rows, seen = [], {}
+    rows, seen, laws = [], {}, []
     for spec in specs:
         body = spec.strip()
         if body.lower().startswith("sine:"):
             body = body[5:]
+        if body.lower().startswith("random:"):
+            law = parse_random("motion spec", spec, body[7:], node_ids, motion=True)
+            _check_once(spec, law.node, law.dof, node_ids, seen)
+            xi = float(x0[law.node, law.dof]) if (x0 is not None and law.dof < 3) else 0.0
+            laws.append((len(rows), law))
+            rows.append([law.node, law.dof, law.rms, RANDOM, 0.0, law.t0, xi, law.ramp])
+            continue
         pairs = _parse_pairs("motion spec", spec, body, _REQUIRED, _OPTIONAL)
         node, dof = _node_dof("motion spec", spec, pairs, node_ids)
-        if (node, dof) in seen:
-            raise UsrfrcError(f"motion spec {spec!r}: node {pairs['node']} dof {dof + 1} is "
-                              f"already driven by {seen[node, dof]!r}")
-        seen[node, dof] = spec
+        _check_once(spec, node, dof, node_ids, seen)
         amp = _number("motion spec", spec, "amp", pairs["amp"])
         omega = _omega("motion spec", spec, pairs)
         phase = _phase("motion spec", spec, pairs["phase"]) if "phase" in pairs else 0.0
@@ -176,7 +205,26 @@ def motion_table(specs, model_or_node_ids, x0=None) -> np.ndarray:
                               f"duration >= 0 [s]")
         xi = float(x0[node, dof]) if (x0 is not None and dof < 3) else 0.0
         rows.append([node, dof, amp, omega, phase, t0, xi, ramp])
-    return np.array(rows, dtype=np.float64).reshape(len(rows), len(MOTION_COLUMNS))
+    return attach_blocks(rows, laws, 4, [-1.0] + [0.0] * (len(MOTION_COLUMNS) - 1))
+
+
+def _check_once(spec, node, dof, node_ids, seen) -> None:
+    if (node, dof) in seen:
+        raise UsrfrcError(f"motion spec {spec!r}: node {int(node_ids[node])} dof {dof + 1} is "
+                          f"already driven by {seen[node, dof]!r}")
+    seen[node, dof] = spec
+
+
+def motion_count(table) -> int:
+    """Number of motions in a motion table (the rows before the knots of random motions)."""
+    table = np.asarray(table)
+    hit = np.flatnonzero(table[:, 0] < 0.0)
+    return int(hit[0]) if hit.size else int(table.shape[0])
+
+
+def motion_rows(table) -> np.ndarray:
+    """The motions of a motion table, without the knots of random motions (a view)."""
+    return np.asarray(table)[:motion_count(table)]
 
 
 def _check_table(table) -> np.ndarray:
@@ -192,7 +240,8 @@ def apply_motion(t: float, table, x0, x, vel) -> None:
     for name, a, cols in (("x0", x0, 3), ("x", x, 3), ("vel", vel, 6)):
         if a.dtype != np.float64 or a.ndim != 2 or a.shape[1] != cols:
             raise ValueError(f"{name} must be (n, {cols}) float64; got {a.shape} {a.dtype}")
-    if table.shape[0] and table[:, 0].max() >= x.shape[0]:
+    rows = motion_rows(table)
+    if rows.shape[0] and rows[:, 0].max() >= x.shape[0]:
         raise ValueError("the motion table refers to a node index outside the arrays")
     _apply_motion(float(t), table, x0, x, vel)
 
@@ -205,7 +254,7 @@ def start_motion(t: float, table, x0, x, vel, kin_mass, kin_inertia) -> float:
     (an impulse); a displacement ``u(t) = A sin(phi)`` is part of the initial state.
     """
     table = _check_table(table)
-    rows = table[:, :2].astype(np.int64)
+    rows = motion_rows(table)[:, :2].astype(np.int64)
     before = vel[rows[:, 0], rows[:, 1]].copy()
     apply_motion(t, table, x0, x, vel)
     after = vel[rows[:, 0], rows[:, 1]]
@@ -215,10 +264,10 @@ def start_motion(t: float, table, x0, x, vel, kin_mass, kin_inertia) -> float:
 
 
 def motion_history(times, table) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(u, u', u'')`` of every row at every time, each ``(len(times), m)``."""
+    """``(u, u', u'')`` of every motion at every time, each ``(len(times), m)``."""
     times = np.atleast_1d(np.asarray(times, dtype=np.float64))
     table = _check_table(table)
-    u, v, a = (np.empty((times.shape[0], table.shape[0])) for _ in range(3))
+    u, v, a = (np.empty((times.shape[0], motion_count(table))) for _ in range(3))
     _motion_history(times, table, u, v, a)
     return u, v, a
 
@@ -226,7 +275,7 @@ def motion_history(times, table) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def prescribed_mask(table, n_nodes: int) -> np.ndarray:
     """``(n, 6)`` bool, True at the DOFs the motion table drives (the solver does not integrate
     them)."""
-    table = _check_table(table)
+    table = motion_rows(_check_table(table))
     mask = np.zeros((n_nodes, 6), dtype=bool)
     mask[table[:, 0].astype(np.int64), table[:, 1].astype(np.int64)] = True
     return mask

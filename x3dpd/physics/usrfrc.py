@@ -18,6 +18,9 @@ Built-in specs (``kind:key=value,...``; ``dof`` 1..6 is X3D's numbering, 1-3 for
                                                       F = A sin(W (t - T0) + P) for t >= T0
     sweep:node=N,dof=D,amp=A,f0=F0,f1=F1,rate=R[,law=linear|log][,t0=T0][,end=hold|stop]
                                                       F = A sin(phi(t - T0)), phi = 2 pi int f
+    random:node=N,dof=D,rms=R|psd=P,band=LO:HI,seed=S[,t0=T0][,period=T]
+                                                      band-limited random, flat PSD over the
+                                                      band (x3dpd.physics.random_signal)
 
 The full description with units and examples is ``docs/usrfrc.md``.
 """
@@ -27,12 +30,21 @@ from __future__ import annotations
 import functools
 import math
 import os
-import re
 
 import numpy as np
 
 from x3dpd._jit import kernel, step_kernel
 from x3dpd.errors import UsrfrcError
+from x3dpd.physics.random_signal import RandomLaw, _signal_state, attach_blocks, parse_random
+from x3dpd.physics.spec_fields import (  # noqa: F401  (re-exported: the spec fields' old home)
+    _choice,
+    _node_dof,
+    _node_ids,
+    _number,
+    _omega,
+    _parse_pairs,
+    _phase,
+)
 
 # Kind codes stored in column 0 of a force table (0 is never used, so a zero row is an error).
 KIND_CONSTANT = 1
@@ -40,11 +52,15 @@ KIND_STEP = 2
 KIND_SINE = 3
 KIND_SWEEP_LINEAR = 4
 KIND_SWEEP_LOG = 5
+KIND_RANDOM = 6
+#: Column 0 of the row after the last law when a table carries random signals' knots (the laws'
+#: loops stop there; x3dpd.physics.random_signal).
+KIND_DATA = -1
 
 #: Meaning of the 9 columns of a force table. ``p1..p5`` per kind:
 #: constant: unused; step: t0, t1 (inf when open); sine: omega [rad/s], phase [rad], t0;
 #: sweep (linear/log): f0 [Hz], f1 [Hz], signed rate k [Hz/s or octaves/s], t0,
-#: end (0 hold, 1 stop).
+#: end (0 hold, 1 stop); random: first row of its knots, LO, HI [Hz], t0, seed (amp: RMS).
 TABLE_COLUMNS = ("kind", "node_index", "dof_index", "amp", "p1", "p2", "p3", "p4", "p5")
 
 _KEYS = {  # kind -> (required keys, optional keys)
@@ -52,6 +68,7 @@ _KEYS = {  # kind -> (required keys, optional keys)
     "step": (("node", "dof", "amp", "t0"), ("t1",)),
     "sine": (("node", "dof", "amp"), ("hz", "omega", "phase", "t0")),
     "sweep": (("node", "dof", "amp", "f0", "f1", "rate"), ("law", "t0", "end")),
+    "random": None,  # x3dpd.physics.random_signal parses it
 }
 _TWO_PI = 2.0 * math.pi
 _LN2 = math.log(2.0)
@@ -115,6 +132,11 @@ def _force_value(t, table, r):
         if tau < 0.0:
             return 0.0
         return amp * math.sin(table[r, 4] * tau + table[r, 5])
+    if kind == KIND_RANDOM:
+        tau = t - table[r, 7]
+        if tau < 0.0:
+            return 0.0
+        return amp * _signal_state(tau, table, int(table[r, 4]))[0]
     # sweeps
     tau = t - table[r, 7]
     if tau < 0.0:
@@ -130,120 +152,33 @@ def _force_value(t, table, r):
 def _apply_forces(t, table, force):
     """ADD every force of ``table`` at time ``t`` [s] to ``force`` (n, 6)."""
     for r in range(table.shape[0]):
+        if table[r, 0] == KIND_DATA:
+            break
         force[int(table[r, 1]), int(table[r, 2])] += _force_value(t, table, r)
 
 
 @kernel
 def _force_values(times, table, out):
     for j in range(times.shape[0]):
-        for r in range(table.shape[0]):
+        for r in range(out.shape[1]):
             out[j, r] = _force_value(times[j], table, r)
 
 
 # ---------------------------------------------------------------------------------------------
-# Spec parsing (shared with x3dpd.physics.motion)
+# Spec parsing (fields shared with x3dpd.physics.motion: x3dpd.physics.spec_fields)
 # ---------------------------------------------------------------------------------------------
 
-def _node_ids(model_or_node_ids) -> np.ndarray:
-    """The ascending node id array of a Model or of an array-like of ids."""
-    ids = np.asarray(getattr(model_or_node_ids, "node_ids", model_or_node_ids), dtype=np.int64)
-    if ids.ndim != 1 or (ids.size > 1 and np.any(np.diff(ids) <= 0)) or np.any(ids < 0):
-        raise ValueError("node_ids must be a 1-D array of ascending, distinct, non-negative ids")
-    return ids
 
-
-def _parse_pairs(what, spec, body, required, optional):
-    """Split ``key=value,...`` into a dict, rejecting unknown, repeated and missing keys."""
-    pairs = {}
-    for item in body.split(","):
-        item = item.strip()
-        if not item:
-            raise UsrfrcError(f"{what} {spec!r}: empty item (stray comma?)")
-        key, eq, value = item.partition("=")
-        key = key.strip().lower()
-        if not eq or not value.strip():
-            raise UsrfrcError(f"{what} {spec!r}: item {item!r} is not key=value")
-        if key not in required and key not in optional:
-            allowed = ", ".join(required + optional)
-            raise UsrfrcError(f"{what} {spec!r}: unknown key {key!r} (allowed: {allowed})")
-        if key in pairs:
-            raise UsrfrcError(f"{what} {spec!r}: key {key!r} given twice")
-        pairs[key] = value.strip()
-    missing = [k for k in required if k not in pairs]
-    if missing:
-        raise UsrfrcError(f"{what} {spec!r}: missing required key(s) {', '.join(missing)}")
-    return pairs
-
-
-def _number(what, spec, key, text, positive=False):
-    """A finite float (Fortran ``1.0d-3`` accepted); ``positive`` demands > 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        try:
-            value = float(text.lower().replace("d", "e"))
-        except ValueError:
-            value = math.nan
-            if not re.fullmatch(r"\s*nan\s*", text, re.I):
-                raise UsrfrcError(f"{what} {spec!r}: {key}={text!r} is not a number") from None
-    if not math.isfinite(value) or (positive and value <= 0.0):
-        kind = "a positive finite number" if positive else "a finite number"
-        raise UsrfrcError(f"{what} {spec!r}: {key}={text!r}: expected {kind}")
-    return value
-
-
-def _phase(what, spec, text):
-    """Phase in radians from ``90``/``90deg`` (degrees) or ``1.5708rad`` (radians)."""
-    low = text.strip().lower()
-    if low.endswith("rad"):
-        return _number(what, spec, "phase", low[:-3])
-    if low.endswith("deg"):
-        low = low[:-3]
-    return math.radians(_number(what, spec, "phase", low))
-
-
-def _node_dof(what, spec, pairs, node_ids):
-    """Resolve ``node`` (user id) to an index and ``dof`` (1..6) to a 0-based column."""
-    try:
-        nid = int(pairs["node"])
-    except ValueError:
-        raise UsrfrcError(f"{what} {spec!r}: node={pairs['node']!r} is not an integer") from None
-    i = int(np.searchsorted(node_ids, nid))
-    if i >= node_ids.shape[0] or node_ids[i] != nid:
-        raise UsrfrcError(f"{what} {spec!r}: node={nid} is not defined in the model")
-    try:
-        dof = int(pairs["dof"])
-    except ValueError:
-        dof = 0
-    if not 1 <= dof <= 6:
-        raise UsrfrcError(f"{what} {spec!r}: dof={pairs['dof']!r}: expected 1..6 "
-                          "(1-3 forces x, y, z; 4-6 moments about x, y, z)")
-    return i, dof - 1
-
-
-def _omega(what, spec, pairs):
-    """Circular frequency [rad/s] from exactly one of ``hz`` and ``omega``."""
-    if ("hz" in pairs) == ("omega" in pairs):
-        raise UsrfrcError(f"{what} {spec!r}: give exactly one of hz= (Hz) or omega= (rad/s)")
-    if "hz" in pairs:
-        return _TWO_PI * _number(what, spec, "hz", pairs["hz"], positive=True)
-    return _number(what, spec, "omega", pairs["omega"], positive=True)
-
-
-def _choice(what, spec, pairs, key, choices):
-    value = pairs.get(key, choices[0]).lower()
-    if value not in choices:
-        raise UsrfrcError(f"{what} {spec!r}: {key}={value!r}: expected one of {', '.join(choices)}")
-    return choices.index(value)
-
-
-def _force_row(spec: str, node_ids: np.ndarray) -> list[float]:
+def _force_row(spec: str, node_ids: np.ndarray) -> list[float] | RandomLaw:
     what = "usrfrc spec"
     kind, colon, body = spec.strip().partition(":")
     kind = kind.strip().lower()
     if not colon or kind not in _KEYS:
         raise UsrfrcError(f"{what} {spec!r}: unknown force kind {kind!r}; expected "
-                          "constant:, step:, sine:, sweep: or a path to a .py user force file")
+                          "constant:, step:, sine:, sweep:, random: or a path to a .py user "
+                          "force file")
+    if kind == "random":
+        return parse_random(what, spec, body, node_ids)
     pairs = _parse_pairs(what, spec, body, *_KEYS[kind])
     node, dof = _node_dof(what, spec, pairs, node_ids)
     amp = _number(what, spec, "amp", pairs["amp"])
@@ -280,8 +215,9 @@ def _force_row(spec: str, node_ids: np.ndarray) -> list[float]:
 def is_user_file(spec: str) -> bool:
     """True when ``spec`` names a user force file rather than a built-in law.
 
-    A spec is a built-in law when it starts with ``constant:``, ``step:``, ``sine:`` or
-    ``sweep:``; otherwise it is a file when it contains ``.py`` or is an existing path.
+    A spec is a built-in law when it starts with ``constant:``, ``step:``, ``sine:``,
+    ``sweep:`` or ``random:``; otherwise it is a file when it contains ``.py`` or is an
+    existing path.
     """
     kind = spec.strip().partition(":")[0].strip().lower()
     if ":" in spec and kind in _KEYS:
@@ -308,7 +244,8 @@ def force_table(specs, model_or_node_ids) -> np.ndarray:
 
     Returns
     -------
-    (m, 9) float64 array, one row per spec, columns :data:`TABLE_COLUMNS`.
+    (m, 9) float64 array, one row per spec, columns :data:`TABLE_COLUMNS`; with ``random:``
+    laws, a :data:`KIND_DATA` row and their knots follow (:func:`law_count` rows are laws).
 
     Raises
     ------
@@ -316,13 +253,25 @@ def force_table(specs, model_or_node_ids) -> np.ndarray:
         Naming the spec and the bad key, value or undefined node.
     """
     node_ids = _node_ids(model_or_node_ids)
-    rows = []
+    rows, laws = [], []
     for spec in specs:
         if is_user_file(spec):
             raise UsrfrcError(f"usrfrc spec {spec!r} is a user force file; "
                               "load it with load_user_force()")
-        rows.append(_force_row(spec, node_ids))
-    return np.array(rows, dtype=np.float64).reshape(len(rows), len(TABLE_COLUMNS))
+        row = _force_row(spec, node_ids)
+        if isinstance(row, RandomLaw):
+            laws.append((len(rows), row))
+            row = [KIND_RANDOM, row.node, row.dof, row.rms, 0.0, row.lo, row.hi, row.t0,
+                   float(row.seed)]
+        rows.append(row)
+    header = [KIND_DATA] + [0.0] * (len(TABLE_COLUMNS) - 1)
+    return attach_blocks(rows, laws, 4, header)
+
+
+def law_count(table) -> int:
+    """Number of law rows of a force table (the rows before its :data:`KIND_DATA` row)."""
+    hit = np.flatnonzero(np.asarray(table)[:, 0] == KIND_DATA)
+    return int(hit[0]) if hit.size else int(np.asarray(table).shape[0])
 
 
 def _check_table(table) -> np.ndarray:
@@ -337,16 +286,18 @@ def apply_forces(t: float, table: np.ndarray, force: np.ndarray) -> None:
     table = _check_table(table)
     if force.dtype != np.float64 or force.ndim != 2 or force.shape[1] != 6:
         raise ValueError(f"force must be (n, 6) float64; got {force.shape} {force.dtype}")
-    if table.shape[0] and (table[:, 1].max() >= force.shape[0]):
+    m = law_count(table)
+    if m and (table[:m, 1].max() >= force.shape[0]):
         raise ValueError("the force table refers to a node index outside the force array")
     _apply_forces(float(t), table, force)
 
 
 def force_values(times, table) -> np.ndarray:
-    """Value of every table row at every time: ``(len(times), m)`` [force or moment units]."""
+    """Value of every law of the table at every time: ``(len(times), m)`` [force or moment
+    units], ``m`` = :func:`law_count`."""
     times = np.atleast_1d(np.asarray(times, dtype=np.float64))
     table = _check_table(table)
-    out = np.empty((times.shape[0], table.shape[0]))
+    out = np.empty((times.shape[0], law_count(table)))
     _force_values(times, table, out)
     return out
 

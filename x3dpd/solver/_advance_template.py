@@ -32,7 +32,7 @@ from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rota
                                       _update_slaves)
 from x3dpd.physics.rotational_spring import _rotational_spring_drift, _rotational_spring_moments
 from x3dpd.physics.spring_damper import _spring_forces
-from x3dpd.physics.usrfrc import _force_value
+from x3dpd.physics.usrfrc import KIND_DATA, _force_value
 from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
                                             REALLOC_WALLS)
 from x3dpd.solver._template_energy import _energies, _ledger_row
@@ -96,6 +96,8 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
         wext = 0.0
         # built-in forces act on a few DOFs: work row by row (exact even if rows share a DOF)
         for r in range(ext_table.shape[0]):
+            if ext_table[r, 0] == KIND_DATA:  # random signals' knots follow the laws
+                break
             i = int(ext_table[r, 1])
             d = int(ext_table[r, 2])
             fe = _force_value(t, ext_table, r)

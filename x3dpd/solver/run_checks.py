@@ -16,6 +16,7 @@ import numpy as np
 
 from x3dpd.errors import UnstableRunError
 from x3dpd.geometry.shapes import SHAPES, analytic_wall
+from x3dpd.physics.motion import motion_rows
 from x3dpd.solver.diagnosis import energy_source_advice
 from x3dpd.solver.ledger_checks import (
     SAFE_FRACTION,
@@ -83,7 +84,7 @@ class RunChecks:
     def _energy_sources(self) -> list[str]:
         out = [f"force {spec}" for spec in self._force_specs]
         out += [f"prescribed motion of node {int(self.model.node_ids[int(r[0])])} dof "
-                f"{int(r[1]) + 1}" for r in self.motion]
+                f"{int(r[1]) + 1}" for r in motion_rows(self.motion)]
         return out
 
     def _check_step_stability(self, row: np.ndarray) -> None:

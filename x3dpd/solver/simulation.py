@@ -20,8 +20,9 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
     from x3dpd.model.model import Model
 
 from x3dpd.errors import InputError, UnstableRunError
-from x3dpd.physics.motion import MOTION_COLUMNS, motion_table, start_motion
+from x3dpd.physics.motion import MOTION_COLUMNS, motion_rows, motion_table, start_motion
 from x3dpd.physics.user_force_file import build_external_forces
+from x3dpd.physics.usrfrc import law_count
 from x3dpd.solver.bundles import (
     ContactList,
     Loads,
@@ -91,12 +92,13 @@ class Simulation(RunChecks):
         self.ext = build_external_forces(specs, model, allow_python=allow_python_usrfrc)
         self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros(
             (0, len(MOTION_COLUMNS)))
-        prescribed = self.motion[:, :2].astype(np.int64) if len(self.motion) else None
+        rows = motion_rows(self.motion)  # the motions (random ones' knots follow them)
+        prescribed = rows[:, :2].astype(np.int64) if len(rows) else None
         self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed)
         effects = set(model.effects)
         if specs:
             effects.add("external_force")
-        if len(self.motion):
+        if len(rows):
             effects.add("prescribed_motion")
         self.python_forces = list(self.ext.python_user)
         compiled = list(self.ext.compiled_user)
@@ -107,15 +109,15 @@ class Simulation(RunChecks):
                                             user_force=bool(compiled),
                                             python_force=bool(self.python_forces),
                                             walls_translate=_walls_only_translate(
-                                                self.setup, self.motion[:, 0].astype(np.int64)),
+                                                self.setup, rows[:, 0].astype(np.int64)),
                                             normal_law=model.normal_law,
                                             one_particle_kind=_one_particle_kind(self.setup))
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
         self.compile_seconds = 0.0
         self._load_seconds = _time.perf_counter() - t
-        self.state = initial_state(model, self.setup, model.n_nodes, len(self.motion),
-                                   self.ext.table.shape[0])
+        self.state = initial_state(model, self.setup, model.n_nodes, len(rows),
+                                   law_count(self.ext.table))
         self.fpy = np.zeros((model.n_nodes, 6))
         self.trace_nodes = np.ascontiguousarray(model.trace_nodes, dtype=np.int64)
         self.diag = np.zeros(8)
@@ -140,7 +142,7 @@ class Simulation(RunChecks):
         s = self.state
         k = self.setup
         w_start = 0.0
-        if len(self.motion):
+        if len(motion_rows(self.motion)):
             w_start = start_motion(self.model.t0, self.motion, k.x0, s.x, s.vel, k.kin_mass,
                                    k.kin_inertia)
             self.kernels._update_slaves(s.x, s.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
@@ -150,7 +152,7 @@ class Simulation(RunChecks):
         st = self.compute_forces(self.model.t0)
         self._check_status(st, self.model.t0, 0)
         self.project_modal_forces()
-        rows = self.motion[:, :2].astype(np.int64)
+        rows = motion_rows(self.motion)[:, :2].astype(np.int64)
         s.motion_prev[:] = s.force[rows[:, 0], rows[:, 1]]
         s.ledger[self.kernels.L_WEXT] += w_start
         en = self._energy_now()

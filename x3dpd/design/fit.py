@@ -1,0 +1,117 @@
+"""``x3dpd fit MEASURED --out DIR``: a single-mode SDOF fitted to a measured FRF, written as the
+deck records of the report's beam decks (MASS, a MATID type 1 spring/damper, its ELEMENTS record)
+to DIR/fit.txt, with DIR/fit.png (measured vs fitted). The fit is :mod:`x3dpd.analysis.sdof_fit`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+from x3dpd.analysis.frf import QUANTITY_ORDER
+from x3dpd.analysis.frf_plots import plot_fit
+from x3dpd.analysis.sdof_fit import SdofFit, fit_sdof
+from x3dpd.design.frf import _outputs
+from x3dpd.design.trace_signals import parse_band
+from x3dpd.errors import InputError
+from x3dpd.io.measured import MeasuredFrf, read_measured_frf
+
+_AXES = "XYZ"
+
+
+def fit_text(source: MeasuredFrf, fit: SdofFit, values: dict[str, float], *, node: int,
+             dof: int, quantity: str, mid: int = 2) -> str:
+    """The fit's description and deck records (``$`` comment lines, then MATID, ELEMENTS, MASS
+    in the beam decks' layout: decks/beam_64.inp)."""
+    k = [1.0e12, 1.0e12, 1.0e12]
+    k[dof - 1] = values["stiffness"]
+    lo, hi = fit.band
+    q = QUANTITY_ORDER[quantity]
+    lines = [
+        f"$ x3dpd fit {source.path} ({source.label}): single-mode SDOF, {quantity} per unit of "
+        "excitation",
+        f"$   H(f) = (i w)^{q} R / (wn^2 - w^2 + 2 i zeta wn w) over {lo:.6g}-{hi:.6g} Hz "
+        f"({fit.n_points} points)",
+        f"$   fn   = {fit.fn:.8g} Hz  (+- {fit.fn_se:.2g}, one standard error)",
+        f"$   zeta = {fit.zeta:.8g}  (+- {fit.zeta_se:.2g})",
+        f"$   R    = {fit.residue:.8g}  (+- {fit.residue_se:.2g}) = force scale / effective mass",
+        f"$   residual: RMS |H_fit - H| / |H| = {fit.residual:.4g}",
+        f"$   force scale S = {values['force_scale']:.8g} (force per unit of the FRF's "
+        "excitation), effective mass m = S / R",
+        f"$   m = {values['mass']:.8g}, k = m wn^2 = {values['stiffness']:.8g}, "
+        f"c = 2 zeta m wn = {values['damping']:.8g}",
+        f"$ The structure as the beam decks model it: node {node} with mass m on a spring k and "
+        f"damper c to ground along {_AXES[dof - 1].lower()};",
+        f"$ fix its other DOFs in BOUNDARY CONDITIONS and drive it with S times the excitation, "
+        f"e.g. USRFRC sine:node={node},dof={dof},amp={values['force_scale']:.8g},"
+        f"hz={fit.fn:.6g}",
+        "MATID",
+        "$ MID TYPE MASS SCALE KX KY KZ C",
+        f"   {mid} 1 1e-12 1.0 {k[0]:.10g} {k[1]:.10g} {k[2]:.10g} {values['damping']:.10g}",
+        "END",
+        "ELEMENTS",
+        "$ ID MID NODE1 [NODE2]",
+        f"   1 {mid} {node}",
+        "END",
+        "MASS",
+        "$ NODE MASS IXX IYY IZZ",
+        f"   {node} {values['mass']:.10g} 1e+20 1e+20 1e+20",
+        "END",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def fit_command(measured: str, *, out: str, band: str | None = None,
+                quantity: str | None = None, dataset: int = 1, node: int = 9, dof: int = 1,
+                mass: float | None = None, force_scale: float | None = None,
+                overwrite: bool = False, echo: Callable[[str], None] = print) -> SdofFit:
+    """Fit the FRF of ``measured`` (a CSV, or the ``dataset``-th FRF of a UFF file) over
+    ``band`` (default the whole file); write DIR/fit.txt and DIR/fit.png."""
+    from x3dpd._files import write_atomically
+
+    if dof not in (1, 2, 3):
+        raise InputError(f"--dof {dof}: the spring acts along x, y or z (1, 2, 3)")
+    band_hz = parse_band(band)
+    paths = _outputs(out, ("fit.txt", "fit.png"), overwrite)
+    frfs = read_measured_frf(measured)
+    if not 1 <= dataset <= len(frfs):
+        raise InputError(f"{measured}: --dataset {dataset}: the file holds {len(frfs)} FRF(s)")
+    source = frfs[dataset - 1]
+    q = quantity or source.quantity
+    if q is None:
+        raise InputError(f"{measured}: the file does not say what the response is; give "
+                         "--quantity displacement|velocity|acceleration")
+    if q not in QUANTITY_ORDER:
+        raise InputError(f"--quantity {q!r}: expected one of {', '.join(QUANTITY_ORDER)}")
+    if band_hz is not None and (band_hz[1] > source.frequency[-1] or
+                                band_hz[0] < source.frequency[0]):
+        raise InputError(f"--band {band_hz[0]:g}:{band_hz[1]:g} Hz reaches outside the measured "
+                         f"data ({source.frequency[0]:g} .. {source.frequency[-1]:g} Hz) of "
+                         f"{measured}")
+    fit = fit_sdof(source.frequency, source.h, order=QUANTITY_ORDER[q], band=band_hz)
+    values = fit.deck_values(mass=mass, force_scale=force_scale)
+    text = fit_text(source, fit, values, node=node, dof=dof, quantity=q)
+    f = source.frequency
+    lo, hi = fit.band
+    span = hi - lo
+    view = (f >= lo - 0.25 * span) & (f <= hi + 0.25 * span)
+    paths[0].parent.mkdir(parents=True, exist_ok=True)
+    tmp = paths[1].with_name("." + paths[1].name + ".tmp.png")
+    try:
+        plot_fit(str(tmp), f[view], source.h[view], fit.model(f[view]),
+                 ylabel=source.unit or f"{q} unit",
+                 band=fit.band, title=f"{Path(measured).name}: fn {fit.fn:.5g} Hz, zeta "
+                                      f"{100 * fit.zeta:.4g} %")
+        write_atomically(paths[0], lambda fh: fh.write(text.encode()))
+        tmp.replace(paths[1])
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    echo(f"fit {measured}: fn {fit.fn:.6g} Hz, zeta {fit.zeta:.5g}, m {values['mass']:.6g}, "
+         f"k {values['stiffness']:.6g}, c {values['damping']:.6g} (force scale "
+         f"{values['force_scale']:g}); residual {fit.residual:.3g}")
+    if not math.isfinite(fit.fn_se) or fit.residual > 0.2:
+        echo("note: the residual is large: is the band around one mode only (--band LO:HI)?")
+    echo(f"wrote {paths[0]} and {paths[1]}")
+    return fit
