@@ -28,6 +28,8 @@ SHIPPED = [
     ("appendix_a_cube.inp", ["--usrfrc", CUBE_DRIVE], {"usrfrc": [CUBE_DRIVE]}, 2e-3),
     ("beam_1.inp", [], {}, 2e-3),
     ("beam_64.inp", [], {}, 2e-3),
+    ("beam_64_modal.inp", [], {}, 2e-3),
+    ("chassis_128.inp", [], {}, 2e-3),
     ("beam_512.inp", [], {}, 1e-3),
     ("cylinder_64.inp", [], {}, 2e-3),
     ("capsule_64.inp", [], {}, 2e-3),
