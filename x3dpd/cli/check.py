@@ -34,7 +34,7 @@ def _read_deck(path: str):
 @click.option("--motion", "motion", multiple=True, metavar="SPEC",
               help="Prescribed motion spec, as for `x3dpd run` (repeatable).")
 @click.option("--steps-per-contact", type=click.IntRange(min=1), default=STEPS_PER_CONTACT,
-              show_default=True, help="Time steps a Hertz contact should span.")
+              show_default=True, help="Time steps the shortest contact should span.")
 def check(decks: tuple[str, ...], usrfrc: tuple[str, ...], motion: tuple[str, ...],
           steps_per_contact: int) -> None:
     """Check each DECK: model summary, recommended time step and geometry warnings.
@@ -129,7 +129,7 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
         lines.append(_row("time step", f"DTMAX {ts.dt_deck:.3g} s; recommended <= "
                                        f"{ts.dt_recommended:.3g} s (binding: {ts.binding})"))
     if ts.contact_kind != "none":
-        lines.append(_row("", f"contact: Hertz {ts.contact_kind} impact at "
+        lines.append(_row("", f"contact: {ts.contact_law} {ts.contact_kind} impact at "
                               f"{ts.impact_speed:.3g} length/s lasts {ts.t_contact:.3g} s; "
                               f"/ {ts.steps_per_contact} = {ts.dt_contact:.3g} s (DTMAX gives "
                               f"{ts.deck_steps_per_contact:.3g} steps per contact, peak force "

@@ -63,7 +63,8 @@ class RunChecks:
                 f"unstable run at t = {t:.6g} s: total energy {grew} by {abs(res):.4g} without a "
                 f"source ({abs(res) / st.scale:.1%} of the energy scale {st.scale:.4g}; "
                 f"tolerance {tol:.0%}). "
-                + energy_source_advice(self.setup, st.vel, self.dt, self._energy_sources()),
+                + energy_source_advice(self.model, self.setup, st.vel, self.dt,
+                                       self._energy_sources()),
                 time=t, step=self._step_at(t))
         neg = negative_dissipation(energy, st.scale, tol)
         if neg is not None:
