@@ -50,6 +50,7 @@ from x3dpd.geometry.cells import find_pairs
 from x3dpd.geometry.shapes import SHAPES, analytic_wall
 from x3dpd.geometry.triangle import unit_normals
 from x3dpd.physics.normal_laws import NORMAL_LAWS, group_bodies
+from x3dpd.solver.run_checks import AUDIT_STEPS
 from x3dpd.solver.simulation import Block, Simulation
 
 #: Floor of the closing speed a decision assumes [length/s].
@@ -112,6 +113,9 @@ class VariableStep:
         if self.itrac < 1:
             raise InputError(f"trace interval ITRAC must be >= 1 step, got {self.itrac}")
         self.interval = self.itrac * self.dtmax
+        #: containment is checked at multiples of this many DTMAX steps (every level's
+        #: Simulation at the same times: x3dpd.solver.run_checks.AUDIT_STEPS)
+        self.audit_steps = self.itrac * -(-AUDIT_STEPS // self.itrac)
         self.n = int(steps_per_contact)
         self.dt_structure = float(dt_structure)
         self.options = sim_options
@@ -128,6 +132,7 @@ class VariableStep:
         if k not in self._sims:
             sim = Simulation(self.model, dt=self.levels[k], itrac=self.itrac * 2**k,
                              **self.options)
+            sim.audit_steps = self.audit_steps << k
             if self._trace_nodes is not None:
                 sim.trace_nodes = self._trace_nodes
             self._sims[k] = sim
@@ -166,6 +171,10 @@ class VariableStep:
     @property
     def motion(self):
         return self._sim(0).motion
+
+    @property
+    def energy_tolerance(self) -> float:
+        return self._sim(0).energy_tolerance
 
     @property
     def kernels(self):
