@@ -95,3 +95,29 @@ class UnstableRunError(X3dpdError):
 
 class TraceError(InputError):
     """A trace file cannot be read or would be overwritten."""
+
+
+class ModeFileError(InputError):
+    """A file of modes (a MODAL FILE record's OP2, UFF, CSV or NPZ file) cannot be used.
+
+    Renders as ``FILE:LINE: message`` when the line is known (CSV), else ``FILE: message``.
+
+    Parameters
+    ----------
+    path : str
+        The file as the user gave it.
+    message : str
+        What was wrong and what was expected.
+    line : int
+        1-based line of a text file (0 when unknown or not a text file).
+    """
+
+    def __init__(self, path, message: str, line: int = 0):
+        self.path = str(path)
+        self.message = message
+        self.line = line
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        where = f"{self.path}:{self.line}" if self.line else self.path
+        return f"{where}: {self.message}"

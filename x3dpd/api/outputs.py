@@ -15,7 +15,9 @@ import os
 from dataclasses import fields, is_dataclass, replace
 from pathlib import Path
 
-from x3dpd.errors import InputError
+import numpy as np
+
+from x3dpd.errors import InputError, Pos
 
 
 def default_paths(deck_path: str, trace: str | None = None,
@@ -51,13 +53,18 @@ def deck_key(deck) -> str:
     return hashlib.sha256(repr(plain).encode("utf-8")).hexdigest()
 
 
-_POSITION_FIELDS = frozenset({"pos", "positions", "slave_positions", "path"})
+_POSITION_FIELDS = frozenset({"pos", "positions", "slave_positions", "path", "value_pos",
+                              "node_pos", "housing_pos"})
 #: Cards added to the language later: absent, they leave the key of older decks unchanged.
-_ABSENT_IS_OLD = frozenset({"units", "hooke", "analytic_walls"})
+_ABSENT_IS_OLD = frozenset({"units", "hooke", "analytic_walls", "modal"})
 
 
 def _plain(obj):
     """Cards as nested tuples of (field, value), positions left out; floats as repr."""
+    if isinstance(obj, Pos):
+        return None    # where a value stands is not what it is
+    if isinstance(obj, np.ndarray):
+        return hashlib.sha256(np.ascontiguousarray(obj).tobytes()).hexdigest()
     if is_dataclass(obj) and not isinstance(obj, type):
         out = (type(obj).__name__,)
         for f in fields(obj):

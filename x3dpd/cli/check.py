@@ -118,6 +118,8 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
             lines.append(_row("", f"closed, interior volume {c.volume:.6g}; {fill}"))
         else:
             lines.append(_row("", "open: the faces do not close, so no volume or fill ratio"))
+    for k, text in enumerate(report.modes):
+        lines.append(_row("modal structure" if k == 0 else "", text))
     lines.append(_row("effects", ", ".join(sorted(report.effects)) or "none"))
     lines.append(_row("units", f"{units['system']} (declare with a UNITS card; mass "
                                f"{units['mass']}, energy {units['energy']})"))

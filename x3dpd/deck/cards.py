@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 # Positions are defined with the errors that report them (a lower layer than the deck language).
 from x3dpd.errors import NOWHERE, Pos  # noqa: E402,F401
+from x3dpd.deck.modal_card import Modal, ModalFile, ModalMode, ModalShape  # noqa: E402,F401
 
 
 @dataclass(frozen=True)
@@ -280,3 +281,4 @@ class Deck:
     #: records of the analytic wall cards in file order (None: no such card)
     analytic_walls: tuple[AnalyticWall, ...] | None = None
     units: Units | None = None
+    modal: Modal | None = None   # MODAL card (x3dpd.deck.modal_card); None: no modal structure

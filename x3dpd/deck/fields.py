@@ -68,6 +68,7 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("USRFRC", "USRF", ("SPEC",)),
     CardSpec("HOOKE", "HOOK", ("NODLIM", "KN", "E")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
+    CardSpec("MODAL", "MODA", ("RECORD",)),
 ) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)   # CYLINDER, CAPSULE ...
 
 #: Card spec by canonical name.
@@ -77,7 +78,7 @@ BY_KEY: dict[str, CardSpec] = {c.key: c for c in CARDS}
 #: Fields of a CONTACT slave record (its second block).
 CONTACT_SLAVES = CardSpec("CONTACT", "CONT", ("SET",), "SLAVE")
 #: Cards that may appear at most once.
-SINGLE_CARDS = ("TITLE", "PARAMETERS", "BODY", "TRACE", "UNITS")
+SINGLE_CARDS = ("TITLE", "PARAMETERS", "BODY", "TRACE", "UNITS", "MODAL")
 
 
 def card_for_word(word: str) -> CardSpec | None:

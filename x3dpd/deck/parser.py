@@ -29,6 +29,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedEOF, UnexpectedInput
 
 from x3dpd.deck.cards import Deck
+from x3dpd.deck.modal_card import load_mode_files
 from x3dpd.deck.fields import BY_KEY, BY_NAME, CARDS, CONTACT_SLAVES, CardSpec, card_for_word
 from x3dpd.deck.records import _split
 from x3dpd.deck.transform import DeckTransformer
@@ -324,7 +325,8 @@ def parse_deck(text: str, path: str = "<deck>") -> Deck:
     DeckError
         ``FILE:LINE:COL: CARD: message`` for anything wrong with the text.
     """
-    return _load(iter([_checked(text.removeprefix("\ufeff"), 1, path)]), path)
+    deck = _load(iter([_checked(text.removeprefix("\ufeff"), 1, path)]), path)
+    return load_mode_files(deck, os.getcwd())
 
 
 def read_deck(path: str | os.PathLike[str]) -> Deck:
@@ -339,4 +341,5 @@ def read_deck(path: str | os.PathLike[str]) -> Deck:
     except OSError as e:
         raise DeckError(f"cannot read the deck: {e.strerror or e}", name) from None
     with f:
-        return _load(_file_blocks(f, name), name)
+        deck = _load(_file_blocks(f, name), name)
+    return load_mode_files(deck, os.path.dirname(os.path.abspath(name)))

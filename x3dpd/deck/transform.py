@@ -40,6 +40,7 @@ from x3dpd.deck.cards import (
     Units,
     Usrfrc,
 )
+from x3dpd.deck.modal_card import parse_modal
 from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, SINGLE_CARDS
 from x3dpd.deck.records import (  # noqa: F401  (Piece, to_float re-exported)
     _EXACT_INT,
@@ -92,6 +93,10 @@ class DeckTransformer(Transformer):
         except ValueError as exc:
             raise DeckError(str(exc), "<deck>", at.line, at.column, "UNITS") from None
         return "UNITS", c[0], Units(*system, _pos(c[0]))
+
+    def modal(self, c: list[Token]) -> _Card:
+        lines = [(str(t), t.line, t.column) for t in c[1:-1]]
+        return "MODAL", c[0], parse_modal(_pos(c[0]), lines)
 
     # -- value cards ------------------------------------------------------------------------
     def parameters(self, c: list[Any]) -> _Card:
@@ -335,4 +340,4 @@ class DeckTransformer(Transformer):
                     boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
                     initials=many("INITIAL"), usrfrc=many("USRFRC"),
                     units=single.get("UNITS"), hooke=many("HOOKE") or None,
-                    analytic_walls=many("ANALYTIC") or None)
+                    analytic_walls=many("ANALYTIC") or None, modal=single.get("MODAL"))

@@ -191,6 +191,10 @@ def format_deck(deck: Deck) -> str:
             out.append("END")
     if deck.units is not None:
         out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]
+    if deck.modal is not None:
+        out.append("MODAL")
+        out.extend(_INDENT + _text_line(line, "MODAL record") for line in deck.modal.lines)
+        out.append("END")
     for u in deck.usrfrc:
         out.append("USRFRC")
         out.extend(_INDENT + _text_line(spec.strip(), "USRFRC spec") for spec in u.specs)

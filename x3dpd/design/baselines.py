@@ -9,7 +9,10 @@ report Section 8.2's model, Figure 43):
     X = F / sqrt((k - m w^2)^2 + (c w)^2),   phi = -atan2(c w, k - m w^2),
 
 with m the body's mass, k and c the sums of the springs' stiffness and damping along the drive.
-The energy the dashpot dissipates per cycle is pi c w X^2. Anything else is simulated.
+The energy the dashpot dissipates per cycle is pi c w X^2. A modal structure (MODAL card) without
+other springs is linear too: its receptance from the modes (x3dpd.physics.modal.receptance),
+the deck's mass and, for the added-mass baseline, the particles' mass coupled in
+(x3dpd.model.build_modal). Anything else is simulated.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from x3dpd.deck.cards import Deck, Mass
 from x3dpd.errors import InputError
 from x3dpd.model.build import build_model
 from x3dpd.model.model import Model
+from x3dpd.physics.modal import receptance
 
 #: Baseline names accepted by ``--baseline``, in the order they are run.
 BASELINES = ("undamped", "added-mass")
@@ -46,6 +50,67 @@ class Sdof:
         return math.pi * self.c * omega * amplitude ** 2
 
 
+@dataclass(frozen=True)
+class ModalLinear:
+    """A linear structure given by its modes, driven and measured at one DOF (shape values
+    ``phi`` (M,) of the coupled modes there; x3dpd.model.modal_structure)."""
+
+    omega: np.ndarray
+    zeta: np.ndarray
+    coupling: np.ndarray
+    phi: np.ndarray
+
+    def receptance(self, omega: float) -> complex:
+        """X/F at the driven DOF [length/force]."""
+        return complex(receptance(omega / (2.0 * math.pi), self.omega, self.zeta, self.phi,
+                                  self.phi, self.coupling)[0])
+
+    def response(self, drive: float, omega: float) -> tuple[float, float]:
+        """Steady-state amplitude X [length] and phase phi [rad] under drive sin(omega t)."""
+        h = self.receptance(omega)
+        return abs(drive * h), math.atan2(h.imag, h.real)
+
+    def dissipated_per_cycle(self, amplitude: float, omega: float) -> float:
+        """Energy the modal damping takes per cycle = the drive's work, pi F X sin(-phi) =
+        pi X^2 (-Im H) / |H|^2 [force length]."""
+        h = self.receptance(omega)
+        return math.pi * amplitude ** 2 * (-h.imag) / abs(h) ** 2
+
+    def modal_amplitudes(self, drive: float, omega: float) -> np.ndarray:
+        """(M,) complex modal amplitudes Q under drive sin(omega t) (u = Im(phi.Q e^{i omega
+        t}))."""
+        damping = np.diag(2.0 * self.zeta * self.omega)
+        if self.coupling.size:
+            damping = damping + self.coupling
+        dyn = np.diag(self.omega ** 2 - omega * omega).astype(complex) + 1j * omega * damping
+        return np.linalg.solve(dyn, drive * self.phi.astype(complex))
+
+
+def linear_structure(model: Model, node: int, dof: int):
+    """The closed-form linear structure of a particle-free model driven at ``node`` along
+    ``dof``: an :class:`Sdof`, a :class:`ModalLinear`, or None (see :func:`linear_sdof`,
+    :func:`linear_modal`)."""
+    return linear_sdof(model, node, dof) or linear_modal(model, node, dof)
+
+
+def linear_modal(model: Model, node: int, dof: int) -> ModalLinear | None:
+    """The modal structure of a particle-free model whose ``node`` (a modal node) is driven
+    along ``dof`` (1-6), or None: no modal structure, particles, or springs and dashpots (they
+    are not in the modes)."""
+    ms = model.modal
+    if ms is None or model.n_particles or dof not in range(1, 7):
+        return None
+    if np.any(model.spring_k != 0.0) or np.any(model.spring_c != 0.0):
+        return None
+    try:
+        i = model.index_of(node)
+    except KeyError:
+        return None
+    if i not in set(ms.nodes.tolist()):
+        return None
+    return ModalLinear(ms.omega, ms.zeta, ms.coupling, ms.shape_at(i, dof - 1))
+
+
 def particle_mass(model: Model) -> float:
     """Total mass of the particles of a built model [mass]."""
     return float(np.sum(model.mass[model.particle_start:]))
@@ -67,7 +132,13 @@ def without_particles(deck: Deck) -> Deck:
 
 
 def with_added_mass(deck: Deck, node: int, mass: float) -> Deck:
-    """The particle-free deck with ``mass`` added to ``node``'s MASS record (added-mass baseline)."""
+    """The particle-free deck with ``mass`` added to ``node``'s MASS record (added-mass baseline).
+    A modal structure couples it into its modes (HOUSING added; with HOUSING included the
+    deck's mass on modal nodes is taken as already in the modes, so there is no such baseline).
+    """
+    if deck.modal is not None and deck.modal.housing == "included":
+        raise InputError("the added-mass baseline needs the deck's mass to be added to the modes "
+                         "(MODAL HOUSING added); this deck's modes include its housing")
     bare = without_particles(deck)
     masses = list(bare.masses)
     for i, rec in enumerate(masses):

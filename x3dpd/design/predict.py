@@ -36,7 +36,7 @@ import numpy as np
 
 from x3dpd.api import FinalState
 from x3dpd.api.outputs import deck_key
-from x3dpd.design.baselines import linear_sdof, particle_mass, with_added_mass
+from x3dpd.design.baselines import ModalLinear, linear_structure, particle_mass, with_added_mass
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
 
@@ -49,11 +49,19 @@ def added_mass_response(deck, node: int, dof: int, drive: float, omega: float,
     """Complex steady-state amplitude X of the added-mass structure under drive sin(omega t)
     [length], or None when it is not a linear SDOF. ``model``: the deck's built model, if at
     hand."""
-    model = build_model(deck) if model is None else model
-    sdof = linear_sdof(build_model(with_added_mass(deck, node, particle_mass(model))), node, dof)
-    if sdof is None:
+    structure = added_mass_structure(deck, node, dof, model)
+    if structure is None:
         return None
-    return cmath.rect(*sdof.response(drive, omega))
+    return cmath.rect(*structure.response(drive, omega))
+
+
+def added_mass_structure(deck, node: int, dof: int, model=None):
+    """The linear added-mass structure (an Sdof or a ModalLinear) or None."""
+    model = build_model(deck) if model is None else model
+    if deck.modal is not None and deck.modal.housing == "included":
+        return None
+    return linear_structure(build_model(with_added_mass(deck, node, particle_mass(model))),
+                            node, dof)
 
 
 def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple):
@@ -83,6 +91,13 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple):
     else:
         sim.initialize()
     state = sim.state
+    if model.modal is not None:
+        structure = added_mass_structure(point.deck, point.node, point.dof, model)
+        if not isinstance(structure, ModalLinear):
+            return None
+        scale = target / response(point.drive, point.frequency_hz)
+        modes = scale * structure.modal_amplitudes(point.drive, omega)
+        return _modal_start(sim, model, modes, omega, t_start, point.deck, dt)
     i = model.index_of(point.node)
     d = point.dof - 1
     u = abs(target) * math.sin(cmath.phase(target))
@@ -104,3 +119,36 @@ def total_energy(sim: Simulation) -> float:
     it [energy]."""
     en = sim.energy_now()
     return float(en[:5].sum() - en[5])
+
+
+def _modal_start(sim: Simulation, model, modes: np.ndarray, omega: float, t_start: float, deck,
+                 dt: float):
+    """The predicted start of a modal structure: modal coordinates q = Im Q, p = omega Re Q
+    (the coupled modes' steady state, ``modes`` = Q), modal nodes and their rigid bodies placed
+    from them, particles moved with their cavity's master (translation and velocity), the
+    energy this adds booked in the reference energy."""
+    state, k = sim.state, sim.setup
+    e_before = total_energy(sim)
+    ms = model.modal
+    q_new, p_new = modes.imag.copy(), omega * modes.real
+    # each particle moves with the master of its cavity's walls (the first modal master)
+    masters = ms.nodes[ms.body >= 0]
+    if masters.shape[0]:
+        m = int(masters[0])
+        j = int(np.flatnonzero(ms.nodes == m)[0])
+        dx = ms.shape[j, :3] @ (q_new - state.mq)
+        dv = ms.shape[j, :3] @ p_new - state.vel[m, :3]
+        state.x[model.particle_start:] += dx
+        state.vel[model.particle_start:, :3] += dv
+    state.mq[:] = q_new
+    state.mp[:] = p_new
+    b = sim._bundles()
+    sim.kernels._modal_place(b["modal"], state.x, k.x0, state.vel, state.rot, state.mp, True)
+    if k.rig_master.shape[0]:
+        sim.kernels._update_slaves(state.x, state.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
+                                   k.rig_r0, state.rot, True, True)
+    sim.restore(state)   # wall planes follow the moved nodes
+    sim.compute_forces(t_start)
+    sim.project_modal_forces()
+    state.e_ref += total_energy(sim) - e_before
+    return FinalState(state=state, deck_key=deck_key(deck), dt=dt, time=t_start)

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.design.baselines import baseline_decks, linear_sdof
+from x3dpd.design.baselines import baseline_decks, linear_structure
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import SweepPoint, run_point
 from x3dpd.errors import InputError
@@ -60,7 +60,8 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
     chains: list[list[SweepPoint]] = []
     closed: list[dict] = []
     for config, deck in configs.items():
-        sdof = linear_sdof(build_model(deck), spec.node, spec.dof) if config != "deck" else None
+        sdof = (linear_structure(build_model(deck), spec.node, spec.dof)
+                if config != "deck" else None)
         if sdof is not None:
             closed.extend(closed_form_rows(config, sdof, spec))
             continue
@@ -80,7 +81,7 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
 
 
 def closed_form_rows(config: str, sdof, spec: SweepSpec) -> list[dict]:
-    """Rows of a linear SDOF baseline at every frequency and drive (``baselines.py``)."""
+    """Rows of a linear baseline (SDOF or modal) at every frequency and drive (``baselines.py``)."""
     rows = []
     for drive in spec.drives:
         for f in sorted(spec.frequencies):
@@ -105,7 +106,7 @@ def baseline_curves(spec: SweepSpec, n: int = 2001) -> dict:
     out = {}
     f = np.linspace(min(spec.frequencies), max(spec.frequencies), n)
     for config, deck in baseline_decks(spec.deck, spec.baselines, spec.node).items():
-        sdof = linear_sdof(build_model(deck), spec.node, spec.dof)
+        sdof = linear_structure(build_model(deck), spec.node, spec.dof)
         if sdof is None:
             continue
         for drive in spec.drives:

@@ -21,6 +21,7 @@ from x3dpd.errors import NOWHERE, Pos
 from x3dpd.geometry.shapes import SHAPES
 from x3dpd.model.build_base import _pos_at, _ro
 from x3dpd.model.build_loads import LoadSteps
+from x3dpd.model.build_modal import ModalSteps
 from x3dpd.model.build_particles import ParticleSteps
 from x3dpd.model.build_structure import StructureSteps
 from x3dpd.model.build_walls import WallSteps
@@ -52,7 +53,7 @@ def build_model(deck: Deck, *, usrfrc: Sequence[str] = (), motion: Sequence[str]
     return _Builder(deck, tuple(usrfrc), tuple(motion)).build()
 
 
-class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps):
+class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
     """One build: the steps in order, then the :class:`Model` (steps: ``build_*`` modules)."""
 
     # -- build --------------------------------------------------------------------------------
@@ -71,6 +72,7 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps):
         self._springs()
         self.fixed = self._boundaries()
         self._rigid_bodies()
+        self._modal()
         self._walls()
         v0 = self._initial_velocities()
         trace = self._trace()
@@ -108,6 +110,7 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps):
             units=(deck.units.system if getattr(deck, "units", None) is not None
                    else ("in", "lbf", "s")),
             path=deck.path,
+            modal=self.modal,
             **self._normal_law(),
         )
 
@@ -163,7 +166,13 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps):
             eff.add("dampers")
         if self.rigid_master.shape[0]:
             eff.add("rigid_links")
-            if np.any(~self.fixed[self.rigid_master, 3:]):
+            plain = [m for m in self.rigid_master if int(m) not in self.modal_nodes]
+            if plain and np.any(~self.fixed[plain, 3:]):
+                eff.add("rigid_rotation")
+        if self.modal is not None:
+            eff.add("modal_structure")
+            turning = self.modal.body >= 0
+            if np.any(self.modal.shape[turning, 3:] != 0.0):
                 eff.add("rigid_rotation")
         pc = self.particle_cavity
         if self.tri_nodes.shape[0] and np.any(pc >= 0):

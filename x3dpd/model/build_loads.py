@@ -41,6 +41,9 @@ class LoadSteps(BuilderBase):
             if i >= self.pstart or prescribed[i, a]:
                 continue
             body = self.slave_of.get(i, self.body_of_master.get(i))
+            master = i if body is None else int(self.rigid_master[body])
+            if master in self.modal_nodes:
+                continue   # moved by the modes, whose mass is in them
             if body is None:
                 if self.fixed[i, a] or self.mass[i] > 0.0:
                     continue

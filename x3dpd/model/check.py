@@ -39,6 +39,7 @@ from x3dpd.model.check_text import (  # noqa: F401  (MAX_LISTED re-exported)
     _span_text,
     _tri,
 )
+from x3dpd.model.check_modal import modal_table, modal_warnings
 from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
 from x3dpd.model.timestep import (
@@ -105,6 +106,7 @@ class CheckReport:
     time_step: TimeStepAdvice
     warnings: tuple[Finding, ...]
     errors: tuple[Finding, ...] = ()
+    modes: tuple[str, ...] = ()   # the modal structure's table (x3dpd.model.check_modal)
 
     @property
     def n_particles(self) -> int:
@@ -156,6 +158,8 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
                      f"into {_tri(model, p.triangle)}" for p in pen])))
     warnings += [Finding(code, head, _listed(lines))
                  for code, head, lines in shape_warnings(model, REL_TOL)]
+    warnings += [Finding(code, head, _listed(lines))
+                 for code, head, lines in modal_warnings(model)]
     pairs, depth = particle_overlaps(model)
     if pairs.shape[0]:
         rad = dict(zip(model.node_ids[ps:].tolist(), model.radius.tolist()))
@@ -196,7 +200,8 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
         particle_mass=float(model.mass[ps:].sum()), structure_mass=float(model.mass[:ps].sum()),
         cavities=tuple(cavities), effects=model.effects, time_step=ts,
         warnings=tuple(warnings),
-        errors=tuple(Finding("extreme-value", text) for text in magnitude_errors(model)))
+        errors=tuple(Finding("extreme-value", text) for text in magnitude_errors(model)),
+        modes=tuple(modal_table(model)))
 
 
 def _cavity_summaries(model: Model) -> list[CavitySummary]:

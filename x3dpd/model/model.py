@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from x3dpd.model.modal_structure import ModalStructure
+
 # Names of the effects a scene can call for. The solver compiles exactly these.
 EFFECTS = (
     "gravity",           # BODY card with a non-zero vector
@@ -27,6 +29,7 @@ EFFECTS = (
     "friction",          # some particle with PCOF > 0
     "external_force",    # USRFRC forces (deck card or --usrfrc)
     "prescribed_motion", # --motion
+    "modal_structure",   # MODAL card (x3dpd.physics.modal)
 )
 
 
@@ -89,6 +92,7 @@ class Model:
     usrfrc : tuple[str, ...], force specs from the deck's USRFRC card.
     title : str, path : str.
     units : (length, force, time) unit names the deck declares (UNITS card; x3dpd.units).
+    modal : the modal structure (MODAL card; x3dpd.model.modal_structure), None without one.
     """
 
     node_ids: np.ndarray
@@ -145,6 +149,7 @@ class Model:
     shape_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
     shape_params: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
     shape_cavity: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    modal: ModalStructure | None = None
 
     @property
     def n_nodes(self) -> int:

@@ -25,6 +25,7 @@ from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import _build_wall_list, _face_offsets, _face_planes
 from x3dpd.physics.gravity import _gravity_forces
+from x3dpd.physics.modal import _modal_drift, _modal_kick, _modal_place
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
@@ -35,11 +36,12 @@ from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REAL
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pairs import _pair_contacts
 from x3dpd.solver._template_variant import (HAS_EXTERNAL, HAS_GRAVITY, HAS_MOTION, HAS_PAIRS,
-                                            HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
+                                            HAS_MODAL, HAS_PYTHON_FORCE, HAS_RIGID,
+                                            HAS_RIGID_ROTATION,
                                             HAS_SHAPES, HAS_SPRINGS, HAS_USER_FORCE, HAS_WALLS,
                                             HAS_WALLS_TRANSLATE, USER_FORCE)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
-from x3dpd.solver.bundles import (ContactList, Faces, Loads, Nodes, Output, Particles,
+from x3dpd.solver.bundles import (ContactList, Faces, Loads, Modal, Nodes, Output, Particles,
                                   RigidBodies, Shapes, Springs, Stepping)
 from x3dpd.solver.contact_lists import _active_flags, _merge_states, _pair_approach
 
@@ -55,9 +57,11 @@ if USER_FORCE is None:
 
 
 @kernel
-def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, stepping):
+def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, modal,
+            stepping):
     """All forces at time t from x and the (half-step) velocities into ``nodes.force``; updates
-    the ledger. Returns the status bits (x3dpd.solver.bundles.Status)."""
+    the ledger. Returns the status bits (x3dpd.solver.bundles.Status). (``modal`` is not
+    read: the modal forces are projected by the step loop.)"""
     ff = nodes.force.reshape(-1)
     for k in range(ff.shape[0]):
         ff[k] = 0.0
@@ -167,7 +171,7 @@ def _adopt_new_list(lst, m):
 
 @loop_kernel
 def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, faces, walls, pairs,
-            shapes, stepping, output):
+            shapes, modal, stepping, output):
     """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
 
     ``stepping.nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list
@@ -238,6 +242,9 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
                 vmax2 = max(vmax2, v2)
         if HAS_RIGID_ROTATION:
             _rotate(rot, rig_master, vel, dt)
+        if HAS_MODAL:
+            # modal nodes (and a modal master's rotation) from the modes: x3dpd.physics.modal
+            _modal_drift(modal, x, x0, vel, rot, dt)
         t = t_start + (step + 1) * dt
         if HAS_MOTION:
             _apply_motion_step(t_start + step * dt, t, motion_table, x0, x, vel)
@@ -257,6 +264,9 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
             # work of the motion's actuators (x3dpd.physics.motion._motion_work)
             ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
                                            kin_inertia, force, motion_prev)
+        if HAS_MODAL:
+            # the modal forces of this step complete the modes' step (and the damping's work)
+            ledger[L_DDAMP] += _modal_kick(modal, force, dt)
         # ---- second half kick. Full-step velocities are needed only at outputs and at the end
         # of the call; elsewhere this half kick and the next step's first one go in one pass
         # over memory, computed as (v + h a) + h a so that the rounding -- and so every
@@ -281,6 +291,8 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
                                 True)
         if HAS_MOTION:
             _apply_motion(t, motion_table, x0, x, vel)
+        if HAS_MODAL:
+            _modal_place(modal, x, x0, vel, rot, modal.p, False)   # full-step velocities
         if HAS_RIGID:
             _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, False,
                            HAS_RIGID_ROTATION)
@@ -298,7 +310,7 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
                 for d in range(6):
                     out_data[rows, k, 3 + d] = vel[i, d]
             out_t[rows] = t
-            _energies(nodes, springs, particles, walls, pairs, shapes, dt, en)
+            _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, en)
             _ledger_row(t, en, ledger, output.e_ref, out_energy[rows])
             rows += 1
             # non-finite state is caught at output steps (cheap), before it reaches the trace
@@ -322,9 +334,9 @@ def advance_packed(nsteps, step0, t_start, packed):
     (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
     named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps of a small
     scene. The named tuples are rebuilt here, in compiled code, at no cost."""
-    (nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, stepping,
+    (nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, modal, stepping,
      output) = packed
     return advance(nsteps, step0, t_start, Nodes(*nodes), Loads(*loads), Springs(*springs),
                    RigidBodies(*rigid), Particles(*particles), Faces(*faces),
-                   ContactList(*walls), ContactList(*pairs), Shapes(*shapes),
+                   ContactList(*walls), ContactList(*pairs), Shapes(*shapes), Modal(*modal),
                    Stepping(*stepping), Output(*output))

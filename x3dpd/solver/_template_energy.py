@@ -5,16 +5,21 @@ Generated per variant beside the loop, with the variant's constants (``_template
 
 from x3dpd._jit import kernel
 from x3dpd.physics.gravity import _gravity_energy
+from x3dpd.physics.modal import _modal_energies
 from x3dpd.physics.spring_damper import _spring_energy
 from x3dpd.solver._template_contact import L_DDAMP, L_DFRIC, L_WEXT, L_WN
-from x3dpd.solver._template_variant import (HAS_GRAVITY, HAS_PAIRS, HAS_SHAPES, HAS_SPRINGS,
+from x3dpd.solver._template_variant import (HAS_GRAVITY, HAS_MODAL, HAS_PAIRS, HAS_SHAPES,
+                                            HAS_SPRINGS,
                                             HAS_VISCOELASTIC, HAS_WALLS, NORMAL_DAMPED,
                                             NORMAL_STORED_ENERGY)
 from x3dpd.solver.contact_lists import S_A, S_FN
 
 @kernel
-def _energies(nodes, springs, particles, walls, pairs, shapes, dt, out):
-    """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction)."""
+def _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, out):
+    """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction).
+
+    A modal structure's kinetic energy counts in KE_trans, its strain energy in U_spring and its
+    forces in S (modal mass 1): x3dpd.physics.modal."""
     x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
     kin_mass, kin_inertia, inv_m = nodes.kin_mass, nodes.kin_inertia, nodes.inv_m
     ke_t = 0.0
@@ -34,6 +39,11 @@ def _energies(nodes, springs, particles, walls, pairs, shapes, dt, out):
     out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
     out[4] = (_contact_energy(particles, walls, pairs, shapes)
               if (HAS_WALLS or HAS_PAIRS or HAS_SHAPES) else 0.0)
+    if HAS_MODAL:
+        ke_m, u_m, ff_m = _modal_energies(modal)
+        out[0] += ke_m
+        out[3] += u_m
+        shadow += ff_m
     out[5] = dt * dt / 8.0 * shadow
 
 

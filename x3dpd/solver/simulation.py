@@ -150,6 +150,7 @@ class Simulation(RunChecks):
         self._python_force(self.model.t0)
         st = self.compute_forces(self.model.t0)
         self._check_status(st, self.model.t0, 0)
+        self.project_modal_forces()
         rows = self.motion[:, :2].astype(np.int64)
         s.motion_prev[:] = s.force[rows[:, 0], rows[:, 1]]
         s.ledger[self.kernels.L_WEXT] += w_start
@@ -280,7 +281,7 @@ class Simulation(RunChecks):
         en = np.empty(6)
         b = self._bundles()
         self.kernels._energies(b["nodes"], b["springs"], b["particles"], b["walls"], b["pairs"],
-                               b["shapes"], self.dt, en)
+                               b["shapes"], b["modal"], self.dt, en)
         return en
 
     def compute_forces(self, t: float | None = None) -> Status:
@@ -292,6 +293,16 @@ class Simulation(RunChecks):
         t = self.time if t is None else float(t)
         b = self._bundles(ledger=np.zeros_like(self.state.ledger))
         return Status(self.kernels._forces(t, **b))
+
+    def project_modal_forces(self) -> None:
+        """The modal forces f = sum phi^T F (less the coupling damping) of the forces now in
+        ``state.force`` into ``state.mf`` (what the first step of the modes uses)."""
+        k, s = self.setup, self.state
+        if k.modal_nodes.shape[0] == 0:
+            return
+        s.mf[:] = np.einsum("jdk,jd->k", k.modal_shape, s.force[k.modal_nodes])
+        if k.modal_coupling.size:
+            s.mf -= k.modal_coupling @ s.mp
 
     def _faces(self):
         if not hasattr(self, "_face_n"):

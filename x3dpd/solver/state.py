@@ -37,6 +37,8 @@ class State:
     ledger (4,) cumulative work/dissipation; cs, cs_on (R) contact state rows and open flags of
     the analytic walls' static list, one row per part of each (particle, wall) pair
     (x3dpd.solver.bundles.Shapes; empty without any);
+    mq, mp, mf (M) modal coordinates, their rates and the modal forces of the last step
+    (x3dpd.physics.modal; empty without a MODAL card);
     step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
@@ -63,6 +65,9 @@ class State:
     ledger: np.ndarray
     cs: np.ndarray = None
     cs_on: np.ndarray = None
+    mq: np.ndarray = None
+    mp: np.ndarray = None
+    mf: np.ndarray = None
     step: int = 0
     e_ref: float = 0.0
     scale: float = 0.0
@@ -84,8 +89,8 @@ class State:
     def from_arrays(cls, arrays: dict) -> "State":
         kw = {}
         for f in fields(cls):
-            if f.name in _SHAPE_STATE and f.name not in arrays:
-                continue   # a dump written before analytic walls existed: a scene without any
+            if f.name in _OPTIONAL_STATE and f.name not in arrays:
+                continue   # a dump written before these existed: a scene without any
             v = arrays[f.name]
             if f.name == "step":
                 kw[f.name] = int(v)
@@ -97,11 +102,16 @@ class State:
         if state.cs is None:
             state.cs = np.zeros((0, state.ws.shape[1]))
             state.cs_on = np.zeros(0, np.int8)
+        for name in _MODAL_STATE:
+            if getattr(state, name) is None:
+                setattr(state, name, np.zeros(0))
         return state
 
 
-#: State fields of the analytic walls' contacts (absent from dumps of older versions).
-_SHAPE_STATE = ("cs", "cs_on")
+#: State fields of the modal structure (absent from dumps of older versions).
+_MODAL_STATE = ("mq", "mp", "mf")
+#: State fields absent from dumps of older versions: analytic walls' contacts, modes.
+_OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE
 
 
 @dataclass(frozen=True)
@@ -146,6 +156,12 @@ class Setup:
     tri_nodes: np.ndarray
     tri_sign: np.ndarray
     shapes: "ShapeTable"      # the analytic walls and their static contact list
+    modal_nodes: np.ndarray   # (N,) modal nodes (x3dpd.solver.bundles.Modal)
+    modal_shape: np.ndarray   # (N, 6, M)
+    modal_body: np.ndarray    # (N,)
+    modal_coef: np.ndarray    # (M, 8) step coefficients for dt
+    modal_diss: np.ndarray    # (M, 10) dissipation forms for dt
+    modal_coupling: np.ndarray  # (M, M) or (0, 0)
     n_maxwell: int
     skin: float
     dt: float
@@ -210,6 +226,9 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     for b in range(nb):
         if rig_free_rot[b].any():
             inv_m[int(model.rigid_master[b]), 3:6] = 0.0
+
+    modal = _modal_setup(model, float(dt), inv_m, mass, kin_mass, kin_inertia, rig_free_rot,
+                         rig_inv_ib)
 
     # particles
     radius = _f64(model.radius)
@@ -278,9 +297,39 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
-        tri_sign=_f64(model.tri_sign), shapes=shape_table(model, pcav), n_maxwell=n_maxwell,
+        tri_sign=_f64(model.tri_sign), shapes=shape_table(model, pcav), **modal,
+        n_maxwell=n_maxwell,
         skin=float(skin), dt=float(dt),
     )
+
+
+def _modal_setup(model, dt, inv_m, mass, kin_mass, kin_inertia, rig_free_rot, rig_inv_ib):
+    """The modal structure's kernel arrays (x3dpd.physics.modal); its nodes leave velocity
+    Verlet (zero inverse mass, no kinetic mass: the modes carry it). Updates the arrays in place.
+    With the housing included in the modes, the deck's mass on modal nodes does not weigh."""
+    from x3dpd.physics.modal import dissipation_forms, step_coefficients
+
+    ms = model.modal
+    if ms is None:
+        return {"modal_nodes": np.zeros(0, np.int64), "modal_shape": np.zeros((0, 6, 0)),
+                "modal_body": np.zeros(0, np.int64), "modal_coef": np.zeros((0, 8)),
+                "modal_diss": np.zeros((0, 10)), "modal_coupling": np.zeros((0, 0))}
+    nodes = _i64(ms.nodes)
+    inv_m[nodes] = 0.0
+    kin_mass[nodes] = 0.0
+    kin_inertia[nodes] = 0.0
+    for b in ms.body[ms.body >= 0]:
+        rig_free_rot[b] = False
+        rig_inv_ib[b] = 0.0
+    if ms.housing == "included":
+        mass[nodes] = 0.0
+        for b in ms.body[ms.body >= 0]:
+            mass[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = 0.0
+    return {"modal_nodes": nodes, "modal_shape": _f64(ms.shape),
+            "modal_body": _i64(ms.body),
+            "modal_coef": step_coefficients(ms.omega, ms.zeta, dt),
+            "modal_diss": dissipation_forms(ms.omega, ms.zeta, dt),
+            "modal_coupling": _f64(ms.coupling).reshape(ms.coupling.shape)}
 
 
 class ShapeTable(NamedTuple):
@@ -353,5 +402,7 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         npl=np.zeros(1, np.int64),
         nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(4),
         cs=np.zeros((setup.shapes.row_particle.shape[0], ncols)),
-        cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8), step=0, e_ref=0.0,
+        cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
+        mq=np.zeros(setup.modal_coef.shape[0]), mp=np.zeros(setup.modal_coef.shape[0]),
+        mf=np.zeros(setup.modal_coef.shape[0]), step=0, e_ref=0.0,
     )

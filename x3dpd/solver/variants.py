@@ -69,6 +69,8 @@ class Variant:
     #: every particle has the same radius, kind and law constants: the pair response reads
     #: them once instead of gathering them per contact
     one_particle_kind: bool = False
+    #: a structure given by its modes (MODAL card, x3dpd.physics.modal)
+    modal: bool = False
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
@@ -95,6 +97,7 @@ class Variant:
             normal_law=normal_law,
             shapes="+".join(s.name for s in SHAPES if s.effect in e),
             one_particle_kind=one_particle_kind and "pair_contact" in e,
+            modal="modal_structure" in e,
         )
 
     def header(self) -> str:
