@@ -207,8 +207,7 @@ class Simulation(RunChecks):
     # ------------------------------------------------------------------ stepping
     def advance(self, nsteps: int, max_rows: int | None = None) -> Block:
         """Advance ``nsteps`` steps (fewer if the output buffer fills); return the rows written.
-        Every row is audited, containment at each multiple of ``audit_steps`` (x3dpd.solver.
-        run_checks), so a run stops at the same step however its steps are split into calls."""
+        Checks at fixed step counts only (x3dpd.solver.run_checks), whatever the calls."""
         self.initialize()
         nsteps = int(nsteps)
         if max_rows is None:
@@ -245,8 +244,7 @@ class Simulation(RunChecks):
                     self._grow(status)
                     continue
                 if status or self.state.step % self.audit_steps == 0:
-                    # a stop (its step is the loop's) first looks for a particle that tunnelled
-                    # out: the penetration or overflow it caused is its consequence
+                    # at a stop, a particle that tunnelled out is the cause of what stopped it
                     self._check_containment()
                 if status:
                     self._check_status(status, self.diag[4], int(self.diag[5]))
