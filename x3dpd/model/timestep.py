@@ -86,6 +86,12 @@ class TimeStepAdvice:
     def deck_steps_per_contact(self) -> float:
         return self.t_contact / self.dt_deck
 
+    @property
+    def knows_peak_force_error(self) -> bool:
+        """Whether :func:`peak_force_error` (measured on Hertz impacts) applies to the shortest
+        contact: not to a HOOKE contact, whose dashpot jumps to c_n v at the onset."""
+        return self.contact_law == "Hertz"
+
 
 def characteristic_speed(model: Model) -> float:
     r"""Impact speed for the contact time estimate [length/s].
@@ -256,6 +262,8 @@ def time_step_warning(ts: TimeStepAdvice, model: Model) -> str:
         if n < 6:
             text += ("too few to follow a contact (at least 6-10 are needed); expect missed or "
                      "exploding impacts. ")
+        elif not ts.knows_peak_force_error:
+            text += f"fewer than the recommended {ts.steps_per_contact} follow it coarsely. "
         else:
             text += (f"expect peak contact forces off by up to about {peak_force_error(n):.2g} % "
                      f"(about {peak_force_error(ts.steps_per_contact):.2g} % at "
