@@ -372,11 +372,14 @@ def beam_64_modal() -> str:
         f"  handbook {AL_E:g} psi; the report tuned its stiffness to the measured frequency too),",
         f"  cavity mass {v['cavity_mass']:.6g} lbf s^2/in (Sec. 8.2's equivalent mass less mu L/4,",
         "  the beam's tip-equivalent mass), spread over the 8 cavity corners (MASS).",
-        f"  Damping ratio {v['zeta']:.6g} in every mode (Table 4's c / 2 sqrt(k m); the report "
-        "gives none",
-        "  for modes 2 and 3). HOUSING added: the cavity's mass is coupled into the modes.",
+        f"  Damping ratio {v['given_zeta']:.6g} in every mode: the coupled first mode then has "
+        f"Table 4's",
+        f"  c / 2 sqrt(k m) = {v['zeta']:.6g} (the report gives none for modes 2 and 3). "
+        "HOUSING added:",
+        "  the cavity's mass is coupled into the modes.",
         f"  Coupled first mode: {v['coupled'][0]:.6g} Hz, tip mass {v['coupled'][1]:.6g} "
-        "lbf s^2/in (`x3dpd check`).",
+        f"lbf s^2/in, zeta {v['coupled'][2]:.6g}",
+        "  (`x3dpd check`).",
         f"Drive: USRFRC {DRIVE} (as beam_64). Gravity, cavity, particles, step, TRACE: as "
         "beam_64.",
     ]
@@ -409,10 +412,11 @@ def chassis_128() -> str:
         f"sqrt(k/m), k {TABLE5_K:g} lbf/in,",
         f"  equivalent mass {TABLE5_MASS:g} lbf s^2/in at the panel centre): f11 "
         f"{v['f11']:.6g} Hz, amplitude {v['amplitude']:.6g} (a plate",
-        f"  of {v['plate_mass']:.6g} lbf s^2/in). Damping ratio {v['zeta']:.6g} in every mode "
-        f"(Table 5's c {TABLE5_C:g} / 2 sqrt(k m)).",
+        f"  of {v['plate_mass']:.6g} lbf s^2/in). Damping ratio {v['given_zeta']:.6g} in every "
+        "mode: the coupled",
+        f"  first mode then has Table 5's c {TABLE5_C:g} / 2 sqrt(k m) = {v['zeta']:.6g}.",
         f"  Coupled first mode: {v['coupled'][0]:.6g} Hz, mass {v['coupled'][1]:.6g} lbf s^2/in "
-        "at the centre.",
+        f"at the centre, zeta {v['coupled'][2]:.6g}.",
         "  Shape values: node 9 (panel centre: damper and accelerometer, Sec. 9.1) in x, ry, rz;",
         f"  node 10 (the stinger: centred across the width, 3.425 in above the bottom, y = "
         f"{STINGER_Y:g}) in x.",

@@ -56,7 +56,7 @@ def cantilever_modes(n: int, e: float, rho: float, b: float, h: float, length: f
     (int_0^L mu phi^2 ds = 1, mu = rho b h; bending across the thickness h, I = b h^3 / 12);
     each sign chosen so that the tip value is positive. phi(s) = C [cosh bs - cos bs
     - sigma (sinh bs - sin bs)], sigma = (cosh bL + cos bL)/(sinh bL + sin bL); the tip value of
-    a mass-normalised mode is 2/sqrt(mu L)."""
+    a mass-normalised mode is 2/sqrt(mu L) (C follows from it)."""
     mu = rho * b * h
     inertia = b * h**3 / 12.0
     roots = cantilever_roots(n)
@@ -64,9 +64,12 @@ def cantilever_modes(n: int, e: float, rho: float, b: float, h: float, length: f
     tip, slope = [], []
     for x in roots:
         beta = x / length
-        sigma = (math.cosh(x) + math.cos(x)) / (math.sinh(x) + math.sin(x))
-        value = math.cosh(x) - math.cos(x) - sigma * (math.sinh(x) - math.sin(x))
-        grad = beta * (math.sinh(x) + math.sin(x) - sigma * (math.cosh(x) - math.cos(x)))
+        # the textbook forms with sigma cancel for high modes (cosh x ~ sinh x); expanded:
+        # phi(L) = 2 (cosh x sin x - cos x sinh x) / (sinh x + sin x),
+        # phi'(L) = 2 beta sinh x sin x / (sinh x + sin x)
+        den = 1.0 + math.sin(x) / math.sinh(x)
+        value = 2.0 * (math.sin(x) / math.tanh(x) - math.cos(x)) / den
+        grad = 2.0 * beta * math.sin(x) / den
         scale = 2.0 / math.sqrt(mu * length) / abs(value)
         sign = 1.0 if value > 0 else -1.0
         tip.append(sign * scale * value)
@@ -123,11 +126,14 @@ def _corner_masses(mass: float) -> tuple[Mass, ...]:
     return tuple(Mass(i, mass / 8.0, 0.0, 0.0, 0.0) for i in range(1, 9))
 
 
-def _coupled(deck, node: int) -> tuple[float, float]:
-    """(first coupled frequency [Hz], effective mass at ``node`` along x) of a deck."""
-    ms = build_model(deck).modal
-    j = int(np.flatnonzero(ms.nodes == build_model(deck).index_of(node))[0])
-    return float(ms.omega[0] / (2 * math.pi)), 1.0 / float(ms.shape[j, 0, 0]) ** 2
+def _coupled(deck, node: int) -> tuple[float, float, float]:
+    """(first coupled frequency [Hz], effective mass at ``node`` along x, damping ratio) of a
+    deck."""
+    model = build_model(deck)
+    ms = model.modal
+    j = int(np.flatnonzero(ms.nodes == model.index_of(node))[0])
+    return (float(ms.omega[0] / (2 * math.pi)), 1.0 / float(ms.shape[j, 0, 0]) ** 2,
+            float(ms.zeta[0]))
 
 
 def beam_modal_deck(base, beam_mass: float, beam_k: float, beam_c: float):
@@ -136,7 +142,7 @@ def beam_modal_deck(base, beam_mass: float, beam_k: float, beam_c: float):
     zeta = beam_c / (2.0 * math.sqrt(beam_k * beam_mass))
     target_hz = math.sqrt(beam_k / beam_mass) / (2 * math.pi)
 
-    def deck_for(e: float, cavity_mass: float):
+    def deck_for(e: float, cavity_mass: float, zeta: float = zeta):
         omega, tip, slope = cantilever_modes(BEAM_MODES, e, AL_RHO, BEAM_B, BEAM_H, BEAM_L)
         card = _modal_card([(k + 1, w / (2 * math.pi), zeta) for k, w in enumerate(omega)],
                            [(9, 1, list(tip)), (9, 6, list(-slope))])
@@ -146,7 +152,7 @@ def beam_modal_deck(base, beam_mass: float, beam_k: float, beam_c: float):
     mu_l = AL_RHO * BEAM_B * BEAM_H * BEAM_L
 
     def residual(v):
-        f, m = _coupled(deck_for(v[0] * AL_E, v[1] * mu_l / 4), 9)
+        f, m, _ = _coupled(deck_for(v[0] * AL_E, v[1] * mu_l / 4), 9)
         return [f / target_hz - 1.0, m / beam_mass - 1.0]
 
     with warnings.catch_warnings():   # converged to the noise of eigh (~1e-9): checked below
@@ -154,9 +160,11 @@ def beam_modal_deck(base, beam_mass: float, beam_k: float, beam_c: float):
         e_scale, m_scale = fsolve(residual, [1.0, beam_mass / (mu_l / 4) - 1.0], xtol=1e-10)
     assert max(map(abs, residual([e_scale, m_scale]))) < 1e-8   # 9 digits are printed
     e_eff, cavity = e_scale * AL_E, m_scale * mu_l / 4
-    deck = deck_for(e_eff, cavity)
-    return deck, {"e_eff": e_eff, "cavity_mass": cavity, "zeta": zeta, "target_hz": target_hz,
-                  "mu_l": mu_l, "coupled": _coupled(deck, 9)}
+    # the coupled damping ratio is linear in the given one: scale it to Table 4's
+    given = zeta * zeta / _coupled(deck_for(e_eff, cavity), 9)[2]
+    deck = deck_for(e_eff, cavity, given)
+    return deck, {"e_eff": e_eff, "cavity_mass": cavity, "zeta": zeta, "given_zeta": given,
+                  "target_hz": target_hz, "mu_l": mu_l, "coupled": _coupled(deck, 9)}
 
 
 def chassis_deck(material: Material3, dt: float, itrac: int, trest: float, tmax: float,
@@ -185,7 +193,7 @@ def chassis_deck(material: Material3, dt: float, itrac: int, trest: float, tmax:
     base = filled_deck(base, fill)
     base = replace(base, trace=replace(base.trace, nodes=(9, 10) + base.trace.nodes[1:]))
 
-    def deck_for(f11: float, amplitude: float):
+    def deck_for(f11: float, amplitude: float, zeta: float = zeta):
         modes, centre, stinger = [], [[], [], []], [[], [], []]
         for k, (m, n) in enumerate(CHASSIS_MODES):
             modes.append((k + 1, f11 * plate_ratio(m, n), zeta))
@@ -200,7 +208,7 @@ def chassis_deck(material: Material3, dt: float, itrac: int, trest: float, tmax:
                        masses=_corner_masses(cavity_mass))
 
     def residual(v):
-        f, mass = _coupled(deck_for(v[0] * target_hz, v[1] / math.sqrt(TABLE5_MASS)), 9)
+        f, mass, _ = _coupled(deck_for(v[0] * target_hz, v[1] / math.sqrt(TABLE5_MASS)), 9)
         return [f / target_hz - 1.0, mass / TABLE5_MASS - 1.0]
 
     with warnings.catch_warnings():
@@ -208,9 +216,11 @@ def chassis_deck(material: Material3, dt: float, itrac: int, trest: float, tmax:
         f_scale, a_scale = fsolve(residual, [1.0, 1.0], xtol=1e-10)
     assert max(map(abs, residual([f_scale, a_scale]))) < 1e-8
     f11, amplitude = f_scale * target_hz, a_scale / math.sqrt(TABLE5_MASS)
-    deck = deck_for(f11, amplitude)
+    given = zeta * zeta / _coupled(deck_for(f11, amplitude), 9)[2]
+    deck = deck_for(f11, amplitude, given)
     plate_mass = 4.0 / amplitude**2          # a uniform plate's mode amplitude is 2/sqrt(M)
-    return deck, {"zeta": zeta, "target_hz": target_hz, "f11": f11, "amplitude": amplitude,
+    return deck, {"zeta": zeta, "given_zeta": given, "target_hz": target_hz, "f11": f11,
+                  "amplitude": amplitude,
                   "cavity_mass": cavity_mass, "plate_mass": plate_mass, "drive": drive,
                   "coupled": _coupled(deck, 9)}
 

@@ -136,10 +136,10 @@ def test_undefined_material():
     _raises(deck, LINE_ELEMENT, 1, "ELEMENTS", "uses material 5", "no MATID record defines")
 
 
-def test_material_type_other_than_1():
+def test_material_type_other_than_1_2_3():
     deck = cube_deck()
-    deck = replace(deck, materials=(replace(deck.materials[0], mtype=3),))
-    _raises(deck, LINE_MATERIAL, 1, "MATID", "type 3", "only type 1")
+    deck = replace(deck, materials=(replace(deck.materials[0], mtype=4),))
+    _raises(deck, LINE_MATERIAL, 1, "MATID", "type 4", "the types are 1 = ", "2 = ", "3 = ")
 
 
 def test_element_touching_a_particle():

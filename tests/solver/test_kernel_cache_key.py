@@ -58,7 +58,7 @@ def _missing(module, hashed) -> set[Path]:
 def test_every_kernel_source_is_hashed():
     variant = Variant(gravity=True, springs=True, rigid=True, rigid_rotation=True, walls=True,
                       pairs=True, friction=True, viscoelastic=True, external=True, motion=True,
-                      n_maxwell=2)
+                      n_maxwell=2, axial_springs=True, rotational_springs=True)
     module = make_advance(variant)
     hashed = kernel_sources()
     assert not _missing(module, hashed), "kernel sources left out of the cache key"

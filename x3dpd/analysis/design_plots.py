@@ -74,49 +74,87 @@ def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping 
     drives = sorted({r["drive"] for r in rows})
     att = attenuations(rows, curves)
     fig, axes = plt.subplots(1, len(drives), figsize=(5.2 * len(drives), 4.0), squeeze=False)
-    styles = {"undamped": ("k", "--"), "added-mass": ("0.5", ":")}
-    markers = {"": "o", "up": "^", "down": "v"}
     for ax, drive in zip(axes[0], drives):
-        for config, (color, ls) in styles.items():
-            if (config, drive) in curves:
-                f, a = curves[(config, drive)]
-                ax.plot(f, a, color=color, ls=ls, lw=1.2, label=f"{config} (closed form)")
-            pts = sorted((r["frequency_hz"], r["amplitude"]) for r in rows
-                         if r["config"] == config and r["drive"] == drive
-                         and r.get("method") != "closed-form")
-            if pts:
-                ax.plot(*zip(*pts), color=color, ls=ls, marker=".", label=config)
-        for direction, marker in markers.items():
-            pts = [r for r in rows if r["config"] == "deck" and r["drive"] == drive
-                   and r["direction"] == direction]
-            if not pts:
-                continue
-            pts.sort(key=lambda r: r["frequency_hz"])
-            f = [r["frequency_hz"] for r in pts]
-            a = [r["amplitude"] for r in pts]
-            ax.plot(f, a, color="C3" if direction != "down" else "C0", marker=marker, ms=5,
-                    label="damper" + (f" ({direction})" if direction else ""))
-            bad = [(r["frequency_hz"], r["amplitude"]) for r in pts if not r["converged"]]
-            if bad:
-                ax.plot(*zip(*bad), ls="none", marker="x", color="k", ms=8,
-                        label="not converged")
+        _sweep_axes(ax, rows, curves, drive, "amplitude", f"displacement amplitude [{units}]")
         lines = [f"{a['attenuation_db']:.1f} dB vs {a['baseline']}" for a in att
                  if a["drive"] == drive]
         if lines:
             ax.text(0.02, 0.97, "peak attenuation\n" + "\n".join(lines),
                     transform=ax.transAxes, va="top", fontsize=8)
-        ax.set_yscale("log")
-        ax.set_xlabel("drive frequency [Hz]")
-        ax.set_ylabel(f"displacement amplitude [{units}]")
         ax.set_title(f"drive {drive:.5g}", fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="upper right")
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(png, dpi=90)
     plt.close(fig)
     return str(png)
+
+
+def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
+                   curves: Mapping, title: str = "", units: str = "in", force: str = "lbf",
+                   time: str = "s") -> str:
+    """Accelerance (acceleration amplitude / drive) versus frequency at each measured response
+    (``--response``; a row of panels each, one panel per drive), baselines overlaid (``curves``:
+    {(node, dof): {(config, drive): (f, X)}})."""
+    plt = _pyplot()
+    drives = sorted({r["drive"] for r in rows})
+    fig, axes = plt.subplots(len(responses), len(drives), squeeze=False,
+                             figsize=(5.2 * len(drives), 4.0 * len(responses)))
+    for row_axes, (node, dof) in zip(axes, responses):
+        measured = [{**r, **m} for r in rows for m in r.get("responses", ())
+                    if (m["response_node"], m["response_dof"]) == (node, dof)]
+        for ax, drive in zip(row_axes, drives):
+            _sweep_axes(ax, measured, curves.get((node, dof), {}), drive, "accelerance",
+                        f"accelerance [({units}/{time}^2) / {force}]")
+            ax.set_title(f"node {node} dof {dof}, drive {drive:.5g}", fontsize=9)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(png, dpi=90)
+    plt.close(fig)
+    return str(png)
+
+
+def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str) -> None:
+    """One panel: the baselines' curves and points and the damper's points at one drive, as
+    displacement ``amplitude`` or ``accelerance`` (w^2 X / |F|)."""
+    styles = {"undamped": ("k", "--"), "added-mass": ("0.5", ":")}
+    markers = {"": "o", "up": "^", "down": "v"}
+
+    def y_of(f, amp):
+        f, amp = np.asarray(f, float), np.asarray(amp, float)
+        return amp if quantity == "amplitude" else (2 * np.pi * f) ** 2 * amp / abs(drive)
+
+    for config, (color, ls) in styles.items():
+        if (config, drive) in curves:
+            f, a = curves[(config, drive)]
+            ax.plot(f, y_of(f, a), color=color, ls=ls, lw=1.2, label=f"{config} (closed form)")
+        pts = sorted((r["frequency_hz"], r["amplitude"]) for r in rows
+                     if r["config"] == config and r["drive"] == drive
+                     and r.get("method") != "closed-form")
+        if pts:
+            f, a = zip(*pts)
+            ax.plot(f, y_of(f, a), color=color, ls=ls, marker=".", label=config)
+    for direction, marker in markers.items():
+        pts = [r for r in rows if r["config"] == "deck" and r["drive"] == drive
+               and r["direction"] == direction]
+        if not pts:
+            continue
+        pts.sort(key=lambda r: r["frequency_hz"])
+        f = [r["frequency_hz"] for r in pts]
+        a = [r["amplitude"] for r in pts]
+        ax.plot(f, y_of(f, a), color="C3" if direction != "down" else "C0", marker=marker,
+                ms=5, label="damper" + (f" ({direction})" if direction else ""))
+        bad = [(r["frequency_hz"], r["amplitude"]) for r in pts if not r["converged"]]
+        if bad:
+            bf, ba = zip(*bad)
+            ax.plot(bf, y_of(bf, ba), ls="none", marker="x", color="k", ms=8,
+                    label="not converged")
+    ax.set_yscale("log")
+    ax.set_xlabel("drive frequency [Hz]")
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper right")
 
 
 def plot_ringdown(png: str | os.PathLike, series: Mapping[str, Mapping[str, np.ndarray]],

@@ -20,6 +20,9 @@ from x3dpd.errors import InputError
 @click.option("--node", type=int, help="Driven and measured node [default: the deck's USRFRC "
                                        "drive node, else the first cavity's master].")
 @click.option("--dof", type=int, help="DOF 1-3 [default: the USRFRC drive's, else 1].")
+@click.option("--response", multiple=True, metavar="NODE:DOF",
+              help="Also measure this node and DOF (repeatable): a row each in sweep.csv "
+                   "(accelerance = its acceleration / the drive), DIR/sweep_responses.png.")
 @click.option("--direction", type=click.Choice(["up", "down", "both"]),
               help="Chain the points, each continuing from the previous one's state "
                    "[default: every point from the deck's initial state, in parallel].")
@@ -44,8 +47,9 @@ from x3dpd.errors import InputError
                    "not with the structure put on its predicted steady-state motion.")
 @click.option("--overwrite", is_flag=True, help="Discard a different sweep stored in DIR.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
-def sweep(deck, freq, amp, node, dof, direction, baseline, out, workers, scheduler, dt, tol,
-          window, max_cycles, samples_per_cycle, no_extrapolate, no_predict, overwrite, quiet):
+def sweep(deck, freq, amp, node, dof, response, direction, baseline, out, workers, scheduler,
+          dt, tol, window, max_cycles, samples_per_cycle, no_extrapolate, no_predict, overwrite,
+          quiet):
     """Steady-state response of a node across frequencies (DIR/sweep.csv, DIR/sweep.png)."""
     from x3dpd.design.commands import sweep_command
 
@@ -59,4 +63,4 @@ def sweep(deck, freq, amp, node, dof, direction, baseline, out, workers, schedul
                   workers=workers, scheduler=scheduler, dt=dt, tol=tol, window=window,
                   max_cycles=max_cycles, samples_per_cycle=samples_per_cycle,
                   extrapolate=not no_extrapolate, predict=not no_predict, overwrite=overwrite,
-                  echo=(lambda s: None) if quiet else click.echo)
+                  responses=response, echo=(lambda s: None) if quiet else click.echo)

@@ -55,12 +55,17 @@ class Parameters:
 
 @dataclass(frozen=True)
 class Material:
-    """One MATID record. Type 1 = discrete spring-damper (our field map, see deck reference).
+    """One MATID record (our field map, see deck reference). Type 1 = discrete spring-damper
+    along the global axes (X3D's); our extensions: type 2 = spring-damper along the line between
+    two nodes, type 3 = rotational spring-damper about the global axes.
 
     Fields: MID TYPE MASS SCALE KX KY KZ C  [EXTRA...]. ``mass`` is an element mass lumped onto the
-    element's nodes, ``scale`` multiplies stiffness and damping, ``kx, ky, kz`` are translational
-    stiffnesses along global axes [force/length], ``c`` the viscous damping [force s/length] applied
-    along each free translational direction. ``extra`` keeps the remaining X3D fields verbatim.
+    element's nodes, ``scale`` multiplies stiffness and damping. Type 1: ``kx, ky, kz`` are
+    translational stiffnesses along global axes [force/length], ``c`` the viscous damping
+    [force s/length] applied along each free translational direction. Type 2: ``kx`` the
+    stiffness and ``c`` the damping along the element's line (``ky = kz = 0``). Type 3: ``kx, ky,
+    kz`` rotational stiffnesses [force length/rad], ``c`` the rotational damping [force length
+    s/rad] about each axis. ``extra`` keeps the remaining X3D fields verbatim.
     """
 
     mid: int

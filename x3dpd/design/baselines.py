@@ -52,18 +52,25 @@ class Sdof:
 
 @dataclass(frozen=True)
 class ModalLinear:
-    """A linear structure given by its modes, driven and measured at one DOF (shape values
-    ``phi`` (M,) of the coupled modes there; x3dpd.model.modal_structure)."""
+    """A linear structure given by its modes, driven at one DOF (shape values ``phi`` (M,) of
+    the coupled modes there; x3dpd.model.modal_structure) and measured there or, with
+    ``phi_out``, at another."""
 
     omega: np.ndarray
     zeta: np.ndarray
     coupling: np.ndarray
     phi: np.ndarray
+    phi_out: np.ndarray | None = None
 
-    def receptance(self, omega: float) -> complex:
-        """X/F at the driven DOF [length/force]."""
-        return complex(receptance(omega / (2.0 * math.pi), self.omega, self.zeta, self.phi,
+    def receptance(self, omega: float, at_drive: bool = False) -> complex:
+        """X/F [length/force] at the measured DOF (``at_drive``: at the driven one)."""
+        out = self.phi if (at_drive or self.phi_out is None) else self.phi_out
+        return complex(receptance(omega / (2.0 * math.pi), self.omega, self.zeta, out,
                                   self.phi, self.coupling)[0])
+
+    def measured_at(self, phi_out: np.ndarray) -> "ModalLinear":
+        """The same structure measured where the shape values are ``phi_out``."""
+        return ModalLinear(self.omega, self.zeta, self.coupling, self.phi, phi_out)
 
     def response(self, drive: float, omega: float) -> tuple[float, float]:
         """Steady-state amplitude X [length] and phase phi [rad] under drive sin(omega t)."""
@@ -73,7 +80,7 @@ class ModalLinear:
     def dissipated_per_cycle(self, amplitude: float, omega: float) -> float:
         """Energy the modal damping takes per cycle = the drive's work, pi F X sin(-phi) =
         pi X^2 (-Im H) / |H|^2 [force length]."""
-        h = self.receptance(omega)
+        h = self.receptance(omega, at_drive=True)
         return math.pi * amplitude ** 2 * (-h.imag) / abs(h) ** 2
 
     def modal_amplitudes(self, drive: float, omega: float) -> np.ndarray:
@@ -86,11 +93,21 @@ class ModalLinear:
         return np.linalg.solve(dyn, drive * self.phi.astype(complex))
 
 
-def linear_structure(model: Model, node: int, dof: int):
+def linear_structure(model: Model, node: int, dof: int, response: tuple[int, int] | None = None):
     """The closed-form linear structure of a particle-free model driven at ``node`` along
     ``dof``: an :class:`Sdof`, a :class:`ModalLinear`, or None (see :func:`linear_sdof`,
-    :func:`linear_modal`)."""
-    return linear_sdof(model, node, dof) or linear_modal(model, node, dof)
+    :func:`linear_modal`). ``response`` (node, dof): measured there instead (a modal structure
+    only: an SDOF's other nodes do not move)."""
+    if response is None or tuple(response) == (node, dof):
+        return linear_sdof(model, node, dof) or linear_modal(model, node, dof)
+    drive = linear_modal(model, node, dof)
+    if drive is None:
+        return None
+    try:
+        i = model.index_of(response[0])
+    except KeyError:
+        return None
+    return drive.measured_at(model.modal.shape_at(i, response[1] - 1))
 
 
 def linear_modal(model: Model, node: int, dof: int) -> ModalLinear | None:
@@ -101,6 +118,8 @@ def linear_modal(model: Model, node: int, dof: int) -> ModalLinear | None:
     if ms is None or model.n_particles or dof not in range(1, 7):
         return None
     if np.any(model.spring_k != 0.0) or np.any(model.spring_c != 0.0):
+        return None
+    if model.axial_nodes.shape[0] or model.rotational_nodes.shape[0]:
         return None
     try:
         i = model.index_of(node)
@@ -155,9 +174,12 @@ def linear_sdof(model: Model, node: int, dof: int) -> Sdof | None:
 
     None unless: no particles; ``dof`` is a translation (1-3); the driven node's body (the node,
     or the rigid body it is master of) is free along ``dof`` and fixed in every other DOF; every
-    other node is fixed along ``dof``; every spring joins the body to ground.
+    other node is fixed along ``dof``; every spring joins the body to ground along the global
+    axes (MATID type 1: an axial or rotational element, types 2 and 3, is not in this form).
     """
     if model.n_particles or dof not in (1, 2, 3):
+        return None
+    if model.axial_nodes.shape[0] or model.rotational_nodes.shape[0]:
         return None
     try:
         i = model.index_of(node)

@@ -10,9 +10,10 @@ import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from x3dpd.analysis.design_plots import attenuations, plot_sweep
+from x3dpd.analysis.design_plots import attenuations, plot_responses, plot_sweep
 from x3dpd.deck.parser import read_deck
-from x3dpd.design.spec import SweepSpec, default_drive_point, parse_drives, parse_frequencies
+from x3dpd.design.spec import (SweepSpec, default_drive_point, parse_drives, parse_frequencies,
+                               parse_responses)
 from x3dpd.design.steady_state import Criterion
 from x3dpd.design.sweep import baseline_curves, deck_hash, run_sweep
 
@@ -23,9 +24,12 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
                   scheduler: str | None = None, dt: float | None = None, tol: float = 0.01,
                   window: int = 5, max_cycles: int = 400, samples_per_cycle: int = 200,
                   extrapolate: bool = True, predict: bool = True, overwrite: bool = False,
+                  responses: Sequence[str] = (),
                   echo: Callable[[str], None] = print) -> list[dict]:
-    """Run a sweep into ``out`` (sweep.csv, sweep.png, points/); returns its rows."""
+    """Run a sweep into ``out`` (sweep.csv, sweep.png, points/; with ``responses``
+    (``NODE:DOF`` texts) also sweep_responses.png); returns its rows."""
     deck = read_deck(deck_path)
+    measured = parse_responses(responses, deck)
     frequencies = parse_frequencies(freq)
     drives = parse_drives(amps)
     if node is None or dof is None:
@@ -34,7 +38,7 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
         dof = d_dof if dof is None else dof
     spec = SweepSpec(deck=deck, deck_text_hash=deck_hash(deck_path), frequencies=frequencies,
                      drives=drives, node=node, dof=dof, direction=direction,
-                     baselines=tuple(baselines), dt=dt,
+                     baselines=tuple(baselines), dt=dt, responses=measured,
                      criterion=Criterion(tol=tol, window=window, max_cycles=max_cycles,
                                          samples_per_cycle=samples_per_cycle,
                                          extrapolate=extrapolate, predict=predict))
@@ -61,10 +65,16 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
              "the same command resumes the sweep")
         raise
     curves = baseline_curves(spec)
-    plot_sweep(Path(out) / "sweep.png", rows, curves, title=Path(deck_path).name)
+    length, force, unit_t = deck.units.system if deck.units is not None else ("in", "lbf", "s")
+    plot_sweep(Path(out) / "sweep.png", rows, curves, title=Path(deck_path).name, units=length)
+    if measured:
+        plot_responses(Path(out) / "sweep_responses.png", rows, measured,
+                       {r: baseline_curves(spec, response=r) for r in measured},
+                       title=Path(deck_path).name, units=length, force=force, time=unit_t)
     for a in attenuations(rows, curves):
         echo(f"peak attenuation at drive {a['drive']:g}: {a['attenuation_db']:.2f} dB vs "
              f"{a['baseline']} (peak {a['baseline_peak']:.4e} -> {a['deck_peak']:.4e})")
-    echo(f"wrote {Path(out) / 'sweep.csv'} and {Path(out) / 'sweep.png'} "
+    echo(f"wrote {Path(out) / 'sweep.csv'} and {Path(out) / 'sweep.png'}"
+         + (f" and {Path(out) / 'sweep_responses.png'}" if measured else "") + " "
          f"({len(rows)} points, {time.perf_counter() - start:.1f} s)")
     return rows

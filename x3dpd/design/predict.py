@@ -125,25 +125,32 @@ def _modal_start(sim: Simulation, model, modes: np.ndarray, omega: float, t_star
                  dt: float):
     """The predicted start of a modal structure: modal coordinates q = Im Q, p = omega Re Q
     (the coupled modes' steady state, ``modes`` = Q), modal nodes and their rigid bodies placed
-    from them, particles moved with their cavity's master (translation and velocity), the
-    energy this adds booked in the reference energy."""
+    from them, and the particles carried along rigidly with the body that holds their cavity's
+    walls (position, velocity, the body's turn): they keep their places, contacts and histories
+    relative to the cavity, as an SDOF start keeps them. The energy this adds is booked in the
+    reference energy."""
     state, k = sim.state, sim.setup
     e_before = total_energy(sim)
-    ms = model.modal
-    q_new, p_new = modes.imag.copy(), omega * modes.real
-    # each particle moves with the master of its cavity's walls (the first modal master)
-    masters = ms.nodes[ms.body >= 0]
-    if masters.shape[0]:
-        m = int(masters[0])
-        j = int(np.flatnonzero(ms.nodes == m)[0])
-        dx = ms.shape[j, :3] @ (q_new - state.mq)
-        dv = ms.shape[j, :3] @ p_new - state.vel[m, :3]
-        state.x[model.particle_start:] += dx
-        state.vel[model.particle_start:, :3] += dv
-    state.mq[:] = q_new
-    state.mp[:] = p_new
+    before = {b: (state.x[m].copy(), state.vel[m].copy(), state.rot[b].copy())
+              for b, m in enumerate(k.rig_master)}
+    state.mq[:] = modes.imag
+    state.mp[:] = omega * modes.real
     b = sim._bundles()
     sim.kernels._modal_place(b["modal"], state.x, k.x0, state.vel, state.rot, state.mp, True)
+    p0 = model.particle_start
+    for cavity, body in _cavity_bodies(model).items():
+        if body < 0 or body not in set(model.modal.body.tolist()):
+            continue
+        m = int(k.rig_master[body])
+        x_m, v_m, r_old = before[body]
+        turn = state.rot[body] @ r_old.T
+        mine = p0 + np.flatnonzero(model.particle_cavity == cavity)
+        rel = state.x[mine] - x_m
+        rel_v = state.vel[mine, :3] - v_m[:3] - np.cross(v_m[3:], rel)
+        new_rel = rel @ turn.T
+        state.x[mine] = state.x[m] + new_rel
+        state.vel[mine, :3] = (state.vel[m, :3] + np.cross(state.vel[m, 3:], new_rel)
+                               + rel_v @ turn.T)
     if k.rig_master.shape[0]:
         sim.kernels._update_slaves(state.x, state.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
                                    k.rig_r0, state.rot, True, True)
@@ -152,3 +159,18 @@ def _modal_start(sim: Simulation, model, modes: np.ndarray, omega: float, t_star
     sim.project_modal_forces()
     state.e_ref += total_energy(sim) - e_before
     return FinalState(state=state, deck_key=deck_key(deck), dt=dt, time=t_start)
+
+
+def _cavity_bodies(model) -> dict[int, int]:
+    """Cavity index -> the rigid body whose slaves carry its walls (-1: none)."""
+    owner = np.full(model.n_nodes, -1)
+    for b in range(model.rigid_master.shape[0]):
+        owner[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = b
+        owner[model.rigid_master[b]] = b
+    out = {}
+    tri_cavity = model.face_cavity[model.tri_face] if model.tri_face.shape[0] else []
+    for nodes, c in zip(model.tri_nodes, tri_cavity):
+        out.setdefault(int(c), int(owner[nodes[0]]))
+    for nodes, c in zip(model.shape_nodes, model.shape_cavity):
+        out.setdefault(int(c), int(owner[nodes[0]]))
+    return out

@@ -66,8 +66,12 @@ def ringdown_of_deck(deck: Deck, node: int, dof: int, *, drive_until: float, rin
 
 
 def _period(model, node: int, dof: int) -> float:
-    """A guess of the structure's period for the recording rate: 2 pi sqrt(m / k)."""
+    """A guess of the structure's period for the recording rate: 2 pi sqrt(m / k), or a modal
+    structure's first mode's."""
     i = model.index_of(node)
+    ms = model.modal
+    if ms is not None and i in set(ms.nodes.tolist()) and np.any(ms.omega > 0):
+        return 2.0 * math.pi / float(ms.omega[ms.omega > 0].min())
     k = float(np.sum(model.spring_k[:, dof - 1]))
     m = float(np.sum(model.rigid_mass)) if model.rigid_mass.size else float(model.mass[i])
     return 2.0 * math.pi * math.sqrt(m / k) if k > 0 and m > 0 else 0.01

@@ -31,11 +31,16 @@ class SweepSpec:
     baselines: tuple[str, ...] = ()
     dt: float | None = None
     criterion: Criterion = field(default_factory=Criterion)
+    #: (node, dof) pairs measured besides the driven one (``--response NODE:DOF``)
+    responses: tuple[tuple[int, int], ...] = ()
 
     def settings(self) -> dict:
         """What makes two sweeps' points interchangeable (stored in DIR/sweep.json)."""
-        return {"deck_sha256": self.deck_text_hash, "node": self.node, "dof": self.dof,
-                "dt": self.dt, "criterion": asdict(self.criterion)}
+        out = {"deck_sha256": self.deck_text_hash, "node": self.node, "dof": self.dof,
+               "dt": self.dt, "criterion": asdict(self.criterion)}
+        if self.responses:
+            out["responses"] = [list(r) for r in self.responses]
+        return out
 
 
 def parse_frequencies(text: str) -> tuple[float, ...]:
@@ -72,6 +77,26 @@ def parse_drives(texts: Sequence[str]) -> tuple[float, ...]:
             out.append(v)
     if not out:
         raise InputError("--amp: give at least one drive amplitude")
+    return tuple(dict.fromkeys(out))
+
+
+def parse_responses(texts: Sequence[str], deck: Deck) -> tuple[tuple[int, int], ...]:
+    """``--response NODE:DOF`` values (repeatable): nodes of the deck, translations 1-3."""
+    nodes = {n.nid for n in deck.nodes}
+    out = []
+    for text in texts:
+        node, colon, dof = str(text).partition(":")
+        try:
+            pair = (int(node), int(dof))
+        except ValueError:
+            raise InputError(f"--response {text!r}: expected NODE:DOF, e.g. 9:1") from None
+        if not colon or pair[1] not in (1, 2, 3):
+            raise InputError(f"--response {text!r}: expected NODE:DOF with DOF 1, 2 or 3 "
+                             "(a translation)")
+        if pair[0] not in nodes:
+            raise InputError(f"--response {text!r}: node {pair[0]} is not a node of "
+                             f"{deck.path}")
+        out.append(pair)
     return tuple(dict.fromkeys(out))
 
 

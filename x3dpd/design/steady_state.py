@@ -59,6 +59,8 @@ class SweepPoint:
     direction: str = ""  # "" (from the deck's initial state), "up" or "down"
     dt: float | None = None
     criterion: Criterion = field(default_factory=Criterion)
+    #: (node, dof) pairs measured besides the driven one
+    responses: tuple[tuple[int, int], ...] = ()
 
     @property
     def key(self) -> str:
@@ -83,15 +85,23 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     omega = 2.0 * math.pi * point.frequency_hz
     period = 1.0 / point.frequency_hz
     itrac = max(1, int(period / (crit.samples_per_cycle * dt)))
-    monitor = SteadyStateMonitor(omega, t0=t_start, t_start=t_start, window=crit.window,
-                                 tol=crit.tol, min_windows=crit.min_windows,
-                                 max_cycles=crit.max_cycles, extrapolate=crit.extrapolate)
-    d = point.dof - 1
+    def new_monitor():
+        return SteadyStateMonitor(omega, t0=t_start, t_start=t_start, window=crit.window,
+                                  tol=crit.tol, min_windows=crit.min_windows,
+                                  max_cycles=crit.max_cycles, extrapolate=crit.extrapolate)
+
+    monitor = new_monitor()
+    measured = [(point.node, point.dof)] + list(point.responses)
+    watchers = [monitor] + [new_monitor() for _ in point.responses]
     cols = [ENERGY_COLUMNS.index(name) for name in ALL_LOSSES]
 
     def stop(block) -> bool:
         ledger = {name: block.energy[:, j] for name, j in zip(ALL_LOSSES, cols)}
-        return monitor.feed(block.time, block.position[:, 0, d], block.velocity[:, 0, d], ledger)
+        done = True
+        for k, (watch, (_, dof)) in enumerate(zip(watchers, measured)):
+            done &= watch.feed(block.time, block.position[:, k, dof - 1],
+                               block.velocity[:, k, dof - 1], ledger if k == 0 else None)
+        return done
 
     spec = (f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
             f"hz={point.frequency_hz!r},t0={t_start!r}")
@@ -103,7 +113,8 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
             state, start = predicted, "predicted"
     result = run_deck(point.deck, tmax=t_start + (crit.max_cycles + 1) * period, dt=dt,
                       usrfrc=(spec,), usrfrc_mode="replace", itrac=itrac,
-                      trace_nodes=(point.node,), keep_trace=False, initial_state=state,
+                      trace_nodes=tuple(n for n, _ in measured), keep_trace=False,
+                      initial_state=state,
                       stop=stop, stop_every=crit.samples_per_cycle)
     wall = _time.perf_counter() - wall
     ss = monitor.result()
@@ -126,5 +137,18 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "change": ss.change, "method": "simulated", "start": start,
         "t_start": t_start, "t_end": float(summary["t_end"]), "steps": int(summary["steps"]),
         "compile_s": float(summary.get("compile_s", 0.0)), "wall_s": wall,
+        "response_node": point.node, "response_dof": point.dof,
     }
+    if point.responses:
+        row["responses"] = [response_columns(w.result(), node, dof, point.drive)
+                            for w, (node, dof) in zip(watchers[1:], point.responses)]
     return row, result.final_state
+
+
+def response_columns(ss, node: int, dof: int, drive: float) -> dict:
+    """The columns of a measured response (``--response``) at one point."""
+    return {"response_node": node, "response_dof": dof, "amplitude": ss.amplitude,
+            "phase": ss.phase_deg, "velocity": ss.velocity, "acceleration": ss.acceleration,
+            "accelerance": ss.acceleration / abs(drive), "peak": ss.peak, "mean": ss.mean,
+            "spread": ss.spread, "measured_amplitude": ss.measured_amplitude,
+            "change": ss.change, "converged": ss.converged}

@@ -45,7 +45,11 @@ COLUMNS = ("config", "frequency_hz", "drive", "direction", "amplitude", "phase",
            "acceleration", "accelerance", "peak", "mean", "spread", "dissipated_per_cycle",
            "dissipated_particles_per_cycle", "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
            "branch", "measured_amplitude", "change", "method", "start", "t_start", "t_end", "steps",
-           "compile_s", "wall_s")
+           "compile_s", "wall_s", "response_node", "response_dof")
+#: Columns a measured response (``--response``) has of its own; the rest are its point's.
+RESPONSE_COLUMNS = ("response_node", "response_dof", "amplitude", "phase", "velocity",
+                    "acceleration", "accelerance", "peak", "mean", "spread",
+                    "measured_amplitude", "change", "converged")
 DIRECTIONS = ("up", "down", "both")
 
 
@@ -60,16 +64,21 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
     chains: list[list[SweepPoint]] = []
     closed: list[dict] = []
     for config, deck in configs.items():
-        sdof = (linear_structure(build_model(deck), spec.node, spec.dof)
-                if config != "deck" else None)
-        if sdof is not None:
-            closed.extend(closed_form_rows(config, sdof, spec))
+        sdof = structures = None
+        if config != "deck":
+            model = build_model(deck)
+            sdof = linear_structure(model, spec.node, spec.dof)
+            structures = [linear_structure(model, spec.node, spec.dof, r)
+                          for r in spec.responses]
+        if sdof is not None and all(s is not None for s in structures):
+            closed.extend(closed_form_rows(config, sdof, spec, structures))
             continue
         for drive in spec.drives:
             def point(f: float, direction: str = "") -> SweepPoint:
                 return SweepPoint(config=config, deck=deck, frequency_hz=f, drive=drive,
                                   node=spec.node, dof=spec.dof, direction=direction,
-                                  dt=spec.dt, criterion=spec.criterion)
+                                  dt=spec.dt, criterion=spec.criterion,
+                                  responses=spec.responses)
             freqs = sorted(spec.frequencies)
             if spec.direction is None:
                 chains.extend([point(f)] for f in freqs)
@@ -80,13 +89,23 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
     return chains, closed
 
 
-def closed_form_rows(config: str, sdof, spec: SweepSpec) -> list[dict]:
-    """Rows of a linear baseline (SDOF or modal) at every frequency and drive (``baselines.py``)."""
+def closed_form_rows(config: str, sdof, spec: SweepSpec, responses=()) -> list[dict]:
+    """Rows of a linear baseline (SDOF or modal) at every frequency and drive (``baselines.py``);
+    ``responses``: the structure measured at each of ``spec.responses``."""
     rows = []
     for drive in spec.drives:
         for f in sorted(spec.frequencies):
             w = 2.0 * math.pi * f
             amp, phi = sdof.response(drive, w)
+            measured = []
+            for (node, dof), structure in zip(spec.responses, responses):
+                a, p = structure.response(drive, w)
+                measured.append({"response_node": node, "response_dof": dof, "amplitude": a,
+                                 "phase": math.degrees(p), "velocity": w * a,
+                                 "acceleration": w * w * a,
+                                 "accelerance": w * w * a / abs(drive), "peak": a,
+                                 "mean": math.nan, "spread": 0.0, "measured_amplitude": a,
+                                 "change": 0.0, "converged": True})
             rows.append({
                 "config": config, "frequency_hz": f, "drive": drive, "direction": "",
                 "amplitude": amp, "phase": math.degrees(phi), "velocity": w * amp,
@@ -97,16 +116,19 @@ def closed_form_rows(config: str, sdof, spec: SweepSpec) -> list[dict]:
                 "input_work_per_cycle": sdof.dissipated_per_cycle(amp, w), "cycles": 0, "converged": True,
                 "extrapolated": False, "irregular": False, "measured_amplitude": amp,
                 "change": 0.0, "method": "closed-form", "start": "", "t_start": 0.0, "t_end": 0.0,
-                "steps": 0, "compile_s": 0.0, "wall_s": 0.0})
+                "steps": 0, "compile_s": 0.0, "wall_s": 0.0, "response_node": spec.node,
+                "response_dof": spec.dof, **({"responses": measured} if measured else {})})
     return rows
 
 
-def baseline_curves(spec: SweepSpec, n: int = 2001) -> dict:
-    """Closed-form baseline curves on a fine grid over the swept band: {(config, drive): (f, X)}."""
+def baseline_curves(spec: SweepSpec, n: int = 2001, response: tuple[int, int] | None = None
+                    ) -> dict:
+    """Closed-form baseline curves on a fine grid over the swept band: {(config, drive): (f, X)}
+    at the driven DOF, or at ``response`` (node, dof)."""
     out = {}
     f = np.linspace(min(spec.frequencies), max(spec.frequencies), n)
     for config, deck in baseline_decks(spec.deck, spec.baselines, spec.node).items():
-        sdof = linear_structure(build_model(deck), spec.node, spec.dof)
+        sdof = linear_structure(build_model(deck), spec.node, spec.dof, response)
         if sdof is None:
             continue
         for drive in spec.drives:
@@ -286,11 +308,23 @@ def label_branches(rows: list[dict]) -> None:
 
 
 def write_csv(path: Path, rows: Sequence[dict]) -> None:
-    """sweep.csv: one row per point, columns :data:`COLUMNS` (full precision, repr floats)."""
+    """sweep.csv: one row per point and measured node, columns :data:`COLUMNS` (full precision,
+    repr floats): the driven node's row (``response_node``, ``response_dof`` the drive's), then
+    a row per ``--response`` with that node's :data:`RESPONSE_COLUMNS` and the point's others."""
     lines = [",".join(COLUMNS)]
-    for r in rows:
+    for r in expand_responses(rows):
         lines.append(",".join(_cell(r.get(c, "")) for c in COLUMNS))
     _write_atomic(path, ("\n".join(lines) + "\n").encode())
+
+
+def expand_responses(rows: Sequence[dict]) -> list[dict]:
+    """One row per point and measured node (see :func:`write_csv`)."""
+    out = []
+    for r in rows:
+        point = {k: v for k, v in r.items() if k != "responses"}
+        out.append(point)
+        out.extend({**point, **m} for m in r.get("responses", ()))
+    return out
 
 
 def _cell(v) -> str:

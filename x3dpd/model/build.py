@@ -5,9 +5,10 @@ pointing at the offending record (``FILE:LINE:COL: CARD: message``). Physics sta
 builder only sums masses, applies material scale factors and reads geometry.
 
 The steps live beside this module: errors and node lookups in ``build_base``, particles in
-``build_particles``, masses, springs, boundaries and rigid bodies in ``build_structure``, cavity
-walls and analytic walls in ``build_walls`` (wall orientation), USRFRC loads and the zero-mass check
-in ``build_loads``. This module runs them in order and assembles the :class:`Model`.
+``build_particles``, masses, springs (MATID types 1-3), boundaries and rigid bodies in
+``build_structure``, cavity walls and analytic walls in ``build_walls`` (wall orientation),
+USRFRC loads and the zero-mass check in ``build_loads``. This module runs them in order and
+assembles the :class:`Model`.
 """
 
 from __future__ import annotations
@@ -91,6 +92,10 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
             spring_nodes=_ro(self.spring_nodes.reshape(-1, 2), np.int64),
             spring_k=_ro(self.spring_k.reshape(-1, 3)),
             spring_c=_ro(self.spring_c.reshape(-1, 3)),
+            axial_nodes=_ro(self.axial_nodes, np.int64), axial_k=_ro(self.axial_k),
+            axial_c=_ro(self.axial_c), axial_length=_ro(self.axial_length),
+            rotational_nodes=_ro(self.rotational_nodes, np.int64),
+            rotational_k=_ro(self.rotational_k), rotational_c=_ro(self.rotational_c),
             rigid_master=_ro(self.rigid_master, np.int64), rigid_ptr=_ro(self.rigid_ptr, np.int64),
             rigid_slaves=_ro(self.rigid_slaves, np.int64), rigid_mass=_ro(self.rigid_mass),
             rigid_inertia=_ro(self.rigid_inertia.reshape(-1, 3, 3)),
@@ -164,6 +169,10 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
                 eff.add("springs")
         if np.any(self.spring_c > 0.0):
             eff.add("dampers")
+        if np.any(self.axial_k != 0.0) or np.any(self.axial_c != 0.0):
+            eff.add("axial_springs")
+        if np.any(self.rotational_k != 0.0) or np.any(self.rotational_c != 0.0):
+            eff.add("rotational_springs")
         if self.rigid_master.shape[0]:
             eff.add("rigid_links")
             plain = [m for m in self.rigid_master if int(m) not in self.modal_nodes]

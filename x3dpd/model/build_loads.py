@@ -25,6 +25,12 @@ class LoadSteps(BuilderBase):
                 for a in range(3):
                     if k[a] != 0.0 or c[a] != 0.0:
                         loads.setdefault((int(i), a), f"element {el.eid} (line {el.pos.line})")
+        for el, nodes, k, c in zip(self.axial_elements, self.axial_nodes, self.axial_k,
+                                   self.axial_c):
+            if k != 0.0 or c != 0.0:   # along its line, which may turn to any direction
+                for i in nodes:
+                    for a in range(3):
+                        loads.setdefault((int(i), a), f"element {el.eid} (line {el.pos.line})")
         for t, nodes in zip(self.triangles, self.tri_nodes):
             for i in nodes:
                 for a in range(3):
@@ -62,6 +68,33 @@ class LoadSteps(BuilderBase):
                 f"loaded by {what} (on node {nid}); add a MASS record for node {mid} or fix "
                 f"DOF {a + 1} of node {mid} in BOUNDARY CONDITIONS", self.node_pos[mid],
                 "NODE COORDINATES")
+        self._zero_inertia_check()
+
+    def _zero_inertia_check(self) -> None:
+        """A free rotational DOF loaded by a rotational spring-damper (MATID type 3) needs a
+        rotary inertia: without one its moment would be dropped."""
+        for el, nodes, k, c in zip(self.rotational_elements, self.rotational_nodes,
+                                   self.rotational_k, self.rotational_c):
+            for i in nodes[nodes >= 0]:
+                for a in range(3):
+                    if k[a] == 0.0 and c[a] == 0.0:
+                        continue
+                    body = self.slave_of.get(int(i), self.body_of_master.get(int(i)))
+                    m = int(i) if body is None else int(self.rigid_master[body])
+                    if m in self.modal_nodes:
+                        continue   # turned by the modes, whose inertia is in them
+                    inertia = (self.inertia[m, a] if body is None
+                               else self.rigid_inertia[body, a, a])
+                    if self.fixed[m, 3 + a] or inertia > 0.0:
+                        continue
+                    nid = int(self.ids[m])
+                    owner = f"node {nid}" if body is None else f"the rigid body of master {nid}"
+                    raise self.error(
+                        f"{owner} has no rotary inertia about {_AXES[a]} but its free r{_AXES[a]} "
+                        f"DOF is loaded by the rotational spring-damper element {el.eid} (line "
+                        f"{el.pos.line}); give node {nid} an inertia I{_AXES[a] * 2} in MASS or "
+                        f"fix DOF {a + 4} in BOUNDARY CONDITIONS", self.node_pos[nid],
+                        "NODE COORDINATES")
 
     def _all_usrfrc(self) -> tuple[str, ...]:
         return self._deck_usrfrc() + self.usrfrc

@@ -49,8 +49,12 @@ class ModalSteps(BuilderBase):
             return
         if card.files:
             numbers, freq, zeta, shapes, source = self._modes_from_file(card.files[0])
+            where = {i: card.files[0].pos for i in shapes}
         else:
             numbers, freq, zeta, shapes, source = self._modes_inline(card)
+            where = {}
+            for s in card.shapes:
+                where.setdefault(self.index[s.node], s.node_pos if s.node_pos.line else s.pos)
         nodes = sorted(shapes)
         phi = np.stack([shapes[i] for i in nodes]) if nodes else np.zeros((0, 6, len(freq)))
         held = np.isnan(phi).all(axis=2)
@@ -60,9 +64,11 @@ class ModalSteps(BuilderBase):
             held[j] |= fixed
             phi[j, fixed, :] = 0.0
             if i in self.slave_of:
+                master = int(self.ids[self.rigid_master[self.slave_of[i]]])
                 raise self.error(f"node {int(self.ids[i])} has shape values but is a slave of the "
-                                 f"rigid body of master {int(self.ids[self.rigid_master[self.slave_of[i]]])}"
-                                 f"; give the shape values at the master", card.pos, CARD)
+                                 f"rigid body of master {master}; give the shape values at the "
+                                 "master" + (" (with map=, only the mapped file nodes are used)"
+                                             if card.files else ""), where[i], CARD)
         node_idx = np.array(nodes, dtype=np.int64)
         added = self._added_mass(node_idx) if card.housing == "added" else np.zeros(
             (len(nodes), 6, 6))
@@ -164,6 +170,8 @@ class ModalSteps(BuilderBase):
         mapping = opt("map")[0] if opt("map") else {}
         shapes: dict[int, np.ndarray] = {}
         for n, fid in enumerate(np.asarray(ms.node_ids, dtype=np.int64)):
+            if mapping and int(fid) not in mapping:
+                continue        # with map=, the mapped nodes only
             did = mapping.get(int(fid), int(fid))
             i = self.index.get(did)
             if i is None:

@@ -8,6 +8,14 @@ import numpy as np
 from x3dpd.errors import Pos
 from x3dpd.model.build_base import _ALL_DOFS, BuilderBase, _pos_at
 
+#: MATID types: 1 as X3D's (axis-aligned), 2 and 3 our extensions (docs/deck-reference.md).
+AXIS_ALIGNED, AXIAL, ROTATIONAL = 1, 2, 3
+MATERIAL_TYPES = {
+    AXIS_ALIGNED: "spring-damper along the global x, y, z axes",
+    AXIAL: "spring-damper along the line between two nodes",
+    ROTATIONAL: "rotational spring-damper about the global axes",
+}
+
 
 class StructureSteps(BuilderBase):
     """Masses, springs, fixed DOFs and rigid bodies of the structural nodes."""
@@ -24,20 +32,29 @@ class StructureSteps(BuilderBase):
             self.inertia[i] += (rec.ixx, rec.iyy, rec.izz)
 
     def _springs(self) -> None:
+        """MATID + ELEMENTS: the axis-aligned spring-dampers of type 1 (X3D's), the axial ones
+        of type 2 and the rotational ones of type 3 (our extensions), each in arrays of its own."""
         materials: dict[int, object] = {}
         for mat in self.deck.materials:
             if mat.mid in materials:
                 raise self.error(f"material {mat.mid} is defined twice (first at line "
                                  f"{materials[mat.mid].pos.line})", mat.pos, "MATID")
-            if mat.mtype != 1:
-                raise self.error(f"material {mat.mid} has type {mat.mtype}; only type 1 "
-                                 f"(discrete spring-damper) is supported", mat.pos, "MATID")
+            if mat.mtype not in MATERIAL_TYPES:
+                kinds = "; ".join(f"{t} = {what}" for t, what in MATERIAL_TYPES.items())
+                raise self.error(f"material {mat.mid} has type {mat.mtype}; the types are "
+                                 f"{kinds}", mat.pos, "MATID")
             if mat.mass < 0.0:
                 raise self.error(f"negative element mass {mat.mass:g} in material {mat.mid}",
                                  mat.pos, "MATID")
+            if mat.mtype == AXIAL and (mat.ky != 0.0 or mat.kz != 0.0):
+                raise self.error(f"material {mat.mid} is of type 2 (a spring along the line "
+                                 f"between two nodes), whose stiffness is KX alone; KY and KZ "
+                                 f"must be 0, got {mat.ky:g} and {mat.kz:g}", mat.pos, "MATID")
             materials[mat.mid] = mat
         seen: dict[int, Pos] = {}
-        nodes, ks, cs = [], [], []
+        axis = ([], [], [], [])          # type 1: elements, nodes, k (3), c (3)
+        axial = ([], [], [], [], [])     # type 2: elements, nodes, k, c, rest length
+        rotational = ([], [], [], [])    # type 3: elements, nodes, k (3), c (3)
         for el in self.deck.elements:
             if el.eid in seen:
                 raise self.error(f"element {el.eid} is defined twice (first at line "
@@ -54,13 +71,51 @@ class StructureSteps(BuilderBase):
                    for nid in el.nodes]
             for i in idx:  # lumped equally on both ends; a ground end's share is dropped
                 self.mass[i] += 0.5 * mat.mass
-            nodes.append(idx + [-1] * (2 - len(idx)))
-            ks.append([mat.scale * mat.kx, mat.scale * mat.ky, mat.scale * mat.kz])
-            cs.append([mat.scale * mat.c] * 3)
-        self.spring_elements = self.deck.elements
-        self.spring_nodes = np.array(nodes, dtype=np.int64).reshape(-1, 2)
-        self.spring_k = np.array(ks, dtype=np.float64).reshape(-1, 3)
-        self.spring_c = np.array(cs, dtype=np.float64).reshape(-1, 3)
+            pair = idx + [-1] * (2 - len(idx))
+            if mat.mtype == AXIAL:
+                axial[0].append(el)
+                axial[1].append(pair)
+                axial[2].append(mat.scale * mat.kx)
+                axial[3].append(mat.scale * mat.c)
+                axial[4].append(self._rest_length(el, mat, idx))
+                continue
+            out = rotational if mat.mtype == ROTATIONAL else axis
+            out[0].append(el)
+            out[1].append(pair)
+            out[2].append([mat.scale * mat.kx, mat.scale * mat.ky, mat.scale * mat.kz])
+            out[3].append([mat.scale * mat.c] * 3)
+        self.spring_elements = tuple(axis[0])
+        self.spring_nodes = np.array(axis[1], dtype=np.int64).reshape(-1, 2)
+        self.spring_k = np.array(axis[2], dtype=np.float64).reshape(-1, 3)
+        self.spring_c = np.array(axis[3], dtype=np.float64).reshape(-1, 3)
+        self.axial_elements = tuple(axial[0])
+        self.axial_nodes = np.array(axial[1], dtype=np.int64).reshape(-1, 2)
+        self.axial_k = np.array(axial[2], dtype=np.float64)
+        self.axial_c = np.array(axial[3], dtype=np.float64)
+        self.axial_length = np.array(axial[4], dtype=np.float64)
+        self.rotational_elements = tuple(rotational[0])
+        self.rotational_nodes = np.array(rotational[1], dtype=np.int64).reshape(-1, 2)
+        self.rotational_k = np.array(rotational[2], dtype=np.float64).reshape(-1, 3)
+        self.rotational_c = np.array(rotational[3], dtype=np.float64).reshape(-1, 3)
+
+    def _rest_length(self, el, mat, idx: list[int]) -> float:
+        """L0 of a type 2 element: the distance of its two nodes in the deck (> 0)."""
+        if len(idx) != 2:
+            raise self.error(f"element {el.eid} uses material {mat.mid} of type 2, a spring "
+                             f"along the line between two nodes, but has one node (a spring "
+                             f"to ground has no line); give NODE2, or use a type 1 material "
+                             f"for a spring to ground along the global axes", el.pos,
+                             "ELEMENTS")
+        length = float(np.linalg.norm(self.x0[idx[1]] - self.x0[idx[0]]))
+        if not length > 0.0:
+            a, b = el.nodes
+            raise self.error(f"element {el.eid} uses material {mat.mid} of type 2, a spring "
+                             f"along the line between its nodes, but nodes {a} and {b} have "
+                             f"the same coordinates (lines {self.node_pos[a].line} and "
+                             f"{self.node_pos[b].line}): the line is undefined; move one "
+                             f"node, or use a type 1 material (axis-aligned)", el.pos,
+                             "ELEMENTS")
+        return length
 
     def _boundaries(self) -> np.ndarray:
         fixed = np.zeros((self.ids.shape[0], 6), dtype=bool)

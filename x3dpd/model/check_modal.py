@@ -25,7 +25,8 @@ def modal_table(model: Model) -> list[str]:
     if ms is None:
         return []
     nyquist = 0.5 / model.dt
-    lines = [f"{ms.n_modes} modes from {ms.source}; housing {ms.housing}"
+    plural = "s" if ms.n_modes != 1 else ""
+    lines = [f"{ms.n_modes} mode{plural} from {ms.source}; housing {ms.housing}"
              + (" (the deck's mass on modal nodes coupled in)" if ms.housing == "added" else
                 " (the modes include the deck's mass on modal nodes)")]
     for k in range(ms.n_modes):
@@ -40,7 +41,7 @@ def modal_table(model: Model) -> list[str]:
         lines.append("damping couples the coupled modes (largest off-diagonal "
                      f"{float(np.max(np.abs(ms.coupling))):.3g} 1/time): applied as a force")
     for j, i in enumerate(ms.nodes):
-        moving = [d for d in range(6) if not ms.held[j, d]]
+        moving = [d for d in range(6) if np.any(ms.given_shape[j, d] != 0.0)]
         role = " (rigid body master)" if ms.body[j] >= 0 else ""
         lines.append(f"node {int(model.node_ids[i])}{role}: moves in "
                      + (", ".join(_DOFS[d] for d in moving) or "no DOF"))
@@ -68,6 +69,23 @@ def modal_warnings(model: Model) -> list[tuple[str, str, list[str]]]:
                     f"{', '.join(map(str, ids))}, which ha{'ve' if len(ids) > 1 else 's'} no "
                     "shape values in the MODAL card: the cavity does not move with the "
                     "structure", []))
+    if ms.housing == "added" and ms.nodes.shape[0]:
+        # the deck's mass in each given mode, against its modal mass 1
+        flat = ms.given_shape.reshape(-1, ms.given_shape.shape[2])
+        big = np.zeros((flat.shape[0], flat.shape[0]))
+        for j in range(ms.nodes.shape[0]):
+            big[6 * j:6 * j + 6, 6 * j:6 * j + 6] = ms.added_mass[j]
+        ratio = np.diag(flat.T @ big @ flat)
+        if np.any(ratio > 1.0):
+            k = int(np.argmax(ratio))
+            out.append(("modal-added-mass",
+                        "the deck's mass on modal nodes outweighs the modes: in mode "
+                        f"{int(ms.given_numbers[k])} it is {ratio[k]:.3g} x the mode's own "
+                        f"(modal) mass, and the coupled modes fall to "
+                        f"{_freqs(ms.freq)} (given: {_freqs(ms.given_freq)}). The MASS "
+                        "records on modal nodes are added to the modes (HOUSING added): a "
+                        "report deck's rotary inertias of 1e20 or its SDOF's equivalent mass "
+                        "do not belong there", []))
     zero = [int(n) for n, w in zip(ms.given_numbers, ms.omega) if w == 0.0]
     if zero:
         out.append(("modal-rigid-body",
@@ -87,3 +105,7 @@ def highest_mode_hz(model: Model) -> float:
     """The highest coupled mode's frequency [cycles per time unit] (0 without modes)."""
     ms = model.modal
     return 0.0 if ms is None or ms.n_modes == 0 else float(ms.omega.max() / (2.0 * math.pi))
+
+
+def _freqs(f) -> str:
+    return ", ".join(f"{x:.4g}" for x in list(f)[:4]) + (" ..." if len(f) > 4 else "") + " Hz"

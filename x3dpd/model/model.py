@@ -20,6 +20,8 @@ EFFECTS = (
     "gravity",           # BODY card with a non-zero vector
     "springs",           # ELEMENTS with non-zero stiffness
     "dampers",           # ELEMENTS with non-zero damping
+    "axial_springs",     # MATID type 2 elements (spring-damper along the line of two nodes)
+    "rotational_springs",  # MATID type 3 elements (rotational spring-damper)
     "rigid_links",       # RBEL cards
     "rigid_rotation",    # a rigid body whose master has a free rotational DOF
     "wall_contact",      # CONTACT triangles with slave particles
@@ -35,8 +37,9 @@ EFFECTS = (
 
 @dataclass(frozen=True)
 class Model:
-    """Arrays of one scene. Shapes: n nodes, P particles, S springs, B rigid bodies, T triangles,
-    F wall faces, C cavities, K viscoelastic terms (K = 1 for elastic particles).
+    """Arrays of one scene. Shapes: n nodes, P particles, S springs (MATID type 1), A axial
+    and Q rotational elements (types 2, 3), B rigid bodies, T triangles, F wall faces,
+    C cavities, K viscoelastic terms (K = 1 for elastic particles).
 
     Attributes
     ----------
@@ -61,7 +64,15 @@ class Model:
 
     spring_nodes : (S, 2) int64, node indices; second is -1 for a spring to ground.
     spring_k, spring_c : (S, 3) float64, stiffness [force/length] and damping [force s/length]
-        along x, y, z (material SCALE already applied).
+        along x, y, z (material SCALE already applied). MATID type 1 elements only.
+    axial_nodes : (A, 2) int64, node indices of each MATID type 2 (axial) element.
+    axial_k, axial_c : (A,) float64, its stiffness [force/length] and damping [force s/length]
+        along the line between its nodes (SCALE applied).
+    axial_length : (A,) float64, rest length L0 > 0: the nodes' distance in the deck [length].
+    rotational_nodes : (Q, 2) int64, node indices of each MATID type 3 (rotational) element;
+        second is -1 for a rotational spring to ground.
+    rotational_k, rotational_c : (Q, 3) float64, stiffness [force length/rad] and damping
+        [force length s/rad] about x, y, z (SCALE applied).
 
     rigid_master : (B,) int64, master node index of each rigid body.
     rigid_ptr : (B+1,) int64, CSR pointer into ``rigid_slaves``.
@@ -150,6 +161,13 @@ class Model:
     shape_params: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
     shape_cavity: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     modal: ModalStructure | None = None
+    axial_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
+    axial_k: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    axial_c: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    axial_length: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    rotational_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
+    rotational_k: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    rotational_c: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
     @property
     def n_nodes(self) -> int:

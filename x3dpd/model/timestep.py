@@ -149,16 +149,52 @@ def _contact_limit(model: Model) -> tuple[float, float, str]:
     return best
 
 
+def _translational_springs(model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(nodes, k, c) of every element acting on translations, per global axis: type 1 as it
+    is, and an axial element (type 2) as k and c along each axis. That bounds it whatever its
+    direction: its stiffness k e e^T is at most k I (in the PSD order), so the network's
+    highest frequency is at most that of the axis-aligned stand-in."""
+    nodes = np.concatenate([model.spring_nodes, model.axial_nodes]).reshape(-1, 2)
+    k = np.concatenate([model.spring_k, np.repeat(model.axial_k[:, None], 3, axis=1)])
+    c = np.concatenate([model.spring_c, np.repeat(model.axial_c[:, None], 3, axis=1)])
+    return nodes, k.reshape(-1, 3), c.reshape(-1, 3)
+
+
+def _gershgorin_rows(pairs, ks, cs, rep, fixed) -> tuple[np.ndarray, np.ndarray]:
+    """Row sums of |K| and |C| per node and axis over the free DOFs (``fixed`` (n, 3) of the
+    DOFs concerned): an element counts k at an end whose other end is ground or fixed, 2k where
+    both ends are free; elements on fixed DOFs count nothing."""
+    n = fixed.shape[0]
+    ksum = np.zeros((n, 3))
+    csum = np.zeros((n, 3))
+    for (a, b), k, c in zip(pairs, ks, cs):
+        ra = rep[a]
+        rb = rep[b] if b >= 0 else -1
+        for ax in range(3):
+            ends = [(ra, rb)] + ([(rb, ra)] if rb >= 0 else [])
+            for r, q in ends:
+                if r == q or fixed[r, ax]:
+                    continue
+                factor = 2.0 if q >= 0 and not fixed[q, ax] else 1.0
+                ksum[r, ax] += factor * k[ax]
+                csum[r, ax] += factor * c[ax]
+    return ksum, csum
+
+
 def _structure_limit(model: Model) -> tuple[float, float, int, str]:
     r"""Critical step, omega, node id and DOF of the stiffest free structural DOF.
 
     Each free translational DOF (of a node, or of a rigid body through its master) gets the
     Gershgorin bound on the eigenvalues of :math:`M^{-1}K`: :math:`\omega^2 \le (K_{ii} +
     \sum_j|K_{ij}|)/m_i`, i.e. a spring to ground or to a fixed DOF counts :math:`k`, a spring
-    to another free DOF :math:`2k`, and springs on fixed DOFs count nothing. Damping enters the
-    central-difference limit :math:`\Delta t_\mathrm{crit} = 2/(\sqrt{\omega^2+\beta^2}+\beta)`,
-    :math:`\beta = c/2m` (:math:`= (2/\omega)(\sqrt{1+\zeta^2}-\zeta)`). A rigid body with free
-    rotations adds :math:`\omega^2 \le 2\sum k|\mathbf r|^2/\lambda_\mathrm{min}(J)`.
+    to another free DOF :math:`2k`, and springs on fixed DOFs count nothing (an axial spring,
+    MATID type 2, counts as k along each axis: :func:`_translational_springs`). Damping enters
+    the central-difference limit :math:`\Delta t_\mathrm{crit} = 2/(\sqrt{\omega^2+\beta^2}+\beta)`,
+    :math:`\beta = c/2m` (:math:`= (2/\omega)(\sqrt{1+\zeta^2}-\zeta)`). The free rotational DOFs
+    of nodes with rotary inertia I get the same bound from the rotational springs (type 3), with
+    I for m. A rigid body with free rotations adds :math:`\omega^2 \le 2(\sum k|\mathbf r|^2 +
+    \sum k_\theta)/\lambda_\mathrm{min}(J)` (translational springs k at lever r, rotational
+    springs k_theta).
     """
     n = model.n_nodes
     rep = np.arange(n)
@@ -166,36 +202,35 @@ def _structure_limit(model: Model) -> tuple[float, float, int, str]:
         rep[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = mnode
     mass = model.mass.copy()
     mass[model.rigid_master] = model.rigid_mass
-    ksum = np.zeros((n, 3))
-    csum = np.zeros((n, 3))
-    for (a, b), k, c in zip(model.spring_nodes, model.spring_k, model.spring_c):
-        ra = rep[a]
-        rb = rep[b] if b >= 0 else -1
-        for ax in range(3):
-            ends = [(ra, rb)] + ([(rb, ra)] if rb >= 0 else [])
-            for r, q in ends:
-                if r == q or model.fixed[r, ax]:
-                    continue
-                factor = 2.0 if q >= 0 and not model.fixed[q, ax] else 1.0
-                ksum[r, ax] += factor * k[ax]
-                csum[r, ax] += factor * c[ax]
+    sp_nodes, sp_k, sp_c = _translational_springs(model)
+    ksum, csum = _gershgorin_rows(sp_nodes, sp_k, sp_c, rep, model.fixed[:, :3])
+    rsum, rcsum = _gershgorin_rows(model.rotational_nodes, model.rotational_k,
+                                   model.rotational_c, rep, model.fixed[:, 3:])
     best = (math.inf, 0.0, 0, "")
     structural = np.arange(model.particle_start)
+    masters = set(model.rigid_master.tolist())
     for i in structural[(rep[structural] == structural)]:
-        for ax in range(3):
-            if model.fixed[i, ax] or mass[i] <= 0.0 or (ksum[i, ax] == 0 and csum[i, ax] == 0):
+        # (DOF 0..5, mass or inertia, row sums of K and C, name)
+        dofs = [(ax, mass[i], ksum[i, ax], csum[i, ax], _AXES[ax]) for ax in range(3)]
+        if i not in masters:   # a rigid body's rotation: below
+            dofs += [(3 + ax, model.inertia[i, ax], rsum[i, ax], rcsum[i, ax], "r" + _AXES[ax])
+                     for ax in range(3)]
+        for dof, m, kk, cc, name in dofs:
+            if model.fixed[i, dof] or m <= 0.0 or (kk == 0 and cc == 0):
                 continue
-            omega = math.sqrt(ksum[i, ax] / mass[i])
-            beta = csum[i, ax] / (2.0 * mass[i])
+            omega = math.sqrt(kk / m)
+            beta = cc / (2.0 * m)
             crit = 2.0 / (math.sqrt(omega**2 + beta**2) + beta)
-            best = min(best, (crit, omega, int(model.node_ids[i]), _AXES[ax]))
+            best = min(best, (crit, omega, int(model.node_ids[i]), name))
     for b, mnode in enumerate(model.rigid_master):
         if np.all(model.fixed[mnode, 3:]):
             continue
         lam = float(np.linalg.eigvalsh(model.rigid_inertia[b])[0])
-        on = np.isin(rep[model.spring_nodes], [mnode]) & (model.spring_nodes >= 0)
-        r2 = np.sum((model.x0[model.spring_nodes] - model.x0[mnode]) ** 2, axis=-1)
-        kr = 2.0 * float(np.sum(on * r2 * model.spring_k.max(axis=1)[:, None]))
+        on = np.isin(rep[sp_nodes], [mnode]) & (sp_nodes >= 0)
+        r2 = np.sum((model.x0[sp_nodes] - model.x0[mnode]) ** 2, axis=-1)
+        kr = 2.0 * float(np.sum(on * r2 * sp_k.max(axis=1, initial=0.0)[:, None]))
+        rot_on = np.isin(rep[model.rotational_nodes], [mnode]) & (model.rotational_nodes >= 0)
+        kr += 2.0 * float(np.sum(rot_on * model.rotational_k.max(axis=1, initial=0.0)[:, None]))
         if kr > 0.0 and lam > 0.0:
             omega = math.sqrt(kr / lam)
             best = min(best, (2.0 / omega, omega, int(model.node_ids[mnode]), "rotation"))

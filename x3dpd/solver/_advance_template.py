@@ -24,20 +24,22 @@ import math
 from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import _build_wall_list, _face_offsets, _face_planes
+from x3dpd.physics.axial_spring import _axial_spring_forces
 from x3dpd.physics.gravity import _gravity_forces
 from x3dpd.physics.modal import _modal_drift, _modal_kick, _modal_place
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
+from x3dpd.physics.rotational_spring import _rotational_spring_drift, _rotational_spring_moments
 from x3dpd.physics.spring_damper import _spring_forces
 from x3dpd.physics.usrfrc import _force_value
 from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
                                             REALLOC_WALLS)
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pairs import _pair_contacts
-from x3dpd.solver._template_variant import (HAS_EXTERNAL, HAS_GRAVITY, HAS_MOTION, HAS_PAIRS,
-                                            HAS_MODAL, HAS_PYTHON_FORCE, HAS_RIGID,
-                                            HAS_RIGID_ROTATION,
+from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_EXTERNAL, HAS_GRAVITY,
+                                            HAS_MODAL, HAS_MOTION, HAS_PAIRS, HAS_PYTHON_FORCE,
+                                            HAS_RIGID, HAS_RIGID_ROTATION, HAS_ROTATIONAL_SPRINGS,
                                             HAS_SHAPES, HAS_SPRINGS, HAS_USER_FORCE, HAS_WALLS,
                                             HAS_WALLS_TRANSLATE, USER_FORCE)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
@@ -81,6 +83,14 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
     if HAS_SPRINGS:
         ledger[L_DDAMP] += _spring_forces(x, nodes.x0, vel, springs.nodes, springs.k, springs.c,
                                           force, springs.fd_prev, dt)
+    if HAS_AXIAL_SPRINGS:
+        ledger[L_DDAMP] += _axial_spring_forces(x, vel, springs.axial_nodes, springs.axial_k,
+                                                springs.axial_c, springs.axial_rest, force,
+                                                springs.axial_fd_prev, dt)
+    if HAS_ROTATIONAL_SPRINGS:
+        ledger[L_DDAMP] += _rotational_spring_moments(vel, springs.rot_nodes, springs.rot_k,
+                                                      springs.rot_c, springs.rot_theta, force,
+                                                      springs.rot_md_prev, dt)
     if HAS_EXTERNAL:
         ext_table, frow_prev = loads.table, loads.row_prev
         wext = 0.0
@@ -252,6 +262,8 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
         if HAS_RIGID:
             vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True,
                                    HAS_RIGID_ROTATION)
+        if HAS_ROTATIONAL_SPRINGS:   # their rotations advance as positions do
+            _rotational_spring_drift(vel, springs.rot_nodes, springs.rot_theta, dt)
         nbr[4] = math.sqrt(vmax2)
         nbr[5] = vwall
         nbr[0] += dt * nbr[4]

@@ -4,12 +4,14 @@ Generated per variant beside the loop, with the variant's constants (``_template
 """
 
 from x3dpd._jit import kernel
+from x3dpd.physics.axial_spring import _axial_spring_energy
 from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.physics.modal import _modal_energies
+from x3dpd.physics.rotational_spring import _rotational_spring_energy
 from x3dpd.physics.spring_damper import _spring_energy
 from x3dpd.solver._template_contact import L_DDAMP, L_DFRIC, L_WEXT, L_WN
-from x3dpd.solver._template_variant import (HAS_GRAVITY, HAS_MODAL, HAS_PAIRS, HAS_SHAPES,
-                                            HAS_SPRINGS,
+from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_GRAVITY, HAS_MODAL, HAS_PAIRS,
+                                            HAS_ROTATIONAL_SPRINGS, HAS_SHAPES, HAS_SPRINGS,
                                             HAS_VISCOELASTIC, HAS_WALLS, NORMAL_DAMPED,
                                             NORMAL_STORED_ENERGY)
 from x3dpd.solver.contact_lists import S_A, S_FN
@@ -37,6 +39,10 @@ def _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, out):
     out[1] = ke_r
     out[2] = _gravity_energy(nodes.mass, x, x0, nodes.g) if HAS_GRAVITY else 0.0
     out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
+    if HAS_AXIAL_SPRINGS:
+        out[3] += _axial_spring_energy(x, springs.axial_nodes, springs.axial_k, springs.axial_rest)
+    if HAS_ROTATIONAL_SPRINGS:
+        out[3] += _rotational_spring_energy(springs.rot_k, springs.rot_theta)
     out[4] = (_contact_energy(particles, walls, pairs, shapes)
               if (HAS_WALLS or HAS_PAIRS or HAS_SHAPES) else 0.0)
     if HAS_MODAL:

@@ -48,16 +48,23 @@ MIN_MAXWELL_STEPS = 3
 
 
 def structure_omega_bound(setup: Setup) -> float:
-    """Upper bound [rad/s] on the spring network's highest circular frequency (Gershgorin)."""
+    """Upper bound [rad/s] on the spring network's highest circular frequency (Gershgorin).
+
+    An axial spring (MATID type 2) counts as k along each axis (its k e e^T is at most k I);
+    rotational springs (type 3) bound the rotational DOFs with the nodes' rotary inertias."""
     n = setup.inv_m.shape[0]
-    rows = np.zeros((n, 3))
-    for s in range(setup.sp_nodes.shape[0]):
-        a, b = int(setup.sp_nodes[s, 0]), int(setup.sp_nodes[s, 1])
-        k = np.abs(setup.sp_k[s, :3])
-        rows[a] += k if b < 0 else 2.0 * k
-        if b >= 0:
-            rows[b] += 2.0 * k
-    bound = float(np.max(setup.inv_m[:, :3] * rows, initial=0.0))
+    rows = np.zeros((n, 6))
+    groups = ((setup.sp_nodes, np.abs(setup.sp_k[:, :3]), 0),
+              (setup.ax_nodes, np.repeat(np.abs(setup.ax_k)[:, None], 3, axis=1), 0),
+              (setup.rot_nodes, np.abs(setup.rot_k), 3))
+    for nodes, ks, col in groups:
+        for s in range(nodes.shape[0]):
+            a, b = int(nodes[s, 0]), int(nodes[s, 1])
+            k = ks[s]
+            rows[a, col:col + 3] += k if b < 0 else 2.0 * k
+            if b >= 0:
+                rows[b, col:col + 3] += 2.0 * k
+    bound = float(np.max(setup.inv_m * rows, initial=0.0))
     return math.sqrt(bound)
 
 

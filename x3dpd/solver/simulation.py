@@ -379,11 +379,15 @@ def _one_particle_kind(setup) -> bool:
 
 def _walls_only_translate(setup, prescribed_nodes) -> bool:
     """True when no wall can turn: every triangle node is a fixed node or a slave of a rigid body
-    whose master's rotations are all fixed (the report's cavities). Their normals are then
-    constant and only the planes' offsets move. A wall node moved on its own by a prescribed
-    motion could shear its triangle, so it disqualifies."""
+    whose master's rotations are all fixed (the report's cavities) and that the modes do not
+    turn (a modal master without rotational shape values). Their normals are then constant and
+    only the planes' offsets move. A wall node moved on its own by a prescribed motion could
+    shear its triangle, so it disqualifies."""
     nodes = np.unique(setup.tri_nodes)
     if nodes.size == 0:
+        return False
+    turning = setup.modal_body[np.any(setup.modal_shape[:, 3:, :] != 0.0, axis=(1, 2))]
+    if np.any(turning >= 0):
         return False
     fixed = np.all(setup.inv_m[nodes, :3] == 0.0, axis=1) & ~np.isin(nodes, prescribed_nodes)
     owner = np.full(setup.inv_m.shape[0], -1)

@@ -8,12 +8,13 @@ saves. ``Kernel arrays`` (``Setup``) are derived once from the model and never c
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from x3dpd.physics.hooke import hooke_tables
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
+from x3dpd.solver.shape_table import ShapeTable, shape_table
 
 if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime import of it
     from x3dpd.model.model import Model
@@ -39,6 +40,9 @@ class State:
     (x3dpd.solver.bundles.Shapes; empty without any);
     mq, mp, mf (M) modal coordinates, their rates and the modal forces of the last step
     (x3dpd.physics.modal; empty without a MODAL card);
+    axial_fd_prev (A,3) the axial dampers' force vectors of the last step;
+    rotational_theta (Q,3) each rotational spring's relative rotation about x, y, z since t0
+    [rad]; rotational_md_prev (Q,3) the rotational dampers' moments of the last step;
     step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against).
     """
@@ -68,6 +72,9 @@ class State:
     mq: np.ndarray = None
     mp: np.ndarray = None
     mf: np.ndarray = None
+    axial_fd_prev: np.ndarray = None
+    rotational_theta: np.ndarray = None
+    rotational_md_prev: np.ndarray = None
     step: int = 0
     e_ref: float = 0.0
     scale: float = 0.0
@@ -105,13 +112,18 @@ class State:
         for name in _MODAL_STATE:
             if getattr(state, name) is None:
                 setattr(state, name, np.zeros(0))
+        for name in _SPRING_STATE:
+            if getattr(state, name) is None:
+                setattr(state, name, np.zeros((0, 3)))
         return state
 
 
 #: State fields of the modal structure (absent from dumps of older versions).
 _MODAL_STATE = ("mq", "mp", "mf")
-#: State fields absent from dumps of older versions: analytic walls' contacts, modes.
-_OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE
+#: State fields of the axial and rotational springs (MATID types 2, 3; absent from older dumps).
+_SPRING_STATE = ("axial_fd_prev", "rotational_theta", "rotational_md_prev")
+#: State fields absent from dumps of older versions: analytic walls' contacts, modes, springs.
+_OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE + _SPRING_STATE
 
 
 @dataclass(frozen=True)
@@ -128,6 +140,13 @@ class Setup:
     sp_nodes: np.ndarray
     sp_k: np.ndarray
     sp_c: np.ndarray
+    ax_nodes: np.ndarray   # (A, 2) axial elements (MATID type 2): node indices
+    ax_k: np.ndarray       # (A,) stiffness [force/length]
+    ax_c: np.ndarray       # (A,) damping [force s/length]
+    ax_rest: np.ndarray    # (A,) rest length L0 [length]
+    rot_nodes: np.ndarray  # (Q, 2) rotational elements (MATID type 3): node indices (-1: ground)
+    rot_k: np.ndarray      # (Q, 3) stiffness about x, y, z [force length/rad]
+    rot_c: np.ndarray      # (Q, 3) damping [force length s/rad]
     rig_master: np.ndarray
     rig_ptr: np.ndarray
     rig_slaves: np.ndarray
@@ -201,6 +220,8 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     rig_ib = _f64(model.rigid_inertia, (nb, 3, 3)).copy()
     rig_inv_ib = np.zeros((nb, 3, 3))
     slave = np.zeros(n, dtype=bool)
+    modal_bodies = set() if model.modal is None else set(model.modal.body[model.modal.body >= 0]
+                                                         .tolist())
     for b in range(nb):
         m = int(model.rigid_master[b])
         sl = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
@@ -208,7 +229,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_r0[model.rigid_ptr[b]:model.rigid_ptr[b + 1]] = model.x0[sl] - model.x0[m]
         kin_mass[m] = model.rigid_mass[b]
         kin_inertia[m] = np.diag(rig_ib[b])
-        rig_free_rot[b] = ~fixed[m, 3:6]
+        rig_free_rot[b] = ~fixed[m, 3:6] & (b not in modal_bodies)   # the modes turn those
         if rig_free_rot[b].any():
             rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
     kin_mass[slave] = 0.0
@@ -289,6 +310,11 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
         sp_nodes=_i64(model.spring_nodes).reshape(-1, 2), sp_k=_f64(model.spring_k).reshape(-1, 3),
         sp_c=_f64(model.spring_c).reshape(-1, 3),
+        ax_nodes=_i64(model.axial_nodes).reshape(-1, 2), ax_k=_f64(model.axial_k),
+        ax_c=_f64(model.axial_c), ax_rest=_f64(model.axial_length),
+        rot_nodes=_i64(model.rotational_nodes).reshape(-1, 2),
+        rot_k=_f64(model.rotational_k).reshape(-1, 3),
+        rot_c=_f64(model.rotational_c).reshape(-1, 3),
         rig_master=_i64(model.rigid_master), rig_ptr=_i64(model.rigid_ptr),
         rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
         rig_free_rot=rig_free_rot,
@@ -332,41 +358,6 @@ def _modal_setup(model, dt, inv_m, mass, kin_mass, kin_inertia, rig_free_rot, ri
             "modal_coupling": _f64(ms.coupling).reshape(ms.coupling.shape)}
 
 
-class ShapeTable(NamedTuple):
-    """The analytic walls (W of them; x3dpd.geometry.shapes) and their static contact list:
-    every particle of a wall's cavity against each of the wall's parts (K (particle, wall)
-    pairs; pair k owns the state rows row[k] .. row[k] + parts[wall[k]] - 1)."""
-
-    kind: np.ndarray          # (W,) shape kind (index in SHAPES)
-    nodes: np.ndarray         # (W, 2) node indices (A, B)
-    params: np.ndarray        # (W, P) lengths [length]
-    parts: np.ndarray         # (W,) contact entities (parts) of each wall
-    entity: np.ndarray        # (W,) number of its first part among all walls' parts
-    particle: np.ndarray      # (K,) particle of each pair
-    wall: np.ndarray          # (K,) wall of each pair
-    row: np.ndarray           # (K,) first state row of each pair
-    row_particle: np.ndarray  # (R,) particle of each state row
-
-
-def shape_table(model, pcav: np.ndarray) -> ShapeTable:
-    """The analytic walls of ``model`` and every (particle of its cavity, wall) pair, pairs in
-    wall order (a cylinder's pair k owns rows 3 k .. 3 k + 2, as before shapes were
-    registered, so restart dumps carry over)."""
-    from x3dpd.geometry.shapes import SHAPES
-
-    kind = _i64(model.shape_kind)
-    parts = np.array([SHAPES[k].parts for k in kind], dtype=np.int64)
-    entity = np.cumsum(parts) - parts
-    pairs = [(p, w) for w in range(kind.shape[0])
-             for p in np.flatnonzero(pcav == model.shape_cavity[w])]
-    pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
-    per_pair = parts[pairs[:, 1]]
-    row = np.cumsum(per_pair) - per_pair
-    return ShapeTable(kind, _i64(model.shape_nodes).reshape(-1, 2), _f64(model.shape_params),
-                      parts, _i64(entity), _i64(pairs[:, 0]), _i64(pairs[:, 1]), _i64(row),
-                      _i64(np.repeat(pairs[:, 0], per_pair)))
-
-
 def _body_forces(mass: np.ndarray, model) -> np.ndarray:
     """(n, 6) forces m g on every node (the same products the gravity kernel forms)."""
     g = np.asarray(model.body_accel, dtype=np.float64).reshape(3)
@@ -404,5 +395,8 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         cs=np.zeros((setup.shapes.row_particle.shape[0], ncols)),
         cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
         mq=np.zeros(setup.modal_coef.shape[0]), mp=np.zeros(setup.modal_coef.shape[0]),
-        mf=np.zeros(setup.modal_coef.shape[0]), step=0, e_ref=0.0,
+        mf=np.zeros(setup.modal_coef.shape[0]),
+        axial_fd_prev=np.zeros((setup.ax_nodes.shape[0], 3)),
+        rotational_theta=np.zeros((setup.rot_nodes.shape[0], 3)),
+        rotational_md_prev=np.zeros((setup.rot_nodes.shape[0], 3)), step=0, e_ref=0.0,
     )

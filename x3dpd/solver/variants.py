@@ -71,6 +71,10 @@ class Variant:
     one_particle_kind: bool = False
     #: a structure given by its modes (MODAL card, x3dpd.physics.modal)
     modal: bool = False
+    #: MATID type 2 elements: spring-dampers along the line between two nodes
+    axial_springs: bool = False
+    #: MATID type 3 elements: rotational spring-dampers (each integrates its own rotation)
+    rotational_springs: bool = False
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
@@ -98,6 +102,8 @@ class Variant:
             shapes="+".join(s.name for s in SHAPES if s.effect in e),
             one_particle_kind=one_particle_kind and "pair_contact" in e,
             modal="modal_structure" in e,
+            axial_springs="axial_springs" in e,
+            rotational_springs="rotational_springs" in e,
         )
 
     def header(self) -> str:
