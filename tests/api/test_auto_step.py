@@ -157,9 +157,11 @@ def test_no_shipped_deck_changes_behaviour():
 
 def test_a_hooke_contact_is_resolved_by_its_own_half_period():
     """decks/hooke_wall.inp (linear spring-dashpot, k_n = 1e4 lbf/in, e = 0.8, 10 in/s) with
-    DTMAX raised to 1e-6 s: the step is chosen from the undamped half period
-    pi sqrt(m/k_n) (not from a Hertz contact), 50 steps per contact, and the sphere leaves at
-    e x 10 in/s (closed form) within 5e-3: the dashpot force is evaluated from the half-step
+    DTMAX raised to 1e-6 s: the step is chosen from the law's own contact time, half a damped
+    period (x3dpd.physics.hooke.contact_time; 0.25 % above the undamped half period
+    pi sqrt(m/k_n) checked here), not from a Hertz contact, 50 steps per contact, and the
+    sphere leaves at e x 10 in/s (closed form) within 5e-3: the dashpot force is evaluated
+    from the half-step
     velocity, a first-order error of order zeta omega dt = 0.071 x pi/50 = 4.5e-3 (central
     differences add (omega dt)^2/24 = 1.6e-4); the Hertz time of a steel sphere (~7 us) would
     ask for a step 4x finer than the half period does."""

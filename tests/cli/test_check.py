@@ -42,6 +42,19 @@ def test_cube_deck_is_clean():
     assert "structure: omega <= 61.86 rad/s (node 25 x)" in result.output
 
 
+def test_a_hooke_deck_is_advised_by_its_own_contact():
+    """decks/hooke_wall.inp: the HOOKE contact (half a damped period of k_n = 1e4 lbf/in on the
+    sphere's 7.49575e-7 lbf s^2/in, e = 0.8: 2.727e-5 s, tests/model/test_model_timestep.py),
+    not a Hertz impact of the deck's unused E0 (1.09e-5 s)."""
+    result = run(DECKS / "hooke_wall.inp")
+    assert result.exit_code == 0, result.output
+    assert ("contact: HOOKE particle-wall impact at 10 in/s lasts 2.73e-05 s; / 50 = 5.45e-07 s"
+            in result.output)
+    assert "Hertz" not in result.output
+    # the peak-force error check quotes was measured on Hertz impacts: not said of this one
+    assert "2.73e+03 steps per contact)" in result.output and "peak force" not in result.output
+
+
 def test_cube_deck_is_clean_at_the_decks_own_resolution():
     """At 9 steps per contact the deck's 5e-7 s step is within the recommendation: exit 0."""
     result = run("--steps-per-contact", 9, DECKS / "appendix_a_cube.inp")

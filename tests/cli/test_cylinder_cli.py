@@ -90,8 +90,12 @@ def test_check_flags_spheres_outside_and_in_the_wall(tmp_path, monkeypatch):
 
 
 def test_a_penetration_names_the_cylinder_part():
-    # a sphere at 100 in/s towards the curved wall with a step 100 x too coarse
-    text = _text([[0.15, 0.0, 0.0]], [[0.0, 100.0, 0.0]], dt=2e-5)
+    # a sphere at 100 in/s towards the curved wall, 0.01 in a step (a step 500 x too coarse):
+    # its tenth step puts it 0.009 in (29 % of R) into the wall, its centre still inside. (From
+    # the axis at 2e-5 s it rebounded across the cylinder and out through the far side, where
+    # the stop now says it left the cylinder: test_a_sphere_that_tunnels_out_is_caught.)
+    y0 = (BIG_R - R) + 0.009 - 10 * 0.01
+    text = _text([[0.15, y0, 0.0]], [[0.0, 100.0, 0.0]], dt=1e-4)
     sim = Simulation(build_model(parse_deck(text, "deck.inp")))
     with pytest.raises(UnstableRunError, match="penetrated the curved wall of the cylinder on "
                                                "axis nodes 2, 3"):
@@ -99,13 +103,21 @@ def test_a_penetration_names_the_cylinder_part():
 
 
 def test_a_sphere_that_tunnels_out_is_caught():
-    # one step of 0.4 in carries a sphere from the axis through the wall (R = 0.2); with the
-    # penetration and energy checks off, the containment check stops it
+    # one step of 0.4 in carries a sphere from the axis through the wall (R = 0.2); the wall
+    # then pushes it from the wrong side until the (relaxed) penetration limit stops the run,
+    # and the stop names the cause: the sphere left its cylinder. At the same step whether the
+    # run goes step by step or in one call (containment is looked at where the run stops, and
+    # at fixed step counts: x3dpd.solver.run_checks.AUDIT_STEPS)
     text = _text([[0.15, 0.0, 0.0]], [[0.0, 0.0, -2000.0]], dt=2e-4)
-    sim = Simulation(build_model(parse_deck(text, "deck.inp")), penetration_limit=1e9,
-                     energy_tolerance=1e300)
-    with pytest.raises(UnstableRunError, match="particle node 4 left its cylinder"):
-        sim.advance(1)
+    steps = []
+    for calls in (1, 10):
+        sim = Simulation(build_model(parse_deck(text, "deck.inp")), penetration_limit=1e9,
+                         energy_tolerance=1e300)
+        with pytest.raises(UnstableRunError, match="particle node 4 left its cylinder") as err:
+            for _ in range(calls):
+                sim.advance(10 // calls)
+        steps.append(err.value.step)
+    assert steps[0] == steps[1] < 10
 
 
 def test_restart_continues_cylinder_64_bit_for_bit(tmp_path, monkeypatch):

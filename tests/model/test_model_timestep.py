@@ -151,6 +151,47 @@ def test_pair_contact_alone():
         characteristic_speed(build_model(deck)) / wall.impact_speed) ** -0.2, rel=1e-12)
 
 
+def _hooke_period(k_n, e, m_eff):
+    """Half a damped period pi/omega_d: omega_d = sqrt(k_n/m*) sqrt(1 - zeta^2), zeta = -ln e
+    / sqrt(pi^2 + ln^2 e) (a damped linear oscillator; LAMMPS's hooke law)."""
+    zeta = -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
+    return math.pi / (math.sqrt(k_n / m_eff) * math.sqrt(1.0 - zeta * zeta))
+
+
+def test_a_hooke_contact_lasts_its_own_half_period():
+    """decks/hooke_wall.inp: the HOOKE law's contact (k_n = 1e4 lbf/in, e = 0.8) lasts
+    2.727e-5 s at any speed, not the 1.09e-5 s of a Hertz impact from the deck's unused E0;
+    the recommended step is a 50th of it."""
+    m = build_model(read_deck(DECKS / "hooke_wall.inp"))
+    ts = recommended_time_step(m)
+    t_c = _hooke_period(1e4, 0.8, m.mass[-1])
+    assert t_c == pytest.approx(2.727e-5, rel=1e-3)
+    assert (ts.contact_kind, ts.contact_law) == ("particle-wall", "HOOKE")
+    assert ts.t_contact == pytest.approx(t_c, rel=1e-12)
+    assert ts.dt_recommended == pytest.approx(t_c / STEPS_PER_CONTACT, rel=1e-12)
+
+
+def test_a_hooke_pair_of_two_groups_mixes_as_the_step_loop():
+    """Two HOOKE groups without walls: m* = m1 m2/(m1 + m2), k_n their harmonic mean and zeta
+    the mean of theirs (x3dpd.physics.hooke.hooke_tables); each group alone has one particle,
+    so only the pair of groups meets."""
+    from x3dpd.deck.cards import Hooke
+    deck = cube_deck(particles=[(0.3, 0.5, 0.5), (0.7, 0.5, 0.5)])
+    deck = replace(deck, contacts=(), pdmp=(deck.pdmp[0], replace(deck.pdmp[0], nodlim=10,
+                                                                    rzero=0.5 * RADIUS)),
+                   hooke=(Hooke(deck.pdmp[0].nodlim, 1e4, 0.8), Hooke(10, 3e4, 0.5)))
+    m = build_model(deck)
+    ts = recommended_time_step(m)
+    m1, m2 = m.mass[m.particle_start:]
+    z1, z2 = (-math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2) for e in (0.8, 0.5))
+    k = 2 * 1e4 * 3e4 / (1e4 + 3e4)
+    zeta = 0.5 * (z1 + z2)
+    m_eff = m1 * m2 / (m1 + m2)
+    t_c = math.pi / (math.sqrt(k / m_eff) * math.sqrt(1.0 - zeta**2))
+    assert (ts.contact_kind, ts.contact_law) == ("particle-particle", "HOOKE")
+    assert ts.t_contact == pytest.approx(t_c, rel=1e-12)
+
+
 def test_structure_limit_of_a_damped_oscillator():
     m = build_model(cube_deck())
     ts = recommended_time_step(m)

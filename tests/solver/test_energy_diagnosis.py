@@ -3,6 +3,7 @@ energy that entered through a channel the ledger does not count (bookkeeping).""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import pathlib
 import sys
@@ -15,6 +16,7 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: 
 from factories import STEEL_R, floor_deck
 from test_instability import sdof_deck
 
+from x3dpd.deck.cards import Hooke
 from x3dpd.errors import UnstableRunError
 from x3dpd.model.build import build_model
 from x3dpd.solver.diagnosis import structure_omega_bound
@@ -66,14 +68,20 @@ def test_structure_bound_is_an_upper_bound_of_the_highest_frequency():
     assert exact <= bound <= 2.0 * exact
 
 
-def _advice_at(dt: float, speed: float, **material) -> str:
-    from x3dpd.solver.diagnosis import energy_source_advice
-    from x3dpd.solver.state import build_setup, hertz_contact_time_estimate
-    model = build_model(floor_deck(dt=dt, spectator=False, **material))
+def _advice_at(dt: float, speed: float, hooke=None, **material) -> str:
+    """(advice, the wall contact time it used) for the floor deck's sphere at ``speed``; with
+    ``hooke`` = (k_n, e) under the HOOKE law."""
+    from x3dpd.solver.diagnosis import energy_source_advice, wall_contact_time
+    from x3dpd.solver.state import build_setup
+    deck = floor_deck(dt=dt, spectator=False, **material)
+    if hooke is not None:
+        deck = dataclasses.replace(deck, hooke=(Hooke(deck.pdmp[0].nodlim, *hooke),))
+    model = build_model(deck)
     setup = build_setup(model, dt)
     vel = np.zeros((model.n_nodes, 6))
     vel[setup.p0:, 1] = -speed
-    return energy_source_advice(setup, vel, dt, []), hertz_contact_time_estimate(setup, speed)
+    return (energy_source_advice(model, setup, vel, dt, []),
+            wall_contact_time(model, speed))
 
 
 @pytest.mark.parametrize("steps, cause", [(3.0, "too large"), (20.0, "coarsely"),
@@ -88,6 +96,35 @@ def test_the_advice_follows_the_steps_per_contact(steps, cause):
     assert cause in text
     if cause == "coarsely":
         assert "half the step" in text and f"{steps:.3g} steps (50 recommended)" in text
+
+
+def test_the_hertz_contact_time_is_the_closed_form():
+    """The advice's contact time for the report's law: 2.868 (m^2/(R E*^2 v))^(1/5), E* =
+    E/(1-nu^2) on the wall (x3dpd.physics.hertz.hertz_contact_time's docstring), written out
+    here; 2.868 is rounded to 4 digits."""
+    from factories import FIG28_V, STEEL_E, STEEL_NU, sphere_mass
+    _, t_c = _advice_at(1e-7, FIG28_V)
+    e_star = STEEL_E / (1 - STEEL_NU**2)
+    want = 2.868 * (sphere_mass() ** 2 / (STEEL_R * e_star**2 * FIG28_V)) ** 0.2
+    assert t_c == pytest.approx(want, rel=2e-4)
+
+
+@pytest.mark.parametrize("steps, cause", [(3.0, "too large"), (44.0, "coarsely"),
+                                          (53.0, "bookkeeping")])
+def test_a_hooke_contact_is_counted_by_its_own_period(steps, cause):
+    """Under the HOOKE law (k_n = 1e4 lbf/in, e = 0.8: decks/hooke_wall.inp's) the advice
+    counts the steps of its own contact, half a damped period pi/omega_d, omega_d =
+    sqrt(k_n/m) sqrt(1 - zeta^2), zeta = -ln e / sqrt(pi^2 + ln^2 e) -- at any speed -- not
+    those of a Hertz contact from the unused E0 (4x shorter at 62.8 in/s: a step of 44 HOOKE
+    steps per contact was called 10 Hertz steps)."""
+    from factories import FIG28_V, sphere_mass
+    zeta = -math.log(0.8) / math.sqrt(math.pi**2 + math.log(0.8) ** 2)
+    t_c = math.pi / (math.sqrt(1e4 / sphere_mass()) * math.sqrt(1.0 - zeta**2))
+    text, used = _advice_at(t_c / steps, FIG28_V, hooke=(1e4, 0.8))
+    assert used == pytest.approx(t_c, rel=1e-12)
+    assert cause in text
+    if cause == "coarsely":
+        assert f"{steps:.3g} steps (50 recommended)" in text
 
 
 def test_a_maxwell_term_relaxing_within_two_steps_is_coarse():

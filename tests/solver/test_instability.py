@@ -53,5 +53,9 @@ def test_particles_smashing_through_walls_with_a_huge_step_are_diagnosed():
     with pytest.raises(UnstableRunError) as err:
         sim.advance(200000)
     text = str(err.value)
-    assert "penetrated" in text or "left its cavity" in text
-    assert "time step" in text and err.value.node >= 10
+    # the first sign of the broken step: a penetration, a particle out of its cavity, or the
+    # energy the impacts created (each ledger row judged by the energy scale up to it)
+    assert ("penetrated" in text or "left its cavity" in text
+            or ("without a source" in text and "steps (at least 6 are needed" in text))
+    assert "time step" in text
+    assert err.value.node == 0 or err.value.node >= 10       # 0: no node named

@@ -127,6 +127,12 @@ def step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
     while sim.clock < n_end and not intr.signum:
         step = sim.clock
         target = min(n_end, step + chunk)
+        if not fixed_chunk:
+            # an adapted chunk ends where the run's checks read the whole state (a multiple of
+            # sim.audit_steps): what they find, and say, is then the same however fast the
+            # machine ran
+            audit = sim.audit_steps
+            target = min(n_end, -(-target // audit) * audit)
         if trest_steps:
             next_dump = (step // trest_steps + 1) * trest_steps
             target = min(target, next_dump)

@@ -65,7 +65,11 @@ class RunResult:
         ``status`` ("complete", "stopped", "interrupted" or "unstable"), ``t_start``, ``t_end``
         [s], ``steps`` (this run), ``dt`` [s], ``itrac``, ``wall_s`` (the whole call),
         ``step_wall_s`` (stepping only), ``compile_s``, ``steps_per_s``, ``effects``,
-        ``energy_scale``, ``residual`` (last ledger residual / energy scale), ``last_energy``
+        ``energy_scale`` (the largest of the ledger's terms so far [energy]),
+        ``relative_residual`` (the last ledger residual / energy scale, dimensionless: what the
+        audit compares with ``energy_tolerance``), ``residual_energy`` (the last ledger residual
+        [energy], as ``energy["residual"][-1]``), ``residual`` (= ``relative_residual``, an older
+        name), ``energy_tolerance``, ``last_energy``
         (the last ledger row as a dict), ``usrfrc`` (the forces applied), ``usrfrc_replaced``
         (the deck's USRFRC specs that ``usrfrc=`` replaced), ``trace_file``, ``energy_file``,
         ``restart_file``, ``dumps``.

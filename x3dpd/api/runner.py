@@ -52,6 +52,9 @@ from x3dpd.api.stepping import auto_summary, is_auto, make_stepper
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import motion_count
 
+#: The energy audit's default tolerance, a fraction of the energy scale (run(energy_tolerance=)).
+ENERGY_TOLERANCE = 0.05
+
 
 def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         usrfrc: Sequence[str] = (), usrfrc_mode: str = "replace", motion: Sequence[str] = (),
@@ -63,6 +66,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         progress: Callable[[float, float, float, float, float], None] | None = None,
         on_compile: Callable[[str], None] | None = None,
         usrfrc_python: bool = False, penetration_limit: float = 0.25,
+        energy_tolerance: float = ENERGY_TOLERANCE,
         handle_signals: bool = False, command: str | None = None) -> RunResult:
     """Run a deck; return its trace, energy ledger, summary and final state.
 
@@ -115,6 +119,11 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
     on_compile : callable, optional
         ``on_compile(message)`` before the scene's step loop is compiled (not when cached).
     usrfrc_python, penetration_limit : as ``x3dpd run``'s options.
+    energy_tolerance : float
+        Stop the run (UnstableRunError) when a ledger row's residual exceeds this fraction of
+        the energy scale (plus the contact energy stored at that moment), or a dissipation
+        column falls below minus that much: default 0.05 (docs/physics.md, "Stopping a run
+        that goes unstable"); ``math.inf`` audits nothing. As ``x3dpd run --energy-tolerance``.
     handle_signals : bool
         Turn SIGINT/SIGTERM into a clean stop after the current chunk (restart dump written,
         status "interrupted"), as the CLI does.
@@ -134,6 +143,9 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
     from x3dpd.solver.simulation import ENERGY_COLUMNS
 
     stats = Stats()
+    if not energy_tolerance > 0.0:
+        raise InputError(f"energy_tolerance must be a positive fraction of the energy scale, "
+                         f"got {energy_tolerance!r}")
     if usrfrc_mode not in ("replace", "add"):
         raise InputError(f"usrfrc_mode must be 'replace' or 'add', got {usrfrc_mode!r}")
     if isinstance(deck, Deck):
@@ -170,7 +182,8 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
 
     sim = make_stepper(model, dt=dt, parameters=deck_obj.parameters, itrac=itrac,
                        usrfrc=usrfrc, motion=motion, friction=friction,
-                       penetration_limit=penetration_limit, allow_python_usrfrc=usrfrc_python)
+                       penetration_limit=penetration_limit, allow_python_usrfrc=usrfrc_python,
+                       energy_tolerance=float(energy_tolerance))
     auto = is_auto(sim)
     if trace_nodes is not None:
         sim.trace_nodes = _node_indices(model, trace_nodes)
@@ -317,6 +330,9 @@ def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dum
         "dt": sim.dt, "itrac": sim.itrac, "wall_s": wall, "step_wall_s": stats.timed_seconds,
         "compile_s": compile_s, "steps_per_s": rate, "effects": sorted(sim.effects),
         "energy_scale": float(sim.state.scale), "residual": relative_residual(stats, sim),
+        "relative_residual": relative_residual(stats, sim),
+        "residual_energy": float(e[11]) if e is not None else 0.0,
+        "energy_tolerance": float(sim.energy_tolerance),
         "last_energy": dict(zip(columns, map(float, e))) if e is not None else None,
         "usrfrc": list(applied), "usrfrc_replaced": list(replaced), "trace_file": trace_path,
         "energy_file": energy_path, "restart_file": dump_path, "dumps": stats.dumps,

@@ -32,4 +32,6 @@ def resume_command(opts: RunOptions) -> str:
         args += ["--tmax", repr(opts.tmax)]
     if opts.friction != "regularized":
         args += ["--friction", opts.friction]
+    if opts.energy_tolerance != 0.05:
+        args += ["--energy-tolerance", repr(opts.energy_tolerance)]
     return shlex.join(args)

@@ -41,6 +41,7 @@ class RunOptions:
     friction: str = "regularized"
     quiet: bool = False
     penetration_limit: float = 0.25
+    energy_tolerance: float = 0.05
     argv: tuple[str, ...] = field(default_factory=tuple)
 
 
@@ -74,9 +75,13 @@ class RunOptions:
                    "--tmax, extends a finished run.")
 @click.option("--friction", type=click.Choice(["regularized", "coulomb"]), default="regularized",
               show_default=True, help="Tangential contact law.")
+@click.option("--energy-tolerance", type=click.FloatRange(min=0.0, min_open=True),
+              default=0.05, show_default=True, metavar="FRACTION",
+              help="Stop (exit 3) when the energy ledger's residual exceeds this fraction of "
+                   "the energy scale (docs/physics.md, \"Stopping a run that goes unstable\").")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
 def run(deck, trace, tmax, dt, usrfrc, usrfrc_add, usrfrc_python, motion, energy, plot,
-        overwrite, restart, friction, quiet) -> None:
+        overwrite, restart, friction, energy_tolerance, quiet) -> None:
     """Run DECK: write its trace, energy ledger and restart dumps.
 
     Exit status: 0 done, 2 bad input, 3 unstable run (diagnosis printed, trace kept),
@@ -85,7 +90,8 @@ def run(deck, trace, tmax, dt, usrfrc, usrfrc_add, usrfrc_python, motion, energy
     opts = RunOptions(deck=deck, trace=trace, tmax=tmax, dt=_step(dt), usrfrc=tuple(usrfrc),
                       usrfrc_add=usrfrc_add, usrfrc_python=usrfrc_python, motion=tuple(motion),
                       energy=energy, plot=plot, overwrite=overwrite, restart=restart,
-                      friction=friction, quiet=quiet, argv=_command_line())
+                      friction=friction, quiet=quiet, energy_tolerance=energy_tolerance,
+                      argv=_command_line())
     status = run_deck(opts)
     if status:
         # SystemExit rather than ctx.exit(): x3dpd.cli.main runs click with standalone_mode=False
@@ -148,7 +154,8 @@ def run_deck(opts: RunOptions) -> int:
             overwrite=opts.overwrite, restart=opts.restart, keep_trace=False,
             progress=None if opts.quiet else on_progress, on_compile=on_compile,
             usrfrc_python=opts.usrfrc_python, penetration_limit=opts.penetration_limit,
-            handle_signals=True, command=command_line(opts.argv))
+            energy_tolerance=opts.energy_tolerance, handle_signals=True,
+            command=command_line(opts.argv))
     except UnstableRunError as exc:
         progress.done()
         partial = getattr(exc, "result", None)

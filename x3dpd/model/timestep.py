@@ -1,7 +1,9 @@
 """Time step of an explicit run: what the contacts and the structure allow (report 7.3).
 
-The step must resolve the shortest Hertz impact (:func:`hertz_contact_time`, at a characteristic
-impact speed) with :data:`STEPS_PER_CONTACT` steps and stay a safe fraction of the explicit
+The step must resolve the shortest impact -- the scene's normal law's ``contact_time``
+(x3dpd.physics.normal_laws: Hertz's :func:`hertz_contact_time` for the report's law, half a
+damped period for HOOKE), at a characteristic impact speed -- with :data:`STEPS_PER_CONTACT`
+steps and stay a safe fraction of the explicit
 stability limit 2/omega_max of the stiffest structural DOF. :func:`recommended_time_step`
 returns both limits and the binding one; :func:`peak_force_error` says what a coarser step costs
 in peak contact force. ``x3dpd check`` reports them (x3dpd.model.check).
@@ -18,12 +20,14 @@ from x3dpd.geometry.shapes import SHAPES
 from x3dpd.model.check_shapes import shape_extent
 from x3dpd.model.model import Model
 from x3dpd.model.magnitudes import safe_norms
-from x3dpd.physics.hertz import (  # noqa: F401  (hertz_contact_time re-exported)
+from x3dpd.physics.hertz import (  # noqa: F401  (re-exported)
     effective_modulus_pair,
     effective_modulus_wall,
     effective_radius,
     hertz_contact_time,
 )
+from x3dpd.physics.normal_laws import NORMAL_LAWS
+from x3dpd.physics.normal_laws import group_bodies as _group_bodies
 
 #: Steps per Hertz contact the recommendation asks for (see :func:`recommended_time_step`).
 STEPS_PER_CONTACT = 50
@@ -58,8 +62,10 @@ class TimeStepAdvice:
     """Recommended time step and the limits behind it (all times in s).
 
     ``binding`` is ``"contact"``, ``"structure"`` or ``"none"``; ``contact_kind`` says which
-    contact is shortest (``"particle-wall"`` or ``"particle-particle"``); ``omega_node`` and
-    ``omega_dof`` name the structural DOF with the highest frequency estimate.
+    contact is shortest (``"particle-wall"`` or ``"particle-particle"``) and ``contact_law``
+    how its law names it (``"Hertz"``, ``"HOOKE"``: the law module's CONTACT_NAME);
+    ``omega_node`` and ``omega_dof`` name the structural DOF with the highest frequency
+    estimate.
     """
 
     dt_deck: float
@@ -74,10 +80,17 @@ class TimeStepAdvice:
     omega_node: int
     omega_dof: str
     dt_structure: float
+    contact_law: str = "Hertz"
 
     @property
     def deck_steps_per_contact(self) -> float:
         return self.t_contact / self.dt_deck
+
+    @property
+    def knows_peak_force_error(self) -> bool:
+        """Whether :func:`peak_force_error` (measured on Hertz impacts) applies to the shortest
+        contact: not to a HOOKE contact, whose dashpot jumps to c_n v at the onset."""
+        return self.contact_law == "Hertz"
 
 
 def characteristic_speed(model: Model) -> float:
@@ -105,35 +118,34 @@ def characteristic_speed(model: Model) -> float:
     return max(fall, fastest, MIN_IMPACT_SPEED)
 
 
+def group_bodies(model: Model) -> dict:
+    """Particle group -> the :class:`~x3dpd.physics.normal_laws.ContactBody` of its first
+    particle."""
+    return _group_bodies(model.particle_group, model.mass[model.particle_start:], model.radius,
+                         model.moduli, model.poisson, model.hooke)
+
+
 def _contact_limit(model: Model) -> tuple[float, float, str]:
-    """Shortest Hertz contact (t_c, v_c, kind) over the contacts the model can have."""
+    """Shortest contact (t_c, v_c, kind) over the contacts the model can have, by the scene's
+    normal law's ``contact_time`` (x3dpd.physics.normal_laws)."""
     v = characteristic_speed(model)
     best = (math.inf, v, "none")
     if not model.n_particles:
         return best
-    e_inst = model.moduli.sum(axis=1)  # instantaneous (stiffest) modulus E0 + E1 + ...
-    groups = np.unique(model.particle_group)
-    first = {int(g): int(np.flatnonzero(model.particle_group == g)[0]) for g in groups}
-    m = model.mass[model.particle_start:]
+    law = NORMAL_LAWS[model.normal_law]
+    bodies = group_bodies(model)
     # a concave analytic wall (cylinder, capsule) is softer than a flat one (a larger relative
     # radius): the flat wall's contact time bounds its contacts from below
     if "wall_contact" in model.effects or any(s.effect in model.effects for s in SHAPES):
-        for g, i in first.items():
+        for g, body in bodies.items():
             if np.any((model.particle_group == g) & (model.particle_cavity >= 0)):
-                t = hertz_contact_time(m[i], model.radius[i],
-                                       effective_modulus_wall(e_inst[i], model.poisson[i]), v)
-                best = min(best, (t, v, "particle-wall"))
+                best = min(best, (law.contact_time(body, None, v), v, "particle-wall"))
     if "pair_contact" in model.effects:
-        for g, i in first.items():
-            for h, j in first.items():
+        for g, bi in bodies.items():
+            for h, bj in bodies.items():
                 if h < g or (h == g and np.sum(model.particle_group == g) < 2):
                     continue
-                e_star = effective_modulus_pair(e_inst[i], model.poisson[i], e_inst[j],
-                                                model.poisson[j])
-                t = hertz_contact_time(m[i] * m[j] / (m[i] + m[j]),
-                                       effective_radius(model.radius[i], model.radius[j]),
-                                       e_star, v)
-                best = min(best, (t, v, "particle-particle"))
+                best = min(best, (law.contact_time(bi, bj, v), v, "particle-particle"))
     return best
 
 
@@ -229,8 +241,10 @@ def recommended_time_step(model: Model, steps_per_contact: int = STEPS_PER_CONTA
                           ) -> TimeStepAdvice:
     r"""Largest time step that resolves the contacts and keeps the structure stable.
 
-    (a) Contact: :math:`\Delta t \le t_c/n` with :math:`t_c` from :func:`hertz_contact_time` for
-    the shortest contact the model can have, using the instantaneous modulus
+    (a) Contact: :math:`\Delta t \le t_c/n` with :math:`t_c` the scene's normal law's
+    ``contact_time`` (x3dpd.physics.normal_laws; HOOKE: half a damped period, at any speed)
+    for the shortest contact the model can have; for the report's law
+    :func:`hertz_contact_time`, using the instantaneous modulus
     :math:`E_0+E_1+\dots` (the stiffest response) at the speed of :func:`characteristic_speed`.
     EDEM asks for at least 6-10 steps per Hertz contact (help.altair.com, "Estimate simulation
     time"); that is a lower bound for following an impact at all, not an accuracy target: at 10
@@ -257,7 +271,7 @@ def recommended_time_step(model: Model, steps_per_contact: int = STEPS_PER_CONTA
                                               else "structure")
     return TimeStepAdvice(float(model.dt), float(dt), binding, float(t_c), float(v_c), kind,
                           int(steps_per_contact), float(dt_contact), float(omega), int(node), dof,
-                          float(dt_structure))
+                          float(dt_structure), NORMAL_LAWS[model.normal_law].CONTACT_NAME)
 
 
 def time_step_is_a_problem(ts: TimeStepAdvice) -> bool:
@@ -278,11 +292,13 @@ def time_step_warning(ts: TimeStepAdvice, model: Model) -> str:
             f"{ts.dt_recommended:.3g} s. ")
     if ts.binding == "contact":
         n = ts.deck_steps_per_contact
-        text += (f"A Hertz {ts.contact_kind} impact at {ts.impact_speed:.3g} length/s lasts "
-                 f"{ts.t_contact:.3g} s, so the deck resolves it in {n:.3g} steps: ")
+        text += (f"A {ts.contact_law} {ts.contact_kind} impact at {ts.impact_speed:.3g} "
+                 f"length/s lasts {ts.t_contact:.3g} s, so the deck resolves it in {n:.3g} steps: ")
         if n < 6:
             text += ("too few to follow a contact (at least 6-10 are needed); expect missed or "
                      "exploding impacts. ")
+        elif not ts.knows_peak_force_error:
+            text += f"fewer than the recommended {ts.steps_per_contact} follow it coarsely. "
         else:
             text += (f"expect peak contact forces off by up to about {peak_force_error(n):.2g} % "
                      f"(about {peak_force_error(ts.steps_per_contact):.2g} % at "

@@ -32,8 +32,8 @@ import numpy as np
 
 from x3dpd._jit import step_kernel
 
-__all__ = ["CLAMPED", "USES_RATE", "DAMPED", "damping_ratio", "dashpot", "hooke_impact",
-           "hooke_tables",
+__all__ = ["CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "damping_ratio", "dashpot",
+           "hooke_impact", "hooke_tables", "contact_time",
            "wall_force", "pair_force", "stored_energy"]
 
 #: The applied force is F itself, not max(0, F).
@@ -42,6 +42,8 @@ CLAMPED = False
 USES_RATE = True
 #: The law dissipates energy (the ledger reports W_N - U as viscous dissipation).
 DAMPED = True
+#: How messages name an impact under this law (x3dpd check, the stop's diagnosis).
+CONTACT_NAME = "HOOKE"
 
 
 def damping_ratio(e: float) -> float:
@@ -62,6 +64,22 @@ def hooke_impact(m_eff: float, k: float, e: float, v: float) -> tuple[float, flo
     zeta = damping_ratio(e)
     omega_d = math.sqrt(k / m_eff) * math.sqrt(1.0 - zeta * zeta)
     return math.pi / omega_d, e * v
+
+
+def contact_time(i, j, v: float) -> float:
+    """Duration [s] of a head-on impact of particle ``i`` on a rigid flat wall (``j`` None) or
+    on particle ``j`` (x3dpd.physics.normal_laws.ContactBody): half a damped period,
+    pi/omega_d, omega_d = sqrt(k_n/m*) sqrt(1 - zeta^2), with the constants the step loop
+    uses (:func:`hooke_tables`): on a wall m* = m_i, k_n = k_i, zeta from e_i; between two
+    particles m* = m_i m_j/(m_i + m_j), k_n = 2 k_i k_j/(k_i + k_j) and the mean of the two
+    zetas. A linear contact lasts as long at any speed: ``v`` is not used."""
+    if j is None:
+        m_eff, k, zeta = i.mass, i.stiffness, damping_ratio(i.restitution)
+    else:
+        m_eff = i.mass * j.mass / (i.mass + j.mass)
+        k = 2.0 * i.stiffness * j.stiffness / (i.stiffness + j.stiffness)
+        zeta = 0.5 * (damping_ratio(i.restitution) + damping_ratio(j.restitution))
+    return math.pi / (math.sqrt(k / m_eff) * math.sqrt(1.0 - zeta * zeta))
 
 
 def hooke_tables(k, e, mass, rep) -> tuple[np.ndarray, np.ndarray]:

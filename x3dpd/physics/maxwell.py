@@ -32,10 +32,13 @@ from __future__ import annotations
 import math
 
 from x3dpd._jit import kernel, step_kernel
-from x3dpd.physics.hertz import stored_energy_of_force, three_halves
+from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
+                                 effective_radius, hertz_contact_time, stored_energy_of_force,
+                                 three_halves)
 
 __all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update", "maxwell_terms",
-           "CLAMPED", "USES_RATE", "DAMPED", "wall_force", "pair_force", "stored_energy"]
+           "CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "contact_time", "wall_force",
+           "pair_force", "stored_energy"]
 
 #: The step loop's normal law "lee_radok" (x3dpd.physics.normal_laws): the applied force is
 #: max(0, F) (report: "force set to zero when negative"); it does not read the approach rate;
@@ -43,6 +46,23 @@ __all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update", "maxwel
 CLAMPED = True
 USES_RATE = False
 DAMPED = False
+#: How messages name an impact under this law (x3dpd check, the stop's diagnosis).
+CONTACT_NAME = "Hertz"
+
+
+def contact_time(i, j, v: float) -> float:
+    """Duration [s] of a head-on impact at normal speed ``v`` of particle ``i`` on a rigid flat
+    wall (``j`` None) or on particle ``j`` (x3dpd.physics.normal_laws.ContactBody): the elastic
+    Hertz contact time (:func:`x3dpd.physics.hertz.hertz_contact_time`) with the instantaneous
+    modulus E0 + E1 + ..., the stiffest response, so the shortest contact the law can have
+    (report Section 7.2.2: m*, R* and E* of a wall; of two spheres, Section 7.2.1)."""
+    if j is None:
+        return hertz_contact_time(i.mass, effective_radius(i.radius),
+                                  effective_modulus_wall(i.modulus, i.poisson), v)
+    return hertz_contact_time(i.mass * j.mass / (i.mass + j.mass),
+                              effective_radius(i.radius, j.radius),
+                              effective_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson),
+                              v)
 
 
 def maxwell_step_factors(tau: float, dt: float) -> tuple[float, float]:

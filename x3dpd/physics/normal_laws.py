@@ -5,10 +5,20 @@ A law module provides ``wall_force(a, a_old, a_rate, p, particles, states, s, co
 before clamping), ``stored_energy(fn, a, k)`` and the flags ``CLAMPED`` (apply max(0, F)),
 ``USES_RATE`` (reads da/dt) and ``DAMPED`` (dissipates without Maxwell terms). The step-loop
 factory imports the selected module's functions into the loop (x3dpd.solver.variants), where
-numba inlines them. Adding a law is a module plus a line here.
+numba inlines them.
+
+For the checks before and during a run (``x3dpd check``'s recommended step, the stop's diagnosis,
+the step chosen by accuracy) a law module also provides ``contact_time(i, j, v)``: the duration
+[s] of a head-on impact at normal speed ``v`` [length/s] of particle ``i`` on a rigid flat wall
+(``j`` None) or on particle ``j``, both :class:`ContactBody`; and ``CONTACT_NAME``, how the
+messages name that impact. Adding a law is a module plus a line here.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
 
 from x3dpd.physics import hooke, maxwell
 
@@ -20,3 +30,42 @@ NORMAL_LAWS = {
 
 #: What the loop imports from a law module.
 NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_RATE", "DAMPED")
+
+#: What the checks read of a law module (never compiled into the loop).
+NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME")
+
+
+class ContactBody(NamedTuple):
+    """One particle as the laws' ``contact_time`` sees it: what the deck gives every law
+    (a law reads the fields it needs)."""
+
+    mass: float          # [mass]
+    radius: float        # [length]
+    modulus: float       # instantaneous Young's modulus E0 + E1 + ... [force/length^2]
+    poisson: float
+    stiffness: float     # HOOKE k_n [force/length]; 0 under another law
+    restitution: float   # HOOKE e; 0 under another law
+
+
+def contact_bodies(mass, radius, moduli, poisson, hooke_params=None) -> list[ContactBody]:
+    """The :class:`ContactBody` of every particle from per-particle arrays: ``mass``,
+    ``radius``, ``poisson`` (P,), ``moduli`` (P, K) (column 0 E0, then E1 ...), ``hooke_params``
+    (P, 2) k_n and e, or None."""
+    modulus = np.asarray(moduli, dtype=np.float64).reshape(len(radius), -1).sum(axis=1)
+    law = (np.zeros((len(radius), 2)) if hooke_params is None
+           else np.asarray(hooke_params, dtype=np.float64).reshape(-1, 2))
+    return [ContactBody(float(m), float(r), float(e), float(nu), float(k), float(c))
+            for m, r, e, nu, (k, c) in zip(mass, radius, modulus, poisson, law)]
+
+
+def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None) -> dict:
+    """Particle group -> the :class:`ContactBody` of its first particle (a group's particles
+    are alike), from the per-particle arrays of :func:`contact_bodies` and ``group`` (P,)."""
+    group = np.asarray(group)
+    if group.shape[0] == 0:
+        return {}
+    ids, first = np.unique(group, return_index=True)
+    bodies = contact_bodies(np.asarray(mass)[first], np.asarray(radius)[first],
+                            np.asarray(moduli)[first], np.asarray(poisson)[first],
+                            None if hooke_params is None else np.asarray(hooke_params)[first])
+    return dict(zip((int(g) for g in ids), bodies))

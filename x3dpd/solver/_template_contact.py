@@ -37,6 +37,24 @@ L_DDAMP = 3     # energy dissipated by structural dampers
 
 
 @step_kernel
+def _booked_from(a, a_old, a_rate, dt):
+    """The approach the step's normal work 1/2 (F_old + F) (a - a_from) is booked from.
+
+    An open contact's last approach ``a_old``. A contact that opens on this step was a gap
+    g < 0 away at the last one (a closed contact keeps no approach: ``a_old`` = 0), and its
+    force jumps from 0 to F, so the step's work is 1/2 F (a - g): velocity Verlet conserves KE
+    - S plus exactly that trapezoid (x3dpd.solver.ledger_checks), and booking 1/2 F a instead
+    leaves up to 1/2 c_n v^2 dt per contact out of the ledger under the unclamped HOOKE
+    dashpot, whose F is c_n v at the onset. A law that reads the approach rate (half-step
+    velocities, so a - g = dt da/dt is this step's drift along n) gets g = a - dt da/dt; for
+    the others (Hertz, Lee & Radok: F -> 0 with a) the rate is not computed and the onset is
+    booked from a = 0."""
+    if NORMAL_USES_RATE and a_old <= 0.0:
+        return a - dt * a_rate
+    return a_old
+
+
+@step_kernel
 def _record_normal(states, on, s, a, a_old, fn, fn_old):
     """Clamp the normal force at zero if the law says so (the report's modified Lee & Radok
     rule), keep it and the approach in the contact's state row, mark the contact open, and
@@ -149,7 +167,7 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
                        + ny * (vel[n0, 5] * lx - vel[n0, 3] * lz)
                        + nz * (vel[n0, 3] * ly - vel[n0, 4] * lx))
     fn = NORMAL_WALL_FORCE(a, a_old, a_rate, p, particles, ws, s, S_H, N_MAXWELL)
-    fn, dw = _record_normal(ws, on, s, a, a_old, fn, fn_old)
+    fn, dw = _record_normal(ws, on, s, a, _booked_from(a, a_old, a_rate, dt), fn, fn_old)
     lost = 0.0
     fx = fn * nx
     fy = fn * ny

@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from x3dpd._jit import loop_kernel, step_kernel, vector_kernel
-from x3dpd.solver._template_contact import (L_DFRIC, L_WN, OK, _close_contact,
+from x3dpd.solver._template_contact import (L_DFRIC, L_WN, OK, _booked_from, _close_contact,
                                             _friction_force, _penetration)
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND, N_MAXWELL,
                                             NORMAL_CLAMPED, NORMAL_PAIR_FORCE, NORMAL_USES_RATE)
@@ -110,6 +110,7 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
         kj = np.uint64(pkind[pj])
         touching = a > 0.0
         fn = 0.0
+        a_from = a_old
         if touching:
             a_rate = 0.0
             if NORMAL_USES_RATE:
@@ -121,9 +122,11 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
                                    N_MAXWELL)
             if NORMAL_CLAMPED and fn < 0.0:
                 fn = 0.0
-        # work of the normal force over the step, 1/2 (F_old + F) (a - a_old) (pass 3 books it
-        # for touching candidates only)
-        dw = 0.5 * (fn_old + fn) * (a - a_old)
+            a_from = _booked_from(a, a_old, a_rate, dt)
+        # work of the normal force over the step, 1/2 (F_old + F) (a - a_from), a_from = a_old
+        # or, on the step a contact opens, its gap (_booked_from; pass 3 books it for touching
+        # candidates only)
+        dw = 0.5 * (fn_old + fn) * (a - a_from)
         # force on j along +n, on i along -n
         fx = fn * nx
         fy = fn * ny

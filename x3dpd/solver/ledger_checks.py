@@ -88,17 +88,19 @@ def step_instability(row: np.ndarray, e_ref: float, dt: float) -> StepInstabilit
     return StepInstability(float(row[TIME]), s, b, omega)
 
 
-def unbalanced_row(energy: np.ndarray, scale: float, tolerance: float) -> int | None:
-    """Index of the first row whose |residual| exceeds ``tolerance * scale + U_c``."""
+def unbalanced_row(energy: np.ndarray, scale, tolerance: float) -> int | None:
+    """Index of the first row whose |residual| exceeds ``tolerance * scale + U_c``
+    (``scale``: one energy scale, or one per row)."""
     allowed = tolerance * scale + np.maximum(energy[:, U_CONTACT], 0.0)
     bad = np.nonzero(~(np.abs(energy[:, RESIDUAL]) <= allowed))[0]
     return int(bad[0]) if bad.size else None
 
 
-def negative_dissipation(energy: np.ndarray, scale: float, tolerance: float
+def negative_dissipation(energy: np.ndarray, scale, tolerance: float
                          ) -> tuple[int, str, float] | None:
     """(row, mechanism, amount) of the first row where a mechanism dissipated less than
-    ``-(tolerance * scale)`` (viscoelastic: ``-(tolerance * scale + U_c)``), else None."""
+    ``-(tolerance * scale)`` (viscoelastic: ``-(tolerance * scale + U_c)``), else None
+    (``scale``: one energy scale, or one per row)."""
     first = None
     for col, name in _DISSIPATION:
         allowed = tolerance * scale + (np.maximum(energy[:, U_CONTACT], 0.0)

@@ -4,7 +4,7 @@
 exactly the scene's effects, evaluates the forces at t0, then advances in chunks. The compiled
 loop returns status bits; this module turns them into :class:`~x3dpd.errors.UnstableRunError`
 with a diagnosis, grows contact lists when they overflow, and audits the energy ledger and the
-cavity containment after every chunk.
+cavity containment at fixed step counts (x3dpd.solver.run_checks).
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from x3dpd.solver.bundles import (
     contact_scratch,
     pack,
 )
-from x3dpd.solver.run_checks import RunChecks
+from x3dpd.solver.run_checks import AUDIT_STEPS, RunChecks
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
 from x3dpd.solver.variants import Variant, make_advance
 
@@ -85,6 +85,7 @@ class Simulation(RunChecks):
         self.itrac = int(itrac if itrac is not None else model.itrac)
         if self.itrac < 1:
             raise InputError(f"trace interval ITRAC must be >= 1 step, got {self.itrac}")
+        self.audit_steps = self.itrac * -(-AUDIT_STEPS // self.itrac)
         self.penetration_limit = float(penetration_limit)
         self.energy_tolerance = float(energy_tolerance)
         specs = list(model.usrfrc) + list(usrfrc)
@@ -207,7 +208,8 @@ class Simulation(RunChecks):
 
     # ------------------------------------------------------------------ stepping
     def advance(self, nsteps: int, max_rows: int | None = None) -> Block:
-        """Advance ``nsteps`` steps (fewer if the output buffer fills); return the rows written."""
+        """Advance ``nsteps`` steps (fewer if the output buffer fills); return the rows written.
+        Checks at fixed step counts only (x3dpd.solver.run_checks), whatever the calls."""
         self.initialize()
         nsteps = int(nsteps)
         if max_rows is None:
@@ -218,10 +220,11 @@ class Simulation(RunChecks):
         out_data = np.empty((max_rows, r, 9))
         out_energy = np.empty((max_rows, len(ENERGY_COLUMNS)))
         rows = 0
+        audited = 0
         done = 0
         try:
             while done < nsteps and rows < max_rows:
-                chunk = nsteps - done
+                chunk = min(nsteps - done, self.audit_steps - self.state.step % self.audit_steps)
                 if self.python_forces:
                     chunk = 1
                     self._python_force(self.time + self.dt)
@@ -236,18 +239,20 @@ class Simulation(RunChecks):
                 self.state.step += steps
                 done += steps
                 rows += got
+                self._audit_energy(out_energy[audited:rows])
+                audited = rows
                 if status & _LIST_FULL:
                     # list overflow: grow and go on from this step boundary
                     self._grow(status)
                     continue
+                if status or self.state.step % self.audit_steps == 0:
+                    # at a stop, a particle that tunnelled out is the cause of what stopped it
+                    self._check_containment()
                 if status:
-                    if rows:
-                        self._audit_energy(out_energy[:rows])
                     self._check_status(status, self.diag[4], int(self.diag[5]))
                 if got and rows >= max_rows:
                     break
             block = Block(out_t[:rows].copy(), out_data[:rows].copy(), out_energy[:rows].copy())
-            self._audit(block)
         except UnstableRunError as exc:
             # keep what was computed before the failure: the caller writes it, then stops
             exc.block = Block(out_t[:rows].copy(), out_data[:rows].copy(),

@@ -7,7 +7,6 @@ saves. ``Kernel arrays`` (``Setup``) are derived once from the model and never c
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING
 
@@ -401,13 +400,3 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         rotational_theta=np.zeros((setup.rot_nodes.shape[0], 3)),
         rotational_md_prev=np.zeros((setup.rot_nodes.shape[0], 3)), step=0, e_ref=0.0,
     )
-
-
-def hertz_contact_time_estimate(setup: Setup, v: float) -> float:
-    """Shortest Hertz wall-contact duration over particles at impact speed v [s] (for checks)."""
-    if setup.radius.shape[0] == 0 or v <= 0:
-        return math.inf
-    m = 1.0 / (setup.inv_m[setup.p0:, 0] + 1e-300)
-    k = setup.kw.sum(axis=1)
-    a = (5.0 * m * v * v / (4.0 * k)) ** 0.4
-    return float(np.min(2.0 * 1.4716 * a / v))

@@ -7,9 +7,10 @@ state and runs it with the compiled loop of a :class:`Simulation` built for that
 * **Free flight.** When no particle is within reach of a wall plane of its cavity or of
   another particle -- reach = (closing speed bound) x interval + |g| interval^2 -- no contact
   can begin before the next decision, and only the structure limits the step (up to DTMAX).
-* **Choice.** Otherwise :math:`\Delta t \le t_c(v)/n` with :math:`t_c` the Hertz contact time
-  (:func:`x3dpd.physics.hertz.hertz_contact_time`, instantaneous modulus, shortest
-  particle-wall or particle-particle contact) at the speed :math:`v` a contact could have
+* **Choice.** Otherwise :math:`\Delta t \le t_c(v)/n` with :math:`t_c` the contact time of
+  the scene's normal law (its ``contact_time``, x3dpd.physics.normal_laws: Hertz's with the
+  instantaneous modulus, HOOKE's half damped period; shortest particle-wall or
+  particle-particle contact) at the speed :math:`v` a contact could have
   before the next decision -- twice the fastest particle's speed (a head-on pair) plus the
   speed gravity adds over the interval, at least 1 length/s -- and :math:`n` steps per contact
   (50, as ``x3dpd check``); and :math:`\Delta t \le` the structure's safe step (0.2 of its
@@ -48,9 +49,8 @@ from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.geometry.cells import find_pairs
 from x3dpd.geometry.shapes import SHAPES, analytic_wall
 from x3dpd.geometry.triangle import unit_normals
-from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
-                                 effective_radius, hertz_contact_time)
-from x3dpd.physics.hooke import hooke_impact
+from x3dpd.physics.normal_laws import NORMAL_LAWS, group_bodies
+from x3dpd.solver.run_checks import AUDIT_STEPS
 from x3dpd.solver.simulation import Block, Simulation
 
 #: Floor of the closing speed a decision assumes [length/s].
@@ -113,6 +113,9 @@ class VariableStep:
         if self.itrac < 1:
             raise InputError(f"trace interval ITRAC must be >= 1 step, got {self.itrac}")
         self.interval = self.itrac * self.dtmax
+        #: containment is checked at multiples of this many DTMAX steps (every level's
+        #: Simulation at the same times: x3dpd.solver.run_checks.AUDIT_STEPS)
+        self.audit_steps = self.itrac * -(-AUDIT_STEPS // self.itrac)
         self.n = int(steps_per_contact)
         self.dt_structure = float(dt_structure)
         self.options = sim_options
@@ -129,6 +132,7 @@ class VariableStep:
         if k not in self._sims:
             sim = Simulation(self.model, dt=self.levels[k], itrac=self.itrac * 2**k,
                              **self.options)
+            sim.audit_steps = self.audit_steps << k
             if self._trace_nodes is not None:
                 sim.trace_nodes = self._trace_nodes
             self._sims[k] = sim
@@ -167,6 +171,10 @@ class VariableStep:
     @property
     def motion(self):
         return self._sim(0).motion
+
+    @property
+    def energy_tolerance(self) -> float:
+        return self._sim(0).energy_tolerance
 
     @property
     def kernels(self):
@@ -299,24 +307,19 @@ class VariableStep:
         return False
 
     def _contact_time(self, v: float) -> float:
-        """The shortest contact at impact speed ``v``: Hertz's (instantaneous modulus), or for
-        the HOOKE law the undamped half period pi sqrt(m*/k_n) (shorter than the damped one)."""
+        """The shortest contact at impact speed ``v`` by the scene's normal law's
+        ``contact_time`` (x3dpd.physics.normal_laws: Hertz's with the instantaneous modulus,
+        or HOOKE's half damped period), of each particle group on a wall and on itself."""
         m = self.model
-        e_inst = m.moduli.sum(axis=1)
+        law = NORMAL_LAWS[m.normal_law]
+        walls = "wall_contact" in m.effects or any(s.effect in m.effects for s in SHAPES)
         best = math.inf
-        mass = m.mass[m.particle_start:]
-        for i in np.unique(m.particle_group, return_index=True)[1]:
-            if m.normal_law == "hooke":
-                m_eff = mass[i] / 2.0 if "pair_contact" in m.effects else mass[i]
-                best = min(best, hooke_impact(m_eff, float(m.hooke[i, 0]), 1.0, v)[0])
-                continue
-            if "wall_contact" in m.effects or any(s.effect in m.effects for s in SHAPES):
-                best = min(best, hertz_contact_time(
-                    mass[i], m.radius[i], effective_modulus_wall(e_inst[i], m.poisson[i]), v))
+        for body in group_bodies(m.particle_group, m.mass[m.particle_start:], m.radius,
+                                 m.moduli, m.poisson, m.hooke).values():
+            if walls:
+                best = min(best, law.contact_time(body, None, v))
             if "pair_contact" in m.effects:
-                best = min(best, hertz_contact_time(
-                    mass[i] / 2.0, effective_radius(m.radius[i], m.radius[i]),
-                    effective_modulus_pair(e_inst[i], m.poisson[i], e_inst[i], m.poisson[i]), v))
+                best = min(best, law.contact_time(body, body, v))
         return best
 
     def _switch(self, k: int) -> None:
