@@ -114,12 +114,16 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     fed = ALL_LOSSES + ((BASE_WORK,) if point.base else ())
     cols = [ENERGY_COLUMNS.index(name) for name in fed]
 
+    # the monitor that measures the point's energies, cycles and how it ended: the driven
+    # node's; a base drive's first response (the base itself is steady from its first cycle)
+    lead = 1 if point.base and point.responses else 0
+
     def stop(block) -> bool:
         ledger = {name: block.energy[:, j] for name, j in zip(fed, cols)}
         done = True
         for k, (watch, (_, dof)) in enumerate(zip(watchers, measured)):
             done &= watch.feed(block.time, block.position[:, k, dof - 1],
-                               block.velocity[:, k, dof - 1], ledger if k == 0 else None)
+                               block.velocity[:, k, dof - 1], ledger if k == lead else None)
         return done
 
     if point.base:
@@ -145,8 +149,9 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
                       stop=stop, stop_every=crit.samples_per_cycle)
     wall = _time.perf_counter() - wall
     ss = monitor.result()
+    whole = watchers[lead].result()
     summary = result.summary
-    loss = ss.dissipated_per_cycle
+    loss = whole.dissipated_per_cycle
     if point.base:   # the base's work per cycle, from the ledger
         work = loss.get(BASE_WORK, math.nan)
     else:   # steady state: the drive's work per cycle, pi F X sin(-phi), equals the dissipation
@@ -159,8 +164,8 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "dissipated_particles_per_cycle": sum(loss.get(name, math.nan)
                                               for name in PARTICLE_LOSSES),
         "input_work_per_cycle": work,
-        "cycles": ss.cycles, "extrapolated": ss.extrapolated,
-        "irregular": ss.irregular, "method": "simulated", "start": start,
+        "cycles": whole.cycles, "extrapolated": whole.extrapolated,
+        "irregular": whole.irregular, "method": "simulated", "start": start,
         "t_start": t_start, "t_end": float(summary["t_end"]), "steps": int(summary["steps"]),
         "compile_s": float(summary.get("compile_s", 0.0)), "wall_s": wall,
         "response_node": point.node, "response_dof": point.dof,
@@ -168,6 +173,8 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     if point.responses:
         row["responses"] = [response_columns(w.result(), point, node, dof)
                             for w, (node, dof) in zip(watchers[1:], point.responses)]
+    if point.base:   # the base's own row says whether the point (every node) converged
+        row["converged"] = all(w.converged for w in watchers)
     return row, result.final_state
 
 
