@@ -92,11 +92,12 @@ def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping 
 
 def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
                    curves: Mapping, title: str = "", units: str = "in", force: str = "lbf",
-                   time: str = "s", base=None) -> str:
+                   time: str = "s", base=None, drive_label=None) -> str:
     """Accelerance (acceleration amplitude / drive) versus frequency at each measured response
     (``--response``; a row of panels each, one panel per drive), baselines overlaid (``curves``:
     {(node, dof): {(config, drive): (f, X)}}). ``base(f, drive)``: a base drive's displacement
-    amplitude U at frequencies ``f`` [Hz]; the panels then show the transmissibility X / U."""
+    amplitude U at frequencies ``f`` [Hz]; the panels then show the transmissibility X / U.
+    ``drive_label(drive)``: how a panel's title names its drive (default: the number)."""
     plt = _pyplot()
     drives = sorted({r["drive"] for r in rows})
     fig, axes = plt.subplots(len(responses), len(drives), squeeze=False,
@@ -112,7 +113,8 @@ def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
                 _sweep_axes(ax, measured, curves.get((node, dof), {}), drive,
                             "transmissibility", "transmissibility (acceleration / base's)",
                             base)
-            ax.set_title(f"node {node} dof {dof}, drive {drive:.5g}", fontsize=9)
+            label = drive_label(drive) if drive_label is not None else f"{drive:.5g}"
+            ax.set_title(f"node {node} dof {dof}, drive {label}", fontsize=9)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()

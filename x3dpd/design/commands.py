@@ -114,8 +114,18 @@ def _base_outputs(spec: SweepSpec, rows: list[dict], out, deck_path: str, length
                          for x in np.atleast_1d(w)]).reshape(np.shape(w))
 
     curves = {r: baseline_curves(spec, response=r) for r in spec.responses}
+    system = spec.deck.units.system if spec.deck.units is not None else None
+    lab, g = labels_for(system), standard_gravity(system)
+    unit = {"displacement": lab["length"], "velocity": lab["velocity"],
+            "acceleration": lab["acceleration"]}[spec.quantity]
+
+    def drive_label(drive: float) -> str:
+        extra = f" ({drive / g:.4g} g)" if spec.quantity == "acceleration" else ""
+        return f"{drive:.5g} {unit}{extra}"
+
     plot_responses(Path(out) / "sweep.png", rows, spec.responses, curves,
-                   title=Path(deck_path).name, units=length, base=base)
+                   title=Path(deck_path).name, units=length, base=base,
+                   drive_label=drive_label)
     first = spec.responses[0]
     at_first = [{**r, **m, "amplitude": m["transmissibility"]} for r in rows
                 for m in r.get("responses", ())
