@@ -44,8 +44,8 @@ import numpy as np
 
 from x3dpd.api import FinalState
 from x3dpd.api.outputs import deck_key
-from x3dpd.design.baselines import (ModalLinear, rigid_body, base_sdof, linear_structure,
-                                    particle_mass, with_added_mass, without_particles)
+from x3dpd.design.baselines import (ModalLinear, base_sdof, linear_structure, particle_mass,
+                                    rigid_body, with_added_mass, without_particles)
 from x3dpd.design.drive import displacement_amplitude
 from x3dpd.model.build import build_model
 from x3dpd.physics.motion import apply_motion
