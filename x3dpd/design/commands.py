@@ -19,6 +19,7 @@ from x3dpd.design.spec import (SweepSpec, check_base, check_node, default_drive_
                                parse_frequencies, parse_responses)
 from x3dpd.design.steady_state import Criterion
 from x3dpd.design.sweep import baseline_curves, deck_hash, run_sweep
+from x3dpd.errors import InputError
 from x3dpd.units import labels_for, standard_gravity
 
 
@@ -46,6 +47,8 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
         node = d_node if node is None else node
         dof = d_dof if dof is None else dof
     check_node(deck, node)
+    if dof not in (1, 2, 3):
+        raise InputError(f"--dof {dof}: the sweep measures a translation, dof 1, 2 or 3")
     spec = SweepSpec(deck=deck, deck_text_hash=deck_hash(deck_path), frequencies=frequencies,
                      drives=drives, node=node, dof=dof, direction=direction,
                      baselines=tuple(baselines), dt=dt, responses=measured, quantity=quantity,

@@ -160,8 +160,8 @@ def run_sweep(spec: SweepSpec, out: str | os.PathLike, *, workers: int | None = 
     ``scheduler``: address of an existing Dask scheduler (overrides ``workers``);
     ``on_point(row)`` is called as each point finishes (progress).
     """
+    chains, rows = plan(spec)   # first: a bad baseline or structure writes nothing
     store = SweepDir(out, spec, overwrite)
-    chains, rows = plan(spec)
     todo: list[tuple[list[SweepPoint], object]] = []
     for chain in chains:
         keep_state = len(chain) > 1
