@@ -276,7 +276,8 @@ def _booked(sim, model, t_start: float, e_before: float, deck, dt: float) -> Fin
     state = sim.state
     sim.restore(state)   # wall planes follow the moved nodes
     sim.compute_forces(t_start)
-    rows = sim.motion[:, :2].astype(np.int64)
+    knots = np.flatnonzero(sim.motion[:, 0] < 0.0)   # a random motion's knots follow its rows
+    rows = sim.motion[:knots[0] if knots.size else len(sim.motion), :2].astype(np.int64)
     state.motion_prev[:] = state.force[rows[:, 0], rows[:, 1]]
     state.e_ref += total_energy(sim) - e_before
     return FinalState(state=state, deck_key=deck_key(deck), dt=dt, time=t_start)
