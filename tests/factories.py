@@ -199,3 +199,32 @@ def sdof_deck(*, dt: float, hz: float, mass: float = TABLE4_MASS, k: float = TAB
         initials=(Initial(1, (float(v0), 0.0, 0.0)),) if v0 else (),
         usrfrc=(Usrfrc((f"sine:node=1,dof=1,amp={drive!r},hz={hz!r}",)),) if drive else (),
     )
+
+
+def base_sdof_deck(*, dt: float, mass: float = TABLE4_MASS, k: float = TABLE4_K,
+                   c: float = TABLE4_C, k_ground: float = 0.0, c_ground: float = 0.0,
+                   dof: int = 1, itrac: int = 1, gravity: float = 0.0) -> Deck:
+    """A mass on a shaker: node 1 with ``mass``, free along ``dof`` only, joined to the base
+    node 2 by a spring ``k`` and damper ``c`` along the global axes (MATID type 1, two-node
+    element), and to ground by ``k_ground``, ``c_ground`` when non-zero; node 2 fixed in every
+    DOF (a prescribed motion moves it). No particles, no USRFRC; gravity ``gravity`` along
+    ``dof`` (a BODY card when non-zero)."""
+    fixed = tuple(d for d in range(1, 7) if d != dof)
+    materials = [Material(1, 1, 0.0, 1.0, float(k), float(k), float(k), float(c))]
+    elements = [Element(1, 1, (1, 2))]
+    if k_ground or c_ground:
+        materials.append(Material(2, 1, 0.0, 1.0, float(k_ground), float(k_ground),
+                                  float(k_ground), float(c_ground)))
+        elements.append(Element(2, 2, (1,)))
+    return Deck(
+        path="<base_sdof>",
+        parameters=parameters(dt, itrac),
+        materials=tuple(materials),
+        trace=Trace((1, 2)),
+        nodes=(Node(1, 0.0, 0.0, 0.0), Node(2, 0.0, -1.0, 0.0)),
+        elements=tuple(elements),
+        masses=(Mass(1, float(mass), 1.0, 1.0, 1.0),),
+        boundaries=(Boundary(1, 1, 1, fixed), Boundary(2, 2, 1, ALL_DOFS)),
+        body=Body(*(float(gravity) if d == dof else 0.0 for d in (1, 2, 3)))
+        if gravity else None,
+    )

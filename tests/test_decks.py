@@ -80,7 +80,8 @@ def test_shipped_decks_carry_a_provenance_header():
 
 @pytest.mark.parametrize("name", ["beam_1.inp", "beam_64.inp", "beam_512.inp",
                                   "cylinder_64.inp", "capsule_64.inp", "impact_wall.inp",
-                                  "appendix_a_cube.inp", "beam_64_modal.inp", "chassis_128.inp"])
+                                  "appendix_a_cube.inp", "beam_64_modal.inp", "chassis_128.inp",
+                                  "shaker_fig9.inp"])
 def test_check_is_clean(name):
     """`x3dpd check` finds nothing to warn about in the runnable decks (exit 0). beam_512 runs
     at half the report's step for that: at 5e-7 s its wall impacts last 4.75 steps."""

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Generate the shipped decks ``decks/beam_{1,64,512}.inp``, ``decks/{cylinder,capsule}_64.inp``,
-``decks/impact_wall.inp`` and ``decks/hooke_wall.inp``.
+``decks/impact_wall.inp``, ``decks/hooke_wall.inp`` and ``decks/shaker_fig9.inp``.
 
     python tools/make_decks.py            # rewrite the decks
     python tools/make_decks.py --check    # exit 1 when a shipped deck differs from what this makes
@@ -447,6 +447,14 @@ def chassis_128() -> str:
 CHASSIS_CAVITY_TEXT = "0.350 x 0.444 x 0.444"
 
 
+def shaker_fig9() -> str:
+    """Figure 9's shaker test, base-driven (tools/make_shaker_deck.py)."""
+    from make_shaker_deck import shaker_deck
+
+    deck, head = shaker_deck()
+    return with_header(head, deck)
+
+
 def _parse(text: str):
     from x3dpd.deck.parser import parse_deck
 
@@ -461,6 +469,7 @@ def all_decks() -> dict[str, str]:
     out["capsule_64.inp"] = capsule_deck()
     out["impact_wall.inp"] = impact_deck()
     out["hooke_wall.inp"] = hooke_deck()
+    out["shaker_fig9.inp"] = shaker_fig9()
     return out
 
 

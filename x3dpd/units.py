@@ -74,3 +74,19 @@ def trace_units(system=None) -> dict[str, str]:
     lab = labels_for(system)
     return {k: lab[k] for k in ("time", "length", "velocity", "angular_velocity", "force",
                                 "mass", "energy")}
+
+
+#: Standard gravity g_n = 9.80665 m/s^2 in each length unit per s^2; inch decks use the
+#: report's 386.1 in/s^2 (its BODY card, Appendix A; 9.80665 / 0.0254 = 386.0886), so that
+#: "1 g" means what the shipped decks' gravity and the ring-down's dB re 1 g mean.
+_STANDARD_GRAVITY = {"in": 386.1, "ft": 9.80665 / 0.3048, "m": 9.80665, "cm": 980.665,
+                     "mm": 9806.65}
+#: seconds per time unit
+_SECONDS = {"s": 1.0, "ms": 1.0e-3}
+
+
+def standard_gravity(system=None) -> float:
+    """One standard gravity in the acceleration unit of ``system`` = (length, force, time) or
+    None (inch-lbf-s): 386.1 in/s^2, 9.80665 m/s^2, 32.174 ft/s^2, ... [length/time^2]."""
+    length, _, time = tuple(system) if system else DEFAULT
+    return _STANDARD_GRAVITY[length] * _SECONDS[time] ** 2

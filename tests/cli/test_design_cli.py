@@ -44,6 +44,7 @@ def test_sweep_writes_csv_and_png(capsys, sdof, tmp_path):
     (("--freq", "36", "--amp", "x"), "--amp 'x': expected a drive amplitude"),
     (("--freq", "36", "--baseline", "nothing"), "unknown baseline 'nothing'"),
     (("--freq", "36", "--dof", "5"), "dof 1, 2 or 3"),
+    (("--freq", "36", "--node", "7"), "node 7 is not a node of"),
 ])
 def test_sweep_bad_input_is_one_line_and_exit_2(capsys, sdof, tmp_path, args, message):
     full = ["sweep", sdof, "--out", tmp_path / "out", "--workers", "1", *args]
@@ -53,7 +54,7 @@ def test_sweep_bad_input_is_one_line_and_exit_2(capsys, sdof, tmp_path, args, me
     assert code == 2
     assert message in err and "Traceback" not in err
     assert len(err.strip().splitlines()) == 1
-    assert not (tmp_path / "out" / "sweep.csv").exists()
+    assert not (tmp_path / "out").exists()
 
 
 def test_ringdown_of_a_solver_trace_gives_the_structures_zeta(capsys, tmp_path):

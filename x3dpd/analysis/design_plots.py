@@ -92,10 +92,12 @@ def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping 
 
 def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
                    curves: Mapping, title: str = "", units: str = "in", force: str = "lbf",
-                   time: str = "s") -> str:
+                   time: str = "s", base=None, drive_label=None) -> str:
     """Accelerance (acceleration amplitude / drive) versus frequency at each measured response
     (``--response``; a row of panels each, one panel per drive), baselines overlaid (``curves``:
-    {(node, dof): {(config, drive): (f, X)}})."""
+    {(node, dof): {(config, drive): (f, X)}}). ``base(f, drive)``: a base drive's displacement
+    amplitude U at frequencies ``f`` [Hz]; the panels then show the transmissibility X / U.
+    ``drive_label(drive)``: how a panel's title names its drive (default: the number)."""
     plt = _pyplot()
     drives = sorted({r["drive"] for r in rows})
     fig, axes = plt.subplots(len(responses), len(drives), squeeze=False,
@@ -104,9 +106,15 @@ def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
         measured = [{**r, **m} for r in rows for m in r.get("responses", ())
                     if (m["response_node"], m["response_dof"]) == (node, dof)]
         for ax, drive in zip(row_axes, drives):
-            _sweep_axes(ax, measured, curves.get((node, dof), {}), drive, "accelerance",
-                        f"accelerance [({units}/{time}^2) / {force}]")
-            ax.set_title(f"node {node} dof {dof}, drive {drive:.5g}", fontsize=9)
+            if base is None:
+                _sweep_axes(ax, measured, curves.get((node, dof), {}), drive, "accelerance",
+                            f"accelerance [({units}/{time}^2) / {force}]")
+            else:
+                _sweep_axes(ax, measured, curves.get((node, dof), {}), drive,
+                            "transmissibility", "transmissibility (acceleration / base's)",
+                            base)
+            label = drive_label(drive) if drive_label is not None else f"{drive:.5g}"
+            ax.set_title(f"node {node} dof {dof}, drive {label}", fontsize=9)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
@@ -115,14 +123,18 @@ def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
     return str(png)
 
 
-def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str) -> None:
+def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str,
+                base=None) -> None:
     """One panel: the baselines' curves and points and the damper's points at one drive, as
-    displacement ``amplitude`` or ``accelerance`` (w^2 X / |F|)."""
+    displacement ``amplitude``, ``accelerance`` (w^2 X / |F|) or ``transmissibility`` (X / U,
+    ``base(f, drive)`` = U)."""
     styles = {"undamped": ("k", "--"), "added-mass": ("0.5", ":")}
     markers = {"": "o", "up": "^", "down": "v"}
 
     def y_of(f, amp):
         f, amp = np.asarray(f, float), np.asarray(amp, float)
+        if quantity == "transmissibility":
+            return amp / base(f, drive)
         return amp if quantity == "amplitude" else (2 * np.pi * f) ** 2 * amp / abs(drive)
 
     for config, (color, ls) in styles.items():

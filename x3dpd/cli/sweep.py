@@ -15,14 +15,24 @@ from x3dpd.errors import InputError
 @click.argument("deck", type=click.Path(exists=True, dir_okay=False))
 @click.option("--freq", required=True, metavar="SPEC",
               help="Frequencies [Hz]: START:STOP:STEP (STOP included) or a comma list.")
-@click.option("--amp", required=True, multiple=True, metavar="F",
-              help="Drive amplitude(s) [force]; repeat or give a comma list.")
+@click.option("--drive", type=click.Choice(["force", "base"]), default="force",
+              show_default=True,
+              help="force: a sine force on --node (the deck's USRFRC replaced); base: --node "
+                   "moved on a sine (a shaker table; the deck's USRFRC dropped).")
+@click.option("--amp", required=True, multiple=True, metavar="A",
+              help="Drive amplitude(s); repeat or give a comma list. Force drive: a force. "
+                   "Base drive: a displacement [length], or with a suffix 0.1vel [length/s], "
+                   "200acc [length/s^2], 2g (standard gravity: 386.1 in/s^2, 9.80665 m/s^2).")
 @click.option("--node", type=int, help="Driven and measured node [default: the deck's USRFRC "
-                                       "drive node, else the first cavity's master].")
+                                       "drive node, else the first cavity's master; a base "
+                                       "drive must name its base].")
 @click.option("--dof", type=int, help="DOF 1-3 [default: the USRFRC drive's, else 1].")
 @click.option("--response", multiple=True, metavar="NODE:DOF",
               help="Also measure this node and DOF (repeatable): a row each in sweep.csv "
-                   "(accelerance = its acceleration / the drive), DIR/sweep_responses.png.")
+                   "(accelerance = its acceleration / the drive force; for a base drive "
+                   "transmissibility = its acceleration / the base's), DIR/sweep_responses.png "
+                   "(base drive: DIR/sweep.png) [base drive default: the first cavity's "
+                   "master along --dof].")
 @click.option("--direction", type=click.Choice(["up", "down", "both"]),
               help="Chain the points, each continuing from the previous one's state "
                    "[default: every point from the deck's initial state, in parallel].")
@@ -47,9 +57,9 @@ from x3dpd.errors import InputError
                    "not with the structure put on its predicted steady-state motion.")
 @click.option("--overwrite", is_flag=True, help="Discard a different sweep stored in DIR.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
-def sweep(deck, freq, amp, node, dof, response, direction, baseline, out, workers, scheduler,
-          dt, tol, window, max_cycles, samples_per_cycle, no_extrapolate, no_predict, overwrite,
-          quiet):
+def sweep(deck, freq, drive, amp, node, dof, response, direction, baseline, out, workers,
+          scheduler, dt, tol, window, max_cycles, samples_per_cycle, no_extrapolate, no_predict,
+          overwrite, quiet):
     """Steady-state response of a node across frequencies (DIR/sweep.csv, DIR/sweep.png)."""
     from x3dpd.design.commands import sweep_command
 
@@ -63,4 +73,4 @@ def sweep(deck, freq, amp, node, dof, response, direction, baseline, out, worker
                   workers=workers, scheduler=scheduler, dt=dt, tol=tol, window=window,
                   max_cycles=max_cycles, samples_per_cycle=samples_per_cycle,
                   extrapolate=not no_extrapolate, predict=not no_predict, overwrite=overwrite,
-                  responses=response, echo=(lambda s: None) if quiet else click.echo)
+                  responses=response, drive=drive, echo=(lambda s: None) if quiet else click.echo)

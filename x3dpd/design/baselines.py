@@ -13,6 +13,16 @@ The energy the dashpot dissipates per cycle is pi c w X^2. A modal structure (MO
 other springs is linear too: its receptance from the modes (x3dpd.physics.modal.receptance),
 the deck's mass and, for the added-mass baseline, the particles' mass coupled in
 (x3dpd.model.build_modal). Anything else is simulated.
+
+A base drive (the base node moved on u = U sin(w t), x3dpd.design.drive) has a closed form when
+the structure is a linear SDOF on that base: one body free along the drive only, springs and
+dashpots k_b, c_b to the base node and k_g, c_g to ground (:class:`BaseSdof`):
+
+    m x'' + (c_b + c_g) x' + (k_b + k_g) x = k_b u + c_b u',
+    X / U = T(w) = (k_b + i c_b w) / (k_b + k_g - m w^2 + i (c_b + c_g) w),
+
+the absolute motion's transmissibility (with k_g = c_g = 0 the textbook (k + i c w) /
+(k - m w^2 + i c w)). A modal structure under base motion has none here: it is simulated.
 """
 
 from __future__ import annotations
@@ -91,6 +101,135 @@ class ModalLinear:
             damping = damping + self.coupling
         dyn = np.diag(self.omega ** 2 - omega * omega).astype(complex) + 1j * omega * damping
         return np.linalg.solve(dyn, drive * self.phi.astype(complex))
+
+
+@dataclass(frozen=True)
+class BaseSdof:
+    """A linear SDOF on a moving base (module doc): mass m [mass], spring k_base [force/length]
+    and dashpot c_base [force s/length] to the base, k_ground and c_ground to ground; ``body``
+    the node id of its (master) node."""
+
+    m: float
+    k_base: float
+    c_base: float
+    k_ground: float
+    c_ground: float
+    body: int
+
+    def transmissibility(self, omega: float) -> complex:
+        """T = X / U, the body's complex absolute amplitude per base amplitude at ``omega``."""
+        k, c = self.k_base + self.k_ground, self.c_base + self.c_ground
+        return complex(self.k_base, self.c_base * omega) / complex(k - self.m * omega ** 2,
+                                                                   c * omega)
+
+    def response(self, base_amplitude: float, omega: float) -> tuple[float, float]:
+        """Steady-state amplitude X [length] and phase [rad] against the base's sin(omega t)
+        under a base motion of amplitude ``base_amplitude`` [length]."""
+        t = self.transmissibility(omega)
+        return abs(base_amplitude * t), math.atan2(t.imag, t.real)
+
+    def dissipated_per_cycle(self, base_amplitude: float, omega: float) -> float:
+        """Energy the dashpots take per cycle, pi w (c_b |X - U|^2 + c_g |X|^2) [force length]
+        (= the base's work per cycle in the steady state)."""
+        x = base_amplitude * self.transmissibility(omega)
+        return math.pi * omega * (self.c_base * abs(x - base_amplitude) ** 2
+                                  + self.c_ground * abs(x) ** 2)
+
+
+def rigid_body(model: Model, i: int) -> tuple[set[int], float, int]:
+    """(node indices, mass, master index) of the body node index ``i`` belongs to: the rigid
+    body it is master or slave of, else the node alone."""
+    for b, master in enumerate(model.rigid_master):
+        slaves = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
+        if master == i or i in slaves:
+            return {int(master)} | set(slaves.tolist()), float(model.rigid_mass[b]), int(master)
+    return {i}, float(model.mass[i]), i
+
+
+def base_sdof(model: Model, base: int, dof: int) -> BaseSdof | None:
+    """The closed-form SDOF of a particle-free model whose ``base`` node is moved along
+    ``dof``, or None.
+
+    None unless: no particles, no modal structure, ``dof`` a translation; the springs from the
+    base's side (the base and the rigid body it is master of) lead to one body (a node and the
+    nodes rigidly linked to it), free along ``dof`` only; every other node is fixed along
+    ``dof``; every spring joins that body to the base's side or to ground (or the base's side
+    to ground, which the base's motion overrides), along the global axes (MATID type 1).
+    """
+    if model.n_particles or model.modal is not None or dof not in (1, 2, 3):
+        return None
+    if model.axial_nodes.shape[0] or model.rotational_nodes.shape[0]:
+        return None
+    try:
+        i = model.index_of(base)
+    except KeyError:
+        return None
+    d = dof - 1
+    base_side, _, master = rigid_body(model, i)
+    if master != i:
+        return None
+    partners = {int(b if a in base_side else a) for a, b in model.spring_nodes
+                if (a in base_side) != (b in base_side) and a >= 0 and b >= 0}
+    if not partners:
+        return None
+    body, mass, body_master = rigid_body(model, partners.pop())
+    if any(p not in body for p in partners):
+        return None
+    free = ~model.fixed[body_master]
+    if not free[d] or np.count_nonzero(free) != 1:
+        return None
+    others = [j for j in range(model.n_nodes) if j not in body and j not in base_side]
+    if others and not np.all(model.fixed[others, d]):
+        return None
+    k_b = c_b = k_g = c_g = 0.0
+    for (a, b), ks, cs in zip(model.spring_nodes, model.spring_k, model.spring_c):
+        ends = {("body" if n in body else "base" if n in base_side else "ground" if n < 0
+                 else "other") for n in (int(a), int(b))}
+        if ends == {"body", "base"}:
+            k_b += float(ks[d])
+            c_b += float(cs[d])
+        elif ends == {"body", "ground"}:
+            k_g += float(ks[d])
+            c_g += float(cs[d])
+        elif "other" in ends or ends == {"body"}:
+            return None
+    if not (mass > 0 and k_b > 0):
+        return None
+    return BaseSdof(mass, k_b, c_b, k_g, c_g, int(model.node_ids[body_master]))
+
+
+def base_structure(model: Model, base: int, dof: int, response: tuple[int, int]
+                   ) -> BaseSdof | None:
+    """The :class:`BaseSdof` measured at ``response`` (node, dof): its body along the drive,
+    else None (simulated)."""
+    sdof = base_sdof(model, base, dof)
+    if sdof is None or response[1] != dof:
+        return None
+    try:
+        i = model.index_of(response[0])
+    except KeyError:
+        return None
+    body, _, _ = rigid_body(model, model.index_of(sdof.body))
+    return sdof if i in body else None
+
+
+def cavity_master(deck: Deck) -> int | None:
+    """The RBEL master of the first wall node (CONTACT triangles' first nodes, then analytic
+    walls') that is linked to one, or None."""
+    walls = [tri.nodes[0] for contact in deck.contacts for tri in contact.triangles]
+    walls += [w.nodes[0] for w in deck.analytic_walls or ()]
+    for node in walls:
+        for rb in deck.rbels:
+            if node in rb.slaves or node == rb.master:
+                return rb.master
+    return None
+
+
+def base_mass_node(deck: Deck, base: int, dof: int) -> int | None:
+    """Where a base drive's added-mass baseline puts the particles' mass: the body of the
+    undamped structure's :class:`BaseSdof`, else the first cavity's master, else None."""
+    sdof = base_sdof(build_model(without_particles(deck)), base, dof)
+    return sdof.body if sdof is not None else cavity_master(deck)
 
 
 def linear_structure(model: Model, node: int, dof: int, response: tuple[int, int] | None = None):
@@ -209,8 +348,9 @@ def linear_sdof(model: Model, node: int, dof: int) -> Sdof | None:
     return Sdof(m=mass, k=k, c=c) if mass > 0 and k > 0 else None
 
 
-def baseline_decks(deck: Deck, names, node: int) -> dict[str, Deck]:
-    """The baseline decks asked for, by name (``BASELINES``)."""
+def baseline_decks(deck: Deck, names, node: int | None) -> dict[str, Deck]:
+    """The baseline decks asked for, by name (``BASELINES``); ``node`` takes the particles'
+    mass in the added-mass one (the driven node; a base drive's :func:`base_mass_node`)."""
     unknown = [n for n in names if n not in BASELINES]
     if unknown:
         raise InputError(f"--baseline: unknown baseline {unknown[0]!r}; expected a comma list "
@@ -219,5 +359,9 @@ def baseline_decks(deck: Deck, names, node: int) -> dict[str, Deck]:
     if "undamped" in names:
         out["undamped"] = without_particles(deck)
     if "added-mass" in names:
+        if node is None:
+            raise InputError("--baseline added-mass: with --drive base the particles' mass goes "
+                             "to the body spring-mounted on the base, or to the first cavity's "
+                             "master; this deck has neither")
         out["added-mass"] = with_added_mass(deck, node, particle_mass(build_model(deck)))
     return out

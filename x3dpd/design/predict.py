@@ -25,6 +25,14 @@ continuous; the point's dissipation per cycle is measured from ledger difference
 steady state reached does not depend on the start where it is unique; where several coexist the
 chain's scaling keeps the branch. Only structures the added-mass baseline can solve in closed
 form (a linear SDOF on the driven node) are predicted; any other deck starts as before.
+
+A base drive (x3dpd.design.drive) is predicted the same way from the added-mass structure's
+:class:`~x3dpd.design.baselines.BaseSdof`: its body gets X = T(w) U about its static position
+under the body force (gravity along the drive sags it by M g / k), the base starts on its own
+motion, and a chain's scale comes from the body's measured response at the previous point (a
+``--response`` at the body; without one a chained point is not predicted). A chained point
+that is not predicted still has its base moved from the previous point's motion onto its own
+at the start (:func:`continued_base_start`), the energy booked the same way.
 """
 
 from __future__ import annotations
@@ -36,8 +44,11 @@ import numpy as np
 
 from x3dpd.api import FinalState
 from x3dpd.api.outputs import deck_key
-from x3dpd.design.baselines import ModalLinear, linear_structure, particle_mass, with_added_mass
+from x3dpd.design.baselines import (ModalLinear, base_sdof, linear_structure, particle_mass,
+                                    rigid_body, with_added_mass, without_particles)
+from x3dpd.design.drive import displacement_amplitude
 from x3dpd.model.build import build_model
+from x3dpd.physics.motion import apply_motion
 from x3dpd.solver.simulation import Simulation
 
 #: Bounds of the chain's scale |rho|: outside them the previous point is no guide.
@@ -64,10 +75,14 @@ def added_mass_structure(deck, node: int, dof: int, model=None):
                             node, dof)
 
 
-def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple):
+def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
+                    motion: tuple = ()):
     """The state to start ``point`` from (``previous`` = (row, FinalState) of the point before
     in a chain, or None), with the structure on its predicted steady-state motion; None when the
-    structure cannot be predicted (the caller then starts as before)."""
+    structure cannot be predicted (the caller then starts as before). ``usrfrc`` and ``motion``
+    are the point's force and (base drive) motion specs."""
+    if point.base:
+        return _base_start(point, previous, dt, t_start, motion)
     model = build_model(point.deck)
 
     def response(drive: float, hz: float) -> complex | None:
@@ -174,3 +189,95 @@ def _cavity_bodies(model) -> dict[int, int]:
     for nodes, c in zip(model.shape_nodes, model.shape_cavity):
         out.setdefault(int(c), int(owner[nodes[0]]))
     return out
+
+
+def added_mass_base(deck, node: int, dof: int, model=None):
+    """The base-driven added-mass structure (a BaseSdof: the particles' mass on the body the
+    base carries) of a deck whose ``node`` is moved along ``dof``, or None."""
+    model = build_model(deck) if model is None else model
+    bare = base_sdof(build_model(without_particles(deck)), node, dof)
+    if bare is None:
+        return None
+    return base_sdof(build_model(with_added_mass(deck, bare.body, particle_mass(model))), node,
+                     dof)
+
+
+def _base_start(point, previous, dt: float, t_start: float, motion: tuple):
+    """The predicted start of a base-driven point (module doc), or None."""
+    model = build_model(point.deck)
+    structure = added_mass_base(point.deck, point.node, point.dof, model)
+    if structure is None:
+        return None
+    omega = 2.0 * math.pi * point.frequency_hz
+
+    def response(drive: float, hz: float) -> complex:
+        w = 2.0 * math.pi * hz
+        return displacement_amplitude(drive, point.quantity, w) * structure.transmissibility(w)
+
+    target = response(point.drive, point.frequency_hz)
+    if previous is not None:
+        row = previous[0]
+        seen = [m for m in row.get("responses", ())
+                if (m["response_node"], m["response_dof"]) == (structure.body, point.dof)]
+        if not seen:
+            return None
+        rho = (cmath.rect(seen[0]["amplitude"], math.radians(seen[0]["phase"]))
+               / response(row["drive"], row["frequency_hz"]))
+        if not (cmath.isfinite(rho) and RHO_RANGE[0] <= abs(rho) <= RHO_RANGE[1]):
+            return None
+        target *= rho
+    sim, e_before = _base_sim(model, motion, dt, t_start, previous)
+    state = sim.state
+    d = point.dof - 1
+    i = model.index_of(structure.body)
+    sag = structure.m * float(model.body_accel[d]) / (structure.k_base + structure.k_ground)
+    u = sag + abs(target) * math.sin(cmath.phase(target))
+    v = abs(target) * omega * math.cos(cmath.phase(target))
+    dx = model.x0[i, d] + u - state.x[i, d]
+    dv = v - state.vel[i, d]
+    base_side, _, _ = rigid_body(model, model.index_of(point.node))
+    moving = ~np.asarray(model.fixed[:, d])
+    moving[list(base_side)] = False
+    state.x[moving, d] += dx
+    state.vel[moving, d] += dv
+    return _booked(sim, model, t_start, e_before, point.deck, dt)
+
+
+def continued_base_start(point, previous, dt: float, t_start: float, motion: tuple):
+    """The previous point's final state with the base moved onto this point's motion at
+    ``t_start`` (position, velocity; the structure as it was), the change of energy booked in
+    the reference energy."""
+    model = build_model(point.deck)
+    sim, e_before = _base_sim(model, motion, dt, t_start, previous)
+    return _booked(sim, model, t_start, e_before, point.deck, dt)
+
+
+def _base_sim(model, motion: tuple, dt: float, t_start: float, previous):
+    """A simulation with the base's motion, at the deck's start (the base put on its motion
+    there) or at the previous point's end with the base put on this motion at ``t_start``;
+    and the energy before the base was moved (at the deck's start: after)."""
+    sim = Simulation(model, motion=motion, dt=dt)
+    if previous is None:
+        sim.initialize()
+        return sim, total_energy(sim)
+    sim.restore(previous[1].state.copy())
+    e_before = total_energy(sim)
+    k, state = sim.setup, sim.state
+    apply_motion(t_start, sim.motion, k.x0, state.x, state.vel)
+    if k.rig_master.shape[0]:
+        sim.kernels._update_slaves(state.x, state.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
+                                   k.rig_r0, state.rot, True, True)
+    return sim, e_before
+
+
+def _booked(sim, model, t_start: float, e_before: float, deck, dt: float) -> FinalState:
+    """Forces at the moved state, the actuator's force of the motion's first step, and the
+    energy change booked in the reference energy."""
+    state = sim.state
+    sim.restore(state)   # wall planes follow the moved nodes
+    sim.compute_forces(t_start)
+    knots = np.flatnonzero(sim.motion[:, 0] < 0.0)   # a random motion's knots follow its rows
+    rows = sim.motion[:knots[0] if knots.size else len(sim.motion), :2].astype(np.int64)
+    state.motion_prev[:] = state.force[rows[:, 0], rows[:, 1]]
+    state.e_ref += total_energy(sim) - e_before
+    return FinalState(state=state, deck_key=deck_key(deck), dt=dt, time=t_start)

@@ -1,8 +1,10 @@
 """What a sweep is asked to do: parsing ``--freq``/``--amp`` and finding the driven node.
 
-The default node and DOF are the deck's USRFRC drive (its first ``sine``/``sweep``/... spec's
-``node`` and ``dof``), else the first cavity's master node (the RBEL master of the first CONTACT
-triangle's first node) along x.
+The default node and DOF of a force drive are the deck's USRFRC drive (its first
+``sine``/``sweep``/... spec's ``node`` and ``dof``), else the first cavity's master node (the RBEL
+master of the first CONTACT triangle's or analytic wall's first node) along x. A base drive
+(``--drive base``, x3dpd.design.drive) names its base node; it measures the first cavity's
+master along the same DOF unless ``--response`` says where.
 """
 
 from __future__ import annotations
@@ -13,13 +15,19 @@ from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 
 from x3dpd.deck.cards import Deck
+from x3dpd.design.baselines import cavity_master
+from x3dpd.design.drive import parse_amplitudes
 from x3dpd.design.steady_state import Criterion
 from x3dpd.errors import InputError
 
 
 @dataclass(frozen=True)
 class SweepSpec:
-    """What to sweep: the deck, frequencies [Hz], drive amplitudes [force], node, DOF, chains."""
+    """What to sweep: the deck, frequencies [Hz], drive amplitudes, node, DOF, chains.
+
+    ``quantity`` "force": ``drives`` are forces on ``node`` along ``dof``; "displacement",
+    "velocity" or "acceleration": a base drive, ``node`` moved along ``dof`` with those
+    amplitudes (x3dpd.design.drive)."""
 
     deck: Deck
     deck_text_hash: str
@@ -33,6 +41,12 @@ class SweepSpec:
     criterion: Criterion = field(default_factory=Criterion)
     #: (node, dof) pairs measured besides the driven one (``--response NODE:DOF``)
     responses: tuple[tuple[int, int], ...] = ()
+    quantity: str = "force"
+
+    @property
+    def base(self) -> bool:
+        """Whether the node is moved (a base drive) rather than forced."""
+        return self.quantity != "force"
 
     def settings(self) -> dict:
         """What makes two sweeps' points interchangeable (stored in DIR/sweep.json)."""
@@ -40,6 +54,9 @@ class SweepSpec:
                "dt": self.dt, "criterion": asdict(self.criterion)}
         if self.responses:
             out["responses"] = [list(r) for r in self.responses]
+        if self.base:
+            out["drive"] = "base"
+            out["quantity"] = self.quantity
         return out
 
 
@@ -64,20 +81,7 @@ def parse_frequencies(text: str) -> tuple[float, ...]:
 
 def parse_drives(texts: Sequence[str]) -> tuple[float, ...]:
     """``--amp`` values (repeatable, each a number or a comma list), force units."""
-    out = []
-    for text in texts:
-        for part in str(text).split(","):
-            try:
-                v = float(part.replace("d", "e").replace("D", "e"))
-            except ValueError:
-                raise InputError(f"--amp {text!r}: expected a drive amplitude (force), "
-                                 "or a comma list of them") from None
-            if not (math.isfinite(v) and v != 0):
-                raise InputError(f"--amp {text!r}: a drive amplitude must be finite and not 0")
-            out.append(v)
-    if not out:
-        raise InputError("--amp: give at least one drive amplitude")
-    return tuple(dict.fromkeys(out))
+    return parse_amplitudes(texts, "force", math.nan)[1]
 
 
 def parse_responses(texts: Sequence[str], deck: Deck) -> tuple[tuple[int, int], ...]:
@@ -108,11 +112,49 @@ def default_drive_point(deck: Deck) -> tuple[int, int]:
             dof = re.search(r"\bdof\s*=\s*(\d+)", spec, re.I)
             if node and dof:
                 return int(node.group(1)), int(dof.group(1))
-    for contact in deck.contacts:
-        for tri in contact.triangles:
-            for rb in deck.rbels:
-                if tri.nodes[0] in rb.slaves or tri.nodes[0] == rb.master:
-                    return rb.master, 1
+    master = cavity_master(deck)
+    if master is not None:
+        return master, 1
     raise InputError(f"{deck.path}: no USRFRC drive and no cavity master node to drive; "
                      "give --node N --dof D")
+
+
+def check_base(deck: Deck, node: int | None, dof: int | None,
+               responses: tuple[tuple[int, int], ...]) -> tuple[int, int,
+                                                              tuple[tuple[int, int], ...]]:
+    """(node, dof, responses) of a base drive (``--drive base``), checked: the base a node of
+    the deck that is neither a particle nor a rigid body's slave (its master moves it), a
+    translation (DOF 1-3; default 1); without ``responses``, the first cavity's master along
+    ``dof``. Raises InputError saying what is wrong."""
+    if node is None:
+        raise InputError("--drive base: give --node N, the base node the shaker moves "
+                         "(and --dof D, default 1)")
+    dof = 1 if dof is None else dof
+    if dof not in (1, 2, 3):
+        raise InputError(f"--drive base --dof {dof}: a base drive moves a translation, dof 1, "
+                         "2 or 3")
+    nodes = {n.nid for n in deck.nodes}
+    if node not in nodes:
+        raise InputError(f"--drive base --node {node}: node {node} is not a node of "
+                         f"{deck.path}")
+    if deck.pdmp and node > min(p.nodlim for p in deck.pdmp):
+        raise InputError(f"--drive base --node {node}: node {node} is a particle; the base "
+                         "is a structure node")
+    for rb in deck.rbels:
+        if node in rb.slaves:
+            raise InputError(f"--drive base --node {node}: node {node} is a slave of rigid "
+                             f"body master {rb.master}, which moves it; move the master")
+    if not responses:
+        master = cavity_master(deck)
+        if master is None or master == node:
+            raise InputError("--drive base: give --response NODE:DOF, where to measure the "
+                             "transmissibility")
+        responses = ((master, dof),)
+    return node, dof, responses
+
+
+def check_node(deck: Deck, node: int, option: str = "--node") -> None:
+    """InputError unless ``node`` is a node of the deck."""
+    if node not in {n.nid for n in deck.nodes}:
+        raise InputError(f"{option} {node}: node {node} is not a node of {deck.path}")
 

@@ -1,7 +1,9 @@
 """One point of a frequency sweep: drive a deck with F sin(w (t - t0)) until its steady state.
 
 The run goes through the Python API (:func:`x3dpd.api.run`): the deck's USRFRC drive is replaced
-by a sine on the chosen node and DOF, the node is recorded at >= ``samples_per_cycle`` samples
+by a sine on the chosen node and DOF -- or, in a base drive, the node is moved on U sin(w (t -
+t0)) (a prescribed motion, x3dpd.design.drive; the deck comes without its USRFRC card) -- the
+node is recorded at >= ``samples_per_cycle`` samples
 per drive period (not at the deck's trace interval), and a
 :class:`~x3dpd.analysis.steady_state.SteadyStateMonitor` watches every computed chunk and ends
 the run as soon as the criterion of ``x3dpd/analysis/steady_state.py`` is met, or at the cap.
@@ -19,13 +21,16 @@ from dataclasses import dataclass, field
 from x3dpd.analysis.steady_state import SteadyStateMonitor
 from x3dpd.api import run as run_deck
 from x3dpd.deck.cards import Deck
-from x3dpd.design.predict import predicted_start
+from x3dpd.design.drive import BASE_QUANTITIES, base_motion_spec, displacement_amplitude
+from x3dpd.design.predict import continued_base_start, predicted_start
 from x3dpd.errors import InputError
 from x3dpd.solver.simulation import ENERGY_COLUMNS
 
 #: Ledger columns summed as the energy dissipated by the particles, and by everything.
 PARTICLE_LOSSES = ("dissipated_viscoelastic", "dissipated_friction")
 ALL_LOSSES = PARTICLE_LOSSES + ("dissipated_dampers",)
+#: The ledger column of the base's (actuator's) work, a base drive's input per cycle.
+BASE_WORK = "external_work"
 
 
 @dataclass(frozen=True)
@@ -61,12 +66,25 @@ class SweepPoint:
     criterion: Criterion = field(default_factory=Criterion)
     #: (node, dof) pairs measured besides the driven one
     responses: tuple[tuple[int, int], ...] = ()
+    #: "force", or a base drive's amplitude quantity (x3dpd.design.drive)
+    quantity: str = "force"
 
     @property
     def key(self) -> str:
         """A file-name-safe identity, stable across runs (resuming)."""
-        return (f"{self.config}_F{self.drive:.6e}_{self.direction or 'rest'}"
+        letter = BASE_QUANTITIES.get(self.quantity, "F")
+        return (f"{self.config}_{letter}{self.drive:.6e}_{self.direction or 'rest'}"
                 f"_{self.frequency_hz:.6f}Hz")
+
+    @property
+    def base(self) -> bool:
+        """Whether the node is moved (a base drive) rather than forced."""
+        return self.quantity != "force"
+
+    def base_amplitude(self) -> float:
+        """A base drive's displacement amplitude U at this frequency [length]."""
+        return displacement_amplitude(self.drive, self.quantity,
+                                      2.0 * math.pi * self.frequency_hz)
 
 
 def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
@@ -93,62 +111,87 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     monitor = new_monitor()
     measured = [(point.node, point.dof)] + list(point.responses)
     watchers = [monitor] + [new_monitor() for _ in point.responses]
-    cols = [ENERGY_COLUMNS.index(name) for name in ALL_LOSSES]
+    fed = ALL_LOSSES + ((BASE_WORK,) if point.base else ())
+    cols = [ENERGY_COLUMNS.index(name) for name in fed]
+
+    # the monitor that measures the point's energies, cycles and how it ended: the driven
+    # node's; a base drive's first response (the base itself is steady from its first cycle)
+    lead = 1 if point.base and point.responses else 0
 
     def stop(block) -> bool:
-        ledger = {name: block.energy[:, j] for name, j in zip(ALL_LOSSES, cols)}
+        ledger = {name: block.energy[:, j] for name, j in zip(fed, cols)}
         done = True
         for k, (watch, (_, dof)) in enumerate(zip(watchers, measured)):
             done &= watch.feed(block.time, block.position[:, k, dof - 1],
-                               block.velocity[:, k, dof - 1], ledger if k == 0 else None)
+                               block.velocity[:, k, dof - 1], ledger if k == lead else None)
         return done
 
-    spec = (f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
-            f"hz={point.frequency_hz!r},t0={t_start!r}")
+    if point.base:
+        usrfrc, motion = (), (base_motion_spec(point.node, point.dof, point.base_amplitude(),
+                                               point.frequency_hz, t_start),)
+    else:
+        usrfrc = (f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
+                  f"hz={point.frequency_hz!r},t0={t_start!r}",)
+        motion = ()
     wall = _time.perf_counter()
     start = "previous" if previous is not None else "deck"
     if crit.predict:
-        predicted = predicted_start(point, previous, dt, t_start, (spec,))
+        predicted = predicted_start(point, previous, dt, t_start, usrfrc, motion)
         if predicted is not None:
             state, start = predicted, "predicted"
+    if point.base and start == "previous":
+        # the base leaves the previous point's motion for this one's (energy booked)
+        state = continued_base_start(point, previous, dt, t_start, motion)
     result = run_deck(point.deck, tmax=t_start + (crit.max_cycles + 1) * period, dt=dt,
-                      usrfrc=(spec,), usrfrc_mode="replace", itrac=itrac,
+                      usrfrc=usrfrc, usrfrc_mode="replace", motion=motion, itrac=itrac,
                       trace_nodes=tuple(n for n, _ in measured), keep_trace=False,
                       initial_state=state,
                       stop=stop, stop_every=crit.samples_per_cycle)
     wall = _time.perf_counter() - wall
     ss = monitor.result()
+    whole = watchers[lead].result()
     summary = result.summary
-    loss = ss.dissipated_per_cycle
+    loss = whole.dissipated_per_cycle
+    if point.base:   # the base's work per cycle, from the ledger
+        work = loss.get(BASE_WORK, math.nan)
+    else:   # steady state: the drive's work per cycle, pi F X sin(-phi), equals the dissipation
+        work = math.pi * point.drive * ss.amplitude * math.sin(-math.radians(ss.phase_deg))
     row = {
         "config": point.config, "frequency_hz": point.frequency_hz, "drive": point.drive,
-        "direction": point.direction, "amplitude": ss.amplitude, "phase": ss.phase_deg,
-        "velocity": ss.velocity, "acceleration": ss.acceleration,
-        "accelerance": ss.acceleration / abs(point.drive), "peak": ss.peak, "mean": ss.mean,
-        "spread": ss.spread,
+        "drive_quantity": point.quantity, "direction": point.direction,
+        **response_columns(ss, point),
         "dissipated_per_cycle": sum(loss.get(name, math.nan) for name in ALL_LOSSES),
         "dissipated_particles_per_cycle": sum(loss.get(name, math.nan)
                                               for name in PARTICLE_LOSSES),
-        # steady state: the drive's work per cycle, pi F X sin(-phi), equals the dissipation
-        "input_work_per_cycle": math.pi * point.drive * ss.amplitude
-        * math.sin(-math.radians(ss.phase_deg)),
-        "cycles": ss.cycles, "converged": ss.converged, "extrapolated": ss.extrapolated,
-        "irregular": ss.irregular, "measured_amplitude": ss.measured_amplitude,
-        "change": ss.change, "method": "simulated", "start": start,
+        "input_work_per_cycle": work,
+        "cycles": whole.cycles, "extrapolated": whole.extrapolated,
+        "irregular": whole.irregular, "method": "simulated", "start": start,
         "t_start": t_start, "t_end": float(summary["t_end"]), "steps": int(summary["steps"]),
         "compile_s": float(summary.get("compile_s", 0.0)), "wall_s": wall,
         "response_node": point.node, "response_dof": point.dof,
     }
     if point.responses:
-        row["responses"] = [response_columns(w.result(), node, dof, point.drive)
+        row["responses"] = [response_columns(w.result(), point, node, dof)
                             for w, (node, dof) in zip(watchers[1:], point.responses)]
+    if point.base:   # the base's own row says whether the point (every node) converged
+        row["converged"] = all(w.converged for w in watchers)
     return row, result.final_state
 
 
-def response_columns(ss, node: int, dof: int, drive: float) -> dict:
-    """The columns of a measured response (``--response``) at one point."""
-    return {"response_node": node, "response_dof": dof, "amplitude": ss.amplitude,
-            "phase": ss.phase_deg, "velocity": ss.velocity, "acceleration": ss.acceleration,
-            "accelerance": ss.acceleration / abs(drive), "peak": ss.peak, "mean": ss.mean,
-            "spread": ss.spread, "measured_amplitude": ss.measured_amplitude,
-            "change": ss.change, "converged": ss.converged}
+def response_columns(ss, point: SweepPoint, node: int | None = None,
+                     dof: int | None = None) -> dict:
+    """The columns of a node measured at ``point`` (its driven node, or a ``--response``):
+    accelerance = acceleration / |F| for a force drive, transmissibility = acceleration /
+    the base's (w^2 U) for a base drive (the other of the two nan)."""
+    w = 2.0 * math.pi * point.frequency_hz
+    out = {"amplitude": ss.amplitude, "phase": ss.phase_deg, "velocity": ss.velocity,
+           "acceleration": ss.acceleration,
+           "accelerance": math.nan if point.base else ss.acceleration / abs(point.drive),
+           "transmissibility": (ss.acceleration / (w * w * point.base_amplitude())
+                                if point.base else math.nan),
+           "peak": ss.peak, "mean": ss.mean, "spread": ss.spread,
+           "measured_amplitude": ss.measured_amplitude, "change": ss.change,
+           "converged": ss.converged}
+    if node is not None:
+        out = {"response_node": node, "response_dof": dof, **out}
+    return out

@@ -8,6 +8,11 @@ already moving), so jumps and hysteresis show as in the report's up/down experim
 runs the two chains side by side. Baselines whose structure is a linear SDOF are computed in
 closed form (``x3dpd/design/baselines.py``); otherwise they are simulated like the deck.
 
+A point is driven by a force on its node, or, in a base drive (``SweepSpec.quantity`` not
+"force", x3dpd.design.drive), by moving its node on a prescribed sine: the deck's USRFRC card is
+then dropped, and each measured response has a ``transmissibility`` (its acceleration amplitude
+over the base's) where a force drive has an ``accelerance``.
+
 Execution goes through ``dask.distributed``: ``workers`` local worker processes (a LocalCluster),
 or an existing cluster at ``scheduler``; ``workers=1`` runs serially in this process. The same
 function computes every point in every mode, so the results are identical bit for bit. A point
@@ -24,31 +29,33 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
-import math
 import os
 import pickle
 import signal
 import threading
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from x3dpd.design.baselines import baseline_decks, linear_structure
+from x3dpd.design.baselines import base_structure, baseline_decks, linear_structure
+from x3dpd.design.closed_form import (base_closed_form_rows, baseline_curves,  # noqa: F401
+                                      closed_form_rows, mass_node)
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import SweepPoint, run_point
 from x3dpd.errors import InputError
 from x3dpd.model.build import build_model
 
 #: sweep.csv columns, in order.
-COLUMNS = ("config", "frequency_hz", "drive", "direction", "amplitude", "phase", "velocity",
-           "acceleration", "accelerance", "peak", "mean", "spread", "dissipated_per_cycle",
+COLUMNS = ("config", "frequency_hz", "drive", "drive_quantity", "direction", "amplitude",
+           "phase", "velocity", "acceleration", "accelerance", "transmissibility", "peak", "mean", "spread", "dissipated_per_cycle",
            "dissipated_particles_per_cycle", "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
            "branch", "measured_amplitude", "change", "method", "start", "t_start", "t_end", "steps",
            "compile_s", "wall_s", "response_node", "response_dof")
 #: Columns a measured response (``--response``) has of its own; the rest are its point's.
 RESPONSE_COLUMNS = ("response_node", "response_dof", "amplitude", "phase", "velocity",
-                    "acceleration", "accelerance", "peak", "mean", "spread",
+                    "acceleration", "accelerance", "transmissibility", "peak", "mean", "spread",
                     "measured_amplitude", "change", "converged")
 DIRECTIONS = ("up", "down", "both")
 
@@ -60,12 +67,21 @@ def deck_hash(path: str | os.PathLike) -> str:
 
 def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
     """The chains to simulate and the closed-form rows, for the deck and its baselines."""
-    configs = {"deck": spec.deck, **baseline_decks(spec.deck, spec.baselines, spec.node)}
+    configs = {"deck": spec.deck, **baseline_decks(spec.deck, spec.baselines,
+                                                   mass_node(spec))}
+    if spec.base:   # the base's motion drives it: no USRFRC force besides
+        configs = {name: replace(deck, usrfrc=()) for name, deck in configs.items()}
     chains: list[list[SweepPoint]] = []
     closed: list[dict] = []
     for config, deck in configs.items():
         sdof = structures = None
-        if config != "deck":
+        if config != "deck" and spec.base:
+            model = build_model(deck)
+            structures = [base_structure(model, spec.node, spec.dof, r) for r in spec.responses]
+            if structures and all(s is not None for s in structures):
+                closed.extend(base_closed_form_rows(config, spec, structures))
+                continue
+        elif config != "deck":
             model = build_model(deck)
             sdof = linear_structure(model, spec.node, spec.dof)
             structures = [linear_structure(model, spec.node, spec.dof, r)
@@ -78,7 +94,7 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
                 return SweepPoint(config=config, deck=deck, frequency_hz=f, drive=drive,
                                   node=spec.node, dof=spec.dof, direction=direction,
                                   dt=spec.dt, criterion=spec.criterion,
-                                  responses=spec.responses)
+                                  responses=spec.responses, quantity=spec.quantity)
             freqs = sorted(spec.frequencies)
             if spec.direction is None:
                 chains.extend([point(f)] for f in freqs)
@@ -87,54 +103,6 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
             if spec.direction in ("down", "both"):
                 chains.append([point(f, "down") for f in reversed(freqs)])
     return chains, closed
-
-
-def closed_form_rows(config: str, sdof, spec: SweepSpec, responses=()) -> list[dict]:
-    """Rows of a linear baseline (SDOF or modal) at every frequency and drive (``baselines.py``);
-    ``responses``: the structure measured at each of ``spec.responses``."""
-    rows = []
-    for drive in spec.drives:
-        for f in sorted(spec.frequencies):
-            w = 2.0 * math.pi * f
-            amp, phi = sdof.response(drive, w)
-            measured = []
-            for (node, dof), structure in zip(spec.responses, responses):
-                a, p = structure.response(drive, w)
-                measured.append({"response_node": node, "response_dof": dof, "amplitude": a,
-                                 "phase": math.degrees(p), "velocity": w * a,
-                                 "acceleration": w * w * a,
-                                 "accelerance": w * w * a / abs(drive), "peak": a,
-                                 "mean": math.nan, "spread": 0.0, "measured_amplitude": a,
-                                 "change": 0.0, "converged": True})
-            rows.append({
-                "config": config, "frequency_hz": f, "drive": drive, "direction": "",
-                "amplitude": amp, "phase": math.degrees(phi), "velocity": w * amp,
-                "acceleration": w * w * amp, "accelerance": w * w * amp / abs(drive),
-                "peak": amp, "mean": math.nan, "spread": 0.0,
-                "dissipated_per_cycle": sdof.dissipated_per_cycle(amp, w),
-                "dissipated_particles_per_cycle": 0.0,
-                "input_work_per_cycle": sdof.dissipated_per_cycle(amp, w), "cycles": 0, "converged": True,
-                "extrapolated": False, "irregular": False, "measured_amplitude": amp,
-                "change": 0.0, "method": "closed-form", "start": "", "t_start": 0.0, "t_end": 0.0,
-                "steps": 0, "compile_s": 0.0, "wall_s": 0.0, "response_node": spec.node,
-                "response_dof": spec.dof, **({"responses": measured} if measured else {})})
-    return rows
-
-
-def baseline_curves(spec: SweepSpec, n: int = 2001, response: tuple[int, int] | None = None
-                    ) -> dict:
-    """Closed-form baseline curves on a fine grid over the swept band: {(config, drive): (f, X)}
-    at the driven DOF, or at ``response`` (node, dof)."""
-    out = {}
-    f = np.linspace(min(spec.frequencies), max(spec.frequencies), n)
-    for config, deck in baseline_decks(spec.deck, spec.baselines, spec.node).items():
-        sdof = linear_structure(build_model(deck), spec.node, spec.dof, response)
-        if sdof is None:
-            continue
-        for drive in spec.drives:
-            out[(config, drive)] = (f, np.array([sdof.response(drive, 2 * math.pi * x)[0]
-                                                 for x in f]))
-    return out
 
 
 class SweepDir:
@@ -192,8 +160,8 @@ def run_sweep(spec: SweepSpec, out: str | os.PathLike, *, workers: int | None = 
     ``scheduler``: address of an existing Dask scheduler (overrides ``workers``);
     ``on_point(row)`` is called as each point finishes (progress).
     """
+    chains, rows = plan(spec)   # first: a bad baseline or structure writes nothing
     store = SweepDir(out, spec, overwrite)
-    chains, rows = plan(spec)
     todo: list[tuple[list[SweepPoint], object]] = []
     for chain in chains:
         keep_state = len(chain) > 1
