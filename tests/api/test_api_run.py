@@ -22,6 +22,7 @@ ROOT = Path(__file__).resolve().parents[2]
 DECKS = ROOT / "decks"
 BEAM_DRIVE = "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21"
 CUBE_DRIVE = "sine:node=25,dof=1,amp=4.84040e-3,hz=37.21"
+SHAKER_BASE = "node=4,dof=2,amp=0.02,hz=36.75"
 
 #: (deck, extra CLI arguments, API keywords, tmax): every shipped deck that runs, a short window
 SHIPPED = [
@@ -33,6 +34,7 @@ SHIPPED = [
     ("beam_512.inp", [], {}, 1e-3),
     ("cylinder_64.inp", [], {}, 2e-3),
     ("capsule_64.inp", [], {}, 2e-3),
+    ("shaker_fig9.inp", ["--motion", SHAKER_BASE], {"motion": [SHAKER_BASE]}, 2e-3),
     ("impact_wall.inp", [], {}, None),
     ("hooke_wall.inp", [], {}, None),
 ]
