@@ -70,6 +70,8 @@ def test_a_user_force_step_loop_is_cached_and_matches_the_builtin(tmp_path, monk
     assert abs(row[0]) > 0.0
 
 
+@pytest.mark.validate   # compiles two user-file loops of their own (72 s warm on the 2-core
+                        # machine since the loop grew): python -m pytest -m validate
 def test_an_edited_file_gets_a_new_copy_and_its_new_force(tmp_path, monkeypatch):
     monkeypatch.setenv("X3DPD_CACHE_DIR", str(tmp_path / "cache"))
     user = tmp_path / "force.py"
@@ -82,6 +84,8 @@ def test_an_edited_file_gets_a_new_copy_and_its_new_force(tmp_path, monkeypatch)
     assert two[0] == pytest.approx(2.0 * one[0], rel=1e-9)
 
 
+@pytest.mark.validate   # compiles two user-file loops of their own (72 s warm on the 2-core
+                        # machine since the loop grew): python -m pytest -m validate
 def test_two_user_files_add_up_in_order(tmp_path, monkeypatch):
     monkeypatch.setenv("X3DPD_CACHE_DIR", str(tmp_path / "cache"))
     (tmp_path / "a.py").write_text(_constant(1e-3))
