@@ -82,12 +82,7 @@ def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping 
             ax.text(0.02, 0.97, "peak attenuation\n" + "\n".join(lines),
                     transform=ax.transAxes, va="top", fontsize=8)
         ax.set_title(f"drive {drive:.5g}", fontsize=9)
-    if title:
-        fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
-    return str(png)
+    return save_figure(plt, fig, png, title)
 
 
 def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
@@ -115,8 +110,13 @@ def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
                             base)
             label = drive_label(drive) if drive_label is not None else f"{drive:.5g}"
             ax.set_title(f"node {node} dof {dof}, drive {label}", fontsize=9)
-    if title:
-        fig.suptitle(title, fontsize=10)
+    return save_figure(plt, fig, png, title)
+
+
+def save_figure(plt, fig, png: str | os.PathLike, suptitle: str = "") -> str:
+    """Lay out, write (90 dpi) and close a figure; its title above all panels if given."""
+    if suptitle:
+        fig.suptitle(suptitle, fontsize=10)
     fig.tight_layout()
     fig.savefig(png, dpi=90)
     plt.close(fig)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from x3dpd.analysis.design_plots import _pyplot
+from x3dpd.analysis.design_plots import _pyplot, save_figure
 
 
 @dataclass(frozen=True)
@@ -83,10 +83,7 @@ def plot_frf(png: str | os.PathLike, curves: Sequence[Curve], *, ylabel: str,
     ax_m.legend(fontsize=8)
     if title:
         ax_m.set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
-    return str(png)
+    return save_figure(plt, fig, png)
 
 
 def plot_spectrum(png: str | os.PathLike, curves: Sequence[tuple[str, np.ndarray, np.ndarray]],
@@ -105,10 +102,7 @@ def plot_spectrum(png: str | os.PathLike, curves: Sequence[tuple[str, np.ndarray
     ax.legend(fontsize=8)
     if title:
         ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
-    return str(png)
+    return save_figure(plt, fig, png)
 
 
 def plot_fit(png: str | os.PathLike, frequency, measured, fitted, *, ylabel: str,
@@ -132,7 +126,4 @@ def plot_fit(png: str | os.PathLike, frequency, measured, fitted, *, ylabel: str
     ax_m.legend(fontsize=8)
     if title:
         ax_m.set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
-    return str(png)
+    return save_figure(plt, fig, png)
