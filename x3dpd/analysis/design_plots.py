@@ -28,10 +28,7 @@ def _finish(fig, ax, png, title: str) -> str:
     ax.legend(fontsize=8)
     if title:
         ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    _pyplot().close(fig)
-    return str(png)
+    return save_figure(_pyplot(), fig, png)
 
 
 def peak_attenuation_db(reference_peak: float, damped_peak: float) -> float:
