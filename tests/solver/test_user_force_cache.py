@@ -60,7 +60,7 @@ def test_a_user_force_step_loop_is_cached_and_matches_the_builtin(tmp_path, monk
     user = tmp_path / "force.py"
     user.write_text(SINE)
     sim, row = _run([user])
-    assert isinstance(sim.kernels.advance._cache, numba.core.caching.FunctionCache)
+    assert isinstance(sim.kernels.advance_packed._cache, numba.core.caching.FunctionCache)
     copies = sorted(p.name for p in (tmp_path / "cache").rglob("usrfrc_*.py"))
     assert len(copies) == 1
     model = build_model(sdof_deck(dt=DT, hz=HZ, drive=AMP))   # the same force, built in

@@ -25,7 +25,6 @@ from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import _build_wall_list, _face_offsets, _face_planes
 from x3dpd.physics.axial_spring import _axial_spring_forces
-from x3dpd.physics.gravity import _gravity_forces
 from x3dpd.physics.modal import _modal_drift, _modal_kick, _modal_place
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
@@ -56,21 +55,6 @@ def _no_user_force(t, x, vel, force):
 
 if USER_FORCE is None:
     USER_FORCE = _no_user_force
-
-
-@kernel
-def _forces(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, modal,
-            stepping):
-    """All forces at time t from x and the (half-step) velocities into ``nodes.force``; updates
-    the ledger. Returns the status bits (x3dpd.solver.bundles.Status). (``modal`` is not
-    read: the modal forces are projected by the step loop.)"""
-    ff = nodes.force.reshape(-1)
-    for k in range(ff.shape[0]):
-        ff[k] = 0.0
-    if HAS_GRAVITY:
-        _gravity_forces(nodes.mass, nodes.g, nodes.force)
-    return _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs,
-                        shapes, stepping)
 
 
 @step_kernel
@@ -181,10 +165,24 @@ def _adopt_new_list(lst, m):
     lst.count[0] = m
 
 
+#: What one call of the step loop does (its ``mode``): everything goes through the one entry
+#: :func:`advance_packed`, so that numba compiles the force terms and the list rebuild once per
+#: variant (inlined there) instead of once more for separate Python-facing kernels.
+STEP = 0      # advance up to ``nsteps`` steps
+REBUILD = 1   # rebuild the contact lists now (t0, a grown list); no step, ``nbr`` untouched
+FORCES = 2    # every force at ``t_start`` from the current state into nodes.force; no step
+
+
 @loop_kernel
-def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, faces, walls, pairs,
-            shapes, modal, stepping, output):
-    """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt).
+def advance_packed(mode, nsteps, step0, t_start, packed):
+    """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt)
+    (``mode`` STEP), or only rebuild the contact lists (REBUILD) or only evaluate the forces at
+    ``t_start`` (FORCES: ``step0`` = -1, ``nsteps`` = 1; the ledger given is the caller's).
+
+    ``packed``: the bundles as plain tuples in ADVANCE_BUNDLES order
+    (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
+    named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps of a small
+    scene. The named tuples are rebuilt here, in compiled code, at no cost.
 
     ``stepping.nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list
     state (-1: rebuild now), last largest particle speed, last largest wall-node speed, unused];
@@ -193,6 +191,14 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
     buffers. Returns (status, steps done, rows written); the run stops at the first non-zero
     status or a full output buffer.
     """
+    (nodes_, loads_, springs_, rigid_, particles_, faces_, walls_, pairs_, shapes_, modal_,
+     stepping_, output_) = packed
+    nodes, loads, springs, rigid = (Nodes(*nodes_), Loads(*loads_), Springs(*springs_),
+                                    RigidBodies(*rigid_))
+    particles, faces, walls, pairs = (Particles(*particles_), Faces(*faces_),
+                                      ContactList(*walls_), ContactList(*pairs_))
+    shapes, modal, stepping, output = (Shapes(*shapes_), Modal(*modal_), Stepping(*stepping_),
+                                       Output(*output_))
     x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
     kin_mass, kin_inertia, inv_m, fgrav = (nodes.kin_mass, nodes.kin_inertia, nodes.inv_m,
                                            nodes.fgrav)
@@ -218,62 +224,72 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
     for it in range(nsteps):
         step = step0 + it
         # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
-        if HAS_WALLS or HAS_PAIRS:
+        if (HAS_WALLS or HAS_PAIRS) and mode != FORCES:   # FORCES uses the lists as they are
             # bound of the displacements at the force evaluation of this step: what has
             # accumulated since the last build plus this step's drift (2 x the last step's, to
             # allow for acceleration)
             dp = nbr[0] + 2.0 * dt * nbr[4]
             dw = nbr[1] + 2.0 * dt * nbr[5]
-            if nbr[3] < 0.0 or 2.0 * dp > skin or dp + dw > skin:
+            if mode == REBUILD or nbr[3] < 0.0 or 2.0 * dp > skin or dp + dw > skin:
                 full = _rebuild_lists(nodes, particles, faces, walls, pairs, skin)
                 if full != OK:
                     return full, it, rows
+                if mode == REBUILD:
+                    return OK, 0, 0
                 nbr[0] = 0.0
                 nbr[1] = 0.0
                 nbr[2] += 1.0
                 nbr[3] = 1.0
-        # ---- first half kick (unless the last step's pass already did it) and drift
-        if synced:
-            if HAS_RIGID_ROTATION:
-                _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h, False)
-            for k in range(vf.shape[0]):
-                vf[k] += h * ff[k] * imf[k]
-                ff[k] = fgf[k]
-        for i in range(p0):
-            x[i, 0] += dt * vel[i, 0]
-            x[i, 1] += dt * vel[i, 1]
-            x[i, 2] += dt * vel[i, 2]
-        vmax2 = 0.0
-        for i in range(p0, n):
-            x[i, 0] += dt * vel[i, 0]
-            x[i, 1] += dt * vel[i, 1]
-            x[i, 2] += dt * vel[i, 2]
-            if HAS_WALLS or HAS_PAIRS:
-                v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
-                vmax2 = max(vmax2, v2)
-        if HAS_RIGID_ROTATION:
-            _rotate(rot, rig_master, vel, dt)
-        if HAS_MODAL:
-            # modal nodes (and a modal master's rotation) from the modes: x3dpd.physics.modal
-            _modal_drift(modal, x, x0, vel, rot, dt)
+        if mode == REBUILD:
+            return OK, 0, 0
         t = t_start + (step + 1) * dt
-        if HAS_MOTION:
-            _apply_motion_step(t_start + step * dt, t, motion_table, x0, x, vel)
-        vwall = 0.0
-        if HAS_RIGID:
-            vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True,
-                                   HAS_RIGID_ROTATION)
-        if HAS_ROTATIONAL_SPRINGS:   # their rotations advance as positions do
-            _rotational_spring_drift(vel, springs.rot_nodes, springs.rot_theta, dt)
-        nbr[4] = math.sqrt(vmax2)
-        nbr[5] = vwall
-        nbr[0] += dt * nbr[4]
-        nbr[1] += dt * vwall
+        if mode == FORCES:
+            for k in range(ff.shape[0]):
+                ff[k] = fgf[k]
+        else:
+            # ---- first half kick (unless the last step's pass already did it) and drift
+            if synced:
+                if HAS_RIGID_ROTATION:
+                    _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
+                                        rig_free_rot, h, False)
+                for k in range(vf.shape[0]):
+                    vf[k] += h * ff[k] * imf[k]
+                    ff[k] = fgf[k]
+            for i in range(p0):
+                x[i, 0] += dt * vel[i, 0]
+                x[i, 1] += dt * vel[i, 1]
+                x[i, 2] += dt * vel[i, 2]
+            vmax2 = 0.0
+            for i in range(p0, n):
+                x[i, 0] += dt * vel[i, 0]
+                x[i, 1] += dt * vel[i, 1]
+                x[i, 2] += dt * vel[i, 2]
+                if HAS_WALLS or HAS_PAIRS:
+                    v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
+                    vmax2 = max(vmax2, v2)
+            if HAS_RIGID_ROTATION:
+                _rotate(rot, rig_master, vel, dt)
+            if HAS_MODAL:
+                # modal nodes (and a modal master's rotation) from the modes: x3dpd.physics.modal
+                _modal_drift(modal, x, x0, vel, rot, dt)
+            if HAS_MOTION:
+                _apply_motion_step(t_start + step * dt, t, motion_table, x0, x, vel)
+            vwall = 0.0
+            if HAS_RIGID:
+                vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True,
+                                       HAS_RIGID_ROTATION)
+            if HAS_ROTATIONAL_SPRINGS:   # their rotations advance as positions do
+                _rotational_spring_drift(vel, springs.rot_nodes, springs.rot_theta, dt)
+            nbr[4] = math.sqrt(vmax2)
+            nbr[5] = vwall
+            nbr[0] += dt * nbr[4]
+            nbr[1] += dt * vwall
         # ---- forces at the new positions (``force`` holds the body forces m g: the kick pass
         # reset it to them)
         st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls,
-                                   pairs, shapes, stepping)
+                          pairs, shapes, stepping)
+        if mode == FORCES:
+            return st, 0, 0
         if HAS_MOTION:
             # work of the motion's actuators (x3dpd.physics.motion._motion_work)
             ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
@@ -341,16 +357,3 @@ def advance(nsteps, step0, t_start, nodes, loads, springs, rigid, particles, fac
                 return OK, it + 1, rows
     return OK, nsteps, rows
 
-
-@loop_kernel
-def advance_packed(nsteps, step0, t_start, packed):
-    """``advance`` with its bundles as plain tuples in its argument order
-    (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
-    named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps of a small
-    scene. The named tuples are rebuilt here, in compiled code, at no cost."""
-    (nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, modal, stepping,
-     output) = packed
-    return advance(nsteps, step0, t_start, Nodes(*nodes), Loads(*loads), Springs(*springs),
-                   RigidBodies(*rigid), Particles(*particles), Faces(*faces),
-                   ContactList(*walls), ContactList(*pairs), Shapes(*shapes), Modal(*modal),
-                   Stepping(*stepping), Output(*output))

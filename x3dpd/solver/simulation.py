@@ -191,8 +191,7 @@ class Simulation(RunChecks):
         # copies in the same memory order (numba compiles per layout)
         walls, pairs = (ContactList(*(a.copy(order="K") for a in b[name]))
                         for name in ("walls", "pairs"))
-        self.kernels._rebuild_lists(b["nodes"], b["particles"], b["faces"], walls, pairs,
-                                    self.setup.skin)
+        self._rebuild_lists({**b, "walls": walls, "pairs": pairs})
 
     def snapshot(self) -> Block:
         """The trace rows and ledger at the current step (used for t = t0)."""
@@ -232,7 +231,8 @@ class Simulation(RunChecks):
                 output = Output(self.itrac, self.trace_nodes, out_t[rows:], out_data[rows:],
                                 out_energy[rows:], self.state.e_ref)
                 status, steps, got = self.kernels.advance_packed(
-                    chunk, self.state.step, self.model.t0, self._packed_bundles(output))
+                    self.kernels.STEP, chunk, self.state.step, self.model.t0,
+                    self._packed_bundles(output))
                 if not self._timed_first_call:
                     self.compile_seconds += _time.perf_counter() - t0
                     self._timed_first_call = True
@@ -292,7 +292,21 @@ class Simulation(RunChecks):
         Contact lists are used as they are (``initialize`` builds them)."""
         t = self.time if t is None else float(t)
         b = self._bundles(ledger=np.zeros_like(self.state.ledger))
-        return Status(self.kernels._forces(t, **b))
+        status, _, _ = self.kernels.advance_packed(self.kernels.FORCES, 1, -1, t,
+                                                   pack(b, self._no_output()))
+        return Status(status)
+
+    def _no_output(self) -> Output:
+        """Output buffers for a step-loop call that writes no rows (REBUILD, FORCES)."""
+        return Output(self.itrac, self.trace_nodes, np.empty(1),
+                      np.empty((1, self.trace_nodes.shape[0], 9)),
+                      np.empty((1, len(ENERGY_COLUMNS))), self.state.e_ref)
+
+    def _rebuild_lists(self, bundles: dict) -> Status:
+        """Rebuild the contact lists of ``bundles`` now (the step loop's REBUILD mode)."""
+        status, _, _ = self.kernels.advance_packed(self.kernels.REBUILD, 1, 0, self.model.t0,
+                                                   pack(bundles, self._no_output()))
+        return Status(status)
 
     def project_modal_forces(self) -> None:
         """The modal forces f = sum phi^T F (less the coupling damping) of the forces now in
@@ -344,8 +358,7 @@ class Simulation(RunChecks):
                                       face_d)
         while True:
             b = self._bundles()
-            full = Status(self.kernels._rebuild_lists(b["nodes"], b["particles"], b["faces"],
-                                                      b["walls"], b["pairs"], k.skin))
+            full = self._rebuild_lists(b)
             if not full:
                 break
             self._grow(full)
