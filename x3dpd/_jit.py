@@ -81,3 +81,42 @@ def kernel(fn=None, **overrides):
     if fn is None:
         return lambda f: numba.njit(**flags)(f)
     return numba.njit(**flags)(fn)
+
+
+# ---- compile time: numba's IR inliner without its copies of the callee's IR ----------------
+# Every ``step_kernel`` call is spliced into its caller by numba's ``InlineInlinables`` pass
+# (``InlineWorker.inline_function``), which translates the callee afresh (``run_untyped_passes``)
+# and then deep-copies that fresh IR twice (``inline_ir``: a working copy and an "unmutated
+# original" that this pass throws away). Each copy deep-copies, per block, the callee's whole
+# variable scope, so the copies grow as blocks x variables: on the beam_64 scene they were
+# ~85 % of the inlining pass (1.55 million ``ir.Var`` copies, cProfile). The fresh IR belongs
+# to nobody else, so inlining it as it is gives the same IR with no copy at all. Private
+# behaviour of numba 0.68 (pinned in pyproject.toml; tests/meta/test_kernel_flags.py checks
+# that the patched function is still the one numba calls).
+from numba.core import inline_closurecall as _numba_inline  # noqa: E402
+
+
+class _NoCopy:
+    """Stands in for the ``copy`` module inside ``InlineWorker.inline_ir`` while
+    :func:`_inline_fresh_ir` runs: "copies" are the IR itself."""
+
+    @staticmethod
+    def deepcopy(x, memo=None):
+        return x
+
+
+def _inline_fresh_ir(self, caller_ir, block, i, function, arg_typs=None):
+    """``InlineWorker.inline_function``, inlining the callee's freshly translated IR in place
+    instead of two deep copies of it (same IR, same machine code)."""
+    callee_ir = self.run_untyped_passes(function)
+    saved = _numba_inline.copy
+    _numba_inline.copy = _NoCopy
+    try:
+        return self.inline_ir(caller_ir, block, i, callee_ir, function.__code__.co_freevars,
+                              arg_typs=arg_typs)
+    finally:
+        _numba_inline.copy = saved
+
+
+if not JIT_DISABLED:
+    _numba_inline.InlineWorker.inline_function = _inline_fresh_ir

@@ -51,6 +51,7 @@ from x3dpd.api.safety import initial_penetration_error
 from x3dpd.api.stepping import auto_summary, is_auto, make_stepper
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import motion_count
+from x3dpd.solver.compile_log import expected_compile_seconds, record_compile_seconds
 
 #: The energy audit's default tolerance, a fraction of the energy scale (run(energy_tolerance=)).
 ENERGY_TOLERANCE = 0.05
@@ -187,10 +188,9 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
     auto = is_auto(sim)
     if trace_nodes is not None:
         sim.trace_nodes = _node_indices(model, trace_nodes)
-    if on_compile is not None and not _kernels_cached(sim):
-        on_compile("compiling the step loop for this scene's effects (the first run of a "
-                   "scene after installing or changing x3dpd takes 20-60 s; later runs load it "
-                   "from the cache in about a second)")
+    sim.compiled_here = not _kernels_cached(sim)
+    if on_compile is not None and sim.compiled_here:
+        on_compile(CompileNotice.now())
     dt, itrac, t0 = sim.dt, sim.itrac, model.t0
     n_end = step_count((tmax - t0) / dt, f"TMAX {tmax:g} s from the start time {t0:g} s")
     if n_end < 0:
@@ -323,6 +323,9 @@ def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dum
              columns) -> dict:
     wall = time.perf_counter() - stats.wall_start
     compile_s = float(sim.compile_seconds) + float(getattr(sim, "_load_seconds", 0.0))
+    if getattr(sim, "compiled_here", False) and not getattr(sim, "compile_logged", False):
+        record_compile_seconds(compile_s)   # the estimate of the next first run's progress line
+        sim.compile_logged = True
     rate = stats.timed_steps / stats.timed_seconds if stats.timed_seconds > 0 else float("nan")
     e = stats.last_energy
     return {
@@ -371,6 +374,23 @@ def _node_indices(model, node_ids) -> np.ndarray:
     if bad:
         raise InputError(f"trace_nodes: node(s) {', '.join(map(str, bad))} are not in the deck")
     return np.ascontiguousarray(idx, dtype=np.int64)
+
+
+class CompileNotice(str):
+    """What ``on_compile`` receives: the message to show (a ``str``), with the compile time
+    expected on this machine as ``expected_s`` [s] (x3dpd.solver.compile_log), for a progress
+    line that counts up to it."""
+
+    expected_s: float
+
+    @classmethod
+    def now(cls) -> "CompileNotice":
+        expected = expected_compile_seconds()
+        notice = cls("compiling the step loop for this scene's effects: the first run of a "
+                     f"scene after installing or changing x3dpd, about {expected:.0f} s here; "
+                     "later runs load it from the cache in about a second")
+        notice.expected_s = expected
+        return notice
 
 
 def _kernels_cached(sim) -> bool:

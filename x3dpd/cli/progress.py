@@ -66,3 +66,46 @@ class Progress:
             self.stream.write("\n")
             self.stream.flush()
             self.width = 0
+
+
+class CompileTicker:
+    """The compile-progress line: while numba compiles a scene's step loop (which holds no
+    progress of its own), count the seconds up to the expected compile time on a terminal
+    (``x3dpd: compiling ... 12 s of about 25 s``); one plain line when stderr is a file."""
+
+    def __init__(self, message: str, expected_s: float, stream=None):
+        import threading
+
+        self.stream = stream or sys.stderr
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.message = message
+        self.expected_s = expected_s
+        self.t0 = time.perf_counter()
+        self._stop = threading.Event()
+        self._thread = None
+        if not self.tty:
+            self.stream.write(f"x3dpd: {message} ...\n")
+            self.stream.flush()
+            return
+        self.stream.write(f"x3dpd: {message}\n")
+        self._thread = threading.Thread(target=self._tick, daemon=True)
+        self._thread.start()
+
+    def _line(self) -> str:
+        elapsed = time.perf_counter() - self.t0
+        return f"\rcompiling ... {elapsed:.0f} s of about {self.expected_s:.0f} s"
+
+    def _tick(self) -> None:
+        while not self._stop.wait(1.0):
+            self.stream.write(self._line())
+            self.stream.flush()
+
+    def stop(self) -> None:
+        """End the line (idempotent): the step loop is compiled, stepping begins."""
+        if self._thread is None or self._stop.is_set():
+            return
+        self._stop.set()
+        self._thread.join()
+        elapsed = time.perf_counter() - self.t0
+        self.stream.write(f"\rcompiled in {elapsed:.0f} s" + " " * 24 + "\n")
+        self.stream.flush()

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import click
 
 from x3dpd.api.outputs import check_writable, default_paths as _default_paths
-from x3dpd.cli.progress import Progress
+from x3dpd.cli.progress import CompileTicker, Progress
 from x3dpd.cli.resume import resume_command
 from x3dpd.errors import InputError, UnstableRunError
 
@@ -138,13 +138,20 @@ def run_deck(opts: RunOptions) -> int:
         check_writable(opts.plot, "--plot")
     progress = Progress(opts.quiet, float("nan"))
 
+    ticker = []   # the compile-progress line while the step loop compiles
+
+    def stop_ticker():
+        while ticker:
+            ticker.pop().stop()
+
     def on_progress(t, rate, eta, residual, t_end):
+        stop_ticker()
         progress.tmax = t_end
         progress.update(t, rate, eta, residual, force=t >= t_end)
 
-    def on_compile(message: str) -> None:
+    def on_compile(message) -> None:
         if not opts.quiet:
-            click.echo(f"x3dpd: {message} ...", err=True)
+            ticker.append(CompileTicker(message, getattr(message, "expected_s", 30.0)))
 
     try:
         result = api_run(
@@ -157,6 +164,7 @@ def run_deck(opts: RunOptions) -> int:
             energy_tolerance=opts.energy_tolerance, handle_signals=True,
             command=command_line(opts.argv))
     except UnstableRunError as exc:
+        stop_ticker()
         progress.done()
         partial = getattr(exc, "result", None)
         if partial is not None:
@@ -166,8 +174,11 @@ def run_deck(opts: RunOptions) -> int:
             _maybe_plot(opts, trace_path, energy_path, partial.model)
         raise
     except KeyboardInterrupt:
+        stop_ticker()
         progress.done()
         raise
+    finally:
+        stop_ticker()
     progress.done()
     s = result.summary
     if not opts.quiet:

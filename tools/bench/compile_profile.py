@@ -1,0 +1,71 @@
+"""Where a cold compile of a scene's step loop goes: CPU seconds per numba pass and LLVM stage.
+
+    python tools/bench/compile_profile.py decks/beam_64.inp [--tmax 0.002]
+
+Runs the deck for ``--tmax`` with an empty kernel cache (a temporary ``X3DPD_CACHE_DIR``; the
+small kernels cached beside x3dpd's sources stay warm, as after any first run) and prints the
+total CPU time and, per numba compiler pass and per LLVM optimisation stage, the CPU seconds
+spent in it exclusive of nested compiles. CPU time (``time.process_time``) rather than wall
+time, so that a loaded machine still gives comparable numbers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import os
+import sys
+import tempfile
+import time
+
+
+def _exclusive_timer(acc: dict, stack: list, name: str, fn):
+    def timed(*args, **kwargs):
+        t = time.process_time()
+        stack.append(0.0)
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            elapsed = time.process_time() - t
+            acc[name] += elapsed - stack.pop()
+            if stack:
+                stack[-1] += elapsed
+    return timed
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("deck")
+    ap.add_argument("--tmax", type=float, default=0.002)
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as cache:
+        os.environ["X3DPD_CACHE_DIR"] = cache
+        from numba.core import codegen
+        from numba.core import compiler_machinery as machinery
+
+        acc: dict = collections.defaultdict(float)
+        stack: list = []
+        run_pass = machinery.PassManager._runPass
+
+        def timed_pass(self, index, pss, state):
+            return _exclusive_timer(acc, stack, "numba pass " + pss.name(),
+                                    lambda: run_pass(self, index, pss, state))()
+
+        machinery.PassManager._runPass = timed_pass
+        for stage in ("_optimize_functions", "_optimize_final_module", "_finalize_specific"):
+            setattr(codegen.CPUCodeLibrary, stage,
+                    _exclusive_timer(acc, stack, "LLVM " + stage,
+                                     getattr(codegen.CPUCodeLibrary, stage)))
+        import x3dpd
+
+        t0 = time.process_time()
+        x3dpd.run(args.deck, tmax=args.tmax)   # writes nothing
+        total = time.process_time() - t0
+    print(f"{args.deck}: {total:.1f} CPU s to compile and run {args.tmax:g} s")
+    for name, seconds in sorted(acc.items(), key=lambda kv: -kv[1]):
+        if seconds >= 0.1:
+            print(f"  {seconds:6.2f}  {name}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
