@@ -52,6 +52,10 @@ class Sdof:
     k: float
     c: float
 
+    def receptance(self, omega: float) -> complex:
+        """X/F = 1 / (k - m w^2 + i c w) [length/force]."""
+        return 1.0 / complex(self.k - self.m * omega ** 2, self.c * omega)
+
     def response(self, drive: float, omega: float) -> tuple[float, float]:
         """Steady-state amplitude X [length] and phase phi [rad] under drive sin(omega t)."""
         re, im = self.k - self.m * omega ** 2, self.c * omega

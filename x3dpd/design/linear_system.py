@@ -76,6 +76,10 @@ class LinearSystem:
         """X / U of a base drive (:meth:`frf`)."""
         return self.frf(omega)
 
+    def receptance(self, omega: float) -> complex:
+        """X / F of a force drive (:meth:`frf`)."""
+        return self.frf(omega)
+
     def measured_at(self, out_row: np.ndarray) -> LinearSystem:
         """The same structure and drive measured at another row."""
         return LinearSystem(self.stiffness, self.damping, self.mass, self.drive_row, out_row,
