@@ -172,6 +172,32 @@ def test_fit_writes_deck_records_that_rebuild_the_sdof(tmp_path):
     assert abs(c / (2 * 0.02 * math.sqrt(TABLE4_K * TABLE4_MASS)) - 1) < 0.005
 
 
+def test_fit_writes_a_modal_card_whose_mode_is_the_sdof(tmp_path):
+    """``--records modal``: one mode (fn, zeta) with the shape value 1/sqrt(m) at the node,
+    HOUSING included; the deck built from it has the fitted SDOF's receptance, which is the
+    measured one within 0.5 % over the band (noiseless: to the fit's 1e-9)."""
+    from x3dpd.design.baselines import linear_modal
+
+    f = np.linspace(30.0, 50.0, 201)
+    accel = -(2 * np.pi * f) ** 2 * receptance(f, zeta=0.02)
+    write_frf_csv(tmp_path / "m.csv", f, accel, quantity="acceleration")
+    out = tmp_path / "fit"
+    assert run_cli("fit", tmp_path / "m.csv", "--out", out, "--band", "34:45", "--records",
+                   "modal", "--node", 3, "--dof", 2, "--quiet") == 0
+    text = (out / "fit.txt").read_text()
+    assert "MATID" not in text and "HOUSING included" in text
+    deck = ("TITLE\nfitted\nEND\nPARAMETERS\n 0.0 0.1 0.0 1e-5 1e-5 0 1e12 0 5 0 10\nEND\n"
+            "NODE COORDINATES\n 3 0.0 0.0 0.0\nEND\n" + text + "TRACE\n 3\nEND\n")
+    (tmp_path / "fitted.inp").write_text(deck)
+    model = build_model(x3dpd.load_deck(tmp_path / "fitted.inp"))
+    mode = linear_modal(model, 3, 2)
+    assert model.modal.freq[0] == pytest.approx(FN, rel=1e-6)
+    assert model.modal.zeta[0] == pytest.approx(0.02, rel=1e-6)
+    h = np.array([mode.receptance(2 * np.pi * x) for x in f])
+    np.testing.assert_allclose(h, receptance(f, zeta=0.02), rtol=5e-3)
+    assert linear_modal(model, 3, 1).receptance(2 * np.pi * 40.0) == 0   # held: no value
+
+
 def test_ringdown_overlays_a_measured_ringdown(runs, tmp_path):
     t = np.arange(750) * 1e-3                        # 30 cycles: 80 dB at 5 % damping
     wn = 2 * math.pi * FN
