@@ -200,7 +200,8 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
             unit = f"({response_unit(trace, quantity, dof)})/({source.unit})"
             units.add(unit)
             name = f"{node}:{dof}"
-            label = f"{run} {name}" if len(traces) > 1 else f"node {node} dof {dof}"
+            label = (f"{run} {name}" if len(traces) > 1 or baselines
+                     else f"node {node} dof {dof}")
             curves.append(Curve(label, f[sel], h1[sel], h2[sel], coh[sel],
                                 r95[sel] if len(traces) * len(points) == 1 else None))
             for j in np.flatnonzero(sel):
