@@ -126,6 +126,9 @@ def _baseline_curves(first, deck: str | None, names: Sequence[str], drive: tuple
 
     trace, path, kind, lines = first
     lines = lines[lines > 0]
+    if lines.size < 2:
+        raise InputError("--baseline: the band holds fewer than two frequency lines above 0 Hz; "
+                         "widen --band or use longer segments")
     structure = run_deck(trace, path, deck)
     fine = np.linspace(lines[0], lines[-1], 2001)
     args = dict(base=kind != "force", node=drive[0], dof=drive[1], responses=points,
