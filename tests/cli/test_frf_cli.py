@@ -273,8 +273,19 @@ def test_frf_overlays_the_baselines_in_closed_form(runs, tmp_path, capsys):
     bad = tmp_path / "bad"
     frf = ("frf", runs["random"], "--drive", "1:1", "--response", "1:1", "--out", bad)
     _fails(capsys, bad, *frf, "--baseline", "soft", message="unknown baseline 'soft'")
+    # a run whose deck changed after it: its sidecar's SHA-256 no longer matches
+    import json
+    import shutil
+
     changed = tmp_path / "changed.inp"
-    changed.write_text(runs["deck"].read_text() + "\n")
+    changed.write_text(runs["deck"].read_text() + "$ edited\n")
+    moved = tmp_path / "moved.trace.txt"
+    shutil.copy(runs["random"], moved)
+    meta = json.loads(pathlib.Path(f"{runs['random']}.json").read_text())
+    meta["deck_path"] = str(changed)
+    pathlib.Path(f"{moved}.json").write_text(json.dumps(meta))
+    _fails(capsys, bad, "frf", moved, "--drive", "1:1", "--response", "1:1", "--out", bad,
+           "--baseline", "undamped", message="has changed since the run")
     _fails(capsys, bad, *frf, "--baseline", "undamped", "--deck", tmp_path / "nowhere.inp",
            message="nowhere.inp")
 
