@@ -295,7 +295,8 @@ def test_a_base_drives_frf_and_its_baseline_are_the_transmissibility(tmp_path):
     periods, rectangular window: every line exact up to the solver's error, the damper's
     half-step lag w dt / 2, 0.2 % at 150 Hz at this 5e-6 s step): H1 of the mass's
     acceleration over the base's is T = (k + i c w) / (k - m w^2 + i c w), and the undamped
-    baseline's closed form is T itself to round-off."""
+    baseline's closed form is T itself to round-off. Measured: H1 within 0.09 % of T (at 148
+    Hz), median 0.04 %."""
     from factories import base_sdof_deck
 
     deck = tmp_path / "shaker.inp"
