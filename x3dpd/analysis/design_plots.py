@@ -122,7 +122,8 @@ def save_figure(plt, fig, png: str | os.PathLike, suptitle: str = "") -> str:
 
 def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str,
                 base=None) -> None:
-    """One panel: the baselines' curves and points and the damper's points at one drive, as
+    """One panel: the baselines' curves and points, measured FRFs (``curves`` keys "measured
+    ...", dashed) and the damper's points at one drive, as
     displacement ``amplitude``, ``accelerance`` (w^2 X / |F|) or ``transmissibility`` (X / U,
     ``base(f, drive)`` = U)."""
     styles = {"undamped": ("k", "--"), "added-mass": ("0.5", ":")}
@@ -144,6 +145,12 @@ def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str,
         if pts:
             f, a = zip(*pts)
             ax.plot(f, y_of(f, a), color=color, ls=ls, marker=".", label=config)
+    grey = 0
+    for (config, d), (f, a) in curves.items():
+        if d == drive and config.startswith("measured"):
+            ax.plot(f, y_of(f, a), color=("C2", "C4", "C8")[grey % 3], ls=(0, (6, 2)),
+                    lw=1.0, label=config)
+            grey += 1
     for direction, marker in markers.items():
         pts = [r for r in rows if r["config"] == "deck" and r["drive"] == drive
                and r["direction"] == direction]

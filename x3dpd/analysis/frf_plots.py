@@ -19,7 +19,8 @@ from x3dpd.analysis.design_plots import _pyplot, save_figure
 @dataclass(frozen=True)
 class Curve:
     """One FRF on a plot: ``h`` complex at ``frequency`` [Hz]; optional ``h2``, ``coherence`` and
-    confidence radius ``r95``; ``measured`` curves are drawn dashed in black and grey."""
+    confidence radius ``r95``; ``measured`` curves are drawn dashed in black and grey,
+    ``baseline`` curves (a closed form) dash-dotted."""
 
     label: str
     frequency: np.ndarray
@@ -28,6 +29,7 @@ class Curve:
     coherence: np.ndarray | None = None
     r95: np.ndarray | None = None
     measured: bool = False
+    baseline: bool = False
 
 
 def _db(x) -> np.ndarray:
@@ -39,7 +41,7 @@ def _style(k: int, curve: Curve, n_measured: list[int]) -> dict:
     if curve.measured:
         n_measured[0] += 1
         return {"color": ("k", "0.45", "0.7")[(n_measured[0] - 1) % 3], "ls": "--", "lw": 1.2}
-    return {"color": f"C{k % 10}", "ls": "-", "lw": 1.3}
+    return {"color": f"C{k % 10}", "ls": "-." if curve.baseline else "-", "lw": 1.3}
 
 
 def plot_frf(png: str | os.PathLike, curves: Sequence[Curve], *, ylabel: str,

@@ -21,12 +21,18 @@ import click
                                          "is fitted).")
 @click.option("--force-scale", type=float,
               help="Force per unit of the FRF's excitation (default 1: an FRF per unit force).")
+@click.option("--records", type=click.Choice(["sdof", "modal"]), default="sdof",
+              show_default=True,
+              help="The deck records written: sdof (MASS, MATID spring/damper, ELEMENTS) or "
+                   "modal (a MODAL card: one mode, its shape value 1/sqrt(m) at the node).")
 @click.option("--overwrite", is_flag=True, help="Replace DIR/fit.txt and .png.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
-def fit(measured, out, band, quantity, dataset, node, dof, mass, force_scale, overwrite, quiet):
+def fit(measured, out, band, quantity, dataset, node, dof, mass, force_scale, records,
+        overwrite, quiet):
     """Fit a single-mode SDOF to a measured FRF; deck records to DIR/fit.txt, DIR/fit.png."""
     from x3dpd.design.fit import fit_command
 
     fit_command(measured, out=out, band=band, quantity=quantity, dataset=dataset, node=node,
-                dof=dof, mass=mass, force_scale=force_scale, overwrite=overwrite,
+                dof=dof, mass=mass, force_scale=force_scale, records=records,
+                overwrite=overwrite,
                 echo=(lambda s: None) if quiet else click.echo)

@@ -55,11 +55,17 @@ from x3dpd.errors import InputError
 @click.option("--no-predict", is_flag=True,
               help="Start each point from the deck's or the previous point's state as it is, "
                    "not with the structure put on its predicted steady-state motion.")
+@click.option("--measured", multiple=True, metavar="FILE[@NODE:DOF]",
+              help="A measured FRF (CSV or UFF dataset 58; repeatable) drawn on the plot of "
+                   "NODE:DOF [default: the first --response, else the driven point], converted "
+                   "to the plot's quantity (docs/design-guide.md).")
+@click.option("--measured-scale", type=float, default=1.0, show_default=True,
+              help="Multiplies the measured FRFs (a unit conversion, e.g. 386.1 for g to in/s^2).")
 @click.option("--overwrite", is_flag=True, help="Discard a different sweep stored in DIR.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
 def sweep(deck, freq, drive, amp, node, dof, response, direction, baseline, out, workers,
           scheduler, dt, tol, window, max_cycles, samples_per_cycle, no_extrapolate, no_predict,
-          overwrite, quiet):
+          measured, measured_scale, overwrite, quiet):
     """Steady-state response of a node across frequencies (DIR/sweep.csv, DIR/sweep.png)."""
     from x3dpd.design.commands import sweep_command
 
@@ -73,4 +79,5 @@ def sweep(deck, freq, drive, amp, node, dof, response, direction, baseline, out,
                   workers=workers, scheduler=scheduler, dt=dt, tol=tol, window=window,
                   max_cycles=max_cycles, samples_per_cycle=samples_per_cycle,
                   extrapolate=not no_extrapolate, predict=not no_predict, overwrite=overwrite,
-                  responses=response, drive=drive, echo=(lambda s: None) if quiet else click.echo)
+                  responses=response, drive=drive, measured_files=measured,
+                  measured_scale=measured_scale, echo=(lambda s: None) if quiet else click.echo)

@@ -22,7 +22,9 @@ dashpots k_b, c_b to the base node and k_g, c_g to ground (:class:`BaseSdof`):
     X / U = T(w) = (k_b + i c_b w) / (k_b + k_g - m w^2 + i (c_b + c_g) w),
 
 the absolute motion's transmissibility (with k_g = c_g = 0 the textbook (k + i c w) /
-(k - m w^2 + i c w)). A modal structure under base motion has none here: it is simulated.
+(k - m w^2 + i c w)). Any other linear structure -- lumped masses on springs to each other, to
+ground and to the base, modes with springs attached, under a force or a base drive -- is solved in
+the frequency domain by x3dpd.design.linear_system (x3dpd.design.closed_form picks the form).
 """
 
 from __future__ import annotations
@@ -49,6 +51,10 @@ class Sdof:
     m: float
     k: float
     c: float
+
+    def receptance(self, omega: float) -> complex:
+        """X/F = 1 / (k - m w^2 + i c w) [length/force]."""
+        return 1.0 / complex(self.k - self.m * omega ** 2, self.c * omega)
 
     def response(self, drive: float, omega: float) -> tuple[float, float]:
         """Steady-state amplitude X [length] and phase phi [rad] under drive sin(omega t)."""

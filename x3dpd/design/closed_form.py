@@ -1,5 +1,7 @@
 """Closed-form rows and curves of a sweep's linear baselines (x3dpd.design.baselines): a force
-drive's SDOF or modal structure, X = F H(w); a base drive's SDOF on its base, X = T(w) U.
+drive's SDOF or modal structure, X = F H(w); a base drive's SDOF on its base, X = T(w) U; any
+other linear structure (lumped, modal, or both, on springs to ground and base) through
+x3dpd.design.linear_system.
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ import numpy as np
 
 from x3dpd.design.baselines import base_mass_node, base_structure, baseline_decks, linear_structure
 from x3dpd.design.drive import displacement_amplitude
+from x3dpd.design.linear_system import linear_system
 from x3dpd.design.spec import SweepSpec
 from x3dpd.model.build import build_model
 
@@ -24,8 +27,25 @@ def mass_node(spec: SweepSpec) -> int | None:
     return base_mass_node(spec.deck, spec.node, spec.dof)
 
 
+def force_structure(model, node: int, dof: int, response: tuple[int, int] | None = None):
+    """The closed-form structure of a particle-free model under a force on ``node`` along
+    ``dof``, measured at ``response`` (default the driven DOF): an Sdof or ModalLinear
+    (x3dpd.design.baselines.linear_structure), else a LinearSystem, else None (simulated)."""
+    return (linear_structure(model, node, dof, response)
+            or linear_system(model, node, dof, response))
+
+
+def base_response_structure(model, base: int, dof: int, response: tuple[int, int]):
+    """The closed-form structure of a particle-free model whose ``base`` node is moved along
+    ``dof``, measured at ``response``: a BaseSdof (x3dpd.design.baselines.base_structure), else
+    a LinearSystem, else None (simulated)."""
+    return (base_structure(model, base, dof, response)
+            or linear_system(model, base, dof, response, base=True))
+
+
 def base_closed_form_rows(config: str, spec: SweepSpec, structures) -> list[dict]:
-    """Rows of a base-driven linear baseline (``structures``: a BaseSdof per response) at
+    """Rows of a base-driven linear baseline (``structures``: a BaseSdof or LinearSystem per
+    response, :func:`base_response_structure`) at
     every frequency and drive: the base's own row (its prescribed motion) and one per
     response, X = T(w) U (x3dpd.design.baselines.BaseSdof)."""
     rows = []
@@ -100,7 +120,7 @@ def baseline_curves(spec: SweepSpec, n: int = 2001, response: tuple[int, int] | 
     f = np.linspace(min(spec.frequencies), max(spec.frequencies), n)
     for config, deck in baseline_decks(spec.deck, spec.baselines, mass_node(spec)).items():
         if spec.base:
-            sdof = (base_structure(build_model(deck), spec.node, spec.dof, response)
+            sdof = (base_response_structure(build_model(deck), spec.node, spec.dof, response)
                     if response is not None else None)
             for drive in ([] if sdof is None else spec.drives):
                 w = 2 * math.pi * f
@@ -108,7 +128,7 @@ def baseline_curves(spec: SweepSpec, n: int = 2001, response: tuple[int, int] | 
                 out[(config, drive)] = (f, np.abs(u * np.array([sdof.transmissibility(x)
                                                                   for x in w])))
             continue
-        sdof = linear_structure(build_model(deck), spec.node, spec.dof, response)
+        sdof = force_structure(build_model(deck), spec.node, spec.dof, response)
         if sdof is None:
             continue
         for drive in spec.drives:

@@ -19,6 +19,7 @@ from x3dpd.design.spec import (SweepSpec, check_base, check_node, default_drive_
                                parse_frequencies, parse_responses)
 from x3dpd.design.steady_state import Criterion
 from x3dpd.design.sweep import baseline_curves, deck_hash, run_sweep
+from x3dpd.design.sweep_measured import measured_curves, read_measured
 from x3dpd.errors import InputError
 from x3dpd.units import labels_for, standard_gravity
 
@@ -30,11 +31,13 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
                   window: int = 5, max_cycles: int = 400, samples_per_cycle: int = 200,
                   extrapolate: bool = True, predict: bool = True, overwrite: bool = False,
                   responses: Sequence[str] = (), drive: str = "force",
+                  measured_files: Sequence[str] = (), measured_scale: float = 1.0,
                   echo: Callable[[str], None] = print) -> list[dict]:
     """Run a sweep into ``out`` (sweep.csv, sweep.png, points/; with ``responses``
     (``NODE:DOF`` texts) also sweep_responses.png); returns its rows. ``drive`` "force" (a
     sine force on the node) or "base" (the node moved, x3dpd.design.drive; sweep.png then
-    shows the transmissibility at the responses)."""
+    shows the transmissibility at the responses). ``measured_files``: measured FRFs
+    (``FILE[@NODE:DOF]``) drawn on the plots (x3dpd.design.sweep_measured)."""
     deck = read_deck(deck_path)
     system = deck.units.system if deck.units is not None else None
     quantity, drives = parse_amplitudes(amps, drive, standard_gravity(system))
@@ -49,6 +52,8 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
     check_node(deck, node)
     if dof not in (1, 2, 3):
         raise InputError(f"--dof {dof}: the sweep measures a translation, dof 1, 2 or 3")
+    points = list(measured) + ([] if quantity != "force" else [(node, dof)])
+    frfs = read_measured(measured_files, points, measured_scale)
     spec = SweepSpec(deck=deck, deck_text_hash=deck_hash(deck_path), frequencies=frequencies,
                      drives=drives, node=node, dof=dof, direction=direction,
                      baselines=tuple(baselines), dt=dt, responses=measured, quantity=quantity,
@@ -90,13 +95,19 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
              "the same command resumes the sweep")
         raise
     length, force, unit_t = deck.units.system if deck.units is not None else ("in", "lbf", "s")
+
+    def overlays(point: tuple[int, int]) -> dict:
+        return measured_curves(frfs, spec, point, measured_scale)
+
     if spec.base:
-        return _base_outputs(spec, rows, out, deck_path, length, echo, start)
+        return _base_outputs(spec, rows, out, deck_path, length, echo, start, overlays)
     curves = baseline_curves(spec)
-    plot_sweep(Path(out) / "sweep.png", rows, curves, title=Path(deck_path).name, units=length)
+    plot_sweep(Path(out) / "sweep.png", rows, {**curves, **overlays((node, dof))},
+               title=Path(deck_path).name, units=length)
     if measured:
         plot_responses(Path(out) / "sweep_responses.png", rows, measured,
-                       {r: baseline_curves(spec, response=r) for r in measured},
+                       {r: {**baseline_curves(spec, response=r), **overlays(r)}
+                        for r in measured},
                        title=Path(deck_path).name, units=length, force=force, time=unit_t)
     for a in attenuations(rows, curves):
         echo(f"peak attenuation at drive {a['drive']:g}: {a['attenuation_db']:.2f} dB vs "
@@ -108,7 +119,7 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
 
 
 def _base_outputs(spec: SweepSpec, rows: list[dict], out, deck_path: str, length: str,
-                  echo: Callable[[str], None], start: float) -> list[dict]:
+                  echo: Callable[[str], None], start: float, overlays) -> list[dict]:
     """A base drive's sweep.png (the transmissibility at each response, baselines overlaid) and
     its peak attenuation (the first response's transmissibility against each baseline's)."""
     def base(f, drive):
@@ -126,7 +137,8 @@ def _base_outputs(spec: SweepSpec, rows: list[dict], out, deck_path: str, length
         extra = f" ({drive / g:.4g} g)" if spec.quantity == "acceleration" else ""
         return f"{drive:.5g} {unit}{extra}"
 
-    plot_responses(Path(out) / "sweep.png", rows, spec.responses, curves,
+    plot_responses(Path(out) / "sweep.png", rows, spec.responses,
+                   {r: {**c, **overlays(r)} for r, c in curves.items()},
                    title=Path(deck_path).name, units=length, base=base,
                    drive_label=drive_label)
     first = spec.responses[0]

@@ -1,6 +1,7 @@
 """``x3dpd fit MEASURED --out DIR``: a single-mode SDOF fitted to a measured FRF, written as the
 deck records of the report's beam decks (MASS, a MATID type 1 spring/damper, its ELEMENTS record)
-to DIR/fit.txt, with DIR/fit.png (measured vs fitted). The fit is :mod:`x3dpd.analysis.sdof_fit`.
+or, with ``--records modal``, as a MODAL card's values, to DIR/fit.txt, with DIR/fit.png
+(measured vs fitted). The fit is :mod:`x3dpd.analysis.sdof_fit`.
 """
 
 from __future__ import annotations
@@ -20,10 +21,34 @@ from x3dpd.io.measured import MeasuredFrf, read_measured_frf
 _AXES = "XYZ"
 
 
+def modal_records(fit: SdofFit, values: dict[str, float], *, node: int, dof: int,
+                  drive: str) -> list[str]:
+    """The fit as a MODAL card (docs/deck-reference.md): one mode of frequency fn and damping
+    zeta whose mass-normalised shape value at the point is phi = 1/sqrt(m) (its receptance
+    there phi^2 / (wn^2 - w^2 + 2 i zeta wn w) is the fitted SDOF's), HOUSING included (the
+    effective mass m is the whole structure's at the point: no MASS record)."""
+    phi = 1.0 / math.sqrt(values["mass"])
+    return [
+        f"$ The structure as one mode (MODAL card): node {node} moves along "
+        f"{_AXES[dof - 1].lower()} as phi q, phi = 1/sqrt(m);",
+        "$ the node needs no MASS record (HOUSING included: m is in the mode); give it "
+        "shape values only in this DOF",
+        f"$ and drive it with S times the excitation, e.g. {drive}",
+        "MODAL",
+        "$ MODE K FREQ ZETA",
+        f"   MODE 1 {fit.fn:.10g} {fit.zeta:.10g}",
+        "$ SHAPE NODE DOF PHI",
+        f"   SHAPE {node} {dof} {phi:.10g}",
+        "   HOUSING included",
+        "END",
+    ]
+
+
 def fit_text(source: MeasuredFrf, fit: SdofFit, values: dict[str, float], *, node: int,
-             dof: int, quantity: str, mid: int = 2) -> str:
+             dof: int, quantity: str, mid: int = 2, records: str = "sdof") -> str:
     """The fit's description and deck records (``$`` comment lines, then MATID, ELEMENTS, MASS
-    in the beam decks' layout: decks/beam_64.inp)."""
+    in the beam decks' layout: decks/beam_64.inp; or with ``records`` "modal" a MODAL card,
+    :func:`modal_records`)."""
     k = [1.0e12, 1.0e12, 1.0e12]
     k[dof - 1] = values["stiffness"]
     lo, hi = fit.band
@@ -41,11 +66,17 @@ def fit_text(source: MeasuredFrf, fit: SdofFit, values: dict[str, float], *, nod
         "excitation), effective mass m = S / R",
         f"$   m = {values['mass']:.8g}, k = m wn^2 = {values['stiffness']:.8g}, "
         f"c = 2 zeta m wn = {values['damping']:.8g}",
+    ]
+    drive = (f"USRFRC sine:node={node},dof={dof},amp={values['force_scale']:.8g},"
+             f"hz={fit.fn:.6g}")
+    if records == "modal":
+        return "\n".join(lines + modal_records(fit, values, node=node, dof=dof,
+                                                drive=drive)) + "\n"
+    lines += [
         f"$ The structure as the beam decks model it: node {node} with mass m on a spring k and "
         f"damper c to ground along {_AXES[dof - 1].lower()};",
         f"$ fix its other DOFs in BOUNDARY CONDITIONS and drive it with S times the excitation, "
-        f"e.g. USRFRC sine:node={node},dof={dof},amp={values['force_scale']:.8g},"
-        f"hz={fit.fn:.6g}",
+        f"e.g. {drive}",
         "MATID",
         "$ MID TYPE MASS SCALE KX KY KZ C",
         f"   {mid} 1 1e-12 1.0 {k[0]:.10g} {k[1]:.10g} {k[2]:.10g} {values['damping']:.10g}",
@@ -65,13 +96,17 @@ def fit_text(source: MeasuredFrf, fit: SdofFit, values: dict[str, float], *, nod
 def fit_command(measured: str, *, out: str, band: str | None = None,
                 quantity: str | None = None, dataset: int = 1, node: int = 9, dof: int = 1,
                 mass: float | None = None, force_scale: float | None = None,
-                overwrite: bool = False, echo: Callable[[str], None] = print) -> SdofFit:
+                records: str = "sdof", overwrite: bool = False,
+                echo: Callable[[str], None] = print) -> SdofFit:
     """Fit the FRF of ``measured`` (a CSV, or the ``dataset``-th FRF of a UFF file) over
-    ``band`` (default the whole file); write DIR/fit.txt and DIR/fit.png."""
+    ``band`` (default the whole file); write DIR/fit.txt and DIR/fit.png. ``records``: "sdof"
+    (MATID, ELEMENTS, MASS) or "modal" (a MODAL card)."""
     from x3dpd._files import write_atomically
 
     if dof not in (1, 2, 3):
         raise InputError(f"--dof {dof}: the spring acts along x, y or z (1, 2, 3)")
+    if records not in ("sdof", "modal"):
+        raise InputError(f"--records {records!r}: expected sdof or modal")
     band_hz = parse_band(band)
     paths = _outputs(out, ("fit.txt", "fit.png"), overwrite)
     frfs = read_measured_frf(measured)
@@ -91,7 +126,7 @@ def fit_command(measured: str, *, out: str, band: str | None = None,
                          f"{measured}")
     fit = fit_sdof(source.frequency, source.h, order=QUANTITY_ORDER[q], band=band_hz)
     values = fit.deck_values(mass=mass, force_scale=force_scale)
-    text = fit_text(source, fit, values, node=node, dof=dof, quantity=q)
+    text = fit_text(source, fit, values, node=node, dof=dof, quantity=q, records=records)
     f = source.frequency
     lo, hi = fit.band
     span = hi - lo

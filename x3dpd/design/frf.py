@@ -117,14 +117,47 @@ def measured_curves(files: Sequence[str], quantity: str, scale: float,
     return curves
 
 
+def _baseline_curves(first, deck: str | None, names: Sequence[str], drive: tuple[int, int],
+                     points, quantity: str, rows: list[dict]) -> list[Curve]:
+    """The baselines' closed-form FRFs (x3dpd.design.frf_baselines) on a fine grid over the
+    first run's lines, drawn dash-dotted; their values at those lines appended to ``rows``
+    (DIR/baselines.csv)."""
+    from x3dpd.design.frf_baselines import baseline_frfs, run_deck
+
+    trace, path, kind, lines = first
+    lines = lines[lines > 0]
+    if lines.size < 2:
+        raise InputError("--baseline: the band holds fewer than two frequency lines above 0 Hz; "
+                         "widen --band or use longer segments")
+    structure = run_deck(trace, path, deck)
+    fine = np.linspace(lines[0], lines[-1], 2001)
+    args = dict(base=kind != "force", node=drive[0], dof=drive[1], responses=points,
+                quantity=quantity)
+    curves = []
+    at_lines = baseline_frfs(structure, names, frequency=lines, **args)
+    for (name, (node, dof), h), (_, _, h_fine) in zip(
+            at_lines, baseline_frfs(structure, names, frequency=fine, **args)):
+        run = f"{name} (closed form)"
+        curves.append(Curve(run if len(points) == 1 else f"{run} {node}:{dof}", fine, h_fine,
+                            baseline=True))
+        rows += [{"baseline": name, "response": f"{node}:{dof}", "frequency_hz": x,
+                  "re": v.real, "im": v.imag, "mag": abs(v),
+                  "phase_deg": math.degrees(np.angle(v))} for x, v in zip(lines, h)]
+    return curves
+
+
 def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], out: str,
                 quantity: str = "acceleration", window: str = "hann",
                 segment: float | None = None, nperseg: int | None = None, overlap: float = 0.5,
                 band: str | None = None, t_from: float | None = None,
                 measured: Sequence[str] = (), measured_scale: float = 1.0,
+                baselines: Sequence[str] = (), deck: str | None = None,
                 overwrite: bool = False, echo: Callable[[str], None] = print) -> list[dict]:
     """``x3dpd frf``: H1, H2 and coherence of every response of every trace against the drive;
-    DIR/frf.csv (one row per run, response and frequency) and DIR/frf.png. Returns the rows."""
+    DIR/frf.csv (one row per run, response and frequency) and DIR/frf.png. Returns the rows.
+    ``baselines`` (undamped, added-mass): their closed-form FRFs for the first trace's deck (or
+    ``deck``) overlaid too (x3dpd.design.frf_baselines) and written at the run's frequency
+    lines to DIR/baselines.csv (baseline, response, frequency_hz, re, im, mag, phase_deg)."""
     if not traces:
         raise InputError("give at least one TRACE")
     if not responses:
@@ -134,9 +167,11 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
     band_hz = parse_band(band)
     if quantity not in QUANTITY_ORDER:
         raise InputError(f"--quantity {quantity!r}: expected one of {', '.join(QUANTITY_ORDER)}")
-    paths = _outputs(out, ("frf.csv", "frf.png"), overwrite)
+    paths = _outputs(out, ("frf.csv", "frf.png") + (("baselines.csv",) if baselines else ()),
+                     overwrite)
     curves, rows, units = [], [], set()
     labels = run_labels(traces)
+    first = None
     for path, run in zip(traces, labels):
         trace = read_trace(path)
         fs = sampling_rate(trace, path)
@@ -160,6 +195,7 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
              f"{nov} overlap, {est.n_effective:.1f} equivalent averages")
         f = est.frequency
         sel = _in_band(f, band_hz, fs / nps)
+        first = first or (trace, path, source.kind, f[sel])
         for k, (node, dof) in enumerate(points):
             e = est.divided(difference_gain(f, fs)) if differenced[k] else est
             h1, h2, coh = e.h1[k], e.h2[k], e.coherence[k]
@@ -167,7 +203,8 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
             unit = f"({response_unit(trace, quantity, dof)})/({source.unit})"
             units.add(unit)
             name = f"{node}:{dof}"
-            label = f"{run} {name}" if len(traces) > 1 else f"node {node} dof {dof}"
+            label = (f"{run} {name}" if len(traces) > 1 or baselines
+                     else f"node {node} dof {dof}")
             curves.append(Curve(label, f[sel], h1[sel], h2[sel], coh[sel],
                                 r95[sel] if len(traces) * len(points) == 1 else None))
             for j in np.flatnonzero(sel):
@@ -176,6 +213,10 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
                              "h1_phase_deg": math.degrees(np.angle(h1[j])),
                              "h2_re": h2[j].real, "h2_im": h2[j].imag, "coherence": coh[j],
                              "h1_r95": r95[j]})
+    base_rows: list[dict] = []
+    if baselines:
+        curves += _baseline_curves(first, deck, baselines, (d_node, d_dof), points, quantity,
+                                   base_rows)
     curves += measured_curves(measured, quantity, measured_scale, band_hz)
     unit = units.pop() if len(units) == 1 else "unit"
     head = [f"# quantity: {quantity}", f"# unit: {unit}",
@@ -185,9 +226,16 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
     lines += [",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values())
               for r in rows]
     title = ", ".join(Path(p).name for p in traces)
-    _write(paths, "\n".join(lines) + "\n",
+    _write(paths[:2], "\n".join(lines) + "\n",
            lambda png: plot_frf(png, curves, ylabel=unit, band=band_hz, title=title))
-    echo(f"wrote {paths[0]} and {paths[1]}")
+    if base_rows:
+        from x3dpd._files import write_atomically
+
+        text = "\n".join(head[:2] + [",".join(base_rows[0])] + [
+            ",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values())
+            for r in base_rows]) + "\n"
+        write_atomically(paths[2], lambda fh: fh.write(text.encode()))
+    echo(f"wrote {', '.join(map(str, paths))}")
     return rows
 
 

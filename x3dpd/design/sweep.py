@@ -39,9 +39,10 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.design.baselines import base_structure, baseline_decks, linear_structure
-from x3dpd.design.closed_form import (base_closed_form_rows, baseline_curves,  # noqa: F401
-                                      closed_form_rows, mass_node)
+from x3dpd.design.baselines import baseline_decks
+from x3dpd.design.closed_form import (base_closed_form_rows, base_response_structure,
+                                      baseline_curves, closed_form_rows,  # noqa: F401
+                                      force_structure, mass_node)
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import SweepPoint, run_point
 from x3dpd.errors import InputError
@@ -77,14 +78,15 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
         sdof = structures = None
         if config != "deck" and spec.base:
             model = build_model(deck)
-            structures = [base_structure(model, spec.node, spec.dof, r) for r in spec.responses]
+            structures = [base_response_structure(model, spec.node, spec.dof, r)
+                          for r in spec.responses]
             if structures and all(s is not None for s in structures):
                 closed.extend(base_closed_form_rows(config, spec, structures))
                 continue
         elif config != "deck":
             model = build_model(deck)
-            sdof = linear_structure(model, spec.node, spec.dof)
-            structures = [linear_structure(model, spec.node, spec.dof, r)
+            sdof = force_structure(model, spec.node, spec.dof)
+            structures = [force_structure(model, spec.node, spec.dof, r)
                           for r in spec.responses]
         if sdof is not None and all(s is not None for s in structures):
             closed.extend(closed_form_rows(config, sdof, spec, structures))
