@@ -38,6 +38,7 @@ def cli() -> None:
 def _register() -> None:
     from x3dpd.cli import (
         check,
+        design,
         export,
         fill,
         fit,
@@ -58,6 +59,7 @@ def _register() -> None:
     cli.add_command(sweep.sweep)
     cli.add_command(ringdown.ringdown)
     cli.add_command(study.study)
+    cli.add_command(design.design)
     cli.add_command(movie.movie)
     cli.add_command(export.export)
     cli.add_command(plot.plot)
