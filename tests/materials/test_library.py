@@ -101,7 +101,7 @@ def test_conversion_mm_n_s_and_milliseconds():
     ms = in_units(steel, ("m", "N", "ms"))   # time 1e-3 s: tau in ms, rho in N ms^2/m^4
     assert ms.maxwell[0][1] == pytest.approx(2.0e-3, rel=1e-12)
     assert ms.rho == pytest.approx(steel.rho * 1e6, rel=1e-11)
-    with pytest.raises(ValueError, match="LENGTH unit"):
+    with pytest.raises(MaterialError, match="units: LENGTH unit 'furlong'"):
         in_units(steel, "furlong N s")
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from x3dpd.materials.library import Material, material
+from x3dpd.materials.library import Material, MaterialError, material
 from x3dpd.units import DEFAULT, parse_units, si_size
 
 
@@ -27,7 +27,10 @@ def _system(units) -> tuple[str, str, str]:
         units = units.system
     if isinstance(units, str):
         units = units.split()
-    return parse_units(units)
+    try:
+        return parse_units(units)
+    except ValueError as exc:
+        raise MaterialError(f"units: {exc}") from None
 
 
 @dataclass(frozen=True)
@@ -55,7 +58,7 @@ class DeckMaterial:
 def in_units(mat, units=None) -> DeckMaterial:
     """``mat`` (a :class:`Material` or a name) in ``units``: None (inch-lbf-s, the report's
     decks), ``(length, force, time)``, a string such as ``"m N s"``, or a deck's UNITS card.
-    Raises ValueError for units x3dpd does not know (x3dpd.units)."""
+    Raises :class:`MaterialError` for units x3dpd does not know (x3dpd.units)."""
     mat: Material = material(mat)
     system = _system(units)
     metres, newtons, seconds = si_size(system)
