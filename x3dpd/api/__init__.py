@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 
+from x3dpd.api.deck_step import FittedStep, fit_time_step
 from x3dpd.api.results import Chunk, FinalState, RunResult
 from x3dpd.api.runner import run
 from x3dpd.errors import DeckError, InputError, TraceError, UnstableRunError, X3dpdError
@@ -55,7 +56,8 @@ def check(deck, *, usrfrc=(), motion=(), steps_per_contact: int | None = None):
 
 
 __all__ = [
-    "Chunk", "DeckError", "EnergyData", "FinalState", "InputError", "RunResult", "TraceData",
-    "TraceError", "UnstableRunError", "X3dpdError", "build", "check", "load_deck",
+    "Chunk", "DeckError", "EnergyData", "FinalState", "FittedStep", "InputError", "RunResult",
+    "TraceData", "TraceError", "UnstableRunError", "X3dpdError", "build", "check",
+    "fit_time_step", "load_deck",
     "read_energy", "read_trace", "run",
 ]

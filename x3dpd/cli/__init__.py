@@ -43,6 +43,7 @@ def _register() -> None:
         fill,
         fit,
         frf,
+        materials,
         movie,
         plot,
         ringdown,
@@ -67,6 +68,7 @@ def _register() -> None:
     cli.add_command(frf.frf)
     cli.add_command(spectrum.spectrum)
     cli.add_command(fit.fit)
+    cli.add_command(materials.materials_command)
 
 
 def main(argv: list[str] | None = None) -> None:
