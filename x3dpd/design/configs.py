@@ -8,10 +8,10 @@ anything is written or run. A written deck is read back (:func:`x3dpd.api.load_d
 deck is what runs, so each configuration's deck runs on its own as it stands
 (``x3dpd OUT/configs/NAME/NAME.inp``).
 
-Time step: ``dt`` when the configuration gives one, else the structure deck's DTMAX halved
-until ``x3dpd check`` no longer warns about it (at least 8 steps per contact,
-x3dpd.model.timestep), ITRAC scaled to keep the trace interval: the rule that took
-decks/beam_512.inp to half beam_64's step.
+Time step: ``dt`` when the configuration gives one, else the step ``x3dpd check`` recommends
+for the configuration's particles (50 steps per contact, x3dpd.model.timestep; floored to 3
+digits by :func:`x3dpd.api.fit_time_step`, as ``x3dpd fill`` does), ITRAC scaled to keep the
+trace interval.
 """
 
 from __future__ import annotations
@@ -24,17 +24,15 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.api import build, check, load_deck
+from x3dpd.api import build, check, fit_time_step, load_deck
 from x3dpd.deck.cards import Deck, Node, Title
-from x3dpd.deck.fill import _box, cavity_triangles, fill_positions, filled_deck
+from x3dpd.deck.fill import _box, cavity_triangles, fill_positions, filled_deck, with_material
 from x3dpd.deck.writer import format_deck
 from x3dpd.design.baselines import particle_mass, without_particles
 from x3dpd.design.design_file import Configuration, DesignFile
 from x3dpd.errors import InputError
 from x3dpd.physics.usrfrc import is_user_file
 
-#: Halvings of DTMAX tried before giving up on a step the particles can live with.
-MAX_HALVINGS = 12
 #: Keys that make a configuration refill its cavity.
 REFILL = ("radius", "count", "fill_ratio", "particle_mass", "cavity_length", "cavity_size",
           "packing", "gap", "gap_fraction", "jitter", "seed")
@@ -83,10 +81,8 @@ def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
         _fail(design, config, f"{design.structure.name} has no PDMP card to give the particles "
               "a material; start from a deck with particles")
     if "material" in v:
-        from x3dpd.materials import in_units
-
-        fields = in_units(v["material"], deck.units).pdmp_fields()
-        deck = replace(deck, pdmp=(replace(pd, **fields),) + deck.pdmp[1:])
+        deck = replace(deck, pdmp=(with_material(pd, v["material"], deck.units),)
+                       + deck.pdmp[1:])
         pd = deck.pdmp[0]
     axis = _drive_axis(design, template)
     if "cavity_length" in v or "cavity_size" in v:
@@ -152,17 +148,17 @@ def _refilled(design, config, deck: Deck) -> Deck:
     pd = deck.pdmp[0]
     radius = float(v.get("radius", pd.rzero))
     gap = float(v.get("gap", v.get("gap_fraction", 0.0) * radius))
-    opts = dict(radius=radius, packing=v.get("packing", "cubic"), gap=gap,
-                seed=v.get("seed"), jitter=float(v.get("jitter", 0.0)), set_id=design.cavity_set)
+    opts = {"radius": radius, "packing": v.get("packing", "cubic"), "gap": gap,
+                "seed": v.get("seed"), "jitter": float(v.get("jitter", 0.0)), "set_id": design.cavity_set}
     try:
         volume = fill_positions(deck, n=1, **opts).volume
         one = 4.0 / 3.0 * math.pi * radius ** 3
         if "count" in v:
             n = int(v["count"])
         elif "fill_ratio" in v:
-            n = int(math.floor(v["fill_ratio"] * volume / one + 1e-9))
+            n = math.floor(v["fill_ratio"] * volume / one + 1e-9)
         elif "particle_mass" in v:
-            n = int(round(v["particle_mass"] / (pd.prho * one)))
+            n = round(v["particle_mass"] / (pd.prho * one))
         else:
             n = sum(1 for nd in deck.nodes if nd.nid > pd.nodlim)
         if n < 1:
@@ -179,30 +175,12 @@ def _refilled(design, config, deck: Deck) -> Deck:
 
 
 def _with_step(design, config, deck: Deck) -> Deck:
-    """DTMAX the configuration's ``dt``, else the deck's halved until check stops warning."""
-    p = deck.parameters
-    if "dt" in config.values:
-        dt = float(config.values["dt"])
-    else:
-        from x3dpd.model.timestep import time_step_is_a_problem
-
-        dt = p.dtmax
-        for _ in range(MAX_HALVINGS):
-            if not time_step_is_a_problem(check(_stepped(deck, dt)).time_step):
-                break
-            dt /= 2.0
-        else:
-            _fail(design, config, f"no step down to {dt:g} s passes `x3dpd check`; give dt")
-    return _stepped(deck, dt)
-
-
-def _stepped(deck: Deck, dt: float) -> Deck:
-    p = deck.parameters
-    if dt == p.dtmax:
-        return deck
-    itrac = max(1, int(round(p.itrac * p.dtmax / dt)))
-    dtmin = dt if p.dtmin >= p.dtmax else min(p.dtmin, dt)   # a constant step stays constant
-    return replace(deck, parameters=replace(p, dtmin=dtmin, dtmax=dt, itrac=itrac))
+    """DTMAX the configuration's ``dt``, else the step ``x3dpd check`` recommends for its
+    particles (x3dpd.api.fit_time_step, as ``x3dpd fill``); ITRAC keeps the trace interval."""
+    try:
+        return fit_time_step(deck, dt=config.values.get("dt")).deck
+    except InputError as exc:
+        _fail(design, config, f"{exc}; give dt")
 
 
 def _resolved(deck: Deck, axis: int, values: dict) -> dict:

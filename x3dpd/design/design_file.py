@@ -346,8 +346,8 @@ def _evaluation(r: _Reader, ev: dict) -> Evaluation:
             or criterion.samples_per_cycle < 20):
         r.fail(keys, "steady-state settings: expected window >= 2, max_cycles >= 3 x window, "
                "samples_per_cycle >= 20")
-    out = dict(kind=kind, drives=drives or (), node=node, dof=dof,
-               baselines=tuple(baselines), criterion=criterion)
+    out = {"kind": kind, "drives": drives or (), "node": node, "dof": dof,
+               "baselines": tuple(baselines), "criterion": criterion}
     if kind == "sweep":
         freq = ev.get("frequencies")
         if freq is None:

@@ -93,8 +93,8 @@ def _sweep_rows(c) -> list[dict]:
 
 
 def _ringdown_rows(c) -> list[dict]:
-    from x3dpd.design.baselines import linear_structure, without_particles
     from x3dpd.api import build
+    from x3dpd.design.baselines import linear_structure, without_particles
 
     zeta0 = math.nan
     sdof = linear_structure(build(without_particles(c.made.deck)), c.node, c.dof)

@@ -33,9 +33,17 @@ from x3dpd.deck.cards import Deck
 from x3dpd.design.configs import Made, make_configurations, write_configurations
 from x3dpd.design.design_file import DesignFile, read_design
 from x3dpd.design.spec import SweepSpec, default_drive_point
-from x3dpd.design.sweep import (SweepDir, deck_hash, label_branches, pending, plan, run_chains,
-                                sort_rows, write_csv)
 from x3dpd.design.steady_state import run_point
+from x3dpd.design.sweep import (
+    SweepDir,
+    deck_hash,
+    label_branches,
+    pending,
+    plan,
+    run_chains,
+    sort_rows,
+    write_csv,
+)
 from x3dpd.errors import InputError
 
 
@@ -109,6 +117,9 @@ def run_design(path: str | os.PathLike, out: str | os.PathLike, *, workers: int 
     echo(f"design {design.path}: {len(configs)} configurations, {ev.kind}, {total} points "
          f"({total - left} stored before), into {out}")
     progress = _Progress(configs, total, total - left, echo)
+    # the costliest configurations first (particles per step x steps per second): their
+    # chains set the critical path; the order does not change any number
+    todo.sort(key=lambda item: -item[0].made.values["count"] / item[0].made.values["dt"])
     todo = [(fn, chain, previous, progress.wrap(c, finished))
             for c, (fn, chain, previous, finished) in todo]
     try:
@@ -130,7 +141,9 @@ def run_design(path: str | os.PathLike, out: str | os.PathLike, *, workers: int 
         b = best[0]
         echo(f"best configuration{' within the mass budget' if design.mass_budget else ''}: "
              f"{b['config']} (added mass {b['added_mass']:.4g}, {_score_text(b, ev.kind)})")
-    echo(f"wrote {out / 'design.csv'} and " + ", ".join(str(f) for f in figures))
+    echo(f"wrote {out / 'design.csv'} and " + ", ".join(str(f) for f in figures)
+         + f" ({len(rows)} rows, {progress.computed} points computed in "
+         f"{_duration(time.perf_counter() - progress.start)})")
     return rows
 
 
@@ -154,8 +167,12 @@ def _figures(out: Path, design: DesignFile, rows: list[dict], configs: list[Conf
         for k, drive in enumerate(design.evaluation.drives, 1):
             series = {c.made.config.name: [r for r in c.rows if r["config"] == "deck"
                                            and r["drive"] == drive] for c in configs}
-            base = {"undamped (closed form)": curves[("undamped", drive)]} \
-                if ("undamped", drive) in curves else {}
+            base = {}
+            if ("undamped", drive) in curves:
+                base["undamped (closed form)"] = curves[("undamped", drive)]
+            same_mass = len({c.made.values["added_mass"] for c in configs}) == 1
+            if same_mass and ("added-mass", drive) in curves:   # e.g. an equal-mass study
+                base["added mass (closed form)"] = curves[("added-mass", drive)]
             figures.append(plot_configurations(out / f"design_response_{k}.png", series, base,
                                                title=f"{title}, drive {drive:.5g}"))
     return figures
@@ -287,7 +304,7 @@ def _label(point, row: dict) -> str:
 
 
 def _duration(seconds: float) -> str:
-    seconds = int(round(seconds))
+    seconds = round(seconds)
     if seconds < 60:
         return f"{seconds} s"
     if seconds < 3600:
