@@ -93,6 +93,17 @@ def rigid_body(model: Model, i: int) -> tuple[set[int], float, int]:
     return {i}, float(model.mass[i]), i
 
 
+def _axis_springs_node(model: Model, node: int) -> int | None:
+    """Index of ``node`` in a model whose elements all act along the global axes (no axial or
+    rotational element, MATID types 2 and 3), else None (or when there is no such node)."""
+    if model.axial_nodes.shape[0] or model.rotational_nodes.shape[0]:
+        return None
+    try:
+        return model.index_of(node)
+    except KeyError:
+        return None
+
+
 def linear_modal(model: Model, node: int, dof: int, *, ignore_particles: bool = False
                  ) -> ModalLinear | None:
     """The modal structure of a particle-free model whose ``node`` (a modal node) is driven
@@ -103,13 +114,8 @@ def linear_modal(model: Model, node: int, dof: int, *, ignore_particles: bool = 
         return None
     if np.any(model.spring_k != 0.0) or np.any(model.spring_c != 0.0):
         return None
-    if model.axial_nodes.shape[0] or model.rotational_nodes.shape[0]:
-        return None
-    try:
-        i = model.index_of(node)
-    except KeyError:
-        return None
-    if i not in set(ms.nodes.tolist()):
+    i = _axis_springs_node(model, node)
+    if i is None or i not in set(ms.nodes.tolist()):
         return None
     return ModalLinear(ms.omega, ms.zeta, ms.coupling, ms.shape_at(i, dof - 1))
 
@@ -127,11 +133,8 @@ def linear_sdof(model: Model, node: int, dof: int, *, ignore_particles: bool = F
     """
     if (model.n_particles and not ignore_particles) or dof not in (1, 2, 3):
         return None
-    if model.axial_nodes.shape[0] or model.rotational_nodes.shape[0]:
-        return None
-    try:
-        i = model.index_of(node)
-    except KeyError:
+    i = _axis_springs_node(model, node)
+    if i is None:
         return None
     d = dof - 1
     body = {i}
