@@ -140,3 +140,18 @@ def test_a_generated_deck_gets_its_step_through_the_api():
     variable = replace(deck, parameters=replace(deck.parameters, dtmin=1e-9))
     assert x3dpd.fit_time_step(variable).deck.parameters.dtmin == 1e-9
     assert x3dpd.fit_time_step(deck, dt=3e-8).deck.parameters.dtmax == 3e-8
+
+
+def test_material_follows_the_templates_units(tmp_path):
+    """A template declaring UNITS mm N s gets MPa and t/mm^3: E0 = 620e9 Pa / 1e6, PRHO =
+    14950 kg/m^3 x 1e-12 (t = 1000 kg, mm^3 = 1e-9 m^3)."""
+    from x3dpd.deck.cards import Units
+    from x3dpd.deck.writer import write_deck
+
+    tpl = tmp_path / "mm.inp"
+    write_deck(replace(read_deck(DECKS / "beam_64.inp"), units=Units("mm", "N", "s")), tpl)
+    out = tmp_path / "out.inp"
+    assert run_cli("fill", tpl, "--n", 5, "--material", "wc", "--keep-dt", "-o", out) == 0
+    pd = read_deck(out).pdmp[0]
+    assert pd.e0 == pytest.approx(620e9 / 1e6, rel=1e-11)
+    assert pd.prho == pytest.approx(14950.0 * 1e-12, rel=1e-11)
