@@ -118,3 +118,40 @@ def test_generator_takes_library_names():
     assert (beam.e0, beam.e1, beam.t1, beam.prho) == (27.5e6, 5.0e6, 2.0e-6, 7.32971e-4)
     assert Material3.named("beam steel") == Material3(27.5e6, 5.0e6, 2.0e-6, 0.33, 0.30,
                                                       7.32971e-4)
+
+
+def test_a_generated_deck_gets_its_step_through_the_api():
+    """x3dpd.deck.generate writes the DTMAX it is given; x3dpd.fit_time_step sets the one its
+    particles need (the same estimate as fill), check clean; a variable-step deck keeps a
+    smaller DTMIN."""
+    import x3dpd
+
+    r = 0.01
+    pos = lattice_fill(CAVITY, r, 30, gap=0.05 * r)
+    deck = box_cavity_deck(size=CAVITY, particles=pos, radius=r, material="alumina",
+                           structure_mass=2.04213e-4, stiffness=11.4823, damping=3.08293e-4)
+    assert [w.code for w in check_model(build_model(deck)).warnings] == ["time-step"]
+    fitted = x3dpd.fit_time_step(deck)
+    rho = 3890.0 * INCH ** 4 / LBF
+    want = hertz_wall_step(r, rho, 370e9 / PSI, 0.22)
+    assert want * 0.99 < fitted.dt <= want * (1 + 1e-3)
+    assert fitted.deck.parameters.dtmax == fitted.dt and fitted.advice.binding == "contact"
+    assert not check_model(build_model(fitted.deck)).warnings
+    variable = replace(deck, parameters=replace(deck.parameters, dtmin=1e-9))
+    assert x3dpd.fit_time_step(variable).deck.parameters.dtmin == 1e-9
+    assert x3dpd.fit_time_step(deck, dt=3e-8).deck.parameters.dtmax == 3e-8
+
+
+def test_material_follows_the_templates_units(tmp_path):
+    """A template declaring UNITS mm N s gets MPa and t/mm^3: E0 = 620e9 Pa / 1e6, PRHO =
+    14950 kg/m^3 x 1e-12 (t = 1000 kg, mm^3 = 1e-9 m^3)."""
+    from x3dpd.deck.cards import Units
+    from x3dpd.deck.writer import write_deck
+
+    tpl = tmp_path / "mm.inp"
+    write_deck(replace(read_deck(DECKS / "beam_64.inp"), units=Units("mm", "N", "s")), tpl)
+    out = tmp_path / "out.inp"
+    assert run_cli("fill", tpl, "--n", 5, "--material", "wc", "--keep-dt", "-o", out) == 0
+    pd = read_deck(out).pdmp[0]
+    assert pd.e0 == pytest.approx(620e9 / 1e6, rel=1e-11)
+    assert pd.prho == pytest.approx(14950.0 * 1e-12, rel=1e-11)

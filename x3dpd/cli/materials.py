@@ -19,8 +19,8 @@ def _si_rows(mats) -> tuple[list[str], list[list[str]]]:
 
 def _deck_rows(mats, units) -> tuple[list[str], list[list[str]]]:
     lab = labels_for(in_units(mats[0], units).units)
-    head = ["name", f"E0 [{lab['pressure']}]", f"Maxwell E_k [{lab['pressure']}] / tau_k "
-            f"[{lab['time']}]", "nu", f"rho [{lab['density']}]", "mu"]
+    arms = f"Maxwell E_k [{lab['pressure']}] / tau_k [{lab['time']}]"
+    head = ["name", f"E0 [{lab['pressure']}]", arms, "nu", f"rho [{lab['density']}]", "mu"]
     rows = []
     for m in mats:
         d = in_units(m, units)
@@ -32,7 +32,10 @@ def _deck_rows(mats, units) -> tuple[list[str], list[list[str]]]:
 
 def _table(head, rows) -> str:
     width = [max(len(r[k]) for r in [head] + rows) for k in range(len(head))]
-    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, width)).rstrip()  # noqa: E731
+
+    def line(row):
+        return "  ".join(c.ljust(w) for c, w in zip(row, width)).rstrip()
+
     return "\n".join([line(head), line(["-" * w for w in width])] + [line(r) for r in rows])
 
 

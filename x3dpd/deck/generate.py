@@ -49,7 +49,7 @@ class Material3:
     extra_terms: tuple[tuple[float, float], ...] = ()
 
     @classmethod
-    def named(cls, name) -> "Material3":
+    def named(cls, name) -> Material3:
         """A library material (x3dpd.materials, by name or Material) in inch-lbf-s."""
         f = in_units(name).pdmp_fields()
         return cls(f["e0"], f["e1"], f["t1"], f["ppoi"], f["pcof"], f["prho"], f["extra_terms"])
