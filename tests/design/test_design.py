@@ -207,3 +207,30 @@ def test_a_ring_down_of_the_linear_structure_gives_its_damping_ratio(tmp_path):
         assert r["zeta_percent"] == pytest.approx(zeta, rel=1e-2)
         assert r["baseline_zeta_percent"] == pytest.approx(zeta, rel=1e-12)
     assert (tmp_path / "out" / "design_damping.png").exists()
+
+
+def test_a_cylinder_cavity_is_resized_and_refilled_with_every_sphere_inside(tmp_path):
+    # decks/cylinder_64.inp: a CYLINDER on axis nodes 2 (origin) and 3 along x
+    from x3dpd.design.configs import make_configurations
+    from x3dpd.design.design_file import read_design
+
+    spec = write(tmp_path, f'structure = "{ROOT / "decks" / "cylinder_64.inp"}"\n[fill]\n'
+                 'count = 20\nradius = 0.03125\ndt = 5e-7\n[vary]\ncavity_length = [0.2, 0.3]\n'
+                 'cavity_radius = [0.15, 0.2]\n[evaluate]\nkind = "dwell"\nfrequency = 37.2\n'
+                 'drives = [4.84040e-3]\n')
+    made = make_configurations(read_design(spec))
+    assert len(made) == 4
+    for m in made:
+        length, big_r = m.config.values["cavity_length"], m.config.values["cavity_radius"]
+        (wall,) = m.deck.analytic_walls
+        assert wall.params == (big_r,)
+        xyz = {n.nid: (n.x, n.y, n.z) for n in m.deck.nodes}
+        assert xyz[wall.nodes[1]] == pytest.approx((length, 0.0, 0.0), abs=1e-15)
+        inside = [(x, math.hypot(y, z)) for (x, y, z) in
+                  (xyz[k] for k in xyz if k > m.deck.pdmp[0].nodlim)]
+        assert len(inside) == 20
+        r = 0.03125
+        assert all(r <= x <= length - r and rho <= big_r - r for x, rho in inside)
+        assert m.values["fill_ratio"] == pytest.approx(
+            20 * r ** 3 * 4 / 3 / (big_r ** 2 * length), rel=1e-12)
+        assert check(m.deck).exit_status == 0

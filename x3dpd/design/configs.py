@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.api import build, check, fit_time_step, load_deck
+from x3dpd.api import build, check, fit_time_step, load_deck, rules_of_thumb
 from x3dpd.deck.cards import Deck, Node, Title
 from x3dpd.deck.fill import _box, cavity_triangles, fill_positions, filled_deck, with_material
 from x3dpd.deck.writer import format_deck
@@ -35,6 +35,7 @@ from x3dpd.physics.usrfrc import is_user_file
 
 #: Keys that make a configuration refill its cavity.
 REFILL = ("radius", "count", "fill_ratio", "particle_mass", "cavity_length", "cavity_size",
+          "cavity_radius",
           "packing", "gap", "gap_fraction", "jitter", "seed")
 
 
@@ -85,7 +86,7 @@ def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
                        + deck.pdmp[1:])
         pd = deck.pdmp[0]
     axis = _drive_axis(design, template)
-    if "cavity_length" in v or "cavity_size" in v:
+    if any(k in v for k in ("cavity_length", "cavity_size", "cavity_radius")):
         deck = _resized(design, config, deck, axis)
     if v.get("count") == 0:
         deck = without_particles(deck)
@@ -100,11 +101,34 @@ def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
     values = _resolved(deck, axis, v)
     values["mass_ratio"] = (values["added_mass"] / report.structure_mass
                             if report.structure_mass > 0 else math.nan)
+    values["notes"] = tuple(f"{n.text} ({n.section})" for n in _rules(design, deck))
     head = [f"{config.name}.inp: configuration {config.name} of the design {design.path.name}",
             f"Made by `x3dpd design` from {design.structure.name}; do not edit (rerun the design).",
             *(f"  {k} = {val!r}" for k, val in v.items())]
     text = "".join(f"$ {line}".rstrip() + "\n" for line in head) + "$\n" + format_deck(deck)
     return Made(config, Path(), deck, values, text)
+
+
+def _rules(design: DesignFile, deck: Deck) -> list:
+    """The report's rules of thumb (x3dpd.api.rules_of_thumb) for the configuration under the
+    evaluation's drive at its largest level: a sine at the dwell's or ring-down's frequency, a
+    sweep over the band; the deck's own USRFRC drive for a ring-down without one."""
+    from x3dpd.design.spec import default_drive_point
+
+    ev = design.evaluation
+    if not ev.drives or not ev.frequencies:
+        return rules_of_thumb(deck)
+    node, dof = ev.node, ev.dof
+    if node is None or dof is None:
+        try:
+            d_node, d_dof = default_drive_point(deck)
+        except InputError:
+            return []
+        node, dof = (d_node if node is None else node), (d_dof if dof is None else dof)
+    amp, lo, hi = max(ev.drives), min(ev.frequencies), max(ev.frequencies)
+    spec = (f"sine:node={node},dof={dof},amp={amp!r},hz={lo!r}" if lo == hi else
+            f"sweep:node={node},dof={dof},amp={amp!r},f0={lo!r},f1={hi!r},rate=1")
+    return rules_of_thumb(replace(deck, usrfrc=()), usrfrc=(spec,))
 
 
 def _drive_axis(design: DesignFile, deck: Deck) -> int:
@@ -120,8 +144,26 @@ def _drive_axis(design: DesignFile, deck: Deck) -> int:
     return max(0, min(2, dof - 1))
 
 
+def _analytic_wall(deck: Deck, set_id: int | None):
+    """The analytic wall record (CYLINDER, CAPSULE) bounding the cavity, or None when the
+    cavity is triangulated (a CONTACT set with triangles)."""
+    walls = deck.analytic_walls or ()
+    if set_id is None and any(t for c in deck.contacts for t in c.triangles):
+        return None
+    for wall in walls:
+        if set_id is None or wall.set_id == set_id:
+            return wall
+    return None
+
+
 def _resized(design, config, deck: Deck, axis: int) -> Deck:
-    """The deck with its box cavity (CONTACT set) resized about its low corner."""
+    """The deck with its cavity resized: a box (CONTACT set) about its low corner, a cylinder
+    or capsule (analytic wall A-B, radius) about its end A."""
+    wall = _analytic_wall(deck, design.cavity_set)
+    if wall is not None:
+        return _resized_wall(design, config, deck, wall)
+    if "cavity_radius" in config.values:
+        _fail(design, config, "cavity_radius needs a CYLINDER or CAPSULE cavity")
     try:
         tri, sid = cavity_triangles(deck, design.cavity_set)
     except InputError as exc:
@@ -142,7 +184,77 @@ def _resized(design, config, deck: Deck, axis: int) -> Deck:
     return replace(deck, nodes=nodes)
 
 
+def _resized_wall(design, config, deck: Deck, wall) -> Deck:
+    """A cylinder's or capsule's axis end B moved along A-B to ``cavity_length``, its radius
+    set to ``cavity_radius``."""
+    v = config.values
+    if "cavity_size" in v:
+        _fail(design, config, f"cavity_size is a box's; this cavity is a {wall.shape} "
+              "(give cavity_length, cavity_radius)")
+    xyz = {nd.nid: np.array([nd.x, nd.y, nd.z]) for nd in deck.nodes}
+    a, b = (xyz[k] for k in wall.nodes[:2])
+    nodes = deck.nodes
+    if "cavity_length" in v:
+        moved = a + (b - a) / np.linalg.norm(b - a) * v["cavity_length"]
+        nodes = tuple(Node(nd.nid, *map(float, moved)) if nd.nid == wall.nodes[1] else nd
+                      for nd in nodes)
+    params = wall.params
+    if "cavity_radius" in v:
+        params = (float(v["cavity_radius"]),) + tuple(params[1:])
+    walls = tuple(replace(w, params=params) if w is wall else w for w in deck.analytic_walls)
+    return replace(deck, nodes=nodes, analytic_walls=walls)
+
+
+#: Facets around of the inscribed mesh an analytic cavity is filled through.
+FILL_FACETS = 64
+
+
+def _meshed(deck: Deck, wall) -> tuple[Deck, tuple]:
+    """The deck with its analytic wall also given as CONTACT triangles of an inscribed mesh
+    (x3dpd.geometry.shapes: corners on the wall, so a sphere that fits the mesh fits the
+    wall) on new nodes above every other: what x3dpd.deck.fill packs into."""
+    from x3dpd.deck.cards import Contact, Triangle
+    from x3dpd.geometry.shapes import BY_SHAPE_NAME
+
+    xyz = {nd.nid: (nd.x, nd.y, nd.z) for nd in deck.nodes}
+    ends = np.array([xyz[k] for k in wall.nodes[:2]], float)
+    verts, tris = BY_SHAPE_NAME[wall.shape].mesh(ends, wall.params, FILL_FACETS)
+    first = max(xyz) + 1
+    nodes = deck.nodes + tuple(Node(first + k, *map(float, p)) for k, p in enumerate(verts))
+    mesh = tuple(Triangle(wall.set_id, tuple(int(first + i) for i in t)) for t in tris)
+    contacts = deck.contacts or (Contact((), ()),)
+    contacts = (replace(contacts[0], triangles=contacts[0].triangles + mesh),) + contacts[1:]
+    return replace(deck, nodes=nodes, contacts=contacts), mesh
+
+
 def _refilled(design, config, deck: Deck) -> Deck:
+    """The cavity refilled (x3dpd.deck.fill); an analytic cavity through its inscribed mesh."""
+    wall = _analytic_wall(deck, design.cavity_set)
+    if wall is None:
+        return _refilled_mesh(design, config, deck, wall_set=None)
+    meshed, mesh = _meshed(deck, wall)
+    out = _refilled_mesh(design, config, meshed, wall_set=wall.set_id,
+                         volume=_wall_volume(deck, wall))
+    drop = set(mesh)
+    return replace(out, contacts=tuple(replace(c, triangles=tuple(
+        t for t in c.triangles if t not in drop)) for c in out.contacts))
+
+
+def _wall_volume(deck: Deck, wall) -> float:
+    """Interior volume of a cylinder (pi R^2 L) or capsule (pi R^2 L + 4/3 pi R^3) [length^3]."""
+    length, radius = _wall_length(deck, wall), float(wall.params[0])
+    extra = 4.0 / 3.0 * math.pi * radius ** 3 if wall.shape == "capsule" else 0.0
+    return math.pi * radius ** 2 * length + extra
+
+
+def _wall_length(deck: Deck, wall) -> float:
+    """|B - A| of an analytic wall's axis nodes [length]."""
+    xyz = {nd.nid: np.array([nd.x, nd.y, nd.z]) for nd in deck.nodes}
+    return float(np.linalg.norm(xyz[wall.nodes[1]] - xyz[wall.nodes[0]]))
+
+
+def _refilled_mesh(design, config, deck: Deck, wall_set: int | None,
+                   volume: float | None = None) -> Deck:
     """The cavity refilled with the configuration's particles (x3dpd.deck.fill)."""
     v = config.values
     pd = deck.pdmp[0]
@@ -151,7 +263,7 @@ def _refilled(design, config, deck: Deck) -> Deck:
     opts = {"radius": radius, "packing": v.get("packing", "cubic"), "gap": gap,
                 "seed": v.get("seed"), "jitter": float(v.get("jitter", 0.0)), "set_id": design.cavity_set}
     try:
-        volume = fill_positions(deck, n=1, **opts).volume
+        volume = volume or fill_positions(deck, n=1, **opts).volume
         one = 4.0 / 3.0 * math.pi * radius ** 3
         if "count" in v:
             n = int(v["count"])
@@ -171,7 +283,7 @@ def _refilled(design, config, deck: Deck) -> Deck:
         _fail(design, config, f"only {got} of {n} spheres of radius {radius:g} fit in the "
               f"cavity ({opts['packing']} packing, gap {gap:g}, cavity volume {volume:.6g}); "
               "a fill that cannot fit")
-    return filled_deck(deck, fill, design.cavity_set)
+    return filled_deck(deck, fill, opts["set_id"])
 
 
 def _with_step(design, config, deck: Deck) -> Deck:
@@ -194,17 +306,27 @@ def _resolved(deck: Deck, axis: int, values: dict) -> dict:
            "radius": float(pd.rzero) if (pd and n) else 0.0, "count": n,
            "added_mass": particle_mass(model), "dt": float(deck.parameters.dtmax),
            "fill_ratio": math.nan, "cavity_length": math.nan, "clearance": math.nan}
-    try:
-        tri, _ = cavity_triangles(deck, None)
-    except InputError:
-        return out
-    pts = tri.reshape(-1, 3)
-    out["cavity_length"] = float(np.ptp(pts[:, axis]))
+    wall = _analytic_wall(deck, None)
+    if wall is not None:   # along the cylinder's or capsule's axis
+        xyz = {nd.nid: np.array([nd.x, nd.y, nd.z]) for nd in deck.nodes}
+        a, b = xyz[wall.nodes[0]], xyz[wall.nodes[1]]
+        direction = (b - a) / max(np.linalg.norm(b - a), 1e-300)
+        extra = 2.0 * float(wall.params[0]) if wall.shape == "capsule" else 0.0
+        out["cavity_length"] = _wall_length(deck, wall) + extra
+        volume = _wall_volume(deck, wall)
+        along = (model.x0[model.particle_start:] - a) @ direction
+    else:
+        try:
+            tri, _ = cavity_triangles(deck, None)
+        except InputError:
+            return out
+        pts = tri.reshape(-1, 3)
+        out["cavity_length"] = float(np.ptp(pts[:, axis]))
+        volume = fill_positions(deck, n=1, radius=out["radius"] or 1.0).volume
+        along = model.x0[model.particle_start:, axis]
     if n:
-        fill = fill_positions(deck, n=1, radius=out["radius"])
-        out["fill_ratio"] = n * 4.0 / 3.0 * math.pi * out["radius"] ** 3 / fill.volume
-        x = model.x0[model.particle_start:, axis]
-        out["clearance"] = out["cavity_length"] - float(np.ptp(x) + 2.0 * out["radius"])
+        out["fill_ratio"] = n * 4.0 / 3.0 * math.pi * out["radius"] ** 3 / volume
+        out["clearance"] = out["cavity_length"] - float(np.ptp(along) + 2.0 * out["radius"])
     return out
 
 

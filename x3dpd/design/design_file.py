@@ -23,7 +23,7 @@ from x3dpd.errors import InputError
 
 #: Keys of a configuration: fixed in [fill], varied in [vary], or set per [[configuration]].
 CONFIG_KEYS = ("material", "radius", "count", "fill_ratio", "particle_mass", "cavity_length",
-               "cavity_size", "packing", "gap", "gap_fraction", "jitter", "seed", "dt")
+               "cavity_size", "cavity_radius", "packing", "gap", "gap_fraction", "jitter", "seed", "dt")
 #: How many particles: at most one of these per configuration (none: the deck's count).
 AMOUNT_KEYS = ("count", "fill_ratio", "particle_mass")
 TOP_KEYS = ("title", "structure", "usrfrc_code", "mass_budget", "cavity", "fill", "vary",
@@ -298,7 +298,8 @@ def _configurations(r: _Reader, data: dict) -> tuple[tuple[Configuration, ...], 
 
 def _label(key: str, value) -> str:
     short = {"material": "", "radius": "r", "count": "n", "fill_ratio": "fill",
-             "particle_mass": "m", "cavity_length": "L", "cavity_size": "box", "packing": "",
+             "particle_mass": "m", "cavity_length": "L", "cavity_size": "box",
+             "cavity_radius": "Rc", "packing": "",
              "gap": "gap", "gap_fraction": "gapf", "jitter": "jit", "seed": "seed", "dt": "dt"}
     if isinstance(value, tuple):
         value = "x".join(f"{v:g}" for v in value)
