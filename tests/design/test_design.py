@@ -234,3 +234,25 @@ def test_a_cylinder_cavity_is_resized_and_refilled_with_every_sphere_inside(tmp_
         assert m.values["fill_ratio"] == pytest.approx(
             20 * r ** 3 * 4 / 3 / (big_r ** 2 * length), rel=1e-12)
         assert check(m.deck).exit_status == 0
+
+
+def test_a_changed_configuration_is_refused_without_overwrite_and_its_deck_kept(tmp_path):
+    write_deck(sdof_deck(dt=1e-5, hz=37.0), tmp_path / "sdof.inp")
+
+    def design(dt):
+        return write(tmp_path, f'structure = "sdof.inp"\n[[configuration]]\nname = "a"\n'
+                     f'count = 0\ndt = {dt}\n[[configuration]]\nname = "b"\ncount = 0\n'
+                     'dt = 4e-5\n[evaluate]\nkind = "dwell"\nnode = 1\ndof = 1\n'
+                     'frequency = 37.5\ndrives = [4.84040e-3]\nbaselines = []\n')
+
+    out = tmp_path / "out"
+    first = run_design(design("4e-5"), out, workers=1, echo=lambda s: None)
+    deck_a = (out / "configs" / "a" / "a.inp").read_text()
+    with pytest.raises(InputError, match="configuration a .*--overwrite"):
+        run_design(design("2e-5"), out, workers=1, echo=lambda s: None)
+    assert (out / "configs" / "a" / "a.inp").read_text() == deck_a     # nothing lost
+    said = []
+    rows = run_design(design("2e-5"), out, workers=1, overwrite=True, echo=said.append)
+    assert "(1 stored before)" in said[0]                                # b kept, a redone
+    assert [r["dt"] for r in rows] == [2e-5, 4e-5]
+    assert rows[1]["amplitude"] == first[1]["amplitude"]

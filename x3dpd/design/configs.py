@@ -339,9 +339,9 @@ def write_configurations(made: list[Made], out: Path, design: DesignFile) -> lis
         folder = out / "configs" / m.config.name
         folder.mkdir(parents=True, exist_ok=True)
         path = folder / f"{m.config.name}.inp"
-        if not path.exists() or path.read_text() != m.text:
+        if not path.exists() or path.read_text(encoding="utf-8") != m.text:
             tmp = path.with_name(path.name + ".tmp")
-            tmp.write_text(m.text)
+            tmp.write_text(m.text, encoding="utf-8")
             os.replace(tmp, path)
         for code in code_files(m.deck):
             src = (template_dir / code)

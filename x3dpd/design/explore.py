@@ -21,12 +21,13 @@ once; a rerun computes only what is missing. Then ``DIR/design.csv`` and the fig
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from x3dpd.deck.cards import Deck
@@ -104,12 +105,20 @@ def run_design(path: str | os.PathLike, out: str | os.PathLike, *, workers: int 
     for c in configs:
         if c.spec is not None:
             plan(c.spec)                          # a bad baseline or drive point: before writing
+    for c, m in zip(configs, made):   # before any deck is written: stored points kept
+        if c.spec is not None and _changed(c.folder, replace(
+                c.spec, deck_text_hash=hashlib.sha256(m.text.encode("utf-8")).hexdigest())) \
+                and not overwrite:
+            raise InputError(f"{c.folder / 'sweep'}: holds points of another deck or other "
+                             f"settings for configuration {m.config.name} (the design file "
+                             "changed); give another --out, or --overwrite to recompute the "
+                             "configurations that changed")
     made = write_configurations(made, out, design)
     _write_settings(out, design)
     todo = []
     for c, m in zip(configs, made):
         c.made = m
-        mine = _pending(design, c, overwrite)
+        mine = _pending(design, c)
         c.left = sum(len(chain) for _, chain, _, _ in mine)
         todo.extend((c, entry) for entry in mine)
     total = sum(c.total for c in configs)
@@ -198,27 +207,26 @@ def _sweep_spec(design: DesignFile, made: Made) -> SweepSpec:
                      baselines=ev.baselines, criterion=ev.criterion)
 
 
+def _changed(folder: Path, spec: SweepSpec) -> bool:
+    """Whether ``folder``/sweep holds points computed with other settings or another deck."""
+    stored = folder / "sweep" / "sweep.json"
+    return stored.exists() and json.loads(stored.read_text()) != json.loads(
+        json.dumps(spec.settings()))
+
+
 def _write_settings(out: Path, design: DesignFile) -> None:
     out.mkdir(parents=True, exist_ok=True)
     (out / "design.toml").write_text(design.text)
 
 
-def _pending(design: DesignFile, c: Config, overwrite: bool) -> list:
+def _pending(design: DesignFile, c: Config) -> list:
     """The chains of ``c`` still to compute; fills ``c.rows`` / ``c.ringdowns`` with what is
     stored and ``c.total`` with its number of points."""
-    from dataclasses import replace
-
     if c.spec is None:
         return _pending_ringdowns(design, c)
     c.spec = replace(c.spec, deck=c.made.deck, deck_text_hash=deck_hash(c.made.path))
     chains, closed = plan(c.spec)
-    try:
-        c.store = SweepDir(c.folder / "sweep", c.spec, overwrite)
-    except InputError:
-        raise InputError(f"{c.folder / 'sweep'}: holds points of another deck or other "
-                         f"settings for configuration {c.made.config.name} (the design file "
-                         "changed); give another --out, or --overwrite to recompute "
-                         "what changed") from None
+    c.store = SweepDir(c.folder / "sweep", c.spec, overwrite=_changed(c.folder, c.spec))
     done, todo = pending(chains, c.store)
     c.rows = closed + done
     c.total = sum(len(chain) for chain in chains)
