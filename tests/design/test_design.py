@@ -175,6 +175,25 @@ def test_a_deck_named_code_file_runs_only_when_the_design_says_so(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.validate
+def test_a_deck_named_code_file_travels_with_each_configuration_when_allowed(tmp_path):
+    # validate: a deck with a user force file compiles a step loop of its own (~70 s)
+    deck = tmp_path / "coded.inp"
+    deck.write_text(BEAM_1.read_text().replace("USRFRC\n", "USRFRC\n   force.py\n", 1))
+    (tmp_path / "force.py").write_text("def usrfrc(time, coords, vels, force):\n    pass\n")
+    text = ('structure = "coded.inp"\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
+            'frequencies = [37.0]\nwindow = 2\nmax_cycles = 6\n')
+    allowed = text.replace('structure = "coded.inp"\n',
+                           'structure = "coded.inp"\nusrfrc_code = true\n[fill]\ncount = 0\n'
+                           'dt = 4e-5\n').replace('kind = "sweep"', 'kind = "dwell"').replace(
+        "frequencies = [37.0]", "frequency = 37.0")
+    run_design(write(tmp_path, allowed, "allowed.toml"), tmp_path / "out", workers=1,
+               echo=lambda s: None)
+    folder = tmp_path / "out" / "configs" / "config_1"
+    assert (folder / "force.py").read_text() == (tmp_path / "force.py").read_text()
+    assert "force.py" in (folder / "config_1.inp").read_text()
+
+
 def _sdof_design(tmp_path: Path, evaluate: str) -> Path:
     write_deck(sdof_deck(dt=1e-5, hz=37.0), tmp_path / "sdof.inp")
     return write(tmp_path, f'structure = "sdof.inp"\n[fill]\ncount = 0\n[vary]\n'
