@@ -1,8 +1,8 @@
 """Figures of ``x3dpd design`` (docs/design.md): what a designer reads off a design study.
 
 * :func:`plot_attenuation_vs_mass` -- peak attenuation (or peak amplitude) versus added mass,
-  one line per particle material and size, one panel per drive level (the report's attenuation
-  versus mass and count charts, Figures 45-48 condensed to one number per configuration);
+  one line per particle material and size, one panel per drive level (Figures 45-48 condensed
+  to one number per configuration); in an equal-mass study, versus the particle count;
 * :func:`plot_damping_families` -- % zeta versus amplitude, one line per configuration
   coloured by its added mass (the report's damping surfaces, Figures 7, 8, 11-13, as line
   families), and the mean % zeta versus added mass.
@@ -55,6 +55,11 @@ def plot_attenuation_vs_mass(png: str | os.PathLike, rows: Sequence[Mapping],
         quantity, label = "peak_attenuation_added_mass_db", "peak attenuation vs added mass [dB]"
     if not any(math.isfinite(r[quantity]) for r in rows):
         quantity, label = "peak_amplitude", "peak amplitude"
+    masses = {r["added_mass"] for r in rows}
+    # an equal-mass study (the report's particle-count study): against the count instead
+    by_count = (len({r["count"] for r in rows}) > 1
+                and max(masses) - min(masses) <= 1e-9 * max(masses))
+    x_key = "count" if by_count else "added_mass"
     fig, axes = plt.subplots(1, len(drives), figsize=(5.4 * len(drives), 4.2), squeeze=False)
     for ax, drive in zip(axes[0], drives):
         per_config = {}
@@ -64,7 +69,8 @@ def plot_attenuation_vs_mass(png: str | os.PathLike, rows: Sequence[Mapping],
                 per_config[config] = here[0]
         families: dict[str, list] = {}
         for config, r in per_config.items():
-            families.setdefault(_family(r), []).append((r["added_mass"], r[quantity], config))
+            family = "equal mass" if by_count else _family(r)
+            families.setdefault(family, []).append((r[x_key], r[quantity], config))
         for k, (name, pts) in enumerate(sorted(families.items())):
             pts.sort()
             ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", color=f"C{k}",
@@ -75,10 +81,14 @@ def plot_attenuation_vs_mass(png: str | os.PathLike, rows: Sequence[Mapping],
         best = [r for r in per_config.values() if r.get("best")]
         if best:
             b = best[0]
-            ax.plot(b["added_mass"], b[quantity], marker="*", ms=18, color="gold", mec="k",
+            ax.plot(b[x_key], b[quantity], marker="*", ms=18, color="gold", mec="k",
                     ls="none", label=f"best: {b['config']}", zorder=5)
-        _budget(ax, budget)
-        ax.set_xlabel(f"added (particle) mass{f' [{mass_unit}]' if mass_unit else ''}")
+        if by_count:
+            ax.set_xscale("log")
+            ax.set_xlabel(f"particle count (equal added mass {max(masses):.4g})")
+        else:
+            _budget(ax, budget)
+            ax.set_xlabel(f"added (particle) mass{f' [{mass_unit}]' if mass_unit else ''}")
         ax.set_ylabel(label)
         if quantity == "peak_amplitude":
             ax.set_yscale("log")
