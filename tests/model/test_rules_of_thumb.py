@@ -138,6 +138,10 @@ def test_check_prints_the_rules_as_notes_and_keeps_its_verdict():
     report = check_model(model)
     assert [r.code for r in report.rules] == ["turn-on", "clearance", "mass-ratio"]
     assert report.exit_status == 0 and not report.warnings
+    # --usrfrc replaces the deck's drive (as for x3dpd run): a sweep through resonance
+    sweep = f"sweep:node=9,dof=1,amp={F},f0=30,f1=45,rate=1"
+    other = check_model(model, usrfrc=(sweep,)).rules[0]
+    assert "sweep" in other.text and other.value > report.rules[0].value
 
 
 def test_check_command_prints_each_rule_with_its_section(capsys):

@@ -112,9 +112,9 @@ def _resonances(structure) -> list[float]:
 
 
 def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
-    """The :class:`DriveEstimate` of the deck's USRFRC laws and ``usrfrc`` specs, or a phrase
-    saying why there is none."""
-    laws, files = split_specs(tuple(model.usrfrc) + tuple(usrfrc))
+    """The :class:`DriveEstimate` of the deck's USRFRC laws -- or of ``usrfrc`` specs, which
+    replace them as ``x3dpd run --usrfrc`` does -- or a phrase saying why there is none."""
+    laws, files = split_specs(tuple(usrfrc) or tuple(model.usrfrc))
     if files:
         return "the drive is a user force file"
     if not laws:
@@ -128,7 +128,7 @@ def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
         return "a random drive"
     waves = rows[np.isin(rows[:, 0], (KIND_SINE, KIND_SWEEP_LINEAR, KIND_SWEEP_LOG))]
     if waves.shape[0] != 1:
-        return f"{waves.shape[0]} sine or sweep drive laws (one is estimated)"
+        return f"{waves.shape[0]} sine or sweep drive laws (only a single one is estimated)"
     kind, index, dof_index, amp = waves[0, :4]
     node, dof = int(model.node_ids[int(index)]), int(dof_index) + 1
     structure = (linear_sdof(model, node, dof, ignore_particles=True)
@@ -228,7 +228,7 @@ def _mass_ratio(model: Model, drive, modal_mode: int | None, mass: str) -> RuleN
         if sdof is not None:
             ms, what = sdof.m, "spring-mounted body's mass"
             hz = math.sqrt(sdof.k / sdof.m) / (2 * math.pi)
-        elif model.modal is not None and modal_mode is not None:
+        elif model.modal is not None and modal_mode is not None and drive.node in model.node_ids:
             phi = model.modal.shape_at(model.index_of(drive.node), drive.dof - 1)[modal_mode]
             if phi != 0.0:
                 ms = 1.0 / phi ** 2
@@ -266,8 +266,8 @@ def rules_of_thumb(model: Model, *, usrfrc=(), drive: DriveEstimate | None = Non
                    ) -> list[RuleNote]:
     """The rules of thumb of a model (module docstring): turn-on, clearance per cavity, mass
     ratio, and for a modal structure the damped mode's separation. ``drive`` replaces the
-    estimate of the deck's USRFRC drive (plus ``usrfrc`` specs). Never raises on a model that
-    builds; a rule it cannot evaluate is left out or says why."""
+    estimate of the deck's USRFRC drive (or of ``usrfrc`` specs, which replace the deck's).
+    Never raises on a model that builds; a rule it cannot evaluate is left out or says why."""
     units = labels_for(model.units)
     estimate = drive if drive is not None else drive_estimate(model, usrfrc)
     mode = None
