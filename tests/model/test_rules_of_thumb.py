@@ -131,6 +131,13 @@ def test_modal_structure_closed_form():
     assert got["mass-ratio"].value == pytest.approx(mp * 70.0 ** 2, rel=1e-12)
     assert got["mode-separation"].value == pytest.approx(50.0 / 40.0, rel=1e-12)
     assert "12.5 half-power bandwidths" in got["mode-separation"].text
+    # without a drive: mode 1 at the cavity's master (node 9), along its largest shape value
+    bare = build_model(parse_deck(re.sub(r"USRFRC\n.*?END\n", "", text, flags=re.DOTALL),
+                                  "modal.inp"))
+    got = rules(bare)
+    assert "not estimated" in got["turn-on"].text
+    assert got["mass-ratio"].value == pytest.approx(mp * 70.0 ** 2, rel=1e-12)
+    assert got["mode-separation"].value == pytest.approx(50.0 / 40.0, rel=1e-12)
 
 
 def test_check_prints_the_rules_as_notes_and_keeps_its_verdict():
@@ -138,6 +145,10 @@ def test_check_prints_the_rules_as_notes_and_keeps_its_verdict():
     report = check_model(model)
     assert [r.code for r in report.rules] == ["turn-on", "clearance", "mass-ratio"]
     assert report.exit_status == 0 and not report.warnings
+    # --usrfrc replaces the deck's drive (as for x3dpd run): a sweep through resonance
+    sweep = f"sweep:node=9,dof=1,amp={F},f0=30,f1=45,rate=1"
+    other = check_model(model, usrfrc=(sweep,)).rules[0]
+    assert "sweep" in other.text and other.value > report.rules[0].value
 
 
 def test_check_command_prints_each_rule_with_its_section(capsys):

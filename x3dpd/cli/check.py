@@ -141,7 +141,7 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
                               f"{ts.omega_node} {ts.omega_dof}); 0.2 x critical step = "
                               f"{ts.dt_structure:.3g} s"))
     if report.rules:
-        lines += ["", "rules of thumb (the report's design guidance: notes, not warnings)"]
+        lines += ["", "rules of thumb (the report's design guidance; notes only)"]
         lines += [_row(rule.code, f"{rule.text} [{rule.section}]") for rule in report.rules]
     return lines
 

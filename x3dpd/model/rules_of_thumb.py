@@ -40,7 +40,8 @@ from scipy.optimize import minimize_scalar
 
 from x3dpd.errors import X3dpdError
 from x3dpd.model.check_shapes import shape_extent
-from x3dpd.model.linear_structure import ModalLinear, Sdof, linear_modal, linear_sdof
+from x3dpd.model.linear_structure import (ModalLinear, Sdof, linear_modal, linear_sdof,
+                                          rigid_body)
 from x3dpd.model.model import Model
 from x3dpd.physics.usrfrc import (KIND_RANDOM, KIND_SINE, KIND_SWEEP_LINEAR, KIND_SWEEP_LOG,
                                   force_table, law_count, split_specs)
@@ -112,9 +113,9 @@ def _resonances(structure) -> list[float]:
 
 
 def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
-    """The :class:`DriveEstimate` of the deck's USRFRC laws and ``usrfrc`` specs, or a phrase
-    saying why there is none."""
-    laws, files = split_specs(tuple(model.usrfrc) + tuple(usrfrc))
+    """The :class:`DriveEstimate` of the deck's USRFRC laws -- or of ``usrfrc`` specs, which
+    replace them as ``x3dpd run --usrfrc`` does -- or a phrase saying why there is none."""
+    laws, files = split_specs(tuple(usrfrc) or tuple(model.usrfrc))
     if files:
         return "the drive is a user force file"
     if not laws:
@@ -127,8 +128,10 @@ def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
     if np.any(rows[:, 0] == KIND_RANDOM):
         return "a random drive"
     waves = rows[np.isin(rows[:, 0], (KIND_SINE, KIND_SWEEP_LINEAR, KIND_SWEEP_LOG))]
-    if waves.shape[0] != 1:
-        return f"{waves.shape[0]} sine or sweep drive laws (one is estimated)"
+    if waves.shape[0] == 0:
+        return "no sine or sweep drive law"
+    if waves.shape[0] > 1:
+        return f"{waves.shape[0]} sine or sweep drive laws (only a single one is estimated)"
     kind, index, dof_index, amp = waves[0, :4]
     node, dof = int(model.node_ids[int(index)]), int(dof_index) + 1
     structure = (linear_sdof(model, node, dof, ignore_particles=True)
@@ -220,19 +223,35 @@ def _clearances(model: Model, drive: DriveEstimate, length: str) -> list[RuleNot
     return out
 
 
+def _cavity_dof(model: Model, mode: int) -> tuple[int, int] | None:
+    """(node id, dof 1-3) where the first cavity's body moves most in ``mode``: the master of
+    the rigid body holding its first wall node, its translation of largest |phi|."""
+    walls = model.tri_nodes.reshape(-1)[:1].tolist() + model.shape_nodes.reshape(-1)[:1].tolist()
+    if not walls:
+        return None
+    _, _, master = rigid_body(model, int(walls[0]))
+    phi = [abs(model.modal.shape_at(master, d)[mode]) for d in range(3)]
+    return int(model.node_ids[master]), int(np.argmax(phi)) + 1
+
+
 def _mass_ratio(model: Model, drive, modal_mode: int | None, mass: str) -> RuleNote | None:
     mp = float(np.sum(model.mass[model.particle_start:]))
     ms, what, hz = float(np.sum(model.mass[:model.particle_start])), "total structure mass", None
-    if not isinstance(drive, str):
+    where = None if isinstance(drive, str) else (drive.node, drive.dof)
+    if where is not None:
         sdof = linear_sdof(model, drive.node, drive.dof, ignore_particles=True)
         if sdof is not None:
             ms, what = sdof.m, "spring-mounted body's mass"
             hz = math.sqrt(sdof.k / sdof.m) / (2 * math.pi)
-        elif model.modal is not None and modal_mode is not None:
-            phi = model.modal.shape_at(model.index_of(drive.node), drive.dof - 1)[modal_mode]
+            where = None
+    if model.modal is not None and modal_mode is not None:
+        where = where or _cavity_dof(model, modal_mode)
+        if where is not None and where[0] in model.node_ids:
+            phi = model.modal.shape_at(model.index_of(where[0]), where[1] - 1)[modal_mode]
             if phi != 0.0:
                 ms = 1.0 / phi ** 2
-                what = f"mode {modal_mode + 1}'s effective mass at node {drive.node}"
+                what = (f"mode {modal_mode + 1}'s effective mass at node {where[0]} "
+                        f"{_AXES[where[1] - 1]}")
                 hz = float(model.modal.omega[modal_mode]) / (2 * math.pi)
     if not ms > 0:
         return None
@@ -266,8 +285,8 @@ def rules_of_thumb(model: Model, *, usrfrc=(), drive: DriveEstimate | None = Non
                    ) -> list[RuleNote]:
     """The rules of thumb of a model (module docstring): turn-on, clearance per cavity, mass
     ratio, and for a modal structure the damped mode's separation. ``drive`` replaces the
-    estimate of the deck's USRFRC drive (plus ``usrfrc`` specs). Never raises on a model that
-    builds; a rule it cannot evaluate is left out or says why."""
+    estimate of the deck's USRFRC drive (or of ``usrfrc`` specs, which replace the deck's).
+    Never raises on a model that builds; a rule it cannot evaluate is left out or says why."""
     units = labels_for(model.units)
     estimate = drive if drive is not None else drive_estimate(model, usrfrc)
     mode = None
