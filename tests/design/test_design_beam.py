@@ -77,6 +77,9 @@ def test_the_beam_count_design_gives_the_numbers_of_x3dpd_sweep_on_the_shipped_d
         for col in COLUMNS:
             if col not in ("wall_s", "compile_s"):
                 assert a[col] == b[col] or (a[col] != a[col] and b[col] != b[col]), col
+    # the report's rules of thumb ride along (x3dpd check's notes, under the sweep's drive)
+    assert all("turn-on level" in r["notes"] or "to slide them" in r["notes"] for r in rows)
+    assert all("(report Section" in r["notes"] for r in rows)
     deck_rows = [r for r in by_sweep if r["config"] == "deck"]
     assert [(r["drive"], r["frequency_hz"], r["amplitude"]) for r in rows] == [
         (r["drive"], r["frequency_hz"], r["amplitude"]) for r in deck_rows]
