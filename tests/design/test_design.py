@@ -275,3 +275,23 @@ def test_a_changed_configuration_is_refused_without_overwrite_and_its_deck_kept(
     assert "(1 stored before)" in said[0]                                # b kept, a redone
     assert [r["dt"] for r in rows] == [2e-5, 4e-5]
     assert rows[1]["amplitude"] == first[1]["amplitude"]
+
+
+def test_a_clearance_sets_the_cavity_length_to_the_bed_plus_the_clearance(tmp_path):
+    # one sphere of radius R in beam_1's box: cavity length along x = 2 R + c, the sphere
+    # centred, c / 2 + R from the low wall
+    from x3dpd.design.configs import make_configurations
+    from x3dpd.design.design_file import read_design
+
+    spec = write(tmp_path, f'structure = "{BEAM_1}"\n[fill]\ncount = 1\nradius = 0.1\n'
+                 'dt = 5e-7\n[vary]\nclearance = [0.01, 0.2]\n[evaluate]\nkind = "dwell"\n'
+                 'frequency = 37.2\ndrives = [4.84040e-3]\n')
+    for m in make_configurations(read_design(spec)):
+        c = m.config.values["clearance"]
+        nodlim = m.deck.pdmp[0].nodlim
+        xs = sorted({n.x for n in m.deck.nodes if n.nid <= nodlim})
+        (x,) = [n.x for n in m.deck.nodes if n.nid > nodlim]
+        assert xs[-1] - xs[0] == pytest.approx(0.2 + c, rel=1e-12)
+        assert x - xs[0] == pytest.approx(c / 2 + 0.1, rel=1e-12)
+        assert m.values["clearance"] == pytest.approx(c, rel=1e-9)
+        assert check(m.deck).exit_status == 0

@@ -92,12 +92,15 @@ def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
         deck = without_particles(deck)
     elif any(k in v for k in REFILL):
         deck = _refilled(design, config, deck)
+    if "clearance" in v:
+        deck = _with_clearance(design, config, deck, axis)
     deck = _with_step(design, config, deck)
     deck = replace(deck, title=Title(f"{design.title}\nconfiguration {config.name}"))
     report = check(deck)
     if report.exit_status != 0:
         first = (report.errors or report.warnings)[0]
-        _fail(design, config, f"the deck made does not check clean: {getattr(first, 'message', first)}")
+        message = getattr(first, "message", first)
+        _fail(design, config, f"the deck made does not check clean: {message}")
     values = _resolved(deck, axis, v)
     values["mass_ratio"] = (values["added_mass"] / report.structure_mass
                             if report.structure_mass > 0 else math.nan)
@@ -142,6 +145,46 @@ def _drive_axis(design: DesignFile, deck: Deck) -> int:
         except InputError:
             dof = 1
     return max(0, min(2, dof - 1))
+
+
+def _with_clearance(design, config, deck: Deck, axis: int) -> Deck:
+    """The cavity's length set to the particle bed's extent plus ``clearance`` (report Sections
+    10-11: about twice the peak displacement), the bed centred in it: a box's far face along
+    the drive moved, a cylinder's end B moved along its axis; the particles as filled."""
+    c = float(config.values["clearance"])
+    nodlim = deck.pdmp[0].nodlim if deck.pdmp else None
+    if nodlim is None or not any(nd.nid > nodlim for nd in deck.nodes):
+        _fail(design, config, "clearance needs particles (the bed it is measured from)")
+    radius = float(deck.pdmp[0].rzero)
+    xyz = {nd.nid: np.array([nd.x, nd.y, nd.z]) for nd in deck.nodes}
+    wall = _analytic_wall(deck, design.cavity_set)
+    if wall is not None:
+        if wall.shape != "cylinder":
+            _fail(design, config, f"clearance: a {wall.shape} cavity has no flat ends to set it")
+        a, b = xyz[wall.nodes[0]], xyz[wall.nodes[1]]
+        u = (b - a) / np.linalg.norm(b - a)
+        moved = {wall.nodes[1]}
+    else:
+        tri, sid = cavity_triangles(deck, design.cavity_set)
+        if _box(tri) is None:
+            _fail(design, config, "clearance needs a box or cylinder cavity")
+        lo, hi = _box(tri)
+        a, u = lo, np.eye(3)[axis]
+        moved = {k for cn in deck.contacts for t in cn.triangles if t.set_id == sid
+                 for k in t.nodes if abs(xyz[k][axis] - hi[axis]) <= 1e-12 * (1 + abs(hi[axis]))}
+    along = {k: float((p - a) @ u) for k, p in xyz.items() if k > nodlim}
+    bed = max(along.values()) - min(along.values()) + 2.0 * radius
+    length = bed + c
+    shift = c / 2.0 + radius - min(along.values())
+    nodes = []
+    for nd in deck.nodes:
+        p = xyz[nd.nid]
+        if nd.nid in moved:
+            p = p + u * (length - float((p - a) @ u))
+        elif nd.nid > nodlim:
+            p = p + u * shift
+        nodes.append(Node(nd.nid, *map(float, p)) if nd.nid in moved or nd.nid > nodlim else nd)
+    return replace(deck, nodes=tuple(nodes))
 
 
 def _analytic_wall(deck: Deck, set_id: int | None):

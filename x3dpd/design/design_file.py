@@ -23,7 +23,8 @@ from x3dpd.errors import InputError
 
 #: Keys of a configuration: fixed in [fill], varied in [vary], or set per [[configuration]].
 CONFIG_KEYS = ("material", "radius", "count", "fill_ratio", "particle_mass", "cavity_length",
-               "cavity_size", "cavity_radius", "packing", "gap", "gap_fraction", "jitter", "seed", "dt")
+               "cavity_size", "cavity_radius", "clearance", "packing", "gap", "gap_fraction",
+               "jitter", "seed", "dt")
 #: How many particles: at most one of these per configuration (none: the deck's count).
 AMOUNT_KEYS = ("count", "fill_ratio", "particle_mass")
 TOP_KEYS = ("title", "structure", "usrfrc_code", "mass_budget", "cavity", "fill", "vary",
@@ -170,7 +171,7 @@ class _Reader:
             return tuple(float(self.number(v, keys)) for v in value)
         if key in ("count", "seed"):
             return self.number(value, keys, positive=False, integer=True, minimum=0)
-        if key in ("gap", "gap_fraction", "jitter"):
+        if key in ("gap", "gap_fraction", "jitter", "clearance"):
             value = self.number(value, keys, positive=False, minimum=0)
             if key == "jitter" and value > 1:
                 self.fail(keys, f"expected a fraction 0-1, got {value!r}")
@@ -280,6 +281,8 @@ def _configurations(r: _Reader, data: dict) -> tuple[tuple[Configuration, ...], 
                        f"not {' and '.join(amounts)}")
             if "gap" in values and "gap_fraction" in values:
                 r.fail(keys if own else ("vary",), "give gap or gap_fraction, not both")
+            if "clearance" in values and "cavity_length" in values:
+                r.fail(keys if own else ("vary",), "give cavity_length or clearance, not both")
             name = entry.get("name") if not lists else None
             if name is None:
                 label = "_".join(_label(k, v) for k, v in zip(lists, combo))
@@ -299,7 +302,7 @@ def _configurations(r: _Reader, data: dict) -> tuple[tuple[Configuration, ...], 
 def _label(key: str, value) -> str:
     short = {"material": "", "radius": "r", "count": "n", "fill_ratio": "fill",
              "particle_mass": "m", "cavity_length": "L", "cavity_size": "box",
-             "cavity_radius": "Rc", "packing": "",
+             "cavity_radius": "Rc", "clearance": "c", "packing": "",
              "gap": "gap", "gap_fraction": "gapf", "jitter": "jit", "seed": "seed", "dt": "dt"}
     if isinstance(value, tuple):
         value = "x".join(f"{v:g}" for v in value)
