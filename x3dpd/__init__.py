@@ -7,8 +7,8 @@ The public Python API (docs/python-api.md)::
     result.trace.position        # (T, N, 3)
     result.energy["dissipated_friction"]
 
-``run``, ``load_deck``, ``check``, ``build``, ``read_trace``, ``read_energy`` and the result and
-error types are loaded on first use (importing ``x3dpd`` alone stays cheap).
+``run``, ``load_deck``, ``check``, ``build``, ``read_trace``, ``read_energy``,
+``fit_time_step``, ``rules_of_thumb`` and the result and error types are loaded on first use (importing ``x3dpd`` alone stays cheap).
 
 The package is layered; imports only go downward: ``cli`` -> ``api`` -> ``deck`` | ``model`` |
 ``solver`` | ``io`` | ``analysis`` -> ``physics`` | ``geometry``.
@@ -17,9 +17,9 @@ The package is layered; imports only go downward: ``cli`` -> ``api`` -> ``deck``
 __version__ = "0.1.0"
 
 __all__ = [
-    "Chunk", "DeckError", "EnergyData", "FinalState", "InputError", "RunResult", "TraceData",
-    "TraceError", "UnstableRunError", "X3dpdError", "build", "check", "load_deck",
-    "read_energy", "read_trace", "run",
+    "Chunk", "DeckError", "EnergyData", "FinalState", "FittedStep", "InputError", "RunResult",
+    "TraceData", "TraceError", "UnstableRunError", "X3dpdError", "build", "check",
+    "fit_time_step", "load_deck", "read_energy", "read_trace", "rules_of_thumb", "run",
 ]
 
 

@@ -81,8 +81,20 @@ def trace_units(system=None) -> dict[str, str]:
 #: "1 g" means what the shipped decks' gravity and the ring-down's dB re 1 g mean.
 _STANDARD_GRAVITY = {"in": 386.1, "ft": 9.80665 / 0.3048, "m": 9.80665, "cm": 980.665,
                      "mm": 9806.65}
-#: seconds per time unit
-_SECONDS = {"s": 1.0, "ms": 1.0e-3}
+#: SI size of each unit: metres per length unit, newtons per force unit, seconds per time unit
+#: (lbf: the international pound-force, 0.45359237 kg x 9.80665 m/s^2, exact).
+LENGTH_SI = {"in": 0.0254, "ft": 0.3048, "m": 1.0, "cm": 0.01, "mm": 0.001}
+FORCE_SI = {"lbf": 4.4482216152605, "N": 1.0, "kN": 1000.0, "dyn": 1e-5}
+TIME_SI = {"s": 1.0, "ms": 1.0e-3}
+_SECONDS = TIME_SI
+
+
+def si_size(system=None) -> tuple[float, float, float]:
+    """``(metres, newtons, seconds)`` in one length, force and time unit of ``system`` =
+    (length, force, time) or None (inch-lbf-s). A quantity of dimension L^a F^b T^c is
+    ``value * m**a * n**b * s**c`` in SI."""
+    length, force, time = tuple(system) if system else DEFAULT
+    return LENGTH_SI[length], FORCE_SI[force], TIME_SI[time]
 
 
 def standard_gravity(system=None) -> float:

@@ -1,7 +1,9 @@
 """The package imports only downward: cli -> (design | study) -> api -> deck | model | solver | io |
-analysis -> physics | geometry -> (errors, _jit). Imports under ``if TYPE_CHECKING:`` do not count
-(no runtime edge). ``x3dpd/__init__.py`` is the public facade: it may load the API (lazily, in
-its ``__getattr__``) and nothing else above the bottom layer."""
+analysis -> physics | geometry -> materials -> (errors, units, _jit). ``materials`` (the material
+library) sits just above the bottom: anything may import it, it imports only the bottom layer.
+Imports under ``if TYPE_CHECKING:`` do not count (no runtime edge). ``x3dpd/__init__.py`` is the
+public facade: it may load the API (lazily, in its ``__getattr__``) and nothing else above the
+bottom layer."""
 
 from __future__ import annotations
 
@@ -10,7 +12,7 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[2] / "x3dpd"
 LAYER = {"cli": 5, "design": 4, "study": 4, "api": 3, "deck": 2, "model": 2, "solver": 2, "io": 2, "analysis": 2,
-         "physics": 1, "geometry": 1, "errors": 0, "units": 0, "_jit": 0, "_files": 0, "__init__": 0,
+         "physics": 1, "geometry": 1, "materials": 0.5, "errors": 0, "units": 0, "_jit": 0, "_files": 0, "__init__": 0,
          "__main__": 6}
 #: What the facade ``x3dpd/__init__.py`` may import (lazily) besides the bottom layer.
 FACADE = {"api"}

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 
+from x3dpd.api.deck_step import FittedStep, fit_time_step
 from x3dpd.api.results import Chunk, FinalState, RunResult
 from x3dpd.api.runner import run
 from x3dpd.errors import DeckError, InputError, TraceError, UnstableRunError, X3dpdError
@@ -51,11 +52,25 @@ def check(deck, *, usrfrc=(), motion=(), steps_per_contact: int | None = None):
     from x3dpd.model.timestep import STEPS_PER_CONTACT
 
     model = build(deck, usrfrc=usrfrc, motion=motion)
-    return check_model(model, steps_per_contact=steps_per_contact or STEPS_PER_CONTACT)
+    return check_model(model, steps_per_contact=steps_per_contact or STEPS_PER_CONTACT,
+                       usrfrc=usrfrc)
+
+
+def rules_of_thumb(deck, *, usrfrc=(), motion=(), drive=None):
+    """The report's rules of thumb for a deck (path, Deck or built model): a list of
+    :class:`x3dpd.model.rules_of_thumb.RuleNote` (code, value, text, section) -- turn-on level,
+    clearance, mass ratio, mode separation. ``drive`` (a :class:`~x3dpd.model.rules_of_thumb.
+    DriveEstimate`) replaces the estimate of the deck's USRFRC drive."""
+    from x3dpd.model.model import Model
+    from x3dpd.model.rules_of_thumb import rules_of_thumb as rules
+
+    model = deck if isinstance(deck, Model) else build(deck, usrfrc=usrfrc, motion=motion)
+    return rules(model, usrfrc=usrfrc, drive=drive)
 
 
 __all__ = [
-    "Chunk", "DeckError", "EnergyData", "FinalState", "InputError", "RunResult", "TraceData",
-    "TraceError", "UnstableRunError", "X3dpdError", "build", "check", "load_deck",
+    "Chunk", "DeckError", "EnergyData", "FinalState", "FittedStep", "InputError", "RunResult",
+    "TraceData", "TraceError", "UnstableRunError", "X3dpdError", "build", "check",
+    "fit_time_step", "load_deck", "rules_of_thumb",
     "read_energy", "read_trace", "run",
 ]

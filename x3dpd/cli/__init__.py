@@ -38,10 +38,12 @@ def cli() -> None:
 def _register() -> None:
     from x3dpd.cli import (
         check,
+        design,
         export,
         fill,
         fit,
         frf,
+        materials,
         movie,
         plot,
         ringdown,
@@ -58,6 +60,7 @@ def _register() -> None:
     cli.add_command(sweep.sweep)
     cli.add_command(ringdown.ringdown)
     cli.add_command(study.study)
+    cli.add_command(design.design)
     cli.add_command(movie.movie)
     cli.add_command(export.export)
     cli.add_command(plot.plot)
@@ -65,6 +68,7 @@ def _register() -> None:
     cli.add_command(frf.frf)
     cli.add_command(spectrum.spectrum)
     cli.add_command(fit.fit)
+    cli.add_command(materials.materials_command)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -63,7 +63,7 @@ def _check_one(deck: str, usrfrc, motion, steps_per_contact: int) -> int:
     except X3dpdError as exc:
         click.echo(f"x3dpd: error: {exc}", err=True)
         return 2
-    report = check_model(model, steps_per_contact=steps_per_contact)
+    report = check_model(model, steps_per_contact=steps_per_contact, usrfrc=usrfrc)
     click.echo(format_report(report, labels_for(model.units)))
     return report.exit_status
 
@@ -140,6 +140,9 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
         lines.append(_row("", f"structure: omega <= {ts.omega_max:.4g} rad/s (node "
                               f"{ts.omega_node} {ts.omega_dof}); 0.2 x critical step = "
                               f"{ts.dt_structure:.3g} s"))
+    if report.rules:
+        lines += ["", "rules of thumb (the report's design guidance; notes only)"]
+        lines += [_row(rule.code, f"{rule.text} [{rule.section}]") for rule in report.rules]
     return lines
 
 

@@ -1,4 +1,9 @@
-"""``x3dpd fill TEMPLATE.inp --n N --radius R --packing cubic|hcp|random -o OUT.inp``."""
+"""``x3dpd fill TEMPLATE.inp --n N --radius R --packing cubic|hcp|random [--material NAME]
+[--dt DT | --keep-dt] -o OUT.inp``.
+
+The deck written gets the time step its particles need (x3dpd.api.fit_time_step: the step
+``x3dpd check`` recommends) unless ``--dt`` gives one or ``--keep-dt`` keeps the template's.
+"""
 
 from __future__ import annotations
 
@@ -22,6 +27,14 @@ from x3dpd.geometry.packing import PACKINGS
 @click.option("--seed", type=int, default=None, help="Seed of the random packing / jitter.")
 @click.option("--jitter", type=click.FloatRange(0.0, 1.0), default=0.0, show_default=True,
               help="Box + cubic: move coordinates by up to JITTER x gap / 2.")
+@click.option("--material", default=None, metavar="NAME",
+              help="Particle material from the library (`x3dpd materials`): sets the PDMP "
+              "card's density, Poisson's ratio, E0, E1, T1 and friction (default: the "
+              "template's).")
+@click.option("--dt", type=click.FloatRange(min=0.0, min_open=True), default=None,
+              metavar="DT", help="Time step DTMAX [s] (default: the step `x3dpd check` "
+              "recommends for the new particles).")
+@click.option("--keep-dt", is_flag=True, help="Keep the template's DTMAX and ITRAC.")
 @click.option("--set", "set_id", type=int, default=None,
               help="CONTACT set to fill (default: the first).")
 @click.option("--settle", type=click.FloatRange(min=0.0, min_open=True), default=None,
@@ -33,13 +46,19 @@ from x3dpd.geometry.packing import PACKINGS
               "cards, to paste into a deck, instead of the whole deck.")
 @click.option("-o", "--output", required=True, metavar="OUT.inp", help="The deck to write.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing OUT.inp.")
-def fill(template, n, radius, packing, gap, seed, jitter, set_id, settle, cards, output,
-         overwrite) -> None:
+def fill(template, n, radius, packing, gap, seed, jitter, material, dt, keep_dt, set_id, settle,
+         cards, output, overwrite) -> None:
     """Fill TEMPLATE's cavity with particles and write the deck OUT.inp."""
+    from x3dpd.api import fit_time_step
     from x3dpd.deck import format_deck, read_deck
     from x3dpd.deck.writer import write_deck
+    from x3dpd.materials import material as library_material
 
+    if dt is not None and keep_dt:
+        raise InputError("--dt and --keep-dt exclude each other: give one")
     refuse_existing([output], overwrite)
+    if material is not None:
+        material = library_material(material)
     deck = read_deck(template)
     result = fill_positions(deck, n=n, radius=radius, packing=packing, gap=gap, seed=seed,
                             jitter=jitter, set_id=set_id)
@@ -47,7 +66,10 @@ def fill(template, n, radius, packing, gap, seed, jitter, set_id, settle, cards,
     if m == 0:
         raise InputError(f"{template}: no particle of radius {result.radius:g} fits in the "
                          f"cavity with gap {gap:g}")
-    out = filled_deck(deck, result, set_id)
+    out = filled_deck(deck, result, set_id, material=material)
+    step = None if keep_dt else fit_time_step(out, dt=dt)
+    if step is not None:
+        out = step.deck
     if settle:
         out = _settled(out, settle)
     if cards:
@@ -61,7 +83,12 @@ def fill(template, n, radius, packing, gap, seed, jitter, set_id, settle, cards,
     short = f" (asked for {n}: only {m} fit)" if n is not None and m < n else ""
     click.echo(f"x3dpd: {template} -> {output}: {m} particles of radius {result.radius:g}, "
                f"{packing} packing{short}; fill ratio {result.fill_ratio:.3f} of the cavity "
-               f"volume {result.volume:.6g}" + (f"; settled for {settle:g} s" if settle else ""))
+               f"volume {result.volume:.6g}"
+               + (f"; material {material.name}" if material is not None else "")
+               + (f"; settled for {settle:g} s" if settle else ""))
+    if step is not None:
+        click.echo(f"x3dpd: {output}: " + ("time step for the cards' particles: " if cards
+                                           else "") + step.describe())
 
 
 def _settled(deck, seconds: float):

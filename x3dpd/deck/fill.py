@@ -7,7 +7,12 @@ the layout of the shipped beam decks). :func:`filled_deck` writes them into a co
 template: the old particles (nodes above the first PDMP card's NODLIM) are dropped with their
 INITIAL and TRACE entries, the new ones get ids NODLIM+1..., the PDMP card gets the new radius,
 the CONTACT set's slave list and the TRACE card (the template's structural traced nodes first,
-then every particle, the order pmov.m expects) list them.
+then every particle, the order pmov.m expects) list them. A ``material`` from the library
+(x3dpd.materials, by name) replaces the PDMP card's PRHO, PPOI, E0, E1, T1, PCOF (and further
+Maxwell pairs), converted to the template's UNITS.
+
+The time step is not this module's business (the deck layer cannot build a model):
+:func:`x3dpd.api.fit_time_step` sets the DTMAX the new particles need.
 """
 
 from __future__ import annotations
@@ -17,12 +22,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from x3dpd.deck.cards import Contact, Deck, Node, SlaveSet, Trace
+from x3dpd.deck.cards import Contact, Deck, Node, Pdmp, SlaveSet, Trace
 from x3dpd.deck.generate import lattice_fill
 from x3dpd.errors import InputError
 from x3dpd.geometry.cavity import enclosed_volume, geometry_size, merge_vertices, surface_edges
 from x3dpd.geometry.packing import PACKINGS, pack
 from x3dpd.geometry.triangle import inward_signs
+from x3dpd.materials import in_units
 
 
 @dataclass(frozen=True)
@@ -133,9 +139,20 @@ def fill_positions(deck: Deck, *, n: int | None, radius: float | None = None,
     return Fill(pos, r, volume, box is not None, n)
 
 
-def filled_deck(template: Deck, fill: Fill, set_id: int | None = None) -> Deck:
-    """The template with its particles replaced by ``fill``'s (see the module docstring)."""
+def with_material(pd: Pdmp, material, units=None) -> Pdmp:
+    """The PDMP card ``pd`` with the material fields of ``material`` (a library name or
+    :class:`x3dpd.materials.Material`) in ``units`` (a UNITS card or None: inch-lbf-s)."""
+    fields = in_units(material, units).pdmp_fields()
+    return replace(pd, **fields)
+
+
+def filled_deck(template: Deck, fill: Fill, set_id: int | None = None,
+                material=None) -> Deck:
+    """The template with its particles replaced by ``fill``'s (see the module docstring), of
+    ``material`` (library name or Material; None: the template's PDMP material)."""
     pd = _first_pdmp(template)
+    if material is not None:
+        pd = with_material(pd, material, template.units)
     nodlim = pd.nodlim
     _, sid = cavity_triangles(template, set_id)
     structure = [nd for nd in template.nodes if nd.nid <= nodlim]

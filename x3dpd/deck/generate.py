@@ -20,6 +20,7 @@ from x3dpd.deck.cards import (AnalyticWall, Body, Boundary, Contact, Deck, Eleme
                               Material, Node, Parameters, Pdmp, Rbel, SlaveSet, Title, Trace,
                               Triangle, Usrfrc)
 from x3dpd.geometry.shapes import BY_SHAPE_NAME
+from x3dpd.materials import in_units
 
 #: Corner order of the box (unit cube) and its 12 triangles, two per face.
 _CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
@@ -36,7 +37,8 @@ FIRST_PARTICLE = 10
 
 @dataclass(frozen=True)
 class Material3:
-    """Particle material: E0, E1 [pressure], tau1 [s], Poisson's ratio, friction, density."""
+    """Particle material: E0, E1 [pressure], tau1 [s], Poisson's ratio, friction, density
+    (the generated decks' inch-lbf-s units), further Maxwell pairs ``extra_terms``."""
 
     e0: float
     e1: float
@@ -44,6 +46,18 @@ class Material3:
     nu: float
     mu: float
     density: float
+    extra_terms: tuple[tuple[float, float], ...] = ()
+
+    @classmethod
+    def named(cls, name) -> Material3:
+        """A library material (x3dpd.materials, by name or Material) in inch-lbf-s."""
+        f = in_units(name).pdmp_fields()
+        return cls(f["e0"], f["e1"], f["t1"], f["ppoi"], f["pcof"], f["prho"], f["extra_terms"])
+
+
+def _material3(material) -> Material3:
+    """``material`` as given (Material3), or a library name or Material converted."""
+    return material if isinstance(material, Material3) else Material3.named(material)
 
 
 def lattice_fill(size, radius: float, n: int, *, gap: float = 0.0, seed: int | None = None,
@@ -89,13 +103,15 @@ def lattice_fill(size, radius: float, n: int, *, gap: float = 0.0, seed: int | N
     return pos
 
 
-def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material: Material3,
+def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material,
                     structure_mass: float, stiffness: float, damping: float,
                     gravity=(0.0, -386.1, 0.0), dt: float = 5e-7, tmax: float = 15.0,
                     itrac: int = 2000, trest: float = 0.0, title: str = "",
                     origin=(0.0, 0.0, 0.0), usrfrc=(), free_dofs=(1,),
                     transverse_stiffness: float = 1.0e12) -> Deck:
-    """A deck for a box cavity of interior ``size`` at ``origin`` holding ``particles``.
+    """A deck for a box cavity of interior ``size`` at ``origin`` holding ``particles`` of
+    ``material`` (a :class:`Material3`, or a library name such as ``"tungsten carbide"``:
+    x3dpd.materials, converted to the deck's inch-lbf-s).
 
     The master node (9) sits at the box's ``origin`` corner, carries ``structure_mass``, a spring
     ``stiffness`` and damper ``damping`` to ground along x (``transverse_stiffness`` along y, z,
@@ -134,7 +150,7 @@ def _spring_mounted_deck(*, master, nodlim, nodes, ids, slaves, triangles, mater
     all of it CONTACT slave set 1 of the cavity's ``triangles`` (and ``analytic_walls``); TRACE the
     master, then the particles ``ids``."""
     fixed = tuple(d for d in range(1, 7) if d not in free_dofs)
-    m = material
+    m = _material3(material)
     return Deck(
         path="<generated>",
         title=Title(title) if title else None,
@@ -143,7 +159,8 @@ def _spring_mounted_deck(*, master, nodlim, nodes, ids, slaves, triangles, mater
         materials=(Material(2, 1, 1.0e-12, 1.0, float(stiffness), transverse_stiffness,
                             transverse_stiffness, float(damping)),),
         pdmp=(Pdmp(nodlim, float(radius), float(m.density), float(m.nu), float(m.e0),
-                   float(m.e1), float(m.tau1), float(m.mu)),),
+                   float(m.e1), float(m.tau1), float(m.mu),
+                   extra_terms=tuple(m.extra_terms)),),
         body=Body(*map(float, gravity)),
         trace=Trace(tuple([master] + ids)),
         nodes=tuple(nodes),
@@ -163,7 +180,7 @@ CYL_MASTER, CYL_A, CYL_B = 1, 2, 3
 
 
 def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.ndarray,
-                         radius: float, material: Material3, structure_mass: float,
+                         radius: float, material, structure_mass: float,
                          stiffness: float, damping: float, facets: int | None = None,
                          gravity=(0.0, -386.1, 0.0), dt: float = 5e-7, tmax: float = 15.0,
                          itrac: int = 2000, trest: float = 0.0, title: str = "", usrfrc=(),
@@ -178,7 +195,7 @@ def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.n
     ``facets=None`` writes the analytic shape (CYLINDER or CAPSULE card, x3dpd.geometry.shapes);
     an integer n writes the same shape as CONTACT triangles instead (the shape's ``mesh``: n
     flat facets around with their corners on the wall), with its vertices after B (a vertex
-    at A or B is that node). Node 1 is the master (mass,
+    at A or B is that node). ``material`` as :func:`box_cavity_deck`'s. Node 1 is the master (mass,
     rotary inertias ``rotary_inertia``, spring and damper to ground along x, as
     :func:`box_cavity_deck`), 2 and 3 the axis nodes, all structure nodes rigidly linked to it;
     particles follow (PDMP NODLIM = the last structure node).

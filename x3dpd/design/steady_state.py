@@ -163,6 +163,8 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "dissipated_per_cycle": sum(loss.get(name, math.nan) for name in ALL_LOSSES),
         "dissipated_particles_per_cycle": sum(loss.get(name, math.nan)
                                               for name in PARTICLE_LOSSES),
+        # the ledger's split (x3dpd design's columns; sweep.csv keeps the two sums)
+        **{f"{name}_per_cycle": loss.get(name, math.nan) for name in ALL_LOSSES},
         "input_work_per_cycle": work,
         "cycles": whole.cycles, "extrapolated": whole.extrapolated,
         "irregular": whole.irregular, "method": "simulated", "start": start,

@@ -164,7 +164,29 @@ def run_sweep(spec: SweepSpec, out: str | os.PathLike, *, workers: int | None = 
     """
     chains, rows = plan(spec)   # first: a bad baseline or structure writes nothing
     store = SweepDir(out, spec, overwrite)
-    todo: list[tuple[list[SweepPoint], object]] = []
+    done, todo = pending(chains, store)
+    rows.extend(done)
+
+    def finished(point: SweepPoint, chain_len: int, result) -> None:
+        row, state = result
+        store.save(point, row, state, keep_state=chain_len > 1)
+        rows.append(row)
+        if on_point:
+            on_point(row)
+
+    run_chains([(run_point, chain, previous, finished) for chain, previous in todo],
+               workers, scheduler)
+    rows = sort_rows(rows)
+    label_branches(rows)
+    write_csv(Path(out) / "sweep.csv", rows)
+    return rows
+
+
+def pending(chains: list[list[SweepPoint]], store: SweepDir
+            ) -> tuple[list[dict], list[tuple[list[SweepPoint], object]]]:
+    """(rows of the points already in ``store``, [(rest of a chain, the (row, state) its first
+    point continues from, or None)]): what is left to compute."""
+    rows, todo = [], []
     for chain in chains:
         keep_state = len(chain) > 1
         previous = None
@@ -181,29 +203,26 @@ def run_sweep(spec: SweepSpec, out: str | os.PathLike, *, workers: int | None = 
                 break
             rows.append(done[0])
             previous = done
+    return rows, todo
+
+
+def run_chains(todo, workers: int | None = None, scheduler: str | None = None) -> None:
+    """Run chains of tasks: ``todo`` = [(fn, chain, previous, finished)], each task computed as
+    ``result = fn(point, previous)`` (``previous`` the result of the point before in its chain,
+    or the given one for its first), then ``finished(point, len(chain), result)`` in this
+    process. ``workers`` local processes (default: all cores; 1: serially here) or an existing
+    cluster at ``scheduler``; the same ``fn`` computes each task in every mode."""
     workers = workers or os.cpu_count() or 1
-
-    def finished(point: SweepPoint, chain_len: int, result) -> None:
-        row, state = result
-        store.save(point, row, state, keep_state=chain_len > 1)
-        rows.append(row)
-        if on_point:
-            on_point(row)
-
     if scheduler is None and workers == 1:
-        for chain, previous in todo:
+        for fn, chain, previous, finished in todo:
             for point in chain:
-                previous = run_point(point, previous)
+                previous = fn(point, previous)
                 finished(point, len(chain), previous)
     elif todo:
-        _run_dask(todo, finished, workers, scheduler)
-    rows = sort_rows(rows)
-    label_branches(rows)
-    write_csv(Path(out) / "sweep.csv", rows)
-    return rows
+        _run_dask(todo, workers, scheduler)
 
 
-def _run_dask(todo, finished, workers: int, scheduler: str | None) -> None:
+def _run_dask(todo, workers: int, scheduler: str | None) -> None:
     from dask.distributed import Client, LocalCluster, as_completed
 
     if scheduler is not None:
@@ -223,12 +242,12 @@ def _run_dask(todo, finished, workers: int, scheduler: str | None) -> None:
         client = Client(cluster)
     futures = {}
     try:
-        for chain, previous in todo:
+        for fn, chain, previous, finished in todo:
             for point in chain:
-                previous = client.submit(run_point, point, previous, pure=False)
-                futures[previous] = (point, len(chain))
+                previous = client.submit(fn, point, previous, pure=False)
+                futures[previous] = (point, len(chain), finished)
         for future in as_completed(list(futures)):
-            point, n = futures[future]
+            point, n, finished = futures[future]
             finished(point, n, future.result())
     except KeyboardInterrupt:
         # Ctrl-C: finished points are already on disk; closing the cluster drops the queued

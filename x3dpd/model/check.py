@@ -42,6 +42,7 @@ from x3dpd.model.check_text import (  # noqa: F401  (MAX_LISTED re-exported)
 from x3dpd.model.check_modal import modal_table, modal_warnings
 from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
+from x3dpd.model.rules_of_thumb import RuleNote, rules_of_thumb
 from x3dpd.model.timestep import (
     STEPS_PER_CONTACT,
     TimeStepAdvice,
@@ -107,6 +108,8 @@ class CheckReport:
     warnings: tuple[Finding, ...]
     errors: tuple[Finding, ...] = ()
     modes: tuple[str, ...] = ()   # the modal structure's table (x3dpd.model.check_modal)
+    #: the report's rules of thumb (x3dpd.model.rules_of_thumb): notes, never warnings
+    rules: tuple[RuleNote, ...] = ()
 
     @property
     def n_particles(self) -> int:
@@ -117,7 +120,8 @@ class CheckReport:
         return 2 if self.errors else (1 if self.warnings else 0)
 
 
-def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> CheckReport:
+def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT, *,
+                usrfrc=()) -> CheckReport:
     """Summarise a model and list what is likely wrong with it before a run.
 
     Warnings, in this order: walls that cut through the particle cloud (one headline per
@@ -127,6 +131,9 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
     The model itself is consistent (:func:`~x3dpd.model.build.build_model` raised otherwise);
     ``errors`` lists numbers a run cannot work with (:func:`~x3dpd.model.magnitudes.
     magnitude_errors`: masses that underflow, kinetic energies or weights that overflow).
+    ``rules`` holds the report's rules of thumb (:func:`~x3dpd.model.rules_of_thumb.
+    rules_of_thumb`, with the drive of the deck's USRFRC card and ``usrfrc``): notes that
+    change neither the warnings nor the exit status.
     """
     ps = model.particle_start
     cavities = _cavity_summaries(model)
@@ -201,7 +208,8 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT) -> Che
         cavities=tuple(cavities), effects=model.effects, time_step=ts,
         warnings=tuple(warnings),
         errors=tuple(Finding("extreme-value", text) for text in magnitude_errors(model)),
-        modes=tuple(modal_table(model)))
+        modes=tuple(modal_table(model)),
+        rules=tuple(rules_of_thumb(model, usrfrc=usrfrc)))
 
 
 def _cavity_summaries(model: Model) -> list[CavitySummary]:

@@ -12,10 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: SI size of the deck's units (x3dpd.units names).
-_LENGTH_SI = {"in": 0.0254, "ft": 0.3048, "m": 1.0, "cm": 0.01, "mm": 0.001}
-_FORCE_SI = {"lbf": 4.4482216152605, "N": 1.0, "kN": 1000.0, "dyn": 1e-5}
-_TIME_SI = {"s": 1.0, "ms": 0.001}
+from x3dpd.units import si_size
 
 
 @dataclass(frozen=True)
@@ -74,8 +71,8 @@ def unit_factors(source: tuple[str, str, str], target: tuple[str, str, str]):
     system ``source`` (length, force, time) into ``target``: frequency [1/T] by T_t/T_s; shapes
     [1/sqrt(mass)] by sqrt(M_t/M_s) and [1/(sqrt(mass) length)] by sqrt(M_t/M_s) L_t/L_s, with
     mass = force time^2 / length."""
-    ls, fs, ts = (_LENGTH_SI[source[0]], _FORCE_SI[source[1]], _TIME_SI[source[2]])
-    lt, ft, tt = (_LENGTH_SI[target[0]], _FORCE_SI[target[1]], _TIME_SI[target[2]])
+    ls, fs, ts = si_size(source)
+    lt, ft, tt = si_size(target)
     ms, mt = fs * ts * ts / ls, ft * tt * tt / lt
     root = math.sqrt(mt / ms)
     return tt / ts, root, root * lt / ls

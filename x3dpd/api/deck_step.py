@@ -1,0 +1,80 @@
+"""The time step a generated deck needs: DTMAX from the estimate ``x3dpd check`` uses.
+
+A deck written by ``x3dpd fill`` (or built with :mod:`x3dpd.deck.generate`) inherits a time step
+chosen for other particles. :func:`fit_time_step` replaces it with
+:func:`x3dpd.model.timestep.recommended_time_step` of the new deck's own model (the shortest
+contact over :data:`~x3dpd.model.timestep.STEPS_PER_CONTACT` steps, or 0.2 of the structure's
+critical step; report Section 7.3), so that ``x3dpd check`` finds it clean, unless the caller
+gives the step. The trace keeps its interval: ITRAC is scaled by old DTMAX / new DTMAX.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from x3dpd.deck.cards import Deck
+from x3dpd.errors import InputError
+from x3dpd.model.build import build_model
+from x3dpd.model.timestep import TimeStepAdvice, recommended_time_step
+
+
+@dataclass(frozen=True)
+class FittedStep:
+    """What :func:`fit_time_step` did: the new ``deck``, its step ``dt`` [s], the ``advice``
+    it came from (None when the caller gave the step), the template's ``old_dt`` and the
+    trace interval ``itrac`` (steps) that keeps the template's trace interval."""
+
+    deck: Deck
+    dt: float
+    old_dt: float
+    itrac: int
+    advice: TimeStepAdvice | None
+
+    def describe(self) -> str:
+        """One phrase for a command's summary line."""
+        how = ("as given" if self.advice is None else
+               f"recommended ({_why(self.advice)})")
+        return (f"DTMAX {self.dt:.3g} s {how}, was {self.old_dt:.3g} s; ITRAC {self.itrac} "
+                f"keeps the trace every {self.itrac * self.dt:.3g} s")
+
+
+def _why(ts: TimeStepAdvice) -> str:
+    if ts.binding == "contact":
+        return (f"{ts.contact_law} {ts.contact_kind} contact {ts.t_contact:.3g} s / "
+                f"{ts.steps_per_contact} steps")
+    return f"0.2 x the structure's critical step, node {ts.omega_node} {ts.omega_dof}"
+
+
+def floor_digits(x: float, digits: int = 3) -> float:
+    """``x`` rounded down to ``digits`` significant digits (9.4987e-8 -> 9.49e-8): a readable
+    step that never exceeds the recommendation."""
+    if not (x > 0.0 and math.isfinite(x)):
+        return x
+    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return float(f"{math.floor(x / scale * (1.0 + 1e-12))}e{round(math.log10(scale))}")
+
+
+def fit_time_step(deck: Deck, *, dt: float | None = None, usrfrc=(), motion=()) -> FittedStep:
+    """``deck`` with PARAMETERS DTMAX = ``dt`` or, when None, the recommended step of its own
+    model (floored to 3 significant digits); DTMIN becomes DTMAX on a constant-step deck (DTMIN =
+    DTMAX) and is capped at DTMAX on a variable-step one; ITRAC keeps the trace interval.
+    Raises :class:`InputError` when the deck has no PARAMETERS card or no step limit applies."""
+    par = deck.parameters
+    if par is None:
+        raise InputError(f"{deck.path}: no PARAMETERS card: no time step to set")
+    advice = None
+    if dt is None:
+        advice = recommended_time_step(build_model(deck, usrfrc=tuple(usrfrc),
+                                                   motion=tuple(motion)))
+        if not math.isfinite(advice.dt_recommended):
+            raise InputError(f"{deck.path}: no contact and no loaded structural DOF limits the "
+                             "time step: give one (--dt)")
+        dt = floor_digits(advice.dt_recommended)
+    dt = float(dt)
+    if not (dt > 0.0 and math.isfinite(dt)):
+        raise InputError(f"time step must be a positive number; got {dt!r}")
+    constant = par.dtmin >= par.dtmax
+    itrac = max(1, round(par.itrac * par.dtmax / dt))
+    new = replace(par, dtmax=dt, dtmin=dt if constant else min(par.dtmin, dt), itrac=itrac)
+    return FittedStep(replace(deck, parameters=new), dt, float(par.dtmax), itrac, advice)

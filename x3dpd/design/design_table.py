@@ -1,0 +1,163 @@
+"""``DIR/design.csv``: one row per configuration and evaluation point (docs/design.md).
+
+A sweep's or dwell's row is a point of the configuration's deck (``config`` = deck in its
+sweep.csv) with what the designer compares: the added mass and mass ratio, the baselines'
+amplitudes at the same frequency and drive and the attenuation against each,
+20 log10(X_baseline / X) [dB], the configuration's peak attenuation over the band (the peak of
+its points against the peak of the closed-form baseline curve, x3dpd.analysis.design_plots.
+attenuations), the ledger's dissipation per cycle split into viscoelastic, friction and
+dampers, and the convergence flags. A ring-down's rows are % zeta at amplitudes spread over the
+ring-down's range (``RINGDOWN_POINTS``), with the structure's own zeta where it is linear.
+
+The best configuration (``best`` = 1 on its rows) is the one whose worst peak attenuation over
+the drive levels (vs the undamped baseline, else vs added mass; without either, the smallest
+peak amplitude) is largest -- for a ring-down the largest mean % zeta -- among those whose
+added mass is within the design's ``mass_budget`` (``within_budget``).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from x3dpd.analysis.design_plots import attenuations
+from x3dpd.design.closed_form import baseline_curves
+
+#: design.csv columns, in order.
+COLUMNS = ("config", "material", "radius", "count", "fill_ratio", "cavity_length", "clearance",
+           "dt", "added_mass", "mass_ratio", "evaluation", "drive", "frequency_hz", "direction",
+           "amplitude", "phase", "acceleration", "amplitude_db", "zeta_percent",
+           "baseline_zeta_percent", "baseline_undamped", "baseline_added_mass",
+           "attenuation_undamped_db", "attenuation_added_mass_db", "peak_amplitude",
+           "peak_attenuation_undamped_db", "peak_attenuation_added_mass_db",
+           "dissipated_viscoelastic_per_cycle", "dissipated_friction_per_cycle",
+           "dissipated_dampers_per_cycle", "input_work_per_cycle", "cycles", "converged",
+           "extrapolated", "irregular", "within_budget", "score", "best", "notes")
+#: Rows per ring-down (amplitudes evenly spread in dB over its range).
+RINGDOWN_POINTS = 25
+SPLIT = ("dissipated_viscoelastic", "dissipated_friction", "dissipated_dampers")
+
+
+def _db(reference: float, value: float) -> float:
+    return 20.0 * math.log10(reference / value) if reference > 0 and value > 0 else math.nan
+
+
+def _config_columns(c) -> dict:
+    v = c.made.values
+    return {"config": c.made.config.name, **{k: v[k] for k in (
+        "material", "radius", "count", "fill_ratio", "cavity_length", "clearance", "dt",
+        "added_mass")}, "mass_ratio": v.get("mass_ratio", math.nan),
+        "notes": " | ".join(v.get("notes", ()))}
+
+
+def design_rows(design, configs) -> list[dict]:
+    """Every configuration's rows (module doc), the best one marked."""
+    kind = design.evaluation.kind
+    rows = []
+    for c in configs:
+        mine = _ringdown_rows(c) if kind == "ringdown" else _sweep_rows(c)
+        base = {**_config_columns(c), "evaluation": kind}
+        rows.extend({**base, **r} for r in mine)
+    _mark_best(rows, design.mass_budget, kind)
+    return rows
+
+
+def _sweep_rows(c) -> list[dict]:
+    by = {(r["config"], r["drive"], r["frequency_hz"], r["direction"]): r for r in c.rows}
+    curves = baseline_curves(c.spec)
+    peaks = {(a["drive"], a["baseline"]): a["attenuation_db"]
+             for a in attenuations(c.rows, curves)}
+    out = []
+    for r in c.rows:
+        if r["config"] != "deck":
+            continue
+        cells = {k: r[k] for k in ("drive", "frequency_hz", "direction", "amplitude", "phase",
+                                   "acceleration", "input_work_per_cycle", "cycles",
+                                   "converged", "extrapolated", "irregular")}
+        cells["peak_amplitude"] = max(x["amplitude"] for x in c.rows
+                                      if x["config"] == "deck" and x["drive"] == r["drive"])
+        for name in SPLIT:
+            cells[f"{name}_per_cycle"] = r.get(f"{name}_per_cycle", math.nan)
+        for config in ("undamped", "added-mass"):
+            col = config.replace("-", "_")
+            ref = by.get((config, r["drive"], r["frequency_hz"], "")) or by.get(
+                (config, r["drive"], r["frequency_hz"], r["direction"]))
+            cells[f"baseline_{col}"] = ref["amplitude"] if ref else math.nan
+            cells[f"attenuation_{col}_db"] = _db(cells[f"baseline_{col}"], r["amplitude"])
+            cells[f"peak_attenuation_{col}_db"] = peaks.get((r["drive"], config), math.nan)
+        out.append(cells)
+    return out
+
+
+def _ringdown_rows(c) -> list[dict]:
+    from x3dpd.api import build
+    from x3dpd.design.baselines import linear_structure, without_particles
+
+    zeta0 = math.nan
+    sdof = linear_structure(build(without_particles(c.made.deck)), c.node, c.dof)
+    if sdof is not None and hasattr(sdof, "k"):   # an SDOF: zeta = c / (2 sqrt(k m))
+        zeta0 = 100.0 * sdof.c / (2.0 * math.sqrt(sdof.k * sdof.m))
+    out = []
+    for level, cols in sorted(c.ringdowns.items(), key=lambda kv: str(kv[0])):
+        db = np.asarray(cols["amplitude_db"])
+        zeta = np.asarray(cols["zeta_percent"])
+        if db.size == 0:
+            continue
+        order = np.argsort(db)
+        grid = np.linspace(db.min(), db.max(), RINGDOWN_POINTS)
+        z = np.interp(grid, db[order], zeta[order])
+        g = np.interp(grid, db[order], np.asarray(cols["amplitude_g"])[order])
+        for x, y, a in zip(grid, z, g):
+            out.append({"drive": level, "amplitude_db": float(x), "zeta_percent": float(y),
+                        "acceleration": float(a), "converged": True})
+    for r in out:
+        r["baseline_zeta_percent"] = zeta0
+    return out
+
+
+def _mark_best(rows: list[dict], budget: float | None, kind: str) -> None:
+    """``within_budget``, ``score`` and ``best`` of every row (module doc)."""
+    scores: dict[str, float] = {}
+    for config in dict.fromkeys(r["config"] for r in rows):
+        mine = [r for r in rows if r["config"] == config]
+        if kind == "ringdown":
+            score = float(np.mean([r["zeta_percent"] for r in mine]))
+        else:
+            per_drive = {}
+            for r in mine:
+                att = r["peak_attenuation_undamped_db"]
+                if not math.isfinite(att):
+                    att = r["peak_attenuation_added_mass_db"]
+                if not math.isfinite(att):
+                    att = -20.0 * math.log10(r["peak_amplitude"])
+                per_drive[r["drive"]] = att
+            score = min(per_drive.values())
+        scores[config] = score
+    ok = {r["config"] for r in rows if budget is None or r["added_mass"] <= budget * (1 + 1e-12)}
+    finite = {k: s for k, s in scores.items() if k in ok and math.isfinite(s)}
+    best = max(finite, key=finite.get) if finite else None
+    for r in rows:
+        r["within_budget"] = r["config"] in ok
+        r["score"] = scores[r["config"]]
+        r["best"] = r["config"] == best
+
+
+def _cell(v) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return "1" if v else "0"
+    if isinstance(v, float):
+        return repr(v)
+    return str(v).replace(",", ";")
+
+
+def write_design_csv(path: str | os.PathLike, rows: list[dict]) -> None:
+    """design.csv (columns :data:`COLUMNS`, full-precision floats), written atomically."""
+    path = Path(path)
+    text = "\n".join([",".join(COLUMNS)] + [",".join(_cell(r.get(c, "")) for c in COLUMNS)
+                                            for r in rows]) + "\n"
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
