@@ -105,3 +105,25 @@ def test_the_packed_entry_unpacks_bundles_in_advance_order():
     source = inspect.getsource(module.advance_packed.py_func)
     unpacked = re.search(r"\(([^)]*)\) = packed", source).group(1)
     assert [n.strip().rstrip("_") for n in unpacked.split(",")] == list(ADVANCE_BUNDLES)
+
+
+def test_the_source_hash_is_kept_until_a_source_file_changes(monkeypatch, tmp_path):
+    """The cache key is computed once per process while the sources are unchanged, and anew
+    when a source file's modification time or size changes (here: a copy of the stamps list
+    pointing at a scratch file standing in for one source)."""
+    from x3dpd.solver import variants
+
+    first = variants._source_hash()
+    assert variants._source_hash() == first
+    walked = []
+    real = variants.kernel_sources
+    monkeypatch.setattr(variants, "kernel_sources", lambda: walked.append(1) or real())
+    assert variants._source_hash() == first and not walked   # kept: nothing re-walked
+    stamps, digest = variants._HASHED
+    fake = tmp_path / "source.py"
+    fake.write_text("x = 1\n")
+    st = fake.stat()
+    monkeypatch.setattr(variants, "_HASHED", [stamps + ((fake, st.st_mtime_ns, st.st_size),),
+                                              digest])
+    fake.write_text("x = 12\n")   # an edit: another size
+    assert variants._source_hash() == first and walked == [1]   # re-walked, same real sources

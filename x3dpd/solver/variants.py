@@ -205,13 +205,37 @@ def kernel_sources() -> list[Path]:
     return sorted(seen)
 
 
+#: (the sources' (path, mtime, size) stamps, their hash) of the last :func:`_source_hash`
+_HASHED: list = []
+
+
+def _stamps(paths) -> tuple:
+    out = []
+    for path in paths:
+        try:
+            st = path.stat()
+        except OSError:
+            return ()
+        out.append((path, st.st_mtime_ns, st.st_size))
+    return tuple(out)
+
+
 def _source_hash() -> str:
-    """Hash of the kernel sources and the numba version (the cache folder's name)."""
+    """Hash of the kernel sources and the numba version (the cache folder's name).
+
+    Walking and hashing the sources takes ~2 s of parsing; every Simulation asks (each point
+    of a sweep or design), so the hash is kept while no source file has changed on disk (same
+    modification times and sizes: an edit that adds an import changes its file too)."""
+    if _HASHED and _stamps(p for p, _, _ in _HASHED[0]) == _HASHED[0]:
+        return _HASHED[1]
+    paths = kernel_sources()
     h = hashlib.sha256(numba.__version__.encode())
-    for path in kernel_sources():
+    for path in paths:
         h.update(path.relative_to(_ROOT).as_posix().encode())
         h.update(path.read_bytes())
-    return h.hexdigest()[:16]
+    digest = h.hexdigest()[:16]
+    _HASHED[:] = [_stamps(paths), digest]
+    return digest
 
 
 def cache_dir() -> Path:
