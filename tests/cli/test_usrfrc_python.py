@@ -23,11 +23,12 @@ def usrfrc(time, coords, vels, force):
 '''
 
 
-def _run(tmp_path, *args):
+def _run(tmp_path, *args, quiet=True):
     from click.testing import CliRunner
 
     _register()
-    return CliRunner().invoke(cli, ["run", str(DECK), "--tmax", "0.002", "--quiet", *args])
+    return CliRunner().invoke(cli, ["run", str(DECK), "--tmax", "0.002",
+                                    *(["--quiet"] if quiet else []), *args])
 
 
 def test_uncompilable_force_is_refused_without_the_fallback(tmp_path):
@@ -46,8 +47,10 @@ def test_fallback_runs_and_matches_the_builtin_force(tmp_path):
     user = tmp_path / "force.py"
     user.write_text(PYTHON_ONLY)
     slow = _run(tmp_path, "--usrfrc", str(user), "--usrfrc-python",
-                "--trace", str(tmp_path / "slow.txt"))
+                "--trace", str(tmp_path / "slow.txt"), quiet=False)
     assert slow.exit_code == 0, slow.output
+    # the summary names the code the run executed (docs/usrfrc.md)
+    assert f"code run       {user} (a USRFRC Python file" in slow.output
     fast = _run(tmp_path, "--usrfrc", "sine:node=25,dof=1,amp=4.84040e-3,hz=37.21",
                 "--trace", str(tmp_path / "fast.txt"))
     assert fast.exit_code == 0, fast.output
@@ -58,3 +61,15 @@ def test_fallback_runs_and_matches_the_builtin_force(tmp_path):
     # by O(dt/T) of its amplitude, here far below 1 %
     assert np.max(np.abs(a - b)) <= 1e-2 * np.max(np.abs(b))
     assert np.max(np.abs(b)) > 0.0
+
+
+def test_check_names_the_code_file_a_run_would_execute(tmp_path):
+    from click.testing import CliRunner
+
+    user = tmp_path / "force.py"
+    user.write_text(PYTHON_ONLY)
+    _register()
+    out = CliRunner().invoke(cli, ["check", str(DECK), "--usrfrc", str(user)]).output
+    assert f"{user}: a USRFRC Python file -- running this deck executes it" in out
+    plain = CliRunner().invoke(cli, ["check", str(DECK)]).output
+    assert "code run" not in plain

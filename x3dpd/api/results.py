@@ -70,7 +70,8 @@ class RunResult:
         audit compares with ``energy_tolerance``), ``residual_energy`` (the last ledger residual
         [energy], as ``energy["residual"][-1]``), ``residual`` (= ``relative_residual``, an older
         name), ``energy_tolerance``, ``last_energy``
-        (the last ledger row as a dict), ``usrfrc`` (the forces applied), ``usrfrc_replaced``
+        (the last ledger row as a dict), ``usrfrc`` (the forces applied), ``code_files`` (the
+        USRFRC Python files it executed), ``usrfrc_replaced``
         (the deck's USRFRC specs that ``usrfrc=`` replaced), ``trace_file``, ``energy_file``,
         ``restart_file``, ``dumps``.
     final_state : FinalState

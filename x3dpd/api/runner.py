@@ -51,6 +51,7 @@ from x3dpd.api.safety import initial_penetration_error
 from x3dpd.api.stepping import auto_summary, is_auto, make_stepper
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import motion_count
+from x3dpd.physics.usrfrc import is_user_file
 from x3dpd.solver.compile_log import expected_compile_seconds, record_compile_seconds
 
 #: The energy audit's default tolerance, a fraction of the energy scale (run(energy_tolerance=)).
@@ -338,6 +339,7 @@ def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dum
         "energy_tolerance": float(sim.energy_tolerance),
         "last_energy": dict(zip(columns, map(float, e))) if e is not None else None,
         "usrfrc": list(applied), "usrfrc_replaced": list(replaced), "trace_file": trace_path,
+        "code_files": [spec for spec in applied if is_user_file(spec)],
         "energy_file": energy_path, "restart_file": dump_path, "dumps": stats.dumps,
         "units": list(getattr(sim.model, "units", ("in", "lbf", "s"))),
     }

@@ -140,6 +140,10 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
         lines.append(_row("", f"structure: omega <= {ts.omega_max:.4g} rad/s (node "
                               f"{ts.omega_node} {ts.omega_dof}); 0.2 x critical step = "
                               f"{ts.dt_structure:.3g} s"))
+    for path in report.code_files:
+        lines.append(_row("code run", f"{path}: a USRFRC Python file -- running this deck "
+                                      "executes it with your permissions; read it first if the "
+                                      "deck came from someone else (docs/usrfrc.md)"))
     if report.rules:
         lines += ["", "rules of thumb (the report's design guidance; notes only)"]
         lines += [_row(rule.code, f"{rule.text} [{rule.section}]") for rule in report.rules]

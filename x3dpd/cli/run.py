@@ -200,6 +200,8 @@ def format_summary(deck: str, s: dict) -> str:
     if s.get("usrfrc_replaced"):
         lines.append(f"  drive          {'; '.join(s['usrfrc'])} (replaces the deck's USRFRC "
                      f"{'; '.join(s['usrfrc_replaced'])}; --usrfrc-add adds instead)")
+    for path in s.get("code_files", ()):
+        lines.append(f"  code run       {path} (a USRFRC Python file: this run executed it)")
     step = s.get("step")
     if step:
         at = (f"at a step chosen by accuracy ({step['min']:.4g} .. {step['max']:.4g} s, mean "

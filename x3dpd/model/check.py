@@ -42,6 +42,7 @@ from x3dpd.model.check_text import (  # noqa: F401  (MAX_LISTED re-exported)
 from x3dpd.model.check_modal import modal_table, modal_warnings
 from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
+from x3dpd.physics.usrfrc import is_user_file
 from x3dpd.model.rules_of_thumb import RuleNote, rules_of_thumb
 from x3dpd.model.timestep import (
     STEPS_PER_CONTACT,
@@ -110,6 +111,8 @@ class CheckReport:
     modes: tuple[str, ...] = ()   # the modal structure's table (x3dpd.model.check_modal)
     #: the report's rules of thumb (x3dpd.model.rules_of_thumb): notes, never warnings
     rules: tuple[RuleNote, ...] = ()
+    #: the Python files a run of this deck executes (USRFRC user force files, deck and option)
+    code_files: tuple[str, ...] = ()
 
     @property
     def n_particles(self) -> int:
@@ -209,7 +212,9 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT, *,
         warnings=tuple(warnings),
         errors=tuple(Finding("extreme-value", text) for text in magnitude_errors(model)),
         modes=tuple(modal_table(model)),
-        rules=tuple(rules_of_thumb(model, usrfrc=usrfrc)))
+        rules=tuple(rules_of_thumb(model, usrfrc=usrfrc)),
+        code_files=tuple(dict.fromkeys(spec for spec in (*model.usrfrc, *usrfrc)
+                                       if is_user_file(spec))))
 
 
 def _cavity_summaries(model: Model) -> list[CavitySummary]:
