@@ -160,7 +160,7 @@ def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
 
 def _turn_on(model: Model, drive, g0: float, acc: str) -> RuleNote:
     g_vec = np.asarray(model.body_accel, float)
-    g = float(np.linalg.norm(g_vec))
+    g = math.hypot(*g_vec)
     mus = sorted(set(np.round(model.mu, 12).tolist()))
     mu_text = "mu " + (f"{mus[0]:.3g}" if len(mus) == 1 else f"{mus[0]:.3g}-{mus[-1]:.3g}")
     if g == 0.0:
@@ -286,20 +286,32 @@ def rules_of_thumb(model: Model, *, usrfrc=(), drive: DriveEstimate | None = Non
     """The rules of thumb of a model (module docstring): turn-on, clearance per cavity, mass
     ratio, and for a modal structure the damped mode's separation. ``drive`` replaces the
     estimate of the deck's USRFRC drive (or of ``usrfrc`` specs, which replace the deck's).
-    Never raises on a model that builds; a rule it cannot evaluate is left out or says why."""
+    Never raises on a model that builds: a rule it cannot evaluate (numbers at the edge of double
+    precision included) is left out or says why."""
     units = labels_for(model.units)
-    estimate = drive if drive is not None else drive_estimate(model, usrfrc)
-    mode = None
-    if model.modal is not None:
-        mode = estimate.mode if not isinstance(estimate, str) and estimate.mode is not None else 0
-    out = []
-    if model.n_particles:
-        out.append(_turn_on(model, estimate, standard_gravity(model.units),
-                            units["acceleration"]))
-        if not isinstance(estimate, str):
-            out += _clearances(model, estimate, units["length"])
-        ratio = _mass_ratio(model, estimate, mode, units["mass"])
-        out += [ratio] if ratio is not None else []
-    if model.modal is not None and model.modal.omega.size:
-        out.append(_separation(model, mode))
-    return out
+    with np.errstate(all="ignore"):
+        estimate = drive if drive is not None else _guarded(drive_estimate, model, usrfrc)
+        if estimate is None:
+            estimate = "the drive's response overflows"
+        mode = None
+        if model.modal is not None:
+            mode = (estimate.mode if not isinstance(estimate, str) and estimate.mode is not None
+                    else 0)
+        out = []
+        if model.n_particles:
+            out.append(_guarded(_turn_on, model, estimate, standard_gravity(model.units),
+                                units["acceleration"]))
+            if not isinstance(estimate, str):
+                out += _guarded(_clearances, model, estimate, units["length"]) or []
+            out.append(_guarded(_mass_ratio, model, estimate, mode, units["mass"]))
+        if model.modal is not None and model.modal.omega.size:
+            out.append(_guarded(_separation, model, mode))
+    return [note for note in out if note is not None]
+
+
+def _guarded(rule, *args):
+    """``rule(*args)``, or None when its arithmetic overflows or fails (an extreme deck)."""
+    try:
+        return rule(*args)
+    except (ArithmeticError, ValueError):
+        return None
