@@ -350,7 +350,7 @@ def beam_64_modal() -> str:
     deck, v = beam_modal_deck(base, BEAM_MASS, BEAM_K, BEAM_C)
     deck = replace(deck, title=Title(
         "Sec. 8 cantilever as its first three bending modes, (64) 0.0625 in steel spheres\n"
-        f"beam_64's cavity and particles at the tip node 9, drive 4.84040e-3 lbf at 37.21 Hz"))
+        "beam_64's cavity and particles at the tip node 9, drive 4.84040e-3 lbf at 37.21 Hz"))
     head = [
         "beam_64_modal.inp: the report's Section 8 cantilever as three Euler-Bernoulli modes,",
         "  beam_64's cavity and 64 spheres at the tip.",
@@ -427,7 +427,7 @@ def chassis_128() -> str:
         f"  mass {v['cavity_mass']:.6g} lbf s^2/in (0.5 in square tube, 0.028 in wall and two end caps,",
         f"  brass {BRASS_RHO * G:g} lbf/in^3) spread over its 8 corners; coupled into the modes "
         "(HOUSING added).",
-        f"Particles: 128 x 0.0625 in steel spheres (Sec. 9.1; 'stainless steel', no properties "
+        "Particles: 128 x 0.0625 in steel spheres (Sec. 9.1; 'stainless steel', no properties "
         "given:",
         f"  the beam decks' steel, E0 {STEEL.e0:g}, E1 {STEEL.e1:g} psi, tau1 {STEEL.tau1:g} s, "
         f"nu {STEEL.nu:g}, mu {STEEL.mu:g}),",

@@ -5,14 +5,12 @@ FILE record, `x3dpd check` it, `x3dpd sweep` it with both baselines -- through t
 from __future__ import annotations
 
 import csv
-import math
 import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
-import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 FIXTURE = ROOT / "tests" / "fixtures" / "modes" / "cantilever.uff"
