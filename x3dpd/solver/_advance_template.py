@@ -37,7 +37,8 @@ from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REAL
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pairs import _pair_contacts
 from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_EXTERNAL, HAS_MODAL,
-                                            HAS_MOTION, HAS_PAIRS, HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION, HAS_ROTATIONAL_SPRINGS,
+                                            HAS_MOTION, HAS_PAIRS, HAS_PYTHON_FORCE, HAS_RIGID,
+                                            HAS_RIGID_ROTATION, HAS_ROTATIONAL_SPRINGS,
                                             HAS_SHAPES, HAS_SPRINGS, HAS_USER_FORCE, HAS_WALLS,
                                             HAS_WALLS_TRANSLATE, USER_FORCE)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
