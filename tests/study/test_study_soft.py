@@ -88,4 +88,9 @@ def test_a_bad_stiffness_scale_is_refused(tmp_path, capsys):
                   "--out", str(tmp_path / "x"), "--workers", "1"])
         assert e.value.code == 2
         assert "--stiffness-scale" in capsys.readouterr().err
+    # a HOOKE law's stiffness is its own card's, not the particles' moduli
+    with pytest.raises(SystemExit) as e:
+        main(["study", str(DECKS / "hooke_wall.inp"), "--stiffness-scale", "0.1",
+              "--out", str(tmp_path / "x"), "--workers", "1"])
+    assert e.value.code == 2 and "HOOKE" in capsys.readouterr().err
     assert not (tmp_path / "x").exists()
