@@ -122,3 +122,21 @@ def test_a_growing_response_stops_at_the_cap_unconverged():
     mon = SteadyStateMonitor(w, t0=0.0, t_start=0.0, window=5, max_cycles=50)
     res = feed_in_chunks(mon, t, x, x)
     assert not res.converged and res.cycles == 50
+
+
+def test_a_pause_on_the_way_is_not_taken_for_the_steady_state():
+    """A response that climbs from amplitude 0.5 to 0.9 over 60 cycles, pauses there for 15
+    -- three identical windows, which the window-to-window test alone accepted -- and then
+    approaches its steady amplitude 1 as 1 - 0.1 exp(-k / 20). The state must have held over
+    the run's last two thirds: the monitor waits for the amplitude 1."""
+    hz, n = 37.0, 400
+    w = 2 * math.pi * hz
+    amps = np.concatenate([np.linspace(0.5, 0.9, 60), np.full(15, 0.9),
+                           1 - 0.1 * np.exp(-np.arange(n - 75) / 20)])
+    t = np.arange(n * 200 + 1) / (200 * hz)
+    x = amps[np.minimum((t * hz).astype(int), n - 1)] * np.sin(w * t)
+    mon = SteadyStateMonitor(w, t0=0.0, t_start=0.0, window=5, tol=0.01, max_cycles=n,
+                             extrapolate=False)
+    res = feed_in_chunks(mon, t, x, x)
+    assert res.converged and res.cycles > 75
+    assert res.amplitude == pytest.approx(1.0, rel=0.01)

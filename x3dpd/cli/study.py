@@ -38,6 +38,19 @@ def _steps(text: str | None):
     return dts + (["auto"] if "auto" in words else [])
 
 
+def _scales(text: str | None) -> tuple:
+    if not text:
+        return ()
+    try:
+        scales = tuple(float(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise InputError(f"--stiffness-scale: expected comma-separated scales like 0.1,0.01, "
+                         f"got {text!r}")
+    if not scales or not all(0.0 < f <= 1.0 for f in scales):
+        raise InputError(f"--stiffness-scale: expected scales in (0, 1], got {text!r}")
+    return scales
+
+
 @click.command("study")
 @click.argument("deck", type=click.Path(dir_okay=False))
 @click.option("--tmax", type=float, default=None, help="End time of every run [s].")
@@ -57,10 +70,13 @@ def _steps(text: str | None):
               help="Force spec replacing the deck's USRFRC card (repeatable).")
 @click.option("--no-fidelity", "no_fidelity", is_flag=True,
               help="Run the step ladder only (no elastic / bare-Coulomb variants).")
+@click.option("--stiffness-scale", "stiffness", default=None, metavar="LIST",
+              help="Also run softer contacts: the particles' moduli scaled by each of these "
+                   "(e.g. 0.1,0.01), at the deck's step x scale^(-2/5).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing study in DIR.")
 @click.option("-q", "--quiet", is_flag=True, help="Print the verdict only.")
-def study(deck, tmax, out, tol, workers, scheduler, dts, usrfrc, no_fidelity, overwrite,
-          quiet):
+def study(deck, tmax, out, tol, workers, scheduler, dts, usrfrc, no_fidelity, stiffness,
+          overwrite, quiet):
     """Measure what accuracy costs in time on DECK."""
     from x3dpd.study import run_study
     from x3dpd.study.report import table
@@ -76,7 +92,8 @@ def study(deck, tmax, out, tol, workers, scheduler, dts, usrfrc, no_fidelity, ov
 
     result = run_study(deck, out, tmax=tmax, tol=_tolerance(tol), workers=n,
                        scheduler=scheduler, dts=_steps(dts), usrfrc=usrfrc,
-                       overwrite=overwrite, progress=done, fidelity=not no_fidelity)
+                       overwrite=overwrite, progress=done, fidelity=not no_fidelity,
+                       stiffness=_scales(stiffness))
     if not quiet:
         click.echo(table(result))
         click.echo(f"wrote {', '.join(result.files)}")

@@ -16,13 +16,16 @@ _FIRST = ("setting", "dt", "contact", "friction", "repeat", "own", "status",
 
 def columns(kind: str) -> list[str]:
     qs = QUANTITIES[kind]
-    return list(_FIRST) + list(qs) + [f"{q}_error" for q in qs] + ["trace_norm", "residual",
-                                                                  "pareto", "steps", "message"]
+    return (list(_FIRST) + list(qs) + [f"{q}_error" for q in qs]
+            + ["trace_norm", "residual", "pareto", "steps", "stiffness_scale", "spread",
+               "speedup", "message"])
 
 
 def records(result) -> list[dict]:
     """One flat dict per run, in CSV column order (numbers as Python floats)."""
     out = []
+    own = next((r for r in result.rows if r["setting"].own), None)
+    own_wall = own.get("wall_s_per_sim_s", math.nan) if own else math.nan
     for r in result.rows:
         s = r["setting"]
         rec = {"setting": s.label, "dt": "auto" if s.auto else repr(float(s.dt)),
@@ -32,6 +35,12 @@ def records(result) -> list[dict]:
         for c in columns(result.scene.kind)[len(rec):]:
             v = r.get(c, "")
             rec[c] = int(v) if isinstance(v, bool) else v
+        # the run-to-run spread the errors compare with, and the time saved against the
+        # deck's own setting (own / this run's wall time per simulated second)
+        rec["stiffness_scale"] = s.stiffness
+        rec["spread"] = result.spread
+        wall = r.get("wall_s_per_sim_s", math.nan)
+        rec["speedup"] = own_wall / wall if wall and wall > 0 else math.nan
         out.append(rec)
     return out
 
@@ -67,6 +76,9 @@ def table(result) -> str:
                      f"{r.get('wall_s_per_sim_s', math.nan):>12.4g} "
                      f"{'' if math.isnan(err) else f'{err:.3%}':>9} {val:>14.6g}{mark}")
     lines.append("(* the deck's own setting, + on the Pareto front)")
+    if result.spread > 0:
+        lines.append(f"run-to-run spread of the {main}: {result.spread:.3%} (errors below it "
+                     "are chaos, not the setting)")
     return "\n".join(lines)
 
 

@@ -2,7 +2,9 @@
 
 A :class:`Setting` says how one run differs from the deck: its step ``dt``, its contact law
 (``"deck"`` as written, or ``"elastic"``: the Maxwell terms dropped, Hertz with the long-term
-modulus E0), its friction law, and, for a perturbed repeat, the seed of the perturbation.
+modulus E0), its friction law, its contact stiffness (``stiffness``: every modulus of the
+particles' law scaled, E0, E1, E2 ..., the relaxation times kept, with the step lengthened to
+match, :func:`soft_step`), and, for a perturbed repeat, the seed of the perturbation.
 """
 
 from __future__ import annotations
@@ -31,12 +33,15 @@ class Setting:
     repeat: int = 0
     own: bool = False
     auto: bool = False  # the step chosen by accuracy (x3dpd.run(dt="auto")) up to dt
+    stiffness: float = 1.0  # the particles' moduli scaled by this (softer contacts)
 
     @property
     def label(self) -> str:
         parts = [f"dt auto <= {self.dt:.3g}" if self.auto else f"dt {self.dt:.3g}"]
         if self.contact != "deck":
             parts.append(self.contact)
+        if self.stiffness != 1.0:
+            parts.append(f"E x {self.stiffness:.3g}")
         if self.friction != "regularized":
             parts.append(self.friction)
         if self.repeat:
@@ -44,12 +49,22 @@ class Setting:
         return " ".join(parts)
 
 
+def soft_step(dt: float, stiffness: float) -> float:
+    """The step that resolves a contact softened by ``stiffness`` as ``dt`` resolves the
+    deck's: a Hertz impact lasts t_c = 2.87 (m*^2 / (R* E*^2 v))^(1/5) (x3dpd.model.timestep,
+    hertz_contact_time; report Sec. 7.3), so t_c, and the step at the same steps per contact,
+    scale as E^(-2/5) [s]."""
+    return float(dt) * float(stiffness) ** -0.4
+
+
 def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
-           chaotic: bool) -> list[Setting]:
+           chaotic: bool, stiffness=()) -> list[Setting]:
     """The settings to run: every step of ``dts`` (default DTMAX x :data:`LADDER`) with the
     deck's physics, the fidelity choices at the deck's step, and perturbed repeats of the
-    deck's setting for a chaotic scene. The deck's own setting is marked ``own``. (The step
-    chosen by accuracy is added by :func:`x3dpd.study.run_study`.)"""
+    deck's setting for a chaotic scene, and the softer contacts of ``stiffness`` (scales of
+    the particles' moduli, each at :func:`soft_step` of the deck's step). The deck's own
+    setting is marked ``own``. (The step chosen by accuracy is added by
+    :func:`x3dpd.study.run_study`.)"""
     steps = sorted({float(d) for d in (dts if dts else [dt_deck * f for f in LADDER])}
                    | {float(dt_deck)})
     out = [Setting(d, own=np.isclose(d, dt_deck, rtol=1e-12, atol=0.0)) for d in steps]
@@ -57,16 +72,24 @@ def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
         out.append(Setting(dt_deck, contact="elastic"))
     if friction:
         out.append(Setting(dt_deck, friction="coulomb"))
+    out += [Setting(soft_step(dt_deck, f), stiffness=float(f)) for f in stiffness]
     if chaotic:
         out += [Setting(dt_deck, repeat=k) for k in range(1, REPEATS + 1)]
     return out
 
 
 def deck_for(deck, setting: Setting):
-    """The deck a setting runs: the elastic law drops every Maxwell term; a repeat moves each
+    """The deck a setting runs: the elastic law drops every Maxwell term; a softer contact
+    scales every modulus (E0, E1, E2 ...; the relaxation times kept); a repeat moves each
     particle by up to PERTURBATION x its radius (seeded)."""
     if setting.contact == "elastic":
         deck = replace(deck, pdmp=tuple(replace(p, e1=0.0, extra_terms=()) for p in deck.pdmp))
+    if setting.stiffness != 1.0:
+        f = setting.stiffness
+        deck = replace(deck, pdmp=tuple(
+            replace(p, e0=p.e0 * f, e1=p.e1 * f,
+                    extra_terms=tuple((e * f, tau) for e, tau in p.extra_terms))
+            for p in deck.pdmp))
     if setting.repeat:
         rng = np.random.default_rng(setting.repeat)
         first = min(p.nodlim for p in deck.pdmp) if deck.pdmp else None

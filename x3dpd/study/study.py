@@ -37,15 +37,20 @@ class StudyResult:
 
 
 def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None, dts=None,
-              usrfrc=(), overwrite=False, progress=None, fidelity=True) -> StudyResult:
+              usrfrc=(), overwrite=False, progress=None, fidelity=True,
+              stiffness=()) -> StudyResult:
     """Run the study of ``deck`` (a path) and write ``out/study.csv`` and ``out/study.png``.
 
     ``tmax`` ends every run (default the deck's TMAX); ``tol`` is the accepted relative error of
     the main quantity; ``dts`` replaces the default ladder DTMAX x (1/4 ... 8) and may hold
     ``"auto"``: the step chosen by accuracy, also run whenever the deck's DTMIN < DTMAX; ``usrfrc``
     replaces the deck's USRFRC card (as ``x3dpd run --usrfrc``); ``fidelity=False`` runs the
-    step ladder only (no elastic or bare-Coulomb variants, each a kernel compile). Raises InputError when ``out``
-    holds a study and ``overwrite`` is not set, or when the finest run goes unstable.
+    step ladder only (no elastic or bare-Coulomb variants, each a kernel compile); ``stiffness``
+    adds softer contacts: each a scale of the particles' moduli (0.1, 0.01 ...), run at the
+    deck's step lengthened by scale^(-2/5) (:func:`x3dpd.study.settings.soft_step`). Raises
+    InputError when ``out`` holds a study and ``overwrite`` is not set, when a stiffness scale
+    is not in (0, 1] or the deck's contacts are not Hertz (a HOOKE card), or when the finest run
+    goes unstable.
     """
     import x3dpd
 
@@ -58,6 +63,12 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
         existing = [f for f in files if f.exists()]
         if existing and not overwrite:
             raise InputError(f"{existing[0]} exists; pass --overwrite to replace it")
+    stiffness = tuple(float(f) for f in stiffness)
+    if any(not 0.0 < f <= 1.0 for f in stiffness):
+        raise InputError(f"--stiffness-scale: expected scales in (0, 1], got {stiffness}")
+    if stiffness and cards.hooke is not None:
+        raise InputError("--stiffness-scale: scales the particles' Hertz moduli (PDMP E0, E1 "
+                         "...); this deck's contacts follow its HOOKE card")
     scene = classify(model, usrfrc)
     dt_deck = float(model.dt)
     dts = list(dts or [])
@@ -65,7 +76,8 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     auto = "auto" in dts or own_auto
     dts = [d for d in dts if d != "auto"] or None
     settings = ladder(dt_deck, dts=dts, viscoelastic=fidelity and scene.viscoelastic,
-                      friction=fidelity and scene.friction, chaotic=scene.chaotic)
+                      friction=fidelity and scene.friction, chaotic=scene.chaotic,
+                      stiffness=stiffness)
     if auto:  # the deck's own DTMIN ... DTMAX, else up to the coarsest step of the ladder
         settings.append(Setting(dt_deck if own_auto else max(s.dt for s in settings),
                                 auto=True))
@@ -107,6 +119,7 @@ def _judge(rows, ref, scene: Scene) -> float:
             base = ref.get(q, math.nan)
             r[f"{q}_error"] = abs(r[q] - base) / abs(base) if base else math.nan
         r["error"] = r[f"{scene.main}_error"]
+        r["stiffness_scale"] = r["setting"].stiffness
         r["trace_norm"] = (trace_norm(r["signal"], ref["signal"])
                            if scene.kind != "impact" else math.nan)
     spread = 0.0
