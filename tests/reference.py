@@ -90,7 +90,8 @@ def maxwell_impact(m: float, radius: float, nu: float, moduli, taus, v: float,
     Psi(t) = E_0 + sum_k E_k exp(-t/tau_k), the hereditary integral
     F(t) = int_0^t Psi(t-t') dg/dt' dt' equals E_0 g(a) + sum_k F_k with the exact ODEs
     dF_k/dt = E_k dg/dt - F_k / tau_k, F_k(0) = 0. The applied force is max(0, F) (the report's
-    clamp; the internal variables F_k keep evolving while it is clamped), and m d^2a/dt^2 = -max(0,F).
+    clamp; the internal variables F_k keep evolving while it is clamped), and
+    m d^2a/dt^2 = -max(0,F).
     Solved with DOP853 in segments split exactly at the events (the force crossing zero, the peak
     force, the maximum approach, the approach returning to zero).
     """
@@ -298,7 +299,8 @@ def brute_pairs(x, radius, cavity=None, skin: float = 0.0, chunk: int = 512) -> 
 
 @dataclass
 class Face:
-    """A flat wall face: inward unit normal, a point on it and its triangles (node index triples)."""
+    """A flat wall face: inward unit normal, a point on it and its triangles
+    (node index triples)."""
 
     normal: np.ndarray
     point: np.ndarray

@@ -319,7 +319,8 @@ def hooke_deck() -> str:
         "  sphere and wall as in impact_wall.inp (report Sec. 5, Fig. 28).",
         "",
         f"Sphere (node 9): radius {IMPACT_R:g} in, steel density {IMPACT_RHO:.6g} lbf s^2/in^4,",
-        f"  mass {m:.6g} lbf s^2/in; HOOKE k_n = {HOOKE_KN:g} lbf/in, e = {HOOKE_E:g}; no friction,",
+        f"  mass {m:.6g} lbf s^2/in; HOOKE k_n = {HOOKE_KN:g} lbf/in, e = {HOOKE_E:g}; "
+        "no friction,",
         f"  no gravity. VX0 = -{HOOKE_V:g} in/s; the centre starts {HOOKE_GAP:g} in from touching",
         f"  the wall x = 0 (contact at t = {t_hit:.6g} s).",
         f"Closed form (force not clamped): zeta = {zeta:.6g}, contact lasts pi/omega_d = "
@@ -362,7 +363,8 @@ def beam_64_modal() -> str:
         f"thickness (width {BEAM_B:g} in),",
         f"  density {AL_RHO:.6g} lbf s^2/in^4 (0.0975 lbf/in^3, aluminium 6061), mu L = "
         f"{v['mu_l']:.6g} lbf s^2/in.",
-        "  MODAL: its first three mass-normalised bending modes (closed form: cos bL cosh bL = -1),",
+        "  MODAL: its first three mass-normalised bending modes "
+        "(closed form: cos bL cosh bL = -1),",
         "  at the tip node 9 (x: the drive direction; rz = -dphi/dy: the beam runs along y,",
         "  so the cavity turns with the tip's slope).",
         f"  Tuned so that the coupled first mode is Table 4's SDOF ({v['target_hz']:.6g} Hz = "
@@ -424,7 +426,8 @@ def chassis_128() -> str:
         "long; the length along x,",
         "  normal to the panel: our assumption), outside the panel (x 0..0.35 about node 9, its "
         "master, RBEL);",
-        f"  mass {v['cavity_mass']:.6g} lbf s^2/in (0.5 in square tube, 0.028 in wall and two end caps,",
+        f"  mass {v['cavity_mass']:.6g} lbf s^2/in (0.5 in square tube, 0.028 in wall and two "
+        "end caps,",
         f"  brass {BRASS_RHO * G:g} lbf/in^3) spread over its 8 corners; coupled into the modes "
         "(HOUSING added).",
         "Particles: 128 x 0.0625 in steel spheres (Sec. 9.1; 'stainless steel', no properties "

@@ -64,10 +64,14 @@ def chain_modes() -> ModeSet:
 
 def beam_element(EI: float, rhoA: float, le: float):
     """Euler-Bernoulli element matrices for (v1, t1, v2, t2), t = dv/dx."""
-    k = EI / le**3 * np.array([[12, 6 * le, -12, 6 * le], [6 * le, 4 * le**2, -6 * le, 2 * le**2],
-                               [-12, -6 * le, 12, -6 * le], [6 * le, 2 * le**2, -6 * le, 4 * le**2]])
-    m = rhoA * le / 420 * np.array([[156, 22 * le, 54, -13 * le], [22 * le, 4 * le**2, 13 * le, -3 * le**2],
-                                    [54, 13 * le, 156, -22 * le], [-13 * le, -3 * le**2, -22 * le, 4 * le**2]])
+    k = EI / le**3 * np.array([[12, 6 * le, -12, 6 * le],
+                               [6 * le, 4 * le**2, -6 * le, 2 * le**2],
+                               [-12, -6 * le, 12, -6 * le],
+                               [6 * le, 2 * le**2, -6 * le, 4 * le**2]])
+    m = rhoA * le / 420 * np.array([[156, 22 * le, 54, -13 * le],
+                                    [22 * le, 4 * le**2, 13 * le, -3 * le**2],
+                                    [54, 13 * le, 156, -22 * le],
+                                    [-13 * le, -3 * le**2, -22 * le, 4 * le**2]])
     return k, m
 
 

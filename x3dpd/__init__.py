@@ -8,7 +8,8 @@ The public Python API (docs/python-api.md)::
     result.energy["dissipated_friction"]
 
 ``run``, ``load_deck``, ``check``, ``build``, ``read_trace``, ``read_energy``,
-``fit_time_step``, ``rules_of_thumb`` and the result and error types are loaded on first use (importing ``x3dpd`` alone stays cheap).
+``fit_time_step``, ``rules_of_thumb`` and the result and error types are loaded on first use
+(importing ``x3dpd`` alone stays cheap).
 
 The package is layered; imports only go downward: ``cli`` -> ``api`` -> ``deck`` | ``model`` |
 ``solver`` | ``io`` | ``analysis`` -> ``physics`` | ``geometry``.

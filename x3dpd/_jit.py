@@ -2,8 +2,8 @@
 
 Every kernel uses :func:`kernel` instead of ``numba.njit`` so that compile flags are never
 hard-coded (``tests/meta/test_kernel_flags.py`` enforces this). ``fastmath`` stays off: contact
-laws take square roots of small differences and the energy ledger sums many tiny terms, and reassociation
-would make runs irreproducible across machines.
+laws take square roots of small differences and the energy ledger sums many tiny terms, and
+reassociation would make runs irreproducible across machines.
 """
 
 from __future__ import annotations
@@ -67,10 +67,10 @@ def vector_kernel(fn=None, **overrides):
     LLVM vectorizes a loop only when it can prove that its stores do not feed its loads. A loop
     that gathers rows of 2-D arrays through an index list and writes columns gives it no such
     proof (a column might overlap the rows it reads), and it stays scalar: the pair response
-    ran 39.8 instead of 26 us per step on the settled bed of 512. The caller promises what ``noalias`` says: no two array
-    arguments share memory that the function writes (distinct arrays, or distinct rows of one
-    array). Results are bit for bit those of the scalar loop: ``fastmath`` stays off, so the
-    packed instructions round exactly as the scalar ones do.
+    ran 39.8 instead of 26 us per step on the settled bed of 512. The caller promises what
+    ``noalias`` says: no two array arguments share memory that the function writes (distinct
+    arrays, or distinct rows of one array). Results are bit for bit those of the scalar loop:
+    ``fastmath`` stays off, so the packed instructions round exactly as the scalar ones do.
     """
     return kernel(fn, inline="never", _nrt=False, _noalias=True, **overrides)
 

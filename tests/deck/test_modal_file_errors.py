@@ -192,7 +192,8 @@ def test_npz_that_is_a_single_array_or_an_object_array(tmp_path):
     with open(path, "wb") as f:
         np.save(f, np.zeros(3))
     fails(path, "a single .npy array, not a .npz archive")
-    fails(npz_with(tmp_path, freq_hz=np.array([1.0, None], dtype=object)), "an array cannot be read")
+    fails(npz_with(tmp_path, freq_hz=np.array([1.0, None], dtype=object)),
+          "an array cannot be read")
 
 
 # -- UFF ------------------------------------------------------------------------------------------

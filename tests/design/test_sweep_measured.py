@@ -61,7 +61,7 @@ def test_a_force_drives_measured_curve_is_the_amplitude_that_frf_gives(tmp_path)
         np.testing.assert_allclose(x, drive * np.abs(receptance(W[keep])), rtol=1e-12)
     # the scale multiplies the file's values (a unit conversion)
     scaled = measured_curves(frfs, spec, (1, 1), 386.1)
-    for key, (f, x) in scaled.items():
+    for key, (_f, x) in scaled.items():
         np.testing.assert_allclose(x, 386.1 * curves[key][1], rtol=1e-12)
     assert measured_curves(frfs, spec, (2, 1)) == {}  # drawn at its own point only
 

@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 import pytest
-from factories import FIG30_E0, FIG30_E1, FIG30_TAU1, STEEL_E, STEEL_NU, STEEL_R, floor_deck, sphere_mass
+from factories import (FIG30_E0, FIG30_E1, FIG30_TAU1, STEEL_E, STEEL_NU, STEEL_R, floor_deck,
+                       sphere_mass)
 
 from x3dpd.errors import UnstableRunError
 from x3dpd.model.build import build_model

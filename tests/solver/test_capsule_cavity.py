@@ -13,8 +13,7 @@ import sys
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path[:0] = [str(ROOT / "tests")]  # shared helpers
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 from bore_scenes import (BIG_R, LENGTH, V, angular_momentum, bore_deck, check_against_hertz,
                          head_on_impact)

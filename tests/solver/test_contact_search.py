@@ -91,10 +91,10 @@ def _dense_gas(n: int, size: float, r: float, seed: int):
 
 def test_solver_pair_list_after_every_rebuild():
     """100 particles (more than the brute-force limit of 64, so the solver uses the cell list) in
-    a closed box, packing fraction ~30 %. At every rebuild the list equals the reference pairs within
-    R_i + R_j + skin at the positions of the rebuild; every pair in contact is always in the list;
-    and while the solver's displacement bound d allows it (skin - 2 d >= 0) every pair closer than
-    R_i + R_j + skin - 2 d is in it (the Verlet guarantee)."""
+    a closed box, packing fraction ~30 %. At every rebuild the list equals the reference pairs
+    within R_i + R_j + skin at the positions of the rebuild; every pair in contact is always in the
+    list; and while the solver's displacement bound d allows it (skin - 2 d >= 0) every pair
+    closer than R_i + R_j + skin - 2 d is in it (the Verlet guarantee)."""
     r, size = 0.05, 0.62
     pos, vel = _dense_gas(100, size, r, seed=5)
     dt = 2e-7        # ~40 steps per contact at the fastest impacts here

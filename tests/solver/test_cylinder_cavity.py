@@ -11,8 +11,9 @@ import sys
 
 import numpy as np
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "tools" / "bench")]  # shared helpers
+# shared helpers, searched in this order: tests/, then tools/bench/ (bench_solver)
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "tools" / "bench"))
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
 from bore_scenes import (BIG_R, LENGTH, V, angular_momentum, bore_deck, check_against_hertz,
                          head_on_impact)

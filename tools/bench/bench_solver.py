@@ -169,7 +169,7 @@ def effect_costs(n: int, warmup: int, steps: int, repeat: int = 1,
                     model, moduli=np.hstack([model.moduli, np.zeros((p, 1))]),
                     taus=np.hstack([model.taus, np.full((p, 1), 2e-6)]))
             times[label] = math.inf
-            for rep in range(1 if settled else repeat):
+            for _rep in range(1 if settled else repeat):
                 sim = Simulation(model, itrac=10**9)
                 if label == "in":
                     sim.variant = dataclasses.replace(sim.variant, **forced)

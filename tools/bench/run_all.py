@@ -7,8 +7,9 @@ Each measurement runs in its own process on one core (OMP/NUMBA threads = 1). x3
 force-driven spring-mounted cavity; LAMMPS the same particles in a box on a prescribed path, in
 its fastest form (``--style classic``: gran/hertz/history pair and wall styles). Two tables:
 the falling window (the scene's start), and a settled bed (``--settled-n``, default 512 spheres:
-settled for 300,000 steps, at rest; 0 skips it). Also reported: compile time with a cold and a warm numba cache, and the
-structure-only (SDOF) step rate. LAMMPS rows are skipped when `lammps` is not installed.
+settled for 300,000 steps, at rest; 0 skips it). Also reported: compile time with a cold and a
+warm numba cache, and the structure-only (SDOF) step rate. LAMMPS rows are skipped when
+`lammps` is not installed.
 Both codes time the same window ``--repeat`` times from scratch (default 3) and
 report their fastest, so a stray background process cannot tilt the ratio either way.
 Run it on an idle machine: another busy process on the same cores distorts every number.
@@ -124,7 +125,10 @@ def main(argv=None) -> int:
         print("| particles | x3dpd µs/step | contacts/sphere | LAMMPS µs/step | "
               "contacts/sphere | LAMMPS / x3dpd |")
         print("|---:|---:|---:|---:|---:|---:|")
-        f = (lambda v, d=2: f"{v:.{d}f}" if v is not None else "–")
+
+        def f(v, d=2):
+            return f"{v:.{d}f}" if v is not None else "–"
+
         print(f"| {settled['n']} | {f(settled['x3dpd_us'])} | "
               f"{f(settled['x3dpd_contacts_per_sphere'])} | {f(settled['lammps_us'])} | "
               f"{f(settled['lammps_contacts_per_sphere'])} | "

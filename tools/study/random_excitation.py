@@ -80,7 +80,7 @@ def main() -> None:
         print(f"{name:>6}: {step_cost(spec) * 1e9:6.1f} ns/step  ({spec})")
     spec = "random:node=1,dof=1,psd=1e-6,band=20:1000,seed=7,period=4"
     ratios = [level / 1e-6 for _, level in third_octaves(spec, 20.0, 1000.0, 4.0)]
-    for (centre, level), r in zip(third_octaves(spec, 20.0, 1000.0, 4.0), ratios):
+    for (centre, _level), r in zip(third_octaves(spec, 20.0, 1000.0, 4.0), ratios):
         print(f"  {centre:7.1f} Hz  PSD / requested = {r:.5f}")
     print(f"{spec}: {len(ratios)} third-octave bands, PSD / requested "
           f"{min(ratios):.5f} .. {max(ratios):.5f}")

@@ -5,13 +5,15 @@ The report's method, step by step:
 1. the envelope A(t) of the ring-down is the modulus of the analytic signal (Hilbert transform,
    :func:`scipy.signal.hilbert`);
 2. ln A(t) is fitted by a least-squares cubic spline over several pieces (knots every few cycles)
-   whose neighbours share value *and slope* where they meet (:func:`scipy.interpolate.make_lsq_spline`
-   -- a cubic spline is C2 at its knots, which is the report's "forced to have the same slope");
+   whose neighbours share value *and slope* where they meet
+   (:func:`scipy.interpolate.make_lsq_spline` -- a cubic spline is C2 at its knots, which is the
+   report's "forced to have the same slope");
 3. the local slope gives the local logarithmic decrement over one damped period T_d,
 
        delta(t) = -T_d d(ln A)/dt,        zeta = delta / sqrt(4 pi^2 + delta^2),
 
-   which is exact for a linear oscillator (A = A0 exp(-zeta w_n t), T_d = 2 pi / (w_n sqrt(1-zeta^2)))
+   which is exact for a linear oscillator
+   (A = A0 exp(-zeta w_n t), T_d = 2 pi / (w_n sqrt(1-zeta^2)))
    and the equivalent viscous damping ratio at amplitude A for a nonlinear one;
 4. the amplitude is expressed as an acceleration in dB re 1 g: a = w^2 A for a displacement
    envelope, 20 log10(a / g).
@@ -153,7 +155,8 @@ def damping_vs_amplitude(time, signal, *, kind: str = "displacement", g: float =
                          f"{2 * trim_cycles + 2 * piece_cycles:.0f} are needed "
                          f"({trim_cycles:g} trimmed at each end, two spline pieces)")
     period = duration / cycles
-    keep = (t >= t[0] + trim_cycles * period) & (t <= t[-1] - trim_cycles * period) & (env > max(floor, floor_fraction * env.max()))
+    keep = ((t >= t[0] + trim_cycles * period) & (t <= t[-1] - trim_cycles * period)
+            & (env > max(floor, floor_fraction * env.max())))
     if np.count_nonzero(keep) < 16:
         raise InputError("ring-down: too few samples above the floor once the ends are trimmed")
     t_k = t[keep]

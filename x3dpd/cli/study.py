@@ -19,7 +19,8 @@ def _tolerance(text: str) -> float:
     try:
         value = float(t[:-1]) / 100.0 if t.endswith("%") else float(t)
     except ValueError:
-        raise InputError(f"--tol: expected a fraction or a percentage like 1%, got {text!r}")
+        raise InputError(f"--tol: expected a fraction or a percentage like 1%, "
+                         f"got {text!r}") from None
     if not 0.0 < value < 1.0:
         raise InputError(f"--tol: expected a tolerance between 0 and 100 %, got {text!r}")
     return value
@@ -32,7 +33,8 @@ def _steps(text: str | None):
     try:
         dts = [float(v) for v in words if v != "auto"]
     except ValueError:
-        raise InputError(f"--dt: expected comma-separated steps in s (or auto), got {text!r}")
+        raise InputError(f"--dt: expected comma-separated steps in s (or auto), "
+                         f"got {text!r}") from None
     if not all(0.0 < d < float("inf") for d in dts) or not words:
         raise InputError(f"--dt: expected positive steps in s, got {text!r}")
     return dts + (["auto"] if "auto" in words else [])
@@ -45,7 +47,7 @@ def _scales(text: str | None) -> tuple:
         scales = tuple(float(v) for v in text.split(",") if v.strip())
     except ValueError:
         raise InputError(f"--stiffness-scale: expected comma-separated scales like 0.1,0.01, "
-                         f"got {text!r}")
+                         f"got {text!r}") from None
     if not scales or not all(0.0 < f <= 1.0 for f in scales):
         raise InputError(f"--stiffness-scale: expected scales in (0, 1], got {text!r}")
     return scales

@@ -304,7 +304,8 @@ def _refilled_mesh(design, config, deck: Deck, wall_set: int | None,
     radius = float(v.get("radius", pd.rzero))
     gap = float(v.get("gap", v.get("gap_fraction", 0.0) * radius))
     opts = {"radius": radius, "packing": v.get("packing", "cubic"), "gap": gap,
-                "seed": v.get("seed"), "jitter": float(v.get("jitter", 0.0)), "set_id": design.cavity_set}
+            "seed": v.get("seed"), "jitter": float(v.get("jitter", 0.0)),
+            "set_id": design.cavity_set}
     try:
         volume = volume or fill_positions(deck, n=1, **opts).volume
         one = 4.0 / 3.0 * math.pi * radius ** 3

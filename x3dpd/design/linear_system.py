@@ -213,7 +213,7 @@ def linear_system(model: Model, node: int, dof: int, response: tuple[int, int] |
         if ms.coupling.size:
             damping[:m, :m] += ms.coupling
         mass[:m, :m] = np.eye(m)
-    for (master, d), j in rows.coords.items():
+    for (master, _dof), j in rows.coords.items():
         mass[rows.n_modes + j, rows.n_modes + j] = _body_mass(model, master)
     for ea, eb, k, c in springs:
         r = rows.dense(ea) - rows.dense(eb)

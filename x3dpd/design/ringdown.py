@@ -112,8 +112,9 @@ def write_outputs(out: str | os.PathLike, series: dict[str, Ringdown], overwrite
     return csv, png
 
 
-def ringdown_command(source: str, *, node: int | None, dof: int, out: str, baseline: str | None = None,
-                     t_from: float | None = None, drive_until: float = 1.0, ring: float = 2.0,
+def ringdown_command(source: str, *, node: int | None, dof: int, out: str,
+                     baseline: str | None = None, t_from: float | None = None,
+                     drive_until: float = 1.0, ring: float = 2.0,
                      no_baseline: bool = False, g: float = G_IN_S2, overwrite: bool = False,
                      measured: tuple[str, ...] = (), echo=print) -> dict[str, Ringdown]:
     """``x3dpd ringdown``: a trace file, or a deck (driven, released, with its baseline);

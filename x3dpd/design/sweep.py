@@ -50,8 +50,9 @@ from x3dpd.model.build import build_model
 
 #: sweep.csv columns, in order.
 COLUMNS = ("config", "frequency_hz", "drive", "drive_quantity", "direction", "amplitude",
-           "phase", "velocity", "acceleration", "accelerance", "transmissibility", "peak", "mean", "spread", "dissipated_per_cycle",
-           "dissipated_particles_per_cycle", "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
+           "phase", "velocity", "acceleration", "accelerance", "transmissibility", "peak", "mean",
+           "spread", "dissipated_per_cycle", "dissipated_particles_per_cycle",
+           "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
            "branch", "measured_amplitude", "change", "method", "start", "t_start", "t_end", "steps",
            "compile_s", "wall_s", "response_node", "response_dof")
 #: Columns a measured response (``--response``) has of its own; the rest are its point's.
@@ -92,7 +93,9 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
             closed.extend(closed_form_rows(config, sdof, spec, structures))
             continue
         for drive in spec.drives:
-            def point(f: float, direction: str = "") -> SweepPoint:
+            # called only within this iteration; the defaults bind this iteration's values
+            def point(f: float, direction: str = "", *, config=config, deck=deck,
+                      drive=drive) -> SweepPoint:
                 return SweepPoint(config=config, deck=deck, frequency_hz=f, drive=drive,
                                   node=spec.node, dof=spec.dof, direction=direction,
                                   dt=spec.dt, criterion=spec.criterion,

@@ -8,7 +8,8 @@ conversion). It is drawn on the panel of its point (``@NODE:DOF``; default the f
 ``--response``, else the driven point) at every drive level, as the displacement amplitude the
 sweep would measure there if the structure were the measured linear one:
 
-    force drive:  X(f) = |H_q| F / w^q,          a base drive:  X(f) = |T| U(f),  T = H_q (i w)^(2 - q)
+    force drive:   X(f) = |H_q| F / w^q,
+    a base drive:  X(f) = |T| U(f),  T = H_q (i w)^(2 - q)
 
 so each panel shows it in its own quantity: sweep.png the amplitude X (F |receptance|),
 sweep_responses.png the accelerance w^2 X / F (the measured accelerance itself), a base drive's

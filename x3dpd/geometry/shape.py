@@ -22,8 +22,9 @@ class Shape:
     ``volume(ends, params)`` [length^3]; ``extent(ends, params)`` the bounding box (lo, hi);
     ``mesh(ends, params, n)`` a closed triangulation (vertices, triangles) with ``n`` facets
     around, for the viewers and tests; ``describe(ends, params)`` its size in messages
-    ("radius 0.2, length 0.263"); ``problem(ends, params)`` what makes the shape impossible (coinciding axis
-    nodes ...), or None. ``ends`` holds the positions of the shape's nodes, in card order.
+    ("radius 0.2, length 0.263"); ``problem(ends, params)`` what makes the shape impossible
+    (coinciding axis nodes ...), or None. ``ends`` holds the positions of the shape's nodes, in
+    card order.
     """
 
     name: str                      # lower case: "cylinder"; its effect is "cylinder_contact"

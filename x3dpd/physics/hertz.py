@@ -1,13 +1,15 @@
 """Hertz normal contact between elastic spheres and between a sphere and a rigid flat wall.
 
-Report Section 7.2.1 (Eqs. 4-7) and 7.2.2. For an approach ``a`` (overlap, length) the normal force is
+Report Section 7.2.1 (Eqs. 4-7) and 7.2.2. For an approach ``a`` (overlap, length) the normal
+force is
 
 .. math::  F = K a^{3/2}, \\qquad K = \\tfrac{4}{3} E^* \\sqrt{R^*},
 
 with the effective radius :math:`1/R^* = 1/R_i + 1/R_j` (a flat wall: :math:`R^* = R`) and the
 effective modulus :math:`1/E^* = (1-\\nu_i^2)/E_i + (1-\\nu_j^2)/E_j` (a rigid wall:
-:math:`E^* = E/(1-\\nu^2)`). Identical spheres give :math:`R^* = R/2`, :math:`E^* = E/(2(1-\\nu^2))`,
-which reproduces the report's :math:`\\mathrm dF/\\mathrm da = E\\sqrt{R^*}a^{1/2}/(1-\\nu^2)`
+:math:`E^* = E/(1-\\nu^2)`). Identical spheres give :math:`R^* = R/2`,
+:math:`E^* = E/(2(1-\\nu^2))`, which reproduces the report's
+:math:`\\mathrm dF/\\mathrm da = E\\sqrt{R^*}a^{1/2}/(1-\\nu^2)`
 (the coefficient of its Eq. 24). The stored elastic energy is :math:`U = \\tfrac{2}{5} K a^{5/2}`.
 
 Closed forms of a head-on impact (used by the validation tests and by ``x3dpd check``): with
@@ -30,8 +32,8 @@ HERTZ_TIME_FACTOR = 0.4 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
 
 __all__ = [
     "HERTZ_TIME_FACTOR", "effective_modulus_pair", "effective_modulus_wall", "effective_radius",
-    "hertz_constant", "hertz_contact_time", "hertz_force", "hertz_energy", "hertz_impact", "three_halves",
-    "stored_energy_of_force",
+    "hertz_constant", "hertz_contact_time", "hertz_force", "hertz_energy", "hertz_impact",
+    "three_halves", "stored_energy_of_force",
 ]
 
 

@@ -6,7 +6,8 @@ A slave at body-frame offset :math:`\\mathbf r_0 = \\mathbf x_{s,0} - \\mathbf x
 :math:`\\boldsymbol\\omega_s = \\boldsymbol\\omega_m`. Forces on slaves gather to the master as a
 force and a moment :math:`\\mathbf M = \\sum (\\mathbf x_s - \\mathbf x_m)\\times\\mathbf f_s`.
 The master carries the body's mass and inertia tensor (parallel-axis theorem, built with the
-model); the rotation :math:`\\mathsf R` advances by Rodrigues' formula with :math:`\\Delta t\\,\\omega`.
+model); the rotation :math:`\\mathsf R` advances by Rodrigues' formula with
+:math:`\\Delta t\\,\\omega`.
 """
 
 from __future__ import annotations

@@ -14,8 +14,8 @@ import numpy as np
 
 from x3dpd._jit import kernel
 
-__all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "pair_columns", "history_columns", "_active_flags",
-           "_merge_states", "_pair_approach"]
+__all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "pair_columns", "history_columns",
+           "_active_flags", "_merge_states", "_pair_approach"]
 
 # columns of a contact state row
 S_A = 0         # geometric approach at the last step (may be negative)

@@ -127,7 +127,8 @@ class ModeSet:
             try:
                 lo, hi = (float(b) for b in band)
             except (TypeError, ValueError):
-                raise ModeFileError(self.path, f"band must be (lo, hi) in Hz; got {band!r}") from None
+                raise ModeFileError(self.path,
+                                    f"band must be (lo, hi) in Hz; got {band!r}") from None
             if np.isnan(lo) or np.isnan(hi) or lo > hi:
                 raise ModeFileError(self.path, f"band ({lo:g}, {hi:g}) Hz: expected lo <= hi")
             among = keep.copy()

@@ -134,8 +134,9 @@ def _mode_set(path, records, units) -> ModeSet:
 def _units(path, records) -> tuple[str, str, str] | None:
     found = {_system(path, r) for r in records}
     if len(found) > 1:
-        raise ModeFileError(path, f"its datasets 164 declare different units "
-                                  f"({'; '.join(' '.join(u) for u in sorted(found))}); expected one")
+        units = "; ".join(" ".join(u) for u in sorted(found))
+        raise ModeFileError(path, f"its datasets 164 declare different units ({units}); "
+                                  "expected one")
     return found.pop() if found else None
 
 
