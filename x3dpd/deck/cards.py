@@ -235,6 +235,20 @@ class Hooke:
 
 
 @dataclass(frozen=True)
+class WallMat:
+    """One WALLMAT record (our extension): the walls of CONTACT set ``set_id`` (its triangles
+    and its analytic walls) are elastic with Young's modulus ``e`` [force/length^2], Poisson's
+    ratio ``nu`` and friction coefficient ``mu`` against the particles
+    (x3dpd.physics.wall_material). Without a record a wall is rigid."""
+
+    set_id: int
+    e: float
+    nu: float
+    mu: float
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
 class AnalyticWall:
     """One record of an analytic wall shape's card (our extension; CYLINDER, CAPSULE ...,
     x3dpd.geometry.shapes): the cavity of CONTACT slave set ``set_id`` is bounded by a
@@ -283,6 +297,7 @@ class Deck:
     initials: tuple[Initial, ...] = ()
     usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
     hooke: tuple[Hooke, ...] | None = None   # None: no HOOKE card
+    wallmat: tuple[WallMat, ...] | None = None   # None: no WALLMAT card (rigid walls)
     #: records of the analytic wall cards in file order (None: no such card)
     analytic_walls: tuple[AnalyticWall, ...] | None = None
     units: Units | None = None

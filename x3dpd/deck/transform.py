@@ -25,6 +25,7 @@ from x3dpd.deck.cards import (
     Deck,
     Element,
     Hooke,
+    WallMat,
     Initial,
     Mass,
     Material,
@@ -276,6 +277,24 @@ class DeckTransformer(Transformer):
             out.append(Hooke(nodlim, kn, e, _first(rec)))
         return "HOOKE", c[0], out
 
+    def wallmat(self, c: list[Any]) -> _Card:
+        """WALLMAT (our extension): SET E NU MU, the elastic material of a CONTACT set's walls."""
+        spec = BY_NAME["WALLMAT"]
+        out = []
+        for rec, v in _counted(spec, c[1:-1], 4, 4, "4 values: SET E NU MU"):
+            set_id = _int(spec, rec, v, 0)
+            e, nu, mu = _floats(spec, rec, v, 1)
+            if not e > 0.0:
+                raise _fail(spec, rec, 1, f"E (the wall's Young's modulus) must be > 0; got {v[1]}")
+            if not -1.0 < nu < 0.5:
+                raise _fail(spec, rec, 2, f"NU (the wall's Poisson's ratio) must lie in "
+                                          f"(-1, 0.5); got {v[2]}")
+            if not mu >= 0.0:
+                raise _fail(spec, rec, 3, f"MU (the wall's friction coefficient) must be >= 0; "
+                                          f"got {v[3]}")
+            out.append(WallMat(set_id, e, nu, mu, _first(rec)))
+        return "WALLMAT", c[0], out
+
     def shape(self, c: list[Any]) -> _Card:
         """A card of an analytic wall shape (x3dpd.geometry.shapes): SET, the node ids (two of
         them must differ), the lengths (each > 0)."""
@@ -340,4 +359,5 @@ class DeckTransformer(Transformer):
                     boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
                     initials=many("INITIAL"), usrfrc=many("USRFRC"),
                     units=single.get("UNITS"), hooke=many("HOOKE") or None,
+                    wallmat=many("WALLMAT") or None,
                     analytic_walls=many("ANALYTIC") or None, modal=single.get("MODAL"))

@@ -181,6 +181,11 @@ def format_deck(deck: Deck) -> str:
         for h in deck.hooke:
             _record([_i(h.nodlim), _f(h.kn), _f(h.e)], out)
         out.append("END")
+    if deck.wallmat:
+        _card(out, "WALLMAT", BY_NAME["WALLMAT"].fields)
+        for m in deck.wallmat:
+            _record([_i(m.set_id), _f(m.e), _f(m.nu), _f(m.mu)], out)
+        out.append("END")
     for shape in SHAPES:   # analytic wall cards (CYLINDER, CAPSULE ...), one per shape used
         mine = [w for w in deck.analytic_walls or () if w.shape == shape.name]
         if mine:

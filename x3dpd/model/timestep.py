@@ -27,7 +27,7 @@ from x3dpd.physics.hertz import (  # noqa: F401  (re-exported)
     hertz_contact_time,
 )
 from x3dpd.physics.normal_laws import NORMAL_LAWS
-from x3dpd.physics.normal_laws import group_bodies as _group_bodies
+from x3dpd.physics.normal_laws import scene_bodies
 
 #: Steps per Hertz contact the recommendation asks for (see :func:`recommended_time_step`).
 STEPS_PER_CONTACT = 50
@@ -118,13 +118,6 @@ def characteristic_speed(model: Model) -> float:
     return max(fall, fastest, MIN_IMPACT_SPEED)
 
 
-def group_bodies(model: Model) -> dict:
-    """Particle group -> the :class:`~x3dpd.physics.normal_laws.ContactBody` of its first
-    particle."""
-    return _group_bodies(model.particle_group, model.mass[model.particle_start:], model.radius,
-                         model.moduli, model.poisson, model.hooke)
-
-
 def _contact_limit(model: Model) -> tuple[float, float, str]:
     """Shortest contact (t_c, v_c, kind) over the contacts the model can have, by the scene's
     normal law's ``contact_time`` (x3dpd.physics.normal_laws)."""
@@ -133,7 +126,7 @@ def _contact_limit(model: Model) -> tuple[float, float, str]:
     if not model.n_particles:
         return best
     law = NORMAL_LAWS[model.normal_law]
-    bodies = group_bodies(model)
+    bodies = scene_bodies(model)
     # a concave analytic wall (cylinder, capsule) is softer than a flat one (a larger relative
     # radius): the flat wall's contact time bounds its contacts from below
     if "wall_contact" in model.effects or any(s.effect in model.effects for s in SHAPES):

@@ -35,6 +35,7 @@ from x3dpd._jit import kernel, step_kernel
 from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
                                  effective_radius, hertz_contact_time, stored_energy_of_force,
                                  three_halves)
+from x3dpd.physics.wall_material import mixed_modulus
 
 __all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update", "maxwell_terms",
            "CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "contact_time", "wall_force",
@@ -55,10 +56,14 @@ def contact_time(i, j, v: float) -> float:
     wall (``j`` None) or on particle ``j`` (x3dpd.physics.normal_laws.ContactBody): the elastic
     Hertz contact time (:func:`x3dpd.physics.hertz.hertz_contact_time`) with the instantaneous
     modulus E0 + E1 + ..., the stiffest response, so the shortest contact the law can have
-    (report Section 7.2.2: m*, R* and E* of a wall; of two spheres, Section 7.2.1)."""
+    (report Section 7.2.2: m*, R* and E* of a wall; of two spheres, Section 7.2.1). A
+    compliant wall (``i.wall_modulus`` finite, WALLMAT) mixes its plane-strain modulus with
+    the particle's (x3dpd.physics.wall_material)."""
     if j is None:
-        return hertz_contact_time(i.mass, effective_radius(i.radius),
-                                  effective_modulus_wall(i.modulus, i.poisson), v)
+        e_star = effective_modulus_wall(i.modulus, i.poisson)
+        if not math.isinf(i.wall_modulus):
+            e_star = mixed_modulus(e_star, i.wall_modulus)
+        return hertz_contact_time(i.mass, effective_radius(i.radius), e_star, v)
     return hertz_contact_time(i.mass * j.mass / (i.mass + j.mass),
                               effective_radius(i.radius, j.radius),
                               effective_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson),

@@ -16,11 +16,13 @@ messages name that impact. Adding a law is a module plus a line here.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 
 from x3dpd.physics import hooke, maxwell
+from x3dpd.physics.wall_material import particle_walls
 
 #: name -> module of the law
 NORMAL_LAWS = {
@@ -45,6 +47,9 @@ class ContactBody(NamedTuple):
     poisson: float
     stiffness: float     # HOOKE k_n [force/length]; 0 under another law
     restitution: float   # HOOKE e; 0 under another law
+    #: plane-strain modulus E/(1-nu^2) of the stiffest wall the body meets (WALLMAT,
+    #: x3dpd.physics.wall_material) [force/length^2]; inf: rigid
+    wall_modulus: float = math.inf
 
 
 def contact_bodies(mass, radius, moduli, poisson, hooke_params=None) -> list[ContactBody]:
@@ -58,9 +63,12 @@ def contact_bodies(mass, radius, moduli, poisson, hooke_params=None) -> list[Con
             for m, r, e, nu, (k, c) in zip(mass, radius, modulus, poisson, law)]
 
 
-def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None) -> dict:
+def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None,
+                 wall_modulus=None) -> dict:
     """Particle group -> the :class:`ContactBody` of its first particle (a group's particles
-    are alike), from the per-particle arrays of :func:`contact_bodies` and ``group`` (P,)."""
+    are alike), from the per-particle arrays of :func:`contact_bodies` and ``group`` (P,).
+    ``wall_modulus`` (P,): the plane-strain modulus of each particle's walls (inf: rigid;
+    None: all rigid); a group gets its stiffest, which gives its shortest wall contact."""
     group = np.asarray(group)
     if group.shape[0] == 0:
         return {}
@@ -68,4 +76,16 @@ def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None) -> dic
     bodies = contact_bodies(np.asarray(mass)[first], np.asarray(radius)[first],
                             np.asarray(moduli)[first], np.asarray(poisson)[first],
                             None if hooke_params is None else np.asarray(hooke_params)[first])
+    if wall_modulus is not None:
+        walls = np.asarray(wall_modulus, dtype=np.float64)
+        bodies = [b._replace(wall_modulus=float(walls[group == g].max()))
+                  for g, b in zip(ids, bodies)]
     return dict(zip((int(g) for g in ids), bodies))
+
+
+def scene_bodies(model) -> dict:
+    """:func:`group_bodies` of a model (x3dpd.model.model.Model: its particle arrays, HOOKE
+    constants and wall materials)."""
+    c_wall, _ = particle_walls(model.particle_cavity, model.wall_material, model.mu)
+    return group_bodies(model.particle_group, model.mass[model.particle_start:], model.radius,
+                        model.moduli, model.poisson, model.hooke, c_wall)

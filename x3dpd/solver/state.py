@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from x3dpd.physics.hooke import hooke_tables
+from x3dpd.physics.wall_material import particle_walls, wall_hertz_constants
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
 from x3dpd.solver.shape_table import ShapeTable, shape_table
 
@@ -260,6 +261,10 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     ep = moduli / (1.0 - nu[:, None] ** 2) if npart else np.zeros((0, k_terms))
     cinst = ep.sum(axis=1) if npart else np.zeros(0)
     kw = 4.0 / 3.0 * ep * np.sqrt(radius)[:, None] if npart else np.zeros((0, k_terms))
+    # compliant walls (WALLMAT): the mixed modulus and the wall's friction, per particle (a
+    # particle meets only its own cavity's walls); rigid walls keep the values above
+    c_wall, mu_wall = particle_walls(model.particle_cavity, model.wall_material, model.mu)
+    kw = wall_hertz_constants(kw, ep, radius, c_wall)
     decay = np.ones_like(moduli)
     half = np.ones_like(moduli)
     if k_terms > 1 and npart:
@@ -320,7 +325,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_free_rot=rig_free_rot,
         p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), pkind=pkind, pair_c=pair_c,
         law_wall=_f64(law_wall), law_pair=_f64(law_pair),
-        decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
+        decay=_f64(decay), half=_f64(half), mu=_f64(mu_wall), inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
         tri_sign=_f64(model.tri_sign), shapes=shape_table(model, pcav), **modal,
