@@ -38,7 +38,7 @@ from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
 
 __all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update", "maxwell_terms",
            "CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "contact_time", "wall_force",
-           "pair_force", "stored_energy"]
+           "pair_force", "stored_energy", "stiffness_shape", "tangential_stiffness"]
 
 #: The step loop's normal law "lee_radok" (x3dpd.physics.normal_laws): the applied force is
 #: max(0, F) (report: "force set to zero when negative"); it does not read the approach rate;
@@ -63,6 +63,24 @@ def contact_time(i, j, v: float) -> float:
                               effective_radius(i.radius, j.radius),
                               effective_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson),
                               v)
+
+
+def tangential_stiffness(i, j) -> float:
+    """Mindlin's tangential stiffness constant kappa = 8 G* sqrt(R*) [force/length^1.5]
+    (k_t = kappa sqrt(a), x3dpd.physics.mindlin) of particle ``i`` on a rigid wall (``j``
+    None) or on particle ``j`` (ContactBody), with the instantaneous moduli E0 + E1 + ..."""
+    from x3dpd.physics.mindlin import effective_shear_modulus_pair, effective_shear_modulus_wall
+    if j is None:
+        return 8.0 * effective_shear_modulus_wall(i.modulus, i.poisson) * math.sqrt(i.radius)
+    g = effective_shear_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson)
+    return 8.0 * g * math.sqrt(effective_radius(i.radius, j.radius))
+
+
+@step_kernel
+def stiffness_shape(a):
+    """How a Hertz contact's stiffness grows with the approach: sqrt(a) (k_n = 2 E* sqrt(R* a),
+    Mindlin's k_t = 8 G* sqrt(R* a)) [length^0.5]."""
+    return math.sqrt(a)
 
 
 def maxwell_step_factors(tau: float, dt: float) -> tuple[float, float]:

@@ -11,7 +11,9 @@ For the checks before and during a run (``x3dpd check``'s recommended step, the 
 the step chosen by accuracy) a law module also provides ``contact_time(i, j, v)``: the duration
 [s] of a head-on impact at normal speed ``v`` [length/s] of particle ``i`` on a rigid flat wall
 (``j`` None) or on particle ``j``, both :class:`ContactBody`; and ``CONTACT_NAME``, how the
-messages name that impact. Adding a law is a module plus a line here.
+messages name that impact. For a tangential law with a spring (x3dpd.physics.mindlin) it provides
+``tangential_stiffness(i, j)``, the constant kappa of k_t = kappa * ``stiffness_shape(a)``
+(compiled into the loop). Adding a law is a module plus a line here.
 """
 
 from __future__ import annotations
@@ -29,10 +31,11 @@ NORMAL_LAWS = {
 }
 
 #: What the loop imports from a law module.
-NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_RATE", "DAMPED")
+NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_RATE", "DAMPED",
+                  "stiffness_shape")
 
 #: What the checks read of a law module (never compiled into the loop).
-NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME")
+NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME", "tangential_stiffness")
 
 
 class ContactBody(NamedTuple):

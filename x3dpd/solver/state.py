@@ -14,6 +14,8 @@ import numpy as np
 
 from x3dpd.physics.hooke import hooke_tables
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
+from x3dpd.physics.normal_laws import NORMAL_LAWS, contact_bodies
+from x3dpd.physics.tangential_laws import n_history, tangential_tables
 from x3dpd.solver.shape_table import ShapeTable, shape_table
 
 if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime import of it
@@ -162,6 +164,9 @@ class Setup:
     pair_c: np.ndarray  # (K, K, 3) per pair of kinds: Hertz factor, m_t, mu
     law_wall: np.ndarray  # (P, 2) normal-law constants on a wall (hooke: k_n, c_n)
     law_pair: np.ndarray  # (K, K, 2) normal-law constants per pair of kinds
+    tan_wall: np.ndarray  # (P, 2) tangential-law constants on a wall: k_t constant, mu_k
+    tan_pair: np.ndarray  # (K, K, 2) the same per pair of kinds
+    n_tangential: int     # tangential-law history values per contact (end of each state row)
     decay: np.ndarray
     half: np.ndarray
     mu: np.ndarray
@@ -196,8 +201,9 @@ def _i64(a):
 
 
 def build_setup(model: Model, dt: float, skin: float | None = None,
-                prescribed: np.ndarray | None = None) -> Setup:
-    """Derive the kernel arrays of ``model`` for time step ``dt``.
+                prescribed: np.ndarray | None = None, friction: str = "regularized") -> Setup:
+    """Derive the kernel arrays of ``model`` for time step ``dt`` and the tangential law
+    ``friction`` (x3dpd.physics.tangential_laws).
 
     ``prescribed``: (m, 2) node index, dof index of DOFs moved by a prescribed motion (they are
     integrated as fixed: zero inverse mass).
@@ -295,11 +301,19 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     pm_all = mass[p0:] if npart else np.zeros(0)
     # the hooke law's own constants distinguish kinds too
     extra = (hooke[:, 0], hooke[:, 1], pm_all) if model.normal_law == "hooke" else ()
+    mu_k = getattr(model, "mu_kinetic", None)
+    mu_k = _f64(model.mu) if mu_k is None else _f64(mu_k)
+    if n_history(friction):
+        # a tangential spring's constants (Poisson's ratio, kinetic mu) distinguish kinds too
+        extra = extra + (nu, mu_k)
     pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu, *extra)
     pair_c = pair_constant_table(radius, cinst, inv_mt, model.mu, rep)
     law_wall, law_pair = np.zeros((npart, 2)), np.zeros((rep.shape[0], rep.shape[0], 2))
     if model.normal_law == "hooke":
         law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
+    tan_wall, tan_pair = tangential_tables(
+        friction, NORMAL_LAWS[model.normal_law], contact_bodies(pm_all, radius, moduli, nu, hooke),
+        mu_k, rep)
 
     if skin is None:
         skin = 0.25 * float(radius.min()) if npart else 0.0
@@ -319,7 +333,8 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
         rig_free_rot=rig_free_rot,
         p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), pkind=pkind, pair_c=pair_c,
-        law_wall=_f64(law_wall), law_pair=_f64(law_pair),
+        law_wall=_f64(law_wall), law_pair=_f64(law_pair), tan_wall=_f64(tan_wall),
+        tan_pair=_f64(tan_pair), n_tangential=n_history(friction),
         decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
@@ -375,8 +390,9 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
     vel = _f64(model.v0, (n, 6)).copy()
     nb = setup.rig_master.shape[0]
     rot = np.tile(np.eye(3), (nb, 1, 1)) if nb else np.zeros((0, 3, 3))
-    ncols = STATE_HEAD + max(setup.n_maxwell, 1)
-    ncols_pair = STATE_HEAD + 2 * max(setup.n_maxwell, 1)
+    # approach, F_N, F_t, the normal law's histories, the tangential law's (x3dpd.solver.contact_lists)
+    ncols = STATE_HEAD + max(setup.n_maxwell, 1) + setup.n_tangential
+    ncols_pair = STATE_HEAD + 2 * max(setup.n_maxwell, 1) + setup.n_tangential
     nfaces_max = int(np.max(np.diff(setup.cav_ptr))) if setup.cav_ptr.shape[0] > 1 else 0
     lw = max(16, npart * max(3, min(nfaces_max, 6)))
     lp = max(16, 8 * npart)
