@@ -73,7 +73,7 @@ class RunOptions:
 @click.option("--restart", is_flag=True,
               help="Resume from <trace>.restart.npz (as IREST = 1 in the deck); with a later "
                    "--tmax, extends a finished run.")
-@click.option("--friction", type=click.Choice(["regularized", "coulomb"]), default="regularized",
+@click.option("--friction", type=click.Choice(["regularized", "coulomb", "mindlin"]), default="regularized",
               show_default=True, help="Tangential contact law.")
 @click.option("--energy-tolerance", type=click.FloatRange(min=0.0, min_open=True),
               default=0.05, show_default=True, metavar="FRACTION",

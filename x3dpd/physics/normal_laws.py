@@ -11,7 +11,9 @@ For the checks before and during a run (``x3dpd check``'s recommended step, the 
 the step chosen by accuracy) a law module also provides ``contact_time(i, j, v)``: the duration
 [s] of a head-on impact at normal speed ``v`` [length/s] of particle ``i`` on a rigid flat wall
 (``j`` None) or on particle ``j``, both :class:`ContactBody`; and ``CONTACT_NAME``, how the
-messages name that impact. Adding a law is a module plus a line here.
+messages name that impact. For a tangential law with a spring (x3dpd.physics.mindlin) it provides
+``tangential_stiffness(i, j)``, the constant kappa of k_t = kappa * ``stiffness_shape(a)``
+(compiled into the loop). Adding a law is a module plus a line here.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from typing import NamedTuple
 import numpy as np
 
 from x3dpd.physics import hooke, maxwell
-from x3dpd.physics.wall_material import particle_walls
+from x3dpd.physics.wall_material import particle_walls, plane_strain_moduli
 
 #: name -> module of the law
 NORMAL_LAWS = {
@@ -31,10 +33,11 @@ NORMAL_LAWS = {
 }
 
 #: What the loop imports from a law module.
-NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_RATE", "DAMPED")
+NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_RATE", "DAMPED",
+                  "stiffness_shape")
 
 #: What the checks read of a law module (never compiled into the loop).
-NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME")
+NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME", "tangential_stiffness")
 
 
 class ContactBody(NamedTuple):
@@ -47,9 +50,10 @@ class ContactBody(NamedTuple):
     poisson: float
     stiffness: float     # HOOKE k_n [force/length]; 0 under another law
     restitution: float   # HOOKE e; 0 under another law
-    #: plane-strain modulus E/(1-nu^2) of the stiffest wall the body meets (WALLMAT,
-    #: x3dpd.physics.wall_material) [force/length^2]; inf: rigid
-    wall_modulus: float = math.inf
+    #: Young's modulus [force/length^2] and Poisson's ratio of the walls the body meets
+    #: (WALLMAT, x3dpd.physics.wall_material); inf: rigid
+    wall_e: float = math.inf
+    wall_nu: float = 0.0
 
 
 def contact_bodies(mass, radius, moduli, poisson, hooke_params=None) -> list[ContactBody]:
@@ -64,11 +68,12 @@ def contact_bodies(mass, radius, moduli, poisson, hooke_params=None) -> list[Con
 
 
 def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None,
-                 wall_modulus=None) -> dict:
+                 walls=None) -> dict:
     """Particle group -> the :class:`ContactBody` of its first particle (a group's particles
     are alike), from the per-particle arrays of :func:`contact_bodies` and ``group`` (P,).
-    ``wall_modulus`` (P,): the plane-strain modulus of each particle's walls (inf: rigid;
-    None: all rigid); a group gets its stiffest, which gives its shortest wall contact."""
+    ``walls``: (E_w, nu_w) arrays (P,) of each particle's walls (inf: rigid; None: all rigid);
+    a group gets its stiffest (largest E_w/(1-nu_w^2)), which gives its shortest wall
+    contact."""
     group = np.asarray(group)
     if group.shape[0] == 0:
         return {}
@@ -76,16 +81,19 @@ def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None,
     bodies = contact_bodies(np.asarray(mass)[first], np.asarray(radius)[first],
                             np.asarray(moduli)[first], np.asarray(poisson)[first],
                             None if hooke_params is None else np.asarray(hooke_params)[first])
-    if wall_modulus is not None:
-        walls = np.asarray(wall_modulus, dtype=np.float64)
-        bodies = [b._replace(wall_modulus=float(walls[group == g].max()))
-                  for g, b in zip(ids, bodies)]
+    if walls is not None:
+        e_w, nu_w = (np.asarray(w, dtype=np.float64) for w in walls)
+        stiff = plane_strain_moduli(e_w, nu_w)
+        for k, g in enumerate(ids):
+            mine = np.flatnonzero(group == g)
+            w = mine[np.argmax(stiff[mine])]
+            bodies[k] = bodies[k]._replace(wall_e=float(e_w[w]), wall_nu=float(nu_w[w]))
     return dict(zip((int(g) for g in ids), bodies))
 
 
 def scene_bodies(model) -> dict:
     """:func:`group_bodies` of a model (x3dpd.model.model.Model: its particle arrays, HOOKE
     constants and wall materials)."""
-    c_wall, _ = particle_walls(model.particle_cavity, model.wall_material, model.mu)
+    e_w, nu_w, _ = particle_walls(model.particle_cavity, model.wall_material)
     return group_bodies(model.particle_group, model.mass[model.particle_start:], model.radius,
-                        model.moduli, model.poisson, model.hooke, c_wall)
+                        model.moduli, model.poisson, model.hooke, (e_w, nu_w))

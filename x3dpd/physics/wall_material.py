@@ -37,7 +37,8 @@ import math
 
 import numpy as np
 
-__all__ = ["plane_strain_modulus", "mixed_modulus", "particle_walls", "wall_hertz_constants"]
+__all__ = ["plane_strain_modulus", "plane_strain_moduli", "mixed_modulus", "mixed_shear_modulus",
+           "particle_walls", "wall_friction", "wall_hertz_constants"]
 
 
 def plane_strain_modulus(e: float, nu: float) -> float:
@@ -52,27 +53,44 @@ def mixed_modulus(c_particle: float, c_wall: float) -> float:
     return c_particle * c_wall / (c_particle + c_wall)
 
 
-def particle_walls(particle_cavity, wall_material, mu) -> tuple[np.ndarray, np.ndarray]:
-    """Per particle: the plane-strain modulus of the walls it meets (``inf``: rigid) and the
-    friction coefficient of its wall contacts.
+def mixed_shear_modulus(e_p: float, nu_p: float, e_w: float, nu_w: float) -> float:
+    """Mindlin's G* of a sphere on a wall: 1/G* = (2 - nu_p)/G_p + (2 - nu_w)/G_w with
+    G = E/(2(1 + nu)); ``e_w = inf`` (rigid) gives G_p/(2 - nu_p) [pressure]."""
+    inv = (2.0 - nu_p) * 2.0 * (1.0 + nu_p) / e_p
+    if not math.isinf(e_w):
+        inv += (2.0 - nu_w) * 2.0 * (1.0 + nu_w) / e_w
+    return 1.0 / inv
+
+
+def particle_walls(particle_cavity, wall_material) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per particle, the walls it meets: (E_w, nu_w, mu_w), each (P,); E_w = inf is a rigid
+    wall, mu_w = nan the particle's own PCOF (no WALLMAT record for its set).
 
     ``particle_cavity`` (P,) cavity index (-1: none); ``wall_material`` (C, 3) E, NU, MU per
-    cavity (E = inf: rigid, MU = nan: the particle's own PCOF) or None (every wall rigid);
-    ``mu`` (P,) the particles' PCOF.
+    cavity (x3dpd.model.model.Model.wall_material) or None (every wall rigid).
     """
     pcav = np.asarray(particle_cavity, dtype=np.int64)
-    c_wall = np.full(pcav.shape[0], math.inf)
-    mu_wall = np.array(mu, dtype=np.float64, copy=True)
-    if wall_material is None:
-        return c_wall, mu_wall
-    mat = np.asarray(wall_material, dtype=np.float64).reshape(-1, 3)
-    for c, (e, nu, mu_c) in enumerate(mat):
-        mine = pcav == c
-        if not math.isinf(e):
-            c_wall[mine] = plane_strain_modulus(e, nu)
-        if not math.isnan(mu_c):
-            mu_wall[mine] = mu_c
-    return c_wall, mu_wall
+    out = np.tile([math.inf, 0.0, math.nan], (pcav.shape[0], 1))
+    if wall_material is not None:
+        mat = np.asarray(wall_material, dtype=np.float64).reshape(-1, 3)
+        mine = pcav >= 0
+        out[mine] = mat[pcav[mine]]
+    return out[:, 0].copy(), out[:, 1].copy(), out[:, 2].copy()
+
+
+def wall_friction(mu, mu_wall) -> np.ndarray:
+    """The friction coefficient of each particle's wall contacts: the wall's ``mu_wall``
+    where a WALLMAT record gives one, else the particle's own ``mu`` (P,)."""
+    mu = np.asarray(mu, dtype=np.float64)
+    return np.where(np.isnan(mu_wall), mu, mu_wall)
+
+
+def plane_strain_moduli(e_wall, nu_wall) -> np.ndarray:
+    """c_w = E_w/(1 - nu_w^2) per particle (inf: rigid) [pressure]."""
+    e_wall = np.asarray(e_wall, dtype=np.float64)
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isinf(e_wall), math.inf,
+                        e_wall / (1.0 - np.asarray(nu_wall, dtype=np.float64) ** 2))
 
 
 def wall_hertz_constants(kw, ep, radius, c_wall) -> np.ndarray:

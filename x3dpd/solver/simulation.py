@@ -95,7 +95,8 @@ class Simulation(RunChecks):
             (0, len(MOTION_COLUMNS)))
         rows = motion_rows(self.motion)  # the motions (random ones' knots follow them)
         prescribed = rows[:, :2].astype(np.int64) if len(rows) else None
-        self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed)
+        self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed,
+                                 friction=friction)
         effects = set(model.effects)
         if specs:
             effects.add("external_force")

@@ -30,8 +30,8 @@ import numba
 import numpy as np
 
 from x3dpd.geometry.shapes import BY_SHAPE_NAME, SHAPES, kind_of
-from x3dpd.physics.coulomb import FRICTION_LAWS
 from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAWS
+from x3dpd.physics.tangential_laws import TANGENTIAL_LAW_API, TANGENTIAL_LAWS
 
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 #: The template's parts besides the loop, in import order (``_template_<part>.py``): each is
@@ -163,7 +163,15 @@ def _shapes_source(names: str) -> str:
 
 
 def _friction_import(name: str) -> str:
-    return f"from x3dpd.physics.coulomb import {FRICTION_LAWS[name]} as FRICTION_LAW"
+    law = TANGENTIAL_LAWS[name]
+    names = ", ".join([f"{law.force} as TANGENTIAL_FORCE"]
+                      + [f"{a} as {'TANGENTIAL_' + a.upper() if a.islower() else _TANGENTIAL_CONSTANT[a]}"
+                         for a in TANGENTIAL_LAW_API])
+    return f"from {law.module.__name__} import {names}"
+
+
+#: The loop's names of a tangential law's constants.
+_TANGENTIAL_CONSTANT = {"N_HISTORY": "N_TANGENTIAL", "STORES_ENERGY": "TANGENTIAL_STORES"}
 
 
 def _normal_import(name: str) -> str:
@@ -172,7 +180,7 @@ def _normal_import(name: str) -> str:
 
 
 #: Law fields of a Variant: (registry, the VARIANT line importing a law into the loop).
-_LAWS = {"friction_law": (FRICTION_LAWS, _friction_import),
+_LAWS = {"friction_law": (TANGENTIAL_LAWS, _friction_import),
          "normal_law": (NORMAL_LAWS, _normal_import)}
 
 _ROOT = Path(__file__).resolve().parents[1]
