@@ -117,6 +117,7 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
             path=deck.path,
             modal=self.modal,
             **self._normal_law(),
+            **self._friction_fields(),
         )
 
     def _parameters(self):
