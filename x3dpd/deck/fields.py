@@ -68,6 +68,7 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("USRFRC", "USRF", ("SPEC",)),
     CardSpec("HOOKE", "HOOK", ("NODLIM", "KN", "E")),
     CardSpec("WALLMAT", "WALL", ("SET", "E", "NU", "MU")),
+    CardSpec("FRICTION", "FRIC", ("NODLIM", "LAW", "MUS", "MUK", "ROLL", "MUR")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
     CardSpec("MODAL", "MODA", ("RECORD",)),
 ) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)   # CYLINDER, CAPSULE ...

@@ -118,6 +118,7 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
             modal=self.modal,
             **self._normal_law(),
             wall_material=self._wall_materials(),
+            **self._friction_fields(),
         )
 
     def _parameters(self):

@@ -159,6 +159,13 @@ class Model:
     normal_law: str = "lee_radok"
     hooke: np.ndarray | None = None
     wall_material: np.ndarray | None = None
+    #: FRICTION card: the tangential law of the whole scene (None: no card, the run's
+    #: option decides), per particle the kinetic mu (mu = the static one) and the rolling
+    #: coefficient of ``rolling_law``
+    friction_law: str | None = None
+    mu_kinetic: np.ndarray | None = None
+    rolling_law: str = "none"
+    mu_roll: np.ndarray | None = None
     units: tuple = ("in", "lbf", "s")
     shape_kind: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     shape_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))

@@ -56,24 +56,36 @@ def n_history(name: str) -> int:
     return int(TANGENTIAL_LAWS[name].module.N_HISTORY)
 
 
-def tangential_tables(name: str, normal_law, bodies, mu_kinetic, rep):
-    """The step loop's tangential constants ``(tan_wall (P, 2), tan_pair (K, K, 2))``: the
-    normal law's ``tangential_stiffness`` constant and the kinetic friction coefficient of
-    every particle on a rigid wall and of every pair of particle kinds (representatives
-    ``rep``; the pair's mu_k is the mean of the two, as its mu). ``bodies``: the particles'
-    x3dpd.physics.normal_laws.ContactBody. Zeros for a law without a spring, which reads
-    neither."""
+def tangential_tables(name: str, normal_law, bodies, mu_kinetic, rep, rolling: str = "none",
+                      mu_roll=None, inertia=None):
+    """The step loop's tangential and rolling constants ``(tan_wall (P, 4), tan_pair (K, K, 4))``
+    of every particle on a rigid wall and of every pair of particle kinds (representatives
+    ``rep``): the normal law's ``tangential_stiffness`` constant kappa, the kinetic friction
+    coefficient, the rolling lever mu_r R* [length] and the rolling inertia I_r [mass length^2]
+    (x3dpd.physics.rolling). A pair's mu_k and mu_r are the means of the two; its R* and I_r
+    the series values. ``bodies``: the particles' x3dpd.physics.normal_laws.ContactBody;
+    ``inertia`` their moments of inertia. Columns a scene's laws do not read stay zero."""
     import numpy as np
 
     mu_k = np.asarray(mu_kinetic, dtype=np.float64)
-    wall = np.zeros((len(bodies), 2))
-    pair = np.zeros((len(rep), len(rep), 2))
-    if not TANGENTIAL_LAWS[name].module.STORES_ENERGY:
-        return wall, pair
-    stiffness = normal_law.tangential_stiffness
-    wall[:, 0] = [stiffness(b, None) for b in bodies]
-    wall[:, 1] = mu_k
-    for a, p in enumerate(rep):
-        for b, q in enumerate(rep):
-            pair[a, b] = stiffness(bodies[p], bodies[q]), 0.5 * (mu_k[p] + mu_k[q])
+    wall = np.zeros((len(bodies), 4))
+    pair = np.zeros((len(rep), len(rep), 4))
+    if TANGENTIAL_LAWS[name].module.STORES_ENERGY:
+        stiffness = normal_law.tangential_stiffness
+        wall[:, 0] = [stiffness(b, None) for b in bodies]
+        wall[:, 1] = mu_k
+        for a, p in enumerate(rep):
+            for b, q in enumerate(rep):
+                pair[a, b, :2] = stiffness(bodies[p], bodies[q]), 0.5 * (mu_k[p] + mu_k[q])
+    if rolling != "none":
+        mu_r = np.asarray(mu_roll, dtype=np.float64)
+        radius = np.array([b.radius for b in bodies])
+        inertia = np.asarray(inertia, dtype=np.float64)
+        wall[:, 2] = mu_r * radius
+        wall[:, 3] = inertia
+        for a, p in enumerate(rep):
+            for b, q in enumerate(rep):
+                r_star = radius[p] * radius[q] / (radius[p] + radius[q])
+                pair[a, b, 2] = 0.5 * (mu_r[p] + mu_r[q]) * r_star
+                pair[a, b, 3] = inertia[p] * inertia[q] / (inertia[p] + inertia[q])
     return wall, pair

@@ -10,7 +10,8 @@ beside the loop, with the variant's constants (``_template_variant``).
 import math
 
 from x3dpd._jit import step_kernel
-from x3dpd.solver._template_variant import (HAS_FRICTION, N_MAXWELL, N_TANGENTIAL,
+from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ROLLING, N_MAXWELL, N_ROLLING,
+                                            N_TANGENTIAL, ROLLING_TORQUE,
                                             NORMAL_CLAMPED, NORMAL_STIFFNESS_SHAPE,
                                             NORMAL_USES_RATE, NORMAL_WALL_FORCE,
                                             TANGENTIAL_FORCE, TANGENTIAL_STORED_ENERGY,
@@ -24,6 +25,11 @@ PENETRATION = int(Status.PENETRATION)
 NONFINITE = int(Status.NONFINITE)
 REALLOC_PAIRS = int(Status.REALLOC_PAIRS)
 REALLOC_WALLS = int(Status.REALLOC_WALLS)
+
+#: History columns at the end of a state row: the tangential law's, then the rolling law's.
+CONTACT_TAIL = N_TANGENTIAL + N_ROLLING
+#: The contact puts a moment on its bodies (friction or rolling resistance).
+HAS_TORQUE = HAS_FRICTION or HAS_ROLLING
 
 # ledger slots (cumulative since t0)
 L_WEXT = 0      # work of external forces and prescribed motions on the system
@@ -113,7 +119,7 @@ def _close_contact(ws, on, s, a, a_old, fn_old):
         dw = 0.5 * fn_old * (a - a_old)
         if TANGENTIAL_STORES:
             released = TANGENTIAL_STORED_ENERGY(ws[s, S_FT], ws[s, S_FT + 1], ws[s, S_FT + 2],
-                                                ws, s, ws.shape[1] - N_TANGENTIAL)
+                                                ws, s, ws.shape[1] - CONTACT_TAIL)
         for c in range(S_FT, ws.shape[1]):
             ws[s, c] = 0.0
     ws[s, S_A] = 0.0
@@ -194,7 +200,7 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
         ftx, fty, ftz, lost, du = _tangential(vrx, vry, vrz, nx, ny, nz, fn, a, 1.0 / inv_mt[p],
                                               mu[p], kappa, mu_k, dt, gamma, ws[s, S_FT],
                                               ws[s, S_FT + 1], ws[s, S_FT + 2], ws, s,
-                                              ws.shape[1] - N_TANGENTIAL)
+                                              ws.shape[1] - CONTACT_TAIL)
         ws[s, S_FT] = ftx
         ws[s, S_FT + 1] = fty
         ws[s, S_FT + 2] = ftz
@@ -208,6 +214,15 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
         force[i, 3] += rcy * ftz - rcz * fty
         force[i, 4] += rcz * ftx - rcx * ftz
         force[i, 5] += rcx * fty - rcy * ftx
+    if HAS_ROLLING:
+        # rolling resistance against the particle's rolling (x3dpd.physics.rolling)
+        mx, my, mz, rolled = ROLLING_TORQUE(vel[i, 3], vel[i, 4], vel[i, 5], fn,
+                                            particles.tan_wall[p, 2], particles.tan_wall[p, 3],
+                                            dt, ws, s, ws.shape[1] - N_ROLLING)
+        force[i, 3] += mx
+        force[i, 4] += my
+        force[i, 5] += mz
+        lost += rolled
     force[i, 0] += fx
     force[i, 1] += fy
     force[i, 2] += fz

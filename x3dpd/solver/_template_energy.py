@@ -9,10 +9,10 @@ from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.physics.modal import _modal_energies
 from x3dpd.physics.rotational_spring import _rotational_spring_energy
 from x3dpd.physics.spring_damper import _spring_energy
-from x3dpd.solver._template_contact import L_DDAMP, L_DFRIC, L_WEXT, L_WN
+from x3dpd.solver._template_contact import CONTACT_TAIL, L_DDAMP, L_DFRIC, L_WEXT, L_WN
 from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_GRAVITY, HAS_MODAL, HAS_PAIRS,
                                             HAS_ROTATIONAL_SPRINGS, HAS_SHAPES, HAS_SPRINGS,
-                                            HAS_VISCOELASTIC, HAS_WALLS, N_TANGENTIAL,
+                                            HAS_VISCOELASTIC, HAS_WALLS,
                                             NORMAL_DAMPED, NORMAL_STORED_ENERGY,
                                             TANGENTIAL_STORED_ENERGY, TANGENTIAL_STORES)
 from x3dpd.solver.contact_lists import S_A, S_FN, S_FT
@@ -90,7 +90,7 @@ def _tangential_energy(states, s):
     """The tangential law's stored energy in state row ``s`` (force in S_FT, history in the
     row's last N_TANGENTIAL columns)."""
     return TANGENTIAL_STORED_ENERGY(states[s, S_FT], states[s, S_FT + 1], states[s, S_FT + 2],
-                                    states, s, states.shape[1] - N_TANGENTIAL)
+                                    states, s, states.shape[1] - CONTACT_TAIL)
 
 
 @kernel

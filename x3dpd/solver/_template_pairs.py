@@ -10,11 +10,13 @@ import math
 import numpy as np
 
 from x3dpd._jit import loop_kernel, step_kernel, vector_kernel
-from x3dpd.solver._template_contact import (L_DFRIC, L_WN, OK, _booked_from, _close_contact,
-                                            _penetration, _tangential)
+from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, L_DFRIC, L_WN, OK,
+                                            _booked_from, _close_contact, _penetration,
+                                            _tangential)
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND, N_MAXWELL,
                                             N_TANGENTIAL, NORMAL_CLAMPED, NORMAL_PAIR_FORCE,
-                                            NORMAL_USES_RATE, TANGENTIAL_STORES)
+                                            NORMAL_USES_RATE, HAS_ROLLING, ROLLING_TORQUE,
+                                            TANGENTIAL_STORES)
 from x3dpd.solver.contact_lists import PAIR_COLUMNS, S_A, S_FN, S_FT, S_H
 
 # rows of the pair pass's column scratch (x3dpd.solver.contact_lists.PAIR_COLUMNS)
@@ -186,6 +188,21 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
         tjx_[q] = rj * tx
         tjy_[q] = rj * ty
         tjz_[q] = rj * tz
+        if HAS_ROLLING:
+            # rolling resistance against the relative rolling w_i - w_j (x3dpd.physics.rolling):
+            # M on i, -M on j (the columns are subtracted from the moments)
+            mx, my, mz, rolled = ROLLING_TORQUE(vel[i, 3] - vel[j, 3], vel[i, 4] - vel[j, 4],
+                                                vel[i, 5] - vel[j, 5], fn,
+                                                particles.tan_pair[ki, kj, 2],
+                                                particles.tan_pair[ki, kj, 3], dt, hist, q,
+                                                2 * N_MAXWELL + N_TANGENTIAL)
+            tix_[q] -= mx
+            tiy_[q] -= my
+            tiz_[q] -= mz
+            tjx_[q] += mx
+            tjy_[q] += my
+            tjz_[q] += mz
+            lost += rolled
         a_[q] = a
         fn_[q] = fn
         ftx_[q] = ftx
@@ -228,9 +245,9 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         if N_MAXWELL > 0:
             for k in range(2 * N_MAXWELL):
                 ps[s, S_H + k] = hist[q, k]
-        if N_TANGENTIAL > 0:
-            for k in range(N_TANGENTIAL):
-                ps[s, ps.shape[1] - N_TANGENTIAL + k] = hist[q, 2 * N_MAXWELL + k]
+        if CONTACT_TAIL > 0:
+            for k in range(CONTACT_TAIL):
+                ps[s, ps.shape[1] - CONTACT_TAIL + k] = hist[q, 2 * N_MAXWELL + k]
         pl_on[s] = 1
         w_normal += dw_[q]
         i = np.uint64(p0 + pl_i[s])
@@ -238,7 +255,7 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         fx = fx_[q]
         fy = fy_[q]
         fz = fz_[q]
-        if HAS_FRICTION:
+        if HAS_TORQUE:
             w_fric += lost_[q]
             ps[s, S_FT] = ftx_[q]
             ps[s, S_FT + 1] = fty_[q]
@@ -284,12 +301,13 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
             s = np.uint64(busy[q])
             for k in range(2 * N_MAXWELL):
                 hist[q, k] = ps[s, S_H + k]
-    if N_TANGENTIAL > 0:
-        # the tangential law's history, after the Maxwell terms (the state row's last columns)
+    if CONTACT_TAIL > 0:
+        # the tangential and rolling laws' histories, after the Maxwell terms (the state row's
+        # last columns)
         for q in range(nbusy):
             s = np.uint64(busy[q])
-            for k in range(N_TANGENTIAL):
-                hist[q, 2 * N_MAXWELL + k] = ps[s, ps.shape[1] - N_TANGENTIAL + k]
+            for k in range(CONTACT_TAIL):
+                hist[q, 2 * N_MAXWELL + k] = ps[s, ps.shape[1] - CONTACT_TAIL + k]
     if nbusy == 0:
         # nothing touches (a falling or sparse scene): skip the calls and their arguments
         return OK

@@ -17,6 +17,7 @@ from x3dpd.physics.wall_material import (particle_walls, plane_strain_moduli, wa
                                           wall_hertz_constants)
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
 from x3dpd.physics.normal_laws import NORMAL_LAWS, contact_bodies
+from x3dpd.physics.rolling import n_history as rolling_history
 from x3dpd.physics.tangential_laws import n_history, tangential_tables
 from x3dpd.solver.shape_table import ShapeTable, shape_table
 
@@ -166,9 +167,9 @@ class Setup:
     pair_c: np.ndarray  # (K, K, 3) per pair of kinds: Hertz factor, m_t, mu
     law_wall: np.ndarray  # (P, 2) normal-law constants on a wall (hooke: k_n, c_n)
     law_pair: np.ndarray  # (K, K, 2) normal-law constants per pair of kinds
-    tan_wall: np.ndarray  # (P, 2) tangential-law constants on a wall: k_t constant, mu_k
-    tan_pair: np.ndarray  # (K, K, 2) the same per pair of kinds
-    n_tangential: int     # tangential-law history values per contact (end of each state row)
+    tan_wall: np.ndarray  # (P, 4) on a wall: k_t constant, mu_k, rolling lever, rolling inertia
+    tan_pair: np.ndarray  # (K, K, 4) the same per pair of kinds
+    n_tangential: int     # tangential + rolling history values per contact (end of each row)
     decay: np.ndarray
     half: np.ndarray
     mu: np.ndarray
@@ -205,7 +206,7 @@ def _i64(a):
 def build_setup(model: Model, dt: float, skin: float | None = None,
                 prescribed: np.ndarray | None = None, friction: str = "regularized") -> Setup:
     """Derive the kernel arrays of ``model`` for time step ``dt`` and the tangential law
-    ``friction`` (x3dpd.physics.tangential_laws).
+    ``friction`` (x3dpd.physics.tangential_laws; the rolling law is the model's).
 
     ``prescribed``: (m, 2) node index, dof index of DOFs moved by a prescribed motion (they are
     integrated as fixed: zero inverse mass).
@@ -312,6 +313,9 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     if n_history(friction):
         # a tangential spring's constants (Poisson's ratio, kinetic mu) distinguish kinds too
         extra = extra + (nu, mu_k)
+    mu_r = np.zeros(npart) if model.mu_roll is None else _f64(model.mu_roll)
+    if model.rolling_law != "none":
+        extra = extra + (mu_r,)
     pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu, *extra)
     pair_c = pair_constant_table(radius, cinst, inv_mt, model.mu, rep)
     law_wall, law_pair = np.zeros((npart, 2)), np.zeros((rep.shape[0], rep.shape[0], 2))
@@ -320,7 +324,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     bodies = [b._replace(wall_e=float(e), wall_nu=float(n)) for b, e, n in
               zip(contact_bodies(pm_all, radius, moduli, nu, hooke), e_wall, nu_wall)]
     tan_wall, tan_pair = tangential_tables(friction, NORMAL_LAWS[model.normal_law], bodies,
-                                           mu_k, rep)
+                                           mu_k, rep, model.rolling_law, mu_r, pin)
     tan_wall[:, 1] = wall_friction(tan_wall[:, 1], mu_wall)   # a WALLMAT wall's mu
 
     if skin is None:
@@ -342,7 +346,8 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_free_rot=rig_free_rot,
         p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), pkind=pkind, pair_c=pair_c,
         law_wall=_f64(law_wall), law_pair=_f64(law_pair), tan_wall=_f64(tan_wall),
-        tan_pair=_f64(tan_pair), n_tangential=n_history(friction),
+        tan_pair=_f64(tan_pair),
+        n_tangential=n_history(friction) + rolling_history(model.rolling_law),
         decay=_f64(decay), half=_f64(half), mu=_f64(wall_friction(model.mu, mu_wall)),
         inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
