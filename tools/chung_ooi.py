@@ -50,7 +50,7 @@ MATERIALS["aluminium alloy (test 2)"] = (7.0e10, 0.30, 2699.0)
 
 #: Each test: materials, radius [m], speed [m/s], mu, restitution (None: the elastic law).
 TESTS = {
-    1: dict(materials=("glass", "limestone"), radius=0.010, speed=10.0, mu=0.0, e=None),
+    1: dict(materials=("glass", "limestone"), radius=0.010, speed=10.0, mu=0.35, e=None),
     2: dict(materials=("aluminium alloy (test 2)", "magnesium alloy"), radius=0.10, speed=0.2,
             mu=0.0, e=None),
     3: dict(materials=("aluminium oxide", "cast iron"), radius=0.0025, speed=3.9, mu=0.0,
@@ -119,11 +119,33 @@ def hooke_stiffness(material: str, radius: float, v: float, pair: bool = False) 
     return h["m_eff"] * (math.pi / h["contact_time"]) ** 2
 
 
-def sliding_beta(chi: float) -> float:
+def hooke_friction_impulse(e: float) -> float:
+    """int |F_N| dt / int F_N dt of a head-on HOOKE impact with restitution ``e``.
+
+    The HOOKE law is not clamped: near the end its dashpot pulls (F_N < 0), and Coulomb's limit
+    mu |F_N| keeps acting, so a sliding contact receives mu times the *absolute* normal impulse.
+    Over the half period of x = (v/w_d) e^{-z w_n t} sin(w_d t) the sphere's speed falls from v
+    to its most negative u_1 (where the acceleration changes sign, w_d t_1 = pi +
+    atan(2 a w_d / (a^2 - w_d^2)), a = z w_n) and rises back to -e v, so
+    int |F| dt = m (v - u_1) + m (-e v - u_1) against the net m v (1 + e)."""
+    if e >= 1.0:
+        return 1.0
+    le = math.log(e)
+    zeta = -le / math.sqrt(math.pi**2 + le * le)
+    wd = math.sqrt(1.0 - zeta * zeta)          # w_n = 1
+    a = zeta
+    t1 = (math.pi + math.atan(2.0 * a * wd / (a * a - wd * wd))) / wd
+    u1 = math.exp(-a * t1) * (math.cos(wd * t1) - a / wd * math.sin(wd * t1))   # v = 1
+    return ((1.0 - u1) + (-e - u1)) / (1.0 + e)
+
+
+def sliding_beta(chi: float, e: float | None = None) -> float:
     """Gross sliding throughout the impact (rigid-body impulse law, sphere I = 2/5 m R^2):
     the contact point's slip v_s changes by -mu (1+e) v_n (1 + m R^2/I) = -chi v_s, so
-    beta = -v_s'/v_s = chi - 1 (valid while the slip keeps its sign, chi < 1)."""
-    return chi - 1.0
+    beta = -v_s'/v_s = chi - 1 (valid while the slip keeps its sign). Under the HOOKE law
+    (``e`` given) the friction impulse is mu times the absolute normal impulse
+    (:func:`hooke_friction_impulse`)."""
+    return chi * (1.0 if e is None else hooke_friction_impulse(e)) - 1.0
 
 
 # -- decks ------------------------------------------------------------------------------------
