@@ -152,6 +152,9 @@ def sliding_beta(chi: float, e: float | None = None) -> float:
 
 def _deck(title, *, radius, material, mu, dt, tmax, itrac, particles, triangle_x, hooke):
     e, nu, rho = MATERIALS[material]
+    radius, mu, dt, tmax = float(radius), float(mu), float(dt), float(tmax)
+    particles = [(float(x), tuple(map(float, v)), float(w)) for x, v, w in particles]
+    hooke = None if hooke is None else tuple(map(float, hooke))
     half = 20.0 * radius
     lines = ["$ Chung & Ooi (2011) benchmark scene, written by tools/chung_ooi.py", "TITLE",
              title, "END", "UNITS", "   m N s", "END", "PARAMETERS",

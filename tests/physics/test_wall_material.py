@@ -118,17 +118,19 @@ def test_check_reports_the_wall_and_the_mixed_contact_time(tmp_path):
     assert "WALLMAT" not in CliRunner().invoke(check, [str(rigid)]).output
 
 
-def test_the_walls_friction_coefficient_is_the_contacts(tmp_path):
+@pytest.mark.parametrize("friction", ["coulomb", "mindlin"])
+def test_the_walls_friction_coefficient_is_the_contacts(tmp_path, friction):
     """Gross sliding on the wall: v_t' = v_t - mu (1 + e)(1 + m R^2/I) v_n (e = 1, I = 2/5 m R^2)
     with the wall's MU 0.1, not the particle's PCOF 0.4. At 80 degrees the contact slides
-    throughout (v_t > 3.5 mu (1+e) v_n), Coulomb's law (--friction coulomb) exactly."""
+    throughout (v_t > 3.5 mu (1+e) v_n): Coulomb's law exactly, and Hertz-Mindlin (whose wall
+    mu_k is MU too) once its spring has built up, within 1e-3."""
     mu_w, speed = 0.1, V
     vn, vt = speed * math.cos(math.radians(80)), speed * math.sin(math.radians(80))
     e_w, nu_w = WALLS["aluminium"]
     _, t_c, _ = _closed_form(e_w, nu_w)
     path = _deck(tmp_path, "slide", dt=t_c / 2000, tmax=1.5 * t_c, pcof=0.4, vx=-vn, vy=vt,
                  extra=f"WALLMAT\n   1 {e_w!r} {nu_w!r} {mu_w!r}\nEND\n")
-    res = x3dpd.run(path, friction="coulomb", itrac=100)
+    res = x3dpd.run(path, friction=friction, itrac=100)
     vy_end = res.trace.velocity[-1, 0, 1]
     # the centre loses mu (1+e) v_n of tangential speed; the contact point (at -R x) moves at
     # v_y - R w_z, and loses (1 + m R^2/I) = 3.5 times as much
