@@ -131,3 +131,23 @@ def test_the_step_estimate_sees_the_tangential_spring(tmp_path):
     k_t = 8.0 * g_star * math.sqrt(0.0625 * a_max)
     assert ts.t_contact == pytest.approx(math.pi * math.sqrt(2.0 * m / 7.0 / k_t), rel=1e-12)
     assert ts.t_contact < plain.t_contact
+
+
+def test_the_run_option_accepts_mindlin(tmp_path):
+    """``x3dpd run --friction mindlin`` (the CLI, in process) runs a deck without the card
+    under Hertz-Mindlin: its sidecar records the law; an unknown law is refused (exit 2)."""
+    import json
+
+    from click.testing import CliRunner
+
+    from x3dpd.cli import _register, cli
+
+    _register()
+    path = _deck(tmp_path, "")
+    trace = tmp_path / "d.trace.txt"
+    result = CliRunner().invoke(cli, ["run", str(path), "--friction", "mindlin", "--trace",
+                                      str(trace), "--tmax", "2e-6", "--quiet"])
+    assert result.exit_code == 0, result.output
+    assert json.loads((tmp_path / "d.trace.txt.json").read_text())["friction"] == "mindlin"
+    bad = CliRunner().invoke(cli, ["run", str(path), "--friction", "sticky"])
+    assert bad.exit_code == 2
