@@ -82,7 +82,7 @@ def test_parse_model_and_roundtrip(tmp_path):
     ("FRICTION\n 4 coulomb 0.3 0.2\nEND\n", 9, 16, "the coulomb law has one friction coefficient"),
     ("FRICTION\n 4 mindlin 0.3 0.3 spin 0.1\nEND\n", 9, 20, "ROLL must be one of none, epsd"),
     ("FRICTION\n 4 mindlin -0.3 -0.3\nEND\n", 9, 12, "MUS must be >= 0"),
-    ("FRICTION\n 4 mindlin 0.3 0.3 epsd\nEND\n", 9, 20, "ROLL needs its MUR"),
+    ("FRICTION\n 4 mindlin 0.3 0.3 epsd\nEND\n", 9, 24, "ROLL needs its MUR"),
 ])
 def test_bad_records_point_at_the_field(tmp_path, card, line, col, phrase):
     path = _deck(tmp_path, card)
@@ -111,3 +111,43 @@ def test_the_card_chooses_the_law_and_the_option_overrides_it(tmp_path):
     model = build_model(x3dpd.load_deck(path))
     assert Simulation(model).variant.friction_law == "mindlin"
     assert Simulation(model, friction="coulomb").variant.friction_law == "coulomb"
+
+
+def test_the_step_estimate_sees_the_tangential_spring(tmp_path):
+    """Under mindlin the spring's half period pi sqrt(m_t / k_t,max) (m_t = 2m/7 on a wall,
+    k_t,max = 8 G* sqrt(R a_max)) is shorter than the Hertz contact and sets the step."""
+    import math
+
+    from x3dpd.model.timestep import recommended_time_step
+    from x3dpd.physics.hertz import hertz_impact
+
+    plain = recommended_time_step(build_model(x3dpd.load_deck(_deck(tmp_path, ""))))
+    path = _deck(tmp_path, "FRICTION\n 4 mindlin 0.3 0.3\n 5 mindlin 0.2 0.2\nEND\n")
+    ts = recommended_time_step(build_model(x3dpd.load_deck(path)))
+    assert ts.contact_kind == "particle-wall tangential spring"
+    m = 7.33e-4 * 4.0 / 3.0 * math.pi * 0.0625**3
+    e_star, g_star = 30e6 / (1 - 0.33**2), 30e6 / (2 * 1.33) / (2 - 0.33)
+    a_max = hertz_impact(m, 4.0 / 3.0 * e_star * math.sqrt(0.0625), plain.impact_speed)[0]
+    k_t = 8.0 * g_star * math.sqrt(0.0625 * a_max)
+    assert ts.t_contact == pytest.approx(math.pi * math.sqrt(2.0 * m / 7.0 / k_t), rel=1e-12)
+    assert ts.t_contact < plain.t_contact
+
+
+def test_the_run_option_accepts_mindlin(tmp_path):
+    """``x3dpd run --friction mindlin`` (the CLI, in process) runs a deck without the card
+    under Hertz-Mindlin: its sidecar records the law; an unknown law is refused (exit 2)."""
+    import json
+
+    from click.testing import CliRunner
+
+    from x3dpd.cli import _register, cli
+
+    _register()
+    path = _deck(tmp_path, "")
+    trace = tmp_path / "d.trace.txt"
+    result = CliRunner().invoke(cli, ["run", str(path), "--friction", "mindlin", "--trace",
+                                      str(trace), "--tmax", "2e-6", "--quiet"])
+    assert result.exit_code == 0, result.output
+    assert json.loads((tmp_path / "d.trace.txt.json").read_text())["friction"] == "mindlin"
+    bad = CliRunner().invoke(cli, ["run", str(path), "--friction", "sticky"])
+    assert bad.exit_code == 2

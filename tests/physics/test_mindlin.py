@@ -180,3 +180,14 @@ def test_a_pair_impact_never_creates_energy():
     ke_in = 0.5 * M * V * V
     assert ke_out <= ke_in * (1.0 + 1e-6)
     assert res.energy["dissipated_friction"][-1] > 1e-6 * ke_in
+
+
+def test_every_registered_tangential_and_rolling_law_provides_the_loop_api():
+    from x3dpd.physics.rolling import ROLLING_LAWS
+    from x3dpd.physics.tangential_laws import TANGENTIAL_LAW_API, TANGENTIAL_LAWS
+
+    for name, law in TANGENTIAL_LAWS.items():
+        missing = [a for a in (law.force, *TANGENTIAL_LAW_API) if not hasattr(law.module, a)]
+        assert not missing, f"{name}: {missing}"
+    for name, module in ROLLING_LAWS.items():
+        assert module is None or all(hasattr(module, a) for a in ("rolling_torque", "N_HISTORY"))

@@ -95,6 +95,12 @@ def tangential_stiffness(i, j) -> float:
     return 0.5 * (ratio(i) + ratio(j)) * kn
 
 
+def peak_approach(i, j, v: float) -> float:
+    """Largest approach of an impact: a linear contact's stiffness does not depend on it
+    (``stiffness_shape`` is 1), so 0 serves [length]."""
+    return 0.0
+
+
 @step_kernel
 def stiffness_shape(a):
     """A linear contact's stiffness does not change with the approach: 1."""

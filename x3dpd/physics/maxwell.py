@@ -86,6 +86,19 @@ def tangential_stiffness(i, j) -> float:
     return 8.0 * g * math.sqrt(effective_radius(i.radius, j.radius))
 
 
+def peak_approach(i, j, v: float) -> float:
+    """Largest approach [length] of a head-on elastic Hertz impact at speed ``v`` (as
+    :func:`contact_time`: instantaneous modulus, wall or pair values)."""
+    from x3dpd.physics.hertz import hertz_constant, hertz_impact
+    if j is None:
+        m, r, e = i.mass, effective_radius(i.radius), effective_modulus_wall(i.modulus, i.poisson)
+    else:
+        m = i.mass * j.mass / (i.mass + j.mass)
+        r = effective_radius(i.radius, j.radius)
+        e = effective_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson)
+    return hertz_impact(m, hertz_constant(e, r), v)[0]
+
+
 @step_kernel
 def stiffness_shape(a):
     """How a Hertz contact's stiffness grows with the approach: sqrt(a) (k_n = 2 E* sqrt(R* a),

@@ -77,6 +77,18 @@ def effective_shear_modulus_pair(e_i: float, nu_i: float, e_j: float, nu_j: floa
     return 1.0 / ((2.0 - nu_i) / shear_modulus(e_i, nu_i) + (2.0 - nu_j) / shear_modulus(e_j, nu_j))
 
 
+def contact_time(normal_law, i, j, v: float) -> float:
+    """The tangential spring's half period pi sqrt(m_t / k_t) [s] at its stiffest (the
+    impact's largest approach, ``normal_law.peak_approach``), for particle ``i`` on a rigid
+    wall (``j`` None) or on ``j`` (ContactBody, solid spheres: 1/m_t = sum 3.5/m). Like a normal
+    law's contact time it must be resolved by the step (x3dpd.model.timestep): the spring
+    oscillates ~1.7 times faster than a Hertz contact lasts."""
+    k = normal_law.tangential_stiffness(i, j) * normal_law.stiffness_shape(
+        normal_law.peak_approach(i, j, v))
+    inv_mt = 3.5 / i.mass + (0.0 if j is None else 3.5 / j.mass)
+    return math.pi * math.sqrt(1.0 / (inv_mt * k))
+
+
 @step_kernel
 def tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, dt, gamma,
                      fox, foy, foz, h, row, col):

@@ -13,7 +13,8 @@ the step chosen by accuracy) a law module also provides ``contact_time(i, j, v)`
 (``j`` None) or on particle ``j``, both :class:`ContactBody`; and ``CONTACT_NAME``, how the
 messages name that impact. For a tangential law with a spring (x3dpd.physics.mindlin) it provides
 ``tangential_stiffness(i, j)``, the constant kappa of k_t = kappa * ``stiffness_shape(a)``
-(compiled into the loop). Adding a law is a module plus a line here.
+(compiled into the loop), and ``peak_approach(i, j, v)``, the largest approach of an impact
+(where the spring is stiffest, for the step estimate). Adding a law is a module plus a line here.
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_
                   "stiffness_shape")
 
 #: What the checks read of a law module (never compiled into the loop).
-NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME", "tangential_stiffness")
+NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME", "tangential_stiffness", "peak_approach")
 
 
 class ContactBody(NamedTuple):

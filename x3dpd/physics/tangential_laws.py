@@ -20,6 +20,9 @@ A law module provides
   as dissipated (the ledger stays closed).
 * ``stored_energy(fx, fy, fz, h, row, col)``: the energy the contact stores with force F_t and
   history ``h[row, col:]`` [energy].
+* a law with a spring also ``contact_time(normal_law, i, j, v)``: the spring's half period at
+  its stiffest, which the step estimate and ``x3dpd check`` resolve as they resolve a normal
+  law's contact time (x3dpd.model.timestep).
 
 The loop imports the selected law into the shared tangential response (``_tangential`` in
 x3dpd.solver._template_contact), which wall and pair contacts both call. Adding a law is a
