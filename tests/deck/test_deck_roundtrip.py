@@ -32,6 +32,7 @@ from x3dpd.deck import (
     Trace,
     Triangle,
     Usrfrc,
+    WallMat,
     format_deck,
     parse_deck,
     write_deck,
@@ -102,6 +103,8 @@ decks = st.builds(
     nodes=_some(nodes, 20), elements=_some(elements), masses=_some(masses), rbels=_some(rbels),
     boundaries=_some(boundaries), contacts=_some(contacts, 2), initials=_some(initials),
     usrfrc=_some(st.builds(Usrfrc, st.lists(specs, min_size=1, max_size=3).map(tuple)), 2),
+    wallmat=_maybe(st.lists(st.builds(WallMat, ids, positive, st.floats(-0.999, 0.499),
+                                      nonneg), min_size=1, max_size=3).map(tuple)),
 ).filter(lambda d: format_deck(d).strip())
 
 

@@ -39,7 +39,8 @@ def _particles(e_terms=(E0,), taus=(math.inf,), hooke_law=None) -> Particles:
         law_wall, law_pair = hooke.hooke_tables(np.full(2, kn), np.full(2, e), np.full(2, MASS),
                                                 rep)
     return Particles(0, radius, kw, ep, kind, pair_c, decay, half, mu, inv_mt,
-                     np.zeros(2, np.int64), law_wall, law_pair)
+                     np.zeros(2, np.int64), law_wall, law_pair, np.zeros((2, 4)),
+                     np.zeros((1, 1, 4)))
 
 
 def test_every_registered_law_provides_the_loop_api():

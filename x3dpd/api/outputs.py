@@ -56,7 +56,8 @@ def deck_key(deck) -> str:
 _POSITION_FIELDS = frozenset({"pos", "positions", "slave_positions", "path", "value_pos",
                               "node_pos", "housing_pos"})
 #: Cards added to the language later: absent, they leave the key of older decks unchanged.
-_ABSENT_IS_OLD = frozenset({"units", "hooke", "analytic_walls", "modal"})
+_ABSENT_IS_OLD = frozenset({"units", "hooke", "analytic_walls", "modal", "wallmat",
+                            "friction"})
 
 
 def _plain(obj):

@@ -60,7 +60,7 @@ ENERGY_TOLERANCE = 0.05
 
 def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         usrfrc: Sequence[str] = (), usrfrc_mode: str = "replace", motion: Sequence[str] = (),
-        friction: str = "regularized", trace: str | os.PathLike | None = None,
+        friction: str | None = None, trace: str | os.PathLike | None = None,
         energy: str | os.PathLike | None = None, overwrite: bool = False, restart: bool = False,
         itrac: int | None = None, trace_nodes: Sequence[int] | None = None,
         keep_trace: bool = True, initial_state: FinalState | None = None,
@@ -89,7 +89,9 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         driven once, not twice) or adds to it. Without ``usrfrc`` the deck's card applies.
     motion : sequence of str
         Prescribed motions (``"node=25,dof=1,amp=0.01,hz=37.21"``).
-    friction : "regularized" or "coulomb"
+    friction : "regularized", "coulomb" or "mindlin", optional
+        The tangential contact law for the whole run (docs/physics.md), over the deck's
+        FRICTION card; default the card's law, else "regularized".
     trace : path, optional
         Write the trace (and its sidecar), the energy file and restart dumps here, the same bytes
         as ``x3dpd run --trace``. None: write nothing.
@@ -182,6 +184,8 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         if err is not None:
             raise err
 
+    # the run's tangential law: the option, else the deck's FRICTION card's (x3dpd.physics)
+    friction = friction or model.friction_law or "regularized"
     sim = make_stepper(model, dt=dt, parameters=deck_obj.parameters, itrac=itrac,
                        usrfrc=usrfrc, motion=motion, friction=friction,
                        penetration_limit=penetration_limit, allow_python_usrfrc=usrfrc_python,

@@ -6,6 +6,8 @@ Exit status 0 when clean, 1 with warnings, 2 with errors (any deck error, printe
 
 from __future__ import annotations
 
+import math
+
 import os
 import sys
 
@@ -112,6 +114,8 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
         lines.append(_row(f"cavity set {c.set_id}",
                           f"{box}; {walls}{c.n_particles} particles"))
         lines += [_row("", text) for text in c.analytic_walls]
+        if c.wall_material is not None:
+            lines.append(_row("", _wall_text(c.wall_material, units["pressure"])))
         if c.volume is not None and c.closed:
             fill = (f"fill ratio {c.fill_ratio:.3g} (particle volume {c.particle_volume:.6g})"
                     if c.fill_ratio is not None else "")
@@ -148,6 +152,15 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
         lines += ["", "rules of thumb (the report's design guidance; notes only)"]
         lines += [_row(rule.code, f"{rule.text} [{rule.section}]") for rule in report.rules]
     return lines
+
+
+def _wall_text(w, pressure: str) -> str:
+    """A cavity's WALLMAT line: its material and the contact modulus E* per particle group."""
+    if math.isinf(w.e):
+        return "rigid walls (no WALLMAT record)"
+    mixed = ", ".join(f"group {g + 1} {e:.6g} {pressure}" for g, e in w.e_star) or "-"
+    return (f"wall material (WALLMAT): E {w.e:.6g} {pressure}, NU {w.nu:g}, MU {w.mu:g}; "
+            f"contact E* {mixed}")
 
 
 def _step_note(report: CheckReport) -> str | None:

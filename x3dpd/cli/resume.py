@@ -30,7 +30,7 @@ def resume_command(opts: RunOptions) -> str:
         args += ["--dt", opts.dt if isinstance(opts.dt, str) else repr(opts.dt)]
     if opts.tmax is not None:
         args += ["--tmax", repr(opts.tmax)]
-    if opts.friction != "regularized":
+    if opts.friction:
         args += ["--friction", opts.friction]
     if opts.energy_tolerance != 0.05:
         args += ["--energy-tolerance", repr(opts.energy_tolerance)]

@@ -38,7 +38,7 @@ class RunOptions:
     plot: str | None = None
     overwrite: bool = False
     restart: bool = False
-    friction: str = "regularized"
+    friction: str | None = None
     quiet: bool = False
     penetration_limit: float = 0.25
     energy_tolerance: float = 0.05
@@ -73,8 +73,9 @@ class RunOptions:
 @click.option("--restart", is_flag=True,
               help="Resume from <trace>.restart.npz (as IREST = 1 in the deck); with a later "
                    "--tmax, extends a finished run.")
-@click.option("--friction", type=click.Choice(["regularized", "coulomb"]), default="regularized",
-              show_default=True, help="Tangential contact law.")
+@click.option("--friction", type=click.Choice(["regularized", "coulomb", "mindlin"]), default=None,
+              help="Tangential contact law for the whole run (docs/physics.md), over the deck's "
+                   "FRICTION card  [default: the card's, else regularized]")
 @click.option("--energy-tolerance", type=click.FloatRange(min=0.0, min_open=True),
               default=0.05, show_default=True, metavar="FRACTION",
               help="Stop (exit 3) when the energy ledger's residual exceeds this fraction of "

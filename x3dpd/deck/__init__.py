@@ -27,6 +27,7 @@ from x3dpd.deck.cards import (
                               Trace,
                               Triangle,
                               Usrfrc,
+                              WallMat,
 )
 from x3dpd.deck.parser import parse_deck, read_deck
 from x3dpd.deck.writer import format_deck, write_deck
@@ -34,6 +35,6 @@ from x3dpd.deck.writer import format_deck, write_deck
 __all__ = [
     "AnalyticWall", "Body", "Boundary", "Contact", "Deck", "Element", "Hooke", "Initial", "Mass",
     "Material", "Node",
-    "Parameters", "Pdmp", "Pos", "Rbel", "SlaveSet", "Title", "Trace", "Triangle", "Usrfrc",
+    "Parameters", "Pdmp", "Pos", "Rbel", "SlaveSet", "Title", "Trace", "Triangle", "Usrfrc", "WallMat",
     "format_deck", "parse_deck", "read_deck", "write_deck",
 ]

@@ -234,6 +234,43 @@ class Hooke:
     pos: Pos = NOWHERE
 
 
+#: The FRICTION card's LAW and ROLL words: the names of x3dpd.physics.tangential_laws and
+#: x3dpd.physics.rolling (tests/deck/test_friction_card.py checks they agree).
+FRICTION_LAWS = ("coulomb", "regularized", "mindlin")
+ROLLING_LAWS = ("none", "epsd")
+
+
+@dataclass(frozen=True)
+class Friction:
+    """One FRICTION record (our extension): the PDMP group starting after node ``nodlim`` uses
+    the tangential law ``law`` (``coulomb``, ``regularized`` or ``mindlin``,
+    x3dpd.physics.tangential_laws) with static and kinetic friction coefficients ``mu_s``,
+    ``mu_k`` (they replace the group's PCOF), and the rolling-resistance law ``roll``
+    (``none`` or ``epsd``, x3dpd.physics.rolling) with coefficient ``mu_r``."""
+
+    nodlim: int
+    law: str
+    mu_s: float
+    mu_k: float
+    roll: str = "none"
+    mu_r: float = 0.0
+    pos: Pos = NOWHERE
+
+
+@dataclass(frozen=True)
+class WallMat:
+    """One WALLMAT record (our extension): the walls of CONTACT set ``set_id`` (its triangles
+    and its analytic walls) are elastic with Young's modulus ``e`` [force/length^2], Poisson's
+    ratio ``nu`` and friction coefficient ``mu`` against the particles
+    (x3dpd.physics.wall_material). Without a record a wall is rigid."""
+
+    set_id: int
+    e: float
+    nu: float
+    mu: float
+    pos: Pos = NOWHERE
+
+
 @dataclass(frozen=True)
 class AnalyticWall:
     """One record of an analytic wall shape's card (our extension; CYLINDER, CAPSULE ...,
@@ -283,6 +320,8 @@ class Deck:
     initials: tuple[Initial, ...] = ()
     usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
     hooke: tuple[Hooke, ...] | None = None   # None: no HOOKE card
+    wallmat: tuple[WallMat, ...] | None = None   # None: no WALLMAT card (rigid walls)
+    friction: tuple[Friction, ...] | None = None   # None: no FRICTION card
     #: records of the analytic wall cards in file order (None: no such card)
     analytic_walls: tuple[AnalyticWall, ...] | None = None
     units: Units | None = None

@@ -67,6 +67,8 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("INITIAL", "INIT", ("NODE", "VX", "VY", "VZ", "WX", "WY", "WZ")),
     CardSpec("USRFRC", "USRF", ("SPEC",)),
     CardSpec("HOOKE", "HOOK", ("NODLIM", "KN", "E")),
+    CardSpec("WALLMAT", "WALL", ("SET", "E", "NU", "MU")),
+    CardSpec("FRICTION", "FRIC", ("NODLIM", "LAW", "MUS", "MUK", "ROLL", "MUR")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
     CardSpec("MODAL", "MODA", ("RECORD",)),
 ) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)   # CYLINDER, CAPSULE ...

@@ -24,7 +24,11 @@ from x3dpd.deck.cards import (
     AnalyticWall,
     Deck,
     Element,
+    FRICTION_LAWS,
+    ROLLING_LAWS,
+    Friction,
     Hooke,
+    WallMat,
     Initial,
     Mass,
     Material,
@@ -276,6 +280,61 @@ class DeckTransformer(Transformer):
             out.append(Hooke(nodlim, kn, e, _first(rec)))
         return "HOOKE", c[0], out
 
+    def wallmat(self, c: list[Any]) -> _Card:
+        """WALLMAT (our extension): SET E NU MU, the elastic material of a CONTACT set's walls."""
+        spec = BY_NAME["WALLMAT"]
+        out = []
+        for rec, v in _counted(spec, c[1:-1], 4, 4, "4 values: SET E NU MU"):
+            set_id = _int(spec, rec, v, 0)
+            e, nu, mu = _floats(spec, rec, v, 1)
+            if not e > 0.0:
+                raise _fail(spec, rec, 1, f"E (the wall's Young's modulus) must be > 0; got {v[1]}")
+            if not -1.0 < nu < 0.5:
+                raise _fail(spec, rec, 2, f"NU (the wall's Poisson's ratio) must lie in "
+                                          f"(-1, 0.5); got {v[2]}")
+            if not mu >= 0.0:
+                raise _fail(spec, rec, 3, f"MU (the wall's friction coefficient) must be >= 0; "
+                                          f"got {v[3]}")
+            out.append(WallMat(set_id, e, nu, mu, _first(rec)))
+        return "WALLMAT", c[0], out
+
+    def friction(self, c: list[Any]) -> _Card:
+        spec = BY_NAME["FRICTION"]
+        out = []
+        expected = "4 or 6 values: NODLIM LAW MUS MUK [ROLL MUR]"
+        for tok in c[1:-1]:
+            rec = [(tok.line, tok.column, str(tok))]
+            v = _split(rec)
+            _count(spec, rec, v, 4, 6, expected)
+            if len(v) == 5:
+                raise _fail(spec, rec, 5, f"ROLL needs its MUR: {expected}")
+            nodlim = _int(spec, rec, v, 0, None)
+            law = v[1].lower()
+            if law not in FRICTION_LAWS:
+                raise _fail(spec, rec, 1, f"LAW must be one of {', '.join(FRICTION_LAWS)}; "
+                                          f"got {v[1]}")
+            mu_s, mu_k = _floats(spec, rec, v[:4], 2)
+            for k, (name, mu) in enumerate((("MUS", mu_s), ("MUK", mu_k)), start=2):
+                if not mu >= 0.0:
+                    raise _fail(spec, rec, k, f"{name} must be >= 0; got {v[k]}")
+            if mu_k > mu_s:
+                raise _fail(spec, rec, 3, f"MUK (kinetic) must not exceed MUS (static) {v[2]}; "
+                                          f"got {v[3]}")
+            if law != "mindlin" and mu_k != mu_s:
+                raise _fail(spec, rec, 3, f"the {law} law has one friction coefficient: MUK "
+                                          f"must equal MUS ({v[2]}); got {v[3]}")
+            roll, mu_r = "none", 0.0
+            if len(v) == 6:
+                roll = v[4].lower()
+                if roll not in ROLLING_LAWS:
+                    raise _fail(spec, rec, 4, f"ROLL must be one of {', '.join(ROLLING_LAWS)}; "
+                                              f"got {v[4]}")
+                (mu_r,) = _floats(spec, rec, v, 5)
+                if not mu_r >= 0.0:
+                    raise _fail(spec, rec, 5, f"MUR must be >= 0; got {v[5]}")
+            out.append(Friction(nodlim, law, mu_s, mu_k, roll, mu_r, _first(rec)))
+        return "FRICTION", c[0], out
+
     def shape(self, c: list[Any]) -> _Card:
         """A card of an analytic wall shape (x3dpd.geometry.shapes): SET, the node ids (two of
         them must differ), the lengths (each > 0)."""
@@ -340,4 +399,6 @@ class DeckTransformer(Transformer):
                     boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
                     initials=many("INITIAL"), usrfrc=many("USRFRC"),
                     units=single.get("UNITS"), hooke=many("HOOKE") or None,
+                    wallmat=many("WALLMAT") or None,
+                    friction=many("FRICTION") or None,
                     analytic_walls=many("ANALYTIC") or None, modal=single.get("MODAL"))

@@ -181,6 +181,17 @@ def format_deck(deck: Deck) -> str:
         for h in deck.hooke:
             _record([_i(h.nodlim), _f(h.kn), _f(h.e)], out)
         out.append("END")
+    if deck.wallmat:
+        _card(out, "WALLMAT", BY_NAME["WALLMAT"].fields)
+        for m in deck.wallmat:
+            _record([_i(m.set_id), _f(m.e), _f(m.nu), _f(m.mu)], out)
+        out.append("END")
+    if deck.friction:
+        _card(out, "FRICTION", ("NODLIM", "LAW", "MUS", "MUK", "[ROLL MUR]"))
+        for r in deck.friction:
+            rolling = [r.roll, _f(r.mu_r)] if r.roll != "none" or r.mu_r != 0.0 else []
+            _record([_i(r.nodlim), r.law, _f(r.mu_s), _f(r.mu_k), *rolling], out)
+        out.append("END")
     for shape in SHAPES:   # analytic wall cards (CYLINDER, CAPSULE ...), one per shape used
         mine = [w for w in deck.analytic_walls or () if w.shape == shape.name]
         if mine:

@@ -117,6 +117,8 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
             path=deck.path,
             modal=self.modal,
             **self._normal_law(),
+            wall_material=self._wall_materials(),
+            **self._friction_fields(),
         )
 
     def _parameters(self):

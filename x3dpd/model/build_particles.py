@@ -38,6 +38,7 @@ class ParticleSteps(BuilderBase):
         self.density = np.array([c.prho for c in g], dtype=np.float64)
         self.poisson = np.array([c.ppoi for c in g], dtype=np.float64)
         self.mu = np.array([c.pcof for c in g], dtype=np.float64)
+        self._friction_card()
         # Report Appendix B note 2: M = PRHO * 4/3 * pi * RZERO^3.
         self.p_mass = self.density * (4.0 / 3.0) * math.pi * self.radius**3
         terms = [[(c.e1, c.t1), *c.extra_terms] for c in cards]
@@ -82,6 +83,57 @@ class ParticleSteps(BuilderBase):
                              f"(missing NODLIM {', '.join(map(str, missing))})", records[0].pos,
                              "HOOKE")
         return {"normal_law": "hooke", "hooke": _ro(params[self.group].reshape(-1, 2))}
+
+    def _friction_card(self) -> None:
+        """The FRICTION card (our extension): per PDMP group its static and kinetic mu (they
+        replace PCOF) and rolling coefficient. A scene runs one tangential law and one rolling
+        law (the step loop is compiled for them): every record must name the same LAW, and
+        every record with a rolling law the same ROLL; a group without a record keeps its PCOF
+        as mu_s = mu_k and no rolling resistance."""
+        self.friction_law = None
+        self.rolling_law = "none"
+        self.mu_kinetic = None
+        self.mu_roll = None
+        records = self.deck.friction
+        if not records:
+            return
+        cards = self.deck.pdmp
+        by_nodlim = {c.nodlim: k for k, c in enumerate(cards)}
+        mu_s = np.array([c.pcof for c in cards], dtype=np.float64)
+        mu_k = mu_s.copy()
+        mu_r = np.zeros(len(cards))
+        seen = set()
+        for r in records:
+            if r.nodlim not in by_nodlim:
+                raise self.error(f"NODLIM {r.nodlim} names no PDMP group (PDMP NODLIMs: "
+                                 f"{', '.join(str(c.nodlim) for c in cards) or 'none'})",
+                                 r.pos, "FRICTION")
+            if r.nodlim in seen:
+                raise self.error(f"PDMP group NODLIM {r.nodlim} is given twice", r.pos,
+                                 "FRICTION")
+            seen.add(r.nodlim)
+            if r.law != records[0].law:
+                raise self.error(f"a scene runs one tangential law: LAW {r.law} here, "
+                                 f"{records[0].law} on line {records[0].pos.line}", r.pos,
+                                 "FRICTION")
+            if r.roll != "none":
+                if self.rolling_law not in ("none", r.roll):
+                    raise self.error(f"a scene runs one rolling law: ROLL {r.roll} here, "
+                                     f"{self.rolling_law} above", r.pos, "FRICTION")
+                self.rolling_law = r.roll
+            k = by_nodlim[r.nodlim]
+            mu_s[k], mu_k[k], mu_r[k] = r.mu_s, r.mu_k, r.mu_r
+        self.friction_law = records[0].law
+        self.mu = mu_s[self.group].astype(np.float64)
+        self.mu_kinetic = mu_k[self.group].astype(np.float64)
+        self.mu_roll = mu_r[self.group].astype(np.float64)
+
+    def _friction_fields(self) -> dict:
+        """The Model fields of the FRICTION card (none without one)."""
+        if self.friction_law is None:
+            return {}
+        return {"friction_law": self.friction_law, "mu_kinetic": _ro(self.mu_kinetic),
+                "rolling_law": self.rolling_law, "mu_roll": _ro(self.mu_roll)}
 
     def _check_pdmp(self, c) -> None:
         def bad(message: str) -> DeckError:

@@ -91,6 +91,34 @@ class WallSteps(BuilderBase):
         self.cavity_set_ids = np.array(set_ids, dtype=np.int64)
         self.particle_cavity = pcav
         self._analytic_walls(cav_of_set)
+        self.cav_of_set = cav_of_set
+
+    def _wall_materials(self) -> np.ndarray | None:
+        """The WALLMAT card (our extension; x3dpd.physics.wall_material): (C, 3) E, NU, MU per
+        cavity (E = inf, MU = nan: rigid, the particles' PCOF), or None without the card."""
+        records = self.deck.wallmat
+        if not records:
+            return None
+        if self.deck.hooke:
+            raise self.error("the HOOKE law gives its wall stiffness KN directly, so a wall "
+                             "material has nothing to act on; remove WALLMAT or the HOOKE "
+                             "card (WALLMAT applies to the Hertz law of PDMP)", records[0].pos,
+                             "WALLMAT")
+        table = np.tile([np.inf, 0.0, np.nan], (len(self.cav_of_set), 1))
+        given: dict[int, Pos] = {}
+        for r in records:
+            if r.set_id not in self.cav_of_set:
+                raise self.error(f"set {r.set_id} has no walls (the CONTACT triangles and "
+                                 f"analytic walls use set ids "
+                                 f"{', '.join(map(str, sorted(self.cav_of_set))) or 'none'})",
+                                 r.pos, "WALLMAT")
+            if r.set_id in given:
+                raise self.error(f"set {r.set_id} is given twice (first at line "
+                                 f"{given[r.set_id].line})", r.pos, "WALLMAT")
+            given[r.set_id] = r.pos
+            table[self.cav_of_set[r.set_id]] = r.e, r.nu, r.mu
+        table.flags.writeable = False
+        return table
 
     def _analytic_walls(self, cav_of_set: dict[int, int]) -> None:
         """The analytic wall cards (our extension: CYLINDER, CAPSULE ...; x3dpd.geometry.shapes).

@@ -42,8 +42,9 @@ from x3dpd.model.check_text import (  # noqa: F401  (MAX_LISTED re-exported)
 from x3dpd.model.check_modal import modal_table, modal_warnings
 from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
-from x3dpd.physics.usrfrc import is_user_file
 from x3dpd.model.rules_of_thumb import RuleNote, rules_of_thumb
+from x3dpd.physics.usrfrc import is_user_file
+from x3dpd.physics.wall_material import mixed_modulus, plane_strain_modulus
 from x3dpd.model.timestep import (
     STEPS_PER_CONTACT,
     TimeStepAdvice,
@@ -51,6 +52,17 @@ from x3dpd.model.timestep import (
     time_step_is_a_problem,
     time_step_warning,
 )
+
+
+@dataclass(frozen=True)
+class WallSummary:
+    """A cavity's WALLMAT material: E [pressure] (inf: rigid), NU, MU, and the mixed modulus
+    E* of each particle group in it, ((0-based group, E*), ...)."""
+
+    e: float
+    nu: float
+    mu: float
+    e_star: tuple[tuple[int, float], ...]
 
 
 @dataclass(frozen=True)
@@ -68,6 +80,7 @@ class CavitySummary:
     n_particles: int
     particle_volume: float
     analytic_walls: tuple[str, ...] = ()  # each analytic wall, with its smallest clearance
+    wall_material: WallSummary | None = None   # WALLMAT (None: a deck without the card)
 
     @property
     def fill_ratio(self) -> float | None:
@@ -245,8 +258,26 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
         out.append(CavitySummary(
             int(sid), tuple(lo.tolist()), tuple(hi.tolist()), int(mine.size),
             int(np.unique(model.tri_face[mine]).size), closed, consistent, volume,
-            int(inside.sum()), float(pvol[inside].sum()), tuple(analytic)))
+            int(inside.sum()), float(pvol[inside].sum()), tuple(analytic),
+            _wall_material(model, c)))
     return out
+
+
+def _wall_material(model: Model, c: int) -> WallSummary | None:
+    """The WALLMAT material of cavity ``c`` and the mixed modulus E* of each particle group
+    in it (x3dpd.physics.wall_material); None for a deck without WALLMAT."""
+    if model.wall_material is None:
+        return None
+    e, nu, mu = (float(v) for v in model.wall_material[c])
+    if math.isinf(e):
+        return WallSummary(e, nu, mu, ())
+    c_wall = plane_strain_modulus(e, nu)
+    mixed = []
+    for g in np.unique(model.particle_group[model.particle_cavity == c]).tolist():
+        p = int(np.flatnonzero(model.particle_group == g)[0])
+        c_p = float(model.moduli[p].sum()) / (1.0 - float(model.poisson[p]) ** 2)
+        mixed.append((int(g), mixed_modulus(c_p, c_wall)))
+    return WallSummary(e, nu, mu, tuple(mixed))
 
 
 def _cloud_findings(model: Model, faces: list[int], outside: list[OutsideParticle]

@@ -88,6 +88,9 @@ class Model:
     face_cavity : (F,) int64, cavity index of each face.
     cavity_set_ids : (C,) int64, CONTACT set id of each cavity (of its triangles, its
         analytic walls or both).
+    wall_material : (C, 3) float64, the walls' E [force/length^2], NU, MU per cavity (WALLMAT
+        card; E = inf and MU = nan: a rigid wall, the particles' PCOF), or None: every wall
+        rigid (x3dpd.physics.wall_material).
     shape_kind : (W,) int64, kind of each analytic wall (CYLINDER, CAPSULE ... card): its
         index in x3dpd.geometry.shapes.SHAPES.
     shape_nodes : (W, 2) int64, node indices of each analytic wall, in card order (a one-node
@@ -155,6 +158,14 @@ class Model:
     path: str = "<deck>"
     normal_law: str = "lee_radok"
     hooke: np.ndarray | None = None
+    wall_material: np.ndarray | None = None
+    #: FRICTION card: the tangential law of the whole scene (None: no card, the run's
+    #: option decides), per particle the kinetic mu (mu = the static one) and the rolling
+    #: coefficient of ``rolling_law``
+    friction_law: str | None = None
+    mu_kinetic: np.ndarray | None = None
+    rolling_law: str = "none"
+    mu_roll: np.ndarray | None = None
     units: tuple = ("in", "lbf", "s")
     shape_kind: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     shape_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))

@@ -27,7 +27,8 @@ from x3dpd.physics.hertz import (  # noqa: F401  (re-exported)
     hertz_contact_time,
 )
 from x3dpd.physics.normal_laws import NORMAL_LAWS
-from x3dpd.physics.normal_laws import group_bodies as _group_bodies
+from x3dpd.physics.normal_laws import scene_bodies
+from x3dpd.physics.tangential_laws import TANGENTIAL_LAWS
 
 #: Steps per Hertz contact the recommendation asks for (see :func:`recommended_time_step`).
 STEPS_PER_CONTACT = 50
@@ -118,34 +119,37 @@ def characteristic_speed(model: Model) -> float:
     return max(fall, fastest, MIN_IMPACT_SPEED)
 
 
-def group_bodies(model: Model) -> dict:
-    """Particle group -> the :class:`~x3dpd.physics.normal_laws.ContactBody` of its first
-    particle."""
-    return _group_bodies(model.particle_group, model.mass[model.particle_start:], model.radius,
-                         model.moduli, model.poisson, model.hooke)
-
-
 def _contact_limit(model: Model) -> tuple[float, float, str]:
     """Shortest contact (t_c, v_c, kind) over the contacts the model can have, by the scene's
-    normal law's ``contact_time`` (x3dpd.physics.normal_laws)."""
+    normal law's ``contact_time`` (x3dpd.physics.normal_laws) and its tangential law's, if
+    it has one (a spring: x3dpd.physics.tangential_laws)."""
     v = characteristic_speed(model)
     best = (math.inf, v, "none")
     if not model.n_particles:
         return best
     law = NORMAL_LAWS[model.normal_law]
-    bodies = group_bodies(model)
+    # a tangential law with a spring (the FRICTION card's) has a period of its own
+    spring = getattr(TANGENTIAL_LAWS[model.friction_law or "regularized"].module,
+                     "contact_time", None)
+    bodies = scene_bodies(model)
     # a concave analytic wall (cylinder, capsule) is softer than a flat one (a larger relative
     # radius): the flat wall's contact time bounds its contacts from below
     if "wall_contact" in model.effects or any(s.effect in model.effects for s in SHAPES):
         for g, body in bodies.items():
             if np.any((model.particle_group == g) & (model.particle_cavity >= 0)):
                 best = min(best, (law.contact_time(body, None, v), v, "particle-wall"))
+                if spring is not None:
+                    best = min(best, (spring(law, body, None, v), v,
+                                      "particle-wall tangential spring"))
     if "pair_contact" in model.effects:
         for g, bi in bodies.items():
             for h, bj in bodies.items():
                 if h < g or (h == g and np.sum(model.particle_group == g) < 2):
                     continue
                 best = min(best, (law.contact_time(bi, bj, v), v, "particle-particle"))
+                if spring is not None:
+                    best = min(best, (spring(law, bi, bj, v), v,
+                                      "particle-particle tangential spring"))
     return best
 
 

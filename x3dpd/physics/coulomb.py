@@ -23,7 +23,22 @@ import math
 
 from x3dpd._jit import step_kernel
 
-__all__ = ["coulomb_slip_coefficient", "regularized_coulomb_slip_coefficient", "FRICTION_LAWS"]
+__all__ = ["coulomb_slip_coefficient", "regularized_coulomb_slip_coefficient",
+           "regularized_tangential_force", "coulomb_tangential_force", "stored_energy",
+           "N_HISTORY", "STORES_ENERGY", "SLIP_FLOOR"]
+
+#: The tangential-law interface (x3dpd.physics.tangential_laws): Coulomb keeps no history of
+#: its own (the last step's force, the state row's S_FT columns, is only used for the
+#: trapezoidal slip work) and stores no elastic energy.
+N_HISTORY = 0
+STORES_ENERGY = False
+
+#: Slip speeds at or below this [length/s] count as rolling (no friction force). The stick
+#: regularisation halves the slip every step; without a floor a settled bed's slips -- and the
+#: velocity components only friction acts on -- sink into subnormal numbers within ~1000 steps,
+#: where every operation on them costs ~100 times more. 1e-100 is far below any physical slip
+#: in any unit system and far above the subnormal range (its square, 1e-200, is still normal).
+SLIP_FLOOR = 1e-100
 
 # Both laws return the *slip coefficient* c = |F_t| / |v_t| [force*s/length], so that the contact
 # loop forms F_t = -c v_t without dividing a force magnitude by |v_t| again: in the stick branch
@@ -49,8 +64,35 @@ def coulomb_slip_coefficient(vt_norm: float, fn: float, mu: float, m_t: float,
     return mu * abs(fn) / vt_norm
 
 
-FRICTION_LAWS = {"regularized": "regularized_coulomb_slip_coefficient",
-                 "coulomb": "coulomb_slip_coefficient"}
+@step_kernel
+def regularized_tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt,
+                                 dt, gamma, fox, foy, foz, h, row, col):
+    """F_t = -c(|v_t|) v_t with c of :func:`regularized_coulomb_slip_coefficient` (report
+    Eq. 30), zero at slip speeds up to SLIP_FLOOR, with the report's one mu = ``mu_s``
+    (``mu_k``, ``kt``, the approach ``a``, the old force and the history are not used).
+    Returns (F_tx, F_ty, F_tz, change of stored energy = 0): the tangential-law signature of
+    x3dpd.physics.tangential_laws."""
+    if vt > SLIP_FLOOR:
+        mag = regularized_coulomb_slip_coefficient(vt, fn, mu_s, m_t, gamma)
+        return -mag * vtx, -mag * vty, -mag * vtz, 0.0
+    return 0.0, 0.0, 0.0, 0.0
+
+
+@step_kernel
+def coulomb_tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, dt,
+                             gamma, fox, foy, foz, h, row, col):
+    """F_t = -mu |F_N| v_t/|v_t| (report Eq. 29), zero at slip speeds up to SLIP_FLOOR; as
+    :func:`regularized_tangential_force`."""
+    if vt > SLIP_FLOOR:
+        mag = coulomb_slip_coefficient(vt, fn, mu_s, m_t, gamma)
+        return -mag * vtx, -mag * vty, -mag * vtz, 0.0
+    return 0.0, 0.0, 0.0, 0.0
+
+
+@step_kernel
+def stored_energy(fx, fy, fz, h, row, col):
+    """Coulomb friction stores no energy [energy]."""
+    return 0.0
 
 
 def friction_time_scale(m_t: float, mu: float, fn: float) -> float:

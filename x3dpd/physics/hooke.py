@@ -34,7 +34,8 @@ from x3dpd._jit import step_kernel
 
 __all__ = ["CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "damping_ratio", "dashpot",
            "hooke_impact", "hooke_tables", "contact_time",
-           "wall_force", "pair_force", "stored_energy"]
+           "wall_force", "pair_force", "stored_energy", "stiffness_shape",
+           "tangential_stiffness"]
 
 #: The applied force is F itself, not max(0, F).
 CLAMPED = False
@@ -80,6 +81,30 @@ def contact_time(i, j, v: float) -> float:
         k = 2.0 * i.stiffness * j.stiffness / (i.stiffness + j.stiffness)
         zeta = 0.5 * (damping_ratio(i.restitution) + damping_ratio(j.restitution))
     return math.pi / (math.sqrt(k / m_eff) * math.sqrt(1.0 - zeta * zeta))
+
+
+def tangential_stiffness(i, j) -> float:
+    """Tangential spring k_t [force/length] of a HOOKE contact (x3dpd.physics.mindlin):
+    Mindlin's ratio k_t/k_n = 2(1 - nu)/(2 - nu) of a Hertz contact times the k_n the loop
+    uses (on a wall k_i; between particles the harmonic mean, with the mean of the ratios)."""
+    def ratio(b):
+        return 2.0 * (1.0 - b.poisson) / (2.0 - b.poisson)
+    if j is None:
+        return ratio(i) * i.stiffness
+    kn = 2.0 * i.stiffness * j.stiffness / (i.stiffness + j.stiffness)
+    return 0.5 * (ratio(i) + ratio(j)) * kn
+
+
+def peak_approach(i, j, v: float) -> float:
+    """Largest approach of an impact: a linear contact's stiffness does not depend on it
+    (``stiffness_shape`` is 1), so 0 serves [length]."""
+    return 0.0
+
+
+@step_kernel
+def stiffness_shape(a):
+    """A linear contact's stiffness does not change with the approach: 1."""
+    return 1.0
 
 
 def hooke_tables(k, e, mass, rep) -> tuple[np.ndarray, np.ndarray]:

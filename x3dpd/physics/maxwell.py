@@ -35,10 +35,12 @@ from x3dpd._jit import kernel, step_kernel
 from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
                                  effective_radius, hertz_contact_time, stored_energy_of_force,
                                  three_halves)
+from x3dpd.physics.wall_material import (mixed_modulus, mixed_shear_modulus,
+                                          plane_strain_modulus)
 
 __all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update", "maxwell_terms",
            "CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "contact_time", "wall_force",
-           "pair_force", "stored_energy"]
+           "pair_force", "stored_energy", "stiffness_shape", "tangential_stiffness"]
 
 #: The step loop's normal law "lee_radok" (x3dpd.physics.normal_laws): the applied force is
 #: max(0, F) (report: "force set to zero when negative"); it does not read the approach rate;
@@ -55,14 +57,53 @@ def contact_time(i, j, v: float) -> float:
     wall (``j`` None) or on particle ``j`` (x3dpd.physics.normal_laws.ContactBody): the elastic
     Hertz contact time (:func:`x3dpd.physics.hertz.hertz_contact_time`) with the instantaneous
     modulus E0 + E1 + ..., the stiffest response, so the shortest contact the law can have
-    (report Section 7.2.2: m*, R* and E* of a wall; of two spheres, Section 7.2.1)."""
+    (report Section 7.2.2: m*, R* and E* of a wall; of two spheres, Section 7.2.1). A
+    compliant wall (``i.wall_e`` finite, WALLMAT) mixes its plane-strain modulus with the
+    particle's (x3dpd.physics.wall_material)."""
     if j is None:
-        return hertz_contact_time(i.mass, effective_radius(i.radius),
-                                  effective_modulus_wall(i.modulus, i.poisson), v)
+        e_star = effective_modulus_wall(i.modulus, i.poisson)
+        if not math.isinf(i.wall_e):
+            e_star = mixed_modulus(e_star, plane_strain_modulus(i.wall_e, i.wall_nu))
+        return hertz_contact_time(i.mass, effective_radius(i.radius), e_star, v)
     return hertz_contact_time(i.mass * j.mass / (i.mass + j.mass),
                               effective_radius(i.radius, j.radius),
                               effective_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson),
                               v)
+
+
+def tangential_stiffness(i, j) -> float:
+    """Mindlin's tangential stiffness constant kappa = 8 G* sqrt(R*) [force/length^1.5]
+    (k_t = kappa sqrt(a), x3dpd.physics.mindlin) of particle ``i`` on a rigid wall (``j``
+    None; a WALLMAT wall mixes its G, x3dpd.physics.wall_material) or on particle ``j``
+    (ContactBody), with the instantaneous moduli E0 + E1 + ..."""
+    from x3dpd.physics.mindlin import effective_shear_modulus_pair, effective_shear_modulus_wall
+    if j is None:
+        if not math.isinf(i.wall_e):
+            return 8.0 * mixed_shear_modulus(i.modulus, i.poisson, i.wall_e, i.wall_nu) \
+                * math.sqrt(i.radius)
+        return 8.0 * effective_shear_modulus_wall(i.modulus, i.poisson) * math.sqrt(i.radius)
+    g = effective_shear_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson)
+    return 8.0 * g * math.sqrt(effective_radius(i.radius, j.radius))
+
+
+def peak_approach(i, j, v: float) -> float:
+    """Largest approach [length] of a head-on elastic Hertz impact at speed ``v`` (as
+    :func:`contact_time`: instantaneous modulus, wall or pair values)."""
+    from x3dpd.physics.hertz import hertz_constant, hertz_impact
+    if j is None:
+        m, r, e = i.mass, effective_radius(i.radius), effective_modulus_wall(i.modulus, i.poisson)
+    else:
+        m = i.mass * j.mass / (i.mass + j.mass)
+        r = effective_radius(i.radius, j.radius)
+        e = effective_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson)
+    return hertz_impact(m, hertz_constant(e, r), v)[0]
+
+
+@step_kernel
+def stiffness_shape(a):
+    """How a Hertz contact's stiffness grows with the approach: sqrt(a) (k_n = 2 E* sqrt(R* a),
+    Mindlin's k_t = 8 G* sqrt(R* a)) [length^0.5]."""
+    return math.sqrt(a)
 
 
 def maxwell_step_factors(tau: float, dt: float) -> tuple[float, float]:

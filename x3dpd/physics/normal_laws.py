@@ -11,16 +11,21 @@ For the checks before and during a run (``x3dpd check``'s recommended step, the 
 the step chosen by accuracy) a law module also provides ``contact_time(i, j, v)``: the duration
 [s] of a head-on impact at normal speed ``v`` [length/s] of particle ``i`` on a rigid flat wall
 (``j`` None) or on particle ``j``, both :class:`ContactBody`; and ``CONTACT_NAME``, how the
-messages name that impact. Adding a law is a module plus a line here.
+messages name that impact. For a tangential law with a spring (x3dpd.physics.mindlin) it provides
+``tangential_stiffness(i, j)``, the constant kappa of k_t = kappa * ``stiffness_shape(a)``
+(compiled into the loop), and ``peak_approach(i, j, v)``, the largest approach of an impact
+(where the spring is stiffest, for the step estimate). Adding a law is a module plus a line here.
 """
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 
 from x3dpd.physics import hooke, maxwell
+from x3dpd.physics.wall_material import particle_walls, plane_strain_moduli
 
 #: name -> module of the law
 NORMAL_LAWS = {
@@ -29,10 +34,11 @@ NORMAL_LAWS = {
 }
 
 #: What the loop imports from a law module.
-NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_RATE", "DAMPED")
+NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_RATE", "DAMPED",
+                  "stiffness_shape")
 
 #: What the checks read of a law module (never compiled into the loop).
-NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME")
+NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME", "tangential_stiffness", "peak_approach")
 
 
 class ContactBody(NamedTuple):
@@ -45,6 +51,10 @@ class ContactBody(NamedTuple):
     poisson: float
     stiffness: float     # HOOKE k_n [force/length]; 0 under another law
     restitution: float   # HOOKE e; 0 under another law
+    #: Young's modulus [force/length^2] and Poisson's ratio of the walls the body meets
+    #: (WALLMAT, x3dpd.physics.wall_material); inf: rigid
+    wall_e: float = math.inf
+    wall_nu: float = 0.0
 
 
 def contact_bodies(mass, radius, moduli, poisson, hooke_params=None) -> list[ContactBody]:
@@ -58,9 +68,13 @@ def contact_bodies(mass, radius, moduli, poisson, hooke_params=None) -> list[Con
             for m, r, e, nu, (k, c) in zip(mass, radius, modulus, poisson, law)]
 
 
-def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None) -> dict:
+def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None,
+                 walls=None) -> dict:
     """Particle group -> the :class:`ContactBody` of its first particle (a group's particles
-    are alike), from the per-particle arrays of :func:`contact_bodies` and ``group`` (P,)."""
+    are alike), from the per-particle arrays of :func:`contact_bodies` and ``group`` (P,).
+    ``walls``: (E_w, nu_w) arrays (P,) of each particle's walls (inf: rigid; None: all rigid);
+    a group gets its stiffest (largest E_w/(1-nu_w^2)), which gives its shortest wall
+    contact."""
     group = np.asarray(group)
     if group.shape[0] == 0:
         return {}
@@ -68,4 +82,19 @@ def group_bodies(group, mass, radius, moduli, poisson, hooke_params=None) -> dic
     bodies = contact_bodies(np.asarray(mass)[first], np.asarray(radius)[first],
                             np.asarray(moduli)[first], np.asarray(poisson)[first],
                             None if hooke_params is None else np.asarray(hooke_params)[first])
+    if walls is not None:
+        e_w, nu_w = (np.asarray(w, dtype=np.float64) for w in walls)
+        stiff = plane_strain_moduli(e_w, nu_w)
+        for k, g in enumerate(ids):
+            mine = np.flatnonzero(group == g)
+            w = mine[np.argmax(stiff[mine])]
+            bodies[k] = bodies[k]._replace(wall_e=float(e_w[w]), wall_nu=float(nu_w[w]))
     return dict(zip((int(g) for g in ids), bodies))
+
+
+def scene_bodies(model) -> dict:
+    """:func:`group_bodies` of a model (x3dpd.model.model.Model: its particle arrays, HOOKE
+    constants and wall materials)."""
+    e_w, nu_w, _ = particle_walls(model.particle_cavity, model.wall_material)
+    return group_bodies(model.particle_group, model.mass[model.particle_start:], model.radius,
+                        model.moduli, model.poisson, model.hooke, (e_w, nu_w))

@@ -1,7 +1,7 @@
 """Step-loop template, part: what every contact shares (x3dpd.solver.variants).
 
-The normal force's bookkeeping (``_record_normal``), Coulomb friction with spin
-(``_friction_force``, ``_friction``), the end of a contact (``_close_contact``), the record of
+The normal force's bookkeeping (``_record_normal``), the tangential response that wall and
+pair contacts share (``_tangential``: the scene's tangential law), the end of a contact (``_close_contact``), the record of
 a penetration (``_penetration``) and the contact response of a particle on any wall entity
 (``_wall_response``), with the status bits and ledger slots of the loop. Generated per variant
 beside the loop, with the variant's constants (``_template_variant``).
@@ -10,8 +10,12 @@ beside the loop, with the variant's constants (``_template_variant``).
 import math
 
 from x3dpd._jit import step_kernel
-from x3dpd.solver._template_variant import (FRICTION_LAW, HAS_FRICTION, N_MAXWELL,
-                                            NORMAL_CLAMPED, NORMAL_USES_RATE, NORMAL_WALL_FORCE)
+from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ROLLING, N_MAXWELL, N_ROLLING,
+                                            N_TANGENTIAL, ROLLING_TORQUE,
+                                            NORMAL_CLAMPED, NORMAL_STIFFNESS_SHAPE,
+                                            NORMAL_USES_RATE, NORMAL_WALL_FORCE,
+                                            TANGENTIAL_FORCE, TANGENTIAL_STORED_ENERGY,
+                                            TANGENTIAL_STORES)
 from x3dpd.solver.bundles import Status
 from x3dpd.solver.contact_lists import S_A, S_FN, S_FT, S_H
 
@@ -22,12 +26,10 @@ NONFINITE = int(Status.NONFINITE)
 REALLOC_PAIRS = int(Status.REALLOC_PAIRS)
 REALLOC_WALLS = int(Status.REALLOC_WALLS)
 
-#: Slip speeds at or below this [length/s] count as rolling (no friction force). The stick
-#: regularisation halves the slip every step; without a floor a settled bed's slips -- and the
-#: velocity components only friction acts on -- sink into subnormal numbers within ~1000 steps,
-#: where every operation on them costs ~100 times more. 1e-100 is far below any physical slip
-#: in any unit system and far above the subnormal range (its square, 1e-200, is still normal).
-SLIP_FLOOR = 1e-100
+#: History columns at the end of a state row: the tangential law's, then the rolling law's.
+CONTACT_TAIL = N_TANGENTIAL + N_ROLLING
+#: The contact puts a moment on its bodies (friction or rolling resistance).
+HAS_TORQUE = HAS_FRICTION or HAS_ROLLING
 
 # ledger slots (cumulative since t0)
 L_WEXT = 0      # work of external forces and prescribed motions on the system
@@ -69,44 +71,29 @@ def _record_normal(states, on, s, a, a_old, fn, fn_old):
 
 
 @step_kernel
-def _friction_force(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, ftx_old, fty_old, ftz_old):
-    """Friction force on the body whose contact point moves with v_r relative to the other.
-
-    Splits v_r into normal and tangential parts, applies FRICTION_LAW to the slip speed
-    (report Eq. 29/30; ``gamma`` = 1/(2 dt), the stick rate): F_t = -c(|v_t|) v_t, zero at slip
-    speeds up to SLIP_FLOOR. Returns (F_tx, F_ty, F_tz, dissipated) with the trapezoidal slip
-    work -1/2 (F_t,old + F_t) . v_t dt (F_t,old: the last step's force). Reads and writes no
-    state, so the vectorized pair response can call it.
-    """
+def _tangential(vrx, vry, vrz, nx, ny, nz, fn, a, m_t, mu_s, kappa, mu_k, dt, gamma, fox, foy,
+                foz, h, row, col):
+    """The tangential response of a contact, wall or pair alike: the tangential force on the
+    body whose contact point moves with v_r relative to the other, by the scene's tangential
+    law TANGENTIAL_FORCE (x3dpd.physics.tangential_laws; report Eq. 29/30, or a spring with
+    history such as Hertz-Mindlin). Splits v_r into normal and tangential parts; the law's
+    stiffness is k_t = ``kappa`` * the normal law's ``stiffness_shape(a)`` (formed only for a
+    law with a spring; ``kappa`` and ``mu_k`` from the tangential tables). F_old = (fox, foy,
+    foz), the last step's force; the law's history is ``h[row, col:]``. Returns (F_tx, F_ty,
+    F_tz, slip work, dU): the trapezoidal slip work -1/2 (F_old + F_t) . v_t dt taken from the
+    bodies, of which dU went into the law's stored energy (0 for Coulomb)."""
     vn = vrx * nx + vry * ny + vrz * nz
     vtx = vrx - vn * nx
     vty = vry - vn * ny
     vtz = vrz - vn * nz
     vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
-    ftx = 0.0
-    fty = 0.0
-    ftz = 0.0
-    if vt > SLIP_FLOOR:
-        mag = FRICTION_LAW(vt, fn, mu, m_t, gamma)
-        ftx = -mag * vtx
-        fty = -mag * vty
-        ftz = -mag * vtz
-    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty + (ftz_old + ftz) * vtz) * dt
-    return ftx, fty, ftz, lost
-
-
-@step_kernel
-def _friction(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma, states, s):
-    """:func:`_friction_force` with the last step's force read from, and the new one kept in,
-    the contact's state row ``states[s]`` (columns S_FT ...). Returns (F_tx, F_ty, F_tz,
-    dissipated)."""
-    ftx, fty, ftz, lost = _friction_force(vrx, vry, vrz, nx, ny, nz, fn, mu, m_t, dt, gamma,
-                                          states[s, S_FT], states[s, S_FT + 1],
-                                          states[s, S_FT + 2])
-    states[s, S_FT] = ftx
-    states[s, S_FT + 1] = fty
-    states[s, S_FT + 2] = ftz
-    return ftx, fty, ftz, lost
+    kt = 0.0
+    if TANGENTIAL_STORES and a > 0.0:
+        kt = kappa * NORMAL_STIFFNESS_SHAPE(a)
+    ftx, fty, ftz, du = TANGENTIAL_FORCE(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k,
+                                         kt, dt, gamma, fox, foy, foz, h, row, col)
+    lost = -0.5 * ((fox + ftx) * vtx + (foy + fty) * vty + (foz + ftz) * vtz) * dt
+    return ftx, fty, ftz, lost, du
 
 
 @step_kernel
@@ -123,16 +110,22 @@ def _penetration(diag, p, other, a, r):
 @step_kernel
 def _close_contact(ws, on, s, a, a_old, fn_old):
     """End the contact of state row ``s`` (apart, or off its entity): its history is cleared;
-    returns the work 1/2 F_old (a - a_old) of an open contact's last step."""
+    returns the work 1/2 F_old (a - a_old) of an open contact's last step and the energy the
+    tangential law still stored (lost with the contact: the caller books it as dissipated,
+    and takes it from the contacts' absorbed work)."""
     dw = 0.0
+    released = 0.0
     if fn_old != 0.0 or a_old > 0.0:
         dw = 0.5 * fn_old * (a - a_old)
+        if TANGENTIAL_STORES:
+            released = TANGENTIAL_STORED_ENERGY(ws[s, S_FT], ws[s, S_FT + 1], ws[s, S_FT + 2],
+                                                ws, s, ws.shape[1] - CONTACT_TAIL)
         for c in range(S_FT, ws.shape[1]):
             ws[s, c] = 0.0
     ws[s, S_A] = 0.0
     ws[s, S_FN] = 0.0
     on[s] = 0
-    return dw
+    return dw, released
 
 
 @step_kernel
@@ -140,7 +133,8 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
                    wall_nodes, row, w, n_w, lever, lx, ly, lz):
     """The contact response of particle ``p`` on a wall entity, whatever its shape: the
     scene's normal law (x3dpd.physics.normal_laws) at approach ``a`` along the unit normal n
-    (from the wall into the particle), Coulomb friction with spin, and the reaction on the
+    (from the wall into the particle), the tangential law with spin (``_tangential``), and the
+    reaction on the
     wall's nodes ``wall_nodes[row, :n_w]`` with weights ``w``. The wall point moves with
     sum_e w_e v_e, plus omega x l when ``lever`` (omega of the first node; l = (lx, ly, lz) from
     the weighted node point to the wall point, whose moment l x F then goes to the first node).
@@ -198,14 +192,37 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
             vrx -= vel[n0, 4] * lz - vel[n0, 5] * ly
             vry -= vel[n0, 5] * lx - vel[n0, 3] * lz
             vrz -= vel[n0, 3] * ly - vel[n0, 4] * lx
-        ftx, fty, ftz, lost = _friction(vrx, vry, vrz, nx, ny, nz, fn, mu[p],
-                                        1.0 / inv_mt[p], dt, gamma, ws, s)
+        kappa = 0.0
+        mu_k = 0.0
+        if TANGENTIAL_STORES:
+            kappa = particles.tan_wall[p, 0]
+            mu_k = particles.tan_wall[p, 1]
+        ftx, fty, ftz, lost, du = _tangential(vrx, vry, vrz, nx, ny, nz, fn, a, 1.0 / inv_mt[p],
+                                              mu[p], kappa, mu_k, dt, gamma, ws[s, S_FT],
+                                              ws[s, S_FT + 1], ws[s, S_FT + 2], ws, s,
+                                              ws.shape[1] - CONTACT_TAIL)
+        ws[s, S_FT] = ftx
+        ws[s, S_FT + 1] = fty
+        ws[s, S_FT + 2] = ftz
+        if TANGENTIAL_STORES:
+            # the spring's share of the slip work is stored, not lost
+            dw += du
+            lost -= du
         fx += ftx
         fy += fty
         fz += ftz
         force[i, 3] += rcy * ftz - rcz * fty
         force[i, 4] += rcz * ftx - rcx * ftz
         force[i, 5] += rcx * fty - rcy * ftx
+    if HAS_ROLLING:
+        # rolling resistance against the particle's rolling (x3dpd.physics.rolling)
+        mx, my, mz, rolled = ROLLING_TORQUE(vel[i, 3], vel[i, 4], vel[i, 5], fn,
+                                            particles.tan_wall[p, 2], particles.tan_wall[p, 3],
+                                            dt, ws, s, ws.shape[1] - N_ROLLING)
+        force[i, 3] += mx
+        force[i, 4] += my
+        force[i, 5] += mz
+        lost += rolled
     force[i, 0] += fx
     force[i, 1] += fy
     force[i, 2] += fz

@@ -9,12 +9,13 @@ from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.physics.modal import _modal_energies
 from x3dpd.physics.rotational_spring import _rotational_spring_energy
 from x3dpd.physics.spring_damper import _spring_energy
-from x3dpd.solver._template_contact import L_DDAMP, L_DFRIC, L_WEXT, L_WN
+from x3dpd.solver._template_contact import CONTACT_TAIL, L_DDAMP, L_DFRIC, L_WEXT, L_WN
 from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_GRAVITY, HAS_MODAL, HAS_PAIRS,
                                             HAS_ROTATIONAL_SPRINGS, HAS_SHAPES, HAS_SPRINGS,
-                                            HAS_VISCOELASTIC, HAS_WALLS, NORMAL_DAMPED,
-                                            NORMAL_STORED_ENERGY)
-from x3dpd.solver.contact_lists import S_A, S_FN
+                                            HAS_VISCOELASTIC, HAS_WALLS,
+                                            NORMAL_DAMPED, NORMAL_STORED_ENERGY,
+                                            TANGENTIAL_STORED_ENERGY, TANGENTIAL_STORES)
+from x3dpd.solver.contact_lists import S_A, S_FN, S_FT
 
 @kernel
 def _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, out):
@@ -55,26 +56,41 @@ def _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, out):
 
 @kernel
 def _contact_energy(particles, walls, pairs, shapes):
-    """Elastic energy stored in the open contacts, by the normal law's ``stored_energy``."""
+    """Elastic energy stored in the open contacts, by the normal law's ``stored_energy`` and
+    the tangential law's (a spring's: x3dpd.physics.tangential_laws)."""
     u = 0.0
     ws = walls.state
     for s in range(walls.count[0]):
         if ws[s, S_A] > 0.0:
             k = particles.law_wall[walls.first[s], 0]
             u += NORMAL_STORED_ENERGY(ws[s, S_FN], ws[s, S_A], k)
+            if TANGENTIAL_STORES:
+                u += _tangential_energy(ws, s)
     ps = pairs.state
     kind = particles.kind
     for s in range(pairs.count[0]):
         if ps[s, S_A] > 0.0:
             k = particles.law_pair[kind[pairs.first[s]], kind[pairs.second[s]], 0]
             u += NORMAL_STORED_ENERGY(ps[s, S_FN], ps[s, S_A], k)
+            if TANGENTIAL_STORES:
+                u += _tangential_energy(ps, s)
     if HAS_SHAPES:
         cs = shapes.state
         for s in range(cs.shape[0]):
             if cs[s, S_A] > 0.0:
                 k = particles.law_wall[shapes.row_particle[s], 0]
                 u += NORMAL_STORED_ENERGY(cs[s, S_FN], cs[s, S_A], k)
+                if TANGENTIAL_STORES:
+                    u += _tangential_energy(cs, s)
     return u
+
+
+@kernel
+def _tangential_energy(states, s):
+    """The tangential law's stored energy in state row ``s`` (force in S_FT, history in the
+    row's last N_TANGENTIAL columns)."""
+    return TANGENTIAL_STORED_ENERGY(states[s, S_FT], states[s, S_FT + 1], states[s, S_FT + 2],
+                                    states, s, states.shape[1] - CONTACT_TAIL)
 
 
 @kernel

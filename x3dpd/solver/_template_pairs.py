@@ -10,10 +10,13 @@ import math
 import numpy as np
 
 from x3dpd._jit import loop_kernel, step_kernel, vector_kernel
-from x3dpd.solver._template_contact import (L_DFRIC, L_WN, OK, _booked_from, _close_contact,
-                                            _friction_force, _penetration)
+from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, L_DFRIC, L_WN, OK,
+                                            _booked_from, _close_contact, _penetration,
+                                            _tangential)
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND, N_MAXWELL,
-                                            NORMAL_CLAMPED, NORMAL_PAIR_FORCE, NORMAL_USES_RATE)
+                                            N_TANGENTIAL, NORMAL_CLAMPED, NORMAL_PAIR_FORCE,
+                                            NORMAL_USES_RATE, HAS_ROLLING, ROLLING_TORQUE,
+                                            TANGENTIAL_STORES)
 from x3dpd.solver.contact_lists import PAIR_COLUMNS, S_A, S_FN, S_FT, S_H
 
 # rows of the pair pass's column scratch (x3dpd.solver.contact_lists.PAIR_COLUMNS)
@@ -68,7 +71,8 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
     x3dpd.solver.contact_lists.PAIR_COLUMNS) for pass 3 to apply.
 
     The normal law is the scene's (x3dpd.physics.normal_laws), with n = (x_j - x_i)/|x_j - x_i|
-    and approach a = R_i + R_j - |x_j - x_i|; friction with spin acts at the contact points
+    and approach a = R_i + R_j - |x_j - x_i|; the tangential law with spin (``_tangential``, the
+    same as on walls) acts at the contact points
     x_i + R_i n and x_j - R_j n. A candidate that no longer touches (a <= 0) gets F = 0; pass 3
     closes it as a wall contact is closed (``_close_contact``). Nothing here writes the contact state or the
     forces -- pass 3 does, in list order -- so the loop has no stores through indices and LLVM
@@ -152,10 +156,22 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
             vjx = vel[j, 0] - rj * (wjy * nz - wjz * ny)
             vjy = vel[j, 1] - rj * (wjz * nx - wjx * nz)
             vjz = vel[j, 2] - rj * (wjx * ny - wjy * nx)
-            ftx, fty, ftz, lost = _friction_force(vjx - vix, vjy - viy, vjz - viz, nx, ny, nz,
-                                                  fn, pair_c[ki, kj, 2], pair_c[ki, kj, 1], dt,
-                                                  gamma, ps[s, S_FT], ps[s, S_FT + 1],
-                                                  ps[s, S_FT + 2])
+            kappa = 0.0
+            mu_k = 0.0
+            if TANGENTIAL_STORES:
+                kappa = particles.tan_pair[ki, kj, 0]
+                mu_k = particles.tan_pair[ki, kj, 1]
+            # the tangential law's history in the busy candidates' rows of ``hist``, after the
+            # Maxwell terms (copied there from the state rows; pass 3 copies it back)
+            ftx, fty, ftz, lost, du = _tangential(vjx - vix, vjy - viy, vjz - viz, nx, ny, nz,
+                                                  fn, a, pair_c[ki, kj, 1], pair_c[ki, kj, 2],
+                                                  kappa, mu_k, dt, gamma, ps[s, S_FT],
+                                                  ps[s, S_FT + 1], ps[s, S_FT + 2], hist, q,
+                                                  2 * N_MAXWELL)
+            if TANGENTIAL_STORES:
+                # the spring's share of the slip work is stored, not lost
+                dw += du
+                lost -= du
             fx += ftx
             fy += fty
             fz += ftz
@@ -172,6 +188,21 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
         tjx_[q] = rj * tx
         tjy_[q] = rj * ty
         tjz_[q] = rj * tz
+        if HAS_ROLLING:
+            # rolling resistance against the relative rolling w_i - w_j (x3dpd.physics.rolling):
+            # M on i, -M on j (the columns are subtracted from the moments)
+            mx, my, mz, rolled = ROLLING_TORQUE(vel[i, 3] - vel[j, 3], vel[i, 4] - vel[j, 4],
+                                                vel[i, 5] - vel[j, 5], fn,
+                                                particles.tan_pair[ki, kj, 2],
+                                                particles.tan_pair[ki, kj, 3], dt, hist, q,
+                                                2 * N_MAXWELL + N_TANGENTIAL)
+            tix_[q] -= mx
+            tiy_[q] -= my
+            tiz_[q] -= mz
+            tjx_[q] += mx
+            tjy_[q] += my
+            tjz_[q] += mz
+            lost += rolled
         a_[q] = a
         fn_[q] = fn
         ftx_[q] = ftx
@@ -200,7 +231,11 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         s = np.uint64(busy[q])
         a = a_[q]
         if a <= 0.0:
-            w_normal += _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
+            dw, released = _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
+            w_normal += dw
+            if TANGENTIAL_STORES:
+                w_normal -= released
+                w_fric += released
             continue
         rmin = rmin_[q]
         if a > pen_limit * rmin:
@@ -210,6 +245,9 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         if N_MAXWELL > 0:
             for k in range(2 * N_MAXWELL):
                 ps[s, S_H + k] = hist[q, k]
+        if CONTACT_TAIL > 0:
+            for k in range(CONTACT_TAIL):
+                ps[s, ps.shape[1] - CONTACT_TAIL + k] = hist[q, 2 * N_MAXWELL + k]
         pl_on[s] = 1
         w_normal += dw_[q]
         i = np.uint64(p0 + pl_i[s])
@@ -217,7 +255,7 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         fx = fx_[q]
         fy = fy_[q]
         fz = fz_[q]
-        if HAS_FRICTION:
+        if HAS_TORQUE:
             w_fric += lost_[q]
             ps[s, S_FT] = ftx_[q]
             ps[s, S_FT + 1] = fty_[q]
@@ -243,7 +281,8 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     touch (``_pair_filter``), their contact response in columns (``_pair_response``,
     vectorized), and the contact states, the forces on both particles and the ledger in list
     order (``_pair_apply``). State column S_FT holds the friction force on particle j;
-    histories: N_MAXWELL terms of i, then N_MAXWELL terms of j. ``busy`` is an int scratch of
+    histories: N_MAXWELL terms of i, then N_MAXWELL terms of j, then the tangential law's
+    N_TANGENTIAL (the row's last columns). ``busy`` is an int scratch of
     the list's capacity."""
     x, vel = nodes.x, nodes.vel
     p0, radius = particles.p0, particles.radius
@@ -262,6 +301,13 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
             s = np.uint64(busy[q])
             for k in range(2 * N_MAXWELL):
                 hist[q, k] = ps[s, S_H + k]
+    if CONTACT_TAIL > 0:
+        # the tangential and rolling laws' histories, after the Maxwell terms (the state row's
+        # last columns)
+        for q in range(nbusy):
+            s = np.uint64(busy[q])
+            for k in range(CONTACT_TAIL):
+                hist[q, 2 * N_MAXWELL + k] = ps[s, ps.shape[1] - CONTACT_TAIL + k]
     if nbusy == 0:
         # nothing touches (a falling or sparse scene): skip the calls and their arguments
         return OK

@@ -28,8 +28,10 @@ HAS_ONE_PARTICLE_KIND = False
 HAS_MODAL = True
 HAS_AXIAL_SPRINGS = True
 HAS_ROTATIONAL_SPRINGS = True
-from x3dpd.physics.coulomb import regularized_coulomb_slip_coefficient as FRICTION_LAW  # noqa: F401,E402,E501
-from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as NORMAL_PAIR_FORCE, stored_energy as NORMAL_STORED_ENERGY, CLAMPED as NORMAL_CLAMPED, USES_RATE as NORMAL_USES_RATE, DAMPED as NORMAL_DAMPED  # noqa: F401,E402,E501
+from x3dpd.physics.mindlin import tangential_force as TANGENTIAL_FORCE, stored_energy as TANGENTIAL_STORED_ENERGY, N_HISTORY as N_TANGENTIAL, STORES_ENERGY as TANGENTIAL_STORES  # noqa: F401,E402,E501
+from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as NORMAL_PAIR_FORCE, stored_energy as NORMAL_STORED_ENERGY, CLAMPED as NORMAL_CLAMPED, USES_RATE as NORMAL_USES_RATE, DAMPED as NORMAL_DAMPED, stiffness_shape as NORMAL_STIFFNESS_SHAPE  # noqa: F401,E402,E501
+HAS_ROLLING = True
+from x3dpd.physics.epsd import rolling_torque as ROLLING_TORQUE, N_HISTORY as N_ROLLING  # noqa: F401,E402,E501
 SHAPE_LOCATE = None
 USER_FORCE = None
 # --- VARIANT END ---

@@ -12,7 +12,7 @@ from x3dpd._jit import kernel, step_kernel
 from x3dpd.geometry.faces import _locate_on_face
 from x3dpd.solver._template_contact import (L_DFRIC, L_WN, OK, _close_contact, _penetration,
                                             _wall_response)
-from x3dpd.solver._template_variant import SHAPE_LOCATE
+from x3dpd.solver._template_variant import SHAPE_LOCATE, TANGENTIAL_STORES
 from x3dpd.solver.contact_lists import S_A, S_FN
 
 @kernel
@@ -70,7 +70,11 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
                                 f, x, face_ptr, face_tris, tri_nodes, r, w)
         if t < 0:
             # no contact (or the particle left the face): close any open contact
-            w_normal += _close_contact(ws, wl_on, s, a, a_old, fn_old)
+            dw, released = _close_contact(ws, wl_on, s, a, a_old, fn_old)
+            w_normal += dw
+            if TANGENTIAL_STORES:
+                w_normal -= released
+                w_fric += released
             continue
         if a > pen_limit * r:
             status |= _penetration(stepping.diag, p, f, a, r)
@@ -114,7 +118,11 @@ def _shape_contacts(nodes, particles, shapes, stepping, w, n_faces):
             fn_old = cs[s, S_FN]
             if not valid or a <= 0.0:
                 if con[s] != 0 or fn_old != 0.0 or a_old > 0.0:
-                    w_normal += _close_contact(cs, con, s, a, a_old, fn_old)
+                    dw, released = _close_contact(cs, con, s, a, a_old, fn_old)
+                    w_normal += dw
+                    if TANGENTIAL_STORES:
+                        w_normal -= released
+                        w_fric += released
                 continue
             if a > stepping.pen_limit * r:
                 status |= _penetration(stepping.diag, p, n_faces + shapes.entity[c] + part, a, r)

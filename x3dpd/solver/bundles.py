@@ -114,6 +114,8 @@ class Particles(NamedTuple):
     cavity: np.ndarray       # (P,) cavity index of each particle
     law_wall: np.ndarray     # (P, 2) constants of the normal law on a wall (hooke: k_n, c_n)
     law_pair: np.ndarray     # (kinds, kinds, 2) constants of the normal law between kinds
+    tan_wall: np.ndarray     # (P, 4) on a wall: k_t constant, kinetic mu, mu_r R*, I_r
+    tan_pair: np.ndarray     # (kinds, kinds, 4) the same between kinds
 
 
 class Faces(NamedTuple):
@@ -233,7 +235,8 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
         "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,
                              k.rig_inv_ib, k.rig_ib, k.rig_free_rot),
         "particles": Particles(int(k.p0), k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay,
-                               k.half, k.mu, k.inv_mt, k.pcav, k.law_wall, k.law_pair),
+                               k.half, k.mu, k.inv_mt, k.pcav, k.law_wall, k.law_pair,
+                               k.tan_wall, k.tan_pair),
         "faces": Faces(k.cav_ptr, k.cav_faces, faces_now[0], faces_now[1], k.face_first_tri,
                        k.face_ptr, k.face_tris, k.tri_nodes, k.tri_sign),
         "walls": walls,

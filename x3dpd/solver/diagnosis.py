@@ -33,7 +33,7 @@ import math
 
 import numpy as np
 
-from x3dpd.physics.normal_laws import NORMAL_LAWS, group_bodies
+from x3dpd.physics.normal_laws import NORMAL_LAWS, scene_bodies
 from x3dpd.solver.state import Setup
 
 #: Fewer steps per contact than this and the contact itself can make or lose energy (EDEM
@@ -71,9 +71,8 @@ def structure_omega_bound(setup: Setup) -> float:
 def wall_contact_time(model, v: float) -> float:
     """The shortest particle-wall contact [s] at impact speed ``v`` [length/s] under the
     model's normal law: its ``contact_time`` (x3dpd.physics.normal_laws) of each particle
-    group on a rigid flat wall; inf without particles or at no speed."""
-    bodies = group_bodies(model.particle_group, model.mass[model.particle_start:],
-                          model.radius, model.moduli, model.poisson, model.hooke)
+    group on its stiffest flat wall (rigid, or WALLMAT's); inf without particles or at no speed."""
+    bodies = scene_bodies(model)
     if not bodies or not v > 0.0:
         return math.inf
     law = NORMAL_LAWS[model.normal_law]

@@ -67,7 +67,9 @@ class Simulation(RunChecks):
     usrfrc : extra force specs (added to the deck's USRFRC card), see docs/usrfrc.md
     motion : prescribed-motion specs (``node=25,dof=1,amp=0.01,hz=37.21``)
     dt : time step [s]; default the deck's DTMAX
-    friction : "regularized" (default, Haff-Werner with gamma = 1/(2 dt)) or "coulomb"
+    friction : tangential law (x3dpd.physics.tangential_laws): "regularized" (Haff-Werner with
+        gamma = 1/(2 dt)), "coulomb" or "mindlin" (Hertz-Mindlin); None (default): the deck's
+        FRICTION card's, else "regularized"
     penetration_limit : stop when an approach exceeds this fraction of the radius
     energy_tolerance : stop when the ledger residual exceeds this fraction of the energy scale
     allow_python_usrfrc : accept user force files numba cannot compile (slow fallback)
@@ -75,10 +77,12 @@ class Simulation(RunChecks):
     """
 
     def __init__(self, model: Model, *, usrfrc=(), motion=(), dt: float | None = None,
-                 friction: str = "regularized", penetration_limit: float = 0.25,
+                 friction: str | None = None, penetration_limit: float = 0.25,
                  energy_tolerance: float = 0.05, allow_python_usrfrc: bool = False,
                  itrac: int | None = None, skin: float | None = None):
         self.model = model
+        friction = friction or model.friction_law or "regularized"
+        self.friction = friction
         self.dt = float(dt if dt is not None else model.dt)
         if not (self.dt > 0 and math.isfinite(self.dt)):
             raise InputError(f"time step must be a positive number, got {self.dt!r}")
@@ -95,7 +99,8 @@ class Simulation(RunChecks):
             (0, len(MOTION_COLUMNS)))
         rows = motion_rows(self.motion)  # the motions (random ones' knots follow them)
         prescribed = rows[:, :2].astype(np.int64) if len(rows) else None
-        self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed)
+        self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed,
+                                 friction=friction)
         effects = set(model.effects)
         if specs:
             effects.add("external_force")
@@ -112,6 +117,7 @@ class Simulation(RunChecks):
                                             walls_translate=_walls_only_translate(
                                                 self.setup, rows[:, 0].astype(np.int64)),
                                             normal_law=model.normal_law,
+                                            rolling_law=model.rolling_law,
                                             one_particle_kind=_one_particle_kind(self.setup))
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])

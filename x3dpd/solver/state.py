@@ -13,7 +13,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from x3dpd.physics.hooke import hooke_tables
+from x3dpd.physics.wall_material import (particle_walls, plane_strain_moduli, wall_friction,
+                                          wall_hertz_constants)
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
+from x3dpd.physics.normal_laws import NORMAL_LAWS, contact_bodies
+from x3dpd.physics.rolling import n_history as rolling_history
+from x3dpd.physics.tangential_laws import n_history, tangential_tables
 from x3dpd.solver.shape_table import ShapeTable, shape_table
 
 if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime import of it
@@ -162,6 +167,9 @@ class Setup:
     pair_c: np.ndarray  # (K, K, 3) per pair of kinds: Hertz factor, m_t, mu
     law_wall: np.ndarray  # (P, 2) normal-law constants on a wall (hooke: k_n, c_n)
     law_pair: np.ndarray  # (K, K, 2) normal-law constants per pair of kinds
+    tan_wall: np.ndarray  # (P, 4) on a wall: k_t constant, mu_k, rolling lever, rolling inertia
+    tan_pair: np.ndarray  # (K, K, 4) the same per pair of kinds
+    n_tangential: int     # tangential + rolling history values per contact (end of each row)
     decay: np.ndarray
     half: np.ndarray
     mu: np.ndarray
@@ -196,8 +204,9 @@ def _i64(a):
 
 
 def build_setup(model: Model, dt: float, skin: float | None = None,
-                prescribed: np.ndarray | None = None) -> Setup:
-    """Derive the kernel arrays of ``model`` for time step ``dt``.
+                prescribed: np.ndarray | None = None, friction: str = "regularized") -> Setup:
+    """Derive the kernel arrays of ``model`` for time step ``dt`` and the tangential law
+    ``friction`` (x3dpd.physics.tangential_laws; the rolling law is the model's).
 
     ``prescribed``: (m, 2) node index, dof index of DOFs moved by a prescribed motion (they are
     integrated as fixed: zero inverse mass).
@@ -260,6 +269,10 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     ep = moduli / (1.0 - nu[:, None] ** 2) if npart else np.zeros((0, k_terms))
     cinst = ep.sum(axis=1) if npart else np.zeros(0)
     kw = 4.0 / 3.0 * ep * np.sqrt(radius)[:, None] if npart else np.zeros((0, k_terms))
+    # compliant walls (WALLMAT): the mixed modulus and the wall's friction, per particle (a
+    # particle meets only its own cavity's walls); rigid walls keep the values above
+    e_wall, nu_wall, mu_wall = particle_walls(model.particle_cavity, model.wall_material)
+    kw = wall_hertz_constants(kw, ep, radius, plane_strain_moduli(e_wall, nu_wall))
     decay = np.ones_like(moduli)
     half = np.ones_like(moduli)
     if k_terms > 1 and npart:
@@ -295,11 +308,24 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     pm_all = mass[p0:] if npart else np.zeros(0)
     # the hooke law's own constants distinguish kinds too
     extra = (hooke[:, 0], hooke[:, 1], pm_all) if model.normal_law == "hooke" else ()
+    mu_k = getattr(model, "mu_kinetic", None)
+    mu_k = _f64(model.mu) if mu_k is None else _f64(mu_k)
+    if n_history(friction):
+        # a tangential spring's constants (Poisson's ratio, kinetic mu) distinguish kinds too
+        extra = extra + (nu, mu_k)
+    mu_r = np.zeros(npart) if model.mu_roll is None else _f64(model.mu_roll)
+    if model.rolling_law != "none":
+        extra = extra + (mu_r,)
     pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu, *extra)
     pair_c = pair_constant_table(radius, cinst, inv_mt, model.mu, rep)
     law_wall, law_pair = np.zeros((npart, 2)), np.zeros((rep.shape[0], rep.shape[0], 2))
     if model.normal_law == "hooke":
         law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
+    bodies = [b._replace(wall_e=float(e), wall_nu=float(n)) for b, e, n in
+              zip(contact_bodies(pm_all, radius, moduli, nu, hooke), e_wall, nu_wall)]
+    tan_wall, tan_pair = tangential_tables(friction, NORMAL_LAWS[model.normal_law], bodies,
+                                           mu_k, rep, model.rolling_law, mu_r, pin)
+    tan_wall[:, 1] = wall_friction(tan_wall[:, 1], mu_wall)   # a WALLMAT wall's mu
 
     if skin is None:
         skin = 0.25 * float(radius.min()) if npart else 0.0
@@ -319,8 +345,11 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
         rig_free_rot=rig_free_rot,
         p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), pkind=pkind, pair_c=pair_c,
-        law_wall=_f64(law_wall), law_pair=_f64(law_pair),
-        decay=_f64(decay), half=_f64(half), mu=_f64(model.mu), inv_mt=_f64(inv_mt), pcav=pcav,
+        law_wall=_f64(law_wall), law_pair=_f64(law_pair), tan_wall=_f64(tan_wall),
+        tan_pair=_f64(tan_pair),
+        n_tangential=n_history(friction) + rolling_history(model.rolling_law),
+        decay=_f64(decay), half=_f64(half), mu=_f64(wall_friction(model.mu, mu_wall)),
+        inv_mt=_f64(inv_mt), pcav=pcav,
         cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
         tri_sign=_f64(model.tri_sign), shapes=shape_table(model, pcav), **modal,
@@ -375,8 +404,9 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
     vel = _f64(model.v0, (n, 6)).copy()
     nb = setup.rig_master.shape[0]
     rot = np.tile(np.eye(3), (nb, 1, 1)) if nb else np.zeros((0, 3, 3))
-    ncols = STATE_HEAD + max(setup.n_maxwell, 1)
-    ncols_pair = STATE_HEAD + 2 * max(setup.n_maxwell, 1)
+    # approach, F_N, F_t, the normal law's histories, the tangential law's (x3dpd.solver.contact_lists)
+    ncols = STATE_HEAD + max(setup.n_maxwell, 1) + setup.n_tangential
+    ncols_pair = STATE_HEAD + 2 * max(setup.n_maxwell, 1) + setup.n_tangential
     nfaces_max = int(np.max(np.diff(setup.cav_ptr))) if setup.cav_ptr.shape[0] > 1 else 0
     lw = max(16, npart * max(3, min(nfaces_max, 6)))
     lp = max(16, 8 * npart)

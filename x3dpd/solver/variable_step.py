@@ -49,7 +49,7 @@ from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.geometry.cells import find_pairs
 from x3dpd.geometry.shapes import SHAPES, analytic_wall
 from x3dpd.geometry.triangle import unit_normals
-from x3dpd.physics.normal_laws import NORMAL_LAWS, group_bodies
+from x3dpd.physics.normal_laws import NORMAL_LAWS, scene_bodies
 from x3dpd.solver.run_checks import AUDIT_STEPS
 from x3dpd.solver.simulation import Block, Simulation
 
@@ -314,8 +314,7 @@ class VariableStep:
         law = NORMAL_LAWS[m.normal_law]
         walls = "wall_contact" in m.effects or any(s.effect in m.effects for s in SHAPES)
         best = math.inf
-        for body in group_bodies(m.particle_group, m.mass[m.particle_start:], m.radius,
-                                 m.moduli, m.poisson, m.hooke).values():
+        for body in scene_bodies(m).values():
             if walls:
                 best = min(best, law.contact_time(body, None, v))
             if "pair_contact" in m.effects:

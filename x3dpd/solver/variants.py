@@ -30,8 +30,9 @@ import numba
 import numpy as np
 
 from x3dpd.geometry.shapes import BY_SHAPE_NAME, SHAPES, kind_of
-from x3dpd.physics.coulomb import FRICTION_LAWS
 from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAWS
+from x3dpd.physics.rolling import ROLLING_LAWS
+from x3dpd.physics.tangential_laws import TANGENTIAL_LAW_API, TANGENTIAL_LAWS
 
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 #: The template's parts besides the loop, in import order (``_template_<part>.py``): each is
@@ -61,6 +62,8 @@ class Variant:
     motion: bool = False
     n_maxwell: int = 0
     friction_law: str = "regularized"
+    #: the rolling-resistance law (x3dpd.physics.rolling; FRICTION card), "none" compiles none
+    rolling_law: str = "none"
     walls_translate: bool = False
     normal_law: str = "lee_radok"
     #: the analytic wall shapes of the scene, by name in registry order ("cylinder",
@@ -80,7 +83,7 @@ class Variant:
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
                      user_force: bool = False, python_force: bool = False,
                      walls_translate: bool = False, normal_law: str = "lee_radok",
-                     one_particle_kind: bool = False) -> "Variant":
+                     one_particle_kind: bool = False, rolling_law: str = "none") -> "Variant":
         e = set(effects)
         return cls(
             gravity="gravity" in e,
@@ -97,6 +100,7 @@ class Variant:
             motion="prescribed_motion" in e,
             n_maxwell=n_maxwell if "viscoelastic" in e else 0,
             friction_law=friction_law,
+            rolling_law=rolling_law if {"wall_contact", "pair_contact"} & e else "none",
             walls_translate=walls_translate and "wall_contact" in e,
             normal_law=normal_law,
             shapes="+".join(s.name for s in SHAPES if s.effect in e),
@@ -163,7 +167,24 @@ def _shapes_source(names: str) -> str:
 
 
 def _friction_import(name: str) -> str:
-    return f"from x3dpd.physics.coulomb import {FRICTION_LAWS[name]} as FRICTION_LAW"
+    law = TANGENTIAL_LAWS[name]
+    names = ", ".join([f"{law.force} as TANGENTIAL_FORCE"]
+                      + [f"{a} as {'TANGENTIAL_' + a.upper() if a.islower() else _TANGENTIAL_CONSTANT[a]}"
+                         for a in TANGENTIAL_LAW_API])
+    return f"from {law.module.__name__} import {names}"
+
+
+def _rolling_import(name: str) -> str:
+    law = ROLLING_LAWS[name]
+    if law is None:   # the loop's HAS_ROLLING branches are deleted; the names stay defined
+        return ("HAS_ROLLING = False\nN_ROLLING = 0\n"
+                "from x3dpd.physics.epsd import rolling_torque as ROLLING_TORQUE")
+    return (f"HAS_ROLLING = True\nfrom {law.__name__} import rolling_torque as ROLLING_TORQUE, "
+            "N_HISTORY as N_ROLLING")
+
+
+#: The loop's names of a tangential law's constants.
+_TANGENTIAL_CONSTANT = {"N_HISTORY": "N_TANGENTIAL", "STORES_ENERGY": "TANGENTIAL_STORES"}
 
 
 def _normal_import(name: str) -> str:
@@ -172,7 +193,8 @@ def _normal_import(name: str) -> str:
 
 
 #: Law fields of a Variant: (registry, the VARIANT line importing a law into the loop).
-_LAWS = {"friction_law": (FRICTION_LAWS, _friction_import),
+_LAWS = {"friction_law": (TANGENTIAL_LAWS, _friction_import),
+         "rolling_law": (ROLLING_LAWS, _rolling_import),
          "normal_law": (NORMAL_LAWS, _normal_import)}
 
 _ROOT = Path(__file__).resolve().parents[1]
