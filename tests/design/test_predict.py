@@ -88,3 +88,26 @@ def test_the_particles_ride_along_and_the_energy_is_booked():
     rest = predicted_start(SweepPoint("deck", deck, 36.0, 0.0, 9, 1), None, 5e-7, 0.0,
                            (spec,)).state.e_ref
     assert state.e_ref - rest == pytest.approx(added, rel=1e-6)
+
+
+def test_a_chain_builds_its_models_once(monkeypatch):
+    # the points of a chain share one deck object: its model and its added-mass structure are
+    # built at the first point, not again at every point (the run builds its own)
+    import x3dpd.design.predict as predict
+
+    built = []
+    real = predict.build
+    monkeypatch.setattr(predict, "build", lambda deck: built.append(deck) or real(deck))
+    deck = read_deck(DECKS / "beam_1.inp")
+    spec = "sine:node=9,dof=1,amp=4.8404e-3,hz=36.0,t0=0.0"
+    starts = [predicted_start(SweepPoint("deck", deck, hz, 4.8404e-3, 9, 1), None, 5e-7, 0.0,
+                              (spec,)) for hz in (36.0, 37.0, 38.0)]
+    assert len(built) == 2    # the deck's model, the added-mass deck's model
+    assert built[0] is deck and built[1] is not deck
+    # a start computed from the cache is the one computed afresh
+    predict._CACHE.clear()
+    fresh = predicted_start(SweepPoint("deck", deck, 38.0, 4.8404e-3, 9, 1), None, 5e-7, 0.0,
+                            (spec,))
+    assert np.array_equal(fresh.state.x, starts[-1].state.x)
+    assert np.array_equal(fresh.state.vel, starts[-1].state.vel)
+    assert fresh.state.e_ref == starts[-1].state.e_ref

@@ -55,3 +55,66 @@ def test_imports_go_downward_only():
             if LAYER[there] >= LAYER[here]:
                 bad.append(f"x3dpd/{rel}:{line}: {here} imports {module}")
     assert not bad, "imports that do not go downward:\n" + "\n".join(bad)
+
+
+#: What each tool above the API may import from the package (docs/architecture.md, "The
+#: layers"): the CLI reaches the library only through ``x3dpd.api``; ``study`` likewise; ``design``
+#: never drives the step loop itself (``x3dpd.solver``: it goes through x3dpd.api.run and
+#: x3dpd.api.stepper). What design still imports from deck | model | io | analysis | physics |
+#: geometry directly is left to route through the API.
+ABOVE_API = {
+    "cli": {"cli", "api", "design", "study", "errors", "units", "materials", "__init__"},
+    "study": {"study", "api", "errors", "units", "materials", "_jit", "_files", "__init__"},
+    "design": set(LAYER) - {"solver", "cli", "__main__"},
+}
+
+
+def _beside_the_api(tool: str, source: str, name: str) -> list[str]:
+    """The imports in ``source`` (a module of ``tool``) of groups the tool may not import."""
+    return [f"{name}:{line}: {tool} imports {module}"
+            for line, module in _runtime_imports(ast.parse(source))
+            if (group := _group(module)) is not None and group not in ABOVE_API[tool]]
+
+
+def test_the_tools_above_the_api_go_through_it():
+    bad = []
+    for tool in ABOVE_API:
+        for path in sorted((PACKAGE / tool).rglob("*.py")):
+            bad += _beside_the_api(tool, path.read_text(), f"x3dpd/{path.relative_to(PACKAGE)}")
+    assert not bad, "imports that bypass x3dpd.api:\n" + "\n".join(bad)
+
+
+#: What is left to route through x3dpd.api: the design modules that still import a layer below
+#: it, and which. A ratchet: a module not listed here, or a layer not listed for it, fails.
+DESIGN_LEFT = {
+    "baselines.py": {"deck", "model"}, "commands.py": {"analysis"},
+    "configs.py": {"deck", "geometry", "physics"}, "design_table.py": {"analysis"},
+    "explore.py": {"analysis"}, "fit.py": {"analysis", "io"}, "frf.py": {"analysis", "io"},
+    "frf_baselines.py": {"analysis", "io"}, "linear_system.py": {"model"},
+    "ringdown.py": {"analysis", "io"}, "steady_state.py": {"analysis"},
+    "sweep_measured.py": {"analysis", "io"}, "trace_signals.py": {"analysis", "io", "physics"},
+}
+
+
+def test_design_reaches_below_the_api_no_further_than_it_did():
+    below = {group for group, layer in LAYER.items() if 0.5 < layer < LAYER["api"]}
+    bad = []
+    for path in sorted((PACKAGE / "design").rglob("*.py")):
+        left = DESIGN_LEFT.get(path.name, set())
+        bad += [f"x3dpd/design/{path.name}:{line}: design imports {module}"
+                for line, module in _runtime_imports(ast.parse(path.read_text()))
+                if (group := _group(module)) in below and group not in left]
+    assert not bad, ("design modules that import below x3dpd.api (use or add a re-export in "
+                     "x3dpd/api/):\n" + "\n".join(bad))
+
+
+def test_a_cli_import_below_the_api_is_caught():
+    # the check above must fail on each way of writing such an import, lazy ones included
+    for line in ("from x3dpd.model.build import build_model",
+                 "import x3dpd.solver.simulation",
+                 "def f():\n    from x3dpd.io.trace import read_trace"):
+        assert _beside_the_api("cli", line, "x3dpd/cli/new.py"), line
+    assert _beside_the_api("design", "from x3dpd.solver.simulation import Simulation", "d.py")
+    assert not _beside_the_api("cli", "from x3dpd.api.decks import read_deck", "x3dpd/cli/new.py")
+    assert not _beside_the_api("cli", "if TYPE_CHECKING:\n    from x3dpd.model.model import "
+                               "Model", "x3dpd/cli/new.py")

@@ -11,10 +11,9 @@ import os
 
 import click
 
-from x3dpd.analysis.scene import Scene, scene_from_model
+from x3dpd.api.figures import Scene, scene_from_model
+from x3dpd.api.traces import TraceInfo, sha256_file, trace_info
 from x3dpd.errors import InputError
-from x3dpd.io.trace import sha256_file
-from x3dpd.io.trace_stream import TraceInfo, trace_info
 from x3dpd.units import labels_for
 
 DECK_HELP = "Deck of the run (default: the one the trace's sidecar records)."
@@ -40,8 +39,7 @@ def find_deck(info: TraceInfo, deck: str | None) -> str:
 
 def load_scene(trace: str, deck: str | None) -> tuple[TraceInfo, object, Scene]:
     """Sidecar, model and :class:`Scene` of ``trace``."""
-    from x3dpd.deck import read_deck
-    from x3dpd.model.build import build_model
+    from x3dpd.api.decks import build_model, read_deck
 
     info = trace_info(trace)
     path = find_deck(info, deck)

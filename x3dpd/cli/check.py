@@ -13,16 +13,15 @@ import sys
 
 import click
 
+from x3dpd.api.checks import STEPS_PER_CONTACT, CheckReport, check_model, peak_force_error
 from x3dpd.errors import InputError, X3dpdError
-from x3dpd.model.check import CheckReport, check_model
-from x3dpd.model.timestep import STEPS_PER_CONTACT, peak_force_error
 from x3dpd.units import labels_for
 
 
 def _read_deck(path: str):
-    """The project's deck parser (``x3dpd.deck.read_deck``)."""
+    """The project's deck parser (``x3dpd.api.decks.read_deck``)."""
     try:
-        from x3dpd.deck import read_deck  # type: ignore[attr-defined]
+        from x3dpd.api.decks import read_deck
     except ImportError as exc:  # the parser is being written
         raise InputError(f"cannot read {path}: the deck parser is not available ({exc})") from exc
     return read_deck(path)
@@ -56,7 +55,7 @@ def check(decks: tuple[str, ...], usrfrc: tuple[str, ...], motion: tuple[str, ..
 
 
 def _check_one(deck: str, usrfrc, motion, steps_per_contact: int) -> int:
-    from x3dpd.model.build import build_model
+    from x3dpd.api.decks import build_model
 
     try:
         if not os.path.isfile(deck):

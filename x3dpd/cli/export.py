@@ -6,11 +6,11 @@ import os
 
 import click
 
-from x3dpd.analysis.export import write_lammps_dump, write_vtk_series
+from x3dpd.api.figures import write_lammps_dump, write_vtk_series
+from x3dpd.api.traces import iter_blocks
 from x3dpd.cli._trace_scene import DECK_HELP, load_scene
 from x3dpd.cli.outputs import refuse_existing
 from x3dpd.errors import InputError
-from x3dpd.io.trace_stream import iter_blocks
 
 
 @click.command("export")

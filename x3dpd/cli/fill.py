@@ -9,10 +9,9 @@ from __future__ import annotations
 
 import click
 
+from x3dpd.api.decks import PACKINGS, fill_positions, filled_deck
 from x3dpd.cli.outputs import refuse_existing
-from x3dpd.deck.fill import fill_positions, filled_deck
 from x3dpd.errors import InputError
-from x3dpd.geometry.packing import PACKINGS
 
 
 @click.command("fill")
@@ -50,8 +49,7 @@ def fill(template, n, radius, packing, gap, seed, jitter, material, dt, keep_dt,
          cards, output, overwrite) -> None:
     """Fill TEMPLATE's cavity with particles and write the deck OUT.inp."""
     from x3dpd.api import fit_time_step
-    from x3dpd.deck import format_deck, read_deck
-    from x3dpd.deck.writer import write_deck
+    from x3dpd.api.decks import format_deck, read_deck, write_deck
     from x3dpd.materials import material as library_material
 
     if dt is not None and keep_dt:
@@ -73,7 +71,7 @@ def fill(template, n, radius, packing, gap, seed, jitter, material, dt, keep_dt,
     if settle:
         out = _settled(out, settle)
     if cards:
-        from x3dpd.deck.cards import Deck
+        from x3dpd.api.decks import Deck
 
         nodlim = out.pdmp[0].nodlim
         out = Deck(path=out.path, pdmp=out.pdmp, trace=out.trace, contacts=out.contacts,
@@ -98,12 +96,11 @@ def _settled(deck, seconds: float):
 
     import numpy as np
 
-    from x3dpd.deck.cards import Node
-    from x3dpd.model.build import build_model
-    from x3dpd.solver.simulation import Simulation
+    from x3dpd.api.decks import Node, build_model
+    from x3dpd.api.stepper import stepper
 
     model = build_model(replace(deck, usrfrc=()))
-    sim = Simulation(model)
+    sim = stepper(model)
     end = int(round(seconds / sim.dt))
     while sim.state.step < end:      # one output row at a time: memory stays small
         sim.advance(end - sim.state.step, max_rows=1)

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import click
 
-from x3dpd.analysis.movie import VIEWS, write_movie
+from x3dpd.api.figures import VIEWS, write_movie
+from x3dpd.api.traces import iter_blocks
 from x3dpd.cli._trace_scene import DECK_HELP, load_scene
 from x3dpd.cli.outputs import refuse_existing
-from x3dpd.io.trace_stream import iter_blocks
 
 
 @click.command("movie")

@@ -7,11 +7,11 @@ import os
 
 import click
 
-from x3dpd.analysis.trace_plot import DOF_NAMES, QUANTITIES, collect, plot_trace
+from x3dpd.api.figures import DOF_NAMES, QUANTITIES, collect, plot_trace
+from x3dpd.api.traces import iter_blocks
 from x3dpd.cli._trace_scene import DECK_HELP, load_scene
 from x3dpd.cli.outputs import refuse_existing
 from x3dpd.errors import InputError
-from x3dpd.io.trace_stream import iter_blocks
 
 
 def _dof(text: str) -> int:
@@ -69,7 +69,7 @@ def plot(trace, output, nodes, dofs, quantities, energy_path, every, deck, overw
         alt = os.path.join(os.path.dirname(os.path.abspath(trace)), os.path.basename(path))
         path = alt if os.path.isfile(alt) else (None if not energy_path else path)
     if path:
-        from x3dpd.io.energy import read_energy
+        from x3dpd.api.traces import read_energy
 
         energy = read_energy(path)
     hist = collect(iter_blocks(trace, len(ids), every=every), scene, picks)

@@ -194,7 +194,7 @@ def run_deck(opts: RunOptions) -> int:
 
 def format_summary(deck: str, s: dict) -> str:
     """The summary ``x3dpd run`` prints (docs/running.md, "Progress and summary")."""
-    from x3dpd.solver.simulation import ENERGY_COLUMNS
+    from x3dpd.api.traces import ENERGY_COLUMNS
 
     lines = [f"x3dpd: {deck} -> {s['trace_file']}, {s['energy_file']} ({s['status']})",
              f"  effects        {', '.join(s['effects']) or 'none'}"]
@@ -240,8 +240,8 @@ def format_summary(deck: str, s: dict) -> str:
 def _maybe_plot(opts, trace_path, energy_path, model) -> None:
     if not opts.plot or model is None:
         return
-    from x3dpd.analysis.plots import plot_run
-    from x3dpd.io.energy import read_energy
+    from x3dpd.api.figures import plot_run
+    from x3dpd.api.traces import read_energy
 
     ids = model.node_ids[model.trace_nodes].tolist()
     try:

@@ -11,8 +11,7 @@ import warnings
 
 import click
 
-from x3dpd.io.trace import TraceWarning, read_trace
-from x3dpd.io.tracediff import compare_traces
+from x3dpd.api.traces import TraceWarning, compare_traces, read_trace
 
 
 @click.command("tracediff")

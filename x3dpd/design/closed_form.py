@@ -10,11 +10,11 @@ import math
 
 import numpy as np
 
+from x3dpd.api.decks import build_model
 from x3dpd.design.baselines import base_mass_node, base_structure, baseline_decks, linear_structure
 from x3dpd.design.drive import displacement_amplitude
 from x3dpd.design.linear_system import linear_system
 from x3dpd.design.spec import SweepSpec
-from x3dpd.model.build import build_model
 
 
 def mass_node(spec: SweepSpec) -> int | None:

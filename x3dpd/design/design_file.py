@@ -160,7 +160,7 @@ class _Reader:
             _check_material(value, lambda msg: self.fail(keys, msg))
             return value
         if key == "packing":
-            from x3dpd.geometry.packing import PACKINGS
+            from x3dpd.api.decks import PACKINGS
 
             if value not in PACKINGS:
                 self.fail(keys, f"expected one of {', '.join(PACKINGS)}, got {value!r}")

@@ -30,7 +30,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from x3dpd.deck.cards import Deck
+from x3dpd.api.decks import Deck
 from x3dpd.design.configs import Made, make_configurations, write_configurations
 from x3dpd.design.design_file import DesignFile, read_design
 from x3dpd.design.spec import SweepSpec, default_drive_point

@@ -39,20 +39,50 @@ from __future__ import annotations
 
 import cmath
 import math
+from collections import OrderedDict
 
 import numpy as np
 
-from x3dpd.api import FinalState
+from x3dpd.api import FinalState, build
 from x3dpd.api.outputs import deck_key
-from x3dpd.design.baselines import (ModalLinear, base_sdof, linear_structure, particle_mass,
-                                    rigid_body, with_added_mass, without_particles)
+from x3dpd.api.stepper import apply_motion, stepper, total_energy
+from x3dpd.design.baselines import (
+    ModalLinear,
+    base_sdof,
+    linear_structure,
+    particle_mass,
+    rigid_body,
+    with_added_mass,
+    without_particles,
+)
 from x3dpd.design.drive import displacement_amplitude
-from x3dpd.model.build import build_model
-from x3dpd.physics.motion import apply_motion
-from x3dpd.solver.simulation import Simulation
 
 #: Bounds of the chain's scale |rho|: outside them the previous point is no guide.
 RHO_RANGE = (1e-3, 1e3)
+
+#: Decks whose models (and added-mass structures) are kept: the points of a chain share one
+#: deck object, so a chain builds them once, not at every point (the run builds its own).
+CACHED_DECKS = 4
+_CACHE: OrderedDict[int, tuple] = OrderedDict()
+
+
+def _cached(deck, what: tuple, make):
+    """``make()``, kept per deck *object* (by identity; the entry holds the deck, so its id is
+    not reused while kept) and ``what``; the last CACHED_DECKS decks are kept."""
+    entry = _CACHE.get(id(deck))
+    if entry is None or entry[0] is not deck:
+        entry = _CACHE[id(deck)] = (deck, {})
+        while len(_CACHE) > CACHED_DECKS:
+            _CACHE.popitem(last=False)
+    _CACHE.move_to_end(id(deck))
+    if what not in entry[1]:
+        entry[1][what] = make()
+    return entry[1][what]
+
+
+def deck_model(deck):
+    """The built model of ``deck`` (:func:`x3dpd.api.build`), built once per deck object."""
+    return _cached(deck, ("model",), lambda: build(deck))
 
 
 def added_mass_response(deck, node: int, dof: int, drive: float, omega: float,
@@ -67,12 +97,15 @@ def added_mass_response(deck, node: int, dof: int, drive: float, omega: float,
 
 
 def added_mass_structure(deck, node: int, dof: int, model=None):
-    """The linear added-mass structure (an Sdof or a ModalLinear) or None."""
-    model = build_model(deck) if model is None else model
+    """The linear added-mass structure (an Sdof or a ModalLinear) or None (built once per deck
+    object, node and DOF)."""
     if deck.modal is not None and deck.modal.housing == "included":
         return None
-    return linear_structure(build_model(with_added_mass(deck, node, particle_mass(model))),
-                            node, dof)
+
+    def make():
+        mass = particle_mass(deck_model(deck) if model is None else model)
+        return linear_structure(build(with_added_mass(deck, node, mass)), node, dof)
+    return _cached(deck, ("added-mass", node, dof), make)
 
 
 def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
@@ -83,7 +116,7 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
     are the point's force and (base drive) motion specs."""
     if point.base:
         return _base_start(point, previous, dt, t_start, motion)
-    model = build_model(point.deck)
+    model = deck_model(point.deck)
 
     def response(drive: float, hz: float) -> complex | None:
         return added_mass_response(point.deck, point.node, point.dof, drive,
@@ -100,11 +133,8 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
         if not (cmath.isfinite(rho) and RHO_RANGE[0] <= abs(rho) <= RHO_RANGE[1]):
             return None
         target *= rho
-    sim = Simulation(model, usrfrc=usrfrc, dt=dt)
-    if previous is not None:
-        sim.restore(previous[1].state.copy())
-    else:
-        sim.initialize()
+    sim = stepper(model, usrfrc=usrfrc, dt=dt,
+                  state=previous[1].state.copy() if previous is not None else None)
     state = sim.state
     if model.modal is not None:
         structure = added_mass_structure(point.deck, point.node, point.dof, model)
@@ -129,14 +159,7 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
     return FinalState(state=state, deck_key=deck_key(point.deck), dt=dt, time=t_start)
 
 
-def total_energy(sim: Simulation) -> float:
-    """Kinetic + potential + stored contact energy minus the Verlet term, as the ledger counts
-    it [energy]."""
-    en = sim.energy_now()
-    return float(en[:5].sum() - en[5])
-
-
-def _modal_start(sim: Simulation, model, modes: np.ndarray, omega: float, t_start: float, deck,
+def _modal_start(sim, model, modes: np.ndarray, omega: float, t_start: float, deck,
                  dt: float):
     """The predicted start of a modal structure: modal coordinates q = Im Q, p = omega Re Q
     (the coupled modes' steady state, ``modes`` = Q), modal nodes and their rigid bodies placed
@@ -193,18 +216,20 @@ def _cavity_bodies(model) -> dict[int, int]:
 
 def added_mass_base(deck, node: int, dof: int, model=None):
     """The base-driven added-mass structure (a BaseSdof: the particles' mass on the body the
-    base carries) of a deck whose ``node`` is moved along ``dof``, or None."""
-    model = build_model(deck) if model is None else model
-    bare = base_sdof(build_model(without_particles(deck)), node, dof)
-    if bare is None:
-        return None
-    return base_sdof(build_model(with_added_mass(deck, bare.body, particle_mass(model))), node,
-                     dof)
+    base carries) of a deck whose ``node`` is moved along ``dof``, or None (built once per deck
+    object, node and DOF)."""
+    def make():
+        bare = base_sdof(build(without_particles(deck)), node, dof)
+        if bare is None:
+            return None
+        mass = particle_mass(deck_model(deck) if model is None else model)
+        return base_sdof(build(with_added_mass(deck, bare.body, mass)), node, dof)
+    return _cached(deck, ("added-mass base", node, dof), make)
 
 
 def _base_start(point, previous, dt: float, t_start: float, motion: tuple):
     """The predicted start of a base-driven point (module doc), or None."""
-    model = build_model(point.deck)
+    model = deck_model(point.deck)
     structure = added_mass_base(point.deck, point.node, point.dof, model)
     if structure is None:
         return None
@@ -247,7 +272,7 @@ def continued_base_start(point, previous, dt: float, t_start: float, motion: tup
     """The previous point's final state with the base moved onto this point's motion at
     ``t_start`` (position, velocity; the structure as it was), the change of energy booked in
     the reference energy."""
-    model = build_model(point.deck)
+    model = deck_model(point.deck)
     sim, e_before = _base_sim(model, motion, dt, t_start, previous)
     return _booked(sim, model, t_start, e_before, point.deck, dt)
 
@@ -256,11 +281,10 @@ def _base_sim(model, motion: tuple, dt: float, t_start: float, previous):
     """A simulation with the base's motion, at the deck's start (the base put on its motion
     there) or at the previous point's end with the base put on this motion at ``t_start``;
     and the energy before the base was moved (at the deck's start: after)."""
-    sim = Simulation(model, motion=motion, dt=dt)
     if previous is None:
-        sim.initialize()
+        sim = stepper(model, motion=motion, dt=dt)
         return sim, total_energy(sim)
-    sim.restore(previous[1].state.copy())
+    sim = stepper(model, motion=motion, dt=dt, state=previous[1].state.copy())
     e_before = total_energy(sim)
     k, state = sim.setup, sim.state
     apply_motion(t_start, sim.motion, k.x0, state.x, state.vel)

@@ -16,7 +16,7 @@ import numpy as np
 from x3dpd.analysis.design_plots import plot_ringdown
 from x3dpd.analysis.ringdown import G_IN_S2, Ringdown, damping_vs_amplitude, rest_offset
 from x3dpd.api import read_trace, run
-from x3dpd.deck.cards import Deck
+from x3dpd.api.decks import Deck
 from x3dpd.design.baselines import without_particles
 from x3dpd.design.spec import default_drive_point
 from x3dpd.errors import InputError

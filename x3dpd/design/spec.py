@@ -14,7 +14,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 
-from x3dpd.deck.cards import Deck
+from x3dpd.api.decks import Deck
 from x3dpd.design.baselines import cavity_master
 from x3dpd.design.drive import parse_amplitudes
 from x3dpd.design.steady_state import Criterion

@@ -20,11 +20,11 @@ from dataclasses import dataclass, field
 
 from x3dpd.analysis.steady_state import SteadyStateMonitor
 from x3dpd.api import run as run_deck
-from x3dpd.deck.cards import Deck
+from x3dpd.api.decks import Deck
+from x3dpd.api.traces import ENERGY_COLUMNS
 from x3dpd.design.drive import BASE_QUANTITIES, base_motion_spec, displacement_amplitude
 from x3dpd.design.predict import continued_base_start, predicted_start
 from x3dpd.errors import InputError
-from x3dpd.solver.simulation import ENERGY_COLUMNS
 
 #: Ledger columns summed as the energy dissipated by the particles, and by everything.
 PARTICLE_LOSSES = ("dissipated_viscoelastic", "dissipated_friction")

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
+from x3dpd.api.decks import build_model
 from x3dpd.design.baselines import baseline_decks
 from x3dpd.design.closed_form import (base_closed_form_rows, base_response_structure,
                                       baseline_curves, closed_form_rows,  # noqa: F401
@@ -46,7 +47,6 @@ from x3dpd.design.closed_form import (base_closed_form_rows, base_response_struc
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import SweepPoint, run_point
 from x3dpd.errors import InputError
-from x3dpd.model.build import build_model
 
 #: sweep.csv columns, in order.
 COLUMNS = ("config", "frequency_hz", "drive", "drive_quantity", "direction", "amplitude",
