@@ -316,8 +316,9 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     if model.normal_law == "hooke":
         law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
     tan_wall, tan_pair = tangential_tables(
-        friction, NORMAL_LAWS[model.normal_law], contact_bodies(pm_all, radius, moduli, nu, hooke),
-        mu_k, rep, model.rolling_law, mu_r, pin)
+        friction, NORMAL_LAWS[model.normal_law],
+        contact_bodies(pm_all, radius, moduli, nu, hooke) if npart else [], mu_k, rep,
+        model.rolling_law, mu_r, pin)
 
     if skin is None:
         skin = 0.25 * float(radius.min()) if npart else 0.0
