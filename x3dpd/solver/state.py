@@ -321,8 +321,9 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     law_wall, law_pair = np.zeros((npart, 2)), np.zeros((rep.shape[0], rep.shape[0], 2))
     if model.normal_law == "hooke":
         law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
-    bodies = [b._replace(wall_e=float(e), wall_nu=float(n)) for b, e, n in
-              zip(contact_bodies(pm_all, radius, moduli, nu, hooke), e_wall, nu_wall)]
+    bodies = ([b._replace(wall_e=float(e), wall_nu=float(n)) for b, e, n in
+               zip(contact_bodies(pm_all, radius, moduli, nu, hooke), e_wall, nu_wall)]
+              if npart else [])   # a scene without particles has no contact bodies
     tan_wall, tan_pair = tangential_tables(friction, NORMAL_LAWS[model.normal_law], bodies,
                                            mu_k, rep, model.rolling_law, mu_r, pin)
     tan_wall[:, 1] = wall_friction(tan_wall[:, 1], mu_wall)   # a WALLMAT wall's mu
