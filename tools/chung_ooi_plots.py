@@ -80,8 +80,8 @@ def make_plots(outdir: Path) -> int:
 
 def convergence_table() -> int:
     work = Path(tempfile.mkdtemp(prefix="chung_ooi_"))
-    print("| steps per contact | dt [s] (test 4) | test 1 glass F_max error | test 4 e_t | test 4 spin "
-          "| test 4 rebound |")
+    print("| steps per contact | dt [s] (test 4) | test 1 glass F_max error | test 4 e_t "
+          "| test 4 spin | test 4 rebound |")
     print("|---|---|---|---|---|---|")
     t_c = co.hertz_wall("aluminium oxide", 0.0025, 3.9)["contact_time"]
     for n in (25, 50, 100, 200, 400):

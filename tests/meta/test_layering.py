@@ -11,8 +11,10 @@ import ast
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[2] / "x3dpd"
-LAYER = {"cli": 5, "design": 4, "study": 4, "api": 3, "deck": 2, "model": 2, "solver": 2, "io": 2, "analysis": 2,
-         "physics": 1, "geometry": 1, "materials": 0.5, "errors": 0, "units": 0, "_jit": 0, "_files": 0, "__init__": 0,
+LAYER = {"cli": 5, "design": 4, "study": 4, "api": 3,
+         "deck": 2, "model": 2, "solver": 2, "io": 2, "analysis": 2,
+         "physics": 1, "geometry": 1, "materials": 0.5,
+         "errors": 0, "units": 0, "_jit": 0, "_files": 0, "__init__": 0,
          "__main__": 6}
 #: What the facade ``x3dpd/__init__.py`` may import (lazily) besides the bottom layer.
 FACADE = {"api"}

@@ -10,7 +10,6 @@ time-step convergence. Every run uses STEPS_PER_CONTACT = 200 steps per normal c
 from __future__ import annotations
 
 import importlib.util
-import math
 from pathlib import Path
 
 import numpy as np

@@ -189,5 +189,5 @@ def test_every_registered_tangential_and_rolling_law_provides_the_loop_api():
     for name, law in TANGENTIAL_LAWS.items():
         missing = [a for a in (law.force, *TANGENTIAL_LAW_API) if not hasattr(law.module, a)]
         assert not missing, f"{name}: {missing}"
-    for name, module in ROLLING_LAWS.items():
+    for _name, module in ROLLING_LAWS.items():
         assert module is None or all(hasattr(module, a) for a in ("rolling_torque", "N_HISTORY"))

@@ -339,7 +339,8 @@ def _continue_from(sim, initial: FinalState, key: str, model) -> None:
                          "TREST and IREST may change)")
     auto = is_auto(sim)
     if initial.dt != sim.dt or (initial.checkpoint is not None) != auto:
-        what = lambda a, d: f"a step chosen by accuracy up to {d!r} s" if a else f"dt {d!r} s"
+        def what(a, d):
+            return f"a step chosen by accuracy up to {d!r} s" if a else f"dt {d!r} s"
         raise InputError(f"initial_state was computed at "
                          f"{what(initial.checkpoint is not None, initial.dt)}; continue it at "
                          f"the same step (this run's is {what(auto, sim.dt)})")

@@ -35,6 +35,7 @@ from x3dpd.deck.writer import format_deck, write_deck
 __all__ = [
     "AnalyticWall", "Body", "Boundary", "Contact", "Deck", "Element", "Hooke", "Initial", "Mass",
     "Material", "Node",
-    "Parameters", "Pdmp", "Pos", "Rbel", "SlaveSet", "Title", "Trace", "Triangle", "Usrfrc", "WallMat",
+    "Parameters", "Pdmp", "Pos", "Rbel", "SlaveSet", "Title", "Trace", "Triangle", "Usrfrc",
+    "WallMat",
     "format_deck", "parse_deck", "read_deck", "write_deck",
 ]

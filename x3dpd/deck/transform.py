@@ -3,7 +3,8 @@
 The grammar (``x3d.lark``) hands each card over as ``[KEYWORD, item, ..., END]``; an item is a
 ROWS token (a run of one-line records) or a continued record (its lines). This module splits the
 lines into records and values, converts fields (with the helpers of ``records.py``), checks field
-counts and card-local values, and raises :class:`~x3dpd.errors.DeckError` naming the field. Cross-card checks (an undefined node, a
+counts and card-local values, and raises :class:`~x3dpd.errors.DeckError` naming the field.
+Cross-card checks (an undefined node, a
 duplicate id) belong to ``x3dpd.model.build``. No physics here.
 
 The transformer is passed to the ``Lark`` constructor, so no parse tree is built. Errors are
@@ -141,8 +142,8 @@ class DeckTransformer(Transformer):
         out = []
         for rec, v in _counted(spec, c[1:-1], 8, None, expected):
             if len(v) > 11 and (len(v) - 11) % 2:
-                message = f"PDMP extra Maxwell terms come in pairs E2 T2 E3 T3 ... after VZ0; got " \
-                          f"{len(v)} values"
+                message = (f"PDMP extra Maxwell terms come in pairs E2 T2 E3 T3 ... after VZ0; "
+                           f"got {len(v)} values")
                 raise _fail(spec, rec, len(v) - 1, message)
             nodlim = _int(spec, rec, v, 0, 0)
             f = _floats(spec, rec, v, 1) + [0.0] * max(0, 11 - len(v))

@@ -14,7 +14,8 @@ A law module provides
   normal n, the applied normal force F_N, the approach a, the tangential effective mass m_t,
   the static and kinetic friction coefficients, this step's tangential stiffness ``kt``
   (the normal law's ``tangential_stiffness`` constant times its ``stiffness_shape(a)``; only
-  formed for a law that ``STORES_ENERGY``), the step dt and gamma = 1/(2 dt); the last step's force F_old (``fox``...; the state row's S_FT columns);
+  formed for a law that ``STORES_ENERGY``), the step dt and gamma = 1/(2 dt); the last step's
+  force F_old (``fox``...; the state row's S_FT columns);
   its history ``h[row, col:col + N_HISTORY]`` (read and written). dU is the change of the
   stored energy over the step: the step loop books it as elastic, the rest of the slip work
   as dissipated (the ledger stays closed).

@@ -17,7 +17,8 @@ Viscoelastic particles (report Eqs. 18-26): the wall is elastic, so it adds one 
 :math:`c_w` to the particle's terms :math:`c_{pk} = E_k/(1-\\nu_p^2)`, and every term is weighted
 as a pair contact weights its bodies' terms (x3dpd.physics.maxwell): with the instantaneous
 :math:`c_p = \\sum_k c_{pk}`, :math:`s = c_p c_w/(c_p + c_w)^2`, the wall-contact Hertz constants
-are :math:`K_0 = \\tfrac43\\sqrt R\\,s\\,(c_{p0} + c_w)` and :math:`K_k = \\tfrac43\\sqrt R\\,s\\,c_{pk}`.
+are :math:`K_0 = \\tfrac43\\sqrt R\\,s\\,(c_{p0} + c_w)` and :math:`K_k = \\tfrac43\\sqrt
+R\\,s\\,c_{pk}`.
 The instantaneous response :math:`\\sum_k K_k = \\tfrac43\\sqrt R\\,E^*` is exact; the long-term
 modulus is the same approximation as for two dissimilar particles.
 

@@ -1,7 +1,8 @@
 """Step-loop template, part: what every contact shares (x3dpd.solver.variants).
 
 The normal force's bookkeeping (``_record_normal``), the tangential response that wall and
-pair contacts share (``_tangential``: the scene's tangential law), the end of a contact (``_close_contact``), the record of
+pair contacts share (``_tangential``: the scene's tangential law), the end of a contact
+(``_close_contact``), the record of
 a penetration (``_penetration``) and the contact response of a particle on any wall entity
 (``_wall_response``), with the status bits and ledger slots of the loop. Generated per variant
 beside the loop, with the variant's constants (``_template_variant``).

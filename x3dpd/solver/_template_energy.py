@@ -97,7 +97,8 @@ def _tangential_energy(states, s):
 def _ledger_row(t, en, ledger, e_ref, row):
     """row = t, KE_t, KE_r, U_g, U_s, U_c, D_visc, D_fric, D_damp, W_ext, E_total, residual.
 
-    D_visc = W_N - U_c when contacts are viscoelastic or damped (absorbed minus still stored); elastic
+    D_visc = W_N - U_c when contacts are viscoelastic or damped (absorbed minus still stored);
+    elastic
     contacts dissipate nothing by definition, so their integration error shows in the residual.
     """
     row[0] = t

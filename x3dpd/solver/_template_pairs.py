@@ -74,7 +74,8 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
     and approach a = R_i + R_j - |x_j - x_i|; the tangential law with spin (``_tangential``, the
     same as on walls) acts at the contact points
     x_i + R_i n and x_j - R_j n. A candidate that no longer touches (a <= 0) gets F = 0; pass 3
-    closes it as a wall contact is closed (``_close_contact``). Nothing here writes the contact state or the
+    closes it as a wall contact is closed (``_close_contact``). Nothing here writes the contact
+    state or the
     forces -- pass 3 does, in list order -- so the loop has no stores through indices and LLVM
     vectorizes it (x3dpd._jit.vector_kernel): the gathers of x and v become packed gathers, and
     the square roots and divisions packed ones. Maxwell histories are read and written in

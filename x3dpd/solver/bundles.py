@@ -224,7 +224,8 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
     walls = ContactList(s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, scratch["wl_p2"], scratch["wl_f2"],
                         scratch["ws2"], scratch["wl_a"], scratch["wl_c"], scratch["wl_h"])
     pairs = ContactList(s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, scratch["pl_i2"],
-                        scratch["pl_j2"], scratch["ps2"], scratch["pl_a"], scratch["pl_c"], scratch["pl_h"])
+                        scratch["pl_j2"], scratch["ps2"], scratch["pl_a"], scratch["pl_c"],
+                        scratch["pl_h"])
     return {
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
                        k.kin_inertia, k.g),

@@ -405,7 +405,8 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
     vel = _f64(model.v0, (n, 6)).copy()
     nb = setup.rig_master.shape[0]
     rot = np.tile(np.eye(3), (nb, 1, 1)) if nb else np.zeros((0, 3, 3))
-    # approach, F_N, F_t, the normal law's histories, the tangential law's (x3dpd.solver.contact_lists)
+    # approach, F_N, F_t, the normal law's histories, the tangential law's
+    # (x3dpd.solver.contact_lists)
     ncols = STATE_HEAD + max(setup.n_maxwell, 1) + setup.n_tangential
     ncols_pair = STATE_HEAD + 2 * max(setup.n_maxwell, 1) + setup.n_tangential
     nfaces_max = int(np.max(np.diff(setup.cav_ptr))) if setup.cav_ptr.shape[0] > 1 else 0

@@ -168,9 +168,11 @@ def _shapes_source(names: str) -> str:
 
 def _friction_import(name: str) -> str:
     law = TANGENTIAL_LAWS[name]
+    def alias(a: str) -> str:
+        return "TANGENTIAL_" + a.upper() if a.islower() else _TANGENTIAL_CONSTANT[a]
+
     names = ", ".join([f"{law.force} as TANGENTIAL_FORCE"]
-                      + [f"{a} as {'TANGENTIAL_' + a.upper() if a.islower() else _TANGENTIAL_CONSTANT[a]}"
-                         for a in TANGENTIAL_LAW_API])
+                      + [f"{a} as {alias(a)}" for a in TANGENTIAL_LAW_API])
     return f"from {law.module.__name__} import {names}"
 
 
