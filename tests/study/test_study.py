@@ -38,6 +38,18 @@ def test_the_ladder_marks_the_deck_setting_and_adds_fidelity_and_repeats():
             and not x.repeat] == [1.25e-7, 2.5e-7, 5e-7, 1e-6, 2e-6, 4e-6]
     assert Setting(5e-7, contact="elastic") in s and Setting(5e-7, friction="coulomb") in s
     assert sum(1 for x in s if x.repeat) == 3
+    # the tangential laws as fidelity choices: the report's two and Hertz-Mindlin
+    assert Setting(5e-7, friction="mindlin") in s
+
+
+def test_a_deck_with_a_friction_card_is_studied_under_its_own_law():
+    """A deck whose FRICTION card selects Hertz-Mindlin runs every setting under that law
+    (the study does not override the card with the default), and offers the report's two
+    Coulomb laws as the fidelity choices."""
+    s = ladder(5e-7, viscoelastic=False, friction=True, chaotic=True, friction_law="mindlin")
+    assert all(x.friction == "mindlin" for x in s if x.own or x.repeat)
+    assert {x.friction for x in s if not x.own and x.dt == 5e-7 and not x.repeat} == {
+        "regularized", "coulomb"}
 
 
 def test_an_impact_study_measures_the_hertz_peak_force(tmp_path):

@@ -46,6 +46,8 @@ class Scene:
     viscoelastic: bool
     friction: bool
     n_particles: int
+    #: the deck's tangential law (its FRICTION card's, else the default "regularized")
+    friction_law: str = "regularized"
 
     @property
     def main(self) -> str:
@@ -74,7 +76,8 @@ def classify(model, usrfrc=()) -> Scene:
             node = int(m.group(1))
             break
     return Scene(kind, n > 1 and (driven or gravity), node, hz,
-                 "viscoelastic" in effects, "friction" in effects, n)
+                 "viscoelastic" in effects, "friction" in effects, n,
+                 getattr(model, "friction_law", None) or "regularized")
 
 
 def measure(result, scene: Scene) -> dict:

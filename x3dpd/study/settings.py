@@ -19,12 +19,15 @@ LADDER = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
 REPEATS = 3
 #: Size of a repeat's perturbation of particle positions, as a fraction of the radius.
 PERTURBATION = 1e-9
+#: The tangential laws a study offers as fidelity choices (docs/physics.md): the report's
+#: regularised and bare Coulomb laws and Hertz-Mindlin with its tangential history.
+FRICTION_CHOICES = ("regularized", "coulomb", "mindlin")
 
 
 @dataclass(frozen=True)
 class Setting:
     """One run of a study: ``dt`` [s], ``contact`` ("deck" | "elastic"), ``friction``
-    ("regularized" | "coulomb"), ``repeat`` (0: unperturbed; k: perturbed with seed k),
+    ("regularized" | "coulomb" | "mindlin"), ``repeat`` (0: unperturbed; k: perturbed with seed k),
     ``own`` (the deck's own setting), ``auto`` (a step chosen by accuracy up to ``dt``)."""
 
     dt: float
@@ -58,23 +61,26 @@ def soft_step(dt: float, stiffness: float) -> float:
 
 
 def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
-           chaotic: bool, stiffness=()) -> list[Setting]:
+           chaotic: bool, stiffness=(), friction_law: str = "regularized") -> list[Setting]:
     """The settings to run: every step of ``dts`` (default DTMAX x :data:`LADDER`) with the
     deck's physics, the fidelity choices at the deck's step, and perturbed repeats of the
     deck's setting for a chaotic scene, and the softer contacts of ``stiffness`` (scales of
     the particles' moduli, each at :func:`soft_step` of the deck's step). The deck's own
-    setting is marked ``own``. (The step chosen by accuracy is added by
-    :func:`x3dpd.study.run_study`.)"""
+    setting is marked ``own``. Every setting runs the deck's tangential law ``friction_law``
+    but the friction fidelity choices, which run the other laws of :data:`FRICTION_CHOICES`.
+    (The step chosen by accuracy is added by :func:`x3dpd.study.run_study`.)"""
     steps = sorted({float(d) for d in (dts if dts else [dt_deck * f for f in LADDER])}
                    | {float(dt_deck)})
-    out = [Setting(d, own=np.isclose(d, dt_deck, rtol=1e-12, atol=0.0)) for d in steps]
+    law = friction_law
+    out = [Setting(d, own=np.isclose(d, dt_deck, rtol=1e-12, atol=0.0), friction=law)
+           for d in steps]
     if viscoelastic:
-        out.append(Setting(dt_deck, contact="elastic"))
+        out.append(Setting(dt_deck, contact="elastic", friction=law))
     if friction:
-        out.append(Setting(dt_deck, friction="coulomb"))
-    out += [Setting(soft_step(dt_deck, f), stiffness=float(f)) for f in stiffness]
+        out += [Setting(dt_deck, friction=other) for other in FRICTION_CHOICES if other != law]
+    out += [Setting(soft_step(dt_deck, f), stiffness=float(f), friction=law) for f in stiffness]
     if chaotic:
-        out += [Setting(dt_deck, repeat=k) for k in range(1, REPEATS + 1)]
+        out += [Setting(dt_deck, repeat=k, friction=law) for k in range(1, REPEATS + 1)]
     return out
 
 

@@ -77,10 +77,10 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     dts = [d for d in dts if d != "auto"] or None
     settings = ladder(dt_deck, dts=dts, viscoelastic=fidelity and scene.viscoelastic,
                       friction=fidelity and scene.friction, chaotic=scene.chaotic,
-                      stiffness=stiffness)
+                      stiffness=stiffness, friction_law=scene.friction_law)
     if auto:  # the deck's own DTMIN ... DTMAX, else up to the coarsest step of the ladder
         settings.append(Setting(dt_deck if own_auto else max(s.dt for s in settings),
-                                auto=True))
+                                auto=True, friction=scene.friction_law))
     steps = sorted({s.dt for s in settings if not s.auto})
     if scene.kind == "impact":
         interval = steps[0]
