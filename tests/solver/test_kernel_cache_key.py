@@ -56,7 +56,7 @@ def _missing(module, hashed) -> set[Path]:
 
 
 def test_every_kernel_source_is_hashed():
-    variant = Variant(gravity=True, springs=True, rigid=True, rigid_rotation=True, walls=True,
+    variant = Variant(springs=True, rigid=True, rigid_rotation=True, walls=True,
                       pairs=True, friction=True, viscoelastic=True, external=True, motion=True,
                       n_maxwell=2, axial_springs=True, rotational_springs=True)
     module = make_advance(variant)

@@ -9,7 +9,6 @@ only make the template importable for reading and linting.
 """
 
 # --- VARIANT BEGIN ---
-HAS_GRAVITY = True
 HAS_SPRINGS = True
 HAS_RIGID = True
 HAS_RIGID_ROTATION = True

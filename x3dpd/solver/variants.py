@@ -48,7 +48,6 @@ _LOADED: dict[tuple, object] = {}
 class Variant:
     """The compile-time constants of one step loop."""
 
-    gravity: bool = False
     springs: bool = False
     rigid: bool = False
     rigid_rotation: bool = False
@@ -86,7 +85,6 @@ class Variant:
                      one_particle_kind: bool = False, rolling_law: str = "none") -> "Variant":
         e = set(effects)
         return cls(
-            gravity="gravity" in e,
             springs=bool({"springs", "dampers"} & e),
             rigid="rigid_links" in e,
             rigid_rotation="rigid_rotation" in e,
