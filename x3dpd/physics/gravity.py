@@ -7,18 +7,7 @@ Units: g in length/s^2 (the report's decks: -386.1 in/s^2 along y).
 
 from __future__ import annotations
 
-from x3dpd._jit import kernel, step_kernel
-
-
-@step_kernel
-def _gravity_forces(mass, g, force):
-    """force[i, :3] += m_i g for every node."""
-    for i in range(mass.shape[0]):
-        m = mass[i]
-        if m != 0.0:
-            force[i, 0] += m * g[0]
-            force[i, 1] += m * g[1]
-            force[i, 2] += m * g[2]
+from x3dpd._jit import kernel
 
 
 @kernel

@@ -389,7 +389,7 @@ def _modal_setup(model, dt, inv_m, mass, kin_mass, kin_inertia, rig_free_rot, ri
 
 
 def _body_forces(mass: np.ndarray, model) -> np.ndarray:
-    """(n, 6) forces m g on every node (the same products the gravity kernel forms)."""
+    """(n, 6) forces m g on every node: what the step loop starts every force evaluation from."""
     g = np.asarray(model.body_accel, dtype=np.float64).reshape(3)
     out = np.zeros((mass.shape[0], 6))
     out[:, :3] = mass[:, None] * g[None, :]
