@@ -34,7 +34,8 @@ from x3dpd.solver.bundles import (
 )
 from x3dpd.solver.run_checks import AUDIT_STEPS, RunChecks
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
-from x3dpd.solver.variants import Variant, make_advance
+from x3dpd.solver.compile_lock import variant_compile_lock
+from x3dpd.solver.variants import Variant, cache_dir, make_advance
 
 #: Columns of the energy ledger rows (see docs/energy.md).
 ENERGY_COLUMNS = ("time", "kinetic_translation", "kinetic_rotation", "gravity_potential",
@@ -146,6 +147,14 @@ class Simulation(RunChecks):
         if self._initialized:
             return
         t = _time.perf_counter()
+        with variant_compile_lock(cache_dir(), self.kernels.__name__):
+            self._initialize()
+        self.compile_seconds += _time.perf_counter() - t
+        self._initialized = True
+
+    def _initialize(self) -> None:
+        """``initialize``'s work, under the variant's compile lock (its first kernel calls
+        compile the loop or load it from the cache)."""
         s = self.state
         k = self.setup
         w_start = 0.0
@@ -164,8 +173,6 @@ class Simulation(RunChecks):
         s.ledger[self.kernels.L_WEXT] += w_start
         en = self._energy_now()
         s.e_ref = float(en[0] + en[1] + en[2] + en[3] + en[4] - en[5]) - w_start
-        self.compile_seconds += _time.perf_counter() - t
-        self._initialized = True
 
     def restore(self, state: State) -> None:
         """Continue from a restart dump's state (forces at its step are part of it).
@@ -180,7 +187,8 @@ class Simulation(RunChecks):
             face_n, face_d = self._faces()
             self.kernels._face_planes(state.x, k.tri_nodes, k.tri_sign, k.face_first_tri, face_n,
                                       face_d)
-        self._compile_loop_callees()
+        with variant_compile_lock(cache_dir(), self.kernels.__name__):
+            self._compile_loop_callees()
         self._initialized = True
 
     def _compile_loop_callees(self) -> None:
