@@ -15,21 +15,19 @@ from __future__ import annotations
 import json
 import math
 import pickle
-import sys
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from factories import (FIG30_E0, FIG30_E1, FIG30_TAU1, STEEL_E, STEEL_NU,  # noqa: E402
+from factories import (FIG30_E0, FIG30_E1, FIG30_TAU1, STEEL_E, STEEL_NU,
                        floor_deck, sdof_deck, sphere_mass)
 
-import x3dpd  # noqa: E402
-from x3dpd.deck.cards import Usrfrc  # noqa: E402
-from x3dpd.errors import InputError, UnstableRunError  # noqa: E402
-from x3dpd.model.timestep import peak_force_error  # noqa: E402
+import x3dpd
+from x3dpd.deck.cards import Usrfrc
+from x3dpd.errors import InputError, UnstableRunError
+from x3dpd.model.timestep import peak_force_error
 
 R, V, T = 0.03125, 62.8, 8e-5
 DTMAX = 2e-6

@@ -11,16 +11,14 @@ so a resumed run that lost its level would step differently.
 from __future__ import annotations
 
 import json
-import sys
 from dataclasses import replace
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from factories import G, floor_deck  # noqa: E402
-from processes import kill_after_first_dump, x3dpd  # noqa: E402
+from factories import G, floor_deck
+from processes import kill_after_first_dump, x3dpd
 
-from x3dpd.deck.writer import format_deck  # noqa: E402
-from x3dpd.io.restart import load_restart  # noqa: E402
+from x3dpd.deck.writer import format_deck
+from x3dpd.io.restart import load_restart
 
 TMAX = 0.02     # 10,000 output intervals of 2e-6 s: a few seconds of wall time
 TREST = 0.002

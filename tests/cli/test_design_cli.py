@@ -3,20 +3,17 @@
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, sdof_deck  # noqa: E402
+from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, sdof_deck
 
 from test_run import x3dpd  # noqa: E402  (tests/cli/test_run.py: run the CLI in-process)
 
-from x3dpd.api import run  # noqa: E402
-from x3dpd.deck.writer import write_deck  # noqa: E402
-from x3dpd.design.sweep import read_csv  # noqa: E402
+from x3dpd.api import run
+from x3dpd.deck.writer import write_deck
+from x3dpd.design.sweep import read_csv
 
 
 @pytest.fixture

@@ -8,14 +8,11 @@ import csv
 import dataclasses
 import math
 import pathlib
-import sys
 
 import numpy as np
 import pytest
 from cli_helpers import run_cli
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "io"))
 
 from factories import TABLE4_K, TABLE4_MASS, sdof_deck
 from test_measured import write_uff58

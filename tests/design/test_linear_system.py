@@ -7,7 +7,6 @@ spring in series with the modes' receptance), and the shaker deck's BaseSdof equ
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -15,10 +14,8 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "solver"))
-from factories import ALL_DOFS, parameters  # noqa: E402
-from modal_decks import modal_deck  # noqa: E402
+from factories import ALL_DOFS, parameters
+from modal_decks import modal_deck
 
 from x3dpd.deck.cards import Boundary, Deck, Element, Mass, Material, Node, Trace
 from x3dpd.deck.parser import read_deck

@@ -4,14 +4,12 @@ expected steady-state motion, the particles carried along, the energy booked."""
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck  # noqa: E402
+from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck
 
 from x3dpd.deck.parser import read_deck
 from x3dpd.design.predict import predicted_start

@@ -5,13 +5,11 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck  # noqa: E402
+from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck
 
 from x3dpd.deck.parser import read_deck
 from x3dpd.deck.writer import write_deck
@@ -20,7 +18,7 @@ from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import Criterion
 from x3dpd.design.sweep import deck_hash, read_csv, run_sweep
 from x3dpd.errors import InputError
-from x3dpd.model.build import build_model  # noqa: E402
+from x3dpd.model.build import build_model
 
 DECKS = Path(__file__).resolve().parents[2] / "decks"
 

@@ -5,17 +5,14 @@ the base's hand-over between chained points, and bad input."""
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, base_sdof_deck  # noqa: E402
+from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, base_sdof_deck
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "cli"))
 from test_run import x3dpd  # noqa: E402  (run the CLI in-process)
 
 from x3dpd.api import run

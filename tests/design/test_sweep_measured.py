@@ -5,18 +5,13 @@ accelerance, a transmissibility), and bad measured input refused before anything
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "cli"))
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "io"))
-from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, base_sdof_deck, sdof_deck  # noqa: E402
-from test_measured import write_uff58  # noqa: E402
-from test_run import x3dpd  # noqa: E402
+from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, base_sdof_deck, sdof_deck
+from test_measured import write_uff58
+from test_run import x3dpd
 
 from x3dpd.deck.parser import read_deck
 from x3dpd.deck.writer import write_deck

@@ -5,15 +5,13 @@ equals its FRF, and the predicted start puts the modes on their steady state."""
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 import scipy.linalg
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "solver"))
-from modal_decks import modal_deck  # noqa: E402
+from modal_decks import modal_deck
 
 from x3dpd.deck.parser import read_deck
 from x3dpd.design.baselines import (linear_modal, linear_structure, particle_mass,

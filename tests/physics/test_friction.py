@@ -13,13 +13,10 @@ The sphere starts resting on the floor at the Hertz static overlap delta = (m g 
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 import reference as ref
 from factories import STEEL_E, STEEL_NU, STEEL_R, G, closed_box_deck, sphere_mass

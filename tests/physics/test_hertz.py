@@ -9,14 +9,11 @@ the solver's output.
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 from scipy.integrate import quad
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 import reference as ref
 from factories import (

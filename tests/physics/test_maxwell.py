@@ -11,13 +11,10 @@ force is clamped at zero while the internal variable F1 keeps evolving.
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 import reference as ref
 from factories import (

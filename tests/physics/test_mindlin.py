@@ -23,13 +23,10 @@ beam_*.inp), and the rebound is compared with closed forms computed here:
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 from factories import STEEL_E, STEEL_NU, STEEL_R, floor_deck, pair_deck, sphere_mass
 

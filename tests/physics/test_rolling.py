@@ -12,13 +12,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 import reference as ref
 from factories import STEEL_E, STEEL_NU, STEEL_R, G, floor_deck, sphere_mass

@@ -14,13 +14,10 @@ solution is tests/reference.py's ``Sdof.response``; x = y + z.
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 import reference as ref
 from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, parameters

@@ -7,13 +7,10 @@ its energy ledger."""
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 from bore_scenes import (BIG_R, LENGTH, V, angular_momentum, bore_deck, check_against_hertz,
                          head_on_impact)

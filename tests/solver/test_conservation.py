@@ -12,14 +12,11 @@ only for linear forces), so the *drift* is measured at contact-free ledger rows 
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 import reference as ref
 from factories import (

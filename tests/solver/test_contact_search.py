@@ -8,13 +8,10 @@ the same floating-point operations as the kernels, so the lists must agree exact
 
 from __future__ import annotations
 
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 import reference as ref
 from factories import STEEL_E, STEEL_NU, STEEL_R, closed_box_deck

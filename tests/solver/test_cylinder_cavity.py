@@ -6,14 +6,9 @@ cavity that turns conserves angular momentum (the lever terms of the reaction)."
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 
-# shared helpers, searched in this order: tests/, then tools/bench/ (bench_solver)
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "tools" / "bench"))
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
 from bore_scenes import (BIG_R, LENGTH, V, angular_momentum, bore_deck, check_against_hertz,
                          head_on_impact)

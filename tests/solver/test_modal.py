@@ -14,20 +14,16 @@ All decks here share one compiled loop (a modal structure and a built-in force).
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))   # tests/: shared helpers
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 
-import reference as ref  # noqa: E402
-from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck  # noqa: E402
-from modal_decks import chain_modes, modal_deck, receptance, steady_state  # noqa: E402
+import reference as ref
+from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck
+from modal_decks import chain_modes, modal_deck, receptance, steady_state
 
-import x3dpd  # noqa: E402
+import x3dpd
 
 
 def _run(tmp_path, text: str, name: str = "modal.inp", **kw):

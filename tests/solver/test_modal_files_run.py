@@ -6,18 +6,15 @@ from __future__ import annotations
 
 import math
 import pathlib
-import sys
 
 import numpy as np
 import pytest
+from modal_decks import receptance, steady_state
+
+import x3dpd
+from x3dpd.errors import DeckError
 
 HERE = pathlib.Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-from modal_decks import receptance, steady_state  # noqa: E402
-
-import x3dpd  # noqa: E402
-from x3dpd.errors import DeckError  # noqa: E402
-
 FIXTURES = HERE.parent / "fixtures" / "modes"
 #: tests/fixtures/modes/README.md: three 2 kg masses, springs 1e4 N/m, fixed-free, along x;
 #: damping ratios 0.01, 0.02, 0.03 in chain3.uff

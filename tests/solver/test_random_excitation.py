@@ -12,13 +12,10 @@ from __future__ import annotations
 
 import math
 import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "cli"))
 
 from cli_helpers import run_cli
 from factories import TABLE4_K, TABLE4_MASS, parameters, sdof_deck

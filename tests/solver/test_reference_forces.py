@@ -12,13 +12,10 @@ finds contacts by brute force over all particle pairs and all faces.
 
 from __future__ import annotations
 
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 import reference as ref
 from factories import STEEL_E, STEEL_NU, STEEL_R, STEEL_RHO, G, closed_box_deck, sphere_mass

@@ -6,8 +6,6 @@ Everything goes through the public Simulation interface and the traced positions
 from __future__ import annotations
 
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
@@ -17,8 +15,7 @@ from x3dpd.deck.cards import (Boundary, Deck, Element, Initial, Mass, Material, 
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
-from factories import parameters  # noqa: E402
+from factories import parameters
 
 I_PERP, I_AXIS = 2.0, 5.0   # body inertias of the master [mass length^2]
 

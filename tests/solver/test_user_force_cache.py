@@ -17,12 +17,11 @@ import numba
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from factories import sdof_deck  # noqa: E402
+from factories import sdof_deck
 
-from x3dpd._jit import JIT_DISABLED  # noqa: E402
-from x3dpd.model.build import build_model  # noqa: E402
-from x3dpd.solver.simulation import Simulation  # noqa: E402
+from x3dpd._jit import JIT_DISABLED
+from x3dpd.model.build import build_model
+from x3dpd.solver.simulation import Simulation
 
 pytestmark = pytest.mark.skipif(JIT_DISABLED, reason="caching needs numba's compiler")
 
@@ -97,8 +96,7 @@ def test_two_user_files_add_up_in_order(tmp_path, monkeypatch):
 
 
 PROBE = """
-import json, sys
-sys.path.insert(0, {tests!r})
+import json
 from factories import sdof_deck
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
@@ -113,8 +111,10 @@ print(json.dumps({{"hits": sum(sim.kernels.advance_packed.stats.cache_hits.value
 def test_a_second_process_loads_the_compiled_loop_from_disk(tmp_path):
     user = tmp_path / "force.py"
     user.write_text(_constant(1e-3))
-    code = PROBE.format(tests=str(Path(__file__).resolve().parents[1]), dt=DT, user=str(user))
-    env = {**os.environ, "X3DPD_CACHE_DIR": str(tmp_path / "cache")}
+    code = PROBE.format(dt=DT, user=str(user))
+    tests = str(Path(__file__).resolve().parents[1])  # the probe imports tests/factories.py
+    env = {**os.environ, "X3DPD_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join(filter(None, [tests, os.environ.get("PYTHONPATH")]))}
     runs = []
     for _ in range(2):
         proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,

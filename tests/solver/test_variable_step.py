@@ -10,19 +10,16 @@ tests/model/test_model_timestep.py); restitution errs less than peak force.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/: shared helpers
-from factories import floor_deck  # noqa: E402
+from factories import floor_deck
 
-from x3dpd.errors import InputError  # noqa: E402
-from x3dpd.model.build import build_model  # noqa: E402
-from x3dpd.model.timestep import peak_force_error  # noqa: E402
-from x3dpd.solver.simulation import Simulation  # noqa: E402
-from x3dpd.solver.variable_step import VariableStep, auto_floor  # noqa: E402
+from x3dpd.errors import InputError
+from x3dpd.model.build import build_model
+from x3dpd.model.timestep import peak_force_error
+from x3dpd.solver.simulation import Simulation
+from x3dpd.solver.variable_step import VariableStep, auto_floor
 
 R, V = 0.03125, 62.8
 
