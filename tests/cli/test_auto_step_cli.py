@@ -20,7 +20,7 @@ from processes import kill_after_first_dump, x3dpd
 from x3dpd.deck.writer import format_deck
 from x3dpd.io.restart import load_restart
 
-TMAX = 0.02     # 10,000 output intervals of 2e-6 s: a few seconds of wall time
+TMAX = 0.006    # 3,000 output intervals of 2e-6 s, three restart dumps: about a second of CPU time
 TREST = 0.002
 
 
