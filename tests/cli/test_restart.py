@@ -1,8 +1,8 @@
 """Restart dumps: kill a run, resume it, get the uninterrupted run's files byte for byte.
 
 The runs are real ``x3dpd`` processes on a small deck (10 spheres in the report's beam cavity,
-driven at 37.21 Hz: the same compiled step loop as decks/beam_64.inp), 0.5 s of simulated time
-(1e6 steps, a few seconds of wall time), a restart dump every TREST = 0.05 s.
+driven at 37.21 Hz: the same compiled step loop as decks/beam_64.inp), 0.2 s of simulated time
+(4e5 steps, about a second of CPU time), a restart dump every TREST = 0.02 s.
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ from x3dpd.deck.generate import Material3, box_cavity_deck, lattice_fill
 from x3dpd.deck.writer import format_deck
 from x3dpd.io.restart import load_restart
 
-TMAX = 0.5
-TREST = 0.05
+TMAX = 0.2
+TREST = 0.02
 DRIVE = "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21"
 STEEL = Material3(e0=27.5e6, e1=5.0e6, tau1=2.0e-6, nu=0.33, mu=0.30, density=7.32971e-4)
 CAVITY = (0.263, 0.372, 0.372)
@@ -146,7 +146,7 @@ def finished(reference, tmp_path):
 def test_restart_refuses_another_setup(finished, extra, words):
     before = (finished / "ref.trace.txt").read_bytes()
     res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", "--tmax",
-                "0.52", *extra, cwd=finished)
+                "0.22", *extra, cwd=finished)
     assert res.returncode == 2, res.stderr
     assert "cannot resume from ref.trace.txt.restart.npz" in res.stderr and words in res.stderr
     assert (finished / "ref.trace.txt").read_bytes() == before
@@ -155,7 +155,7 @@ def test_restart_refuses_another_setup(finished, extra, words):
 def test_restart_refuses_a_changed_deck(finished):
     ten_sphere_deck(finished / "ten.inp", damping=4e-4)
     res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", "--tmax",
-                "0.52", cwd=finished)
+                "0.22", cwd=finished)
     assert res.returncode == 2 and "the deck's cards differ" in res.stderr
 
 
@@ -171,11 +171,11 @@ def test_complete_trace_needs_overwrite_and_irest_resumes(reference, tmp_path):
     """IREST = 1 in the deck resumes (the deck's key masks IREST); a complete trace is only cut
     back with --overwrite, which keeps a .bak of the trace and the energy file.
 
-    The dump at 0.45 s is the end dump of a run to TMAX 0.45 (the same steps as the reference's
-    first 0.45 s); the complete reference trace is put in its place, so resuming from 0.45 s
+    The dump at 0.18 s is the end dump of a run to TMAX 0.18 (the same steps as the reference's
+    first 0.18 s); the complete reference trace is put in its place, so resuming from 0.18 s
     would cut it."""
     deck = ten_sphere_deck(tmp_path / "ten.inp")
-    res = x3dpd(deck, "--trace", "ref.trace.txt", "--tmax", "0.45", "-q", cwd=tmp_path)
+    res = x3dpd(deck, "--trace", "ref.trace.txt", "--tmax", "0.18", "-q", cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     for name in ("ref.trace.txt", "ref.trace.txt.json", "ref.energy.csv"):
         shutil.copy2(reference / name, tmp_path / name)
@@ -188,12 +188,12 @@ def test_complete_trace_needs_overwrite_and_irest_resumes(reference, tmp_path):
     assert (tmp_path / "ref.trace.txt.bak").read_bytes() == \
         (reference / "ref.trace.txt").read_bytes()
     assert (tmp_path / "ref.energy.csv.bak").is_file()
-    assert "t = 0.45 .. 0.5 s" in res.stdout
+    assert "t = 0.18 .. 0.2 s" in res.stdout
 
 
 def test_resume_with_a_later_tmax_extends_the_run(finished, reference):
     """A finished run goes on from its end dump: nothing is cut, so no --overwrite is needed."""
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--tmax", "0.52", "-q",
+    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--tmax", "0.22", "-q",
                 cwd=finished)
     assert res.returncode == 0, res.stderr
     new = (finished / "ref.trace.txt").read_bytes()

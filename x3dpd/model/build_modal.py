@@ -27,7 +27,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg import eigh
 
 from x3dpd.errors import Pos
 from x3dpd.model.build_base import BuilderBase
@@ -230,6 +229,8 @@ def couple_added_mass(omega: np.ndarray, zeta: np.ndarray, phi: np.ndarray,
     m_red = np.eye(m_count) + flat.T @ big @ flat
     if np.allclose(m_red, np.eye(m_count), rtol=0.0, atol=1e-14):
         return omega.copy(), zeta.copy(), phi.copy(), np.zeros((0, 0))
+    from scipy.linalg import eigh  # here: scipy.linalg costs every run half a second of import
+
     lam, psi = eigh(np.diag(omega**2), 0.5 * (m_red + m_red.T))
     for k in range(m_count):           # a sign that does not depend on the solver: largest > 0
         if psi[np.argmax(np.abs(psi[:, k])), k] < 0.0:

@@ -36,7 +36,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from x3dpd.errors import X3dpdError
 from x3dpd.model.check_shapes import shape_extent
@@ -93,6 +92,8 @@ def _band_max(func, lo: float, hi: float, extra=()) -> tuple[float, float]:
     k = int(np.argmax(vals))
     a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
     if b > a:
+        from scipy.optimize import minimize_scalar  # here: a second of import for every run
+
         res = minimize_scalar(lambda w: -func(w), bounds=(a, b), method="bounded",
                               options={"xatol": 1e-10 * b})
         if -res.fun > vals[k]:

@@ -39,7 +39,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg import expm
 
 from x3dpd._jit import step_kernel
 
@@ -81,7 +80,7 @@ def step_coefficients(omega: np.ndarray, zeta: np.ndarray, h: float) -> np.ndarr
     zeta = np.asarray(zeta, dtype=np.float64).reshape(-1)
     out = np.zeros((omega.shape[0], len(COEF_COLUMNS)))
     for k, (w, z) in enumerate(zip(omega, zeta)):
-        e = expm(_generator(w, z) * h)
+        e = _expm(_generator(w, z) * h)
         free = _free_motion(float(w), float(z), h)
         out[k, :4] = free if free is not None else (e[0, 0], e[0, 1], e[1, 0], e[1, 1])
         out[k, 4] = e[0, 2]
@@ -111,7 +110,7 @@ def dissipation_forms(omega: np.ndarray, zeta: np.ndarray, h: float) -> np.ndarr
         block[:4, :4] = -m.T
         block[:4, 4:] = q
         block[4:, 4:] = m
-        big = expm(block * h)
+        big = _expm(block * h)
         g = big[4:, 4:].T @ big[:4, 4:]          # int_0^h e^{M^T t} Q e^{M t} dt
         g = 0.5 * (g + g.T)
         g = to_ends.T @ g @ to_ends
@@ -290,3 +289,11 @@ def _modal_energies(modal):
         u += 0.5 * coef[k, 7] * q[k] * q[k]
         ff += f[k] * f[k]
     return ke, u, ff
+
+
+def _expm(a: np.ndarray) -> np.ndarray:
+    """The matrix exponential e^A (scipy.linalg.expm, imported here: scipy.linalg's import
+    costs every x3dpd process half a second, and only scenes with modes need it)."""
+    from scipy.linalg import expm
+
+    return expm(a)
