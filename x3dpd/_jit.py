@@ -37,6 +37,16 @@ def step_kernel(fn=None, **overrides):
     return kernel(fn, inline="always", **overrides)
 
 
+def shared_kernel(fn=None, **overrides):
+    """Compile a per-step function that is the same in every step-loop variant -- it reads no
+    variant constant -- as a function of its own that every variant calls: compiled once and
+    cached beside its source, instead of inlined into (and compiled again with) each variant's
+    loop. Without NRT like the loop, so that the call passes its arrays without reference
+    counting (it may not allocate). For functions called a few times per step, not per
+    contact: a call costs a few nanoseconds (docs/engine.md, "Compile time")."""
+    return kernel(fn, inline="never", _nrt=False, **overrides)
+
+
 def loop_kernel(fn=None, **overrides):
     """Compile a time-step loop: a kernel that allocates nothing and runs numba without its
     reference-counting runtime (NRT).
@@ -47,7 +57,14 @@ def loop_kernel(fn=None, **overrides):
     is that the loop may not create arrays (``np.empty``, array-valued slice assignment): it
     receives its scratch space as arguments instead. Calls from the loop to ordinary kernels
     (which may allocate) remain allowed.
+
+    A step loop (not ``inline="never"``: a loop's own pass, see ``_template_pairs``) is
+    optimized by LLVM once, after linking, instead of twice (:data:`OPTIMIZED_ONCE`).
     """
+    if fn is None:
+        return lambda f: loop_kernel(f, **overrides)
+    if overrides.get("inline") != "never":
+        OPTIMIZED_ONCE.add(fn.__qualname__)
     return kernel(fn, _nrt=False, **overrides)
 
 
@@ -120,3 +137,75 @@ def _inline_fresh_ir(self, caller_ir, block, i, function, arg_typs=None):
 
 if not JIT_DISABLED:
     _numba_inline.InlineWorker.inline_function = _inline_fresh_ir
+
+
+# ---- compile time: the step loop optimized once by LLVM, not twice -------------------------
+# numba optimizes every function it lowers with LLVM's full -O3 function pipeline before
+# linking (``CPUCodeLibrary._optimize_functions``: to shrink the IR and let its reference-count
+# pruning see whole functions), and then the linked module once more with the full -O3 module
+# pipeline, which runs the same function simplification again. The step loop has no reference
+# counts to prune (loop_kernel: no NRT) and is optimized as a whole after linking anyway; its
+# first pass cost as much as the second (beam_64: 4.2 of 7.7 CPU-s of LLVM, SROA on numba's
+# allocas most of it). Libraries of OPTIMIZED_ONCE functions skip it. Private behaviour of
+# numba 0.68 (pinned; tests/meta/test_kernel_flags.py checks the method is still called).
+from numba.core import codegen as _numba_codegen  # noqa: E402
+
+#: Qualified names of the step loops (x3dpd._jit.loop_kernel) LLVM optimizes once.
+OPTIMIZED_ONCE: set[str] = set()
+_optimize_functions = _numba_codegen.CPUCodeLibrary._optimize_functions
+
+
+def _optimize_functions_once(self, ll_module):
+    """``CPUCodeLibrary._optimize_functions``, skipped (but for the data layout it sets) for
+    the libraries of :data:`OPTIMIZED_ONCE` functions."""
+    if self.name in OPTIMIZED_ONCE:
+        ll_module.data_layout = self._codegen._data_layout
+        return
+    _optimize_functions(self, ll_module)
+
+
+# ---- compile time: numba's call typing, resolved once per (function, argument types) -------
+# numba types every call -- ``a + b``, ``x[i, 0]``, ``math.sqrt(v)`` -- by trying the
+# function's typing templates in turn (``BaseFunction.get_call_type``), each a Python call that
+# may build a dispatcher or format an error message, for every call site anew. The step loop's
+# ~7000 call sites have ~700 distinct (function, argument types): on beam_64 this took 3.3 of
+# 26 CPU-s, 0.5 with a memo. The memo holds successful resolutions per compile flags (a
+# template's answer depends on nothing else; a new template for the function changes the
+# key); failures are not kept. Private behaviour of numba 0.68 (pinned; checked by
+# tests/meta/test_kernel_flags.py).
+from numba.core import targetconfig as _numba_targetconfig  # noqa: E402
+from numba.core.types import functions as _numba_functions  # noqa: E402
+
+_resolve_call_type = _numba_functions.BaseFunction.get_call_type
+#: id(flags) -> (flags, {(function type, context, args, kws, templates): (signature, its
+#: implementation key)}): the
+#: flags object is held so that its id is not reused while its memo lives; the newest 8 kept
+_CALL_TYPES: dict = {}
+
+
+def _memo_call_type(self, context, args, kws):
+    """``BaseFunction.get_call_type``, remembering each signature it resolved."""
+    flags = _numba_targetconfig.ConfigStack.top_or_none()
+    entry = _CALL_TYPES.get(id(flags))
+    if entry is None or entry[0] is not flags:
+        if len(_CALL_TYPES) >= 8:
+            del _CALL_TYPES[next(iter(_CALL_TYPES))]
+        entry = _CALL_TYPES[id(flags)] = (flags, {})
+    try:
+        key = (self, context, tuple(args), tuple(kws.items()), len(self.templates))
+        known = entry[1].get(key)
+    except TypeError:   # an unhashable argument type: resolve as numba does
+        return _resolve_call_type(self, context, args, kws)
+    if known is not None:
+        sig, impl_key = known
+        self._impl_keys[sig.args] = impl_key   # as the resolution did (lowering reads it)
+        return sig
+    sig = _resolve_call_type(self, context, args, kws)
+    if sig is not None:
+        entry[1][key] = (sig, self._impl_keys[sig.args])
+    return sig
+
+
+if not JIT_DISABLED:
+    _numba_codegen.CPUCodeLibrary._optimize_functions = _optimize_functions_once
+    _numba_functions.BaseFunction.get_call_type = _memo_call_type

@@ -169,3 +169,110 @@ def test_the_copy_free_inliner_computes_what_numba_inlines():
     expect = (sum(v if v > 0.5 else 0.5 for v in a)
               - 2.0 * sum(v if v > 0.25 else 0.25 for v in a[::-1]))
     assert twice(a) == expect
+
+
+def test_numba_optimizes_through_the_once_only_step_loop_pass():
+    """x3dpd._jit skips numba's per-function LLVM pass for step loops (``loop_kernel``; they
+    are optimized whole after linking). The patch works only while numba's code library runs
+    that pass through ``_optimize_functions`` from ``add_llvm_module``: if a numba upgrade
+    changes that, this fails instead of compile time silently growing."""
+    import inspect
+
+    from numba.core import codegen
+
+    import x3dpd._jit as jit
+
+    assert codegen.CPUCodeLibrary._optimize_functions is jit._optimize_functions_once
+    assert "self._optimize_functions(" in inspect.getsource(codegen.CPUCodeLibrary.add_llvm_module)
+
+
+def test_a_loop_optimized_once_computes_what_python_computes():
+    """A step loop (registered in OPTIMIZED_ONCE, its function pass skipped) with an inlined
+    step kernel, a branch and a loop-carried sum gives the plain Python values bit for bit; a
+    loop kernel of its own (``inline="never"``) keeps both passes."""
+    import numpy as np
+
+    from x3dpd._jit import OPTIMIZED_ONCE, loop_kernel, step_kernel
+
+    @step_kernel
+    def _kick(v, f, h, k):
+        v[k] += h * f[k] if f[k] > 0.0 else 0.5 * h * f[k]
+
+    def once_loop(v, f, h, n):
+        total = 0.0
+        for _ in range(n):
+            for k in range(v.shape[0]):
+                _kick(v, f, h, k)
+                total += v[k] * v[k]
+        return total
+
+    def own_pass(v):
+        return v.sum()
+
+    compiled = loop_kernel(cache=False)(once_loop)
+    loop_kernel(inline="never", cache=False)(own_pass)
+    assert once_loop.__qualname__ in OPTIMIZED_ONCE
+    assert own_pass.__qualname__ not in OPTIMIZED_ONCE
+    f = np.linspace(-1.0, 1.0, 7) ** 3
+    v_jit = np.zeros(7)
+    total = compiled(v_jit, f, 1e-3, 5)
+    # the same arithmetic in Python
+    v_ref = np.zeros(7)
+    ref = 0.0
+    for _ in range(5):
+        for k in range(7):
+            v_ref[k] += 1e-3 * f[k] if f[k] > 0.0 else 0.5 * 1e-3 * f[k]
+            ref += v_ref[k] * v_ref[k]
+    assert total == ref
+    assert v_jit.tobytes() == v_ref.tobytes()
+
+
+def test_numba_types_calls_through_the_memo():
+    """x3dpd._jit remembers numba's resolved call types (``BaseFunction.get_call_type``,
+    private, numba 0.68): a function with the same call many times resolves it once, gives the
+    Python values, and a call numba cannot type still fails with numba's TypingError (failures
+    are not remembered)."""
+    import numpy as np
+    import pytest
+    from numba.core import errors
+    from numba.core.types import functions
+
+    import x3dpd._jit as jit
+    from x3dpd._jit import kernel
+
+    assert functions.BaseFunction.get_call_type is jit._memo_call_type
+    resolved = []
+    real = jit._resolve_call_type
+
+    def counting(self, context, args, kws):
+        resolved.append((self, tuple(args)))
+        return real(self, context, args, kws)
+
+    jit._resolve_call_type = counting
+    try:
+        @kernel(cache=False)
+        def many(a):
+            s = 0.0
+            s += a[0] * 1.5
+            s += a[1] * 1.5
+            s += a[2] * 1.5
+            s += a[3] * 1.5
+            s += a[4] * 1.5
+            s += a[5] * 1.5
+            return s
+
+        a = np.arange(6.0)
+        assert many(a) == sum(x * 1.5 for x in a)
+        # six getitems, six multiplications, six additions of the same types: each resolved once
+        assert len(resolved) == len(set(resolved))
+
+        @kernel(cache=False)
+        def untypable(a):
+            return a + "text"
+
+        with pytest.raises(errors.TypingError):
+            untypable(a)
+        with pytest.raises(errors.TypingError):   # again: the failure was not remembered
+            kernel(cache=False)(untypable.py_func)(a)
+    finally:
+        jit._resolve_call_type = real

@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import math
 
-from x3dpd._jit import step_kernel
+from x3dpd._jit import shared_kernel, step_kernel
 
 
-@step_kernel
+@shared_kernel
 def _update_slaves(x, vel, masters, ptr, slaves, r0, rot, positions_too, rotating=True):
     """Place slaves (if ``positions_too``) and set their velocities from their masters.
 
@@ -64,7 +64,7 @@ def _update_slaves(x, vel, masters, ptr, slaves, r0, rot, positions_too, rotatin
     return math.sqrt(vmax2)
 
 
-@step_kernel
+@shared_kernel
 def _gather_slaves(x, force, masters, ptr, slaves, rotating=True):
     """Move slave forces to their master as force + moment; zero the slaves' rows.
 

@@ -166,18 +166,23 @@ def _adopt_new_list(lst, m):
 
 
 #: What one call of the step loop does (its ``mode``): everything goes through the one entry
-#: :func:`advance_packed`, so that numba compiles the force terms and the list rebuild once per
-#: variant (inlined there) instead of once more for separate Python-facing kernels.
+#: :func:`advance_packed`, so that numba compiles the force terms, the list rebuild and the
+#: energies once per variant (inlined there) instead of once more for separate Python-facing
+#: kernels.
 STEP = 0      # advance up to ``nsteps`` steps
 REBUILD = 1   # rebuild the contact lists now (t0, a grown list); no step, ``nbr`` untouched
 FORCES = 2    # every force at ``t_start`` from the current state into nodes.force; no step
+SNAPSHOT = 3  # the output row of the current state at ``t_start`` (its energies also in
+#               stepping.small[0:6]); no step, no list rebuild
 
 
 @loop_kernel
 def advance_packed(mode, nsteps, step0, t_start, packed):
     """Advance up to ``nsteps`` steps from step index ``step0`` (time t_start + step0 dt)
     (``mode`` STEP), or only rebuild the contact lists (REBUILD) or only evaluate the forces at
-    ``t_start`` (FORCES: ``step0`` = -1, ``nsteps`` = 1; the ledger given is the caller's).
+    ``t_start`` (FORCES: ``step0`` = -1, ``nsteps`` = 1; the ledger given is the caller's), or
+    only write the output row of the current state at ``t_start`` (SNAPSHOT: ``step0`` = -1,
+    ``nsteps`` = 1; the energies also in ``stepping.small[0:6]``).
 
     ``packed``: the bundles as plain tuples in ADVANCE_BUNDLES order
     (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
@@ -224,7 +229,8 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
     for it in range(nsteps):
         step = step0 + it
         # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
-        if (HAS_WALLS or HAS_PAIRS) and mode != FORCES:   # FORCES uses the lists as they are
+        if (HAS_WALLS or HAS_PAIRS) and (mode == STEP or mode == REBUILD):
+            # FORCES and SNAPSHOT use the lists as they are
             # bound of the displacements at the force evaluation of this step: what has
             # accumulated since the last build plus this step's drift (2 x the last step's, to
             # allow for acceleration)
@@ -243,93 +249,99 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
         if mode == REBUILD:
             return OK, 0, 0
         t = t_start + (step + 1) * dt
-        if mode == FORCES:
-            for k in range(ff.shape[0]):
-                ff[k] = fgf[k]
+        st = OK
+        if mode == SNAPSHOT:
+            out_in = 0   # no step: straight to the output row of the current state
         else:
-            # ---- first half kick (unless the last step's pass already did it) and drift
-            if synced:
+            if mode == FORCES:
+                for k in range(ff.shape[0]):
+                    ff[k] = fgf[k]
+            else:
+                # ---- first half kick (unless the last step's pass already did it) and drift
+                if synced:
+                    if HAS_RIGID_ROTATION:
+                        _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
+                                            rig_free_rot, h, False)
+                    for k in range(vf.shape[0]):
+                        vf[k] += h * ff[k] * imf[k]
+                        ff[k] = fgf[k]
+                for i in range(p0):
+                    x[i, 0] += dt * vel[i, 0]
+                    x[i, 1] += dt * vel[i, 1]
+                    x[i, 2] += dt * vel[i, 2]
+                vmax2 = 0.0
+                for i in range(p0, n):
+                    x[i, 0] += dt * vel[i, 0]
+                    x[i, 1] += dt * vel[i, 1]
+                    x[i, 2] += dt * vel[i, 2]
+                    if HAS_WALLS or HAS_PAIRS:
+                        v2 = (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1]
+                              + vel[i, 2] * vel[i, 2])
+                        vmax2 = max(vmax2, v2)
                 if HAS_RIGID_ROTATION:
+                    _rotate(rot, rig_master, vel, dt)
+                if HAS_MODAL:
+                    # modal nodes (and a modal master's rotation) from the modes
+                    # (x3dpd.physics.modal)
+                    _modal_drift(modal, x, x0, vel, rot, dt)
+                if HAS_MOTION:
+                    _apply_motion_step(t_start + step * dt, t, motion_table, x0, x, vel)
+                vwall = 0.0
+                if HAS_RIGID:
+                    vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot,
+                                           True, HAS_RIGID_ROTATION)
+                if HAS_ROTATIONAL_SPRINGS:   # their rotations advance as positions do
+                    _rotational_spring_drift(vel, springs.rot_nodes, springs.rot_theta, dt)
+                nbr[4] = math.sqrt(vmax2)
+                nbr[5] = vwall
+                nbr[0] += dt * nbr[4]
+                nbr[1] += dt * vwall
+            # ---- forces at the new positions (``force`` holds the body forces m g: the kick pass
+            # reset it to them)
+            st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls,
+                              pairs, shapes, stepping)
+            if mode == FORCES:
+                return st, 0, 0
+            if HAS_MOTION:
+                # work of the motion's actuators (x3dpd.physics.motion._motion_work)
+                ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
+                                               kin_inertia, force, motion_prev)
+            if HAS_MODAL:
+                # the modal forces of this step complete the modes' step (and the damping's work)
+                ledger[L_DDAMP] += _modal_kick(modal, force, dt)
+            # ---- second half kick. Full-step velocities are needed only at outputs and at the end
+            # of the call; elsewhere this half kick and the next step's first one go in one pass
+            # over memory, computed as (v + h a) + h a so that the rounding -- and so every
+            # trajectory -- is bit for bit the same whichever steps end a call.
+            out_in -= 1
+            synced = st != OK or it == nsteps - 1 or out_in == 0
+            if not synced:
+                if HAS_RIGID_ROTATION:
+                    # the second half kick of this step (implicit), the first of the next
+                    _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
+                                        rig_free_rot, h, True)
                     _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
                                         rig_free_rot, h, False)
                 for k in range(vf.shape[0]):
-                    vf[k] += h * ff[k] * imf[k]
+                    vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
                     ff[k] = fgf[k]
-            for i in range(p0):
-                x[i, 0] += dt * vel[i, 0]
-                x[i, 1] += dt * vel[i, 1]
-                x[i, 2] += dt * vel[i, 2]
-            vmax2 = 0.0
-            for i in range(p0, n):
-                x[i, 0] += dt * vel[i, 0]
-                x[i, 1] += dt * vel[i, 1]
-                x[i, 2] += dt * vel[i, 2]
-                if HAS_WALLS or HAS_PAIRS:
-                    v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
-                    vmax2 = max(vmax2, v2)
-            if HAS_RIGID_ROTATION:
-                _rotate(rot, rig_master, vel, dt)
-            if HAS_MODAL:
-                # modal nodes (and a modal master's rotation) from the modes: x3dpd.physics.modal
-                _modal_drift(modal, x, x0, vel, rot, dt)
-            if HAS_MOTION:
-                _apply_motion_step(t_start + step * dt, t, motion_table, x0, x, vel)
-            vwall = 0.0
-            if HAS_RIGID:
-                vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, True,
-                                       HAS_RIGID_ROTATION)
-            if HAS_ROTATIONAL_SPRINGS:   # their rotations advance as positions do
-                _rotational_spring_drift(vel, springs.rot_nodes, springs.rot_theta, dt)
-            nbr[4] = math.sqrt(vmax2)
-            nbr[5] = vwall
-            nbr[0] += dt * nbr[4]
-            nbr[1] += dt * vwall
-        # ---- forces at the new positions (``force`` holds the body forces m g: the kick pass
-        # reset it to them)
-        st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls,
-                          pairs, shapes, stepping)
-        if mode == FORCES:
-            return st, 0, 0
-        if HAS_MOTION:
-            # work of the motion's actuators (x3dpd.physics.motion._motion_work)
-            ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
-                                           kin_inertia, force, motion_prev)
-        if HAS_MODAL:
-            # the modal forces of this step complete the modes' step (and the damping's work)
-            ledger[L_DDAMP] += _modal_kick(modal, force, dt)
-        # ---- second half kick. Full-step velocities are needed only at outputs and at the end
-        # of the call; elsewhere this half kick and the next step's first one go in one pass
-        # over memory, computed as (v + h a) + h a so that the rounding -- and so every
-        # trajectory -- is bit for bit the same whichever steps end a call.
-        out_in -= 1
-        synced = st != OK or it == nsteps - 1 or out_in == 0
-        if not synced:
-            if HAS_RIGID_ROTATION:
-                # the second half kick of this step (implicit), the first of the next
-                _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h, True)
-                _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                    rig_free_rot, h, False)
+                continue
             for k in range(vf.shape[0]):
-                vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
-                ff[k] = fgf[k]
-            continue
-        for k in range(vf.shape[0]):
-            vf[k] += h * ff[k] * imf[k]
-        if HAS_RIGID_ROTATION:
-            _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot, h,
-                                True)
-        if HAS_MOTION:
-            _apply_motion(t, motion_table, x0, x, vel)
-        if HAS_MODAL:
-            _modal_place(modal, x, x0, vel, rot, modal.p, False)   # full-step velocities
-        if HAS_RIGID:
-            _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, False,
-                           HAS_RIGID_ROTATION)
-        if st != OK:
-            diag[4] = t
-            diag[5] = step + 1
-            return st, it + 1, rows
+                vf[k] += h * ff[k] * imf[k]
+            if HAS_RIGID_ROTATION:
+                _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot,
+                                    h, True)
+            if HAS_MOTION:
+                _apply_motion(t, motion_table, x0, x, vel)
+            if HAS_MODAL:
+                _modal_place(modal, x, x0, vel, rot, modal.p, False)   # full-step velocities
+            if HAS_RIGID:
+                _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, False,
+                               HAS_RIGID_ROTATION)
+            if st != OK:
+                diag[4] = t
+                diag[5] = step + 1
+                return st, it + 1, rows
         # ---- output
         if out_in == 0:
             out_in = itrac
@@ -343,6 +355,8 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, en)
             _ledger_row(t, en, ledger, output.e_ref, out_energy[rows])
             rows += 1
+            if mode == SNAPSHOT:
+                return OK, 0, rows
             # non-finite state is caught at output steps (cheap), before it reaches the trace
             bad = False
             for k in range(trace_nodes.shape[0]):

@@ -1,9 +1,11 @@
 """Step-loop template, part: the energies of a state and the ledger row (x3dpd.solver.variants).
 
 Generated per variant beside the loop, with the variant's constants (``_template_variant``).
+Inlined into the step loop at its one output site; Python reaches them through the loop's
+SNAPSHOT mode (x3dpd.solver.simulation), so each variant compiles them once.
 """
 
-from x3dpd._jit import kernel
+from x3dpd._jit import step_kernel
 from x3dpd.physics.axial_spring import _axial_spring_energy
 from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.physics.modal import _modal_energies
@@ -17,7 +19,7 @@ from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_MODAL, HAS_PA
                                             TANGENTIAL_STORED_ENERGY, TANGENTIAL_STORES)
 from x3dpd.solver.contact_lists import S_A, S_FN, S_FT
 
-@kernel
+@step_kernel
 def _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction).
 
@@ -57,7 +59,7 @@ def _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, out):
     out[5] = dt * dt / 8.0 * shadow
 
 
-@kernel
+@step_kernel
 def _contact_energy(particles, walls, pairs, shapes):
     """Elastic energy stored in the open contacts, by the normal law's ``stored_energy`` and
     the tangential law's (a spring's: x3dpd.physics.tangential_laws)."""
@@ -88,7 +90,7 @@ def _contact_energy(particles, walls, pairs, shapes):
     return u
 
 
-@kernel
+@step_kernel
 def _tangential_energy(states, s):
     """The tangential law's stored energy in state row ``s`` (force in S_FT, history in the
     row's last N_TANGENTIAL columns)."""
@@ -96,7 +98,7 @@ def _tangential_energy(states, s):
                                     states, s, states.shape[1] - CONTACT_TAIL)
 
 
-@kernel
+@step_kernel
 def _ledger_row(t, en, ledger, e_ref, row):
     """row = t, KE_t, KE_r, U_g, U_s, U_c, D_visc, D_fric, D_damp, W_ext, E_total, residual.
 

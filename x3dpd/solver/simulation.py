@@ -210,14 +210,9 @@ class Simulation(RunChecks):
     def snapshot(self) -> Block:
         """The trace rows and ledger at the current step (used for t = t0)."""
         self.initialize()
-        s = self.state
-        data = np.empty((1, self.trace_nodes.shape[0], 9))
-        data[0, :, :3] = s.x[self.trace_nodes]
-        data[0, :, 3:] = s.vel[self.trace_nodes]
-        energy = np.empty((1, len(ENERGY_COLUMNS)))
-        en = self._energy_now()
-        self.kernels._ledger_row(self.time, en, s.ledger, s.e_ref, energy[0])
-        return Block(np.array([self.time]), data, energy)
+        output = self._no_output()
+        self._snapshot(output)
+        return Block(output.times.copy(), output.data.copy(), output.energy.copy())
 
     # ------------------------------------------------------------------ stepping
     def advance(self, nsteps: int, max_rows: int | None = None) -> Block:
@@ -292,11 +287,14 @@ class Simulation(RunChecks):
         return self._energy_now()
 
     def _energy_now(self) -> np.ndarray:
-        en = np.empty(6)
+        return self._snapshot(self._no_output())
+
+    def _snapshot(self, output: Output) -> np.ndarray:
+        """The step loop's output row of the current state (its SNAPSHOT mode) into ``output``'s
+        first row; returns the energies (x3dpd.solver._template_energy._energies)."""
         b = self._bundles()
-        self.kernels._energies(b["nodes"], b["springs"], b["particles"], b["walls"], b["pairs"],
-                               b["shapes"], b["modal"], self.dt, en)
-        return en
+        self.kernels.advance_packed(self.kernels.SNAPSHOT, 1, -1, self.time, pack(b, output))
+        return b["stepping"].small[:6].copy()
 
     def compute_forces(self, t: float | None = None) -> Status:
         """Evaluate every force at time ``t`` (default: now) from the current positions and
