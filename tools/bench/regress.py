@@ -41,6 +41,8 @@ ROWS = {
                     "--accel-g", "0"],
     "settled_visco_512": ["--settled", "--n", "512", "--steps", "10000", "--repeat", "3",
                           "--e1", "5e6"],
+    "shaken_visco_512": ["--shaken", "--n", "512", "--steps", "10000", "--repeat", "3",
+                         "--e1", "5e6"],
     "sdof": ["--sdof"],
 }
 

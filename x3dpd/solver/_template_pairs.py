@@ -17,7 +17,8 @@ from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND,
                                             N_TANGENTIAL, NORMAL_CLAMPED, NORMAL_PAIR_FORCE,
                                             NORMAL_USES_RATE, HAS_ROLLING, ROLLING_TORQUE,
                                             TANGENTIAL_STORES)
-from x3dpd.solver.contact_lists import PAIR_COLUMNS, S_A, S_FN, S_FT, S_H
+from x3dpd.solver.contact_lists import (PAIR_COLUMNS, PAIR_INPUT_COLUMNS, PAIR_OUTPUT_COLUMNS,
+                                         S_A, S_FN, S_FT, S_H)
 
 # rows of the pair pass's column scratch (x3dpd.solver.contact_lists.PAIR_COLUMNS)
 C_FX, C_FY, C_FZ = (PAIR_COLUMNS.index(c) for c in ("fx", "fy", "fz"))
@@ -26,24 +27,46 @@ C_TJX, C_TJY, C_TJZ = (PAIR_COLUMNS.index(c) for c in ("tjx", "tjy", "tjz"))
 C_A, C_FN, C_DW, C_LOST, C_RMIN = (PAIR_COLUMNS.index(c) for c in ("a", "fn", "dw", "lost", "rmin"))
 C_FTX, C_FTY, C_FTZ = (PAIR_COLUMNS.index(c) for c in ("ftx", "fty", "ftz"))
 C_DX, C_DY, C_DZ = (PAIR_COLUMNS.index(c) for c in ("dx", "dy", "dz"))
+C_VIX, C_VIY, C_VIZ = (PAIR_COLUMNS.index(c) for c in ("vix", "viy", "viz"))
+C_WIX, C_WIY, C_WIZ = (PAIR_COLUMNS.index(c) for c in ("wix", "wiy", "wiz"))
+C_VJX, C_VJY, C_VJZ = (PAIR_COLUMNS.index(c) for c in ("vjx", "vjy", "vjz"))
+C_WJX, C_WJY, C_WJZ = (PAIR_COLUMNS.index(c) for c in ("wjx", "wjy", "wjz"))
+# the filter writes v_i, w_i (and v_j, w_j) into six consecutive rows each
+assert (C_WIZ - C_VIX, C_WJZ - C_VJX) == (5, 5)
+C_AOLD, C_FNOLD = (PAIR_COLUMNS.index(c) for c in ("a_old", "fn_old"))
+C_FTOX, C_FTOY, C_FTOZ = (PAIR_COLUMNS.index(c) for c in ("ftox", "ftoy", "ftoz"))
+# positions in the response's tuples of input and output columns (``_columns_in``, ``_out``)
+I_DX, I_DY, I_DZ, I_VIX, I_VIY, I_VIZ, I_WIX, I_WIY, I_WIZ, I_VJX, I_VJY, I_VJZ, I_WJX, I_WJY, \
+    I_WJZ, I_AOLD, I_FNOLD, I_FTOX, I_FTOY, I_FTOZ = range(len(PAIR_INPUT_COLUMNS))
+O_FX, O_FY, O_FZ, O_TIX, O_TIY, O_TIZ, O_TJX, O_TJY, O_TJZ, O_A, O_FN, O_FTX, O_FTY, O_FTZ, \
+    O_DW, O_LOST, O_RMIN = range(len(PAIR_OUTPUT_COLUMNS))
+#: the response reads the bodies' velocities (its normal law's rate, friction) and spins
+GATHER_VELOCITY = NORMAL_USES_RATE or HAS_FRICTION
+GATHER_SPIN = HAS_FRICTION or HAS_ROLLING
 
 
 @loop_kernel(inline="never")
-def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_):
+def _pair_filter(x, vel, p0, radius, pl_i, pl_j, pl_on, ps, npairs, busy, c, hist):
     """Pass 1 of the pair contacts: write into ``busy`` the candidates that touch now or had an
-    open contact and their x_j - x_i into ``dx_``, ``dy_``, ``dz_``; return how many.
+    open contact, and gather, in list order, what the contact response reads into the columns
+    of ``c`` (contact_lists.PAIR_INPUT_COLUMNS; column q for busy candidate q): x_j - x_i, the
+    velocities and spins of both particles (when the scene's laws read them), the state row's
+    approach, normal and friction force, and the laws' histories into ``hist`` (Maxwell terms,
+    then the tangential and rolling laws'; row q). Returns how many are busy.
 
-    A function of its own, not inlined: inside the step loop's single large function the
-    filter's array pointers spill to the stack and are reloaded for every candidate; here they
-    stay in registers (measured: 0.85 -> 0.80 us/step at 50 particles, 8.1 -> 7.2 at 512). It is
-    compiled without NRT like the loop, so the call passes its arrays without reference counting.
-    The wall filter gained nothing from the same treatment and stays inline.
+    Gathered here, the response reads contiguous 1-D columns only, no index: LLVM vectorizes
+    it without gathers. A function of its own, not inlined: inside the step loop's single
+    large function the filter's array pointers spill to the stack and are reloaded for every
+    candidate; here they stay in registers (measured: 0.85 -> 0.80 us/step at 50 particles,
+    8.1 -> 7.2 at 512). It is compiled without NRT like the loop, so the call passes its arrays
+    without reference counting.
 
     Indices are cast to unsigned: numba then omits the code that wraps negative indices around
     (four instructions per array access, most of this loop's instructions); list entries are
     never negative. Measured 0.80 -> 0.75 us/step at 50 particles.
     """
     nbusy = 0
+    tail = ps.shape[1] - CONTACT_TAIL
     for s in range(npairs):
         pi = np.uint64(pl_i[s])
         pj = np.uint64(pl_j[s])
@@ -54,47 +77,98 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_):
         dz = x[j, 2] - x[i, 2]
         cut = radius[pi] + radius[pj]
         if dx * dx + dy * dy + dz * dz < cut * cut or pl_on[s] != 0:
-            busy[nbusy] = s
-            dx_[nbusy] = dx
-            dy_[nbusy] = dy
-            dz_[nbusy] = dz
+            q = np.uint64(nbusy)
+            busy[q] = s
+            s = np.uint64(s)
+            c[C_DX, q] = dx
+            c[C_DY, q] = dy
+            c[C_DZ, q] = dz
+            c[C_AOLD, q] = ps[s, S_A]
+            c[C_FNOLD, q] = ps[s, S_FN]
+            # velocities (0-2) and spins (3-5) of both: rows vix .. wiz and vjx .. wjz
+            for k in range(0 if GATHER_VELOCITY else 3, 6 if GATHER_SPIN else 3):
+                c[C_VIX + k, q] = vel[i, k]
+                c[C_VJX + k, q] = vel[j, k]
+            if HAS_FRICTION:
+                c[C_FTOX, q] = ps[s, S_FT]
+                c[C_FTOY, q] = ps[s, S_FT + 1]
+                c[C_FTOZ, q] = ps[s, S_FT + 2]
+            if N_MAXWELL > 0:
+                for k in range(2 * N_MAXWELL):
+                    hist[q, k] = ps[s, S_H + k]
+            if CONTACT_TAIL > 0:
+                # the tangential and rolling laws' histories (the state row's last columns)
+                for k in range(CONTACT_TAIL):
+                    hist[q, 2 * N_MAXWELL + k] = ps[s, tail + k]
             nbusy += 1
     return nbusy
 
 
+@step_kernel
+def _columns_in(c):
+    """The rows of ``c`` the contact response reads, as a tuple (I_* positions): separate
+    arguments to it, so that its ``noalias`` covers each (x3dpd._jit.vector_kernel)."""
+    return (c[C_DX], c[C_DY], c[C_DZ], c[C_VIX], c[C_VIY], c[C_VIZ], c[C_WIX], c[C_WIY],
+            c[C_WIZ], c[C_VJX], c[C_VJY], c[C_VJZ], c[C_WJX], c[C_WJY], c[C_WJZ], c[C_AOLD],
+            c[C_FNOLD], c[C_FTOX], c[C_FTOY], c[C_FTOZ])
+
+
+@step_kernel
+def _columns_out(c):
+    """The rows of ``c`` the contact response writes, as a tuple (O_* positions)."""
+    return (c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
+            c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
+            c[C_RMIN])
+
+
 @vector_kernel
-def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, hist, dt,
-                   fx_, fy_, fz_, tix_, tiy_, tiz_, tjx_, tjy_, tjz_, a_, fn_, ftx_, fty_, ftz_,
-                   dw_, lost_, rmin_):
-    """Pass 2 of the pair contacts: the contact response of every busy candidate ``busy[:nbusy]``
-    (report Figure 41), written into columns (one entry per busy candidate; names in
-    x3dpd.solver.contact_lists.PAIR_COLUMNS) for pass 3 to apply.
+def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout):
+    """Pass 2 of the pair contacts: the contact response of every busy candidate (report
+    Figure 41), from the columns the filter gathered (``cin``, I_* positions; column q for busy
+    candidate q) into the columns ``cout`` (O_* positions; contact_lists.PAIR_OUTPUT_COLUMNS)
+    for pass 3 to apply.
 
     The normal law is the scene's (x3dpd.physics.normal_laws), with n = (x_j - x_i)/|x_j - x_i|
     and approach a = R_i + R_j - |x_j - x_i|; the tangential law with spin (``_tangential``, the
-    same as on walls) acts at the contact points
-    x_i + R_i n and x_j - R_j n. A candidate that no longer touches (a <= 0) gets F = 0; pass 3
-    closes it as a wall contact is closed (``_close_contact``). Nothing here writes the contact
-    state or the
-    forces -- pass 3 does, in list order -- so the loop has no stores through indices and LLVM
-    vectorizes it (x3dpd._jit.vector_kernel): the gathers of x and v become packed gathers, and
-    the square roots and divisions packed ones. Maxwell histories are read and written in
-    ``hist`` (row q: busy candidate q, Fortran order), filled from the state rows before this
-    pass and copied back by pass 3, so that they too are contiguous stores.
+    same as on walls) acts at the contact points x_i + R_i n and x_j - R_j n. A candidate that
+    no longer touches (a <= 0) gets F = 0; pass 3 closes it as a wall contact is closed
+    (``_close_contact``). Nothing here reads through an index or writes the contact state or
+    the forces -- pass 1 gathered, pass 3 applies, in list order -- so the loop reads and
+    writes contiguous 1-D columns only and LLVM vectorizes it (x3dpd._jit.vector_kernel):
+    packed square roots, divisions and multiply-adds, no gathers (tests/solver/
+    test_pair_columns.py checks the machine code). Histories (Maxwell terms, then the
+    tangential and rolling laws') are read and written in ``hist`` (row q, Fortran order: one
+    contiguous column per history value). Particles of several kinds gather their constants
+    by ``busy``, ``pl_i``, ``pl_j``; one kind reads them once.
     """
-    p0, radius, pkind, pair_c = particles.p0, particles.radius, particles.kind, particles.pair_c
+    radius, pkind = particles.radius, particles.kind
     gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
+    dx_, dy_, dz_ = cin[I_DX], cin[I_DY], cin[I_DZ]
+    vix_, viy_, viz_, wix_, wiy_, wiz_ = (cin[I_VIX], cin[I_VIY], cin[I_VIZ], cin[I_WIX],
+                                          cin[I_WIY], cin[I_WIZ])
+    vjx_, vjy_, vjz_, wjx_, wjy_, wjz_ = (cin[I_VJX], cin[I_VJY], cin[I_VJZ], cin[I_WJX],
+                                          cin[I_WJY], cin[I_WJZ])
+    a_old_, fn_old_ = cin[I_AOLD], cin[I_FNOLD]
+    ftox_, ftoy_, ftoz_ = cin[I_FTOX], cin[I_FTOY], cin[I_FTOZ]
+    fx_, fy_, fz_ = cout[O_FX], cout[O_FY], cout[O_FZ]
+    tix_, tiy_, tiz_ = cout[O_TIX], cout[O_TIY], cout[O_TIZ]
+    tjx_, tjy_, tjz_ = cout[O_TJX], cout[O_TJY], cout[O_TJZ]
+    a_, fn_, ftx_, fty_, ftz_ = cout[O_A], cout[O_FN], cout[O_FTX], cout[O_FTY], cout[O_FTZ]
+    dw_, lost_, rmin_ = cout[O_DW], cout[O_LOST], cout[O_RMIN]
+    # one kind: the friction and rolling constants of the pair, read once before the loop (in
+    # the loop LLVM sinks them into the law's branches and gathers them there, masked)
+    k0 = np.uint64(pkind[0])
+    m_t0, mu_s0, kappa0, mu_k0 = _friction_constants(particles, k0, k0)
+    lever0, inertia0 = particles.tan_pair[k0, k0, 2], particles.tan_pair[k0, k0, 3]
     for q in range(nbusy):
-        # unsigned indices, as in the filter: no wrap-around code for negative indices
-        s = np.uint64(busy[q])
-        i = np.uint64(p0 + pl_i[s])
-        j = np.uint64(p0 + pl_j[s])
         if HAS_ONE_PARTICLE_KIND:
             # all particles alike (x3dpd.solver.variants): their constants are read once,
             # not gathered per contact
             pi = np.uint64(0)
             pj = np.uint64(0)
         else:
+            # unsigned indices: no wrap-around code for negative indices
+            s = np.uint64(busy[q])
             pi = np.uint64(pl_i[s])
             pj = np.uint64(pl_j[s])
         dx = dx_[q]
@@ -104,8 +178,8 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
         rj = radius[pj]
         dist = math.sqrt(dx * dx + dy * dy + dz * dz)
         a = (ri + rj) - dist
-        a_old = ps[s, S_A]
-        fn_old = ps[s, S_FN]
+        a_old = a_old_[q]
+        fn_old = fn_old_[q]
         inv_dist = 1.0 / dist
         nx = dx * inv_dist
         ny = dy * inv_dist
@@ -114,20 +188,21 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
         ki = np.uint64(pkind[pi])
         kj = np.uint64(pkind[pj])
         touching = a > 0.0
-        fn = 0.0
-        a_from = a_old
-        if touching:
-            a_rate = 0.0
-            if NORMAL_USES_RATE:
-                a_rate = -(nx * (vel[j, 0] - vel[i, 0]) + ny * (vel[j, 1] - vel[i, 1])
-                           + nz * (vel[j, 2] - vel[i, 2]))
-            # Maxwell histories in the busy candidates' rows of ``hist`` (copied there from
-            # the state rows; pass 3 copies them back): row q, columns 0 ..
-            fn = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, hist, q, 0,
+        # the normal law for every busy candidate, its force kept for those that touch: a
+        # branch-free body, whose table reads are then loop-invariant loads (one kind) instead
+        # of masked gathers. A candidate apart gets F = 0; its law value (NaN under Hertz's
+        # a^1.5) and the histories of its row in ``hist`` are never applied (pass 3 closes it)
+        a_rate = 0.0
+        if NORMAL_USES_RATE:
+            a_rate = -(nx * (vjx_[q] - vix_[q]) + ny * (vjy_[q] - viy_[q])
+                       + nz * (vjz_[q] - viz_[q]))
+        # Maxwell histories in row q of ``hist``, columns 0 ..
+        fn_law = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, hist, q, 0,
                                    N_MAXWELL)
-            if NORMAL_CLAMPED and fn < 0.0:
-                fn = 0.0
-            a_from = _booked_from(a, a_old, a_rate, dt)
+        if NORMAL_CLAMPED and fn_law < 0.0:
+            fn_law = 0.0
+        fn = fn_law if touching else 0.0
+        a_from = _booked_from(a, a_old, a_rate, dt) if touching else a_old
         # work of the normal force over the step, 1/2 (F_old + F) (a - a_from), a_from = a_old
         # or, on the step a contact opens, its gap (_booked_from; pass 3 books it for touching
         # candidates only)
@@ -144,30 +219,26 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
         ftz = 0.0
         lost = 0.0
         if HAS_FRICTION:
-            wix = vel[i, 3]
-            wiy = vel[i, 4]
-            wiz = vel[i, 5]
-            wjx = vel[j, 3]
-            wjy = vel[j, 4]
-            wjz = vel[j, 5]
+            wix = wix_[q]
+            wiy = wiy_[q]
+            wiz = wiz_[q]
+            wjx = wjx_[q]
+            wjy = wjy_[q]
+            wjz = wjz_[q]
             # contact point velocities: i at +ri n, j at -rj n
-            vix = vel[i, 0] + ri * (wiy * nz - wiz * ny)
-            viy = vel[i, 1] + ri * (wiz * nx - wix * nz)
-            viz = vel[i, 2] + ri * (wix * ny - wiy * nx)
-            vjx = vel[j, 0] - rj * (wjy * nz - wjz * ny)
-            vjy = vel[j, 1] - rj * (wjz * nx - wjx * nz)
-            vjz = vel[j, 2] - rj * (wjx * ny - wjy * nx)
-            kappa = 0.0
-            mu_k = 0.0
-            if TANGENTIAL_STORES:
-                kappa = particles.tan_pair[ki, kj, 0]
-                mu_k = particles.tan_pair[ki, kj, 1]
-            # the tangential law's history in the busy candidates' rows of ``hist``, after the
-            # Maxwell terms (copied there from the state rows; pass 3 copies it back)
+            vix = vix_[q] + ri * (wiy * nz - wiz * ny)
+            viy = viy_[q] + ri * (wiz * nx - wix * nz)
+            viz = viz_[q] + ri * (wix * ny - wiy * nx)
+            vjx = vjx_[q] - rj * (wjy * nz - wjz * ny)
+            vjy = vjy_[q] - rj * (wjz * nx - wjx * nz)
+            vjz = vjz_[q] - rj * (wjx * ny - wjy * nx)
+            m_t, mu_s, kappa, mu_k = m_t0, mu_s0, kappa0, mu_k0
+            if not HAS_ONE_PARTICLE_KIND:
+                m_t, mu_s, kappa, mu_k = _friction_constants(particles, ki, kj)
+            # the tangential law's history in row q of ``hist``, after the Maxwell terms
             ftx, fty, ftz, lost, du = _tangential(vjx - vix, vjy - viy, vjz - viz, nx, ny, nz,
-                                                  fn, a, pair_c[ki, kj, 1], pair_c[ki, kj, 2],
-                                                  kappa, mu_k, dt, gamma, ps[s, S_FT],
-                                                  ps[s, S_FT + 1], ps[s, S_FT + 2], hist, q,
+                                                  fn, a, m_t, mu_s, kappa, mu_k, dt, gamma,
+                                                  ftox_[q], ftoy_[q], ftoz_[q], hist, q,
                                                   2 * N_MAXWELL)
             if TANGENTIAL_STORES:
                 # the spring's share of the slip work is stored, not lost
@@ -192,11 +263,12 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
         if HAS_ROLLING:
             # rolling resistance against the relative rolling w_i - w_j (x3dpd.physics.rolling):
             # M on i, -M on j (the columns are subtracted from the moments)
-            mx, my, mz, rolled = ROLLING_TORQUE(vel[i, 3] - vel[j, 3], vel[i, 4] - vel[j, 4],
-                                                vel[i, 5] - vel[j, 5], fn,
-                                                particles.tan_pair[ki, kj, 2],
-                                                particles.tan_pair[ki, kj, 3], dt, hist, q,
-                                                2 * N_MAXWELL + N_TANGENTIAL)
+            lever, inertia = lever0, inertia0
+            if not HAS_ONE_PARTICLE_KIND:
+                lever, inertia = particles.tan_pair[ki, kj, 2], particles.tan_pair[ki, kj, 3]
+            mx, my, mz, rolled = ROLLING_TORQUE(wix_[q] - wjx_[q], wiy_[q] - wjy_[q],
+                                                wiz_[q] - wjz_[q], fn, lever, inertia, dt, hist,
+                                                q, 2 * N_MAXWELL + N_TANGENTIAL)
             tix_[q] -= mx
             tiy_[q] -= my
             tiz_[q] -= mz
@@ -212,6 +284,19 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
         dw_[q] = dw
         lost_[q] = lost
         rmin_[q] = ri if ri < rj else rj
+
+
+@step_kernel
+def _friction_constants(particles, ki, kj):
+    """(m_t, mu_s, kappa, mu_k) of a pair of particle kinds: the tangential effective mass and
+    static mu (x3dpd.physics.mixing), the tangential law's stiffness constant and kinetic mu
+    (x3dpd.physics.tangential_laws.tangential_tables; 0 for a law without a spring)."""
+    kappa = 0.0
+    mu_k = 0.0
+    if TANGENTIAL_STORES:
+        kappa = particles.tan_pair[ki, kj, 0]
+        mu_k = particles.tan_pair[ki, kj, 1]
+    return particles.pair_c[ki, kj, 1], particles.pair_c[ki, kj, 2], kappa, mu_k
 
 
 @loop_kernel(inline="never")
@@ -293,31 +378,14 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     # pass 1, tight: the candidates that touch now or touched at the last step; most
     # candidates are apart and cost about 2 ns each
     c = pairs.columns
-    nbusy = _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, c[C_DX], c[C_DY],
-                         c[C_DZ])
     hist = pairs.history
-    if N_MAXWELL > 0:
-        # the busy candidates' Maxwell histories, row q for candidate q (pass 3 copies them back)
-        for q in range(nbusy):
-            s = np.uint64(busy[q])
-            for k in range(2 * N_MAXWELL):
-                hist[q, k] = ps[s, S_H + k]
-    if CONTACT_TAIL > 0:
-        # the tangential and rolling laws' histories, after the Maxwell terms (the state row's
-        # last columns)
-        for q in range(nbusy):
-            s = np.uint64(busy[q])
-            for k in range(CONTACT_TAIL):
-                hist[q, 2 * N_MAXWELL + k] = ps[s, ps.shape[1] - CONTACT_TAIL + k]
+    nbusy = _pair_filter(x, vel, p0, radius, pl_i, pl_j, pl_on, ps, npairs, busy, c, hist)
     if nbusy == 0:
         # nothing touches (a falling or sparse scene): skip the calls and their arguments
         return OK
-    # pass 2: the contact response, into columns
-    _pair_response(nbusy, busy, c[C_DX], c[C_DY], c[C_DZ], vel, particles, pl_i, pl_j, ps,
-                   hist, stepping.dt,
-                   c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
-                   c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
-                   c[C_RMIN])
+    # pass 2: the contact response, from columns into columns
+    _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, stepping.dt, _columns_in(c),
+                   _columns_out(c))
     # pass 3: states, forces and the ledger
     status, w_normal, w_fric = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, nodes.force,
                                            stepping.pen_limit, stepping.diag, c, hist)

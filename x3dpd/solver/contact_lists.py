@@ -14,8 +14,9 @@ import numpy as np
 
 from x3dpd._jit import kernel
 
-__all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "pair_columns", "history_columns",
-           "_active_flags", "_merge_states", "_pair_approach"]
+__all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "PAIR_INPUT_COLUMNS",
+           "PAIR_OUTPUT_COLUMNS", "pair_columns", "history_columns", "_active_flags",
+           "_merge_states", "_pair_approach"]
 
 # columns of a contact state row
 S_A = 0         # geometric approach at the last step (may be negative)
@@ -23,17 +24,25 @@ S_FN = 1        # applied normal force (>= 0)
 S_FT = 2        # friction force vector on the particle (i for pairs), 3 values
 S_H = 5         # Maxwell histories
 
-#: Rows of the pair pass's column scratch (``ContactList.columns``): what the vectorized
-#: contact response (``_pair_response`` in the step loop) hands to the scalar pass that applies
-#: it, one column entry per busy candidate.
-PAIR_COLUMNS = ("fx", "fy", "fz",            # force on particle j (minus on i)
-                "tix", "tiy", "tiz",         # r_i (n x F_t): subtracted from i's moment
-                "tjx", "tjy", "tjz",         # r_j (n x F_t): subtracted from j's moment
-                "a", "fn",                   # approach and applied normal force
-                "ftx", "fty", "ftz",         # friction force (the state's S_FT columns)
-                "dw", "lost",                # normal work and friction loss of the step
-                "rmin",                      # the smaller radius (penetration limit)
-                "dx", "dy", "dz")            # x_j - x_i (written by the filter)
+#: Rows of the pair pass's column scratch (``ContactList.columns``), one column entry per busy
+#: candidate. What the pair filter gathers for the contact response (``_pair_filter`` and
+#: ``_pair_response`` in the step loop), so that the response reads contiguous columns only:
+PAIR_INPUT_COLUMNS = ("dx", "dy", "dz",      # x_j - x_i
+                      "vix", "viy", "viz",   # velocity of particle i
+                      "wix", "wiy", "wiz",   # its angular velocity
+                      "vjx", "vjy", "vjz",   # velocity of particle j
+                      "wjx", "wjy", "wjz",   # its angular velocity
+                      "a_old", "fn_old",     # the state row's approach and normal force
+                      "ftox", "ftoy", "ftoz")  # and its friction force (S_FT)
+#: What the vectorized contact response hands to the scalar pass that applies it:
+PAIR_OUTPUT_COLUMNS = ("fx", "fy", "fz",           # force on particle j (minus on i)
+                       "tix", "tiy", "tiz",        # r_i (n x F_t): subtracted from i's moment
+                       "tjx", "tjy", "tjz",        # r_j (n x F_t): subtracted from j's moment
+                       "a", "fn",                  # approach and applied normal force
+                       "ftx", "fty", "ftz",        # friction force (the state's S_FT columns)
+                       "dw", "lost",               # normal work and friction loss of the step
+                       "rmin")                     # the smaller radius (penetration limit)
+PAIR_COLUMNS = PAIR_OUTPUT_COLUMNS + PAIR_INPUT_COLUMNS
 
 #: Padding of each column row: a row stride that is a multiple of 4096 bytes (a list
 #: capacity of 512, 1024 ...) maps all the columns onto the same L1 cache sets, more than its
