@@ -22,6 +22,7 @@ beam_*.inp), and the rebound is compared with closed forms computed here:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import pathlib
 import sys
@@ -31,6 +32,7 @@ import pytest
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
+from contact_reference import hertz_mindlin_impact
 from factories import STEEL_E, STEEL_NU, STEEL_R, floor_deck, pair_deck, sphere_mass
 
 import x3dpd
@@ -44,12 +46,20 @@ INERTIA = 0.4 * M * STEEL_R**2
 SPIN = 1.0 + M * STEEL_R**2 / INERTIA
 
 
-def _impact(law, degrees, *, mu=MU, t_end=8e-5, dt=DT, **kw):
+#: A HOOKE stiffness for the damped impacts [lbf/in]: a 27 us contact, 54 steps at DT.
+KN = 1.0e4
+
+
+def _impact(law, degrees, *, mu=MU, t_end=8e-5, dt=DT, hooke_e=None, **kw):
     """Rebound of the sphere (node 5) from the floor: (v_n in, v_t in, contact-point slip
-    out, normal speed out, kinetic energy in, kinetic energy out)."""
+    out, normal speed out, kinetic energy in, kinetic energy out). ``hooke_e``: the HOOKE law
+    (k_n = KN) with that restitution instead of Hertz."""
     vn = V * math.cos(math.radians(degrees))
     vt = V * math.sin(math.radians(degrees))
     deck = floor_deck(dt=dt, velocity=(vt, -vn, 0.0), mu=mu)
+    if hooke_e is not None:
+        from x3dpd.deck.cards import Hooke
+        deck = dataclasses.replace(deck, hooke=(Hooke(deck.pdmp[0].nodlim, KN, hooke_e),))
     res = x3dpd.run(deck, tmax=t_end, friction=law, **kw)
     v = res.trace.velocity[-1, 0]
     w = res.trace.spin[-1, 0]
@@ -75,29 +85,13 @@ def test_gross_sliding_matches_the_rigid_body_impulse(law):
 def _mindlin_reference(degrees, mu=MU, steps_per_dt=100):
     """The same Mindlin rules (x3dpd.physics.mindlin's docstring: force history, rescaled on
     unloading, Coulomb limit) on the rigid-body equations of a sphere on a rigid floor, with
-    the Hertz normal force, by symplectic Euler at DT/100: the contact point's slip and the
-    normal speed after the impact."""
-    e_star = STEEL_E / (1 - STEEL_NU**2)
-    g_star = STEEL_E / (2 * (1 + STEEL_NU)) / (2 - STEEL_NU)
-    k = 4.0 / 3.0 * e_star * math.sqrt(STEEL_R)
-    vn = V * math.cos(math.radians(degrees))
-    vt = V * math.sin(math.radians(degrees))
-    h = DT / steps_per_dt
-    d, ddot, u, w, f, k_old = 0.0, vn, vt, 0.0, 0.0, 0.0
-    while d >= 0.0 or ddot > 0.0:
-        fn = k * max(d, 0.0) ** 1.5
-        kt = 8.0 * g_star * math.sqrt(STEEL_R * max(d, 0.0))
-        if kt < k_old:
-            f *= kt / k_old
-        k_old = kt
-        f -= kt * (u + w * STEEL_R) * h
-        if abs(f) > mu * fn:
-            f = math.copysign(mu * fn, f)
-        ddot -= fn / M * h
-        d += ddot * h
-        u += f / M * h
-        w += f * STEEL_R / INERTIA * h
-    return u + w * STEEL_R, -ddot
+    the Hertz normal force, by symplectic Euler at DT/100 (tests/contact_reference.py): the
+    contact point's slip and the normal speed after the impact."""
+    slip, vn_out, _ = hertz_mindlin_impact(M, STEEL_R, STEEL_E, STEEL_NU, mu,
+                                           V * math.cos(math.radians(degrees)),
+                                           V * math.sin(math.radians(degrees)),
+                                           DT / steps_per_dt)
+    return slip, vn_out
 
 
 def test_the_contact_point_reverses_at_intermediate_angles():
@@ -137,6 +131,25 @@ def test_an_elastic_mindlin_impact_never_creates_energy():
             worst = max(worst, (ke_out - ke_in) / (0.5 * M * V * V))
             assert ke_out <= ke_in + 1e-6 * 0.5 * M * V * V, (mu, degrees)
     print(f"\nlargest change of the tangential energy {worst:.2e} of the impact's")
+
+
+def test_a_damped_mindlin_impact_never_creates_energy():
+    """Under the HOOKE law (e 0.5) the spring has its dashpot c_t = c_n sqrt(k_t/k_n)
+    (x3dpd.physics.hooke.tangential_damping): at every 10 deg from 10 to 80 and at 89, sliding
+    (mu 0.3) and sticking (mu 10), the tangential and rotational energy after the impact is not
+    above the tangential energy before (to 1e-6 of the impact's energy), and sticking, the
+    dashpot dissipates: the tangential motion keeps less than with the undamped spring
+    (e = 1)."""
+    total = 0.5 * M * V * V
+    for mu in (MU, 10.0):
+        for degrees in [*range(10, 90, 10), 89]:
+            *_, ke_in, ke_out, _ = _impact("mindlin", float(degrees), mu=mu, hooke_e=0.5)
+            assert ke_out <= ke_in + 1e-6 * total, (mu, degrees)
+    *_, ke_in, damped, _ = _impact("mindlin", 10.0, mu=10.0, hooke_e=0.5)
+    *_, ke_in, undamped, _ = _impact("mindlin", 10.0, mu=10.0, hooke_e=1.0)
+    print(f"\nsticking at 10 deg: tangential energy kept {damped / ke_in:.4f} damped, "
+          f"{undamped / ke_in:.4f} undamped")
+    assert damped < undamped - 0.05 * ke_in      # measured 0.716 against 0.796 of ke_in
 
 
 def test_the_ledger_closes_and_books_the_spring():

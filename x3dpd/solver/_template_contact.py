@@ -13,7 +13,7 @@ import math
 from x3dpd._jit import step_kernel
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ROLLING, N_MAXWELL, N_ROLLING,
                                             N_TANGENTIAL, ROLLING_TORQUE,
-                                            NORMAL_CLAMPED, NORMAL_STIFFNESS_SHAPE,
+                                            NORMAL_CLAMPED, NORMAL_DAMPED, NORMAL_STIFFNESS_SHAPE,
                                             NORMAL_USES_RATE, NORMAL_WALL_FORCE,
                                             TANGENTIAL_FORCE, TANGENTIAL_STORED_ENERGY,
                                             TANGENTIAL_STORES)
@@ -72,27 +72,32 @@ def _record_normal(states, on, s, a, a_old, fn, fn_old):
 
 
 @step_kernel
-def _tangential(vrx, vry, vrz, nx, ny, nz, fn, a, m_t, mu_s, kappa, mu_k, dt, gamma, fox, foy,
-                foz, h, row, col):
+def _tangential(vrx, vry, vrz, nx, ny, nz, fn, a, m_t, mu_s, kappa, mu_k, eta, dt, gamma, fox,
+                foy, foz, h, row, col):
     """The tangential response of a contact, wall or pair alike: the tangential force on the
     body whose contact point moves with v_r relative to the other, by the scene's tangential
     law TANGENTIAL_FORCE (x3dpd.physics.tangential_laws; report Eq. 29/30, or a spring with
     history such as Hertz-Mindlin). Splits v_r into normal and tangential parts; the law's
-    stiffness is k_t = ``kappa`` * the normal law's ``stiffness_shape(a)`` (formed only for a
-    law with a spring; ``kappa`` and ``mu_k`` from the tangential tables). F_old = (fox, foy,
-    foz), the last step's force; the law's history is ``h[row, col:]``. Returns (F_tx, F_ty,
-    F_tz, slip work, dU): the trapezoidal slip work -1/2 (F_old + F_t) . v_t dt taken from the
-    bodies, of which dU went into the law's stored energy (0 for Coulomb)."""
+    stiffness is k_t = ``kappa`` * the normal law's ``stiffness_shape(a)`` and its dashpot
+    c_t = ``eta`` sqrt(k_t) (formed only for a law with a spring, the dashpot only under a
+    damped normal law; ``kappa``, ``mu_k`` and ``eta`` from the tangential tables).
+    F_old = (fox, foy, foz), the last step's force; the law's history is ``h[row, col:]``.
+    Returns (F_tx, F_ty, F_tz, slip work, dU): the trapezoidal slip work
+    -1/2 (F_old + F_t) . v_t dt taken from the bodies, of which dU went into the law's stored
+    energy (0 for Coulomb)."""
     vn = vrx * nx + vry * ny + vrz * nz
     vtx = vrx - vn * nx
     vty = vry - vn * ny
     vtz = vrz - vn * nz
     vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
     kt = 0.0
+    ct = 0.0
     if TANGENTIAL_STORES and a > 0.0:
         kt = kappa * NORMAL_STIFFNESS_SHAPE(a)
+        if NORMAL_DAMPED:
+            ct = eta * math.sqrt(kt)
     ftx, fty, ftz, du = TANGENTIAL_FORCE(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k,
-                                         kt, dt, gamma, fox, foy, foz, h, row, col)
+                                         kt, ct, dt, gamma, fox, foy, foz, h, row, col)
     lost = -0.5 * ((fox + ftx) * vtx + (foy + fty) * vty + (foz + ftz) * vtz) * dt
     return ftx, fty, ftz, lost, du
 
@@ -195,11 +200,13 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
             vrz -= vel[n0, 3] * ly - vel[n0, 4] * lx
         kappa = 0.0
         mu_k = 0.0
+        eta = 0.0
         if TANGENTIAL_STORES:
             kappa = particles.tan_wall[p, 0]
             mu_k = particles.tan_wall[p, 1]
+            eta = particles.tan_wall[p, 4]
         ftx, fty, ftz, lost, du = _tangential(vrx, vry, vrz, nx, ny, nz, fn, a, 1.0 / inv_mt[p],
-                                              mu[p], kappa, mu_k, dt, gamma, ws[s, S_FT],
+                                              mu[p], kappa, mu_k, eta, dt, gamma, ws[s, S_FT],
                                               ws[s, S_FT + 1], ws[s, S_FT + 2], ws, s,
                                               ws.shape[1] - CONTACT_TAIL)
         ws[s, S_FT] = ftx

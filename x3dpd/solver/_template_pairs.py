@@ -159,14 +159,16 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
             vjz = vel[j, 2] - rj * (wjx * ny - wjy * nx)
             kappa = 0.0
             mu_k = 0.0
+            eta = 0.0
             if TANGENTIAL_STORES:
                 kappa = particles.tan_pair[ki, kj, 0]
                 mu_k = particles.tan_pair[ki, kj, 1]
+                eta = particles.tan_pair[ki, kj, 4]
             # the tangential law's history in the busy candidates' rows of ``hist``, after the
             # Maxwell terms (copied there from the state rows; pass 3 copies it back)
             ftx, fty, ftz, lost, du = _tangential(vjx - vix, vjy - viy, vjz - viz, nx, ny, nz,
                                                   fn, a, pair_c[ki, kj, 1], pair_c[ki, kj, 2],
-                                                  kappa, mu_k, dt, gamma, ps[s, S_FT],
+                                                  kappa, mu_k, eta, dt, gamma, ps[s, S_FT],
                                                   ps[s, S_FT + 1], ps[s, S_FT + 2], hist, q,
                                                   2 * N_MAXWELL)
             if TANGENTIAL_STORES:

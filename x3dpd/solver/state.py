@@ -167,8 +167,8 @@ class Setup:
     pair_c: np.ndarray  # (K, K, 3) per pair of kinds: Hertz factor, m_t, mu
     law_wall: np.ndarray  # (P, 2) normal-law constants on a wall (hooke: k_n, c_n)
     law_pair: np.ndarray  # (K, K, 2) normal-law constants per pair of kinds
-    tan_wall: np.ndarray  # (P, 4) on a wall: k_t constant, mu_k, rolling lever, rolling inertia
-    tan_pair: np.ndarray  # (K, K, 4) the same per pair of kinds
+    tan_wall: np.ndarray  # (P, 5) on a wall: k_t const, mu_k, rolling lever and inertia, eta
+    tan_pair: np.ndarray  # (K, K, 5) the same per pair of kinds
     n_tangential: int     # tangential + rolling history values per contact (end of each row)
     decay: np.ndarray
     half: np.ndarray
