@@ -156,10 +156,7 @@ def test_the_ledger_closes_and_books_the_spring():
     """A sticking-then-sliding impact (10 deg) at DT/16: the ledger's residual is the
     frictionless impact's (the Hertz integration's) to 1e-6 of the energy at every row -- the
     spring's energy counted as stored while the contact lasts, its losses as friction -- and
-    friction dissipates what the tangential motion lost. (What is left: the slip work of a
-    closing contact's last step, 1/2 F_t,old . v_t dt, is not booked, under any tangential
-    law; F_t,old <= mu F_N of the last step, so it falls as dt^2.5: 1.8e-4 of the energy at
-    the report's step, 1e-7 at DT/16.)"""
+    friction dissipates what the tangential motion lost."""
     dt = DT / 16
     vn, vt, slip, vn_out, ke_in, ke_out, res = _impact("mindlin", 10.0, dt=dt, t_end=3e-5)
     *_, bare = _impact("mindlin", 10.0, mu=0.0, dt=dt, t_end=3e-5)
@@ -168,6 +165,32 @@ def test_the_ledger_closes_and_books_the_spring():
     assert np.abs(e["residual"] - bare.energy["residual"]).max() < 1e-6 * total
     assert e["dissipated_friction"][-1] == pytest.approx(ke_in - ke_out, rel=1e-3)
     assert e["dissipated_friction"].min() > -1e-12 * total
+
+
+@pytest.mark.parametrize("law", ["coulomb", "regularized", "mindlin"])
+def test_the_last_step_slip_work_is_booked(law):
+    """At the report's step, under every tangential law, the ledger's residual after an oblique
+    impact (10 deg: sticks then slides; 45 deg) is the frictionless impact's (the Hertz
+    integration's: the floor's normal does not turn, so friction leaves the normal motion
+    alone) to 1e-9 of the impact's energy, and the pair impact's within 1e-5: the friction
+    force's work on the step a contact ends on, -1/2 F_t,old . v_t dt, is booked (it was not:
+    1.8e-4 of the energy at this step). A pair's normal turns with the tangential motion, so
+    its frictionless twin's trajectory, and Hertz integration error, differ (measured 1.0e-6
+    under coulomb)."""
+    total = 0.5 * M * V * V
+    for degrees in (10.0, 45.0):
+        *_, res = _impact(law, degrees, t_end=6e-5)
+        *_, bare = _impact(law, degrees, mu=0.0, t_end=6e-5)
+        gap = res.energy["residual"][-1] - bare.energy["residual"][-1]
+        print(f"\n{law} {degrees} deg: residual - frictionless {gap / total:.2e}")
+        assert abs(gap) < 1e-9 * total
+    positions = [(0.0, 0.0, 0.0), (1.7321 * STEEL_R, STEEL_R, 0.0)]
+    velocities = [(V, 0.0, 0.0), (0.0, 0.0, 0.0)]
+    res, bare = (x3dpd.run(pair_deck(positions, velocities, dt=DT, mu=mu), tmax=6e-5,
+                           friction=law) for mu in (MU, 0.0))
+    gap = res.energy["residual"][-1] - bare.energy["residual"][-1]
+    print(f"{law} pair: residual - frictionless {gap / total:.2e}")
+    assert abs(gap) < 1e-5 * total
 
 
 def test_a_restart_in_the_middle_of_the_contact_is_bit_identical(tmp_path):

@@ -171,8 +171,10 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
                                                   kappa, mu_k, eta, dt, gamma, ps[s, S_FT],
                                                   ps[s, S_FT + 1], ps[s, S_FT + 2], hist, q,
                                                   2 * N_MAXWELL)
-            if TANGENTIAL_STORES:
-                # the spring's share of the slip work is stored, not lost
+            if TANGENTIAL_STORES and touching:
+                # the spring's share of the slip work is stored, not lost (a candidate that
+                # no longer touches: lost is its last step's slip work, -1/2 F_old . v_t dt,
+                # and pass 3 books the spring's energy as it closes the contact)
                 dw += du
                 lost -= du
             fx += ftx
@@ -234,6 +236,9 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         s = np.uint64(busy[q])
         a = a_[q]
         if a <= 0.0:
+            if HAS_TORQUE and pl_on[s] != 0:
+                # the friction's and rolling's work of the step the contact ends on
+                w_fric += lost_[q]
             dw, released = _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
             w_normal += dw
             if TANGENTIAL_STORES:
