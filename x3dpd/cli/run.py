@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import click
 
+from x3dpd.api import FRICTION_LAWS
 from x3dpd.api.outputs import check_writable, default_paths as _default_paths
 from x3dpd.cli.progress import CompileTicker, Progress
 from x3dpd.cli.resume import resume_command
@@ -73,7 +74,7 @@ class RunOptions:
 @click.option("--restart", is_flag=True,
               help="Resume from <trace>.restart.npz (as IREST = 1 in the deck); with a later "
                    "--tmax, extends a finished run.")
-@click.option("--friction", type=click.Choice(["regularized", "coulomb", "mindlin"]), default=None,
+@click.option("--friction", type=click.Choice(FRICTION_LAWS), default=None,
               help="Tangential contact law for the whole run (docs/physics.md), over the deck's "
                    "FRICTION card  [default: the card's, else regularized]")
 @click.option("--energy-tolerance", type=click.FloatRange(min=0.0, min_open=True),
