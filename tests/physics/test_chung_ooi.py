@@ -10,7 +10,6 @@ time-step convergence. Every run uses STEPS_PER_CONTACT = 200 steps per normal c
 from __future__ import annotations
 
 import importlib.util
-import math
 import sys
 from pathlib import Path
 
@@ -20,7 +19,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests"))   # tests/: shared helpers
 
-from contact_reference import hertz_mindlin_impact  # noqa: E402
+from contact_reference import hertz_mindlin_impact, hooke_oblique_beta  # noqa: E402
 _spec = importlib.util.spec_from_file_location("chung_ooi", ROOT / "tools" / "chung_ooi.py")
 co = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(co)
@@ -117,38 +116,19 @@ def test_5_sticking_branch(tmp_path, material):
 
 def _sticking_reference(test: int, material: str, chi: float, steps: int) -> float:
     """beta of tests 6 (``test`` 6: sphere on the plane) and 8 (on an identical sphere) by a
-    slow, obviously correct integration of the same contact rules: the HOOKE normal force
-    k_n a + c_n da/dt (unclamped), the tangential spring k_t = 2(1-nu)/(2-nu) k_n with its
-    dashpot c_t = c_n sqrt(k_t/k_n) (x3dpd.physics.hooke.tangential_damping), Coulomb's limit
-    mu |F_N| (sliding: the spring takes the limited force), on the relative normal motion
-    (mass m* = m, or m/2) and the relative slip (1/m_t = 3.5/m, or 7/m), by symplectic Euler at
-    ``steps`` steps per contact."""
+    slow, obviously correct integration of the same contact rules
+    (tests/contact_reference.py, ``hooke_oblique_beta``): the HOOKE normal force, the tangential
+    spring with its dashpot c_t = c_n sqrt(k_t/k_n) (x3dpd.physics.hooke.tangential_damping),
+    Coulomb's limit, on the relative normal motion (mass m* = m, or m/2) and the relative slip
+    (1/m_t = 3.5/m, or 7/m), at ``steps`` steps per contact."""
     cfg = co.TESTS[test]
     r, e, mu, vn = cfg["radius"], cfg["e"], cfg["mu"], cfg["speed"]
-    nu = co.MATERIALS[material][1]
     m = co.sphere_mass(material, r)
     pair = test == 8
     m_n, inv_mt = (m / 2.0, 7.0 / m) if pair else (m, 3.5 / m)
-    kn = co.hooke_stiffness(material, r, vn, pair)
-    le = math.log(e)
-    zeta = -le / math.sqrt(math.pi**2 + le * le)
-    cn = 2.0 * zeta * math.sqrt(m_n * kn)
-    kt = 2.0 * (1.0 - nu) / (2.0 - nu) * kn
-    ct = cn * math.sqrt(kt / kn)
-    h = math.pi / (math.sqrt(kn / m_n) * math.sqrt(1.0 - zeta * zeta)) / steps
-    slip_in = 3.5 * mu * (1.0 + e) * vn / chi
-    a, a_dot, slip, spring = 0.0, vn, slip_in, 0.0
-    while True:
-        a += a_dot * h
-        if a <= 0.0:
-            return -slip / slip_in
-        fn = kn * a + cn * a_dot
-        spring -= kt * slip * h
-        f = spring - ct * slip
-        if abs(f) > mu * abs(fn):
-            f = spring = math.copysign(mu * abs(fn), f)
-        a_dot -= fn / m_n * h
-        slip += inv_mt * f * h
+    return hooke_oblique_beta(co.hooke_stiffness(material, r, vn, pair), e,
+                              co.MATERIALS[material][1], m_n, inv_mt, mu, vn,
+                              3.5 * mu * (1.0 + e) * vn / chi, steps)
 
 
 #: The sticking branch of tests 6 and 8 converges slowly in the step: as the unclamped HOOKE

@@ -60,7 +60,7 @@ import math
 from x3dpd._jit import step_kernel
 
 __all__ = ["N_HISTORY", "STORES_ENERGY", "H_STIFFNESS", "H_SLIDING", "tangential_force",
-           "stored_energy", "shear_modulus", "effective_shear_modulus_wall",
+           "stored_energy", "onto_tangent_plane", "shear_modulus", "effective_shear_modulus_wall",
            "effective_shear_modulus_pair"]
 
 #: History per contact: k_t of the last step [force/length], 1.0 while sliding else 0.0, the
@@ -101,6 +101,20 @@ def contact_time(normal_law, i, j, v: float) -> float:
 
 
 @step_kernel
+def onto_tangent_plane(vx, vy, vz, nx, ny, nz):
+    """A history vector v rotated onto the tangent plane of the unit normal n, its magnitude
+    kept: (v - (v.n) n) and the factor |v| / |v - (v.n) n| that restores the magnitude (0 for
+    a vector along n or zero), as a tangential law with history rotates what it keeps."""
+    old2 = vx * vx + vy * vy + vz * vz
+    vn = vx * nx + vy * ny + vz * nz
+    vx -= vn * nx
+    vy -= vn * ny
+    vz -= vn * nz
+    v2 = vx * vx + vy * vy + vz * vz
+    return vx, vy, vz, math.sqrt(old2 / v2) if v2 > 0.0 else 0.0
+
+
+@step_kernel
 def tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, ct, dt, gamma,
                      fox, foy, foz, h, row, col):
     """One step of the Mindlin spring and its dashpot (module docstring, steps 1-4). ``kt`` is
@@ -115,12 +129,7 @@ def tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, 
     old2 = sx * sx + sy * sy + sz * sz
     u_old = 0.5 * old2 / k_old if k_old > 0.0 else 0.0
     # 1. onto the current tangent plane, magnitude kept
-    son = sx * nx + sy * ny + sz * nz
-    sx -= son * nx
-    sy -= son * ny
-    sz -= son * nz
-    s2 = sx * sx + sy * sy + sz * sz
-    scale = math.sqrt(old2 / s2) if s2 > 0.0 else 0.0
+    sx, sy, sz, scale = onto_tangent_plane(sx, sy, sz, nx, ny, nz)
     # 2. unloading: F_s scales with k_t (mindlin_rescale/force)
     if kt < k_old:
         scale *= kt / k_old
