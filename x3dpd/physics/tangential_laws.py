@@ -37,7 +37,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from x3dpd.physics import coulomb, mindlin
+from x3dpd.physics import coulomb, linear_history, mindlin
 
 
 class TangentialLaw(NamedTuple):
@@ -52,6 +52,7 @@ TANGENTIAL_LAWS = {
     "regularized": TangentialLaw(coulomb, "regularized_tangential_force"),  # report Eq. 30
     "coulomb": TangentialLaw(coulomb, "coulomb_tangential_force"),          # report Eq. 29
     "mindlin": TangentialLaw(mindlin),   # Hertz-Mindlin spring with history (mindlin_rescale/force)
+    "linear_history": TangentialLaw(linear_history),   # LAMMPS's tangential linear_history
 }
 
 #: Columns of the tangential tables (``Particles.tan_wall``, ``tan_pair``): kappa, mu_k, the
