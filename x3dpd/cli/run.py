@@ -229,9 +229,12 @@ def format_summary(deck: str, s: dict) -> str:
         lab = labels_for(s.get("units"))
         lines.append(f"  energy ledger at t = {e['time']:.9g} {lab['time']} (energies in "
                      f"{lab['energy']})")
-        for name in ENERGY_COLUMNS[1:11]:
+        names = ENERGY_COLUMNS[1:11] + (("dissipated_rolling",) if "dissipated_rolling" in e
+                                        else ())
+        for name in names:
             lines.append(f"    {name:<24} {e[name]: .6e}")
-        total = e["dissipated_viscoelastic"] + e["dissipated_friction"] + e["dissipated_dampers"]
+        total = (e["dissipated_viscoelastic"] + e["dissipated_friction"] + e["dissipated_dampers"]
+                 + e.get("dissipated_rolling", 0.0))
         lines.append(f"    {'dissipated (total)':<24} {total: .6e}")
         lines.append(f"    {'residual':<24} {e['residual']: .6e} ({s['residual']:+.2e} of the "
                      f"energy scale {s['energy_scale']:.6g})")

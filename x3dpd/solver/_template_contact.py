@@ -37,6 +37,7 @@ L_WEXT = 0      # work of external forces and prescribed motions on the system
 L_WN = 1        # work absorbed by the normal contact forces (sum of 1/2 (F0+F1) da)
 L_DFRIC = 2     # energy dissipated by friction
 L_DDAMP = 3     # energy dissipated by structural dampers
+L_DROLL = 4     # energy dissipated by rolling resistance (a rolling law's scenes only)
 
 
 @step_kernel
@@ -176,8 +177,10 @@ def _wall_closing_work(nodes, particles, stepping, ws, s, p, nx, ny, nz, wall_no
     law at F_N = 0, whose torque is zero). Not booking it left ~1.8e-4 of an impact's energy
     out of the ledger at the report's step, under every tangential law. The geometry (n, the
     wall point's weights and lever) is the one located at this step; call before
-    ``_close_contact`` clears the row. Returns the energy dissipated [energy]."""
+    ``_close_contact`` clears the row. Returns the energy dissipated by friction and by rolling
+    resistance [energy]."""
     lost = 0.0
+    rolled = 0.0
     vel = nodes.vel
     i = particles.p0 + p
     dt = stepping.dt
@@ -191,8 +194,7 @@ def _wall_closing_work(nodes, particles, stepping, ws, s, p, nx, ny, nz, wall_no
         _, _, _, rolled = ROLLING_TORQUE(vel[i, 3], vel[i, 4], vel[i, 5], 0.0,
                                          particles.tan_wall[p, 2], particles.tan_wall[p, 3],
                                          dt, ws, s, ws.shape[1] - N_ROLLING)
-        lost += rolled
-    return lost
+    return lost, rolled
 
 
 @step_kernel
@@ -207,7 +209,7 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
     the weighted node point to the wall point, whose moment l x F then goes to the first node).
     A locator (``_locate_on_face``, an analytic wall's ``locate_parts``) supplies a, n,
     the weights and l. State row ``s`` of ``ws`` / ``on`` keeps the contact's history.
-    Returns (normal work, friction loss)."""
+    Returns (normal work, friction loss, rolling loss)."""
     vel, force = nodes.vel, nodes.force
     radius, mu, inv_mt = particles.radius, particles.mu, particles.inv_mt
     dt = stepping.dt
@@ -230,6 +232,7 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
     fn = NORMAL_WALL_FORCE(a, a_old, a_rate, p, particles, ws, s, S_H, N_MAXWELL)
     fn, dw = _record_normal(ws, on, s, a, _booked_from(a, a_old, a_rate, dt), fn, fn_old)
     lost = 0.0
+    rolled = 0.0
     fx = fn * nx
     fy = fn * ny
     fz = fn * nz
@@ -271,7 +274,6 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
         force[i, 3] += mx
         force[i, 4] += my
         force[i, 5] += mz
-        lost += rolled
     force[i, 0] += fx
     force[i, 1] += fy
     force[i, 2] += fz
@@ -284,4 +286,4 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
         force[n0, 3] -= ly * fz - lz * fy
         force[n0, 4] -= lz * fx - lx * fz
         force[n0, 5] -= lx * fy - ly * fx
-    return dw, lost
+    return dw, lost, rolled

@@ -10,7 +10,8 @@ import math
 import numpy as np
 
 from x3dpd._jit import loop_kernel, step_kernel, vector_kernel
-from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, L_DFRIC, L_WN, OK,
+from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, L_DFRIC, L_DROLL, L_WN,
+                                            OK,
                                             _booked_from, _close_contact, _penetration,
                                             _tangential)
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND, N_MAXWELL,
@@ -24,6 +25,7 @@ C_FX, C_FY, C_FZ = (PAIR_COLUMNS.index(c) for c in ("fx", "fy", "fz"))
 C_TIX, C_TIY, C_TIZ = (PAIR_COLUMNS.index(c) for c in ("tix", "tiy", "tiz"))
 C_TJX, C_TJY, C_TJZ = (PAIR_COLUMNS.index(c) for c in ("tjx", "tjy", "tjz"))
 C_A, C_FN, C_DW, C_LOST, C_RMIN = (PAIR_COLUMNS.index(c) for c in ("a", "fn", "dw", "lost", "rmin"))
+C_ROLLED = PAIR_COLUMNS.index("rolled")
 C_FTX, C_FTY, C_FTZ = (PAIR_COLUMNS.index(c) for c in ("ftx", "fty", "ftz"))
 C_DX, C_DY, C_DZ = (PAIR_COLUMNS.index(c) for c in ("dx", "dy", "dz"))
 
@@ -65,7 +67,7 @@ def _pair_filter(x, p0, radius, pl_i, pl_j, pl_on, npairs, busy, dx_, dy_, dz_):
 @vector_kernel
 def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, hist, dt,
                    fx_, fy_, fz_, tix_, tiy_, tiz_, tjx_, tjy_, tjz_, a_, fn_, ftx_, fty_, ftz_,
-                   dw_, lost_, rmin_):
+                   dw_, lost_, rmin_, rolled_):
     """Pass 2 of the pair contacts: the contact response of every busy candidate ``busy[:nbusy]``
     (report Figure 41), written into columns (one entry per busy candidate; names in
     x3dpd.solver.contact_lists.PAIR_COLUMNS) for pass 3 to apply.
@@ -207,7 +209,7 @@ def _pair_response(nbusy, busy, dx_, dy_, dz_, vel, particles, pl_i, pl_j, ps, h
             tjx_[q] += mx
             tjy_[q] += my
             tjz_[q] += mz
-            lost += rolled
+            rolled_[q] = rolled
         a_[q] = a
         fn_[q] = fn
         ftx_[q] = ftx
@@ -223,11 +225,14 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
     """Pass 3 of the pair contacts, in list order: the contact states, the forces on both
     particles and the ledger's sums from the columns ``c`` of ``_pair_response`` -- the same
     sums in the same order as a single scalar loop. Returns (status, normal work, friction
-    loss). Its own function, like the filter: inlined into the step loop, the column pointers
-    were reloaded from the stack at every contact (measured with tools/bench/profile_jit.py)."""
+    loss, rolling loss). Its own function, like the filter: inlined into the step loop, the
+    column pointers were reloaded from the stack at every contact (measured with
+    tools/bench/profile_jit.py)."""
     status = OK
     w_normal = 0.0
     w_fric = 0.0
+    w_roll = 0.0
+    rolled_ = c[C_ROLLED]
     fx_, fy_, fz_ = c[C_FX], c[C_FY], c[C_FZ]
     tix_, tiy_, tiz_, tjx_, tjy_, tjz_ = c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY], c[C_TJZ]
     a_, fn_, dw_, lost_, rmin_ = c[C_A], c[C_FN], c[C_DW], c[C_LOST], c[C_RMIN]
@@ -239,6 +244,8 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
             if HAS_TORQUE and pl_on[s] != 0:
                 # the friction's and rolling's work of the step the contact ends on
                 w_fric += lost_[q]
+                if HAS_ROLLING:
+                    w_roll += rolled_[q]
             dw, released = _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
             w_normal += dw
             if TANGENTIAL_STORES:
@@ -265,6 +272,8 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         fz = fz_[q]
         if HAS_TORQUE:
             w_fric += lost_[q]
+            if HAS_ROLLING:
+                w_roll += rolled_[q]
             ps[s, S_FT] = ftx_[q]
             ps[s, S_FT + 1] = fty_[q]
             ps[s, S_FT + 2] = ftz_[q]
@@ -280,7 +289,7 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         force[i, 0] -= fx
         force[i, 1] -= fy
         force[i, 2] -= fz
-    return status, w_normal, w_fric
+    return status, w_normal, w_fric, w_roll
 
 
 @step_kernel
@@ -324,10 +333,13 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
                    hist, stepping.dt,
                    c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
                    c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
-                   c[C_RMIN])
+                   c[C_RMIN], c[C_ROLLED])
     # pass 3: states, forces and the ledger
-    status, w_normal, w_fric = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, nodes.force,
-                                           stepping.pen_limit, stepping.diag, c, hist)
+    status, w_normal, w_fric, w_roll = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on,
+                                                   nodes.force, stepping.pen_limit,
+                                                   stepping.diag, c, hist)
     ledger[L_WN] += w_normal
     ledger[L_DFRIC] += w_fric
+    if HAS_ROLLING:
+        ledger[L_DROLL] += w_roll
     return status

@@ -32,6 +32,7 @@ PAIR_COLUMNS = ("fx", "fy", "fz",            # force on particle j (minus on i)
                 "a", "fn",                   # approach and applied normal force
                 "ftx", "fty", "ftz",         # friction force (the state's S_FT columns)
                 "dw", "lost",                # normal work and friction loss of the step
+                "rolled",                    # rolling resistance's loss of the step
                 "rmin",                      # the smaller radius (penetration limit)
                 "dx", "dy", "dz")            # x_j - x_i (written by the filter)
 
