@@ -129,7 +129,7 @@ def wall_records(deck, walls: str):
     CONTACT set with walls: its triangles and analytic walls) the material ``walls`` of the
     library x3dpd.materials (E and nu in the deck's units), with the particles' own friction
     coefficient (PCOF) so that only the compliance changes; ``"rigid"``: none (None)."""
-    from x3dpd.deck.cards import WallMat
+    from x3dpd.api.decks import WallMat
     from x3dpd.errors import InputError
     from x3dpd.materials import MaterialError, in_units
 
