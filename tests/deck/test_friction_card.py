@@ -57,6 +57,15 @@ def test_the_deck_names_the_registered_laws():
     assert set(ROLLING_LAWS) == set(ROLLING_REGISTRY)
 
 
+def test_the_run_option_offers_every_registered_law():
+    """``x3dpd run --friction`` takes its choices from the registry (a law's registration line
+    is all it takes; the option listed three names by hand)."""
+    from x3dpd.cli.run import run
+
+    option = next(p for p in run.params if p.name == "friction")
+    assert list(option.type.choices) == list(TANGENTIAL_LAWS)
+
+
 def test_parse_model_and_roundtrip(tmp_path):
     path = _deck(tmp_path, "FRICTION\n$ group law mu_s mu_k\n 4 mindlin 0.4 0.3 epsd 0.01\n"
                            " 5 MINDLIN 0.2 0.2\nEND\n")

@@ -10,12 +10,16 @@ time-step convergence. Every run uses STEPS_PER_CONTACT = 200 steps per normal c
 from __future__ import annotations
 
 import importlib.util
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tests"))   # tests/: shared helpers
+
+from contact_reference import hertz_mindlin_impact, hooke_oblique_beta  # noqa: E402
 _spec = importlib.util.spec_from_file_location("chung_ooi", ROOT / "tools" / "chung_ooi.py")
 co = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(co)
@@ -80,6 +84,76 @@ def test_6_and_8_gross_sliding_recoil(tmp_path, test):
     beta = point("aluminium alloy", co.T8_CHI[0], tmp_path)
     assert beta == pytest.approx(co.sliding_beta(co.T8_CHI[0], 0.5), abs=1e-3)
     assert beta == pytest.approx(co.T8_BETA[0], abs=0.02)   # the digitised paper point
+
+
+def _test5_reference(material: str, x: float, steps: int = 20000) -> float:
+    """Test 5's -R w'/(mu v_n) by a slow, obviously correct integration of Hertz-Mindlin on a
+    rigid plane (x3dpd.physics.mindlin's rules: force history, rescaled on unloading, Coulomb's
+    limit) on the rigid-body equations of the sphere, symplectic Euler at ``steps`` steps per
+    Hertz contact (it moves by 3e-4 from 5000; tests/contact_reference.py)."""
+    cfg = co.TESTS[5]
+    r, mu, vn = cfg["radius"], cfg["mu"], cfg["speed"]
+    young, nu, _ = co.MATERIALS[material]
+    h = co.hertz_wall(material, r, vn)["contact_time"] / steps
+    *_, w = hertz_mindlin_impact(co.sphere_mass(material, r), r, young, nu, mu, vn,
+                                 x * mu * vn, h)
+    return -abs(r * w) / (mu * vn)
+
+
+@pytest.mark.parametrize("material", ["steel", "polyethylene"])
+def test_5_sticking_branch(tmp_path, material):
+    """Below the plateau (v_t/(mu v_n) = 0.35 and 0.99: the contact sticks, then slides) the
+    final spin is the reference integration's of the same rules to 3 % (measured 1.5-2.0 % at
+    200 steps per contact: the stick-slip switches make the step loop first order, as in
+    tests/physics/test_mindlin.py). The paper's digitised curve is not the reference here
+    (docs/physics.md: it breaks the bound |R w'| <= (10/7) v_t at its first points)."""
+    for x in (co.T5_X[1], co.T5_X[3]):
+        ref = _test5_reference(material, x)
+        got = co.test5_point(material, x, tmp_path)
+        print(f"\ntest 5 {material} x {x}: {got:.5f}, reference {ref:.5f}")
+        assert got == pytest.approx(ref, rel=0.03)
+
+
+def _sticking_reference(test: int, material: str, chi: float, steps: int) -> float:
+    """beta of tests 6 (``test`` 6: sphere on the plane) and 8 (on an identical sphere) by a
+    slow, obviously correct integration of the same contact rules
+    (tests/contact_reference.py, ``hooke_oblique_beta``): the HOOKE normal force, the tangential
+    spring with its dashpot c_t = c_n sqrt(k_t/k_n) (x3dpd.physics.hooke.tangential_damping),
+    Coulomb's limit, on the relative normal motion (mass m* = m, or m/2) and the relative slip
+    (1/m_t = 3.5/m, or 7/m), at ``steps`` steps per contact."""
+    cfg = co.TESTS[test]
+    r, e, mu, vn = cfg["radius"], cfg["e"], cfg["mu"], cfg["speed"]
+    m = co.sphere_mass(material, r)
+    pair = test == 8
+    m_n, inv_mt = (m / 2.0, 7.0 / m) if pair else (m, 3.5 / m)
+    return hooke_oblique_beta(co.hooke_stiffness(material, r, vn, pair), e,
+                              co.MATERIALS[material][1], m_n, inv_mt, mu, vn,
+                              3.5 * mu * (1.0 + e) * vn / chi, steps)
+
+
+#: The sticking branch of tests 6 and 8 converges slowly in the step: as the unclamped HOOKE
+#: force turns from push to pull near the end of the contact, Coulomb's limit mu |F_N| passes
+#: through zero and releases the spring, and a step that does not land near that instant
+#: keeps part of it: at large chi (a small slip, a small spring force) the step must resolve
+#: mu |dF_N/dt| dt << |F_s|. At 200 steps per contact beta(chi = 24) is +0.003 (x3dpd and the
+#: reference alike), converged -0.127; at 20000 steps both are within 0.006 of the converged value.
+STICKING_STEPS = 20000
+
+
+@pytest.mark.parametrize("test", [6, 8])
+def test_6_and_8_sticking_branch(tmp_path, test):
+    """At chi = 7.8 and 24 (the contact sticks but at its ends) beta is the converged value of
+    the same rules (:func:`_sticking_reference` at 320000 steps per contact; it moves by 1e-3
+    from 80000) to 0.01 at STICKING_STEPS per contact -- the tangential dashpot reverses the
+    slip (beta < 0); without it beta is +0.16 at chi = 24. The paper's -0.32 is not reached:
+    docs/physics.md says why."""
+    point = co.test6_point if test == 6 else co.test8_point
+    for chi in (co.T8_CHI[-3], co.T8_CHI[-1]):
+        ref = _sticking_reference(test, "aluminium alloy", chi, 320000)
+        beta = point("aluminium alloy", chi, tmp_path, STICKING_STEPS)
+        print(f"\ntest {test} chi {chi}: beta {beta:+.4f}, reference {ref:+.4f}")
+        assert beta == pytest.approx(ref, abs=0.01)
+        assert beta < -0.05
 
 
 def test_7_spins_that_do_not_slip_stay(tmp_path):

@@ -22,12 +22,14 @@ beam_*.inp), and the rebound is compared with closed forms computed here:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
 
+from contact_reference import hertz_mindlin_impact
 from factories import STEEL_E, STEEL_NU, STEEL_R, floor_deck, pair_deck, sphere_mass
 
 import x3dpd
@@ -41,12 +43,20 @@ INERTIA = 0.4 * M * STEEL_R**2
 SPIN = 1.0 + M * STEEL_R**2 / INERTIA
 
 
-def _impact(law, degrees, *, mu=MU, t_end=8e-5, dt=DT, **kw):
+#: A HOOKE stiffness for the damped impacts [lbf/in]: a 27 us contact, 54 steps at DT.
+KN = 1.0e4
+
+
+def _impact(law, degrees, *, mu=MU, t_end=8e-5, dt=DT, hooke_e=None, **kw):
     """Rebound of the sphere (node 5) from the floor: (v_n in, v_t in, contact-point slip
-    out, normal speed out, kinetic energy in, kinetic energy out)."""
+    out, normal speed out, kinetic energy in, kinetic energy out). ``hooke_e``: the HOOKE law
+    (k_n = KN) with that restitution instead of Hertz."""
     vn = V * math.cos(math.radians(degrees))
     vt = V * math.sin(math.radians(degrees))
     deck = floor_deck(dt=dt, velocity=(vt, -vn, 0.0), mu=mu)
+    if hooke_e is not None:
+        from x3dpd.deck.cards import Hooke
+        deck = dataclasses.replace(deck, hooke=(Hooke(deck.pdmp[0].nodlim, KN, hooke_e),))
     res = x3dpd.run(deck, tmax=t_end, friction=law, **kw)
     v = res.trace.velocity[-1, 0]
     w = res.trace.spin[-1, 0]
@@ -72,29 +82,13 @@ def test_gross_sliding_matches_the_rigid_body_impulse(law):
 def _mindlin_reference(degrees, mu=MU, steps_per_dt=100):
     """The same Mindlin rules (x3dpd.physics.mindlin's docstring: force history, rescaled on
     unloading, Coulomb limit) on the rigid-body equations of a sphere on a rigid floor, with
-    the Hertz normal force, by symplectic Euler at DT/100: the contact point's slip and the
-    normal speed after the impact."""
-    e_star = STEEL_E / (1 - STEEL_NU**2)
-    g_star = STEEL_E / (2 * (1 + STEEL_NU)) / (2 - STEEL_NU)
-    k = 4.0 / 3.0 * e_star * math.sqrt(STEEL_R)
-    vn = V * math.cos(math.radians(degrees))
-    vt = V * math.sin(math.radians(degrees))
-    h = DT / steps_per_dt
-    d, ddot, u, w, f, k_old = 0.0, vn, vt, 0.0, 0.0, 0.0
-    while d >= 0.0 or ddot > 0.0:
-        fn = k * max(d, 0.0) ** 1.5
-        kt = 8.0 * g_star * math.sqrt(STEEL_R * max(d, 0.0))
-        if kt < k_old:
-            f *= kt / k_old
-        k_old = kt
-        f -= kt * (u + w * STEEL_R) * h
-        if abs(f) > mu * fn:
-            f = math.copysign(mu * fn, f)
-        ddot -= fn / M * h
-        d += ddot * h
-        u += f / M * h
-        w += f * STEEL_R / INERTIA * h
-    return u + w * STEEL_R, -ddot
+    the Hertz normal force, by symplectic Euler at DT/100 (tests/contact_reference.py): the
+    contact point's slip and the normal speed after the impact."""
+    slip, vn_out, _ = hertz_mindlin_impact(M, STEEL_R, STEEL_E, STEEL_NU, mu,
+                                           V * math.cos(math.radians(degrees)),
+                                           V * math.sin(math.radians(degrees)),
+                                           DT / steps_per_dt)
+    return slip, vn_out
 
 
 def test_the_contact_point_reverses_at_intermediate_angles():
@@ -136,14 +130,30 @@ def test_an_elastic_mindlin_impact_never_creates_energy():
     print(f"\nlargest change of the tangential energy {worst:.2e} of the impact's")
 
 
+def test_a_damped_mindlin_impact_never_creates_energy():
+    """Under the HOOKE law (e 0.5) the spring has its dashpot c_t = c_n sqrt(k_t/k_n)
+    (x3dpd.physics.hooke.tangential_damping): at every 10 deg from 10 to 80 and at 89, sliding
+    (mu 0.3) and sticking (mu 10), the tangential and rotational energy after the impact is not
+    above the tangential energy before (to 1e-6 of the impact's energy), and sticking, the
+    dashpot dissipates: the tangential motion keeps less than with the undamped spring
+    (e = 1)."""
+    total = 0.5 * M * V * V
+    for mu in (MU, 10.0):
+        for degrees in [*range(10, 90, 10), 89]:
+            *_, ke_in, ke_out, _ = _impact("mindlin", float(degrees), mu=mu, hooke_e=0.5)
+            assert ke_out <= ke_in + 1e-6 * total, (mu, degrees)
+    *_, ke_in, damped, _ = _impact("mindlin", 10.0, mu=10.0, hooke_e=0.5)
+    *_, ke_in, undamped, _ = _impact("mindlin", 10.0, mu=10.0, hooke_e=1.0)
+    print(f"\nsticking at 10 deg: tangential energy kept {damped / ke_in:.4f} damped, "
+          f"{undamped / ke_in:.4f} undamped")
+    assert damped < undamped - 0.05 * ke_in      # measured 0.716 against 0.796 of ke_in
+
+
 def test_the_ledger_closes_and_books_the_spring():
     """A sticking-then-sliding impact (10 deg) at DT/16: the ledger's residual is the
     frictionless impact's (the Hertz integration's) to 1e-6 of the energy at every row -- the
     spring's energy counted as stored while the contact lasts, its losses as friction -- and
-    friction dissipates what the tangential motion lost. (What is left: the slip work of a
-    closing contact's last step, 1/2 F_t,old . v_t dt, is not booked, under any tangential
-    law; F_t,old <= mu F_N of the last step, so it falls as dt^2.5: 1.8e-4 of the energy at
-    the report's step, 1e-7 at DT/16.)"""
+    friction dissipates what the tangential motion lost."""
     dt = DT / 16
     vn, vt, slip, vn_out, ke_in, ke_out, res = _impact("mindlin", 10.0, dt=dt, t_end=3e-5)
     *_, bare = _impact("mindlin", 10.0, mu=0.0, dt=dt, t_end=3e-5)
@@ -152,6 +162,32 @@ def test_the_ledger_closes_and_books_the_spring():
     assert np.abs(e["residual"] - bare.energy["residual"]).max() < 1e-6 * total
     assert e["dissipated_friction"][-1] == pytest.approx(ke_in - ke_out, rel=1e-3)
     assert e["dissipated_friction"].min() > -1e-12 * total
+
+
+@pytest.mark.parametrize("law", ["coulomb", "regularized", "mindlin"])
+def test_the_last_step_slip_work_is_booked(law):
+    """At the report's step, under every tangential law, the ledger's residual after an oblique
+    impact (10 deg: sticks then slides; 45 deg) is the frictionless impact's (the Hertz
+    integration's: the floor's normal does not turn, so friction leaves the normal motion
+    alone) to 1e-9 of the impact's energy, and the pair impact's within 1e-5: the friction
+    force's work on the step a contact ends on, -1/2 F_t,old . v_t dt, is booked (it was not:
+    1.8e-4 of the energy at this step). A pair's normal turns with the tangential motion, so
+    its frictionless twin's trajectory, and Hertz integration error, differ (measured 1.0e-6
+    under coulomb)."""
+    total = 0.5 * M * V * V
+    for degrees in (10.0, 45.0):
+        *_, res = _impact(law, degrees, t_end=6e-5)
+        *_, bare = _impact(law, degrees, mu=0.0, t_end=6e-5)
+        gap = res.energy["residual"][-1] - bare.energy["residual"][-1]
+        print(f"\n{law} {degrees} deg: residual - frictionless {gap / total:.2e}")
+        assert abs(gap) < 1e-9 * total
+    positions = [(0.0, 0.0, 0.0), (1.7321 * STEEL_R, STEEL_R, 0.0)]
+    velocities = [(V, 0.0, 0.0), (0.0, 0.0, 0.0)]
+    res, bare = (x3dpd.run(pair_deck(positions, velocities, dt=DT, mu=mu), tmax=6e-5,
+                           friction=law) for mu in (MU, 0.0))
+    gap = res.energy["residual"][-1] - bare.energy["residual"][-1]
+    print(f"{law} pair: residual - frictionless {gap / total:.2e}")
+    assert abs(gap) < 1e-5 * total
 
 
 def test_a_restart_in_the_middle_of_the_contact_is_bit_identical(tmp_path):

@@ -21,6 +21,7 @@ import reference as ref
 from factories import STEEL_E, STEEL_NU, STEEL_R, G, floor_deck, sphere_mass
 
 import x3dpd
+from x3dpd.api.traces import ENERGY_COLUMNS
 from x3dpd.deck.cards import Friction
 
 M = sphere_mass()
@@ -48,7 +49,27 @@ def test_a_rolling_sphere_decelerates_at_five_sevenths_mu_r_g(law):
     assert slope == pytest.approx(expected, rel=1e-3)
     # it rolls: the contact point's slip stays far below the speed
     assert np.abs(v + w * STEEL_R).max() < 1e-4 * V0
-    # the ledger books the rolling loss as friction: the kinetic energy lost, to 1e-3
+    # the ledger books the rolling loss in its own column: the torque's work mu_r R m g times
+    # the angle rolled, i.e. mu_r m g times the distance, to 1e-3; it is the kinetic energy
+    # lost (friction's column stays at the rolling contact's tiny slip), and the ledger closes
     e = res.energy
     ke = e["kinetic_translation"] + e["kinetic_rotation"]
-    assert e["dissipated_friction"][-1] == pytest.approx(ke[0] - ke[-1], rel=1e-3)
+    distance = res.trace.position[-1, 0, 0] - res.trace.position[0, 0, 0]
+    rolled = e["dissipated_rolling"]
+    assert rolled[-1] == pytest.approx(MU_R * M * G * distance, rel=1e-3)
+    assert rolled[-1] == pytest.approx(ke[0] - ke[-1], rel=1e-3)
+    assert abs(e["dissipated_friction"][-1]) < 1e-3 * rolled[-1]
+    assert np.abs(e["residual"]).max() < 1e-6 * ke[0]
+
+
+def test_the_rolling_column_is_there_only_with_a_rolling_law():
+    """A scene without a rolling law keeps the ledger's twelve columns (its energy files and
+    goldens are unchanged); with one, ``dissipated_rolling`` follows ``residual``."""
+    deck = floor_deck(dt=DT, height=STEEL_R - DELTA, velocity=(V0, 0.0, 0.0),
+                      omega=(0.0, 0.0, -V0 / STEEL_R), gravity=G, mu=0.3, spectator=False)
+    plain = x3dpd.run(deck, tmax=20 * DT)
+    assert plain.energy.columns == ENERGY_COLUMNS
+    rolling = dataclasses.replace(deck, friction=(Friction(4, "regularized", 0.3, 0.3, "epsd",
+                                                           MU_R),))
+    res = x3dpd.run(rolling, tmax=20 * DT)
+    assert res.energy.columns == (*ENERGY_COLUMNS, "dissipated_rolling")

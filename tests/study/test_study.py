@@ -117,3 +117,36 @@ def test_a_window_too_short_to_measure_says_so(tmp_path):
     res = run_study(str(DECKS / "beam_1.inp"), None, tmax=2e-6, dts=[2.5e-7, 5e-7],
                     fidelity=False)
     assert "longer --tmax" in res.verdict or "within" in res.verdict
+
+
+def test_wall_choices_run_the_library_material_on_every_cavity(tmp_path):
+    """``walls=("rigid", "acrylic")`` on the rigid-walled impact deck adds one run, its cavity
+    acrylic (x3dpd.materials: E 3.1 GPa, nu 0.37, in the deck's psi): its peak force is Hertz's
+    with the mixed modulus 1/E* = (1 - nu_s^2)/E_s + (1 - nu_w^2)/E_w, to 1e-3 (the rigid
+    deck's peak is Hertz's to 1e-4 at this step, above), and "rigid" is the deck's own walls,
+    not run twice."""
+    res = run_study(str(DECKS / "impact_wall.inp"), tmp_path / "out", tmax=6e-5,
+                    dts=[1e-9], walls=("rigid", "acrylic"), fidelity=False)
+    assert [r["setting"].walls for r in res.rows] == ["deck", "acrylic"]
+    e_wall, nu_wall = 3.1e9 / 6894.757293168361, 0.37          # Pa -> psi
+    e_star = 1.0 / ((1 - 0.33**2) / 30e6 + (1 - nu_wall**2) / e_wall)
+    soft = res.rows[1]
+    assert soft["setting"].label == "dt 1e-09 walls acrylic"
+    assert soft["peak_force"] == pytest.approx(
+        hertz_peak_force(e=e_star * (1 - 0.33**2)), rel=1e-3)
+    assert soft["cpu_s_per_sim_s"] > 0
+    with open(tmp_path / "out" / "study.csv") as f:
+        assert [r["walls"] for r in csv.DictReader(f)] == ["deck", "acrylic"]
+
+
+def test_wall_choices_refuse_an_unknown_material_and_a_hooke_deck(tmp_path):
+    argv = ["study", str(DECKS / "impact_wall.inp"), "--tmax", "1e-5", "--dt", "2e-9",
+            "--out", str(tmp_path / "s"), "--workers", "1", "--walls", "rigid,unobtainium"]
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    assert e.value.code == 2 and not (tmp_path / "s").exists()
+    argv = ["study", str(DECKS / "hooke_wall.inp"), "--tmax", "1e-5", "--dt", "2e-8",
+            "--out", str(tmp_path / "h"), "--workers", "1", "--walls", "acrylic"]
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    assert e.value.code == 2 and not (tmp_path / "h").exists()

@@ -17,6 +17,12 @@ from x3dpd.api.runner import run
 from x3dpd.errors import DeckError, InputError, TraceError, UnstableRunError, X3dpdError
 from x3dpd.io.energy import EnergyData, read_energy
 from x3dpd.io.trace import TraceData, read_trace
+from x3dpd.physics.tangential_laws import TANGENTIAL_LAWS
+
+#: The tangential laws a run can select (``run(friction=...)``, ``x3dpd run --friction``): the
+#: registry's names (x3dpd.physics.tangential_laws), so that a law's registration line is all
+#: it takes to offer it.
+FRICTION_LAWS = tuple(TANGENTIAL_LAWS)
 
 
 def load_deck(path: str | os.PathLike):
@@ -69,7 +75,8 @@ def rules_of_thumb(deck, *, usrfrc=(), motion=(), drive=None):
 
 
 __all__ = [
-    "Chunk", "DeckError", "EnergyData", "FinalState", "FittedStep", "InputError", "RunResult",
+    "Chunk", "DeckError", "EnergyData", "FRICTION_LAWS", "FinalState", "FittedStep",
+    "InputError", "RunResult",
     "TraceData", "TraceError", "UnstableRunError", "X3dpdError", "build", "check",
     "fit_time_step", "load_deck", "rules_of_thumb",
     "read_energy", "read_trace", "run",

@@ -183,7 +183,6 @@ def open_files(plan: RunPlan, *, friction, restart, overwrite, command) -> None:
     if not plan.writes:
         return
     from x3dpd.io.trace import sha256_file
-    from x3dpd.solver.simulation import ENERGY_COLUMNS
 
     sim, model, tmax = plan.sim, plan.model, plan.tmax
     plan.deck_sha = sha256_file(plan.deck_path) if os.path.isfile(plan.deck_path) else None
@@ -214,7 +213,7 @@ def open_files(plan: RunPlan, *, friction, restart, overwrite, command) -> None:
                              f"{meta['time']:.9g} s, not before TMAX {tmax:.9g} s: nothing to "
                              "run (give a larger --tmax)")
     plan.writer, plan.ewriter = open_outputs(plan.trace_path, plan.energy_path, sim, sidecar,
-                                             plan.meta, ENERGY_COLUMNS, overwrite=overwrite)
+                                             plan.meta, sim.energy_columns, overwrite=overwrite)
     if not plan.resume:
         try:  # a stale dump of an earlier run must not be resumed against this trace
             os.unlink(plan.dump_path)
@@ -254,11 +253,9 @@ def start_recording(plan: RunPlan, *, keep_trace: bool, fresh: bool):
     """Step 4: the recorder (rows kept in memory when ``keep_trace``) and the sink that writes
     rows to it and the open files; on a ``fresh`` start (no dump, no initial state) the row at
     t0. Returns (recorded node ids, recorder, sink)."""
-    from x3dpd.solver.simulation import ENERGY_COLUMNS
-
     sim, writer, stats = plan.sim, plan.writer, plan.stats
     ids = plan.model.node_ids[sim.trace_nodes]
-    recorder = Recorder(ids, ENERGY_COLUMNS, keep_trace)
+    recorder = Recorder(ids, sim.energy_columns, keep_trace)
     sink = Sink(writer, plan.ewriter, recorder)
     if plan.auto and plan.writes:  # the sidecar's record of the steps used, as of the last row
         sink.on_close = lambda: writer.describe(step=sim.step_record())
@@ -292,11 +289,10 @@ def step(plan: RunPlan, sink, ids, *, progress, stop, stop_every, handle_signals
 def summarise(plan: RunPlan, recorder, status: str) -> RunResult:
     """Step 6: the :class:`RunResult` of the run as it stands: its trace and energy ledger (when
     kept), the summary ``x3dpd run`` prints, and the final state a chained run continues from."""
-    from x3dpd.solver.simulation import ENERGY_COLUMNS
-
     sim = plan.sim
     summary = _summary(sim, plan.stats, status, plan.applied, plan.replaced, plan.trace_path,
-                       plan.energy_path, plan.dump_path if plan.writes else None, ENERGY_COLUMNS)
+                       plan.energy_path, plan.dump_path if plan.writes else None,
+                       sim.energy_columns)
     if plan.auto:
         auto_summary(summary, sim, plan.steps_before)
     final = FinalState(state=sim.state.copy(), deck_key=plan.key, dt=plan.dt, time=sim.time,

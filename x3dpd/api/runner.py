@@ -71,7 +71,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         driven once, not twice) or adds to it. Without ``usrfrc`` the deck's card applies.
     motion : sequence of str
         Prescribed motions (``"node=25,dof=1,amp=0.01,hz=37.21"``).
-    friction : "regularized", "coulomb" or "mindlin", optional
+    friction : a name of ``x3dpd.api.FRICTION_LAWS`` ("regularized", "coulomb" ...), optional
         The tangential contact law for the whole run (docs/physics.md), over the deck's
         FRICTION card; default the card's law, else "regularized".
     trace : path, optional

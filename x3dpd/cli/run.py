@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import click
 
+from x3dpd.api import FRICTION_LAWS
 from x3dpd.api.outputs import check_writable, default_paths as _default_paths
 from x3dpd.cli.progress import CompileTicker, Progress
 from x3dpd.cli.resume import resume_command
@@ -73,7 +74,7 @@ class RunOptions:
 @click.option("--restart", is_flag=True,
               help="Resume from <trace>.restart.npz (as IREST = 1 in the deck); with a later "
                    "--tmax, extends a finished run.")
-@click.option("--friction", type=click.Choice(["regularized", "coulomb", "mindlin"]), default=None,
+@click.option("--friction", type=click.Choice(FRICTION_LAWS), default=None,
               help="Tangential contact law for the whole run (docs/physics.md), over the deck's "
                    "FRICTION card  [default: the card's, else regularized]")
 @click.option("--energy-tolerance", type=click.FloatRange(min=0.0, min_open=True),
@@ -228,9 +229,12 @@ def format_summary(deck: str, s: dict) -> str:
         lab = labels_for(s.get("units"))
         lines.append(f"  energy ledger at t = {e['time']:.9g} {lab['time']} (energies in "
                      f"{lab['energy']})")
-        for name in ENERGY_COLUMNS[1:11]:
+        names = ENERGY_COLUMNS[1:11] + (("dissipated_rolling",) if "dissipated_rolling" in e
+                                        else ())
+        for name in names:
             lines.append(f"    {name:<24} {e[name]: .6e}")
-        total = e["dissipated_viscoelastic"] + e["dissipated_friction"] + e["dissipated_dampers"]
+        total = (e["dissipated_viscoelastic"] + e["dissipated_friction"] + e["dissipated_dampers"]
+                 + e.get("dissipated_rolling", 0.0))
         lines.append(f"    {'dissipated (total)':<24} {total: .6e}")
         lines.append(f"    {'residual':<24} {e['residual']: .6e} ({s['residual']:+.2e} of the "
                      f"energy scale {s['energy_scale']:.6g})")

@@ -75,10 +75,13 @@ def _scales(text: str | None) -> tuple:
 @click.option("--stiffness-scale", "stiffness", default=None, metavar="LIST",
               help="Also run softer contacts: the particles' moduli scaled by each of these "
                    "(e.g. 0.1,0.01), at the deck's step x scale^(-2/5).")
+@click.option("--walls", "walls", default=None, metavar="LIST",
+              help="Also run these walls on every cavity, comma-separated: rigid, or a "
+                   "material of `x3dpd materials` (e.g. rigid,acrylic,aluminium).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing study in DIR.")
 @click.option("-q", "--quiet", is_flag=True, help="Print the verdict only.")
 def study(deck, tmax, out, tol, workers, scheduler, dts, usrfrc, no_fidelity, stiffness,
-          overwrite, quiet):
+          walls, overwrite, quiet):
     """Measure what accuracy costs in time on DECK."""
     from x3dpd.study import run_study
     from x3dpd.study.report import table
@@ -95,7 +98,8 @@ def study(deck, tmax, out, tol, workers, scheduler, dts, usrfrc, no_fidelity, st
     result = run_study(deck, out, tmax=tmax, tol=_tolerance(tol), workers=n,
                        scheduler=scheduler, dts=_steps(dts), usrfrc=usrfrc,
                        overwrite=overwrite, progress=done, fidelity=not no_fidelity,
-                       stiffness=_scales(stiffness))
+                       stiffness=_scales(stiffness),
+                       walls=tuple((walls or "").split(",")))
     if not quiet:
         click.echo(table(result))
         click.echo(f"wrote {', '.join(result.files)}")

@@ -236,7 +236,7 @@ class Hooke:
 
 #: The FRICTION card's LAW and ROLL words: the names of x3dpd.physics.tangential_laws and
 #: x3dpd.physics.rolling (tests/deck/test_friction_card.py checks they agree).
-FRICTION_LAWS = ("coulomb", "regularized", "mindlin")
+FRICTION_LAWS = ("coulomb", "regularized", "mindlin", "linear_history")
 ROLLING_LAWS = ("none", "epsd")
 
 

@@ -1,7 +1,8 @@
 """The energy file: the solver's energy ledger as CSV, one row per trace output time.
 
 ``x3dpd run`` writes ``<deck stem>.energy.csv`` beside the trace. The first line is the header
-(:data:`x3dpd.solver.simulation.ENERGY_COLUMNS`)::
+(:data:`x3dpd.solver.simulation.ENERGY_COLUMNS`, and ``dissipated_rolling`` after ``residual``
+in a scene with a rolling-resistance law)::
 
     time,kinetic_translation,kinetic_rotation,gravity_potential,spring_energy,contact_energy,
     dissipated_viscoelastic,dissipated_friction,dissipated_dampers,external_work,total_energy,

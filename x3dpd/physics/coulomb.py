@@ -66,10 +66,10 @@ def coulomb_slip_coefficient(vt_norm: float, fn: float, mu: float, m_t: float,
 
 @step_kernel
 def regularized_tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt,
-                                 dt, gamma, fox, foy, foz, h, row, col):
+                                 ct, dt, gamma, fox, foy, foz, h, row, col):
     """F_t = -c(|v_t|) v_t with c of :func:`regularized_coulomb_slip_coefficient` (report
     Eq. 30), zero at slip speeds up to SLIP_FLOOR, with the report's one mu = ``mu_s``
-    (``mu_k``, ``kt``, the approach ``a``, the old force and the history are not used).
+    (``mu_k``, ``kt``, ``ct``, the approach ``a``, the old force and the history are not used).
     Returns (F_tx, F_ty, F_tz, change of stored energy = 0): the tangential-law signature of
     x3dpd.physics.tangential_laws."""
     if vt > SLIP_FLOOR:
@@ -79,8 +79,8 @@ def regularized_tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s
 
 
 @step_kernel
-def coulomb_tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, dt,
-                             gamma, fox, foy, foz, h, row, col):
+def coulomb_tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, ct,
+                             dt, gamma, fox, foy, foz, h, row, col):
     """F_t = -mu |F_N| v_t/|v_t| (report Eq. 29), zero at slip speeds up to SLIP_FLOOR; as
     :func:`regularized_tangential_force`."""
     if vt > SLIP_FLOOR:

@@ -35,7 +35,7 @@ from x3dpd._jit import step_kernel
 __all__ = ["CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "damping_ratio", "dashpot",
            "hooke_impact", "hooke_tables", "contact_time",
            "wall_force", "pair_force", "stored_energy", "stiffness_shape",
-           "tangential_stiffness"]
+           "tangential_stiffness", "tangential_damping"]
 
 #: The applied force is F itself, not max(0, F).
 CLAMPED = False
@@ -67,6 +67,16 @@ def hooke_impact(m_eff: float, k: float, e: float, v: float) -> tuple[float, flo
     return math.pi / omega_d, e * v
 
 
+def _contact_constants(i, j) -> tuple[float, float, float]:
+    """(m*, k_n, zeta) of particle ``i`` on a wall (``j`` None) or on ``j``, as the step loop
+    forms them (:func:`hooke_tables`)."""
+    if j is None:
+        return i.mass, i.stiffness, damping_ratio(i.restitution)
+    return (i.mass * j.mass / (i.mass + j.mass),
+            2.0 * i.stiffness * j.stiffness / (i.stiffness + j.stiffness),
+            0.5 * (damping_ratio(i.restitution) + damping_ratio(j.restitution)))
+
+
 def contact_time(i, j, v: float) -> float:
     """Duration [s] of a head-on impact of particle ``i`` on a rigid flat wall (``j`` None) or
     on particle ``j`` (x3dpd.physics.normal_laws.ContactBody): half a damped period,
@@ -74,12 +84,7 @@ def contact_time(i, j, v: float) -> float:
     uses (:func:`hooke_tables`): on a wall m* = m_i, k_n = k_i, zeta from e_i; between two
     particles m* = m_i m_j/(m_i + m_j), k_n = 2 k_i k_j/(k_i + k_j) and the mean of the two
     zetas. A linear contact lasts as long at any speed: ``v`` is not used."""
-    if j is None:
-        m_eff, k, zeta = i.mass, i.stiffness, damping_ratio(i.restitution)
-    else:
-        m_eff = i.mass * j.mass / (i.mass + j.mass)
-        k = 2.0 * i.stiffness * j.stiffness / (i.stiffness + j.stiffness)
-        zeta = 0.5 * (damping_ratio(i.restitution) + damping_ratio(j.restitution))
+    m_eff, k, zeta = _contact_constants(i, j)
     return math.pi / (math.sqrt(k / m_eff) * math.sqrt(1.0 - zeta * zeta))
 
 
@@ -93,6 +98,17 @@ def tangential_stiffness(i, j) -> float:
         return ratio(i) * i.stiffness
     kn = 2.0 * i.stiffness * j.stiffness / (i.stiffness + j.stiffness)
     return 0.5 * (ratio(i) + ratio(j)) * kn
+
+
+def tangential_damping(i, j) -> float:
+    """The constant eta [sqrt(mass)] of the tangential dashpot c_t = eta sqrt(k_t) of a HOOKE
+    contact (x3dpd.physics.mindlin): the normal dashpot's damping ratio and effective mass,
+    eta = 2 zeta sqrt(m*), so that c_t = 2 zeta sqrt(m* k_t) = c_n sqrt(k_t/k_n) -- the
+    tangential form of Tsuji, Tanaka & Ishida (1992) that EDEM's and Kratos DEM's Hertz-Mindlin
+    use (the same zeta, the same m*). m* and zeta as the normal law's (:func:`hooke_tables`):
+    on a wall m_i and zeta_i, between particles m_i m_j/(m_i + m_j) and the mean zeta."""
+    m_eff, _, zeta = _contact_constants(i, j)
+    return 2.0 * zeta * math.sqrt(m_eff)
 
 
 def peak_approach(i, j, v: float) -> float:

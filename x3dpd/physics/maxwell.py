@@ -43,7 +43,8 @@ from x3dpd.physics.wall_material import (mixed_modulus, mixed_shear_modulus,
 
 __all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update", "maxwell_terms",
            "CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "contact_time", "wall_force",
-           "pair_force", "stored_energy", "stiffness_shape", "tangential_stiffness"]
+           "pair_force", "stored_energy", "stiffness_shape", "tangential_stiffness",
+           "tangential_damping"]
 
 #: The step loop's normal law "lee_radok" (x3dpd.physics.normal_laws): the applied force is
 #: max(0, F) (report: "force set to zero when negative"); it does not read the approach rate;
@@ -87,6 +88,17 @@ def tangential_stiffness(i, j) -> float:
         return 8.0 * effective_shear_modulus_wall(i.modulus, i.poisson) * math.sqrt(i.radius)
     g = effective_shear_modulus_pair(i.modulus, i.poisson, j.modulus, j.poisson)
     return 8.0 * g * math.sqrt(effective_radius(i.radius, j.radius))
+
+
+def tangential_damping(i, j) -> float:
+    """No tangential dashpot under Lee & Radok's law: 0 (x3dpd.physics.mindlin). The law
+    loses energy by relaxation of the material (Maxwell terms, report 7.2.3), not by a
+    dashpot; its consistent tangential counterpart would relax the shear modulus of the
+    Mindlin spring with the same terms (the correspondence principle applied to Mindlin), not
+    add a dashpot with a damping ratio the report's law does not have. The report's model has
+    no tangential loss but Coulomb sliding, and its loss reaches the tangential force through
+    F_N in the Coulomb limit."""
+    return 0.0
 
 
 def peak_approach(i, j, v: float) -> float:

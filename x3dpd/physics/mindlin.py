@@ -13,33 +13,42 @@ supplies :math:`k_t` (its ``tangential_stiffness`` constant :math:`\kappa` times
 :math:`k_t = 2(1-\nu)/(2-\nu)\,k_n`, Mindlin's ratio :math:`k_t/k_n` of Hertz contacts.
 
 **Incremental form and the unloading rule** (LAMMPS ``tangential mindlin_rescale/force``). The
-history is the tangential force itself (the state row's :math:`F_t`, equivalently
-:math:`\xi = -F_t/k_t`) plus :math:`k_t` of the last step and a sliding flag. Each step
+history is the spring's force :math:`F_s` itself (equivalently :math:`\xi = -F_s/k_t`) plus
+:math:`k_t` of the last step and a sliding flag. Each step
 
-1. :math:`F_{old}` is rotated onto the current tangent plane, keeping its magnitude;
+1. :math:`F_s` is rotated onto the current tangent plane, keeping its magnitude;
 2. if the contact unloads (:math:`k_t < k_{t,old}`) it is rescaled,
-   :math:`F \leftarrow F\,k_t/k_{t,old}`;
-3. the trial force :math:`F^* = F - k_t v_t \Delta t` (:math:`v_t` the contact point's slip
-   velocity);
+   :math:`F_s \leftarrow F_s\,k_t/k_{t,old}`;
+3. the trial spring force :math:`F_s^* = F_s - k_t v_t \Delta t` (:math:`v_t` the contact
+   point's slip velocity) and the trial force :math:`F^* = F_s^* - c_t v_t` with the
+   tangential dashpot :math:`c_t` (below);
 4. Coulomb's limit: a sticking contact slides when :math:`|F^*| > \mu_s F_N`, a sliding one
    sticks again when :math:`|F^*| \le \mu_k F_N`; sliding,
-   :math:`F = \mu_k F_N\,F^*/|F^*|`.
+   :math:`F = \mu_k F_N\,F^*/|F^*|` and the spring takes that force, :math:`F_s = F` (the
+   dashpot rests while the contact slides, as in Kratos DEM's Hertz-Mindlin); sticking,
+   :math:`F = F^*` and :math:`F_s = F_s^*`.
 
-The stored energy is :math:`U = |F_t|^2/(2k_t)`. Why this rule: a spring whose stiffness changes
+The stored energy is :math:`U = |F_s|^2/(2k_t)`. Why this rule: a spring whose stiffness changes
 under it changes its energy without work. Stored as a displacement (``mindlin`` of LAMMPS),
 :math:`U = \tfrac12 k_t \xi^2` grows when the contact loads (:math:`k_t` grows at fixed
-:math:`\xi`): an elastic impact can create energy. Stored as a force, :math:`U = F^2/(2k_t)`
+:math:`\xi`): an elastic impact can create energy. Stored as a force, :math:`U = F_s^2/(2k_t)`
 falls when :math:`k_t` grows (loading, no rescale needed), and would grow when it falls; the
 rescale of step 2 makes :math:`U' = U\,k_t/k_{t,old} < U` instead. So no step of the rule adds
-energy: rotation keeps it, loading and unloading lower it, sliding dissipates (Thornton's
-Mindlin-Deresiewicz rules give the same bound at much more bookkeeping; this is what LAMMPS
-recommends for the same reason).
+energy: rotation keeps it, loading and unloading lower it, sliding and the dashpot dissipate
+(Thornton's Mindlin-Deresiewicz rules give the same bound at much more bookkeeping; this is
+what LAMMPS recommends for the same reason).
 
-**Damping**: none in the tangential direction. The report's Lee & Radok law is viscoelastic in
-the normal direction only (Section 7.2.3; its loss reaches the tangential force through
-:math:`F_N` in the Coulomb limit) and a HOOKE contact's restitution is a normal quantity; an
-elastic tangential spring keeps the ledger exact, and gross sliding (the damper's usual state)
-does not depend on it.
+**Damping** tied to the normal law's: :math:`c_t = \eta\sqrt{k_t}` with the normal law's
+``tangential_damping`` constant :math:`\eta`. Under HOOKE (:math:`F_N = k_n a + c_n\dot a`,
+:math:`c_n = 2\zeta\sqrt{m^* k_n}`) :math:`\eta = 2\zeta\sqrt{m^*}`, so
+:math:`c_t = 2\zeta\sqrt{m^* k_t} = c_n\sqrt{k_t/k_n}`: the same damping ratio and effective
+mass as the normal dashpot (Tsuji, Tanaka & Ishida 1992; EDEM's and Kratos DEM's Hertz-Mindlin;
+LAMMPS's ``damp_tangential`` x the normal damping with the factor fixed by the same ratio).
+Under the report's Lee & Radok law :math:`\eta = 0`: its loss is the material's relaxation
+(Maxwell terms, Section 7.2.3), not a dashpot with a damping ratio; the consistent tangential
+counterpart would relax the spring's shear modulus with the same terms, which x3dpd does not
+do (docs/physics.md says why it matters little for a damper). The dashpot's work is booked with
+the slip work as friction dissipation; the spring's energy as stored.
 
 Units: force, length, s (k_t in force/length).
 """
@@ -51,13 +60,15 @@ import math
 from x3dpd._jit import step_kernel
 
 __all__ = ["N_HISTORY", "STORES_ENERGY", "H_STIFFNESS", "H_SLIDING", "tangential_force",
-           "stored_energy", "shear_modulus", "effective_shear_modulus_wall",
+           "stored_energy", "onto_tangent_plane", "shear_modulus", "effective_shear_modulus_wall",
            "effective_shear_modulus_pair"]
 
-#: History per contact: k_t of the last step [force/length], 1.0 while sliding else 0.0.
-N_HISTORY = 2
+#: History per contact: k_t of the last step [force/length], 1.0 while sliding else 0.0, the
+#: spring's force F_s (3 values; the applied force F = F_s + the dashpot's is the state row's).
+N_HISTORY = 5
 H_STIFFNESS = 0
 H_SLIDING = 1
+H_SPRING = 2
 #: The spring stores elastic energy (the ledger's stored-energy term).
 STORES_ENERGY = True
 
@@ -90,29 +101,47 @@ def contact_time(normal_law, i, j, v: float) -> float:
 
 
 @step_kernel
-def tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, dt, gamma,
+def onto_tangent_plane(vx, vy, vz, nx, ny, nz):
+    """A history vector v rotated onto the tangent plane of the unit normal n, its magnitude
+    kept: (v - (v.n) n) and the factor |v| / |v - (v.n) n| that restores the magnitude (0 for
+    a vector along n or zero), as a tangential law with history rotates what it keeps."""
+    old2 = vx * vx + vy * vy + vz * vz
+    vn = vx * nx + vy * ny + vz * nz
+    vx -= vn * nx
+    vy -= vn * ny
+    vz -= vn * nz
+    v2 = vx * vx + vy * vy + vz * vz
+    return vx, vy, vz, math.sqrt(old2 / v2) if v2 > 0.0 else 0.0
+
+
+@step_kernel
+def tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, ct, dt, gamma,
                      fox, foy, foz, h, row, col):
-    """One step of the Mindlin spring (module docstring, steps 1-4). ``kt`` is this step's
-    stiffness k_t [force/length]; F_old = (fox, foy, foz); h[row, col] = k_t of the last step,
-    h[row, col + 1] the sliding flag (both updated). Returns (F_tx, F_ty, F_tz, U - U_old)."""
+    """One step of the Mindlin spring and its dashpot (module docstring, steps 1-4). ``kt`` is
+    this step's stiffness k_t [force/length], ``ct`` the dashpot [force*s/length];
+    h[row, col] = k_t of the last step, h[row, col + 1] the sliding flag, h[row, col + 2:5] the
+    spring's force (all updated; the applied force of the last step, ``fox``..., is not used).
+    Returns (F_tx, F_ty, F_tz, U - U_old)."""
     k_old = h[row, col + H_STIFFNESS]
-    old2 = fox * fox + foy * foy + foz * foz
+    sx = h[row, col + H_SPRING]
+    sy = h[row, col + H_SPRING + 1]
+    sz = h[row, col + H_SPRING + 2]
+    old2 = sx * sx + sy * sy + sz * sz
     u_old = 0.5 * old2 / k_old if k_old > 0.0 else 0.0
     # 1. onto the current tangent plane, magnitude kept
-    fon = fox * nx + foy * ny + foz * nz
-    fx = fox - fon * nx
-    fy = foy - fon * ny
-    fz = foz - fon * nz
-    f2 = fx * fx + fy * fy + fz * fz
-    scale = math.sqrt(old2 / f2) if f2 > 0.0 else 0.0
-    # 2. unloading: F scales with k_t (mindlin_rescale/force)
+    sx, sy, sz, scale = onto_tangent_plane(sx, sy, sz, nx, ny, nz)
+    # 2. unloading: F_s scales with k_t (mindlin_rescale/force)
     if kt < k_old:
         scale *= kt / k_old
-    # 3. trial force
-    fx = fx * scale - kt * vtx * dt
-    fy = fy * scale - kt * vty * dt
-    fz = fz * scale - kt * vtz * dt
-    # 4. Coulomb limit, static to start sliding, kinetic to go on
+    # 3. trial spring force, and with the dashpot the trial force
+    sx = sx * scale - kt * vtx * dt
+    sy = sy * scale - kt * vty * dt
+    sz = sz * scale - kt * vtz * dt
+    fx = sx - ct * vtx
+    fy = sy - ct * vty
+    fz = sz - ct * vtz
+    # 4. Coulomb limit, static to start sliding, kinetic to go on; sliding, the spring
+    # takes the whole force (the dashpot rests)
     ftrial = math.sqrt(fx * fx + fy * fy + fz * fz)
     fna = abs(fn)
     sliding = h[row, col + H_SLIDING] != 0.0
@@ -122,16 +151,26 @@ def tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, 
         fx *= r
         fy *= r
         fz *= r
+        sx = fx
+        sy = fy
+        sz = fz
         h[row, col + H_SLIDING] = 1.0
     else:
         h[row, col + H_SLIDING] = 0.0
     h[row, col + H_STIFFNESS] = kt
-    u = 0.5 * (fx * fx + fy * fy + fz * fz) / kt if kt > 0.0 else 0.0
+    h[row, col + H_SPRING] = sx
+    h[row, col + H_SPRING + 1] = sy
+    h[row, col + H_SPRING + 2] = sz
+    u = 0.5 * (sx * sx + sy * sy + sz * sz) / kt if kt > 0.0 else 0.0
     return fx, fy, fz, u - u_old
 
 
 @step_kernel
 def stored_energy(fx, fy, fz, h, row, col):
-    """U = |F_t|^2 / (2 k_t) of the spring after its last step [energy]."""
+    """U = |F_s|^2 / (2 k_t) of the spring after its last step [energy] (F_s from the history;
+    the applied force ``fx``... includes the dashpot's)."""
     k = h[row, col + H_STIFFNESS]
-    return 0.5 * (fx * fx + fy * fy + fz * fz) / k if k > 0.0 else 0.0
+    sx = h[row, col + H_SPRING]
+    sy = h[row, col + H_SPRING + 1]
+    sz = h[row, col + H_SPRING + 2]
+    return 0.5 * (sx * sx + sy * sy + sz * sz) / k if k > 0.0 else 0.0

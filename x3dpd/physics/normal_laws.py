@@ -13,7 +13,9 @@ the step chosen by accuracy) a law module also provides ``contact_time(i, j, v)`
 (``j`` None) or on particle ``j``, both :class:`ContactBody`; and ``CONTACT_NAME``, how the
 messages name that impact. For a tangential law with a spring (x3dpd.physics.mindlin) it provides
 ``tangential_stiffness(i, j)``, the constant kappa of k_t = kappa * ``stiffness_shape(a)``
-(compiled into the loop), and ``peak_approach(i, j, v)``, the largest approach of an impact
+(compiled into the loop), ``tangential_damping(i, j)``, the constant eta of the tangential
+dashpot c_t = eta * sqrt(k_t) that damps the spring as the law damps its normal spring (0 for
+an undamped law), and ``peak_approach(i, j, v)``, the largest approach of an impact
 (where the spring is stiffest, for the step estimate). Adding a law is a module plus a line here.
 """
 
@@ -38,7 +40,8 @@ NORMAL_LAW_API = ("wall_force", "pair_force", "stored_energy", "CLAMPED", "USES_
                   "stiffness_shape")
 
 #: What the checks read of a law module (never compiled into the loop).
-NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME", "tangential_stiffness", "peak_approach")
+NORMAL_LAW_CHECKS = ("contact_time", "CONTACT_NAME", "tangential_stiffness",
+                     "tangential_damping", "peak_approach")
 
 
 class ContactBody(NamedTuple):

@@ -11,7 +11,8 @@ angular velocity :math:`\\boldsymbol\\omega_r = \\boldsymbol\\omega_i - \\boldsy
   dissipated)``: the torque on body i (minus on j) from the applied normal force F_N, the
   contact's rolling lever ``lever`` = mu_r R* [length] and rolling inertia ``inertia`` =
   I_i I_j / (I_i + I_j) (a wall: I_i) [mass length^2], with its history ``h[row, col:]``; and
-  the energy it dissipated over the step (booked as friction in the ledger).
+  the energy it dissipated over the step (booked in the ledger's own column
+  ``dissipated_rolling``, which a scene with a rolling law has).
 
 ``none`` compiles nothing (the variant's ``HAS_ROLLING`` is False). Adding a law is a module
 plus a line here (docs/engine.md, "Adding a tangential or rolling law").

@@ -8,13 +8,16 @@ A law module provides
   in the vectorized pair pass they sit in the history scratch (one contiguous column per
   value, after the Maxwell terms), like the normal law's histories.
 * ``STORES_ENERGY``: whether the law keeps elastic energy in the contact (a tangential spring).
-* ``tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, dt, gamma,
+* ``tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, ct, dt, gamma,
   fox, foy, foz, h, row, col)`` -> ``(F_tx, F_ty, F_tz, dU)``: the tangential force on the
   body whose contact point slips with v_t (|v_t| = vt) relative to the other, given the unit
   normal n, the applied normal force F_N, the approach a, the tangential effective mass m_t,
   the static and kinetic friction coefficients, this step's tangential stiffness ``kt``
   (the normal law's ``tangential_stiffness`` constant times its ``stiffness_shape(a)``; only
-  formed for a law that ``STORES_ENERGY``), the step dt and gamma = 1/(2 dt); the last step's
+  formed for a law that ``STORES_ENERGY``), the tangential dashpot ``ct`` = eta sqrt(k_t)
+  [force*s/length] that matches the normal law's damping (its ``tangential_damping`` constant
+  eta; 0 under an undamped normal law: only formed for a law that ``STORES_ENERGY`` under a
+  ``DAMPED`` normal law), the step dt and gamma = 1/(2 dt); the last step's
   force F_old (``fox``...; the state row's S_FT columns);
   its history ``h[row, col:col + N_HISTORY]`` (read and written). dU is the change of the
   stored energy over the step: the step loop books it as elastic, the rest of the slip work
@@ -34,7 +37,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from x3dpd.physics import coulomb, mindlin
+from x3dpd.physics import coulomb, linear_history, mindlin
 
 
 class TangentialLaw(NamedTuple):
@@ -49,7 +52,12 @@ TANGENTIAL_LAWS = {
     "regularized": TangentialLaw(coulomb, "regularized_tangential_force"),  # report Eq. 30
     "coulomb": TangentialLaw(coulomb, "coulomb_tangential_force"),          # report Eq. 29
     "mindlin": TangentialLaw(mindlin),   # Hertz-Mindlin spring with history (mindlin_rescale/force)
+    "linear_history": TangentialLaw(linear_history),   # LAMMPS's tangential linear_history
 }
+
+#: Columns of the tangential tables (``Particles.tan_wall``, ``tan_pair``): kappa, mu_k, the
+#: rolling lever mu_r R*, the rolling inertia I_r, the dashpot constant eta.
+TANGENTIAL_COLUMNS = 5
 
 #: What the loop imports from a law module besides its force function.
 TANGENTIAL_LAW_API = ("stored_energy", "N_HISTORY", "STORES_ENERGY")
@@ -62,25 +70,29 @@ def n_history(name: str) -> int:
 
 def tangential_tables(name: str, normal_law, bodies, mu_kinetic, rep, rolling: str = "none",
                       mu_roll=None, inertia=None):
-    """The step loop's tangential and rolling constants ``(tan_wall (P, 4), tan_pair (K, K, 4))``
+    """The step loop's tangential and rolling constants ``(tan_wall (P, 5), tan_pair (K, K, 5))``
     of every particle on a rigid wall and of every pair of particle kinds (representatives
     ``rep``): the normal law's ``tangential_stiffness`` constant kappa, the kinetic friction
-    coefficient, the rolling lever mu_r R* [length] and the rolling inertia I_r [mass length^2]
-    (x3dpd.physics.rolling). A pair's mu_k and mu_r are the means of the two; its R* and I_r
-    the series values. ``bodies``: the particles' x3dpd.physics.normal_laws.ContactBody;
-    ``inertia`` their moments of inertia. Columns a scene's laws do not read stay zero."""
+    coefficient, the rolling lever mu_r R* [length], the rolling inertia I_r [mass length^2]
+    (x3dpd.physics.rolling) and the normal law's ``tangential_damping`` constant eta
+    [sqrt(mass)] of the dashpot c_t = eta sqrt(k_t). A pair's mu_k and mu_r are the means of
+    the two; its R* and I_r the series values. ``bodies``: the particles'
+    x3dpd.physics.normal_laws.ContactBody; ``inertia`` their moments of inertia. Columns a
+    scene's laws do not read stay zero."""
     import numpy as np
 
     mu_k = np.asarray(mu_kinetic, dtype=np.float64)
-    wall = np.zeros((len(bodies), 4))
-    pair = np.zeros((len(rep), len(rep), 4))
+    wall = np.zeros((len(bodies), TANGENTIAL_COLUMNS))
+    pair = np.zeros((len(rep), len(rep), TANGENTIAL_COLUMNS))
     if TANGENTIAL_LAWS[name].module.STORES_ENERGY:
-        stiffness = normal_law.tangential_stiffness
+        stiffness, damping = normal_law.tangential_stiffness, normal_law.tangential_damping
         wall[:, 0] = [stiffness(b, None) for b in bodies]
         wall[:, 1] = mu_k
+        wall[:, 4] = [damping(b, None) for b in bodies]
         for a, p in enumerate(rep):
             for b, q in enumerate(rep):
                 pair[a, b, :2] = stiffness(bodies[p], bodies[q]), 0.5 * (mu_k[p] + mu_k[q])
+                pair[a, b, 4] = damping(bodies[p], bodies[q])
     if rolling != "none":
         mu_r = np.asarray(mu_roll, dtype=np.float64)
         radius = np.array([b.radius for b in bodies])

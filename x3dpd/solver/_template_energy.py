@@ -11,8 +11,9 @@ from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.physics.modal import _modal_energies
 from x3dpd.physics.rotational_spring import _rotational_spring_energy
 from x3dpd.physics.spring_damper import _spring_energy
-from x3dpd.solver._template_contact import CONTACT_TAIL, L_DDAMP, L_DFRIC, L_WEXT, L_WN
-from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_MODAL, HAS_PAIRS,
+from x3dpd.solver._template_contact import (CONTACT_TAIL, L_DDAMP, L_DFRIC, L_DROLL, L_WEXT,
+                                            L_WN)
+from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_MODAL, HAS_PAIRS, HAS_ROLLING,
                                             HAS_ROTATIONAL_SPRINGS, HAS_SHAPES, HAS_SPRINGS,
                                             HAS_VISCOELASTIC, HAS_WALLS,
                                             NORMAL_DAMPED, NORMAL_STORED_ENERGY,
@@ -100,7 +101,9 @@ def _tangential_energy(states, s):
 
 @step_kernel
 def _ledger_row(t, en, ledger, e_ref, row):
-    """row = t, KE_t, KE_r, U_g, U_s, U_c, D_visc, D_fric, D_damp, W_ext, E_total, residual.
+    """row = t, KE_t, KE_r, U_g, U_s, U_c, D_visc, D_fric, D_damp, W_ext, E_total, residual
+    (and D_roll, the rolling resistance's dissipation, in a scene with a rolling law: its row
+    has that 13th column, x3dpd.solver.simulation.energy_columns).
 
     D_visc = W_N - U_c when contacts are viscoelastic or damped (absorbed minus still stored);
     elastic
@@ -119,3 +122,6 @@ def _ledger_row(t, en, ledger, e_ref, row):
     e_total = en[0] + en[1] + en[2] + en[3] + en[4]
     row[10] = e_total
     row[11] = (e_total - en[5]) - e_ref + row[6] + row[7] + row[8] - row[9]
+    if HAS_ROLLING:
+        row[12] = ledger[L_DROLL]
+        row[11] += row[12]

@@ -10,7 +10,8 @@ import math
 import numpy as np
 
 from x3dpd._jit import loop_kernel, step_kernel, vector_kernel
-from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, L_DFRIC, L_WN, OK,
+from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, L_DFRIC, L_DROLL, L_WN,
+                                            OK,
                                             _booked_from, _close_contact, _penetration,
                                             _tangential)
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND, N_MAXWELL,
@@ -25,6 +26,7 @@ C_FX, C_FY, C_FZ = (PAIR_COLUMNS.index(c) for c in ("fx", "fy", "fz"))
 C_TIX, C_TIY, C_TIZ = (PAIR_COLUMNS.index(c) for c in ("tix", "tiy", "tiz"))
 C_TJX, C_TJY, C_TJZ = (PAIR_COLUMNS.index(c) for c in ("tjx", "tjy", "tjz"))
 C_A, C_FN, C_DW, C_LOST, C_RMIN = (PAIR_COLUMNS.index(c) for c in ("a", "fn", "dw", "lost", "rmin"))
+C_ROLLED = PAIR_COLUMNS.index("rolled")
 C_FTX, C_FTY, C_FTZ = (PAIR_COLUMNS.index(c) for c in ("ftx", "fty", "ftz"))
 C_DX, C_DY, C_DZ = (PAIR_COLUMNS.index(c) for c in ("dx", "dy", "dz"))
 C_VIX, C_VIY, C_VIZ = (PAIR_COLUMNS.index(c) for c in ("vix", "viy", "viz"))
@@ -39,7 +41,7 @@ C_FTOX, C_FTOY, C_FTOZ = (PAIR_COLUMNS.index(c) for c in ("ftox", "ftoy", "ftoz"
 I_DX, I_DY, I_DZ, I_VIX, I_VIY, I_VIZ, I_WIX, I_WIY, I_WIZ, I_VJX, I_VJY, I_VJZ, I_WJX, I_WJY, \
     I_WJZ, I_AOLD, I_FNOLD, I_FTOX, I_FTOY, I_FTOZ = range(len(PAIR_INPUT_COLUMNS))
 O_FX, O_FY, O_FZ, O_TIX, O_TIY, O_TIZ, O_TJX, O_TJY, O_TJZ, O_A, O_FN, O_FTX, O_FTY, O_FTZ, \
-    O_DW, O_LOST, O_RMIN = range(len(PAIR_OUTPUT_COLUMNS))
+    O_DW, O_LOST, O_ROLLED, O_RMIN = range(len(PAIR_OUTPUT_COLUMNS))
 #: the response reads the bodies' velocities (its normal law's rate, friction) and spins
 GATHER_VELOCITY = NORMAL_USES_RATE or HAS_FRICTION
 GATHER_SPIN = HAS_FRICTION or HAS_ROLLING
@@ -118,7 +120,7 @@ def _columns_out(c):
     """The rows of ``c`` the contact response writes, as a tuple (O_* positions)."""
     return (c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
             c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
-            c[C_RMIN])
+            c[C_ROLLED], c[C_RMIN])
 
 
 @vector_kernel
@@ -154,11 +156,11 @@ def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout):
     tix_, tiy_, tiz_ = cout[O_TIX], cout[O_TIY], cout[O_TIZ]
     tjx_, tjy_, tjz_ = cout[O_TJX], cout[O_TJY], cout[O_TJZ]
     a_, fn_, ftx_, fty_, ftz_ = cout[O_A], cout[O_FN], cout[O_FTX], cout[O_FTY], cout[O_FTZ]
-    dw_, lost_, rmin_ = cout[O_DW], cout[O_LOST], cout[O_RMIN]
+    dw_, lost_, rolled_, rmin_ = cout[O_DW], cout[O_LOST], cout[O_ROLLED], cout[O_RMIN]
     # one kind: the friction and rolling constants of the pair, read once before the loop (in
     # the loop LLVM sinks them into the law's branches and gathers them there, masked)
     k0 = np.uint64(pkind[0])
-    m_t0, mu_s0, kappa0, mu_k0 = _friction_constants(particles, k0, k0)
+    m_t0, mu_s0, kappa0, mu_k0, eta0 = _friction_constants(particles, k0, k0)
     lever0, inertia0 = particles.tan_pair[k0, k0, 2], particles.tan_pair[k0, k0, 3]
     for q in range(nbusy):
         if HAS_ONE_PARTICLE_KIND:
@@ -232,16 +234,18 @@ def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout):
             vjx = vjx_[q] - rj * (wjy * nz - wjz * ny)
             vjy = vjy_[q] - rj * (wjz * nx - wjx * nz)
             vjz = vjz_[q] - rj * (wjx * ny - wjy * nx)
-            m_t, mu_s, kappa, mu_k = m_t0, mu_s0, kappa0, mu_k0
+            m_t, mu_s, kappa, mu_k, eta = m_t0, mu_s0, kappa0, mu_k0, eta0
             if not HAS_ONE_PARTICLE_KIND:
-                m_t, mu_s, kappa, mu_k = _friction_constants(particles, ki, kj)
+                m_t, mu_s, kappa, mu_k, eta = _friction_constants(particles, ki, kj)
             # the tangential law's history in row q of ``hist``, after the Maxwell terms
             ftx, fty, ftz, lost, du = _tangential(vjx - vix, vjy - viy, vjz - viz, nx, ny, nz,
-                                                  fn, a, m_t, mu_s, kappa, mu_k, dt, gamma,
+                                                  fn, a, m_t, mu_s, kappa, mu_k, eta, dt, gamma,
                                                   ftox_[q], ftoy_[q], ftoz_[q], hist, q,
                                                   2 * N_MAXWELL)
-            if TANGENTIAL_STORES:
-                # the spring's share of the slip work is stored, not lost
+            if TANGENTIAL_STORES and touching:
+                # the spring's share of the slip work is stored, not lost (a candidate that
+                # no longer touches: lost is its last step's slip work, -1/2 F_old . v_t dt,
+                # and pass 3 books the spring's energy as it closes the contact)
                 dw += du
                 lost -= du
             fx += ftx
@@ -275,7 +279,7 @@ def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout):
             tjx_[q] += mx
             tjy_[q] += my
             tjz_[q] += mz
-            lost += rolled
+            rolled_[q] = rolled
         a_[q] = a
         fn_[q] = fn
         ftx_[q] = ftx
@@ -288,15 +292,18 @@ def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout):
 
 @step_kernel
 def _friction_constants(particles, ki, kj):
-    """(m_t, mu_s, kappa, mu_k) of a pair of particle kinds: the tangential effective mass and
-    static mu (x3dpd.physics.mixing), the tangential law's stiffness constant and kinetic mu
-    (x3dpd.physics.tangential_laws.tangential_tables; 0 for a law without a spring)."""
+    """(m_t, mu_s, kappa, mu_k, eta) of a pair of particle kinds: the tangential effective mass
+    and static mu (x3dpd.physics.mixing), the tangential law's stiffness constant, kinetic mu and
+    damping constant (x3dpd.physics.tangential_laws.tangential_tables; 0 for a law without a
+    spring)."""
     kappa = 0.0
     mu_k = 0.0
+    eta = 0.0
     if TANGENTIAL_STORES:
         kappa = particles.tan_pair[ki, kj, 0]
         mu_k = particles.tan_pair[ki, kj, 1]
-    return particles.pair_c[ki, kj, 1], particles.pair_c[ki, kj, 2], kappa, mu_k
+        eta = particles.tan_pair[ki, kj, 4]
+    return particles.pair_c[ki, kj, 1], particles.pair_c[ki, kj, 2], kappa, mu_k, eta
 
 
 @loop_kernel(inline="never")
@@ -304,11 +311,14 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
     """Pass 3 of the pair contacts, in list order: the contact states, the forces on both
     particles and the ledger's sums from the columns ``c`` of ``_pair_response`` -- the same
     sums in the same order as a single scalar loop. Returns (status, normal work, friction
-    loss). Its own function, like the filter: inlined into the step loop, the column pointers
-    were reloaded from the stack at every contact (measured with tools/bench/profile_jit.py)."""
+    loss, rolling loss). Its own function, like the filter: inlined into the step loop, the
+    column pointers were reloaded from the stack at every contact (measured with
+    tools/bench/profile_jit.py)."""
     status = OK
     w_normal = 0.0
     w_fric = 0.0
+    w_roll = 0.0
+    rolled_ = c[C_ROLLED]
     fx_, fy_, fz_ = c[C_FX], c[C_FY], c[C_FZ]
     tix_, tiy_, tiz_, tjx_, tjy_, tjz_ = c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY], c[C_TJZ]
     a_, fn_, dw_, lost_, rmin_ = c[C_A], c[C_FN], c[C_DW], c[C_LOST], c[C_RMIN]
@@ -317,6 +327,11 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         s = np.uint64(busy[q])
         a = a_[q]
         if a <= 0.0:
+            if HAS_TORQUE and pl_on[s] != 0:
+                # the friction's and rolling's work of the step the contact ends on
+                w_fric += lost_[q]
+                if HAS_ROLLING:
+                    w_roll += rolled_[q]
             dw, released = _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
             w_normal += dw
             if TANGENTIAL_STORES:
@@ -343,6 +358,8 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         fz = fz_[q]
         if HAS_TORQUE:
             w_fric += lost_[q]
+            if HAS_ROLLING:
+                w_roll += rolled_[q]
             ps[s, S_FT] = ftx_[q]
             ps[s, S_FT + 1] = fty_[q]
             ps[s, S_FT + 2] = ftz_[q]
@@ -358,7 +375,7 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         force[i, 0] -= fx
         force[i, 1] -= fy
         force[i, 2] -= fz
-    return status, w_normal, w_fric
+    return status, w_normal, w_fric, w_roll
 
 
 @step_kernel
@@ -387,8 +404,11 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, stepping.dt, _columns_in(c),
                    _columns_out(c))
     # pass 3: states, forces and the ledger
-    status, w_normal, w_fric = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, nodes.force,
-                                           stepping.pen_limit, stepping.diag, c, hist)
+    status, w_normal, w_fric, w_roll = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on,
+                                                   nodes.force, stepping.pen_limit,
+                                                   stepping.diag, c, hist)
     ledger[L_WN] += w_normal
     ledger[L_DFRIC] += w_fric
+    if HAS_ROLLING:
+        ledger[L_DROLL] += w_roll
     return status

@@ -10,9 +10,10 @@ import numpy as np
 
 from x3dpd._jit import kernel, step_kernel
 from x3dpd.geometry.faces import _locate_on_face
-from x3dpd.solver._template_contact import (L_DFRIC, L_WN, OK, _close_contact, _penetration,
+from x3dpd.solver._template_contact import (HAS_TORQUE, L_DFRIC, L_DROLL, L_WN, OK,
+                                            _close_contact, _penetration, _wall_closing_work,
                                             _wall_response)
-from x3dpd.solver._template_variant import SHAPE_LOCATE, TANGENTIAL_STORES
+from x3dpd.solver._template_variant import HAS_ROLLING, SHAPE_LOCATE, TANGENTIAL_STORES
 from x3dpd.solver.contact_lists import S_A, S_FN
 
 @kernel
@@ -40,6 +41,7 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     status = OK
     w_normal = 0.0
     w_fric = 0.0
+    w_roll = 0.0
     # pass 1, tight: candidates within reach of their face's plane now or at the last step
     nbusy = 0
     for s in range(nw):
@@ -70,6 +72,21 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
                                 f, x, face_ptr, face_tris, tri_nodes, r, w)
         if t < 0:
             # no contact (or the particle left the face): close any open contact
+            if HAS_TORQUE and wl_on[s] != 0:
+                # its friction's and rolling's work on this last step, at the wall point under
+                # the particle (off the face: the face's first triangle's centroid)
+                if a <= 0.0:
+                    t = _locate_on_face(x[i, 0] - d * nx, x[i, 1] - d * ny, x[i, 2] - d * nz,
+                                        nx, ny, nz, f, x, face_ptr, face_tris, tri_nodes, r, w)
+                if t < 0:
+                    t = face_tris[face_ptr[f]]
+                    w[0] = 1.0 / 3.0
+                    w[1] = 1.0 / 3.0
+                    w[2] = 1.0 / 3.0
+                lost, rolled = _wall_closing_work(nodes, particles, stepping, ws, s, p, nx, ny,
+                                                  nz, tri_nodes, t, w, 3, False, 0.0, 0.0, 0.0)
+                w_fric += lost
+                w_roll += rolled
             dw, released = _close_contact(ws, wl_on, s, a, a_old, fn_old)
             w_normal += dw
             if TANGENTIAL_STORES:
@@ -78,13 +95,17 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
             continue
         if a > pen_limit * r:
             status |= _penetration(stepping.diag, p, f, a, r)
-        dw, lost = _wall_response(nodes, particles, stepping, ws, wl_on, s, p, a, a_old, fn_old,
-                                  nx, ny, nz, tri_nodes, t, w, 3, False, 0.0, 0.0, 0.0)
+        dw, lost, rolled = _wall_response(nodes, particles, stepping, ws, wl_on, s, p, a, a_old,
+                                          fn_old, nx, ny, nz, tri_nodes, t, w, 3, False, 0.0,
+                                          0.0, 0.0)
         w_normal += dw
         w_fric += lost
+        w_roll += rolled
     # the ledger is touched once per call, not per contact (no dependency through memory)
     ledger[L_WN] += w_normal
     ledger[L_DFRIC] += w_fric
+    if HAS_ROLLING:
+        ledger[L_DROLL] += w_roll
     return status
 
 
@@ -103,6 +124,7 @@ def _shape_contacts(nodes, particles, shapes, stepping, w, n_faces):
     status = OK
     w_normal = 0.0
     w_fric = 0.0
+    w_roll = 0.0
     for k in range(shapes.particle.shape[0]):
         p = shapes.particle[k]
         c = shapes.wall[k]
@@ -118,6 +140,17 @@ def _shape_contacts(nodes, particles, shapes, stepping, w, n_faces):
             fn_old = cs[s, S_FN]
             if not valid or a <= 0.0:
                 if con[s] != 0 or fn_old != 0.0 or a_old > 0.0:
+                    if HAS_TORQUE and con[s] != 0:
+                        # its friction's and rolling's work on this last step
+                        xi = loc[part, 5]
+                        w[0] = 1.0 - xi
+                        w[1] = xi
+                        lost, rolled = _wall_closing_work(
+                            nodes, particles, stepping, cs, s, p, loc[part, 2], loc[part, 3],
+                            loc[part, 4], shapes.nodes, c, w, 2, True, loc[part, 6],
+                            loc[part, 7], loc[part, 8])
+                        w_fric += lost
+                        w_roll += rolled
                     dw, released = _close_contact(cs, con, s, a, a_old, fn_old)
                     w_normal += dw
                     if TANGENTIAL_STORES:
@@ -129,11 +162,15 @@ def _shape_contacts(nodes, particles, shapes, stepping, w, n_faces):
             xi = loc[part, 5]
             w[0] = 1.0 - xi
             w[1] = xi
-            dw, lost = _wall_response(nodes, particles, stepping, cs, con, s, p, a, a_old, fn_old,
-                                      loc[part, 2], loc[part, 3], loc[part, 4], shapes.nodes, c,
-                                      w, 2, True, loc[part, 6], loc[part, 7], loc[part, 8])
+            dw, lost, rolled = _wall_response(nodes, particles, stepping, cs, con, s, p, a, a_old,
+                                              fn_old, loc[part, 2], loc[part, 3], loc[part, 4],
+                                              shapes.nodes, c, w, 2, True, loc[part, 6],
+                                              loc[part, 7], loc[part, 8])
             w_normal += dw
             w_fric += lost
+            w_roll += rolled
     stepping.ledger[L_WN] += w_normal
     stepping.ledger[L_DFRIC] += w_fric
+    if HAS_ROLLING:
+        stepping.ledger[L_DROLL] += w_roll
     return status

@@ -114,8 +114,8 @@ class Particles(NamedTuple):
     cavity: np.ndarray       # (P,) cavity index of each particle
     law_wall: np.ndarray     # (P, 2) constants of the normal law on a wall (hooke: k_n, c_n)
     law_pair: np.ndarray     # (kinds, kinds, 2) constants of the normal law between kinds
-    tan_wall: np.ndarray     # (P, 4) on a wall: k_t constant, kinetic mu, mu_r R*, I_r
-    tan_pair: np.ndarray     # (kinds, kinds, 4) the same between kinds
+    tan_wall: np.ndarray     # (P, 5) on a wall: k_t constant, kinetic mu, mu_r R*, I_r, eta
+    tan_pair: np.ndarray     # (kinds, kinds, 5) the same between kinds
 
 
 class Faces(NamedTuple):

@@ -41,6 +41,7 @@ PAIR_OUTPUT_COLUMNS = ("fx", "fy", "fz",           # force on particle j (minus 
                        "a", "fn",                  # approach and applied normal force
                        "ftx", "fty", "ftz",        # friction force (the state's S_FT columns)
                        "dw", "lost",               # normal work and friction loss of the step
+                       "rolled",                   # rolling resistance's loss of the step
                        "rmin")                     # the smaller radius (penetration limit)
 PAIR_COLUMNS = PAIR_OUTPUT_COLUMNS + PAIR_INPUT_COLUMNS
 

@@ -41,6 +41,12 @@ import numpy as np
 # ledger columns (x3dpd.solver.simulation.ENERGY_COLUMNS)
 TIME, KE_T, KE_R, U_GRAV, U_SPRING, U_CONTACT = 0, 1, 2, 3, 4, 5
 D_VISCO, D_FRICTION, D_DAMPERS, W_EXT, E_TOTAL, RESIDUAL = 6, 7, 8, 9, 10, 11
+D_ROLLING = 12   # a scene with a rolling law only (x3dpd.solver.simulation.energy_columns)
+
+
+def _rolling(row: np.ndarray) -> float:
+    """The rolling resistance's dissipation of a row that has the column, else 0."""
+    return float(row[D_ROLLING]) if row.shape[0] > D_ROLLING else 0.0
 
 #: S / B beyond which the step is unstable (see the module docstring).
 SHADOW_LIMIT = 1000.0
@@ -53,14 +59,14 @@ _DISSIPATION = ((D_VISCO, "viscoelastic contacts"), (D_FRICTION, "friction"),
 def verlet_correction(row: np.ndarray, e_ref: float) -> float:
     """S = E_total - (residual + e_ref - dissipated + W_ext): the ledger's Verlet term."""
     return float(row[E_TOTAL] - (row[RESIDUAL] + e_ref - row[D_VISCO] - row[D_FRICTION]
-                                 - row[D_DAMPERS] + row[W_EXT]))
+                                 - row[D_DAMPERS] - _rolling(row) + row[W_EXT]))
 
 
 def energy_budget(row: np.ndarray, e_ref: float) -> float:
     """B = |e_ref| + |U_g| + |W_ext| + |D_visc| + |D_fric| + |D_damp|: energy that entered or
     left through a source, a bound on the energy a stable run can hold."""
     return float(abs(e_ref) + abs(row[U_GRAV]) + abs(row[W_EXT]) + abs(row[D_VISCO])
-                 + abs(row[D_FRICTION]) + abs(row[D_DAMPERS]))
+                 + abs(row[D_FRICTION]) + abs(row[D_DAMPERS]) + abs(_rolling(row)))
 
 
 @dataclass(frozen=True)

@@ -42,6 +42,16 @@ ENERGY_COLUMNS = ("time", "kinetic_translation", "kinetic_rotation", "gravity_po
                   "spring_energy", "contact_energy", "dissipated_viscoelastic",
                   "dissipated_friction", "dissipated_dampers", "external_work", "total_energy",
                   "residual")
+#: The column a scene with a rolling-resistance law adds to its ledger rows (after residual):
+#: the energy its rolling law dissipated (x3dpd.physics.rolling).
+ROLLING_COLUMN = "dissipated_rolling"
+
+
+def energy_columns(rolling_law: str) -> tuple[str, ...]:
+    """The energy ledger's columns of a scene: :data:`ENERGY_COLUMNS`, and
+    :data:`ROLLING_COLUMN` when it runs a rolling law (so that every other scene's energy
+    files stay as they were)."""
+    return ENERGY_COLUMNS + ((ROLLING_COLUMN,) if rolling_law not in (None, "none") else ())
 
 #: Status bits of a full contact list (an int: no enum arithmetic per call).
 _LIST_FULL = int(Status.REALLOC_PAIRS | Status.REALLOC_WALLS)
@@ -122,6 +132,8 @@ class Simulation(RunChecks):
                                             one_particle_kind=_one_particle_kind(self.setup))
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
+        #: the columns of this scene's ledger rows (:func:`energy_columns`)
+        self.energy_columns = energy_columns(model.rolling_law)
         self.compile_seconds = 0.0
         self._load_seconds = _time.perf_counter() - t
         self.state = initial_state(model, self.setup, model.n_nodes, len(rows),
@@ -180,6 +192,8 @@ class Simulation(RunChecks):
         Contact lists are kept as saved (not rebuilt), so that the resumed run sums forces in the
         same order as the uninterrupted one and reproduces it bit for bit.
         """
+        if state.ledger.shape[0] < 5:   # a dump from before the rolling-resistance slot
+            state.ledger = np.concatenate([state.ledger, np.zeros(5 - state.ledger.shape[0])])
         self.state = state
         self._sc = None
         k = self.setup
@@ -226,7 +240,7 @@ class Simulation(RunChecks):
         r = self.trace_nodes.shape[0]
         out_t = np.empty(max_rows)
         out_data = np.empty((max_rows, r, 9))
-        out_energy = np.empty((max_rows, len(ENERGY_COLUMNS)))
+        out_energy = np.empty((max_rows, len(self.energy_columns)))
         rows = 0
         audited = 0
         done = 0
@@ -312,7 +326,7 @@ class Simulation(RunChecks):
         """Output buffers for a step-loop call that writes no rows (REBUILD, FORCES)."""
         return Output(self.itrac, self.trace_nodes, np.empty(1),
                       np.empty((1, self.trace_nodes.shape[0], 9)),
-                      np.empty((1, len(ENERGY_COLUMNS))), self.state.e_ref)
+                      np.empty((1, len(self.energy_columns))), self.state.e_ref)
 
     def _rebuild_lists(self, bundles: dict) -> Status:
         """Rebuild the contact lists of ``bundles`` now (the step loop's REBUILD mode)."""
@@ -436,4 +450,5 @@ def _grown(a: np.ndarray, cap: int) -> np.ndarray:
     return out
 
 
-__all__ = ["Simulation", "Block", "ENERGY_COLUMNS", "TRACE_COLUMNS", "STATE_HEAD"]
+__all__ = ["Simulation", "Block", "ENERGY_COLUMNS", "ROLLING_COLUMN", "energy_columns",
+           "TRACE_COLUMNS", "STATE_HEAD"]

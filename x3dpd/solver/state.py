@@ -40,9 +40,10 @@ class State:
     step; wl_p, wl_f, ws, wl_on (Lw) wall candidate list (particle, face, state row, open-contact
     flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
-    ledger (4,) cumulative work/dissipation; cs, cs_on (R) contact state rows and open flags of
-    the analytic walls' static list, one row per part of each (particle, wall) pair
-    (x3dpd.solver.bundles.Shapes; empty without any);
+    ledger (5,) cumulative work/dissipation (the L_* slots of x3dpd.solver._template_contact);
+    cs, cs_on (R) contact state rows and open flags of the analytic walls' static list, one
+    row per part of each (particle, wall) pair (x3dpd.solver.bundles.Shapes; empty without
+    any);
     mq, mp, mf (M) modal coordinates, their rates and the modal forces of the last step
     (x3dpd.physics.modal; empty without a MODAL card);
     axial_fd_prev (A,3) the axial dampers' force vectors of the last step;
@@ -167,8 +168,8 @@ class Setup:
     pair_c: np.ndarray  # (K, K, 3) per pair of kinds: Hertz factor, m_t, mu
     law_wall: np.ndarray  # (P, 2) normal-law constants on a wall (hooke: k_n, c_n)
     law_pair: np.ndarray  # (K, K, 2) normal-law constants per pair of kinds
-    tan_wall: np.ndarray  # (P, 4) on a wall: k_t constant, mu_k, rolling lever, rolling inertia
-    tan_pair: np.ndarray  # (K, K, 4) the same per pair of kinds
+    tan_wall: np.ndarray  # (P, 5) on a wall: k_t const, mu_k, rolling lever and inertia, eta
+    tan_pair: np.ndarray  # (K, K, 5) the same per pair of kinds
     n_tangential: int     # tangential + rolling history values per contact (end of each row)
     decay: np.ndarray
     half: np.ndarray
@@ -423,7 +424,7 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         pl_i=np.zeros(lp, np.int64), pl_j=np.zeros(lp, np.int64), ps=np.zeros((lp, ncols_pair)),
         pl_on=np.zeros(lp, np.int8),
         npl=np.zeros(1, np.int64),
-        nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(4),
+        nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(5),
         cs=np.zeros((setup.shapes.row_particle.shape[0], ncols)),
         cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
         mq=np.zeros(setup.modal_coef.shape[0]), mp=np.zeros(setup.modal_coef.shape[0]),

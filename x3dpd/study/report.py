@@ -18,7 +18,7 @@ def columns(kind: str) -> list[str]:
     qs = QUANTITIES[kind]
     return (list(_FIRST) + list(qs) + [f"{q}_error" for q in qs]
             + ["trace_norm", "residual", "pareto", "steps", "stiffness_scale", "spread",
-               "speedup", "message"])
+               "speedup", "walls", "cpu_s_per_sim_s", "message"])
 
 
 def records(result) -> list[dict]:
@@ -38,6 +38,7 @@ def records(result) -> list[dict]:
         # the run-to-run spread the errors compare with, and the time saved against the
         # deck's own setting (own / this run's wall time per simulated second)
         rec["stiffness_scale"] = s.stiffness
+        rec["walls"] = s.walls
         rec["spread"] = result.spread
         wall = r.get("wall_s_per_sim_s", math.nan)
         rec["speedup"] = own_wall / wall if wall and wall > 0 else math.nan
@@ -67,13 +68,15 @@ def _fmt(v):
 def table(result) -> str:
     """The terminal table: one line per run."""
     main = result.scene.main
-    lines = [f"{'setting':<34} {'status':<9} {'wall s/sim s':>12} {'error':>9} {main:>14}"]
+    lines = [f"{'setting':<34} {'status':<9} {'wall s/sim s':>12} {'cpu s/sim s':>11} "
+             f"{'error':>9} {main:>14}"]
     for r in result.rows:
         err = r.get("error", math.nan)
         val = r.get(main, math.nan)
         mark = " *" if r["setting"].own else ("  " if not r.get("pareto") else " +")
         lines.append(f"{r['setting'].label:<34} {r['status']:<9} "
                      f"{r.get('wall_s_per_sim_s', math.nan):>12.4g} "
+                     f"{r.get('cpu_s_per_sim_s', math.nan):>11.4g} "
                      f"{'' if math.isnan(err) else f'{err:.3%}':>9} {val:>14.6g}{mark}")
     lines.append("(* the deck's own setting, + on the Pareto front)")
     if result.spread > 0:

@@ -108,13 +108,19 @@ def measure(result, scene: Scene) -> dict:
     elif scene.kind == "driven":
         third = t >= t[0] + (t[-1] - t[0]) * 2.0 / 3.0
         out["amplitude"] = float(np.ptp(x[third]) / 2.0) if third.any() else math.nan
-        lost = sum(en[c] for c in _DISSIPATED)
+        lost = sum(en[c] for c in _dissipated(en))
         span = t[third][-1] - t[third][0] if third.sum() > 1 else 0.0
         rate = (lost[third][-1] - lost[third][0]) / span if span > 0 else math.nan
         out["power_per_cycle"] = rate / scene.drive_hz if scene.drive_hz else rate
     else:
-        out["dissipated"] = float(sum(en[c][-1] for c in _DISSIPATED))
+        out["dissipated"] = float(sum(en[c][-1] for c in _dissipated(en)))
     return out
+
+
+def _dissipated(energy) -> tuple:
+    """The ledger's dissipation columns of a run: viscoelastic, friction, dampers, and rolling
+    resistance when its scene has a rolling law."""
+    return _DISSIPATED + tuple(c for c in ("dissipated_rolling",) if c in energy.columns)
 
 
 def trace_norm(signal, reference) -> float:

@@ -4,7 +4,9 @@ A :class:`Setting` says how one run differs from the deck: its step ``dt``, its 
 (``"deck"`` as written, or ``"elastic"``: the Maxwell terms dropped, Hertz with the long-term
 modulus E0), its friction law, its contact stiffness (``stiffness``: every modulus of the
 particles' law scaled, E0, E1, E2 ..., the relaxation times kept, with the step lengthened to
-match, :func:`soft_step`), and, for a perturbed repeat, the seed of the perturbation.
+match, :func:`soft_step`), its walls (``walls``: the deck's, ``"rigid"``, or a material of the
+library x3dpd.materials on every cavity, :func:`wall_records`), and, for a perturbed repeat,
+the seed of the perturbation.
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ PERTURBATION = 1e-9
 #: The tangential laws a study offers as fidelity choices (docs/physics.md): the report's
 #: regularised and bare Coulomb laws and Hertz-Mindlin with its tangential history.
 FRICTION_CHOICES = ("regularized", "coulomb", "mindlin")
+#: The wall choice that is the deck's own walls (its WALLMAT card, or rigid without one).
+DECK_WALLS = "deck"
 
 
 @dataclass(frozen=True)
@@ -37,6 +41,7 @@ class Setting:
     own: bool = False
     auto: bool = False  # the step chosen by accuracy (x3dpd.run(dt="auto")) up to dt
     stiffness: float = 1.0  # the particles' moduli scaled by this (softer contacts)
+    walls: str = DECK_WALLS  # "deck", "rigid" or a material name of x3dpd.materials
 
     @property
     def label(self) -> str:
@@ -47,6 +52,8 @@ class Setting:
             parts.append(f"E x {self.stiffness:.3g}")
         if self.friction != "regularized":
             parts.append(self.friction)
+        if self.walls != DECK_WALLS:
+            parts.append(f"walls {self.walls}")
         if self.repeat:
             parts.append(f"repeat {self.repeat}")
         return " ".join(parts)
@@ -61,13 +68,16 @@ def soft_step(dt: float, stiffness: float) -> float:
 
 
 def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
-           chaotic: bool, stiffness=(), friction_law: str = "regularized") -> list[Setting]:
+           chaotic: bool, stiffness=(), friction_law: str = "regularized",
+           walls=()) -> list[Setting]:
     """The settings to run: every step of ``dts`` (default DTMAX x :data:`LADDER`) with the
     deck's physics, the fidelity choices at the deck's step, and perturbed repeats of the
     deck's setting for a chaotic scene, and the softer contacts of ``stiffness`` (scales of
     the particles' moduli, each at :func:`soft_step` of the deck's step). The deck's own
     setting is marked ``own``. Every setting runs the deck's tangential law ``friction_law``
-    but the friction fidelity choices, which run the other laws of :data:`FRICTION_CHOICES`.
+    but the friction fidelity choices, which run the other laws of :data:`FRICTION_CHOICES`,
+    and the deck's walls but the wall choices ``walls`` (each "rigid" or a library material,
+    at the deck's step and law).
     (The step chosen by accuracy is added by :func:`x3dpd.study.run_study`.)"""
     steps = sorted({float(d) for d in (dts if dts else [dt_deck * f for f in LADDER])}
                    | {float(dt_deck)})
@@ -78,6 +88,7 @@ def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
         out.append(Setting(dt_deck, contact="elastic", friction=law))
     if friction:
         out += [Setting(dt_deck, friction=other) for other in FRICTION_CHOICES if other != law]
+    out += [Setting(dt_deck, friction=law, walls=w) for w in walls]
     out += [Setting(soft_step(dt_deck, f), stiffness=float(f), friction=law) for f in stiffness]
     if chaotic:
         out += [Setting(dt_deck, repeat=k, friction=law) for k in range(1, REPEATS + 1)]
@@ -96,6 +107,8 @@ def deck_for(deck, setting: Setting):
             replace(p, e0=p.e0 * f, e1=p.e1 * f,
                     extra_terms=tuple((e * f, tau) for e, tau in p.extra_terms))
             for p in deck.pdmp))
+    if setting.walls != DECK_WALLS:
+        deck = replace(deck, wallmat=wall_records(deck, setting.walls))
     if setting.repeat:
         rng = np.random.default_rng(setting.repeat)
         first = min(p.nodlim for p in deck.pdmp) if deck.pdmp else None
@@ -109,3 +122,29 @@ def deck_for(deck, setting: Setting):
             nodes.append(n)
         deck = replace(deck, nodes=tuple(nodes))
     return deck
+
+
+def wall_records(deck, walls: str):
+    """The WALLMAT records (x3dpd.deck.cards.WallMat) that give every cavity of ``deck`` (each
+    CONTACT set with walls: its triangles and analytic walls) the material ``walls`` of the
+    library x3dpd.materials (E and nu in the deck's units), with the particles' own friction
+    coefficient (PCOF) so that only the compliance changes; ``"rigid"``: none (None)."""
+    from x3dpd.api.decks import WallMat
+    from x3dpd.errors import InputError
+    from x3dpd.materials import MaterialError, in_units
+
+    if walls == "rigid":
+        return None
+    try:
+        mat = in_units(walls, deck.units)
+    except MaterialError as exc:
+        raise InputError(f"--walls: {exc}") from None
+    mus = {p.pcof for p in deck.pdmp}
+    if len(mus) != 1:
+        raise InputError(f"--walls {walls}: the particle groups have different friction "
+                         f"coefficients ({', '.join(map(str, sorted(mus)))}); a study's wall "
+                         f"material keeps one PCOF (write the deck's WALLMAT card instead)")
+    sets = sorted({t.set_id for c in deck.contacts for t in c.triangles}
+                  | {w.set_id for w in deck.analytic_walls or ()})
+    mu = mus.pop()
+    return tuple(WallMat(k, mat.E, mat.nu, mu) for k in sets) or None

@@ -38,7 +38,7 @@ class StudyResult:
 
 def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None, dts=None,
               usrfrc=(), overwrite=False, progress=None, fidelity=True,
-              stiffness=()) -> StudyResult:
+              stiffness=(), walls=()) -> StudyResult:
     """Run the study of ``deck`` (a path) and write ``out/study.csv`` and ``out/study.png``.
 
     ``tmax`` ends every run (default the deck's TMAX); ``tol`` is the accepted relative error of
@@ -50,7 +50,10 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     deck's step lengthened by scale^(-2/5) (:func:`x3dpd.study.settings.soft_step`). Raises
     InputError when ``out`` holds a study and ``overwrite`` is not set, when a stiffness scale
     is not in (0, 1] or the deck's contacts are not Hertz (a HOOKE card), or when the finest run
-    goes unstable.
+    goes unstable. ``walls`` adds wall choices at the deck's step: ``"rigid"`` (no WALLMAT) or
+    a material of x3dpd.materials on every cavity (:func:`x3dpd.study.settings.wall_records`);
+    the deck's own walls are not repeated (InputError on a HOOKE deck, whose walls cannot be
+    compliant, and on an unknown material).
     """
     import x3dpd
 
@@ -70,6 +73,7 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
         raise InputError("--stiffness-scale: scales the particles' Hertz moduli (PDMP E0, E1 "
                          "...); this deck's contacts follow its HOOKE card")
     scene = classify(model, usrfrc)
+    walls = _wall_choices(cards, walls)
     dt_deck = float(model.dt)
     dts = list(dts or [])
     own_auto = cards.parameters.dtmin < cards.parameters.dtmax
@@ -77,7 +81,7 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     dts = [d for d in dts if d != "auto"] or None
     settings = ladder(dt_deck, dts=dts, viscoelastic=fidelity and scene.viscoelastic,
                       friction=fidelity and scene.friction, chaotic=scene.chaotic,
-                      stiffness=stiffness, friction_law=scene.friction_law)
+                      stiffness=stiffness, friction_law=scene.friction_law, walls=walls)
     if auto:  # the deck's own DTMIN ... DTMAX, else up to the coarsest step of the ladder
         settings.append(Setting(dt_deck if own_auto else max(s.dt for s in settings),
                                 auto=True, friction=scene.friction_law))
@@ -106,6 +110,20 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
         write_csv(files[0], result)
         write_png(files[1], result, title=f"{Path(deck).name}: {_NAMES[scene.main]}")
     return result
+
+
+def _wall_choices(cards, walls) -> tuple:
+    """The wall choices to run: ``walls`` without the deck's own (rigid when it has no WALLMAT
+    card), each checked (a known material, a deck whose walls can be compliant)."""
+    from x3dpd.study.settings import wall_records
+
+    walls = tuple(dict.fromkeys(w.strip().lower() for w in walls if w.strip()))
+    if any(w != "rigid" for w in walls) and cards.hooke is not None:
+        raise InputError("--walls: this deck's contacts follow its HOOKE card, whose wall "
+                         "stiffness KN is given directly; wall materials apply to the Hertz law")
+    for w in walls:
+        wall_records(cards, w)   # an unknown material is refused before any run
+    return tuple(w for w in walls if not (w == "rigid" and not cards.wallmat))
 
 
 def _judge(rows, ref, scene: Scene) -> float:
