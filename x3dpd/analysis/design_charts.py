@@ -23,13 +23,11 @@ from x3dpd.analysis.design_plots import _pyplot, save_figure
 
 
 def _family(row: Mapping) -> str:
-    """A line's label: the particles' material and radius, and the number of cavities and the
-    contact stiffness scale when they are not 1."""
+    """A line's label: the particles' material and radius, and the contact stiffness scale
+    when it is not 1 (the amount -- count, fill, cavities -- runs along the line)."""
     if not row.get("count"):
         return "no particles"
     out = f"{row.get('material') or 'deck material'}, R = {row['radius']:g}"
-    if int(row.get("cavities") or 1) > 1:
-        out += f", {int(row['cavities'])} cavities"
     scale = row.get("stiffness_scale")
     if scale not in (None, "") and float(scale) != 1.0:
         out += f", E x {float(scale):g}"
