@@ -192,6 +192,15 @@ def test_design_csv_carries_the_cavities_and_the_stiffness_scale(tmp_path):
     assert row["dt"] == pytest.approx(5e-7 * 0.1 ** -0.4, rel=1e-12)
     one = 4.0 / 3.0 * math.pi * 0.0625 ** 3 * RHO
     assert row["added_mass"] == pytest.approx(3 * one, rel=1e-12)
+    # the added-mass baseline carries all three cavities' particles: the beam's SDOF (its MASS
+    # plus half its spring element's 1e-12, its spring's KX and C) with m + 3 m_p,
+    # X = F / |k - (m + 3 m_p) w^2 + i c w|
+    beam = x3dpd.load_deck(BEAM_64)
+    (mass,), (mat,) = beam.masses, beam.materials
+    m = mass.mass + 0.5 * mat.mass + 3 * one
+    w = 2 * math.pi * 37.2
+    want = 9.68080e-3 / abs(complex(mat.kx - m * w * w, mat.c * w))
+    assert row["baseline_added_mass"] == pytest.approx(want, rel=1e-9)
     deck = x3dpd.load_deck(tmp_path / "out" / "configs" / "cav3_Ex0.1" / "cav3_Ex0.1.inp")
     assert deck.pdmp[0].e0 == pytest.approx(27.5e6 * 0.1, rel=1e-15)
     assert len(_boxes(deck)) == 3
