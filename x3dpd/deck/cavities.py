@@ -17,12 +17,14 @@ different cavities never touch (x3dpd.geometry.cells pairs a cavity's own partic
 the spacing matters for the picture and, when the master rotates, for the moment arm.
 
 Node ids: the copies' wall nodes take NODLIM+1 ..., the first PDMP card's NODLIM grows by their
-number and the particles follow (HOOKE and FRICTION records of that group follow its NODLIM).
-One PDMP group only.
+number and the particles follow (HOOKE and FRICTION records of that group follow its NODLIM;
+INITIAL and TRACE are renumbered; a USRFRC spec naming a particle node is refused). One PDMP
+group only.
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -138,6 +140,11 @@ def with_cavities(deck: Deck, count: int, *, set_id: int | None = None,
         raise InputError(f"masters: the first is the deck's own cavity's master node "
                          f"{master0}, got {masters[0]}")
     nodlim = deck.pdmp[0].nodlim
+    named = [int(k) for card in deck.usrfrc for spec in card.specs
+             for k in re.findall(r"\bnode=(\d+)", spec)]
+    if any(k > nodlim for k in named):
+        raise InputError(f"{deck.path}: USRFRC names particle node {max(named)}; the particles "
+                         "are renumbered when the cavity is copied")
     xyz = {n.nid: np.array([n.x, n.y, n.z]) for n in deck.nodes}
     structural = {k for k in xyz if k <= nodlim}
     in_body = {k: rb.master for rb in deck.rbels for k in (rb.master, *rb.slaves)}
