@@ -23,8 +23,15 @@ from x3dpd.analysis.design_plots import _pyplot, save_figure
 
 
 def _family(row: Mapping) -> str:
-    material = row.get("material") or "deck material"
-    return f"{material}, R = {row['radius']:g}" if row.get("count") else "no particles"
+    """A line's label: the particles' material and radius, and the contact stiffness scale
+    when it is not 1 (the amount -- count, fill, cavities -- runs along the line)."""
+    if not row.get("count"):
+        return "no particles"
+    out = f"{row.get('material') or 'deck material'}, R = {row['radius']:g}"
+    scale = row.get("stiffness_scale")
+    if scale not in (None, "") and float(scale) != 1.0:
+        out += f", E x {float(scale):g}"
+    return out
 
 
 def _by_config(rows: Sequence[Mapping]) -> dict[str, list[Mapping]]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 
-from x3dpd.api.deck_step import FittedStep, fit_time_step
+from x3dpd.api.deck_step import FittedStep, fit_time_step, soft_step, softened
 from x3dpd.api.results import Chunk, FinalState, RunResult
 from x3dpd.api.runner import run
 from x3dpd.errors import DeckError, InputError, TraceError, UnstableRunError, X3dpdError
@@ -79,5 +79,5 @@ __all__ = [
     "InputError", "RunResult",
     "TraceData", "TraceError", "UnstableRunError", "X3dpdError", "build", "check",
     "fit_time_step", "load_deck", "rules_of_thumb",
-    "read_energy", "read_trace", "run",
+    "read_energy", "read_trace", "run", "soft_step", "softened",
 ]

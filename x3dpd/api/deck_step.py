@@ -78,3 +78,24 @@ def fit_time_step(deck: Deck, *, dt: float | None = None, usrfrc=(), motion=()) 
     itrac = max(1, round(par.itrac * par.dtmax / dt))
     new = replace(par, dtmax=dt, dtmin=dt if constant else min(par.dtmin, dt), itrac=itrac)
     return FittedStep(replace(deck, parameters=new), dt, float(par.dtmax), itrac, advice)
+
+
+def soft_step(dt: float, stiffness: float) -> float:
+    """The step that resolves a contact softened by ``stiffness`` as ``dt`` resolves the
+    deck's: a Hertz impact lasts t_c = 2.87 (m*^2 / (R* E*^2 v))^(1/5) (x3dpd.model.timestep,
+    hertz_contact_time; report Sec. 7.3), so t_c, and the step at the same steps per contact,
+    scale as E^(-2/5) [s]."""
+    return float(dt) * float(stiffness) ** -0.4
+
+
+def softened(deck: Deck, stiffness: float) -> Deck:
+    """``deck`` with every modulus of its particles (PDMP E0, E1, E2 ...) scaled by
+    ``stiffness``, the relaxation times kept: softer contacts, the DEM field's speed lever,
+    run at :func:`soft_step` (``x3dpd study --stiffness-scale``, ``x3dpd design``'s
+    ``stiffness_scale``). The walls' WALLMAT moduli and a HOOKE card's stiffness are not the
+    particles' and are kept."""
+    f = float(stiffness)
+    return replace(deck, pdmp=tuple(
+        replace(p, e0=p.e0 * f, e1=p.e1 * f,
+                extra_terms=tuple((e * f, tau) for e, tau in p.extra_terms))
+        for p in deck.pdmp))

@@ -6,21 +6,39 @@ Re-exports, so that a tool imports ``x3dpd.api`` and never the layers below it
 * :func:`read_deck` -- a deck file into typed cards (:class:`Deck`); a bad token raises
   :class:`~x3dpd.errors.DeckError` ``FILE:LINE:COL: CARD: message`` (docs/deck-reference.md);
 * :func:`format_deck` / :func:`write_deck` -- the cards back to X3D deck text / a file;
-* :class:`Deck`, :class:`Node` -- the deck and its NODE COORDINATES card's rows;
+* :class:`Deck` and the cards a tool edits: :class:`Node`, :class:`Mass`, :class:`Title`,
+  :class:`Contact`, :class:`Triangle`, :class:`Element`;
   :class:`WallMat` -- a WALLMAT record (a cavity's wall material, x3dpd.study's ``--walls``);
-* :func:`fill_positions`, :func:`filled_deck`, :data:`PACKINGS` -- particles packed into a
-  deck's cavity (``x3dpd fill``, docs/fill.md);
+* :func:`fill_positions`, :func:`filled_deck`, :func:`with_material`, :data:`PACKINGS` --
+  particles packed into a deck's cavity (``x3dpd fill``, docs/fill.md);
+  :func:`cavity_triangles`, :func:`cavity_box` -- a cavity's triangles and, for a box, its
+  corners; :data:`BY_SHAPE_NAME` -- the analytic wall shapes (CYLINDER, CAPSULE) and their
+  inscribed meshes;
+* :func:`with_cavities`, :func:`default_spacing`, :func:`cavity_set` -- several identical
+  cavities on a structure (x3dpd.deck.cavities, docs/design.md);
+* :func:`is_user_file` -- whether a USRFRC spec names a Python file (code the deck runs);
 * :func:`build_model` -- the arrays the solver runs (:func:`x3dpd.api.build` also takes a path).
 """
 
 from __future__ import annotations
 
 from x3dpd.deck import format_deck, read_deck
-from x3dpd.deck.cards import Deck, Node, WallMat
-from x3dpd.deck.fill import fill_positions, filled_deck
+from x3dpd.deck.cards import Contact, Deck, Element, Mass, Node, Title, Triangle, WallMat
+from x3dpd.deck.cavities import cavity_set, default_spacing, with_cavities
+from x3dpd.deck.fill import (
+    cavity_box,
+    cavity_triangles,
+    fill_positions,
+    filled_deck,
+    with_material,
+)
 from x3dpd.deck.writer import write_deck
 from x3dpd.geometry.packing import PACKINGS
+from x3dpd.geometry.shapes import BY_SHAPE_NAME
 from x3dpd.model.build import build_model
+from x3dpd.physics.usrfrc import is_user_file
 
-__all__ = ["PACKINGS", "Deck", "Node", "WallMat", "build_model", "fill_positions",
-           "filled_deck", "format_deck", "read_deck", "write_deck"]
+__all__ = ["BY_SHAPE_NAME", "PACKINGS", "Contact", "Deck", "Element", "Mass", "Node", "Title",
+           "Triangle", "WallMat", "build_model", "cavity_box", "cavity_set", "cavity_triangles",
+           "default_spacing", "fill_positions", "filled_deck", "format_deck", "is_user_file",
+           "read_deck", "with_cavities", "with_material", "write_deck"]

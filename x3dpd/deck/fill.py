@@ -75,7 +75,7 @@ def cavity_triangles(deck: Deck, set_id: int | None = None) -> tuple[np.ndarray,
                          "coordinates") from None
 
 
-def _box(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+def cavity_box(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
     """``(lo, hi)`` when every triangle lies in a face plane of the bounding box."""
     pts = tri.reshape(-1, 3)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
@@ -123,7 +123,7 @@ def fill_positions(deck: Deck, *, n: int | None, radius: float | None = None,
                          f"cavity to fill")
     volume = abs(enclosed_volume(tri[:, 0], tri[:, 1], tri[:, 2], signs))
     axis, upward = _stacking(deck)
-    box = _box(tri)
+    box = cavity_box(tri)
     if box is not None and packing == "cubic" and upward:
         lo, hi = box
         size = hi - lo

@@ -34,17 +34,16 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from x3dpd.deck.cards import Deck, Mass
-from x3dpd.errors import InputError
-from x3dpd.model.build import build_model
-from x3dpd.model.linear_structure import (  # noqa: F401  (re-exported: their old home)
+from x3dpd.api.decks import Deck, Mass, build_model
+from x3dpd.api.structures import (  # noqa: F401  (re-exported: their old home)
     ModalLinear,
+    Model,
     Sdof,
     linear_modal,
     linear_sdof,
     rigid_body,
 )
-from x3dpd.model.model import Model
+from x3dpd.errors import InputError
 
 #: Baseline names accepted by ``--baseline``, in the order they are run.
 BASELINES = ("undamped", "added-mass")

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.analysis.design_plots import attenuations, plot_responses, plot_sweep
+from x3dpd.api.figures import attenuations, plot_responses, plot_sweep
 from x3dpd.api.decks import read_deck
 from x3dpd.design.drive import displacement_amplitude, parse_amplitudes
 from x3dpd.design.spec import (SweepSpec, check_base, check_node, default_drive_point,

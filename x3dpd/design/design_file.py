@@ -11,25 +11,25 @@ run, x3dpd.design.configs.)
 from __future__ import annotations
 
 import itertools
-import math
 import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from x3dpd.design.design_reader import Reader, key_lines
 from x3dpd.design.spec import parse_frequencies
 from x3dpd.design.steady_state import Criterion
 from x3dpd.errors import InputError
 
 #: Keys of a configuration: fixed in [fill], varied in [vary], or set per [[configuration]].
-CONFIG_KEYS = ("material", "radius", "count", "fill_ratio", "particle_mass", "cavity_length",
-               "cavity_size", "cavity_radius", "clearance", "packing", "gap", "gap_fraction",
-               "jitter", "seed", "dt")
+CONFIG_KEYS = ("material", "radius", "count", "fill_ratio", "particle_mass", "cavities",
+               "cavity_length", "cavity_size", "cavity_radius", "clearance", "packing", "gap",
+               "gap_fraction", "jitter", "seed", "dt", "stiffness_scale")
 #: How many particles: at most one of these per configuration (none: the deck's count).
 AMOUNT_KEYS = ("count", "fill_ratio", "particle_mass")
 TOP_KEYS = ("title", "structure", "usrfrc_code", "mass_budget", "cavity", "fill", "vary",
             "configuration", "evaluate")
-CAVITY_KEYS = ("set",)
+CAVITY_KEYS = ("set", "masters", "spacing")
 EVALUATIONS = ("sweep", "dwell", "ringdown")
 EVALUATE_KEYS = {
     "common": ("kind", "node", "dof", "drives", "baselines"),
@@ -39,7 +39,6 @@ EVALUATE_KEYS = {
               "predict"),
     "ringdown": ("drive_frequency", "drive_until", "ring"),
 }
-_NUMBER = (int, float)
 
 
 @dataclass(frozen=True)
@@ -78,6 +77,8 @@ class DesignFile:
     usrfrc_code: bool
     mass_budget: float | None
     cavity_set: int | None
+    cavity_masters: tuple[int, ...] | None
+    cavity_spacing: tuple[float, float, float] | None
     configurations: tuple[Configuration, ...]
     varied: tuple[str, ...]
     evaluation: Evaluation
@@ -85,114 +86,12 @@ class DesignFile:
 
     def line_of(self, *keys) -> int:
         """The line of a key path in the file (0 when not found)."""
-        return _key_lines(self.text).get(tuple(keys), 0)
+        return key_lines(self.text).get(tuple(keys), 0)
 
     def where(self, *keys) -> str:
         """``FILE:LINE`` of a key path, for messages."""
         line = self.line_of(*keys)
         return f"{self.path}:{line}" if line else str(self.path)
-
-
-def _key_lines(text: str) -> dict[tuple, int]:
-    """{key path: line} of every ``key = ...`` and table header in a TOML text (array-of-tables
-    entries indexed: ("configuration", 0, "count")). Enough for messages, not a TOML parser."""
-    out: dict[tuple, int] = {}
-    table: tuple = ()
-    arrays: dict[tuple, int] = {}
-    for n, raw in enumerate(text.splitlines(), 1):
-        line = raw.split("#", 1)[0].strip()
-        head = re.match(r"^\[\[\s*([\w.-]+)\s*\]\]$", line)
-        if head:
-            name = tuple(head.group(1).split("."))
-            arrays[name] = arrays.get(name, -1) + 1
-            table = name + (arrays[name],)
-            out.setdefault(name, n)
-            out[table] = n
-            continue
-        head = re.match(r"^\[\s*([\w.-]+)\s*\]$", line)
-        if head:
-            table = tuple(head.group(1).split("."))
-            out[table] = n
-            continue
-        key = re.match(r"^([\w-]+)\s*=", line)
-        if key:
-            out.setdefault(table + (key.group(1),), n)
-    return out
-
-
-class _Reader:
-    """Checks values and raises ``FILE:LINE: message`` at their key."""
-
-    def __init__(self, path: Path, text: str):
-        self.path, self.lines = path, _key_lines(text)
-
-    def fail(self, keys: tuple, message: str):
-        line = 0
-        for k in range(len(keys), 0, -1):   # the key, else its table
-            line = self.lines.get(tuple(keys[:k]), 0)
-            if line:
-                break
-        where = f"{self.path}:{line}" if line else f"{self.path}"
-        raise InputError(f"{where}: {'.'.join(map(str, keys))}: {message}")
-
-    def known(self, table: dict, allowed, keys: tuple) -> None:
-        for k in table:
-            if k not in allowed:
-                self.fail(keys + (k,), f"unknown key {k!r}; expected one of "
-                          f"{', '.join(allowed)}")
-
-    def number(self, value, keys, positive=True, integer=False, minimum=None):
-        kind = int if integer else _NUMBER
-        if isinstance(value, bool) or not isinstance(value, kind) or not math.isfinite(value):
-            self.fail(keys, f"expected {'an integer' if integer else 'a number'}, got "
-                      f"{value!r}")
-        if positive and not value > 0:
-            self.fail(keys, f"expected a value > 0, got {value!r}")
-        if minimum is not None and value < minimum:
-            self.fail(keys, f"expected a value >= {minimum}, got {value!r}")
-        return value
-
-    def config_value(self, key: str, value, keys):
-        """A configuration key's value checked (materials checked against the library)."""
-        if key == "material":
-            if not isinstance(value, str):
-                self.fail(keys, f"expected a material name, got {value!r}")
-            _check_material(value, lambda msg: self.fail(keys, msg))
-            return value
-        if key == "packing":
-            from x3dpd.api.decks import PACKINGS
-
-            if value not in PACKINGS:
-                self.fail(keys, f"expected one of {', '.join(PACKINGS)}, got {value!r}")
-            return value
-        if key == "cavity_size":
-            if (not isinstance(value, list) or len(value) != 3):
-                self.fail(keys, f"expected [x, y, z] interior dimensions, got {value!r}")
-            return tuple(float(self.number(v, keys)) for v in value)
-        if key in ("count", "seed"):
-            return self.number(value, keys, positive=False, integer=True, minimum=0)
-        if key in ("gap", "gap_fraction", "jitter", "clearance"):
-            value = self.number(value, keys, positive=False, minimum=0)
-            if key == "jitter" and value > 1:
-                self.fail(keys, f"expected a fraction 0-1, got {value!r}")
-            return value
-        if key == "fill_ratio":
-            value = self.number(value, keys)
-            if value >= 0.7405:
-                self.fail(keys, f"fill ratio {value!r}: no packing of spheres exceeds "
-                          "pi/sqrt(18) = 0.7405")
-            return value
-        return self.number(value, keys)
-
-
-def _check_material(name: str, fail) -> None:
-    """``fail(message)`` unless ``name`` is in the material library (x3dpd.materials)."""
-    from x3dpd.materials import material
-
-    try:
-        material(name)
-    except InputError as exc:
-        fail(str(exc))
 
 
 def read_design(path: str | Path) -> DesignFile:
@@ -208,7 +107,7 @@ def read_design(path: str | Path) -> DesignFile:
         at = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
         where = f"{path}:{at.group(1)}:{at.group(2)}" if at else str(path)
         raise InputError(f"{where}: not a TOML file: {str(exc).split(' (at')[0]}") from None
-    r = _Reader(path, text)
+    r = Reader(path, text)
     r.known(data, TOP_KEYS, ())
     if "structure" not in data:
         r.fail(("structure",), "missing: the structure deck (a path relative to this file)")
@@ -222,6 +121,18 @@ def read_design(path: str | Path) -> DesignFile:
     r.known(cavity, CAVITY_KEYS, ("cavity",))
     cavity_set = (r.number(cavity["set"], ("cavity", "set"), integer=True)
                   if "set" in cavity else None)
+    masters = spacing = None
+    if "masters" in cavity:
+        masters = cavity["masters"]
+        if not isinstance(masters, list) or not masters:
+            r.fail(("cavity", "masters"), "expected a list of master node ids, one per cavity")
+        masters = tuple(r.number(m, ("cavity", "masters"), integer=True) for m in masters)
+    if "spacing" in cavity:
+        spacing = cavity["spacing"]
+        if not isinstance(spacing, list) or len(spacing) != 3:
+            r.fail(("cavity", "spacing"), f"expected [dx, dy, dz], got {spacing!r}")
+        spacing = tuple(float(r.number(v, ("cavity", "spacing"), positive=False))
+                        for v in spacing)
     budget = data.get("mass_budget")
     if budget is not None:
         budget = r.number(budget, ("mass_budget",))
@@ -231,12 +142,13 @@ def read_design(path: str | Path) -> DesignFile:
     configs, varied = _configurations(r, data)
     return DesignFile(path=path, title=str(data.get("title", path.stem)), structure=structure,
                       usrfrc_code=usrfrc_code, mass_budget=budget, cavity_set=cavity_set,
+                      cavity_masters=masters, cavity_spacing=spacing,
                       configurations=configs, varied=varied,
                       evaluation=_evaluation(r, _table(r, data, "evaluate", required=True)),
                       text=text)
 
 
-def _table(r: _Reader, data: dict, name: str, required: bool = False) -> dict:
+def _table(r: Reader, data: dict, name: str, required: bool = False) -> dict:
     value = data.get(name, {})
     if required and name not in data:
         r.fail((name,), f"missing: the [{name}] table (docs/design.md)")
@@ -245,7 +157,7 @@ def _table(r: _Reader, data: dict, name: str, required: bool = False) -> dict:
     return value
 
 
-def _configurations(r: _Reader, data: dict) -> tuple[tuple[Configuration, ...], tuple[str, ...]]:
+def _configurations(r: Reader, data: dict) -> tuple[tuple[Configuration, ...], tuple[str, ...]]:
     """Every configuration: [fill] defaults, then each [[configuration]] (or one without), times
     every combination of the [vary] lists."""
     fixed = _table(r, data, "fill")
@@ -301,9 +213,10 @@ def _configurations(r: _Reader, data: dict) -> tuple[tuple[Configuration, ...], 
 
 def _label(key: str, value) -> str:
     short = {"material": "", "radius": "r", "count": "n", "fill_ratio": "fill",
-             "particle_mass": "m", "cavity_length": "L", "cavity_size": "box",
+             "particle_mass": "m", "cavities": "cav", "cavity_length": "L", "cavity_size": "box",
              "cavity_radius": "Rc", "clearance": "c", "packing": "",
-             "gap": "gap", "gap_fraction": "gapf", "jitter": "jit", "seed": "seed", "dt": "dt"}
+             "gap": "gap", "gap_fraction": "gapf", "jitter": "jit", "seed": "seed", "dt": "dt",
+             "stiffness_scale": "Ex"}
     if isinstance(value, tuple):
         value = "x".join(f"{v:g}" for v in value)
     elif isinstance(value, float):
@@ -311,7 +224,7 @@ def _label(key: str, value) -> str:
     return f"{short[key]}{value}"
 
 
-def _evaluation(r: _Reader, ev: dict) -> Evaluation:
+def _evaluation(r: Reader, ev: dict) -> Evaluation:
     keys = ("evaluate",)
     kind = ev.get("kind")
     if kind not in EVALUATIONS:

@@ -23,14 +23,14 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.analysis.design_plots import attenuations
+from x3dpd.api.figures import attenuations
 from x3dpd.design.closed_form import baseline_curves
 
 #: design.csv columns, in order.
-COLUMNS = ("config", "material", "radius", "count", "fill_ratio", "cavity_length", "clearance",
-           "dt", "added_mass", "mass_ratio", "evaluation", "drive", "frequency_hz", "direction",
-           "amplitude", "phase", "acceleration", "amplitude_db", "zeta_percent",
-           "baseline_zeta_percent", "baseline_undamped", "baseline_added_mass",
+COLUMNS = ("config", "material", "radius", "count", "cavities", "fill_ratio", "cavity_length",
+           "clearance", "dt", "stiffness_scale", "added_mass", "mass_ratio", "evaluation", "drive",
+           "frequency_hz", "direction", "amplitude", "phase", "acceleration", "amplitude_db",
+           "zeta_percent", "baseline_zeta_percent", "baseline_undamped", "baseline_added_mass",
            "attenuation_undamped_db", "attenuation_added_mass_db", "peak_amplitude",
            "peak_attenuation_undamped_db", "peak_attenuation_added_mass_db",
            "dissipated_viscoelastic_per_cycle", "dissipated_friction_per_cycle",
@@ -48,8 +48,8 @@ def _db(reference: float, value: float) -> float:
 def _config_columns(c) -> dict:
     v = c.made.values
     return {"config": c.made.config.name, **{k: v[k] for k in (
-        "material", "radius", "count", "fill_ratio", "cavity_length", "clearance", "dt",
-        "added_mass")}, "mass_ratio": v.get("mass_ratio", math.nan),
+        "material", "radius", "count", "cavities", "fill_ratio", "cavity_length", "clearance",
+        "dt", "stiffness_scale", "added_mass")}, "mass_ratio": v.get("mass_ratio", math.nan),
         "notes": " | ".join(v.get("notes", ()))}
 
 

@@ -159,8 +159,11 @@ def run_design(path: str | os.PathLike, out: str | os.PathLike, *, workers: int 
 def _figures(out: Path, design: DesignFile, rows: list[dict], configs: list[Config]) -> list:
     """The design's figures (x3dpd.analysis.design_charts); a sweep's also the responses of
     every configuration at each drive over the undamped baseline (Figures 45-48)."""
-    from x3dpd.analysis.design_charts import plot_attenuation_vs_mass, plot_damping_families
-    from x3dpd.analysis.design_plots import plot_configurations
+    from x3dpd.api.figures import (
+        plot_attenuation_vs_mass,
+        plot_configurations,
+        plot_damping_families,
+    )
     from x3dpd.design.closed_form import baseline_curves
 
     if not rows:

@@ -10,13 +10,17 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
-from x3dpd.analysis.frf import QUANTITY_ORDER
-from x3dpd.analysis.frf_plots import plot_fit
-from x3dpd.analysis.sdof_fit import SdofFit, fit_sdof
+from x3dpd.api.figures import plot_fit
+from x3dpd.api.measurements import (
+    QUANTITY_ORDER,
+    MeasuredFrf,
+    SdofFit,
+    fit_sdof,
+    read_measured_frf,
+)
 from x3dpd.design.frf import _outputs
 from x3dpd.design.trace_signals import parse_band
 from x3dpd.errors import InputError
-from x3dpd.io.measured import MeasuredFrf, read_measured_frf
 
 _AXES = "XYZ"
 

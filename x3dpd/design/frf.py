@@ -15,14 +15,16 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.analysis.frf import (
+from x3dpd.api import read_trace
+from x3dpd.api.figures import Curve, plot_frf, plot_spectrum
+from x3dpd.api.measurements import (
     QUANTITY_ORDER,
     amplitude_spectrum,
     difference_gain,
     estimate_frf,
     power_spectrum,
+    read_measured_frf,
 )
-from x3dpd.analysis.frf_plots import Curve, plot_frf, plot_spectrum
 from x3dpd.design.trace_signals import (
     check_band,
     drive_history,
@@ -34,8 +36,6 @@ from x3dpd.design.trace_signals import (
     welch_options,
 )
 from x3dpd.errors import InputError
-from x3dpd.io.measured import read_measured_frf
-from x3dpd.io.trace import read_trace
 
 
 def _outputs(out: str | os.PathLike, names: Sequence[str], overwrite: bool) -> list[Path]:

@@ -18,12 +18,12 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.analysis.frf import QUANTITY_ORDER
+from x3dpd.api import TraceData
 from x3dpd.api.decks import build_model, read_deck
+from x3dpd.api.measurements import QUANTITY_ORDER
 from x3dpd.design.baselines import base_mass_node, baseline_decks
 from x3dpd.design.closed_form import base_response_structure, force_structure
 from x3dpd.errors import InputError
-from x3dpd.io.trace import TraceData
 
 
 def run_deck(trace: TraceData, trace_path: str, deck: str | None):

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from x3dpd.model.model import Model
+from x3dpd.api.structures import Model
 
 
 @dataclass(frozen=True)

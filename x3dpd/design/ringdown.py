@@ -13,14 +13,19 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.analysis.design_plots import plot_ringdown
-from x3dpd.analysis.ringdown import G_IN_S2, Ringdown, damping_vs_amplitude, rest_offset
 from x3dpd.api import read_trace, run
 from x3dpd.api.decks import Deck
+from x3dpd.api.figures import plot_ringdown
+from x3dpd.api.measurements import (
+    G_IN_S2,
+    Ringdown,
+    damping_vs_amplitude,
+    read_measured_history,
+    rest_offset,
+)
 from x3dpd.design.baselines import without_particles
 from x3dpd.design.spec import default_drive_point
 from x3dpd.errors import InputError
-from x3dpd.io.measured import read_measured_history
 
 #: Samples per cycle recorded for a deck's ring-down (the analysis needs >= ~20).
 SAMPLES_PER_CYCLE = 100

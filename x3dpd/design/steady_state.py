@@ -18,9 +18,9 @@ import math
 import time as _time
 from dataclasses import dataclass, field
 
-from x3dpd.analysis.steady_state import SteadyStateMonitor
 from x3dpd.api import run as run_deck
 from x3dpd.api.decks import Deck
+from x3dpd.api.measurements import SteadyStateMonitor
 from x3dpd.api.traces import ENERGY_COLUMNS
 from x3dpd.design.drive import BASE_QUANTITIES, base_motion_spec, displacement_amplitude
 from x3dpd.design.predict import continued_base_start, predicted_start

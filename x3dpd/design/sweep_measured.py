@@ -22,12 +22,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from x3dpd.analysis.frf import QUANTITY_ORDER
+from x3dpd.api.measurements import QUANTITY_ORDER, MeasuredFrf, read_measured_frf
 from x3dpd.design.drive import displacement_amplitude
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.trace_signals import parse_point
 from x3dpd.errors import InputError
-from x3dpd.io.measured import MeasuredFrf, read_measured_frf
 
 
 def read_measured(texts: Sequence[str], points: Sequence[tuple[int, int]],

@@ -17,11 +17,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from x3dpd.analysis.frf import central_difference
+from x3dpd.api import TraceData
+from x3dpd.api.measurements import (
+    central_difference,
+    force_table,
+    force_values,
+    law_count,
+    motion_history,
+    motion_rows,
+    motion_table,
+    split_specs,
+)
 from x3dpd.errors import InputError
-from x3dpd.io.trace import TraceData
-from x3dpd.physics.motion import motion_history, motion_rows, motion_table
-from x3dpd.physics.usrfrc import force_table, force_values, law_count, split_specs
 
 #: Quantities a response can be read as, and their unit in terms of the trace's length unit.
 RESPONSE_UNITS = {"displacement": "{length}", "velocity": "{length}/s",

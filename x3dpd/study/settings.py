@@ -4,9 +4,9 @@ A :class:`Setting` says how one run differs from the deck: its step ``dt``, its 
 (``"deck"`` as written, or ``"elastic"``: the Maxwell terms dropped, Hertz with the long-term
 modulus E0), its friction law, its contact stiffness (``stiffness``: every modulus of the
 particles' law scaled, E0, E1, E2 ..., the relaxation times kept, with the step lengthened to
-match, :func:`soft_step`), its walls (``walls``: the deck's, ``"rigid"``, or a material of the
-library x3dpd.materials on every cavity, :func:`wall_records`), and, for a perturbed repeat,
-the seed of the perturbation.
+match, :func:`x3dpd.api.soft_step`), its walls (``walls``: the deck's, ``"rigid"``, or a
+material of the library x3dpd.materials on every cavity, :func:`wall_records`), and, for a
+perturbed repeat, the seed of the perturbation.
 """
 
 from __future__ import annotations
@@ -14,6 +14,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
+
+from x3dpd.api import soft_step, softened
 
 #: Default ladder of steps, as multiples of the deck's DTMAX.
 LADDER = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
@@ -59,14 +61,6 @@ class Setting:
         return " ".join(parts)
 
 
-def soft_step(dt: float, stiffness: float) -> float:
-    """The step that resolves a contact softened by ``stiffness`` as ``dt`` resolves the
-    deck's: a Hertz impact lasts t_c = 2.87 (m*^2 / (R* E*^2 v))^(1/5) (x3dpd.model.timestep,
-    hertz_contact_time; report Sec. 7.3), so t_c, and the step at the same steps per contact,
-    scale as E^(-2/5) [s]."""
-    return float(dt) * float(stiffness) ** -0.4
-
-
 def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
            chaotic: bool, stiffness=(), friction_law: str = "regularized",
            walls=()) -> list[Setting]:
@@ -102,11 +96,7 @@ def deck_for(deck, setting: Setting):
     if setting.contact == "elastic":
         deck = replace(deck, pdmp=tuple(replace(p, e1=0.0, extra_terms=()) for p in deck.pdmp))
     if setting.stiffness != 1.0:
-        f = setting.stiffness
-        deck = replace(deck, pdmp=tuple(
-            replace(p, e0=p.e0 * f, e1=p.e1 * f,
-                    extra_terms=tuple((e * f, tau) for e, tau in p.extra_terms))
-            for p in deck.pdmp))
+        deck = softened(deck, setting.stiffness)
     if setting.walls != DECK_WALLS:
         deck = replace(deck, wallmat=wall_records(deck, setting.walls))
     if setting.repeat:

@@ -47,7 +47,7 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     replaces the deck's USRFRC card (as ``x3dpd run --usrfrc``); ``fidelity=False`` runs the
     step ladder only (no elastic or bare-Coulomb variants, each a kernel compile); ``stiffness``
     adds softer contacts: each a scale of the particles' moduli (0.1, 0.01 ...), run at the
-    deck's step lengthened by scale^(-2/5) (:func:`x3dpd.study.settings.soft_step`). Raises
+    deck's step lengthened by scale^(-2/5) (:func:`x3dpd.api.soft_step`). Raises
     InputError when ``out`` holds a study and ``overwrite`` is not set, when a stiffness scale
     is not in (0, 1] or the deck's contacts are not Hertz (a HOOKE card), or when the finest run
     goes unstable. ``walls`` adds wall choices at the deck's step: ``"rigid"`` (no WALLMAT) or
