@@ -26,7 +26,15 @@ How it differs from ``mindlin`` under HOOKE: sticking, not at all (the same line
 dashpot); sliding, ``mindlin`` rests the dashpot and the spring carries the whole limited force,
 while here the spring carries the limited force minus the dashpot's.
 
-Stored energy :math:`U = \tfrac12 k_t|\boldsymbol\xi|^2`. Units: force, length, s.
+Stored energy :math:`U = \tfrac12 k_t|\boldsymbol\xi|^2`. **Caveat (LAMMPS's rule itself):** with a
+dashpot (HOOKE e < 1) the reset at the onset of sliding stores
+:math:`\tfrac12|\mathbf F + c_t\mathbf v_t|^2/k_t` in the spring, energy no work put there; the
+ledger books it as negative friction dissipation, and in gross sliding at a large slip speed the
+energy audit stops the run (Chung & Ooi's test-6 deck at chi = 0.187,
+``x3dpd decks/benchmarks/chung_ooi/test6_aluminium_alloy.inp --friction linear_history``: exit 3
+at 3.6 us, friction -1.79 of the energy scale 6.45). Use it to compare with LAMMPS without
+tangential damping (e = 1) or at partial slip; use ``mindlin`` for damped contacts.
+Units: force, length, s.
 """
 
 from __future__ import annotations

@@ -169,6 +169,11 @@ class VariableStep:
         return self._sim(0).effects
 
     @property
+    def energy_columns(self):
+        """The ledger rows' columns (Simulation.energy_columns: the same at every level)."""
+        return self._sim(0).energy_columns
+
+    @property
     def motion(self):
         return self._sim(0).motion
 
