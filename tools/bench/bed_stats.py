@@ -10,7 +10,9 @@ restored and advanced ``--every`` steps at a time; after each call the pair and 
 read: contacts open (state approach > 0 or a force), contacts that opened or closed since the
 last look (pairs matched by their particles across list rebuilds), and the pair contacts that
 slide, |F_t| >= 0.999 mu F_N (the regularised law's Coulomb branch; mu = 0.3 for every
-sphere). Prints the means per step (per look when ``--every`` > 1) and per sphere;
+sphere). First the same window is run in one call and its CPU time per step measured
+(``time.process_time``), then the bed is restored and looked at. Prints the means per step
+(per look when ``--every`` > 1) and per sphere;
 ``--series`` also each look's contacts per sphere. ``--from-start`` settles the bed afresh and
 starts at the beginning of its shake (the prepared shaken bed is two periods into it):
 ``bed_stats.py shaken_visco_512 --from-start --every 4000 --steps 108000 --series`` is the
@@ -20,7 +22,9 @@ README's table of the bed loosening.
 from __future__ import annotations
 
 import argparse
+import copy
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -54,6 +58,13 @@ def bed_stats(bed: str, steps: int, every: int = 1, from_start: bool = False,
         period = 1.0 / (sc["shake_freq_hz"] * sc["dt"])
     else:
         sim = bed_simulation(bed)
+    # CPU time per step of one advance call over the window, before the looks (the process's
+    # own CPU time: less sensitive to other processes than wall time, not immune to them)
+    snapshot = copy.deepcopy(sim.state)
+    cpu = time.process_time()
+    sim.advance(steps, max_rows=1)
+    cpu_us = (time.process_time() - cpu) / steps * 1e6
+    sim.restore(snapshot)
     st = sim.state
     step0 = st.step
     pairs, walls = _open_pairs(st), _open_walls(st)
@@ -87,7 +98,8 @@ def bed_stats(bed: str, steps: int, every: int = 1, from_start: bool = False,
                pair_per_sphere=2 * out["pair_open"] / n_spheres,
                wall_per_sphere=out["wall_open"] / n_spheres,
                sliding_fraction=out["pair_sliding"] / max(out["pair_open"], 1e-300),
-               rebuilds_per_1000_steps=1000.0 * (int(st.nbr[2]) - rebuilds0) / (looks * every))
+               rebuilds_per_1000_steps=1000.0 * (int(st.nbr[2]) - rebuilds0) / (looks * every),
+               cpu_us_per_step=cpu_us)
     return out
 
 
@@ -107,7 +119,8 @@ def main(argv=None) -> int:
           f"pairs opened {r['pair_opened']:.2f}, closed {r['pair_closed']:.2f}; walls opened "
           f"{r['wall_opened']:.2f}, closed {r['wall_closed']:.2f}; sliding pairs "
           f"{r['pair_sliding']:.1f} ({100 * r['sliding_fraction']:.0f} %); list rebuilds "
-          f"{r['rebuilds_per_1000_steps']:.2f} per 1000 steps")
+          f"{r['rebuilds_per_1000_steps']:.2f} per 1000 steps; CPU time "
+          f"{r['cpu_us_per_step']:.1f} us per step")
     return 0
 
 
