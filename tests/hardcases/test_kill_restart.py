@@ -13,11 +13,11 @@ from test_beds import packed_deck
 from x3dpd.deck.writer import format_deck
 from x3dpd.io.restart import load_restart
 
-TMAX = 0.12
+TMAX = 0.05
 
 
 def write_deck(path):
-    _, deck = packed_deck(4, 0.03125, clearance=0.01, dt=5e-7, tmax=TMAX, trest=0.02)
+    _, deck = packed_deck(4, 0.03125, clearance=0.01, dt=5e-7, tmax=TMAX, trest=0.01)
     path.write_text(format_deck(deck))
 
 
