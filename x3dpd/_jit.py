@@ -42,8 +42,10 @@ def shared_kernel(fn=None, **overrides):
     variant constant -- as a function of its own that every variant calls: compiled once and
     cached beside its source, instead of inlined into (and compiled again with) each variant's
     loop. Without NRT like the loop, so that the call passes its arrays without reference
-    counting (it may not allocate). For functions called a few times per step, not per
-    contact: a call costs a few nanoseconds (docs/engine.md, "Compile time")."""
+    counting (it may not allocate). For functions called once or twice per step of scenes
+    whose steps are long (with contacts), never per contact: a call passes every array's
+    descriptor and loses the caller's constants, tens to hundreds of instructions
+    (docs/engine.md, "Compile time")."""
     return kernel(fn, inline="never", _nrt=False, **overrides)
 
 
@@ -178,8 +180,8 @@ from numba.core.types import functions as _numba_functions  # noqa: E402
 
 _resolve_call_type = _numba_functions.BaseFunction.get_call_type
 #: id(flags) -> (flags, {(function type, context, args, kws, templates): (signature, its
-#: implementation key)}): the
-#: flags object is held so that its id is not reused while its memo lives; the newest 8 kept
+#: implementation key)}); the flags object is held so that its id is not reused while its memo
+#: lives; the newest 8 kept
 _CALL_TYPES: dict = {}
 
 

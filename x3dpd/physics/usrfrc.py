@@ -33,7 +33,7 @@ import os
 
 import numpy as np
 
-from x3dpd._jit import kernel, shared_kernel, step_kernel
+from x3dpd._jit import kernel, step_kernel
 from x3dpd.errors import UsrfrcError
 from x3dpd.physics.random_signal import RandomLaw, _signal_state, attach_blocks, parse_random
 from x3dpd.physics.spec_fields import (  # noqa: F401  (re-exported: the spec fields' old home)
@@ -116,7 +116,7 @@ def _sweep_phase(tau, f0, f1, k, log_law):
     return phase
 
 
-@shared_kernel
+@step_kernel
 def _force_value(t, table, r):
     """Value at time ``t`` of the force in row ``r`` of ``table`` (see :data:`TABLE_COLUMNS`)."""
     kind = int(table[r, 0])
