@@ -10,6 +10,8 @@ so a resumed run that lost its level would step differently.
 
 from __future__ import annotations
 
+import pytest
+
 import json
 from dataclasses import replace
 from pathlib import Path
@@ -31,6 +33,10 @@ def write_deck(path: Path) -> None:
     path.write_text(format_deck(deck))          # DTMIN = DTMAX: auto only when asked
 
 
+# three CLI runs of an auto-step drop (62 s in a loaded suite); the kill-and-resume mechanism
+# is in the default suite (tests/cli/test_restart.py), the auto step's stop-and-resume bytes
+# too (tests/api/test_auto_step.py): python -m pytest -m validate
+@pytest.mark.validate
 def test_sigkill_during_an_auto_step_run_then_restart_loses_nothing(tmp_path):
     ref, part = tmp_path / "ref", tmp_path / "part"
     for d in (ref, part):

@@ -7,6 +7,8 @@ energy file must equal the uninterrupted run's byte for byte.
 
 from __future__ import annotations
 
+import pytest
+
 from processes import kill_after_first_dump, x3dpd
 from test_beds import packed_deck
 
@@ -21,6 +23,9 @@ def write_deck(path):
     path.write_text(format_deck(deck))
 
 
+# a packed shaken bed killed and resumed by the CLI (47 s in a loaded suite); the kill-and-resume
+# mechanism is in the default suite (tests/cli/test_restart.py): python -m pytest -m validate
+@pytest.mark.validate
 def test_sigkill_during_a_packed_shaken_bed_then_restart_loses_nothing(tmp_path):
     ref, part = tmp_path / "ref", tmp_path / "part"
     ref.mkdir()

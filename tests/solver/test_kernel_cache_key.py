@@ -127,3 +127,25 @@ def test_the_source_hash_is_kept_until_a_source_file_changes(monkeypatch, tmp_pa
                                               digest])
     fake.write_text("x = 12\n")   # an edit: another size
     assert variants._source_hash() == first and walked == [1]   # re-walked, same real sources
+
+
+def test_a_frictionless_scene_compiles_one_loop_whatever_the_tangential_law():
+    """Every PCOF 0 and no rolling law: no tangential law runs, so --friction must not make a
+    loop of its own to compile (it did: one per law, in a suite of decks and options); a scene
+    with friction keeps its law's loop. Run through x3dpd.run: the same trace bytes too."""
+    import x3dpd
+    from factories import floor_deck
+    from x3dpd.model.build import build_model
+    from x3dpd.solver.simulation import Simulation
+
+    bare = floor_deck(dt=5e-7, mu=0.0)
+    loops = {Simulation(build_model(bare), friction=law).variant
+             for law in ("regularized", "coulomb", "mindlin", "linear_history")}
+    assert len(loops) == 1
+    rough = floor_deck(dt=5e-7, mu=0.3)
+    loops = {Simulation(build_model(rough), friction=law).variant.friction_law
+             for law in ("regularized", "mindlin")}
+    assert loops == {"regularized", "mindlin"}
+    a, b = (x3dpd.run(bare, tmax=4e-5, friction=law) for law in ("regularized", "mindlin"))
+    assert a.trace.velocity.tobytes() == b.trace.velocity.tobytes()
+    assert a.energy["residual"].tobytes() == b.energy["residual"].tobytes()

@@ -94,6 +94,11 @@ class Simulation(RunChecks):
         self.model = model
         friction = friction or model.friction_law or "regularized"
         self.friction = friction
+        if "friction" not in model.effects and model.rolling_law in (None, "none"):
+            # no tangential law runs (every PCOF 0, no rolling law): build and compile the
+            # default's setup and loop, so that a frictionless scene compiles one loop whatever
+            # --friction says (none of the law's code or history would be used)
+            friction = "regularized"
         self.dt = float(dt if dt is not None else model.dt)
         if not (self.dt > 0 and math.isfinite(self.dt)):
             raise InputError(f"time step must be a positive number, got {self.dt!r}")
