@@ -204,8 +204,12 @@ def test_resume_with_a_later_tmax_extends_the_run(finished, reference):
     assert not (finished / "ref.trace.txt.bak").exists()
 
 
-def test_restart_without_a_dump_exits_2(tmp_path):
+def test_restart_without_a_dump_exits_2(tmp_path, monkeypatch):
+    """Refused before the step loop is made: on an empty kernel cache nothing says it compiles
+    (it did, then refused)."""
+    monkeypatch.setenv("X3DPD_CACHE_DIR", str(tmp_path / "empty_cache"))
     deck = ten_sphere_deck(tmp_path / "ten.inp")
     res = x3dpd(deck, "--restart", cwd=tmp_path)
     assert res.returncode == 2
     assert "ten.trace.txt.restart.npz, which does not exist" in res.stderr
+    assert "compiling" not in res.stdout + res.stderr

@@ -119,6 +119,14 @@ def sidecar_status(trace_path: str) -> str | None:
         return None
 
 
+def require_dump(dump_path: str, asked_by: str) -> None:
+    """Refuse a resume whose restart dump does not exist (before anything is compiled)."""
+    if not os.path.exists(dump_path):
+        raise InputError(f"{asked_by} asks to resume from {dump_path}, which does not exist (it "
+                         "is written every TREST of simulated time, on Ctrl-C and at the end of "
+                         "a run). Run without --restart and with IREST = 0 to start from t0")
+
+
 def load_dump(dump_path: str, *, asked_by: str, sim, key: str, options: dict, model) -> dict:
     """Load the restart dump, refuse it when it belongs to another setup, restore the state.
 
@@ -129,10 +137,7 @@ def load_dump(dump_path: str, *, asked_by: str, sim, key: str, options: dict, mo
     from x3dpd.io.restart import load_restart
     from x3dpd.solver.state import State
 
-    if not os.path.exists(dump_path):
-        raise InputError(f"{asked_by} asks to resume from {dump_path}, which does not exist (it "
-                         "is written every TREST of simulated time, on Ctrl-C and at the end of "
-                         "a run). Run without --restart and with IREST = 0 to start from t0")
+    require_dump(dump_path, asked_by)
     arrays, meta = load_restart(dump_path)
     diffs = []
     if meta.get("deck_key") != key:

@@ -39,6 +39,7 @@ from x3dpd.api.outputs import (
     default_paths,
     load_dump,
     open_outputs,
+    require_dump,
     user_file_hashes,
 )
 from x3dpd.api.results import FinalState, Recorder, RunResult
@@ -124,6 +125,8 @@ def prepare(deck, stats: Stats, *, tmax, usrfrc, usrfrc_mode, motion, trace, ene
         for path, what in ((trace_path, "trace file"), (energy_path, "energy file")):
             check_writable(path, what)
     resume = writes and (restart or model.irest == 1)
+    if resume:
+        require_dump(dump_path, "--restart" if restart else "the deck's IREST = 1")
     if tmax is not None and not math.isfinite(tmax):
         raise InputError(f"--tmax must be a finite number of seconds, got {tmax}")
     tmax = float(tmax if tmax is not None else model.tmax)
