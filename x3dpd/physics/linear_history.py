@@ -89,11 +89,11 @@ def contact_time(normal_law, i, j, v: float) -> float:
 
 @step_kernel
 def energy_consistent_scale(kt, x2, limit, budget):
-    """The factor s in (0, 1] of LAMMPS's reset spring xi (|xi|^2 = ``x2``, stiffness ``kt``)
-    that keeps it within Coulomb's limit, k_t s |xi| <= ``limit`` = mu F_N, and its energy
-    within ``budget`` = U_old + the step's slip work, 1/2 k_t s^2 |xi|^2 <= budget (0 when the
-    budget is not positive): s = 1 whenever LAMMPS's reset is energy-consistent (module
-    docstring, step 5)."""
+    """The largest factor s in [0, 1] of LAMMPS's reset spring xi (|xi|^2 = ``x2``, stiffness
+    ``kt``) that keeps it within Coulomb's limit, k_t s |xi| <= ``limit`` = mu F_N, and its
+    energy within ``budget`` = U_old + the step's slip work, 1/2 k_t s^2 |xi|^2 <= budget (0
+    when the budget is not positive): 1 where LAMMPS's reset is within the limit and
+    energy-consistent (module docstring, step 5)."""
     u = 0.5 * kt * x2
     s = 1.0
     if kt * kt * x2 > limit * limit:
@@ -106,10 +106,10 @@ def energy_consistent_scale(kt, x2, limit, budget):
 @step_kernel
 def tangential_force(vtx, vty, vtz, vt, nx, ny, nz, fn, a, m_t, mu_s, mu_k, kt, ct, dt, gamma,
                      fox, foy, foz, h, row, col):
-    """One step of the law (module docstring, steps 1-4): ``kt`` [force/length] and ``ct``
+    """One step of the law (module docstring, steps 1-5): ``kt`` [force/length] and ``ct``
     [force*s/length] this step's spring and dashpot, one Coulomb coefficient ``mu_s``;
-    h[row, col:col + 3] = xi, h[row, col + 3] = k_t (both updated). Returns
-    (F_tx, F_ty, F_tz, U - U_old)."""
+    h[row, col:col + 3] = xi, h[row, col + 3] = k_t (both updated); the last step's applied
+    force ``fox``... for the step's slip work. Returns (F_tx, F_ty, F_tz, U - U_old)."""
     xx = h[row, col + H_XI]
     xy = h[row, col + H_XI + 1]
     xz = h[row, col + H_XI + 2]
