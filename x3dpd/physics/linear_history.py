@@ -42,9 +42,12 @@ fast slip or where the slip reverses within a step: with the step's own work
 \tfrac12k_t|\boldsymbol\xi_L - \boldsymbol\xi_{old}|^2 + c_t v_t^2\Delta t`, not negative when
 :math:`c_t|\mathbf v_t| \le \mu F_N` (:math:`\mathbf F^*` the trial force), and the trapezoid
 differs from that work by :math:`\tfrac12(\mathbf F - \mathbf F_{old})\cdot\mathbf v_t\Delta t`.
-So undamped (e = 1) and slow-slip contacts run LAMMPS's rule (tests/physics/
-test_linear_history.py compares with it at partial slip). In gross sliding the applied force is :math:`\mu F_N` against the slip under every
-law, so the rebound is the Coulomb law's.
+So undamped (e = 1) contacts run LAMMPS's rule (to round-off: (a) compares
+:math:`|\mathbf F| = \mu F_N` with itself), and damped ones as long as the slip stays slow.
+In gross sliding the applied force is :math:`\mu F_N` against the slip under every law, so the
+rebound is the Coulomb law's. Where the rule does differ (docs/physics.md, "LAMMPS's
+linear_history"), LAMMPS's spring holds energy the slip never put in and gives it back when the
+contact sticks again.
 
 :math:`k_t` and :math:`c_t` come from the normal law (x3dpd.physics.tangential_laws): under
 HOOKE a constant :math:`k_t = 2(1-\nu)/(2-\nu)\,k_n` and :math:`c_t = c_n\sqrt{k_t/k_n}`, which
