@@ -40,7 +40,8 @@ def hooke_oblique_beta(kn, e, nu, m_n, inv_mt, mu, vn, slip_in, steps, dashpot_r
     Coulomb's limit mu |F_N|, on the relative normal motion (mass ``m_n``) and the relative slip
     (1/m_t = ``inv_mt``), by symplectic Euler at ``steps`` steps per contact. Sliding, the
     spring takes the limited force (``dashpot_rests``: x3dpd.physics.mindlin) or the limited
-    force minus the dashpot's (LAMMPS's linear_history)."""
+    force minus the dashpot's (LAMMPS's rule), no more than the limit and storing no more than
+    it stored plus the step's slip work (x3dpd.physics.linear_history, step 5)."""
     le = math.log(e)
     zeta = -le / math.sqrt(math.pi**2 + le * le)
     cn = 2.0 * zeta * math.sqrt(m_n * kn)
@@ -53,10 +54,15 @@ def hooke_oblique_beta(kn, e, nu, m_n, inv_mt, mu, vn, slip_in, steps, dashpot_r
         if a <= 0.0:
             return -slip / slip_in
         fn = kn * a + cn * a_dot
+        stored = 0.5 * spring * spring / kt
         spring -= kt * slip * h
         f = spring - ct * slip
         if abs(f) > mu * abs(fn):
             f = math.copysign(mu * abs(fn), f)
             spring = f if dashpot_rests else f + ct * slip
+            if not dashpot_rests:
+                budget = max(stored - f * slip * h, 0.0)   # + the slip work of the step
+                spring = math.copysign(min(abs(spring), mu * abs(fn),
+                                           math.sqrt(2.0 * kt * budget)), spring)
         a_dot -= fn / m_n * h
         slip += inv_mt * f * h

@@ -17,7 +17,10 @@ A law module provides
   formed for a law that ``STORES_ENERGY``), the tangential dashpot ``ct`` = eta sqrt(k_t)
   [force*s/length] that matches the normal law's damping (its ``tangential_damping`` constant
   eta; 0 under an undamped normal law: only formed for a law that ``STORES_ENERGY`` under a
-  ``DAMPED`` normal law), the step dt and gamma = 1/(2 dt); the last step's
+  ``DAMPED`` normal law), the step dt the contact slips over (0 when the loop evaluates the
+  forces at a state, x3dpd.solver.simulation.Simulation.compute_forces: the law then gives the
+  force of its history as it stands, and what it writes is discarded) and gamma = 1/(2 dt) of
+  the run's step; the last step's
   force F_old (``fox``...; the state row's S_FT columns);
   its history ``h[row, col:col + N_HISTORY]`` (read and written). dU is the change of the
   stored energy over the step: the step loop books it as elastic, the rest of the slip work

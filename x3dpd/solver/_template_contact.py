@@ -82,7 +82,9 @@ def _tangential(vrx, vry, vrz, nx, ny, nz, fn, a, m_t, mu_s, kappa, mu_k, eta, d
     stiffness is k_t = ``kappa`` * the normal law's ``stiffness_shape(a)`` and its dashpot
     c_t = ``eta`` sqrt(k_t) (formed only for a law with a spring, the dashpot only under a
     damped normal law; ``kappa``, ``mu_k`` and ``eta`` from the tangential tables).
-    F_old = (fox, foy, foz), the last step's force; the law's history is ``h[row, col:]``.
+    F_old = (fox, foy, foz), the last step's force; the law's history is ``h[row, col:]``;
+    ``dt`` the step the contact slips over (0 in a force evaluation at a state: the laws then
+    give the force of their history as it stands).
     Returns (F_tx, F_ty, F_tz, slip work, dU): the trapezoidal slip work
     -1/2 (F_old + F_t) . v_t dt taken from the bodies, of which dU went into the law's stored
     energy (0 for Coulomb)."""
@@ -250,7 +252,8 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
             mu_k = particles.tan_wall[p, 1]
             eta = particles.tan_wall[p, 4]
         ftx, fty, ftz, lost, du = _tangential(vrx, vry, vrz, nx, ny, nz, fn, a, 1.0 / inv_mt[p],
-                                              mu[p], kappa, mu_k, eta, dt, gamma, ws[s, S_FT],
+                                              mu[p], kappa, mu_k, eta, stepping.history_dt,
+                                              gamma, ws[s, S_FT],
                                               ws[s, S_FT + 1], ws[s, S_FT + 2], ws, s,
                                               ws.shape[1] - CONTACT_TAIL)
         ws[s, S_FT] = ftx

@@ -124,7 +124,7 @@ def _columns_out(c):
 
 
 @vector_kernel
-def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout):
+def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout, history_dt):
     """Pass 2 of the pair contacts: the contact response of every busy candidate (report
     Figure 41), from the columns the filter gathered (``cin``, I_* positions; column q for busy
     candidate q) into the columns ``cout`` (O_* positions; contact_lists.PAIR_OUTPUT_COLUMNS)
@@ -141,7 +141,8 @@ def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout):
     test_pair_columns.py checks the machine code). Histories (Maxwell terms, then the
     tangential and rolling laws') are read and written in ``hist`` (row q, Fortran order: one
     contiguous column per history value). Particles of several kinds gather their constants
-    by ``busy``, ``pl_i``, ``pl_j``; one kind reads them once.
+    by ``busy``, ``pl_i``, ``pl_j``; one kind reads them once. ``history_dt``: the step the
+    contacts slip over (``Stepping.history_dt``: dt, or 0 in a force evaluation at a state).
     """
     radius, pkind = particles.radius, particles.kind
     gamma = 0.5 / dt  # noqa: F841 (stick rate of the regularised friction law)
@@ -239,7 +240,8 @@ def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout):
                 m_t, mu_s, kappa, mu_k, eta = _friction_constants(particles, ki, kj)
             # the tangential law's history in row q of ``hist``, after the Maxwell terms
             ftx, fty, ftz, lost, du = _tangential(vjx - vix, vjy - viy, vjz - viz, nx, ny, nz,
-                                                  fn, a, m_t, mu_s, kappa, mu_k, eta, dt, gamma,
+                                                  fn, a, m_t, mu_s, kappa, mu_k, eta,
+                                                  history_dt, gamma,
                                                   ftox_[q], ftoy_[q], ftoz_[q], hist, q,
                                                   2 * N_MAXWELL)
             if TANGENTIAL_STORES and touching:
@@ -402,7 +404,7 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
         return OK
     # pass 2: the contact response, from columns into columns
     _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, stepping.dt, _columns_in(c),
-                   _columns_out(c))
+                   _columns_out(c), stepping.history_dt)
     # pass 3: states, forces and the ledger
     status, w_normal, w_fric, w_roll = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on,
                                                    nodes.force, stepping.pen_limit,

@@ -198,6 +198,9 @@ class Stepping(NamedTuple):
     nbr: np.ndarray          # (7,) neighbour-list bookkeeping (see advance)
     diag: np.ndarray         # (8,) what stopped a run: particle, other, depth, radius, t, step
     small: np.ndarray        # (9,) scratch: energies of an output step, barycentric weights
+    history_dt: float        # the step contacts slip over, which the tangential laws'
+    #                          histories advance by [s]: dt; 0 in a force evaluation at a state
+    #                          (x3dpd.solver.simulation.Simulation.compute_forces)
 
 
 class Output(NamedTuple):
@@ -212,13 +215,15 @@ class Output(NamedTuple):
 
 
 def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict, dt: float,
-                  pen_limit: float, diag: np.ndarray, ledger: np.ndarray | None = None) -> dict:
+                  pen_limit: float, diag: np.ndarray, ledger: np.ndarray | None = None,
+                  history_dt: float | None = None) -> dict:
     """The kernels' bundles of one scene (everything but :class:`Output`), by name.
 
     ``faces_now``: (normal, offset) arrays the kernels refresh from the wall nodes;
     ``scratch``: the rebuild scratch arrays of both lists and ``small`` (see
     :func:`contact_scratch`); ``ledger`` replaces the state's ledger (a scratch one for force
-    evaluations that must not count work).
+    evaluations that must not count work); ``history_dt`` the step the tangential laws'
+    histories advance by (default ``dt``; 0 for a force evaluation at a state).
     """
     k, s = setup, state
     walls = ContactList(s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, scratch["wl_p2"], scratch["wl_f2"],
@@ -248,7 +253,7 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
                        scratch["mp_old"], scratch["mf_new"], scratch["m_rate"]),
         "stepping": Stepping(float(dt), float(k.skin), float(pen_limit),
                              s.ledger if ledger is None else ledger, s.nbr, diag,
-                             scratch["small"]),
+                             scratch["small"], float(dt if history_dt is None else history_dt)),
     }
 
 

@@ -16,7 +16,7 @@ from x3dpd._jit import kernel
 
 __all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "PAIR_INPUT_COLUMNS",
            "PAIR_OUTPUT_COLUMNS", "pair_columns", "history_columns", "_active_flags",
-           "_merge_states", "_pair_approach"]
+           "_merge_states", "_pair_approach", "kept_histories", "restore_histories"]
 
 # columns of a contact state row
 S_A = 0         # geometric approach at the last step (may be negative)
@@ -101,3 +101,25 @@ def _pair_approach(x, p0, radius, pi, pj, n, out_a):
         dz = x[j, 2] - x[i, 2]
         a = radius[pi[q]] + radius[pj[q]] - math.sqrt(dx * dx + dy * dy + dz * dz)
         out_a[q] = a if a > 0.0 else 0.0
+
+
+def kept_histories(state, n_law: int, n_roll: int) -> list:
+    """(rows, open flags, columns, a copy of those columns) of the tangential law's history
+    (``n_law`` values, before the rolling law's ``n_roll`` at the end of each row) in each
+    contact state table of ``state`` (walls, pairs, analytic walls), for
+    :func:`restore_histories`; empty for a law without history."""
+    if not n_law:
+        return []
+    kept = []
+    for rows, on in ((state.ws, state.wl_on), (state.ps, state.pl_on), (state.cs, state.cs_on)):
+        columns = slice(rows.shape[1] - n_roll - n_law, rows.shape[1] - n_roll)
+        kept.append((rows, on, columns, rows[:, columns].copy()))
+    return kept
+
+
+def restore_histories(kept: list) -> None:
+    """Put the histories :func:`kept_histories` copied back into the contacts still open (one
+    that ended since keeps its cleared row: a new contact starts from zero)."""
+    for rows, on, columns, history in kept:
+        still_open = on != 0
+        rows[still_open, columns] = history[still_open]

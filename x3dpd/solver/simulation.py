@@ -21,6 +21,8 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
 
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import MOTION_COLUMNS, motion_rows, motion_table, start_motion
+from x3dpd.physics.rolling import n_history as rolling_history
+from x3dpd.physics.tangential_laws import n_history
 from x3dpd.physics.user_force_file import build_external_forces
 from x3dpd.physics.usrfrc import law_count
 from x3dpd.solver.bundles import (
@@ -32,6 +34,7 @@ from x3dpd.solver.bundles import (
     contact_scratch,
     pack,
 )
+from x3dpd.solver.contact_lists import kept_histories, restore_histories
 from x3dpd.solver.run_checks import AUDIT_STEPS, RunChecks
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
 from x3dpd.solver.compile_lock import variant_compile_lock
@@ -320,11 +323,19 @@ class Simulation(RunChecks):
         velocities into ``state.force``, without counting work in the ledger; return the status
         flags (``Status.PENETRATION`` when an approach exceeds the limit).
 
-        Contact lists are used as they are (``initialize`` builds them)."""
+        The state is the one the next step starts from, so nothing slips: the tangential laws
+        run at a zero step (``Stepping.history_dt`` = 0: the force of their history as it
+        stands, the dashpot on the state's velocities) and their histories are left as they
+        were in every contact that stays open (the first step advances them by its own slip;
+        advancing them here too added v_t dt twice). Contact lists are used as they are
+        (``initialize`` builds them)."""
         t = self.time if t is None else float(t)
-        b = self._bundles(ledger=np.zeros_like(self.state.ledger))
+        kept = kept_histories(self.state, n_history(self.friction),
+                              rolling_history(self.model.rolling_law))
+        b = self._bundles(ledger=np.zeros_like(self.state.ledger), history_dt=0.0)
         status, _, _ = self.kernels.advance_packed(self.kernels.FORCES, 1, -1, t,
                                                    pack(b, self._no_output()))
+        restore_histories(kept)
         return Status(status)
 
     def _no_output(self) -> Output:
@@ -355,8 +366,10 @@ class Simulation(RunChecks):
             self._face_n, self._face_d = np.zeros((nf, 3)), np.zeros(nf)
         return self._face_n, self._face_d
 
-    def _bundles(self, ledger: np.ndarray | None = None) -> dict:
-        """The kernels' named bundles over the current state (built here and only here)."""
+    def _bundles(self, ledger: np.ndarray | None = None,
+                 history_dt: float | None = None) -> dict:
+        """The kernels' named bundles over the current state (built here and only here);
+        ``ledger`` and ``history_dt`` as x3dpd.solver.bundles.build_bundles takes them."""
         s = self.state
         sc = getattr(self, "_sc", None)
         if sc is None or sc["ws2"].shape != s.ws.shape or sc["ps2"].shape != s.ps.shape:
@@ -366,7 +379,7 @@ class Simulation(RunChecks):
                       self.motion, s.motion_prev)
         return build_bundles(self.setup, s, loads=loads, faces_now=self._faces(), scratch=sc,
                              dt=self.dt, pen_limit=self.penetration_limit, diag=self.diag,
-                             ledger=ledger)
+                             ledger=ledger, history_dt=history_dt)
 
     def _packed_bundles(self, output: Output) -> tuple:
         """``advance_packed``'s argument: the bundles packed once and kept while every array of
