@@ -25,15 +25,8 @@ from collections.abc import Callable, Sequence
 
 from x3dpd.api.loop import STOP_CHECK_ROWS, Stats
 from x3dpd.api.results import Chunk, FinalState, RunResult
-from x3dpd.api.run_steps import (
-    make_step_loop,
-    open_files,
-    prepare,
-    record_options,
-    start_recording,
-    step,
-    summarise,
-)
+from x3dpd.api.run_record import start_recording, step, summarise
+from x3dpd.api.run_steps import make_step_loop, open_files, prepare, record_options
 from x3dpd.errors import InputError, UnstableRunError
 
 #: The energy audit's default tolerance, a fraction of the energy scale (run(energy_tolerance=)).
