@@ -23,7 +23,7 @@ def hertz_mindlin_impact(mass, radius, young, nu, mu, vn, vt, h):
         if kt < k_old:
             f *= kt / k_old
         k_old = kt
-        f -= kt * (u + w * radius) * h          # the contact point slips at u + w R
+        f -= kt * (u + w * radius) * h  # the contact point slips at u + w R
         if abs(f) > mu * fn:
             f = math.copysign(mu * fn, f)
         d_dot -= fn / mass * h
@@ -61,8 +61,9 @@ def hooke_oblique_beta(kn, e, nu, m_n, inv_mt, mu, vn, slip_in, steps, dashpot_r
             f = math.copysign(mu * abs(fn), f)
             spring = f if dashpot_rests else f + ct * slip
             if not dashpot_rests:
-                budget = max(stored - f * slip * h, 0.0)   # + the slip work of the step
-                spring = math.copysign(min(abs(spring), mu * abs(fn),
-                                           math.sqrt(2.0 * kt * budget)), spring)
+                budget = max(stored - f * slip * h, 0.0)  # + the slip work of the step
+                spring = math.copysign(
+                    min(abs(spring), mu * abs(fn), math.sqrt(2.0 * kt * budget)), spring
+                )
         a_dot -= fn / m_n * h
         slip += inv_mt * f * h

@@ -38,8 +38,8 @@ _spec.loader.exec_module(co)
 
 M = sphere_mass()
 INERTIA = 0.4 * M * STEEL_R**2
-KN = 1.0e4          # HOOKE k_n [lbf/in]
-G = 386.1           # [in/s^2]
+KN = 1.0e4  # HOOKE k_n [lbf/in]
+G = 386.1  # [in/s^2]
 LAW = "linear_history"
 
 
@@ -63,8 +63,14 @@ def _rocking(law, e, steps_per_period, degrees=10.0):
     w = math.sqrt(kt / m_t - alpha * alpha)
     period = 2.0 * math.pi / math.sqrt(kt / m_t)
     gx, gy = G * math.sin(math.radians(degrees)), G * math.cos(math.radians(degrees))
-    deck = floor_deck(dt=period / steps_per_period, height=STEEL_R - M * gy / KN,
-                      velocity=(0.0, 0.0, 0.0), gravity=G, mu=0.3, spectator=False)
+    deck = floor_deck(
+        dt=period / steps_per_period,
+        height=STEEL_R - M * gy / KN,
+        velocity=(0.0, 0.0, 0.0),
+        gravity=G,
+        mu=0.3,
+        spectator=False,
+    )
     deck = dataclasses.replace(_hooke(deck, e), body=Body(gx, -gy, 0.0))
     res = x3dpd.run(deck, tmax=2.0 * period, friction=law)
     t = res.trace.time
@@ -91,8 +97,7 @@ def test_gross_sliding_matches_the_rigid_body_impulse():
     """80 deg on Hertz, mu 0.3: the contact slides throughout, v_t' = v_t - mu (1 + e)
     (1 + m R^2/I) v_n to 1e-3 (as every tangential law: tests/physics/test_mindlin.py)."""
     vn, vt = 10.0 * math.cos(math.radians(80.0)), 10.0 * math.sin(math.radians(80.0))
-    res = x3dpd.run(floor_deck(dt=5e-7, velocity=(vt, -vn, 0.0), mu=0.3), tmax=8e-5,
-                    friction=LAW)
+    res = x3dpd.run(floor_deck(dt=5e-7, velocity=(vt, -vn, 0.0), mu=0.3), tmax=8e-5, friction=LAW)
     v, w = res.trace.velocity[-1, 0], res.trace.spin[-1, 0]
     e = v[1] / vn
     expected = vt - 0.3 * (1.0 + e) * (1.0 + M * STEEL_R**2 / INERTIA) * vn
@@ -121,8 +126,11 @@ def test_damped_gross_sliding_matches_the_rigid_body_impulse(law):
     energy stopped this run with exit 3); every law gives the same rebound."""
     e = 0.5
     vn, vt = 10.0 * math.cos(math.radians(80.0)), 10.0 * math.sin(math.radians(80.0))
-    res = x3dpd.run(_hooke(floor_deck(dt=5e-7 / 16, velocity=(vt, -vn, 0.0), mu=0.3), e),
-                    tmax=6e-5, friction=law)
+    res = x3dpd.run(
+        _hooke(floor_deck(dt=5e-7 / 16, velocity=(vt, -vn, 0.0), mu=0.3), e),
+        tmax=6e-5,
+        friction=law,
+    )
     v, w = res.trace.velocity[-1, 0], res.trace.spin[-1, 0]
     expected = vt - 0.3 * (1.0 + M * STEEL_R**2 / INERTIA) * vn * hooke_sliding_impulse(e)
     slip = v[0] + w[2] * STEEL_R
@@ -139,9 +147,18 @@ def _lammps_reference(chi: float, steps: int) -> float:
     cfg = co.TESTS[6]
     r, e, mu, vn = cfg["radius"], cfg["e"], cfg["mu"], cfg["speed"]
     m = co.sphere_mass("aluminium alloy", r)
-    return hooke_oblique_beta(co.hooke_stiffness("aluminium alloy", r, vn), e,
-                              co.MATERIALS["aluminium alloy"][1], m, 3.5 / m, mu, vn,
-                              3.5 * mu * (1.0 + e) * vn / chi, steps, dashpot_rests=False)
+    return hooke_oblique_beta(
+        co.hooke_stiffness("aluminium alloy", r, vn),
+        e,
+        co.MATERIALS["aluminium alloy"][1],
+        m,
+        3.5 / m,
+        mu,
+        vn,
+        3.5 * mu * (1.0 + e) * vn / chi,
+        steps,
+        dashpot_rests=False,
+    )
 
 
 def test_sliding_keeps_the_dashpot_as_lammps_does(tmp_path):
@@ -153,8 +170,16 @@ def test_sliding_keeps_the_dashpot_as_lammps_does(tmp_path):
     chi = co.T8_CHI[12]
     cfg = co.TESTS[6]
     slip = 3.5 * cfg["mu"] * (1.0 + cfg["e"]) * cfg["speed"] / chi
-    out = co.oblique_wall(6, "aluminium alloy", cfg["speed"], 0.0, -slip / cfg["radius"],
-                          tmp_path, 20000, friction=LAW)
+    out = co.oblique_wall(
+        6,
+        "aluminium alloy",
+        cfg["speed"],
+        0.0,
+        -slip / cfg["radius"],
+        tmp_path,
+        20000,
+        friction=LAW,
+    )
     beta = -out["slip_out"] / out["slip_in"]
     ref = _lammps_reference(chi, 320000)
     print(f"\nchi {chi}: beta {beta:+.4f}, reference {ref:+.4f}")
@@ -197,13 +222,14 @@ def test_chung_ooi_test6_in_gross_sliding_runs_to_its_end(tmp_path):
     assert proc.returncode == 0, proc.stderr
     energy = x3dpd.read_energy(tmp_path / "t6.energy.csv")
     e0 = energy["total_energy"][0]
-    print(f"\nresidual {np.abs(energy['residual']).max() / e0:.1e}, friction dissipated "
-          f"{energy['dissipated_friction'][-1]:.4f} J of {e0:.4f} J")
+    print(
+        f"\nresidual {np.abs(energy['residual']).max() / e0:.1e}, friction dissipated "
+        f"{energy['dissipated_friction'][-1]:.4f} J of {e0:.4f} J"
+    )
     assert np.abs(energy["residual"]).max() <= 1e-12 * e0
     assert energy["dissipated_friction"].min() >= -1e-12 * e0
     x3dpd.run(x3dpd.load_deck(deck), friction="coulomb", trace=tmp_path / "c.trace.txt")
-    trace, coulomb = (x3dpd.read_trace(tmp_path / name) for name in ("t6.trace.txt",
-                                                                    "c.trace.txt"))
+    trace, coulomb = (x3dpd.read_trace(tmp_path / name) for name in ("t6.trace.txt", "c.trace.txt"))
     assert np.array_equal(trace.data, coulomb.data)
 
 

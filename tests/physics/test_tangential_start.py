@@ -34,20 +34,26 @@ from x3dpd.deck.cards import Hooke
 
 M = sphere_mass()
 INERTIA = 0.4 * M * STEEL_R**2
-M_T = 1.0 / (1.0 / M + STEEL_R**2 / INERTIA)   # the contact point's tangential mass
-KN = 1.0e4                                      # HOOKE k_n [lbf/in]
+M_T = 1.0 / (1.0 / M + STEEL_R**2 / INERTIA)  # the contact point's tangential mass
+KN = 1.0e4  # HOOKE k_n [lbf/in]
 KT = 2.0 * (1.0 - STEEL_NU) / (2.0 - STEEL_NU) * KN
 OMEGA = math.sqrt(KT / M_T)
 PERIOD = 2.0 * math.pi / OMEGA
 G = 386.1
 MU = 0.3
-U0 = 1.0e-3                                     # slip speed at t0 [in/s]
+U0 = 1.0e-3  # slip speed at t0 [in/s]
 LAWS = ["linear_history", "mindlin"]
 
 
 def _deck(e: float, steps_per_period: int):
-    deck = floor_deck(dt=PERIOD / steps_per_period, height=STEEL_R - M * G / KN,
-                      velocity=(U0, 0.0, 0.0), gravity=G, mu=MU, spectator=False)
+    deck = floor_deck(
+        dt=PERIOD / steps_per_period,
+        height=STEEL_R - M * G / KN,
+        velocity=(U0, 0.0, 0.0),
+        gravity=G,
+        mu=MU,
+        spectator=False,
+    )
     return dataclasses.replace(deck, hooke=(Hooke(deck.pdmp[0].nodlim, KN, e),))
 
 
@@ -67,7 +73,7 @@ def _verlet(e: float, steps_per_period: int, n: int) -> np.ndarray:
     ct = 2.0 * zeta * math.sqrt(M * KT)
     dt = PERIOD / steps_per_period
     xi, v = 0.0, U0
-    f = -ct * v          # at t0: the spring as it is, the dashpot on the full-step velocity
+    f = -ct * v  # at t0: the spring as it is, the dashpot on the full-step velocity
     out = [v]
     for _ in range(n):
         v += 0.5 * dt * f / M_T
@@ -90,8 +96,10 @@ def test_an_undamped_sticking_contact_starts_from_its_history(law, steps):
     theta = math.acos(1.0 - 0.5 * (OMEGA * dt) ** 2)
     scheme = np.abs(slip - U0 * np.cos(n * theta)).max() / U0
     continuous = np.abs(slip - U0 * np.cos(OMEGA * n * dt)).max() / U0
-    print(f"\n{law} {steps} steps/period: {scheme:.1e} of u0 from the scheme's closed form, "
-          f"{continuous:.1e} from the oscillator's")
+    print(
+        f"\n{law} {steps} steps/period: {scheme:.1e} of u0 from the scheme's closed form, "
+        f"{continuous:.1e} from the oscillator's"
+    )
     assert scheme <= 1e-9
     assert continuous <= n.max() * (theta - OMEGA * dt) + 1e-9
 

@@ -33,14 +33,21 @@ from x3dpd.solver.variants import part_module  # noqa: E402
 
 #: name -> (text in the kernel module, replacement)
 CUTS = {
-    "friction": ("        if HAS_FRICTION:\n            wix = vel[i, 3]",
-                 "        if HAS_FRICTION and nbusy < 0:\n            wix = vel[i, 3]"),
-    "friction torques": ("            tx = ny * ftz - nz * fty\n"
-                         "            ty = nz * ftx - nx * ftz\n"
-                         "            tz = nx * fty - ny * ftx\n", ""),
-    "friction slip work": ("    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty"
-                           " + (ftz_old + ftz) * vtz) * dt",
-                           "    lost = 0.0"),
+    "friction": (
+        "        if HAS_FRICTION:\n            wix = vel[i, 3]",
+        "        if HAS_FRICTION and nbusy < 0:\n            wix = vel[i, 3]",
+    ),
+    "friction torques": (
+        "            tx = ny * ftz - nz * fty\n"
+        "            ty = nz * ftx - nx * ftz\n"
+        "            tz = nx * fty - ny * ftx\n",
+        "",
+    ),
+    "friction slip work": (
+        "    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty"
+        " + (ftz_old + ftz) * vtz) * dt",
+        "    lost = 0.0",
+    ),
 }
 
 
@@ -84,14 +91,16 @@ def main() -> int:
     sim.initialize()
     sim.advance(300_000, max_rows=1)
     st = sim.state
-    contacts = int(st.pl_on[:int(st.npl[0])].sum())
+    contacts = int(st.pl_on[: int(st.npl[0])].sum())
     pairs_mod, contact_mod = (part_module(sim.kernels, p) for p in ("pairs", "contact"))
-    pairs_file = Path(pairs_mod.__file__)   # the variant's pair passes
+    pairs_file = Path(pairs_mod.__file__)  # the variant's pair passes
     source = pairs_file.read_text()
-    contact_source = Path(contact_mod.__file__).read_text()   # friction lives there
+    contact_source = Path(contact_mod.__file__).read_text()  # friction lives there
     full = time_pair_pass(pairs_file, sim, args.calls)
-    print(f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
-          f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)")
+    print(
+        f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
+        f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)"
+    )
     with tempfile.TemporaryDirectory() as tmp:
         for name, (old, new) in CUTS.items():
             stem = f"cut_{name.replace(' ', '_')}"
@@ -105,8 +114,9 @@ def main() -> int:
                 spec = importlib.util.spec_from_file_location(f"{stem}_contact", path)
                 sys.modules[spec.name] = importlib.util.module_from_spec(spec)
                 spec.loader.exec_module(sys.modules[spec.name])
-                cut_pairs = source.replace(f"from {contact_mod.__name__} import",
-                                           f"from {spec.name} import")
+                cut_pairs = source.replace(
+                    f"from {contact_mod.__name__} import", f"from {spec.name} import"
+                )
             else:
                 print(f"  {name}: its code was not found in the kernel (changed?)")
                 continue

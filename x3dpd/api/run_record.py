@@ -33,18 +33,37 @@ def dump(plan: RunPlan, reason: str) -> None:
     from x3dpd.io.restart import save_restart
 
     extra = {"variable_step": sim.checkpoint()} if plan.auto else {}
-    save_restart(plan.dump_path, sim.state.to_arrays(), {**extra,
-        "reason": reason, "x3dpd_version": __version__,
-        "deck_path": plan.deck_path, "deck_abspath": os.path.abspath(plan.deck_path),
-        "deck_sha256": plan.deck_sha, "deck_key": plan.key, "dt": plan.dt,
-        "itrac": plan.itrac, "t0": plan.t0, "step": int(sim.clock), "time": sim.time,
-        "trace": {"path": plan.trace_path, "bytes": writer.tell(),
-                  "blocks": writer.blocks_written},
-        "energy": {"path": plan.energy_path, "bytes": ewriter.tell(),
-                   "rows": ewriter.rows_written},
-        "options": plan.options, "energy_scale": sim.state.scale,
-        "effects": sorted(sim.effects),
-    })
+    save_restart(
+        plan.dump_path,
+        sim.state.to_arrays(),
+        {
+            **extra,
+            "reason": reason,
+            "x3dpd_version": __version__,
+            "deck_path": plan.deck_path,
+            "deck_abspath": os.path.abspath(plan.deck_path),
+            "deck_sha256": plan.deck_sha,
+            "deck_key": plan.key,
+            "dt": plan.dt,
+            "itrac": plan.itrac,
+            "t0": plan.t0,
+            "step": int(sim.clock),
+            "time": sim.time,
+            "trace": {
+                "path": plan.trace_path,
+                "bytes": writer.tell(),
+                "blocks": writer.blocks_written,
+            },
+            "energy": {
+                "path": plan.energy_path,
+                "bytes": ewriter.tell(),
+                "rows": ewriter.rows_written,
+            },
+            "options": plan.options,
+            "energy_scale": sim.state.scale,
+            "effects": sorted(sim.effects),
+        },
+    )
     plan.stats.dumps += 1
 
 
@@ -73,8 +92,19 @@ def step(plan: RunPlan, sink, ids, *, progress, stop, stop_every, handle_signals
     at the end; ``stop`` or a signal (``handle_signals``) ends the run early. Returns the status
     ("complete", "stopped", "interrupted") and the signal handler (its ``exit_status``)."""
     with sink, Interrupts(handle_signals) as intr:
-        stopped = step_loop(plan.sim, sink, plan.n_end, plan.trest_steps, plan.stats, progress,
-                            lambda reason: dump(plan, reason), intr, stop, ids, stop_every)
+        stopped = step_loop(
+            plan.sim,
+            sink,
+            plan.n_end,
+            plan.trest_steps,
+            plan.stats,
+            progress,
+            lambda reason: dump(plan, reason),
+            intr,
+            stop,
+            ids,
+            stop_every,
+        )
         if intr.signum:
             dump(plan, "interrupted")
             status = "interrupted"
@@ -89,38 +119,69 @@ def summarise(plan: RunPlan, recorder, status: str) -> RunResult:
     """Step 6: the :class:`RunResult` of the run as it stands: its trace and energy ledger (when
     kept), the summary ``x3dpd run`` prints, and the final state a chained run continues from."""
     sim = plan.sim
-    summary = _summary(sim, plan.stats, status, plan.applied, plan.replaced, plan.trace_path,
-                       plan.energy_path, plan.dump_path if plan.writes else None,
-                       sim.energy_columns)
+    summary = _summary(
+        sim,
+        plan.stats,
+        status,
+        plan.applied,
+        plan.replaced,
+        plan.trace_path,
+        plan.energy_path,
+        plan.dump_path if plan.writes else None,
+        sim.energy_columns,
+    )
     if plan.auto:
         auto_summary(summary, sim, plan.steps_before)
-    final = FinalState(state=sim.state.copy(), deck_key=plan.key, dt=plan.dt, time=sim.time,
-                       checkpoint=sim.checkpoint() if plan.auto else None)
-    return RunResult(trace=recorder.trace({"status": status, "dt": plan.dt, "itrac": plan.itrac}),
-                     energy=recorder.energy(), summary=summary, final_state=final,
-                     model=plan.model)
+    final = FinalState(
+        state=sim.state.copy(),
+        deck_key=plan.key,
+        dt=plan.dt,
+        time=sim.time,
+        checkpoint=sim.checkpoint() if plan.auto else None,
+    )
+    return RunResult(
+        trace=recorder.trace({"status": status, "dt": plan.dt, "itrac": plan.itrac}),
+        energy=recorder.energy(),
+        summary=summary,
+        final_state=final,
+        model=plan.model,
+    )
 
 
-def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dump_path,
-             columns) -> dict:
+def _summary(
+    sim, stats, status, applied, replaced, trace_path, energy_path, dump_path, columns
+) -> dict:
     wall = time.perf_counter() - stats.wall_start
     compile_s = float(sim.compile_seconds) + float(getattr(sim, "_load_seconds", 0.0))
     if getattr(sim, "compiled_here", False) and not getattr(sim, "compile_logged", False):
-        record_compile_seconds(compile_s)   # the estimate of the next first run's progress line
+        record_compile_seconds(compile_s)  # the estimate of the next first run's progress line
         sim.compile_logged = True
     rate = stats.timed_steps / stats.timed_seconds if stats.timed_seconds > 0 else float("nan")
     e = stats.last_energy
     return {
-        "status": status, "t_start": stats.t_start, "t_end": sim.time, "steps": stats.steps,
-        "dt": sim.dt, "itrac": sim.itrac, "wall_s": wall, "step_wall_s": stats.timed_seconds,
-        "compile_s": compile_s, "steps_per_s": rate, "effects": sorted(sim.effects),
-        "energy_scale": float(sim.state.scale), "residual": relative_residual(stats, sim),
+        "status": status,
+        "t_start": stats.t_start,
+        "t_end": sim.time,
+        "steps": stats.steps,
+        "dt": sim.dt,
+        "itrac": sim.itrac,
+        "wall_s": wall,
+        "step_wall_s": stats.timed_seconds,
+        "compile_s": compile_s,
+        "steps_per_s": rate,
+        "effects": sorted(sim.effects),
+        "energy_scale": float(sim.state.scale),
+        "residual": relative_residual(stats, sim),
         "relative_residual": relative_residual(stats, sim),
         "residual_energy": float(e[11]) if e is not None else 0.0,
         "energy_tolerance": float(sim.energy_tolerance),
         "last_energy": dict(zip(columns, map(float, e))) if e is not None else None,
-        "usrfrc": list(applied), "usrfrc_replaced": list(replaced), "trace_file": trace_path,
+        "usrfrc": list(applied),
+        "usrfrc_replaced": list(replaced),
+        "trace_file": trace_path,
         "code_files": [spec for spec in applied if is_user_file(spec)],
-        "energy_file": energy_path, "restart_file": dump_path, "dumps": stats.dumps,
+        "energy_file": energy_path,
+        "restart_file": dump_path,
+        "dumps": stats.dumps,
         "units": list(getattr(sim.model, "units", ("in", "lbf", "s"))),
     }

@@ -111,8 +111,9 @@ class DeckTransformer(ContactCards, Transformer):
             raise _fail(spec, rec, 1, f"TMAX must be >= TIME ({v[0]}); got {v[1]}")
         if itrac < 1:
             raise _fail(spec, rec, 10, f"ITRAC (trace every ITRAC steps) must be >= 1; got {v[10]}")
-        card = Parameters(f[0], f[1], f[2], f[3], f[4], incr, f[6], irest, nintpl, istat, itrac,
-                          _first(rec))
+        card = Parameters(
+            f[0], f[1], f[2], f[3], f[4], incr, f[6], irest, nintpl, istat, itrac, _first(rec)
+        )
         return "PARAMETERS", c[0], card
 
     def matid(self, c: list[Any]) -> _Card:
@@ -133,8 +134,10 @@ class DeckTransformer(ContactCards, Transformer):
         out = []
         for rec, v in _counted(spec, c[1:-1], 8, None, expected):
             if len(v) > 11 and (len(v) - 11) % 2:
-                message = (f"PDMP extra Maxwell terms come in pairs E2 T2 E3 T3 ... after VZ0; "
-                           f"got {len(v)} values")
+                message = (
+                    f"PDMP extra Maxwell terms come in pairs E2 T2 E3 T3 ... after VZ0; "
+                    f"got {len(v)} values"
+                )
                 raise _fail(spec, rec, len(v) - 1, message)
             nodlim = _int(spec, rec, v, 0, 0)
             f = _floats(spec, rec, v, 1) + [0.0] * max(0, 11 - len(v))
@@ -162,8 +165,13 @@ class DeckTransformer(ContactCards, Transformer):
             nodes.extend(_int(spec, rec, v, i) for i in range(len(v)))
             where.extend(_positions(rec, 0))
         if not nodes:
-            raise DeckError("TRACE needs at least one node id; got none", "<deck>", c[0].line,
-                            c[0].column, spec.name)
+            raise DeckError(
+                "TRACE needs at least one node id; got none",
+                "<deck>",
+                c[0].line,
+                c[0].column,
+                spec.name,
+            )
         return "TRACE", c[0], Trace(tuple(nodes), tuple(where), _pos(c[0]))
 
     def node(self, c: list[Any]) -> _Card:
@@ -212,7 +220,7 @@ class DeckTransformer(ContactCards, Transformer):
         out = []
         for rec, v in _counted(spec, c[1:-1], 2, 5, "2 to 5 values: NODE MASS [IXX IYY IZZ]"):
             f = _floats(spec, rec, v, 1) + [0.0] * (5 - len(v))
-            for i, x in enumerate(f[:len(v) - 1], start=1):
+            for i, x in enumerate(f[: len(v) - 1], start=1):
                 if x < 0:
                     raise _fail(spec, rec, i, f"{spec.label(i)} must be >= 0; got {v[i]}")
             out.append(Mass(_int(spec, rec, v, 0), *f, _first(rec)))
@@ -221,14 +229,16 @@ class DeckTransformer(ContactCards, Transformer):
     def rbel(self, c: list[Any]) -> _Card:
         spec = BY_NAME["RBEL"]
         out = []
-        for rec, v in _counted(spec, c[1:-1], 4, None,
-                               "MASTER DOFS COUNT and COUNT slave node ids"):
+        for rec, v in _counted(
+            spec, c[1:-1], 4, None, "MASTER DOFS COUNT and COUNT slave node ids"
+        ):
             master = _int(spec, rec, v, 0)
             dofs = _dof_code(spec, rec, v, 1)
             count = _int(spec, rec, v, 2)
             if count != len(v) - 3:
-                raise _fail(spec, rec, 2, f"RBEL declares COUNT={count} slave nodes but lists "
-                                          f"{len(v) - 3}")
+                raise _fail(
+                    spec, rec, 2, f"RBEL declares COUNT={count} slave nodes but lists {len(v) - 3}"
+                )
             slaves = tuple(_int(spec, rec, v, i) for i in range(3, len(v)))
             out.append(Rbel(master, dofs, slaves, _positions(rec, 3), _first(rec)))
         return "RBEL", c[0], out
@@ -236,8 +246,9 @@ class DeckTransformer(ContactCards, Transformer):
     def boundary(self, c: list[Any]) -> _Card:
         spec = BY_NAME["BOUNDARY CONDITIONS"]
         out = []
-        for rec, v in _counted(spec, c[1:-1], 4, None,
-                               "FIRST LAST INC and at least one DOF (1..6)"):
+        for rec, v in _counted(
+            spec, c[1:-1], 4, None, "FIRST LAST INC and at least one DOF (1..6)"
+        ):
             first, last, inc = (_int(spec, rec, v, i) for i in range(3))
             if last < first:
                 raise _fail(spec, rec, 1, f"LAST must be >= FIRST ({first}); got {last}")
@@ -266,8 +277,14 @@ class DeckTransformer(ContactCards, Transformer):
         for name, kw, value in cards:
             if name in SINGLE_CARDS:
                 if name in single:
-                    raise DeckError(f"{name} may appear only once; it was already given at line "
-                                    f"{seen[name].line}", "<deck>", kw.line, kw.column, name)
+                    raise DeckError(
+                        f"{name} may appear only once; it was already given at line "
+                        f"{seen[name].line}",
+                        "<deck>",
+                        kw.line,
+                        kw.column,
+                        name,
+                    )
                 single[name], seen[name] = value, kw
             elif isinstance(value, list):
                 lists.setdefault(name, []).extend(value)
@@ -277,13 +294,25 @@ class DeckTransformer(ContactCards, Transformer):
         def many(name: str) -> tuple[Any, ...]:
             return tuple(lists.get(name, ()))
 
-        return Deck(title=single.get("TITLE"), parameters=single.get("PARAMETERS"),
-                    materials=many("MATID"), pdmp=many("PDMP"), body=single.get("BODY"),
-                    trace=single.get("TRACE"), nodes=many("NODE COORDINATES"),
-                    elements=many("ELEMENTS"), masses=many("MASS"), rbels=many("RBEL"),
-                    boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
-                    initials=many("INITIAL"), usrfrc=many("USRFRC"),
-                    units=single.get("UNITS"), hooke=many("HOOKE") or None,
-                    wallmat=many("WALLMAT") or None,
-                    friction=many("FRICTION") or None,
-                    analytic_walls=many("ANALYTIC") or None, modal=single.get("MODAL"))
+        return Deck(
+            title=single.get("TITLE"),
+            parameters=single.get("PARAMETERS"),
+            materials=many("MATID"),
+            pdmp=many("PDMP"),
+            body=single.get("BODY"),
+            trace=single.get("TRACE"),
+            nodes=many("NODE COORDINATES"),
+            elements=many("ELEMENTS"),
+            masses=many("MASS"),
+            rbels=many("RBEL"),
+            boundaries=many("BOUNDARY CONDITIONS"),
+            contacts=many("CONTACT"),
+            initials=many("INITIAL"),
+            usrfrc=many("USRFRC"),
+            units=single.get("UNITS"),
+            hooke=many("HOOKE") or None,
+            wallmat=many("WALLMAT") or None,
+            friction=many("FRICTION") or None,
+            analytic_walls=many("ANALYTIC") or None,
+            modal=single.get("MODAL"),
+        )

@@ -9,20 +9,70 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["COLUMNS", "RESPONSE_COLUMNS", "sort_rows", "label_branches", "write_csv",
-           "expand_responses", "read_csv", "write_atomic"]
+__all__ = [
+    "COLUMNS",
+    "RESPONSE_COLUMNS",
+    "sort_rows",
+    "label_branches",
+    "write_csv",
+    "expand_responses",
+    "read_csv",
+    "write_atomic",
+]
 
 #: sweep.csv columns, in order.
-COLUMNS = ("config", "frequency_hz", "drive", "drive_quantity", "direction", "amplitude",
-           "phase", "velocity", "acceleration", "accelerance", "transmissibility", "peak", "mean",
-           "spread", "dissipated_per_cycle", "dissipated_particles_per_cycle",
-           "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
-           "branch", "measured_amplitude", "change", "method", "start", "t_start", "t_end", "steps",
-           "compile_s", "wall_s", "response_node", "response_dof")
+COLUMNS = (
+    "config",
+    "frequency_hz",
+    "drive",
+    "drive_quantity",
+    "direction",
+    "amplitude",
+    "phase",
+    "velocity",
+    "acceleration",
+    "accelerance",
+    "transmissibility",
+    "peak",
+    "mean",
+    "spread",
+    "dissipated_per_cycle",
+    "dissipated_particles_per_cycle",
+    "input_work_per_cycle",
+    "cycles",
+    "converged",
+    "extrapolated",
+    "irregular",
+    "branch",
+    "measured_amplitude",
+    "change",
+    "method",
+    "start",
+    "t_start",
+    "t_end",
+    "steps",
+    "compile_s",
+    "wall_s",
+    "response_node",
+    "response_dof",
+)
 #: Columns a measured response (``--response``) has of its own; the rest are its point's.
-RESPONSE_COLUMNS = ("response_node", "response_dof", "amplitude", "phase", "velocity",
-                    "acceleration", "accelerance", "transmissibility", "peak", "mean", "spread",
-                    "measured_amplitude", "change", "converged")
+RESPONSE_COLUMNS = (
+    "response_node",
+    "response_dof",
+    "amplitude",
+    "phase",
+    "velocity",
+    "acceleration",
+    "accelerance",
+    "transmissibility",
+    "peak",
+    "mean",
+    "spread",
+    "measured_amplitude",
+    "change",
+    "converged",
+)
 
 
 def write_atomic(path: Path, data: bytes) -> None:
@@ -34,8 +84,16 @@ def write_atomic(path: Path, data: bytes) -> None:
 def sort_rows(rows: Sequence[dict]) -> list[dict]:
     """Rows ordered by config (deck first), drive, direction, frequency."""
     order = {"deck": 0, "undamped": 1, "added-mass": 2}
-    return sorted(rows, key=lambda r: (order.get(r["config"], 9), r["config"], r["drive"],
-                                       r["direction"], r["frequency_hz"]))
+    return sorted(
+        rows,
+        key=lambda r: (
+            order.get(r["config"], 9),
+            r["config"],
+            r["drive"],
+            r["direction"],
+            r["frequency_hz"],
+        ),
+    )
 
 
 def label_branches(rows: list[dict]) -> None:
@@ -56,8 +114,9 @@ def label_branches(rows: list[dict]) -> None:
             r["branch"] = "single"
         if up and down:
             tol = 3.0 * max(abs(up["change"]), abs(down["change"]), 0.01)
-            if abs(up["amplitude"] - down["amplitude"]) > tol * max(up["amplitude"],
-                                                                       down["amplitude"]):
+            if abs(up["amplitude"] - down["amplitude"]) > tol * max(
+                up["amplitude"], down["amplitude"]
+            ):
                 hi, lo = (up, down) if up["amplitude"] > down["amplitude"] else (down, up)
                 hi["branch"], lo["branch"] = "high", "low"
         for r in group.values():
