@@ -138,7 +138,8 @@ def prepare(deck, stats: Stats, *, tmax, usrfrc, usrfrc_mode, motion, trace, ene
 
 
 def make_step_loop(plan: RunPlan, *, dt, itrac, friction, penetration_limit, usrfrc_python,
-                   energy_tolerance, trace_nodes, on_compile, initial_state) -> None:
+                   energy_tolerance, trace_nodes, on_compile, initial_state,
+                   threads=1) -> None:
     """Step 2: the step loop (fixed ``dt`` or chosen by accuracy, x3dpd.api.stepping), the nodes
     it records, ``on_compile`` told when it must be compiled; the steps to TMAX and between
     restart dumps (TREST); continued from ``initial_state`` when given."""
@@ -146,7 +147,7 @@ def make_step_loop(plan: RunPlan, *, dt, itrac, friction, penetration_limit, usr
     sim = make_stepper(model, dt=dt, parameters=plan.deck.parameters, itrac=itrac,
                        usrfrc=plan.usrfrc, motion=plan.motion, friction=friction,
                        penetration_limit=penetration_limit, allow_python_usrfrc=usrfrc_python,
-                       energy_tolerance=float(energy_tolerance))
+                       energy_tolerance=float(energy_tolerance), threads=threads)
     plan.sim, plan.auto = sim, is_auto(sim)
     if trace_nodes is not None:
         sim.trace_nodes = _node_indices(model, trace_nodes)

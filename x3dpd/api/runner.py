@@ -35,6 +35,7 @@ from x3dpd.api.run_steps import (
     summarise,
 )
 from x3dpd.errors import InputError, UnstableRunError
+from x3dpd.solver.threads import thread_count
 
 #: The energy audit's default tolerance, a fraction of the energy scale (run(energy_tolerance=)).
 ENERGY_TOLERANCE = 0.05
@@ -50,7 +51,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         progress: Callable[[float, float, float, float, float], None] | None = None,
         on_compile: Callable[[str], None] | None = None,
         usrfrc_python: bool = False, penetration_limit: float = 0.25,
-        energy_tolerance: float = ENERGY_TOLERANCE,
+        energy_tolerance: float = ENERGY_TOLERANCE, threads: int | str = 1,
         handle_signals: bool = False, command: str | None = None) -> RunResult:
     """Run a deck; return its trace, energy ledger, summary and final state.
 
@@ -110,6 +111,11 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         the energy scale (plus the contact energy stored at that moment), or a dissipation
         column falls below minus that much: default 0.05 (docs/physics.md, "Stopping a run
         that goes unstable"); ``math.inf`` audits nothing. As ``x3dpd run --energy-tolerance``.
+    threads : int or "auto"
+        Threads of one run's pair contacts (docs/engine.md, "Threads"): 1 (default), up to the
+        cores numba sees (``NUMBA_NUM_THREADS``), or ``"auto"`` for all of them. The trace and
+        ledger are the same bytes whatever the count; more than 1 compiles a loop of its own.
+        As ``x3dpd run --threads``.
     handle_signals : bool
         Turn SIGINT/SIGTERM into a clean stop after the current chunk (restart dump written,
         status "interrupted"), as the CLI does.
@@ -124,6 +130,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
         The run became unstable; what was computed before is written and ``exc.result`` holds
         it.
     """
+    threads = thread_count(threads)
     stats = Stats()
     plan = prepare(deck, stats, tmax=tmax, usrfrc=usrfrc, usrfrc_mode=usrfrc_mode,
                    motion=motion, trace=trace, energy=energy, restart=restart,
@@ -134,7 +141,7 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
     make_step_loop(plan, dt=dt, itrac=itrac, friction=friction,
                    penetration_limit=penetration_limit, usrfrc_python=usrfrc_python,
                    energy_tolerance=energy_tolerance, trace_nodes=trace_nodes,
-                   on_compile=on_compile, initial_state=initial_state)
+                   on_compile=on_compile, initial_state=initial_state, threads=threads)
     record_options(plan, friction=friction, usrfrc_python=usrfrc_python)
     open_files(plan, friction=friction, restart=restart, overwrite=overwrite, command=command)
     if initial_state is not None and plan.sim.clock >= plan.n_end:

@@ -35,6 +35,7 @@ from x3dpd.solver.bundles import (
 from x3dpd.solver.run_checks import AUDIT_STEPS, RunChecks
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
 from x3dpd.solver.compile_lock import variant_compile_lock
+from x3dpd.solver.threads import thread_count, use_threads
 from x3dpd.solver.variants import Variant, cache_dir, make_advance
 
 #: Columns of the energy ledger rows (see docs/energy.md).
@@ -85,13 +86,15 @@ class Simulation(RunChecks):
     energy_tolerance : stop when the ledger residual exceeds this fraction of the energy scale
     allow_python_usrfrc : accept user force files numba cannot compile (slow fallback)
     itrac : trace interval in steps; default the deck's ITRAC
+    threads : threads of the pair contacts (x3dpd.solver.threads; default 1, "auto" all)
     """
 
     def __init__(self, model: Model, *, usrfrc=(), motion=(), dt: float | None = None,
                  friction: str | None = None, penetration_limit: float = 0.25,
                  energy_tolerance: float = 0.05, allow_python_usrfrc: bool = False,
-                 itrac: int | None = None, skin: float | None = None):
+                 itrac: int | None = None, skin: float | None = None, threads=1):
         self.model = model
+        self.threads = thread_count(threads)
         friction = friction or model.friction_law or "regularized"
         self.friction = friction
         self.dt = float(dt if dt is not None else model.dt)
@@ -129,7 +132,8 @@ class Simulation(RunChecks):
                                                 self.setup, rows[:, 0].astype(np.int64)),
                                             normal_law=model.normal_law,
                                             rolling_law=model.rolling_law,
-                                            one_particle_kind=_one_particle_kind(self.setup))
+                                            one_particle_kind=_one_particle_kind(self.setup),
+                                            threaded=self.threads > 1)
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
         #: the columns of this scene's ledger rows (:func:`energy_columns`)
@@ -244,6 +248,8 @@ class Simulation(RunChecks):
         rows = 0
         audited = 0
         done = 0
+        if self.variant.threaded:
+            use_threads(self.threads)
         try:
             while done < nsteps and rows < max_rows:
                 chunk = min(nsteps - done, self.audit_steps - self.state.step % self.audit_steps)
@@ -317,6 +323,8 @@ class Simulation(RunChecks):
 
         Contact lists are used as they are (``initialize`` builds them)."""
         t = self.time if t is None else float(t)
+        if self.variant.threaded:
+            use_threads(self.threads)
         b = self._bundles(ledger=np.zeros_like(self.state.ledger))
         status, _, _ = self.kernels.advance_packed(self.kernels.FORCES, 1, -1, t,
                                                    pack(b, self._no_output()))
