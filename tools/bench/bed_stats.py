@@ -54,7 +54,7 @@ def bed_stats(bed: str, steps: int, every: int = 1, from_start: bool = False,
     """Means per look over ``steps`` steps of the prepared ``bed`` (module docstring)."""
     if from_start:
         from bench_solver import settled_simulation
-        sim, sc = settled_simulation(512, 300_000, *BEDS[bed])
+        sim, sc = settled_simulation(*BEDS[bed][:1], 300_000, *BEDS[bed][1:])
         period = 1.0 / (sc["shake_freq_hz"] * sc["dt"])
     else:
         sim = bed_simulation(bed)

@@ -65,7 +65,7 @@ def response_asm(scene: dict, friction: str, rolling: str, one_kind: bool,
     c = pl.columns
     cin = tuple(c[pairs.C_DX + k] for k in range(len(pairs.PAIR_INPUT_COLUMNS)))
     cout = tuple(c[k] for k in range(len(pairs.PAIR_OUTPUT_COLUMNS)))
-    fresh(0, pl.first_new, pl.first, pl.second, particles, pl.history, sim.dt, cin, cout)
+    fresh(0, 0, pl.first_new, pl.first, pl.second, particles, pl.history, sim.dt, cin, cout)
     return fresh.inspect_asm(fresh.signatures[0])
 
 
