@@ -57,10 +57,12 @@ def test_two_threads_give_the_same_bytes_as_one(tmp_path):
     two, trace_2, energy_2 = _run(tmp_path, "two", 2)
     # the scene does what the test is about: lasting contacts, friction that works, Maxwell
     # relaxation; and the threaded run really ran the threaded loop
+    # (the threaded pass runs on a list of more than one chunk of PAIR_CHUNK = 1024 candidates
+    # after a step with at least 1024 busy ones: at the end it still did)
     state = two.final_state.state
     open_pairs = int(state.pl_on[:int(state.npl[0])].sum())
-    assert open_pairs > 1000, open_pairs
-    assert int(state.npl[0]) > 1024    # more than one chunk (PAIR_CHUNK) of candidates
+    assert open_pairs >= 1024, open_pairs
+    assert int(state.npl[0]) > 1024
     assert one.energy["dissipated_friction"][-1] > 0.0
     assert one.energy["dissipated_viscoelastic"][-1] > 0.0
     assert trace_1 == trace_2

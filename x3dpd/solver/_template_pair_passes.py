@@ -19,7 +19,9 @@ from x3dpd.solver._template_variant import HAS_ROLLING, HAS_THREADED
 
 #: candidates per chunk of a threaded pair pass: a chunk's filter and response run in one
 #: thread, its busy candidates in columns lo .. of the chunk's own range (lo = its first
-#: candidate), so chunks never share a column
+#: candidate), so chunks never share a column. A threaded variant runs the threaded pass when
+#: the list has more than one chunk and the last step had at least this many busy candidates
+#: (a falling or sparse scene would pay the threads' start and end every step for nothing)
 PAIR_CHUNK = 1024
 
 
@@ -50,10 +52,11 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     order (``_pair_apply``). State column S_FT holds the friction force on particle j;
     histories: N_MAXWELL terms of i, then N_MAXWELL terms of j, then the tangential law's
     N_TANGENTIAL (the row's last columns). ``busy`` is an int scratch of the list's capacity.
-    A threaded variant runs a list of more than one chunk in ``_threaded_pair_contacts``."""
+    A threaded variant runs a list of more than one chunk in ``_threaded_pair_contacts`` when
+    the last step had at least PAIR_CHUNK busy candidates (``_busy_before``)."""
     if HAS_THREADED:
         # a constant-false branch in every other variant: they compile none of it
-        if pairs.count[0] > PAIR_CHUNK:
+        if pairs.count[0] > PAIR_CHUNK and _busy_before(pairs) >= PAIR_CHUNK:
             return _threaded_pair_contacts(nodes, particles, pairs, stepping, busy)
     x, vel = nodes.x, nodes.vel
     p0, radius = particles.p0, particles.radius
@@ -64,6 +67,8 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
     # pass 1, tight: the candidates that touch now or touched at the last step; most
     # candidates are apart and cost about 2 ns each
     nbusy = _pair_filter(0, npairs, 0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c, hist)
+    if HAS_THREADED:
+        _note_busy(pairs, nbusy)
     if nbusy == 0:
         # nothing touches (a falling or sparse scene): skip the calls and their arguments
         return OK
@@ -105,6 +110,27 @@ def _threaded_pair_contacts(nodes, particles, pairs, stepping, busy):
                 w_normal, w_fric, w_roll)
     _book_pair_work(stepping.ledger, w_normal, w_fric, w_roll)
     return status
+
+
+@step_kernel
+def _busy_before(pairs):
+    """How many candidates were busy at the last step: the sum of the chunks' counts the
+    threaded pass keeps in the rebuild's scratch (``pairs.second_new``), or of what
+    ``_note_busy`` left there. After a list rebuild the scratch holds the rebuild's numbers:
+    then only which pass the step takes depends on them, never what it computes."""
+    total = 0
+    for k in range((pairs.count[0] + PAIR_CHUNK - 1) // PAIR_CHUNK):
+        total += pairs.second_new[k]
+    return total
+
+
+@step_kernel
+def _note_busy(pairs, nbusy):
+    """The one-thread pass's busy count where ``_busy_before`` reads the chunks' counts."""
+    counts = pairs.second_new
+    counts[0] = nbusy
+    for k in range(1, (pairs.count[0] + PAIR_CHUNK - 1) // PAIR_CHUNK):
+        counts[k] = 0
 
 
 @step_kernel
