@@ -22,16 +22,42 @@ BIG_R = 0.3
 STRUCTURE = {"structure_mass": 1e-3, "stiffness": 10.0, "damping": 0.0}
 
 
-def bore_deck(shape, pos, vel, *, dt, tmax, mu=0.3, facets=None, free_dofs=(), itrac=1,
-              radius=STEEL_R, e=STEEL_E, length=LENGTH, big_r=BIG_R, structure=None):
+def bore_deck(
+    shape,
+    pos,
+    vel,
+    *,
+    dt,
+    tmax,
+    mu=0.3,
+    facets=None,
+    free_dofs=(),
+    itrac=1,
+    radius=STEEL_R,
+    e=STEEL_E,
+    length=LENGTH,
+    big_r=BIG_R,
+    structure=None,
+):
     """Spheres at ``pos`` moving at ``vel`` in a ``shape`` ("cylinder", "capsule") on a
     spring-mounted master, no gravity; ``facets`` n: the same shape as CONTACT triangles."""
     mat = Material3(e, 0.0, 1.0, STEEL_NU, mu, STEEL_RHO)
-    return cylinder_cavity_deck(length=length, cavity_radius=big_r, particles=pos,
-                                radius=radius, material=mat, facets=facets,
-                                gravity=(0.0, 0.0, 0.0), dt=dt, tmax=tmax, itrac=itrac,
-                                free_dofs=free_dofs, velocities=vel, shape=shape,
-                                **(structure or STRUCTURE))
+    return cylinder_cavity_deck(
+        length=length,
+        cavity_radius=big_r,
+        particles=pos,
+        radius=radius,
+        material=mat,
+        facets=facets,
+        gravity=(0.0, 0.0, 0.0),
+        dt=dt,
+        tmax=tmax,
+        itrac=itrac,
+        free_dofs=free_dofs,
+        velocities=vel,
+        shape=shape,
+        **(structure or STRUCTURE),
+    )
 
 
 def head_on_impact(shape, pos, vel, approach):
@@ -45,7 +71,7 @@ def head_on_impact(shape, pos, vel, approach):
     first = sim.snapshot()
     block = sim.advance(2300)
     t = np.concatenate([first.times, block.times])
-    data = np.concatenate([first.data, block.data])[:, 1]     # trace: master, then the sphere
+    data = np.concatenate([first.data, block.data])[:, 1]  # trace: master, then the sphere
     unit = np.asarray(vel) / np.linalg.norm(vel)
     return h, t, approach(data[:, :3]), data[:, 3:6] @ unit
 
@@ -57,9 +83,11 @@ def check_against_hertz(h, t, a, v_in):
     flat-wall impact, which this must equal -- the wall law uses the flat-wall Hertz stiffness
     and does not see the curvature)."""
     contact = ref.zero_crossing(t, a, falling=True)
-    errors = {"contact time": contact / h.contact_time - 1,
-              "max approach": ref.refined_peak(a) / h.a_max - 1,
-              "rebound speed": -v_in[-1] / V - 1}
+    errors = {
+        "contact time": contact / h.contact_time - 1,
+        "max approach": ref.refined_peak(a) / h.a_max - 1,
+        "rebound speed": -v_in[-1] / V - 1,
+    }
     for name, err in errors.items():
         assert abs(err) < 2e-5, (name, err)
     assert a[-1] < 0.0

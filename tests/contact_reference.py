@@ -23,7 +23,7 @@ def hertz_mindlin_impact(mass, radius, young, nu, mu, vn, vt, h):
         if kt < k_old:
             f *= kt / k_old
         k_old = kt
-        f -= kt * (u + w * radius) * h          # the contact point slips at u + w R
+        f -= kt * (u + w * radius) * h  # the contact point slips at u + w R
         if abs(f) > mu * fn:
             f = math.copysign(mu * fn, f)
         d_dot -= fn / mass * h

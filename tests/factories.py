@@ -66,15 +66,42 @@ def parameters(dt: float, itrac: int = 1, tmax: float = 1.0) -> Parameters:
     return Parameters(0.0, float(tmax), 0.0, float(dt), float(dt), 0, 1.0e12, 0, 5, 0, int(itrac))
 
 
-def pdmp(nodlim: int, *, radius=STEEL_R, density=STEEL_RHO, nu=STEEL_NU, e0=STEEL_E, e1=0.0,
-         tau1=1.0, mu=0.0) -> Pdmp:
-    return Pdmp(int(nodlim), float(radius), float(density), float(nu), float(e0), float(e1),
-                float(tau1), float(mu))
+def pdmp(
+    nodlim: int,
+    *,
+    radius=STEEL_R,
+    density=STEEL_RHO,
+    nu=STEEL_NU,
+    e0=STEEL_E,
+    e1=0.0,
+    tau1=1.0,
+    mu=0.0,
+) -> Pdmp:
+    return Pdmp(
+        int(nodlim),
+        float(radius),
+        float(density),
+        float(nu),
+        float(e0),
+        float(e1),
+        float(tau1),
+        float(mu),
+    )
 
 
-def floor_deck(*, dt: float, height: float | None = None, velocity=(0.0, -FIG28_V, 0.0),
-               omega=(0.0, 0.0, 0.0), gravity: float = 0.0, side: float = 1.0,
-               center=(0.0, 0.0), itrac: int = 1, spectator: bool = True, **material) -> Deck:
+def floor_deck(
+    *,
+    dt: float,
+    height: float | None = None,
+    velocity=(0.0, -FIG28_V, 0.0),
+    omega=(0.0, 0.0, 0.0),
+    gravity: float = 0.0,
+    side: float = 1.0,
+    center=(0.0, 0.0),
+    itrac: int = 1,
+    spectator: bool = True,
+    **material,
+) -> Deck:
     """A sphere (node 5) above a fixed square floor y = 0 made of ONE face (nodes 1-4, triangles
     (1,2,3) and (1,3,4), wound -y).
 
@@ -87,8 +114,13 @@ def floor_deck(*, dt: float, height: float | None = None, velocity=(0.0, -FIG28_
     h = side / 2.0
     r = float(material.get("radius", STEEL_R))
     y = r if height is None else float(height)
-    nodes = (Node(1, -h, 0.0, -h), Node(2, h, 0.0, -h), Node(3, h, 0.0, h), Node(4, -h, 0.0, h),
-             Node(5, float(center[0]), y, float(center[1])))
+    nodes = (
+        Node(1, -h, 0.0, -h),
+        Node(2, h, 0.0, -h),
+        Node(3, h, 0.0, h),
+        Node(4, -h, 0.0, h),
+        Node(5, float(center[0]), y, float(center[1])),
+    )
     ids = (5, 6) if spectator else (5,)
     if spectator:
         nodes += (Node(6, -0.3 * side, r, -0.3 * side),)
@@ -100,8 +132,7 @@ def floor_deck(*, dt: float, height: float | None = None, velocity=(0.0, -FIG28_
         trace=Trace((5,)),
         nodes=nodes,
         boundaries=(Boundary(1, 4, 1, ALL_DOFS),),
-        contacts=(Contact((Triangle(1, (1, 2, 3)), Triangle(1, (1, 3, 4))),
-                          (SlaveSet(1, ids),)),),
+        contacts=(Contact((Triangle(1, (1, 2, 3)), Triangle(1, (1, 3, 4))), (SlaveSet(1, ids),)),),
         initials=(Initial(5, tuple(float(v) for v in velocity) + tuple(float(w) for w in omega)),),
     )
 
@@ -123,19 +154,44 @@ def pair_deck(positions, velocities, *, dt: float, itrac: int = 1, **material) -
     )
 
 
-_CUBE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
-                  [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
+_CUBE = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+    dtype=float,
+)
 #: Two triangles per face: z = 0, z = 1, y = 0 (the floor: nodes 1, 2, 5, 6), y = 1, x = 0, x = 1.
-CUBE_TRIANGLES = ((1, 2, 3), (1, 3, 4), (5, 7, 6), (5, 8, 7), (1, 6, 2), (1, 5, 6),
-                  (4, 3, 7), (4, 7, 8), (1, 4, 8), (1, 8, 5), (2, 6, 7), (2, 7, 3))
+CUBE_TRIANGLES = (
+    (1, 2, 3),
+    (1, 3, 4),
+    (5, 7, 6),
+    (5, 8, 7),
+    (1, 6, 2),
+    (1, 5, 6),
+    (4, 3, 7),
+    (4, 7, 8),
+    (1, 4, 8),
+    (1, 8, 5),
+    (2, 6, 7),
+    (2, 7, 3),
+)
 #: A particle at rest far from everything: it makes a one-sphere scene compile the same kernel
 #: variant (walls + pairs) as the many-particle scenes, which saves a 10-20 s numba compile.
 SPECTATOR = (0.8, 0.8, 0.8)
 
 
-def closed_box_deck(positions=(), velocities=(), *, dt: float, size=(1.0, 1.0, 1.0),
-                    itrac: int = 1, gravity: float = 0.0, rotation=None, origin=(0.0, 0.0, 0.0),
-                    groups=(), spectators=(), **material) -> Deck:
+def closed_box_deck(
+    positions=(),
+    velocities=(),
+    *,
+    dt: float,
+    size=(1.0, 1.0, 1.0),
+    itrac: int = 1,
+    gravity: float = 0.0,
+    rotation=None,
+    origin=(0.0, 0.0, 0.0),
+    groups=(),
+    spectators=(),
+    **material,
+) -> Deck:
     """Particles in a fixed, closed box (corner nodes 1-8, all DOFs fixed, 12 triangles).
 
     The box is ``origin + rotation @ ([0, size])``; positions are world coordinates. Particles:
@@ -172,15 +228,25 @@ def closed_box_deck(positions=(), velocities=(), *, dt: float, size=(1.0, 1.0, 1
         trace=Trace(tuple(ids)),
         nodes=tuple(nodes),
         boundaries=(Boundary(1, 8, 1, ALL_DOFS),),
-        contacts=(Contact(tuple(Triangle(1, t) for t in CUBE_TRIANGLES),
-                          (SlaveSet(1, tuple(ids)),)),),
+        contacts=(
+            Contact(tuple(Triangle(1, t) for t in CUBE_TRIANGLES), (SlaveSet(1, tuple(ids)),)),
+        ),
         initials=tuple(initials),
     )
 
 
-def sdof_deck(*, dt: float, hz: float, mass: float = TABLE4_MASS, k: float = TABLE4_K,
-              c: float = TABLE4_C, drive: float = TABLE4_DRIVE, itrac: int = 1,
-              x0: float = 0.0, v0: float = 0.0) -> Deck:
+def sdof_deck(
+    *,
+    dt: float,
+    hz: float,
+    mass: float = TABLE4_MASS,
+    k: float = TABLE4_K,
+    c: float = TABLE4_C,
+    drive: float = TABLE4_DRIVE,
+    itrac: int = 1,
+    x0: float = 0.0,
+    v0: float = 0.0,
+) -> Deck:
     """The report's Table 4 beam: node 1 with ``mass``, a spring ``k`` and damper ``c`` to ground
     along x, all other DOFs fixed, driven by ``drive * sin(2 pi hz t)`` along x (USRFRC card).
     No particles. ``v0`` is an initial x velocity (``x0`` is not supported: springs are
@@ -201,9 +267,18 @@ def sdof_deck(*, dt: float, hz: float, mass: float = TABLE4_MASS, k: float = TAB
     )
 
 
-def base_sdof_deck(*, dt: float, mass: float = TABLE4_MASS, k: float = TABLE4_K,
-                   c: float = TABLE4_C, k_ground: float = 0.0, c_ground: float = 0.0,
-                   dof: int = 1, itrac: int = 1, gravity: float = 0.0) -> Deck:
+def base_sdof_deck(
+    *,
+    dt: float,
+    mass: float = TABLE4_MASS,
+    k: float = TABLE4_K,
+    c: float = TABLE4_C,
+    k_ground: float = 0.0,
+    c_ground: float = 0.0,
+    dof: int = 1,
+    itrac: int = 1,
+    gravity: float = 0.0,
+) -> Deck:
     """A mass on a shaker: node 1 with ``mass``, free along ``dof`` only, joined to the base
     node 2 by a spring ``k`` and damper ``c`` along the global axes (MATID type 1, two-node
     element), and to ground by ``k_ground``, ``c_ground`` when non-zero; node 2 fixed in every
@@ -213,8 +288,11 @@ def base_sdof_deck(*, dt: float, mass: float = TABLE4_MASS, k: float = TABLE4_K,
     materials = [Material(1, 1, 0.0, 1.0, float(k), float(k), float(k), float(c))]
     elements = [Element(1, 1, (1, 2))]
     if k_ground or c_ground:
-        materials.append(Material(2, 1, 0.0, 1.0, float(k_ground), float(k_ground),
-                                  float(k_ground), float(c_ground)))
+        materials.append(
+            Material(
+                2, 1, 0.0, 1.0, float(k_ground), float(k_ground), float(k_ground), float(c_ground)
+            )
+        )
         elements.append(Element(2, 2, (1,)))
     return Deck(
         path="<base_sdof>",
@@ -225,6 +303,5 @@ def base_sdof_deck(*, dt: float, mass: float = TABLE4_MASS, k: float = TABLE4_K,
         elements=tuple(elements),
         masses=(Mass(1, float(mass), 1.0, 1.0, 1.0),),
         boundaries=(Boundary(1, 1, 1, fixed), Boundary(2, 2, 1, ALL_DOFS)),
-        body=Body(*(float(gravity) if d == dof else 0.0 for d in (1, 2, 3)))
-        if gravity else None,
+        body=Body(*(float(gravity) if d == dof else 0.0 for d in (1, 2, 3))) if gravity else None,
     )

@@ -15,14 +15,24 @@ TIMEOUT = 600  # a cold kernel cache compiles the step loop first
 
 def x3dpd(*args, cwd) -> subprocess.CompletedProcess:
     """Run ``python -m x3dpd ARGS`` in ``cwd`` to its end."""
-    return subprocess.run([sys.executable, "-m", "x3dpd", *map(str, args)], cwd=cwd,
-                          capture_output=True, text=True, timeout=TIMEOUT)
+    return subprocess.run(
+        [sys.executable, "-m", "x3dpd", *map(str, args)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
 
 
 def kill_after_first_dump(*args, cwd, dump: Path) -> None:
     """Start ``python -m x3dpd ARGS`` and SIGKILL it as soon as ``dump`` exists."""
-    proc = subprocess.Popen([sys.executable, "-m", "x3dpd", *map(str, args)], cwd=cwd,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "x3dpd", *map(str, args)],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     t_end = time.monotonic() + TIMEOUT
     while not dump.exists() and proc.poll() is None and time.monotonic() < t_end:
         time.sleep(0.005)

@@ -22,6 +22,7 @@ from scipy.integrate import quad, solve_ivp
 # Hertz
 # ---------------------------------------------------------------------------------------------
 
+
 def hertz_time_factor() -> float:
     """int_0^1 (1 - x^{5/2})^{-1/2} dx (time to maximum compression in units of a_max / v)."""
     value, err = quad(lambda x: (1.0 - x**2.5) ** -0.5, 0.0, 1.0, epsabs=1e-14, epsrel=1e-13)
@@ -36,9 +37,9 @@ def hertz_k(e_star: float, r_star: float) -> float:
 
 @dataclass(frozen=True)
 class HertzImpact:
-    a_max: float      # maximum approach [in]
-    t_max: float      # time of maximum approach [s]
-    f_max: float      # peak force [lbf]
+    a_max: float  # maximum approach [in]
+    t_max: float  # time of maximum approach [s]
+    f_max: float  # peak force [lbf]
 
     @property
     def contact_time(self) -> float:
@@ -62,7 +63,7 @@ def zero_crossing(t, y, falling: bool) -> float:
 def refined_peak(y) -> float:
     """Maximum of samples refined by the parabola through the largest sample and its neighbours."""
     k = int(np.argmax(y))
-    y0, y1, y2 = y[k - 1:k + 2]
+    y0, y1, y2 = y[k - 1 : k + 2]
     return y1 + (y2 - y0) ** 2 / (8.0 * (2.0 * y1 - y0 - y2))
 
 
@@ -70,20 +71,22 @@ def refined_peak(y) -> float:
 # Lee & Radok viscoelastic impact on a rigid wall
 # ---------------------------------------------------------------------------------------------
 
+
 @dataclass(frozen=True)
 class MaxwellImpact:
-    t_peak_force: float      # time of the peak force [s]
-    peak_force: float        # [lbf]
-    t_max_approach: float    # time of maximum approach [s]
-    max_approach: float      # [in]
-    t_force_zero: float      # first time the force returns to zero after the peak [s]
-    contact_time: float      # time the approach returns to zero [s]
-    rebound_speed: float     # separation speed when the approach returns to zero [in/s]
-    solution: object         # callable t -> (a, da/dt, F1) on [0, contact_time] (piecewise)
+    t_peak_force: float  # time of the peak force [s]
+    peak_force: float  # [lbf]
+    t_max_approach: float  # time of maximum approach [s]
+    max_approach: float  # [in]
+    t_force_zero: float  # first time the force returns to zero after the peak [s]
+    contact_time: float  # time the approach returns to zero [s]
+    rebound_speed: float  # separation speed when the approach returns to zero [in/s]
+    solution: object  # callable t -> (a, da/dt, F1) on [0, contact_time] (piecewise)
 
 
-def maxwell_impact(m: float, radius: float, nu: float, moduli, taus, v: float,
-                   rtol: float = 1e-12) -> MaxwellImpact:
+def maxwell_impact(
+    m: float, radius: float, nu: float, moduli, taus, v: float, rtol: float = 1e-12
+) -> MaxwellImpact:
     """Sphere (mass m, radius R) hitting a rigid wall at speed v, Lee & Radok contact force.
 
     With g(a) = 4/3 sqrt(R)/(1-nu^2) a^{3/2} and the relaxation function
@@ -97,13 +100,13 @@ def maxwell_impact(m: float, radius: float, nu: float, moduli, taus, v: float,
     """
     moduli = np.asarray(moduli, float)
     e0, ek = moduli[0], moduli[1:]
-    taus = np.asarray(taus, float)[1:]   # taus[0] belongs to E0 (infinite)
+    taus = np.asarray(taus, float)[1:]  # taus[0] belongs to E0 (infinite)
     c = 4.0 / 3.0 * math.sqrt(radius) / (1.0 - nu * nu)
 
     def parts(y):
         a, va = y[0], y[1]
         ap = max(a, 0.0)
-        dg = 2.0 * math.sqrt(radius) / (1.0 - nu * nu) * math.sqrt(ap) * va   # dg/dt
+        dg = 2.0 * math.sqrt(radius) / (1.0 - nu * nu) * math.sqrt(ap) * va  # dg/dt
         total = e0 * c * ap**1.5 + float(np.sum(y[2:]))
         return ap, va, dg, total
 
@@ -112,6 +115,7 @@ def maxwell_impact(m: float, radius: float, nu: float, moduli, taus, v: float,
             _, va, dg, total = parts(y)
             force = 0.0 if clamped else max(total, 0.0)
             return np.concatenate(([va, -force / m], ek * dg - y[2:] / taus))
+
         return f
 
     def force_zero(t, y):
@@ -156,8 +160,16 @@ def maxwell_impact(m: float, radius: float, nu: float, moduli, taus, v: float,
                 events.append(velocity_zero)
             if "peak_force" not in marks:
                 events.append(force_rate)
-        sol = solve_ivp(rhs(clamped), (t, t + 50.0 * t_scale), y, method="DOP853", rtol=rtol,
-                        atol=atol, events=events, dense_output=True)
+        sol = solve_ivp(
+            rhs(clamped),
+            (t, t + 50.0 * t_scale),
+            y,
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            events=events,
+            dense_output=True,
+        )
         pieces.append((t, sol.t[-1], sol.sol))
         fired = [k for k, te in enumerate(sol.t_events) if len(te)]
         assert fired, "the reference impact did not end"
@@ -210,6 +222,7 @@ def _rising(fn):
 # ---------------------------------------------------------------------------------------------
 # SDOF oscillator
 # ---------------------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class Sdof:
@@ -267,6 +280,7 @@ class Sdof:
 # Neighbour pairs
 # ---------------------------------------------------------------------------------------------
 
+
 def brute_pairs(x, radius, cavity=None, skin: float = 0.0, chunk: int = 512) -> np.ndarray:
     """All (i < j) in the same cavity with |x_i - x_j|^2 < (R_i + R_j + skin)^2, sorted.
 
@@ -296,6 +310,7 @@ def brute_pairs(x, radius, cavity=None, skin: float = 0.0, chunk: int = 512) -> 
 # ---------------------------------------------------------------------------------------------
 # Contact forces
 # ---------------------------------------------------------------------------------------------
+
 
 @dataclass
 class Face:
@@ -335,8 +350,8 @@ def contact_forces(x, vel, *, p0, radius, mass, e, nu, mu, faces, gravity, dt, n
     inv_mt = 1.0 / mass + radius**2 / inertia
 
     def add(i, f, lo=0):
-        force[i, lo:lo + 3] += f
-        scale[i, lo:lo + 3] += np.abs(f)
+        force[i, lo : lo + 3] += f
+        scale[i, lo : lo + 3] += np.abs(f)
 
     g = np.asarray(gravity, float)
     for i in range(n):
@@ -416,16 +431,36 @@ def _barycentric(q, corners):
     a, b, c = corners
     n = np.cross(b - a, c - a)
     area = np.dot(n, n)
-    return np.array([np.dot(np.cross(c - b, q - b), n), np.dot(np.cross(a - c, q - c), n),
-                     np.dot(np.cross(b - a, q - a), n)]) / area
+    return (
+        np.array(
+            [
+                np.dot(np.cross(c - b, q - b), n),
+                np.dot(np.cross(a - c, q - c), n),
+                np.dot(np.cross(b - a, q - a), n),
+            ]
+        )
+        / area
+    )
 
 
 def box_faces(corners) -> list:
     """The six faces of a box given its 8 corners in the factories' cube order, inward normals."""
     corners = np.asarray(corners, float)
     centre = corners.mean(axis=0)
-    tris = ((1, 2, 3), (1, 3, 4), (5, 7, 6), (5, 8, 7), (1, 6, 2), (1, 5, 6),
-            (4, 3, 7), (4, 7, 8), (1, 4, 8), (1, 8, 5), (2, 6, 7), (2, 7, 3))
+    tris = (
+        (1, 2, 3),
+        (1, 3, 4),
+        (5, 7, 6),
+        (5, 8, 7),
+        (1, 6, 2),
+        (1, 5, 6),
+        (4, 3, 7),
+        (4, 7, 8),
+        (1, 4, 8),
+        (1, 8, 5),
+        (2, 6, 7),
+        (2, 7, 3),
+    )
     faces = []
     for k in range(0, 12, 2):
         t0 = [v - 1 for v in tris[k]]

@@ -45,7 +45,7 @@ DECKS = ROOT / "decks"
 GOLDEN = ROOT / "tests" / "golden"
 RTOL = 1e-9
 ATOL = 1e-12
-CROSS_CPU_TOL = 1e-6   # of each column's largest |value|; see _agree_across_cpus
+CROSS_CPU_TOL = 1e-6  # of each column's largest |value|; see _agree_across_cpus
 
 
 def _tool(name: str):
@@ -69,7 +69,8 @@ def test_generated_decks_are_up_to_date():
     make = _tool("make_decks")
     for name, text in make.all_decks().items():
         assert (DECKS / name).read_text() == text, (
-            f"decks/{name} differs from tools/make_decks.py; rerun it")
+            f"decks/{name} differs from tools/make_decks.py; rerun it"
+        )
 
 
 def test_shipped_decks_carry_a_provenance_header():
@@ -78,10 +79,21 @@ def test_shipped_decks_carry_a_provenance_header():
         assert first.startswith("$"), f"decks/{name} does not start with a $ comment header"
 
 
-@pytest.mark.parametrize("name", ["beam_1.inp", "beam_64.inp", "beam_512.inp",
-                                  "cylinder_64.inp", "capsule_64.inp", "impact_wall.inp",
-                                  "appendix_a_cube.inp", "beam_64_modal.inp", "chassis_128.inp",
-                                  "shaker_fig9.inp"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "beam_1.inp",
+        "beam_64.inp",
+        "beam_512.inp",
+        "cylinder_64.inp",
+        "capsule_64.inp",
+        "impact_wall.inp",
+        "appendix_a_cube.inp",
+        "beam_64_modal.inp",
+        "chassis_128.inp",
+        "shaker_fig9.inp",
+    ],
+)
 def test_check_is_clean(name):
     """`x3dpd check` finds nothing to warn about in the runnable decks (exit 0). beam_512 runs
     at half the report's step for that: at 5e-7 s its wall impacts last 4.75 steps."""
@@ -122,7 +134,8 @@ def _agree_across_cpus(a, b, report) -> None:
     assert worst_structure <= CROSS_CPU_TOL and worst_early <= CROSS_CPU_TOL, (
         report.format() + f"\n(golden from another CPU) structure nodes differ by "
         f"{worst_structure:.3g}, all nodes in the first quarter by {worst_early:.3g} of the "
-        f"column scale (tolerance {CROSS_CPU_TOL:g})")
+        f"column scale (tolerance {CROSS_CPU_TOL:g})"
+    )
 
 
 def _particle_ids(trace) -> np.ndarray:
@@ -130,7 +143,7 @@ def _particle_ids(trace) -> np.ndarray:
     if deck is None:
         return np.zeros(0, np.int64)
     model = build_model(deck)
-    return model.node_ids[model.particle_start:]
+    return model.node_ids[model.particle_start :]
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c["deck"] for c in CASES])
@@ -150,7 +163,8 @@ def test_replay_matches_golden(case, tmp_path, monkeypatch, capsys):
     prov = json.loads((GOLDEN / "PROVENANCE.json").read_text())["cases"][case["deck"]]
     assert prov["deck_key"] == deck_key(read_deck(DECKS / case["deck"])), (
         f"the cards of decks/{case['deck']} changed since its golden was made: if that is "
-        f"intended, run tools/regen_goldens.py {case['deck']}")
+        f"intended, run tools/regen_goldens.py {case['deck']}"
+    )
     a, b = read_trace(trace), read_trace(golden)
     assert a.times.size == b.times.size and a.status == "complete"
     report = compare_traces(a, b, rtol=RTOL, atol=ATOL)
@@ -158,4 +172,4 @@ def test_replay_matches_golden(case, tmp_path, monkeypatch, capsys):
         assert report.agree, report.format()
     else:
         _agree_across_cpus(a, b, report)
-    assert os.path.getsize(trace.with_name(trace.name[:-len(".trace.txt")] + ".energy.csv")) > 0
+    assert os.path.getsize(trace.with_name(trace.name[: -len(".trace.txt")] + ".energy.csv")) > 0

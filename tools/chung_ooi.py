@@ -39,11 +39,16 @@ ROOT = Path(__file__).resolve().parents[1]
 #: Young's modulus [Pa], Poisson's ratio, density [kg/m^3] (Chung & Ooi Table 1; the values of
 #: tests 1-4 as the Kratos and Yade benchmark scripts use them).
 MATERIALS = {
-    "glass": (4.8e10, 0.20, 2800.0), "limestone": (2.0e10, 0.25, 2500.0),
-    "aluminium alloy": (7.0e10, 0.33, 2700.0), "magnesium alloy": (4.0e10, 0.35, 1800.0),
-    "aluminium oxide": (3.8e11, 0.23, 4000.0), "cast iron": (1.0e11, 0.25, 7000.0),
-    "steel": (2.08e11, 0.30, 7850.0), "polyethylene": (1.0e9, 0.40, 1400.0),
-    "nylon": (2.5e9, 0.40, 1000.0), "copper": (1.2e11, 0.35, 8900.0),
+    "glass": (4.8e10, 0.20, 2800.0),
+    "limestone": (2.0e10, 0.25, 2500.0),
+    "aluminium alloy": (7.0e10, 0.33, 2700.0),
+    "magnesium alloy": (4.0e10, 0.35, 1800.0),
+    "aluminium oxide": (3.8e11, 0.23, 4000.0),
+    "cast iron": (1.0e11, 0.25, 7000.0),
+    "steel": (2.08e11, 0.30, 7850.0),
+    "polyethylene": (1.0e9, 0.40, 1400.0),
+    "nylon": (2.5e9, 0.40, 1000.0),
+    "copper": (1.2e11, 0.35, 8900.0),
 }
 #: Test 2's aluminium alloy has nu 0.30 and density 2699 (test 4's: 0.33, 2700).
 MATERIALS["aluminium alloy (test 2)"] = (7.0e10, 0.30, 2699.0)
@@ -51,12 +56,23 @@ MATERIALS["aluminium alloy (test 2)"] = (7.0e10, 0.30, 2699.0)
 #: Each test: materials, radius [m], speed [m/s], mu, restitution (None: the elastic law).
 TESTS = {
     1: dict(materials=("glass", "limestone"), radius=0.010, speed=10.0, mu=0.35, e=None),
-    2: dict(materials=("aluminium alloy (test 2)", "magnesium alloy"), radius=0.10, speed=0.2,
-            mu=0.0, e=None),
-    3: dict(materials=("aluminium oxide", "cast iron"), radius=0.0025, speed=3.9, mu=0.0,
-            e=(0.2, 0.4, 0.6, 0.8, 1.0)),
-    4: dict(materials=("aluminium oxide", "aluminium alloy"), radius=0.0025, speed=3.9,
-            mu=0.092, e=None),
+    2: dict(
+        materials=("aluminium alloy (test 2)", "magnesium alloy"),
+        radius=0.10,
+        speed=0.2,
+        mu=0.0,
+        e=None,
+    ),
+    3: dict(
+        materials=("aluminium oxide", "cast iron"),
+        radius=0.0025,
+        speed=3.9,
+        mu=0.0,
+        e=(0.2, 0.4, 0.6, 0.8, 1.0),
+    ),
+    4: dict(
+        materials=("aluminium oxide", "aluminium alloy"), radius=0.0025, speed=3.9, mu=0.092, e=None
+    ),
     5: dict(materials=("steel", "polyethylene"), radius=1.0e-5, speed=5.0, mu=0.3, e=None),
     6: dict(materials=("aluminium alloy", "nylon"), radius=0.10, speed=0.2, mu=0.4, e=0.5),
     7: dict(materials=("aluminium alloy", "copper"), radius=0.10, speed=0.2, mu=0.4, e=0.5),
@@ -66,31 +82,151 @@ TESTS = {
 #: Test 4, Al2O3: incident angle [deg] -> tangential restitution, final spin [rad/s] (Kratos's
 #: sign: spin about the axis that makes it negative), rebound angle of the contact point [deg].
 T4_ANGLES = (5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 50.0, 60.0, 70.0, 80.0, 85.0)
-T4_TANGENTIAL = (0.9481, 0.6870, 0.6244, 0.6161, 0.6343, 0.6837, 0.7372, 0.7809, 0.8451,
-                 0.8929, 0.9316, 0.9662, 0.9827)
-T4_SPIN = (-19.27, -213.0, -377.8, -510.6, -599.4, -616.5, -582.3, -544.8, -457.0, -357.5,
-           -246.2, -126.3, -63.15)
-T4_REBOUND = (3.761, -1.556, -5.544, -7.538, -7.538, -3.550, 3.429, 11.57, 29.35, 47.79, 64.58,
-              78.70, 84.52)
+T4_TANGENTIAL = (
+    0.9481,
+    0.6870,
+    0.6244,
+    0.6161,
+    0.6343,
+    0.6837,
+    0.7372,
+    0.7809,
+    0.8451,
+    0.8929,
+    0.9316,
+    0.9662,
+    0.9827,
+)
+T4_SPIN = (
+    -19.27,
+    -213.0,
+    -377.8,
+    -510.6,
+    -599.4,
+    -616.5,
+    -582.3,
+    -544.8,
+    -457.0,
+    -357.5,
+    -246.2,
+    -126.3,
+    -63.15,
+)
+T4_REBOUND = (
+    3.761,
+    -1.556,
+    -5.544,
+    -7.538,
+    -7.538,
+    -3.550,
+    3.429,
+    11.57,
+    29.35,
+    47.79,
+    64.58,
+    78.70,
+    84.52,
+)
 #: Test 5: v_t/(mu v_n) -> -R w'/(mu v_n) (the final spin), FEM and the paper's DEM curves
-T5_X = (0.0578, 0.3526, 0.6821, 0.9942, 1.3410, 1.6879, 2.0000, 2.3295, 2.9884, 3.3179,
-        3.9942, 5.0, 6.0058, 10.0116, 20.0)
-T5_SPIN = {"steel": (-0.1055, -0.4301, -0.8197, -1.2498, -1.6637, -2.0938, -2.5240, -2.9784,
-                     -3.9037, -4.2932, -4.8368, -5.0068, -5.0062, -5.0041, -4.9905),
-           "polyethylene": (-0.0974, -0.4382, -0.9009, -1.3310, -1.7611, -2.2156, -2.6701,
-                            -3.1165, -4.0498, -4.4556, -4.9342, -4.9662, -4.9575, -4.9635,
-                            -4.9418)}
+T5_X = (
+    0.0578,
+    0.3526,
+    0.6821,
+    0.9942,
+    1.3410,
+    1.6879,
+    2.0000,
+    2.3295,
+    2.9884,
+    3.3179,
+    3.9942,
+    5.0,
+    6.0058,
+    10.0116,
+    20.0,
+)
+T5_SPIN = {
+    "steel": (
+        -0.1055,
+        -0.4301,
+        -0.8197,
+        -1.2498,
+        -1.6637,
+        -2.0938,
+        -2.5240,
+        -2.9784,
+        -3.9037,
+        -4.2932,
+        -4.8368,
+        -5.0068,
+        -5.0062,
+        -5.0041,
+        -4.9905,
+    ),
+    "polyethylene": (
+        -0.0974,
+        -0.4382,
+        -0.9009,
+        -1.3310,
+        -1.7611,
+        -2.2156,
+        -2.6701,
+        -3.1165,
+        -4.0498,
+        -4.4556,
+        -4.9342,
+        -4.9662,
+        -4.9575,
+        -4.9635,
+        -4.9418,
+    ),
+}
 #: Test 8 (case A, two spheres): chi = 3.5 mu (1+e) v_n / v_s -> beta = -v_s'/v_s
-T8_CHI = (0.1872, 0.3583, 0.5508, 0.7647, 0.9786, 1.2139, 1.4920, 1.7701, 2.0909, 2.5187,
-          2.9893, 3.6310, 4.5080, 5.7701, 7.8449, 11.9091, 23.9733)
-T8_BETA = (-0.8152, -0.6262, -0.4394, -0.2378, -0.0173, 0.0961, 0.1108, 0.0898, 0.0583, 0.0058,
-           -0.0488, -0.1034, -0.1391, -0.1622, -0.2042, -0.2483, -0.3176)
+T8_CHI = (
+    0.1872,
+    0.3583,
+    0.5508,
+    0.7647,
+    0.9786,
+    1.2139,
+    1.4920,
+    1.7701,
+    2.0909,
+    2.5187,
+    2.9893,
+    3.6310,
+    4.5080,
+    5.7701,
+    7.8449,
+    11.9091,
+    23.9733,
+)
+T8_BETA = (
+    -0.8152,
+    -0.6262,
+    -0.4394,
+    -0.2378,
+    -0.0173,
+    0.0961,
+    0.1108,
+    0.0898,
+    0.0583,
+    0.0058,
+    -0.0488,
+    -0.1034,
+    -0.1391,
+    -0.1622,
+    -0.2042,
+    -0.2483,
+    -0.3176,
+)
 
 #: Steps per (normal) contact duration of the benchmark runs (docs/physics.md: convergence).
 STEPS_PER_CONTACT = 200
 
 
 # -- closed forms ---------------------------------------------------------------------------
+
 
 def sphere_mass(material: str, radius: float) -> float:
     return MATERIALS[material][2] * 4.0 / 3.0 * math.pi * radius**3
@@ -106,10 +242,15 @@ def hertz_wall(material: str, radius: float, v: float, pair: bool = False) -> di
     if pair:
         e_star, m_eff, r_eff = e_star / 2.0, m / 2.0, radius / 2.0
     delta = (15.0 * m_eff * v**2 / (16.0 * e_star * math.sqrt(r_eff))) ** 0.4
-    factor = 0.4 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)   # 1.4716
-    return dict(e_star=e_star, m_eff=m_eff, r_eff=r_eff, delta=delta,
-                force=4.0 / 3.0 * e_star * math.sqrt(r_eff) * delta**1.5,
-                contact_time=2.0 * factor * delta / v)
+    factor = 0.4 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)  # 1.4716
+    return dict(
+        e_star=e_star,
+        m_eff=m_eff,
+        r_eff=r_eff,
+        delta=delta,
+        force=4.0 / 3.0 * e_star * math.sqrt(r_eff) * delta**1.5,
+        contact_time=2.0 * factor * delta / v,
+    )
 
 
 def hooke_stiffness(material: str, radius: float, v: float, pair: bool = False) -> float:
@@ -132,10 +273,10 @@ def hooke_friction_impulse(e: float) -> float:
         return 1.0
     le = math.log(e)
     zeta = -le / math.sqrt(math.pi**2 + le * le)
-    wd = math.sqrt(1.0 - zeta * zeta)          # w_n = 1
+    wd = math.sqrt(1.0 - zeta * zeta)  # w_n = 1
     a = zeta
     t1 = (math.pi + math.atan(2.0 * a * wd / (a * a - wd * wd))) / wd
-    u1 = math.exp(-a * t1) * (math.cos(wd * t1) - a / wd * math.sin(wd * t1))   # v = 1
+    u1 = math.exp(-a * t1) * (math.cos(wd * t1) - a / wd * math.sin(wd * t1))  # v = 1
     return ((1.0 - u1) + (-e - u1)) / (1.0 + e)
 
 
@@ -150,55 +291,115 @@ def sliding_beta(chi: float, e: float | None = None) -> float:
 
 # -- decks ------------------------------------------------------------------------------------
 
+
 def _deck(title, *, radius, material, mu, dt, tmax, itrac, particles, triangle_x, hooke):
     e, nu, rho = MATERIALS[material]
     radius, mu, dt, tmax = float(radius), float(mu), float(dt), float(tmax)
     particles = [(float(x), tuple(map(float, v)), float(w)) for x, v, w in particles]
     hooke = None if hooke is None else tuple(map(float, hooke))
     half = 20.0 * radius
-    lines = ["$ Chung & Ooi (2011) benchmark scene, written by tools/chung_ooi.py", "TITLE",
-             title, "END", "UNITS", "   m N s", "END", "PARAMETERS",
-             "$ TIME TMAX TREST DTMIN DTMAX INCR INCMAX IREST NINTPL ISTAT ITRAC",
-             f"   0.0 {tmax!r} 0.0 {dt!r} {dt!r} 0 1e9 0 5 0 {itrac}", "END", "PDMP",
-             "$ NODLIM RZERO PRHO PPOI E0 E1 T1 PCOF VX0 VY0 VZ0",
-             f"   8 {radius!r} {rho!r} {nu!r} {e!r} 0.0 1.0 {mu!r} 0.0 0.0 0.0", "END",
-             "TRACE", "   " + " ".join(str(9 + k) for k in range(len(particles))), "END",
-             "NODE COORDINATES"]
+    lines = [
+        "$ Chung & Ooi (2011) benchmark scene, written by tools/chung_ooi.py",
+        "TITLE",
+        title,
+        "END",
+        "UNITS",
+        "   m N s",
+        "END",
+        "PARAMETERS",
+        "$ TIME TMAX TREST DTMIN DTMAX INCR INCMAX IREST NINTPL ISTAT ITRAC",
+        f"   0.0 {tmax!r} 0.0 {dt!r} {dt!r} 0 1e9 0 5 0 {itrac}",
+        "END",
+        "PDMP",
+        "$ NODLIM RZERO PRHO PPOI E0 E1 T1 PCOF VX0 VY0 VZ0",
+        f"   8 {radius!r} {rho!r} {nu!r} {e!r} 0.0 1.0 {mu!r} 0.0 0.0 0.0",
+        "END",
+        "TRACE",
+        "   " + " ".join(str(9 + k) for k in range(len(particles))),
+        "END",
+        "NODE COORDINATES",
+    ]
     corners = [(-half, -half), (half, -half), (half, half), (-half, half)]
     lines += [f"   {k + 1} {triangle_x!r} {y!r} {z!r}" for k, (y, z) in enumerate(corners)]
     lines += [f"   {9 + k} {x!r} 0.0 0.0" for k, (x, _, _) in enumerate(particles)]
-    lines += ["END", "BOUNDARY CONDITIONS", "   1 4 1 1 2 3 4 5 6", "END", "CONTACT",
-              "   1 1 2 3", "   1 1 3 4", "END",
-              "   1 " + " ".join(str(9 + k) for k in range(len(particles))), "END", "INITIAL"]
-    lines += [f"   {9 + k} {v[0]!r} {v[1]!r} 0.0 0.0 0.0 {w!r}"
-              for k, (_, v, w) in enumerate(particles)]
+    lines += [
+        "END",
+        "BOUNDARY CONDITIONS",
+        "   1 4 1 1 2 3 4 5 6",
+        "END",
+        "CONTACT",
+        "   1 1 2 3",
+        "   1 1 3 4",
+        "END",
+        "   1 " + " ".join(str(9 + k) for k in range(len(particles))),
+        "END",
+        "INITIAL",
+    ]
+    lines += [
+        f"   {9 + k} {v[0]!r} {v[1]!r} 0.0 0.0 0.0 {w!r}" for k, (_, v, w) in enumerate(particles)
+    ]
     lines.append("END")
     if hooke is not None:
         lines += ["HOOKE", f"   8 {hooke[0]!r} {hooke[1]!r}", "END"]
     return "\n".join(lines) + "\n"
 
 
-def wall_deck(material: str, radius: float, velocity, spin: float = 0.0, *, mu: float,
-              dt: float, tmax: float, itrac: int = 1, hooke=None) -> str:
+def wall_deck(
+    material: str,
+    radius: float,
+    velocity,
+    spin: float = 0.0,
+    *,
+    mu: float,
+    dt: float,
+    tmax: float,
+    itrac: int = 1,
+    hooke=None,
+) -> str:
     """A sphere (node 9) touching the fixed flat wall x = 0 at t = 0 from x = R, with velocity
     (vx, vy) [m/s] (vx < 0: into the wall) and spin w_z [rad/s]; its contact point is at
     -R x, where it moves at v_y - R w_z. ``hooke``: (k_n, e) for the HOOKE law."""
-    return _deck(f"Chung & Ooi: {material} sphere R {radius:g} m on a rigid plane",
-                 radius=radius, material=material, mu=mu, dt=dt, tmax=tmax, itrac=itrac,
-                 particles=[(radius, tuple(velocity), spin)], triangle_x=0.0,
-                 hooke=hooke)
+    return _deck(
+        f"Chung & Ooi: {material} sphere R {radius:g} m on a rigid plane",
+        radius=radius,
+        material=material,
+        mu=mu,
+        dt=dt,
+        tmax=tmax,
+        itrac=itrac,
+        particles=[(radius, tuple(velocity), spin)],
+        triangle_x=0.0,
+        hooke=hooke,
+    )
 
 
-def pair_deck(material: str, radius: float, first, second, *, mu: float, dt: float,
-              tmax: float, itrac: int = 1, hooke=None) -> str:
+def pair_deck(
+    material: str,
+    radius: float,
+    first,
+    second,
+    *,
+    mu: float,
+    dt: float,
+    tmax: float,
+    itrac: int = 1,
+    hooke=None,
+) -> str:
     """Two identical spheres touching at the origin at t = 0: node 9 at x = -R, node 10 at
     x = +R, each ((vx, vy), w_z); a far wall (x = -20 R) closes the cavity. Sphere 9's contact
     point moves at v_y + R w_z, sphere 10's at v_y - R w_z."""
-    return _deck(f"Chung & Ooi: two {material} spheres R {radius:g} m", radius=radius,
-                 material=material, mu=mu, dt=dt, tmax=tmax, itrac=itrac,
-                 particles=[(-radius, tuple(first[0]), first[1]),
-                            (radius, tuple(second[0]), second[1])],
-                 triangle_x=-20.0 * radius, hooke=hooke)
+    return _deck(
+        f"Chung & Ooi: two {material} spheres R {radius:g} m",
+        radius=radius,
+        material=material,
+        mu=mu,
+        dt=dt,
+        tmax=tmax,
+        itrac=itrac,
+        particles=[(-radius, tuple(first[0]), first[1]), (radius, tuple(second[0]), second[1])],
+        triangle_x=-20.0 * radius,
+        hooke=hooke,
+    )
 
 
 def run_deck(text: str, workdir: Path, name: str, friction: str = "mindlin"):
@@ -210,6 +411,7 @@ def run_deck(text: str, workdir: Path, name: str, friction: str = "mindlin"):
 
 # -- the scenes of the tests, and what is measured -----------------------------------------------
 
+
 def normal_impact(test: int, material: str, workdir, steps: int = STEPS_PER_CONTACT) -> dict:
     """Tests 1 (two spheres) and 2 (sphere on wall): peak force m dv/dt, largest approach and
     contact time of the run, with the Hertz closed form."""
@@ -219,8 +421,7 @@ def normal_impact(test: int, material: str, workdir, steps: int = STEPS_PER_CONT
     dt = h["contact_time"] / steps
     tmax = 1.2 * h["contact_time"]
     if pair:
-        text = pair_deck(material, r, ((v, 0.0), 0.0), ((-v, 0.0), 0.0), mu=0.0, dt=dt,
-                         tmax=tmax)
+        text = pair_deck(material, r, ((v, 0.0), 0.0), ((-v, 0.0), 0.0), mu=0.0, dt=dt, tmax=tmax)
     else:
         text = wall_deck(material, r, (-v, 0.0), mu=0.0, dt=dt, tmax=tmax)
     res = run_deck(text, workdir, f"test{test}", friction="regularized")
@@ -232,8 +433,13 @@ def normal_impact(test: int, material: str, workdir, steps: int = STEPS_PER_CONT
     approach = 2.0 * r - (res.trace.position[:, 1, 0] - x) if pair else r - x
     k = int(np.flatnonzero((approach[:-1] > 0) & (approach[1:] <= 0))[0])
     t_end = t[k] + approach[k] / (approach[k] - approach[k + 1]) * (t[k + 1] - t[k])
-    return dict(force=_refined_peak(force), delta=_refined_peak(approach), contact_time=t_end,
-                reference=h, dt=dt)
+    return dict(
+        force=_refined_peak(force),
+        delta=_refined_peak(approach),
+        contact_time=t_end,
+        reference=h,
+        dt=dt,
+    )
 
 
 def restitution(material: str, e_in: float, workdir, steps: int = STEPS_PER_CONTACT) -> float:
@@ -242,14 +448,23 @@ def restitution(material: str, e_in: float, workdir, steps: int = STEPS_PER_CONT
     r, v = cfg["radius"], cfg["speed"]
     kn = hooke_stiffness(material, r, v)
     t_c = hertz_wall(material, r, v)["contact_time"]
-    text = wall_deck(material, r, (-v, 0.0), mu=0.0, dt=t_c / steps, tmax=1.3 * t_c,
-                     itrac=1, hooke=(kn, e_in))
+    text = wall_deck(
+        material, r, (-v, 0.0), mu=0.0, dt=t_c / steps, tmax=1.3 * t_c, itrac=1, hooke=(kn, e_in)
+    )
     res = run_deck(text, workdir, "test3", friction="regularized")
     return float(res.trace.velocity[-1, 0, 0] / v)
 
 
-def oblique_wall(test: int, material: str, vn: float, vt: float, spin: float, workdir,
-                 steps: int = STEPS_PER_CONTACT, friction: str = "mindlin") -> dict:
+def oblique_wall(
+    test: int,
+    material: str,
+    vn: float,
+    vt: float,
+    spin: float,
+    workdir,
+    steps: int = STEPS_PER_CONTACT,
+    friction: str = "mindlin",
+) -> dict:
     """Tests 4-6: a sphere at normal speed ``vn``, tangential ``vt`` (centre) and spin w_z on
     the plane; returns the velocities after the impact: vn' (> 0: away), vt', w_z', and the
     contact point's tangential speeds before and after (v_t - R w_z)."""
@@ -258,28 +473,60 @@ def oblique_wall(test: int, material: str, vn: float, vt: float, spin: float, wo
     h = hertz_wall(material, r, vn)
     hooke = None if cfg["e"] is None else (hooke_stiffness(material, r, vn), cfg["e"])
     t_c = h["contact_time"]
-    text = wall_deck(material, r, (-vn, vt), spin, mu=cfg["mu"], dt=t_c / steps,
-                     tmax=1.3 * t_c, itrac=1, hooke=hooke)
+    text = wall_deck(
+        material,
+        r,
+        (-vn, vt),
+        spin,
+        mu=cfg["mu"],
+        dt=t_c / steps,
+        tmax=1.3 * t_c,
+        itrac=1,
+        hooke=hooke,
+    )
     res = run_deck(text, workdir, f"test{test}", friction=friction)
     vx, vy = res.trace.velocity[-1, 0, :2]
     wz = res.trace.spin[-1, 0, 2]
-    return dict(vn=float(vx), vt=float(vy), spin=float(wz), slip_in=vt - r * spin,
-                slip_out=float(vy - r * wz), radius=r)
+    return dict(
+        vn=float(vx),
+        vt=float(vy),
+        spin=float(wz),
+        slip_in=vt - r * spin,
+        slip_out=float(vy - r * wz),
+        radius=r,
+    )
 
 
-def oblique_pair(test: int, material: str, first, second, workdir,
-                 steps: int = STEPS_PER_CONTACT, friction: str = "mindlin") -> dict:
+def oblique_pair(
+    test: int,
+    material: str,
+    first,
+    second,
+    workdir,
+    steps: int = STEPS_PER_CONTACT,
+    friction: str = "mindlin",
+) -> dict:
     """Tests 7-8: two spheres ((vx, vy), w_z each); the slip of sphere 9's contact point
     relative to sphere 10's before and after, and both spheres' final (vy, w_z)."""
     cfg = TESTS[test]
     r = cfg["radius"]
     closing = first[0][0] - second[0][0]
     h = hertz_wall(material, r, closing, pair=True)
-    hooke = None if cfg["e"] is None else (hooke_stiffness(material, r, closing, pair=True),
-                                           cfg["e"])
+    hooke = (
+        None if cfg["e"] is None else (hooke_stiffness(material, r, closing, pair=True), cfg["e"])
+    )
     t_c = h["contact_time"]
-    text = pair_deck(material, r, first, second, mu=cfg["mu"], dt=t_c / steps, tmax=1.3 * t_c,
-                     itrac=1, hooke=hooke)
+    text = pair_deck(
+        material,
+        r,
+        first,
+        second,
+        mu=cfg["mu"],
+        dt=t_c / steps,
+        tmax=1.3 * t_c,
+        itrac=1,
+        hooke=hooke,
+    )
     res = run_deck(text, workdir, f"test{test}", friction=friction)
     v = res.trace.velocity[-1, :, :2]
     w = res.trace.spin[-1, :, 2]
@@ -287,10 +534,14 @@ def oblique_pair(test: int, material: str, first, second, workdir,
     def slip(v1y, w1, v2y, w2):
         return (v1y + r * w1) - (v2y - r * w2)
 
-    return dict(slip_in=slip(first[0][1], first[1], second[0][1], second[1]),
-                slip_out=float(slip(v[0, 1], w[0], v[1, 1], w[1])),
-                vn=float(v[1, 0] - v[0, 0]), vt=tuple(map(float, v[:, 1])),
-                spin=tuple(map(float, w)), radius=r)
+    return dict(
+        slip_in=slip(first[0][1], first[1], second[0][1], second[1]),
+        slip_out=float(slip(v[0, 1], w[0], v[1, 1], w[1])),
+        vn=float(v[1, 0] - v[0, 0]),
+        vt=tuple(map(float, v[:, 1])),
+        spin=tuple(map(float, w)),
+        radius=r,
+    )
 
 
 def test4_point(material: str, angle: float, workdir, steps: int = STEPS_PER_CONTACT) -> tuple:
@@ -300,8 +551,7 @@ def test4_point(material: str, angle: float, workdir, steps: int = STEPS_PER_CON
     v = TESTS[4]["speed"]
     vn, vt = v * math.cos(math.radians(angle)), v * math.sin(math.radians(angle))
     out = oblique_wall(4, material, vn, vt, 0.0, workdir, steps)
-    return (out["vt"] / vt, -out["spin"],
-            math.degrees(math.atan(out["slip_out"] / out["vn"])))
+    return (out["vt"] / vt, -out["spin"], math.degrees(math.atan(out["slip_out"] / out["vn"])))
 
 
 def test5_point(material: str, x: float, workdir, steps: int = STEPS_PER_CONTACT) -> float:
@@ -338,8 +588,9 @@ def test8_point(material: str, chi: float, workdir, steps: int = STEPS_PER_CONTA
     chi; returns beta = -v_s'/v_s of the relative slip."""
     cfg = TESTS[8]
     slip = 3.5 * cfg["mu"] * (1.0 + cfg["e"]) * cfg["speed"] / chi
-    out = oblique_pair(8, material, ((cfg["speed"], 0.0), slip / cfg["radius"]),
-                       ((0.0, 0.0), 0.0), workdir, steps)
+    out = oblique_pair(
+        8, material, ((cfg["speed"], 0.0), slip / cfg["radius"]), ((0.0, 0.0), 0.0), workdir, steps
+    )
     return -out["slip_out"] / out["slip_in"]
 
 
@@ -359,6 +610,7 @@ def _refined_peak(y) -> float:
 
 # -- commands ---------------------------------------------------------------------------------
 
+
 def write_decks(outdir: Path) -> list[Path]:
     """One deck per test and material at the first point of its sweep (docstring)."""
     outdir.mkdir(parents=True, exist_ok=True)
@@ -372,19 +624,36 @@ def write_decks(outdir: Path) -> list[Path]:
             kw = dict(mu=cfg["mu"], dt=dt, tmax=tmax, itrac=1)
             if test in (1, 7):
                 w = 0.0 if test == 1 else v / r * math.tan(math.radians(5.0))
-                hooke = None if cfg["e"] is None else (
-                    hooke_stiffness(material, r, 2.0 * v, True), cfg["e"])
+                hooke = (
+                    None
+                    if cfg["e"] is None
+                    else (hooke_stiffness(material, r, 2.0 * v, True), cfg["e"])
+                )
                 text = pair_deck(material, r, ((v, 0.0), w), ((-v, 0.0), -w), hooke=hooke, **kw)
             elif test == 8:
                 slip = 3.5 * cfg["mu"] * (1.0 + cfg["e"]) * v / T8_CHI[0]
-                text = pair_deck(material, r, ((v, 0.0), slip / r), ((0.0, 0.0), 0.0),
-                                 hooke=(hooke_stiffness(material, r, v, True), cfg["e"]), **kw)
+                text = pair_deck(
+                    material,
+                    r,
+                    ((v, 0.0), slip / r),
+                    ((0.0, 0.0), 0.0),
+                    hooke=(hooke_stiffness(material, r, v, True), cfg["e"]),
+                    **kw,
+                )
             else:
-                hooke = None if cfg["e"] is None else (
-                    hooke_stiffness(material, r, v), cfg["e"] if test != 3 else 0.5)
+                hooke = (
+                    None
+                    if cfg["e"] is None
+                    else (hooke_stiffness(material, r, v), cfg["e"] if test != 3 else 0.5)
+                )
                 angle = math.radians(T4_ANGLES[0]) if test == 4 else 0.0
-                vt = (v * math.sin(angle) if test == 4 else
-                      T5_X[0] * cfg["mu"] * v if test == 5 else 0.0)
+                vt = (
+                    v * math.sin(angle)
+                    if test == 4
+                    else T5_X[0] * cfg["mu"] * v
+                    if test == 5
+                    else 0.0
+                )
                 vn = v * math.cos(angle)
                 spin = -3.5 * cfg["mu"] * 1.5 * v / 0.3 / r if test == 6 else 0.0
                 text = wall_deck(material, r, (-vn, vt), spin, hooke=hooke, **kw)
@@ -400,7 +669,8 @@ def main(argv: list[str]) -> int:
             print(p)
         return 0
     if argv and argv[0] in ("plots", "convergence"):
-        from chung_ooi_plots import convergence_table, make_plots   # tools/chung_ooi_plots.py
+        from chung_ooi_plots import convergence_table, make_plots  # tools/chung_ooi_plots.py
+
         return make_plots(ROOT / "docs" / "img") if argv[0] == "plots" else convergence_table()
     print(__doc__)
     return 2

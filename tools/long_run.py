@@ -25,8 +25,11 @@ sys.path.insert(0, str(ROOT))
 
 #: Deck and the forces it runs with (appendix_a_cube.inp has no USRFRC card: App. C's drive).
 CASES = {
-    "appendix_a_cube": ("decks/appendix_a_cube.inp",
-                        ("sine:node=25,dof=1,amp=4.84040e-3,hz=37.21",), 25),
+    "appendix_a_cube": (
+        "decks/appendix_a_cube.inp",
+        ("sine:node=25,dof=1,amp=4.84040e-3,hz=37.21",),
+        25,
+    ),
     "beam_64": ("decks/beam_64.inp", (), 9),
 }
 
@@ -53,8 +56,13 @@ def long_run(name: str, tmax: float) -> dict:
     xp = moved[p0:]
     inside = bool(np.all((xp >= lo - 1e-9) & (xp <= hi + 1e-9)))
     return {
-        "deck": path, "usrfrc": list(usrfrc), "status": sm["status"], "t_end": sm["t_end"],
-        "steps": sm["steps"], "wall_s": sm["wall_s"], "steps_per_s": sm["steps_per_s"],
+        "deck": path,
+        "usrfrc": list(usrfrc),
+        "status": sm["status"],
+        "t_end": sm["t_end"],
+        "steps": sm["steps"],
+        "wall_s": sm["wall_s"],
+        "steps_per_s": sm["steps_per_s"],
         "external_work": float(last[col["external_work"]]),
         "dissipated_viscoelastic": float(last[col["dissipated_viscoelastic"]]),
         "dissipated_friction": float(last[col["dissipated_friction"]]),
@@ -68,9 +76,11 @@ def long_run(name: str, tmax: float) -> dict:
 
 
 def markdown(rows: list[dict]) -> str:
-    head = ("| deck | status | t [s] | steps | wall [s] | drive work | dissipated visco / "
-            "friction / dampers | residual / scale (end, max) | amplitude, last 1 s [in] | "
-            "particles inside |\n|---|---|---:|---:|---:|---:|---|---|---:|---|")
+    head = (
+        "| deck | status | t [s] | steps | wall [s] | drive work | dissipated visco / "
+        "friction / dampers | residual / scale (end, max) | amplitude, last 1 s [in] | "
+        "particles inside |\n|---|---|---:|---:|---:|---:|---|---|---:|---|"
+    )
     lines = [head]
     for r in rows:
         lines.append(
@@ -79,7 +89,8 @@ def markdown(rows: list[dict]) -> str:
             f"{r['dissipated_viscoelastic']:.4g} / {r['dissipated_friction']:.4g} / "
             f"{r['dissipated_dampers']:.4g} | {r['residual_over_scale']:.2e}, "
             f"{r['max_residual_over_scale']:.2e} | {r['drive_amplitude_last_s']:.4g} | "
-            f"{r['particles_inside']} |")
+            f"{r['particles_inside']} |"
+        )
     return "\n".join(lines)
 
 

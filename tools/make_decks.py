@@ -24,31 +24,46 @@ sys.path.insert(0, str(ROOT / "tools"))
 
 from dataclasses import replace  # noqa: E402
 
-from x3dpd.deck.cards import (Boundary, Contact, Deck, Hooke, Node, Parameters,  # noqa: E402
-                              Pdmp, SlaveSet, Title, Trace, Triangle)
+from x3dpd.deck.cards import (
+    Boundary,
+    Contact,
+    Deck,
+    Hooke,
+    Node,
+    Parameters,  # noqa: E402
+    Pdmp,
+    SlaveSet,
+    Title,
+    Trace,
+    Triangle,
+)
 import numpy as np  # noqa: E402
 
 from x3dpd.deck.fill import fill_positions, filled_deck  # noqa: E402
-from x3dpd.deck.generate import (Material3, box_cavity_deck, cylinder_cavity_deck,  # noqa: E402
-                                 lattice_fill)
+from x3dpd.deck.generate import (
+    Material3,
+    box_cavity_deck,
+    cylinder_cavity_deck,  # noqa: E402
+    lattice_fill,
+)
 from x3dpd.deck.writer import format_deck  # noqa: E402
 
 DECKS = ROOT / "decks"
 REPORT = "AFRL-VA-WP-TR-2003-3053"
 
 # ---- the report's Section 8.2 beam model (Table 4 and the text around it) -------------------
-G = 386.1                      # in/s^2, standard gravity in inch units
-BEAM_MASS = 2.04213e-4         # lbf s^2/in: Sec. 8.2, "equivalent mass of 2.04213e-4 ... includes
+G = 386.1  # in/s^2, standard gravity in inch units
+BEAM_MASS = 2.04213e-4  # lbf s^2/in: Sec. 8.2, "equivalent mass of 2.04213e-4 ... includes
 #                                the mass of the aluminum beam plus ... the damper cavity"
-BEAM_K = 1.14823e1             # lbf/in: Sec. 8.2 / Table 4, stiffness tuned to 39.37 Hz
-BEAM_C = 3.08293e-4            # lbf s/in: Table 4, viscous damping coefficient
+BEAM_K = 1.14823e1  # lbf/in: Sec. 8.2 / Table 4, stiffness tuned to 39.37 Hz
+BEAM_C = 3.08293e-4  # lbf s/in: Table 4, viscous damping coefficient
 CAVITY = (0.263, 0.372, 0.372)  # in: Sec. 8.2, interior 0.263 long (x, the drive direction),
 #                                 0.372 wide x 0.372 high
 DRIVE = "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21"  # Table 4 / Appendix C drive force
 STEEL = Material3(e0=27.5e6, e1=5.0e6, tau1=2.0e-6, nu=0.33, mu=0.30, density=7.32971e-4)
 DT, TMAX, ITRAC, TREST = 5e-7, 15.0, 2000, 0.1
-GAP_FRACTION = 0.05            # lattice gap = 5 % of the radius (walls and neighbours)
-JITTER = 0.5                   # random shift up to +-JITTER * gap / 2 per coordinate
+GAP_FRACTION = 0.05  # lattice gap = 5 % of the radius (walls and neighbours)
+JITTER = 0.5  # random shift up to +-JITTER * gap / 2 per coordinate
 SEED = 2003
 
 #: name -> (number of spheres, radius [in], the report's wording, time-step divisor)
@@ -61,22 +76,24 @@ BEAMS = {
 }
 
 
-def beam_header(name: str, n: int, radius: float, words: str, gap: float,
-                divisor: int) -> list[str]:
+def beam_header(
+    name: str, n: int, radius: float, words: str, gap: float, divisor: int
+) -> list[str]:
     mass = STEEL.density * 4.0 / 3.0 * math.pi * radius**3
     dt, itrac = DT / divisor, ITRAC * divisor
     if divisor == 1:
-        run = [f"Run: DT {dt:g} s, TMAX {TMAX:g} s, trace every ITRAC {itrac} steps (1 ms) "
-               "(Sec. 8.2);"]
+        run = [
+            f"Run: DT {dt:g} s, TMAX {TMAX:g} s, trace every ITRAC {itrac} steps (1 ms) (Sec. 8.2);"
+        ]
     else:
-        run = [f"Run: DT {dt:g} s = the report's {DT:g} s (Sec. 8.2) / {divisor}: at {DT:g} s "
-               "a 16.9 in/s",
-               "  wall impact of these small spheres lasts only 4.75 steps, which `x3dpd check` "
-               "flags",
-               f"  as too few (beam_64 at {DT:g} s has 9.5). `--dt {DT:g}` runs the report's "
-               "step",
-               f"  (the trace then comes every {itrac * DT:g} s).",
-               f"  TMAX {TMAX:g} s, trace every ITRAC {itrac} steps (1 ms, Sec. 8.2);"]
+        run = [
+            f"Run: DT {dt:g} s = the report's {DT:g} s (Sec. 8.2) / {divisor}: at {DT:g} s "
+            "a 16.9 in/s",
+            "  wall impact of these small spheres lasts only 4.75 steps, which `x3dpd check` flags",
+            f"  as too few (beam_64 at {DT:g} s has 9.5). `--dt {DT:g}` runs the report's step",
+            f"  (the trace then comes every {itrac * DT:g} s).",
+            f"  TMAX {TMAX:g} s, trace every ITRAC {itrac} steps (1 ms, Sec. 8.2);",
+        ]
     return [
         f"{name}.inp: the report's Section 8.2 cantilever-beam particle damper, {n} sphere"
         f"{'s' if n > 1 else ''}",
@@ -121,22 +138,32 @@ def beam_deck(name: str) -> str:
     n, radius, words, divisor = BEAMS[name]
     gap = GAP_FRACTION * radius
     deck = box_cavity_deck(
-        size=CAVITY, particles=np.zeros((0, 3)), radius=radius, material=STEEL,
+        size=CAVITY,
+        particles=np.zeros((0, 3)),
+        radius=radius,
+        material=STEEL,
         structure_mass=BEAM_MASS,
-        stiffness=BEAM_K, damping=BEAM_C, gravity=(0.0, -G, 0.0), dt=DT / divisor,
-        tmax=TMAX, itrac=ITRAC * divisor, trest=TREST, usrfrc=(DRIVE,), free_dofs=(1,),
+        stiffness=BEAM_K,
+        damping=BEAM_C,
+        gravity=(0.0, -G, 0.0),
+        dt=DT / divisor,
+        tmax=TMAX,
+        itrac=ITRAC * divisor,
+        trest=TREST,
+        usrfrc=(DRIVE,),
+        free_dofs=(1,),
         title=f"Sec. 8.2 beam, ({n}) {2 * radius:g} in diameter steel spheres, viscoelastic\n"
-              f"cavity interior {CAVITY[0]} x {CAVITY[1]} x {CAVITY[2]} in, friction "
-              f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz")
+        f"cavity interior {CAVITY[0]} x {CAVITY[1]} x {CAVITY[2]} in, friction "
+        f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz",
+    )
     # `x3dpd fill`'s library: a box cavity with the cubic packing is lattice_fill's lattice
     fill = fill_positions(deck, n=n, gap=gap, seed=SEED, jitter=JITTER)
     assert fill.positions.shape[0] == n, f"{name}: only {fill.positions.shape[0]} fit"
-    return with_header(beam_header(name, n, radius, words, gap, divisor),
-                       filled_deck(deck, fill))
+    return with_header(beam_header(name, n, radius, words, gap, divisor), filled_deck(deck, fill))
 
 
 # ---- beam_64 in a cylindrical cavity of the same volume (the CYLINDER card) ------------------
-CYL_LENGTH = CAVITY[0]                                  # the axis along the motion, as long
+CYL_LENGTH = CAVITY[0]  # the axis along the motion, as long
 CYL_RADIUS = math.sqrt(CAVITY[1] * CAVITY[2] / math.pi)  # as the box: the same cross-section
 CYL_DRIVE = DRIVE.replace("node=9", "node=1")
 
@@ -145,28 +172,52 @@ def _bore_particles():
     """beam_64's spheres on a jittered lattice in the square inscribed in the cross-section."""
     n, radius, _, _ = BEAMS["beam_64"]
     gap = GAP_FRACTION * radius
-    half = CYL_RADIUS / math.sqrt(2.0)   # the square inscribed in the cross-section
-    pos = lattice_fill((CYL_LENGTH, 2 * half, 2 * half), radius, n, gap=gap, seed=SEED,
-                       jitter=JITTER, origin=(0.0, -half, -half))
+    half = CYL_RADIUS / math.sqrt(2.0)  # the square inscribed in the cross-section
+    pos = lattice_fill(
+        (CYL_LENGTH, 2 * half, 2 * half),
+        radius,
+        n,
+        gap=gap,
+        seed=SEED,
+        jitter=JITTER,
+        origin=(0.0, -half, -half),
+    )
     return n, radius, gap, pos
 
 
 def _bore_deck(shape: str, pos, radius: float, title: str):
     """beam_64's beam, drive and spheres at ``pos`` in a ``shape`` on the bore's axis."""
     return cylinder_cavity_deck(
-        length=CYL_LENGTH, cavity_radius=CYL_RADIUS, particles=pos, radius=radius,
-        material=STEEL, structure_mass=BEAM_MASS, stiffness=BEAM_K, damping=BEAM_C,
-        gravity=(0.0, -G, 0.0), dt=DT, tmax=TMAX, itrac=ITRAC, trest=TREST,
-        usrfrc=(CYL_DRIVE,), free_dofs=(1,), shape=shape, title=title)
+        length=CYL_LENGTH,
+        cavity_radius=CYL_RADIUS,
+        particles=pos,
+        radius=radius,
+        material=STEEL,
+        structure_mass=BEAM_MASS,
+        stiffness=BEAM_K,
+        damping=BEAM_C,
+        gravity=(0.0, -G, 0.0),
+        dt=DT,
+        tmax=TMAX,
+        itrac=ITRAC,
+        trest=TREST,
+        usrfrc=(CYL_DRIVE,),
+        free_dofs=(1,),
+        shape=shape,
+        title=title,
+    )
 
 
 def cylinder_deck() -> str:
     n, radius, gap, pos = _bore_particles()
     deck = _bore_deck(
-        "cylinder", pos, radius,
+        "cylinder",
+        pos,
+        radius,
         f"Sec. 8.2 beam, ({n}) {2 * radius:g} in diameter steel spheres, viscoelastic\n"
-              f"cylindrical cavity {CYL_LENGTH} long (x), radius {CYL_RADIUS:.6g} in, friction "
-        f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz")
+        f"cylindrical cavity {CYL_LENGTH} long (x), radius {CYL_RADIUS:.6g} in, friction "
+        f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz",
+    )
     volume = math.pi * CYL_RADIUS**2 * CYL_LENGTH
     header = [
         "cylinder_64.inp: the beam_64 damper (decks/beam_64.inp) in an analytic cylindrical",
@@ -201,10 +252,13 @@ def cylinder_deck() -> str:
 def capsule_deck() -> str:
     n, radius, gap, pos = _bore_particles()
     deck = _bore_deck(
-        "capsule", pos, radius,
+        "capsule",
+        pos,
+        radius,
         f"Sec. 8.2 beam, ({n}) {2 * radius:g} in diameter steel spheres, viscoelastic\n"
-              f"capsule cavity (cylinder_64's bore with hemispherical ends), friction "
-        f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz")
+        f"capsule cavity (cylinder_64's bore with hemispherical ends), friction "
+        f"{STEEL.mu:g}, drive 4.84040e-3 lbf at 37.21 Hz",
+    )
     volume = math.pi * CYL_RADIUS**2 * CYL_LENGTH + 4.0 / 3.0 * math.pi * CYL_RADIUS**3
     header = [
         "capsule_64.inp: decks/cylinder_64.inp with its flat end caps rounded: the same bore",
@@ -234,7 +288,7 @@ IMPACT_NU = 0.33
 IMPACT_RHO = 0.283 / G
 IMPACT_V = 62.832
 IMPACT_DT, IMPACT_TMAX, IMPACT_ITRAC = 1e-9, 1.2e-5, 10
-WALL_HALF = 0.25               # the wall is the square x = 0, |y|, |z| <= 0.25 in
+WALL_HALF = 0.25  # the wall is the square x = 0, |y|, |z| <= 0.25 in
 
 
 def impact_deck() -> str:
@@ -247,8 +301,8 @@ def impact_deck() -> str:
     header = [
         "impact_wall.inp: an elastic steel sphere hits a fixed, flat, rigid wall head-on",
         "Generated by tools/make_decks.py (do not edit by hand; rerun the script).",
-        f"Source: {REPORT}, Sec. 5 (p. 31) and Figure 28 \"Calculated and Predicted Elastic",
-        "  Behavior\" (Hertz load and approach vs time, compared with ABAQUS).",
+        f'Source: {REPORT}, Sec. 5 (p. 31) and Figure 28 "Calculated and Predicted Elastic',
+        '  Behavior" (Hertz load and approach vs time, compared with ABAQUS).',
         "",
         f"Sphere (node 9): radius {IMPACT_R:g} in, E = {IMPACT_E:g} psi, nu = {IMPACT_NU:g}, "
         f"density 0.283 lbf/in^3",
@@ -273,12 +327,25 @@ def impact_deck() -> str:
     ]
     deck = sphere_on_wall(
         "Fig. 28: elastic sphere R 0.0625 in, steel, 62.832 in/s into a rigid wall",
-        x=IMPACT_R, v=IMPACT_V, dt=IMPACT_DT, tmax=IMPACT_TMAX, itrac=IMPACT_ITRAC)
+        x=IMPACT_R,
+        v=IMPACT_V,
+        dt=IMPACT_DT,
+        tmax=IMPACT_TMAX,
+        itrac=IMPACT_ITRAC,
+    )
     return with_header(header, deck)
 
 
-def sphere_on_wall(title: str, *, x: float, v: float, dt: float, tmax: float, itrac: int,
-                   hooke: tuple | None = None) -> Deck:
+def sphere_on_wall(
+    title: str,
+    *,
+    x: float,
+    v: float,
+    dt: float,
+    tmax: float,
+    itrac: int,
+    hooke: tuple | None = None,
+) -> Deck:
     """The Fig. 28 steel sphere (node 9, centre at ``x``, moving at -``v`` along x) and the lone
     fixed wall x = 0 (nodes 1-4, two triangles); no gravity, no friction."""
     half = WALL_HALF
@@ -300,7 +367,7 @@ def sphere_on_wall(title: str, *, x: float, v: float, dt: float, tmax: float, it
 
 # ---- HOOKE card: linear spring-dashpot sphere against a rigid wall ---------------------------
 HOOKE_KN, HOOKE_E, HOOKE_V = 1.0e4, 0.8, 10.0
-HOOKE_GAP = 5e-4               # the sphere starts this far from the wall [in]
+HOOKE_GAP = 5e-4  # the sphere starts this far from the wall [in]
 HOOKE_DT, HOOKE_TMAX, HOOKE_ITRAC = 1e-8, 1.2e-4, 10
 
 
@@ -332,8 +399,13 @@ def hooke_deck() -> str:
     ]
     deck = sphere_on_wall(
         f"hooke law: sphere R 0.0625 in, {HOOKE_V:g} in/s into a rigid wall, e = {HOOKE_E:g}",
-        x=IMPACT_R + HOOKE_GAP, v=HOOKE_V, dt=HOOKE_DT, tmax=HOOKE_TMAX, itrac=HOOKE_ITRAC,
-        hooke=(Hooke(8, HOOKE_KN, HOOKE_E),))
+        x=IMPACT_R + HOOKE_GAP,
+        v=HOOKE_V,
+        dt=HOOKE_DT,
+        tmax=HOOKE_TMAX,
+        itrac=HOOKE_ITRAC,
+        hooke=(Hooke(8, HOOKE_KN, HOOKE_E),),
+    )
     return with_header(header, deck)
 
 
@@ -349,9 +421,13 @@ def beam_64_modal() -> str:
     n, radius, words, divisor = BEAMS["beam_64"]
     base = _parse(beam_deck("beam_64"))
     deck, v = beam_modal_deck(base, BEAM_MASS, BEAM_K, BEAM_C)
-    deck = replace(deck, title=Title(
-        "Sec. 8 cantilever as its first three bending modes, (64) 0.0625 in steel spheres\n"
-        "beam_64's cavity and particles at the tip node 9, drive 4.84040e-3 lbf at 37.21 Hz"))
+    deck = replace(
+        deck,
+        title=Title(
+            "Sec. 8 cantilever as its first three bending modes, (64) 0.0625 in steel spheres\n"
+            "beam_64's cavity and particles at the tip node 9, drive 4.84040e-3 lbf at 37.21 Hz"
+        ),
+    )
     head = [
         "beam_64_modal.inp: the report's Section 8 cantilever as three Euler-Bernoulli modes,",
         "  beam_64's cavity and 64 spheres at the tip.",
@@ -382,16 +458,24 @@ def beam_64_modal() -> str:
         f"  Coupled first mode: {v['coupled'][0]:.6g} Hz, tip mass {v['coupled'][1]:.6g} "
         f"lbf s^2/in, zeta {v['coupled'][2]:.6g}",
         "  (`x3dpd check`).",
-        f"Drive: USRFRC {DRIVE} (as beam_64). Gravity, cavity, particles, step, TRACE: as "
-        "beam_64.",
+        f"Drive: USRFRC {DRIVE} (as beam_64). Gravity, cavity, particles, step, TRACE: as beam_64.",
     ]
     return with_header(head, deck)
 
 
 def chassis_128() -> str:
     """Section 9's chassis damper on three panel modes (tools/make_modal_decks.py)."""
-    from make_modal_decks import (BRASS_RHO, CHASSIS_MODES, PANEL_A, PANEL_B, STINGER_Y,
-                                  TABLE5_C, TABLE5_K, TABLE5_MASS, chassis_deck)
+    from make_modal_decks import (
+        BRASS_RHO,
+        CHASSIS_MODES,
+        PANEL_A,
+        PANEL_B,
+        STINGER_Y,
+        TABLE5_C,
+        TABLE5_K,
+        TABLE5_MASS,
+        chassis_deck,
+    )
 
     deck, v = chassis_deck(STEEL, DT, ITRAC, TREST, TMAX, SEED, GAP_FRACTION, JITTER)
     gap = GAP_FRACTION * 0.03125
@@ -478,8 +562,11 @@ def all_decks() -> dict[str, str]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--check", action="store_true",
-                    help="compare with the shipped decks instead of writing them")
+    ap.add_argument(
+        "--check",
+        action="store_true",
+        help="compare with the shipped decks instead of writing them",
+    )
     ap.add_argument("--out", type=Path, default=DECKS, help="output folder (default decks/)")
     args = ap.parse_args(argv)
     bad = 0

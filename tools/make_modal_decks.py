@@ -36,9 +36,9 @@ REPORT = "AFRL-VA-WP-TR-2003-3053"
 G = 386.1
 
 # ---- the cantilever (Sec. 8.1-8.2) ------------------------------------------------------------
-BEAM_L, BEAM_B, BEAM_H = 12.0, 1.5, 0.175   # in: Sec. 8.1, aluminium beam 12 x 1.5 x 0.175 in
-AL_E = 10.0e6                  # psi, aluminium (6061) handbook modulus: the starting value
-AL_RHO = 0.0975 / G            # lbf s^2/in^4 (0.0975 lbf/in^3, 6061 handbook)
+BEAM_L, BEAM_B, BEAM_H = 12.0, 1.5, 0.175  # in: Sec. 8.1, aluminium beam 12 x 1.5 x 0.175 in
+AL_E = 10.0e6  # psi, aluminium (6061) handbook modulus: the starting value
+AL_RHO = 0.0975 / G  # lbf s^2/in^4 (0.0975 lbf/in^3, 6061 handbook)
 BEAM_MODES = 3
 
 
@@ -78,18 +78,18 @@ def cantilever_modes(n: int, e: float, rho: float, b: float, h: float, length: f
 
 
 # ---- the chassis (Sec. 9) ---------------------------------------------------------------------
-PANEL_A, PANEL_B = 17.0, 8.0   # in: Sec. 9.1, the box's 17 in length and 8 in width
+PANEL_A, PANEL_B = 17.0, 8.0  # in: Sec. 9.1, the box's 17 in length and 8 in width
 STINGER_Y = 3.425 - PANEL_A / 2  # Sec. 9.1: 3.425 in above the bottom; centred across the width
-TABLE5_MASS = 3.54282e-4       # lbf s^2/in: Table 5 equivalent mass
-TABLE5_K = 1.95442e2           # lbf/in: Table 5 spring stiffness
-TABLE5_C = 3.55000e-3          # lbf s/in: Table 5 viscous damping coefficient
+TABLE5_MASS = 3.54282e-4  # lbf s^2/in: Table 5 equivalent mass
+TABLE5_K = 1.95442e2  # lbf/in: Table 5 spring stiffness
+TABLE5_C = 3.55000e-3  # lbf s/in: Table 5 viscous damping coefficient
 CHASSIS_CAVITY = (0.350, 0.444, 0.444)  # in: Sec. 9.1, interior length 0.350, edge 0.444
-BRASS_RHO = 0.307 / G          # lbf s^2/in^4 (brass, 0.307 lbf/in^3 handbook)
+BRASS_RHO = 0.307 / G  # lbf s^2/in^4 (brass, 0.307 lbf/in^3 handbook)
 #: the brass cavity: 0.5 in square tube, 0.028 in wall, 0.350 in long, two 0.028 in end caps
 BRASS_VOLUME = (0.5**2 - 0.444**2) * 0.350 + 2 * 0.5**2 * 0.028
 CHASSIS_MODES = ((1, 1), (2, 1), (3, 1))
-CHASSIS_DRIVE_HZ = 118.2       # Table 5's sqrt(k/m) / 2 pi
-CHASSIS_DRIVE_RMS = 0.1        # lbf: Sec. 9.2 / Table 5's 0.1 lbf RMS level
+CHASSIS_DRIVE_HZ = 118.2  # Table 5's sqrt(k/m) / 2 pi
+CHASSIS_DRIVE_RMS = 0.1  # lbf: Sec. 9.2 / Table 5's 0.1 lbf RMS level
 
 
 def plate_ratio(m: int, n: int) -> float:
@@ -116,8 +116,9 @@ def _clean(x: float) -> float:
 # ---- deck assembly ----------------------------------------------------------------------------
 def _modal_card(modes: list[tuple[int, float, float]], shapes: list[tuple[int, int, list]]):
     lines = [f"MODE {k} {f:.9g} {z:.6g}" for k, f, z in modes]
-    lines += [f"SHAPE {node} {dof} " + " ".join(f"{v:.9g}" for v in vals)
-              for node, dof, vals in shapes]
+    lines += [
+        f"SHAPE {node} {dof} " + " ".join(f"{v:.9g}" for v in vals) for node, dof, vals in shapes
+    ]
     return parse_modal(NOWHERE, [(line, 0, 1) for line in lines])
 
 
@@ -132,8 +133,11 @@ def _coupled(deck, node: int) -> tuple[float, float, float]:
     model = build_model(deck)
     ms = model.modal
     j = int(np.flatnonzero(ms.nodes == model.index_of(node))[0])
-    return (float(ms.omega[0] / (2 * math.pi)), 1.0 / float(ms.shape[j, 0, 0]) ** 2,
-            float(ms.zeta[0]))
+    return (
+        float(ms.omega[0] / (2 * math.pi)),
+        1.0 / float(ms.shape[j, 0, 0]) ** 2,
+        float(ms.zeta[0]),
+    )
 
 
 def beam_modal_deck(base, beam_mass: float, beam_k: float, beam_c: float):
@@ -144,10 +148,18 @@ def beam_modal_deck(base, beam_mass: float, beam_k: float, beam_c: float):
 
     def deck_for(e: float, cavity_mass: float, zeta: float = zeta):
         omega, tip, slope = cantilever_modes(BEAM_MODES, e, AL_RHO, BEAM_B, BEAM_H, BEAM_L)
-        card = _modal_card([(k + 1, w / (2 * math.pi), zeta) for k, w in enumerate(omega)],
-                           [(9, 1, list(tip)), (9, 6, list(-slope))])
-        return replace(base, materials=(), elements=(), boundaries=(), modal=card,
-                       masses=_corner_masses(cavity_mass))
+        card = _modal_card(
+            [(k + 1, w / (2 * math.pi), zeta) for k, w in enumerate(omega)],
+            [(9, 1, list(tip)), (9, 6, list(-slope))],
+        )
+        return replace(
+            base,
+            materials=(),
+            elements=(),
+            boundaries=(),
+            modal=card,
+            masses=_corner_masses(cavity_mass),
+        )
 
     mu_l = AL_RHO * BEAM_B * BEAM_H * BEAM_L
 
@@ -155,36 +167,61 @@ def beam_modal_deck(base, beam_mass: float, beam_k: float, beam_c: float):
         f, m, _ = _coupled(deck_for(v[0] * AL_E, v[1] * mu_l / 4), 9)
         return [f / target_hz - 1.0, m / beam_mass - 1.0]
 
-    with warnings.catch_warnings():   # converged to the noise of eigh (~1e-9): checked below
+    with warnings.catch_warnings():  # converged to the noise of eigh (~1e-9): checked below
         warnings.simplefilter("ignore", RuntimeWarning)
         e_scale, m_scale = fsolve(residual, [1.0, beam_mass / (mu_l / 4) - 1.0], xtol=1e-10)
-    assert max(map(abs, residual([e_scale, m_scale]))) < 1e-8   # 9 digits are printed
+    assert max(map(abs, residual([e_scale, m_scale]))) < 1e-8  # 9 digits are printed
     e_eff, cavity = e_scale * AL_E, m_scale * mu_l / 4
     # the coupled damping ratio is linear in the given one: scale it to Table 4's
     given = zeta * zeta / _coupled(deck_for(e_eff, cavity), 9)[2]
     deck = deck_for(e_eff, cavity, given)
-    return deck, {"e_eff": e_eff, "cavity_mass": cavity, "zeta": zeta, "given_zeta": given,
-                  "target_hz": target_hz, "mu_l": mu_l, "coupled": _coupled(deck, 9)}
+    return deck, {
+        "e_eff": e_eff,
+        "cavity_mass": cavity,
+        "zeta": zeta,
+        "given_zeta": given,
+        "target_hz": target_hz,
+        "mu_l": mu_l,
+        "coupled": _coupled(deck, 9),
+    }
 
 
-def chassis_deck(material: Material3, dt: float, itrac: int, trest: float, tmax: float,
-                 seed: int, gap_fraction: float, jitter: float):
+def chassis_deck(
+    material: Material3,
+    dt: float,
+    itrac: int,
+    trest: float,
+    tmax: float,
+    seed: int,
+    gap_fraction: float,
+    jitter: float,
+):
     """Section 9's chassis damper on the panel's first three plate modes; (deck, notes)."""
     zeta = TABLE5_C / (2.0 * math.sqrt(TABLE5_K * TABLE5_MASS))
     target_hz = math.sqrt(TABLE5_K / TABLE5_MASS) / (2 * math.pi)
     cavity_mass = BRASS_RHO * BRASS_VOLUME
     lx, ly, lz = CHASSIS_CAVITY
     radius = 0.03125
-    drive = (f"sine:node=10,dof=1,amp={CHASSIS_DRIVE_RMS * math.sqrt(2):.6g},"
-             f"hz={CHASSIS_DRIVE_HZ:g}")
-    base = box_cavity_deck(size=CHASSIS_CAVITY, particles=np.zeros((0, 3)), radius=radius,
-                           material=material, structure_mass=0.0, stiffness=0.0, damping=0.0,
-                           dt=dt, tmax=tmax, itrac=itrac, trest=trest,
-                           origin=(0.0, -ly / 2, -lz / 2), usrfrc=(drive,),
-                           title="Sec. 9 chassis damper, (128) 0.0625 in steel spheres in a "
-                                 "0.444 x 0.444 x 0.350 in brass cavity\n"
-                                 "panel centre node 9 on the first three panel modes, drive at "
-                                 "the stinger node 10")
+    drive = f"sine:node=10,dof=1,amp={CHASSIS_DRIVE_RMS * math.sqrt(2):.6g},hz={CHASSIS_DRIVE_HZ:g}"
+    base = box_cavity_deck(
+        size=CHASSIS_CAVITY,
+        particles=np.zeros((0, 3)),
+        radius=radius,
+        material=material,
+        structure_mass=0.0,
+        stiffness=0.0,
+        damping=0.0,
+        dt=dt,
+        tmax=tmax,
+        itrac=itrac,
+        trest=trest,
+        origin=(0.0, -ly / 2, -lz / 2),
+        usrfrc=(drive,),
+        title="Sec. 9 chassis damper, (128) 0.0625 in steel spheres in a "
+        "0.444 x 0.444 x 0.350 in brass cavity\n"
+        "panel centre node 9 on the first three panel modes, drive at "
+        "the stinger node 10",
+    )
     nodes = [Node(9, 0.0, 0.0, 0.0) if nd.nid == 9 else nd for nd in base.nodes]
     nodes.append(Node(10, 0.0, STINGER_Y, 0.0))
     base = replace(base, nodes=tuple(nodes), pdmp=(replace(base.pdmp[0], nodlim=10),))
@@ -202,10 +239,17 @@ def chassis_deck(material: Material3, dt: float, itrac: int, trest: float, tmax:
                 out[0].append(amplitude * value)
                 out[1].append(amplitude * rot_y)
                 out[2].append(amplitude * rot_z)
-        card = _modal_card(modes, [(9, 1, centre[0]), (9, 5, centre[1]), (9, 6, centre[2]),
-                                   (10, 1, stinger[0])])
-        return replace(base, materials=(), elements=(), boundaries=(), modal=card,
-                       masses=_corner_masses(cavity_mass))
+        card = _modal_card(
+            modes, [(9, 1, centre[0]), (9, 5, centre[1]), (9, 6, centre[2]), (10, 1, stinger[0])]
+        )
+        return replace(
+            base,
+            materials=(),
+            elements=(),
+            boundaries=(),
+            modal=card,
+            masses=_corner_masses(cavity_mass),
+        )
 
     def residual(v):
         f, mass, _ = _coupled(deck_for(v[0] * target_hz, v[1] / math.sqrt(TABLE5_MASS)), 9)
@@ -218,12 +262,26 @@ def chassis_deck(material: Material3, dt: float, itrac: int, trest: float, tmax:
     f11, amplitude = f_scale * target_hz, a_scale / math.sqrt(TABLE5_MASS)
     given = zeta * zeta / _coupled(deck_for(f11, amplitude), 9)[2]
     deck = deck_for(f11, amplitude, given)
-    plate_mass = 4.0 / amplitude**2          # a uniform plate's mode amplitude is 2/sqrt(M)
-    return deck, {"zeta": zeta, "given_zeta": given, "target_hz": target_hz, "f11": f11,
-                  "amplitude": amplitude,
-                  "cavity_mass": cavity_mass, "plate_mass": plate_mass, "drive": drive,
-                  "coupled": _coupled(deck, 9)}
+    plate_mass = 4.0 / amplitude**2  # a uniform plate's mode amplitude is 2/sqrt(M)
+    return deck, {
+        "zeta": zeta,
+        "given_zeta": given,
+        "target_hz": target_hz,
+        "f11": f11,
+        "amplitude": amplitude,
+        "cavity_mass": cavity_mass,
+        "plate_mass": plate_mass,
+        "drive": drive,
+        "coupled": _coupled(deck, 9),
+    }
 
 
-__all__ = ["beam_modal_deck", "chassis_deck", "cantilever_modes", "cantilever_roots",
-           "plate_shape", "plate_ratio", "Pdmp"]
+__all__ = [
+    "beam_modal_deck",
+    "chassis_deck",
+    "cantilever_modes",
+    "cantilever_roots",
+    "plate_shape",
+    "plate_ratio",
+    "Pdmp",
+]

@@ -48,8 +48,15 @@ CHAIN = {"m": 2.0, "k": 1.0e4, "nodes": (10, 20, 30), "damping": (0.01, 0.02, 0.
 #: (b) the cantilever [in, lbf, s]: length, width along y, height along z, Young's modulus,
 #: density (0.283 lbf/in^3 / 386.1 in/s^2), elements, modes kept. Node i stands at
 #: x = (i - 1) L / elements; node 1 is clamped.
-CANTILEVER = {"L": 10.0, "b": 1.0, "h": 0.5, "E": 3.0e7, "rho": 7.32971e-4, "elements": 5,
-              "modes": 4}
+CANTILEVER = {
+    "L": 10.0,
+    "b": 1.0,
+    "h": 0.5,
+    "E": 3.0e7,
+    "rho": 7.32971e-4,
+    "elements": 5,
+    "modes": 4,
+}
 OP2_DATE = (1, 1, 2025)
 
 
@@ -58,20 +65,44 @@ def chain_modes() -> ModeSet:
     n, k, m = len(CHAIN["nodes"]), CHAIN["k"], CHAIN["m"]
     K = k * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
     K[-1, -1] = k
-    return modes_from_matrices(K, m * np.eye(n), CHAIN["nodes"], ["x"] * n,
-                               damping=CHAIN["damping"], units=("m", "N", "s"), name="chain3")
+    return modes_from_matrices(
+        K,
+        m * np.eye(n),
+        CHAIN["nodes"],
+        ["x"] * n,
+        damping=CHAIN["damping"],
+        units=("m", "N", "s"),
+        name="chain3",
+    )
 
 
 def beam_element(EI: float, rhoA: float, le: float):
     """Euler-Bernoulli element matrices for (v1, t1, v2, t2), t = dv/dx."""
-    k = EI / le**3 * np.array([[12, 6 * le, -12, 6 * le],
-                               [6 * le, 4 * le**2, -6 * le, 2 * le**2],
-                               [-12, -6 * le, 12, -6 * le],
-                               [6 * le, 2 * le**2, -6 * le, 4 * le**2]])
-    m = rhoA * le / 420 * np.array([[156, 22 * le, 54, -13 * le],
-                                    [22 * le, 4 * le**2, 13 * le, -3 * le**2],
-                                    [54, 13 * le, 156, -22 * le],
-                                    [-13 * le, -3 * le**2, -22 * le, 4 * le**2]])
+    k = (
+        EI
+        / le**3
+        * np.array(
+            [
+                [12, 6 * le, -12, 6 * le],
+                [6 * le, 4 * le**2, -6 * le, 2 * le**2],
+                [-12, -6 * le, 12, -6 * le],
+                [6 * le, 2 * le**2, -6 * le, 4 * le**2],
+            ]
+        )
+    )
+    m = (
+        rhoA
+        * le
+        / 420
+        * np.array(
+            [
+                [156, 22 * le, 54, -13 * le],
+                [22 * le, 4 * le**2, 13 * le, -3 * le**2],
+                [54, 13 * le, 156, -22 * le],
+                [-13 * le, -3 * le**2, -22 * le, 4 * le**2],
+            ]
+        )
+    )
     return k, m
 
 
@@ -95,8 +126,9 @@ def cantilever_modes() -> ModeSet:
     K, M = T @ K[free, free] @ T, T @ M[free, free] @ T
     nodes = np.repeat(np.arange(2, nn + 1), 4)
     dofs = np.tile(["y", "rz", "z", "ry"], nn - 1)
-    return modes_from_matrices(K, M, nodes, dofs, n_modes=p["modes"], units=("in", "lbf", "s"),
-                               name="cantilever")
+    return modes_from_matrices(
+        K, M, nodes, dofs, n_modes=p["modes"], units=("in", "lbf", "s"), name="cantilever"
+    )
 
 
 def with_all_nodes(modes: ModeSet, node_ids) -> tuple[np.ndarray, np.ndarray]:
@@ -126,8 +158,17 @@ def write_op2(path: Path, modes: ModeSet, node_ids, tables=("LAMA", "OUGV1")) ->
     model.date = OP2_DATE
     grid = np.column_stack([node_ids, np.ones(len(node_ids), dtype=int)])
     vectors = RealEigenvectorArray.add_modal_case(
-        "OUGV1", grid, shapes.astype(np.float32), 1, modes.mode_numbers, omega**2, modes.freq_hz,
-        is_sort1=True, title=path.stem.upper(), label="NORMAL MODES")
+        "OUGV1",
+        grid,
+        shapes.astype(np.float32),
+        1,
+        modes.mode_numbers,
+        omega**2,
+        modes.freq_hz,
+        is_sort1=True,
+        title=path.stem.upper(),
+        label="NORMAL MODES",
+    )
     vectors.table_code = vectors.data_code["table_code"] = 7  # eigenvector, not displacement
     lama = RealEigenvalues(path.stem.upper(), "LAMA", modes.n_modes)
     lama.mode[:] = lama.extraction_order[:] = modes.mode_numbers
@@ -137,11 +178,12 @@ def write_op2(path: Path, modes: ModeSet, node_ids, tables=("LAMA", "OUGV1")) ->
     with open(path, "wb") as f:
         write_op2_header(model, f, io.StringIO(), s3, post=-1, endian=b"<")
         for table in [t for t in (lama, vectors) if t.table_name in tables]:
-            itable = table.write_op2(f, io.StringIO(), -1, True, model.date, is_mag_phase=False,
-                                     endian=b"<")
+            itable = table.write_op2(
+                f, io.StringIO(), -1, True, model.date, is_mag_phase=False, endian=b"<"
+            )
             f.write(s9.pack(4, itable, 4, 4, 1, 4, 4, 0, 4))  # end of the table's last record
-            f.write(s3.pack(4, 0, 4))                         # end of the table
-        f.write(s3.pack(4, 0, 4))                             # end of the file
+            f.write(s3.pack(4, 0, 4))  # end of the table
+        f.write(s3.pack(4, 0, 4))  # end of the file
 
 
 def write_uff(path: Path, modes: ModeSet, node_ids, ndv: int, units_code: int, damping=None):
@@ -152,16 +194,38 @@ def write_uff(path: Path, modes: ModeSet, node_ids, ndv: int, units_code: int, d
 
     node_ids, shapes = with_all_nodes(modes, node_ids)
     length, force = {1: (1.0, 1.0), 7: (1 / 0.0254, 1 / 4.4482216152605)}[units_code]
-    sets = [prepare_164(units_code=units_code, units_description=" ".join(modes.units),
-                        temp_mode=1, length=length, force=force, temp=1.0, temp_offset=273.15)]
+    sets = [
+        prepare_164(
+            units_code=units_code,
+            units_description=" ".join(modes.units),
+            temp_mode=1,
+            length=length,
+            force=force,
+            temp=1.0,
+            temp_offset=273.15,
+        )
+    ]
     for r, mode in enumerate(modes.mode_numbers):
         values = {f"r{c + 1}": shapes[r, :, c] for c in range(ndv)}
-        sets.append(prepare_55(
-            id1=f"{path.stem} mode {mode}", model_type=1, analysis_type=2,
-            data_ch=2 if ndv == 3 else 3, spec_data_type=8, data_type=2, n_data_per_node=ndv,
-            node_nums=node_ids, load_case=1, mode_n=int(mode), freq=float(modes.freq_hz[r]),
-            modal_m=1.0, modal_damp_vis=0.0 if damping is None else float(damping[r]),
-            modal_damp_his=0.0, **values))
+        sets.append(
+            prepare_55(
+                id1=f"{path.stem} mode {mode}",
+                model_type=1,
+                analysis_type=2,
+                data_ch=2 if ndv == 3 else 3,
+                spec_data_type=8,
+                data_type=2,
+                n_data_per_node=ndv,
+                node_nums=node_ids,
+                load_case=1,
+                mode_n=int(mode),
+                freq=float(modes.freq_hz[r]),
+                modal_m=1.0,
+                modal_damp_vis=0.0 if damping is None else float(damping[r]),
+                modal_damp_his=0.0,
+                **values,
+            )
+        )
     if path.exists():
         path.unlink()
     pyuff.UFF(str(path)).write_sets(sets, mode="overwrite")

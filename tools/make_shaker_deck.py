@@ -15,35 +15,50 @@ import math
 
 import numpy as np
 
-from x3dpd.deck.cards import (AnalyticWall, Body, Boundary, Contact, Deck, Element, Mass,
-                              Material, Node, Parameters, Pdmp, Rbel, SlaveSet, Title, Trace)
+from x3dpd.deck.cards import (
+    AnalyticWall,
+    Body,
+    Boundary,
+    Contact,
+    Deck,
+    Element,
+    Mass,
+    Material,
+    Node,
+    Parameters,
+    Pdmp,
+    Rbel,
+    SlaveSet,
+    Title,
+    Trace,
+)
 
 REPORT = "AFRL-VA-WP-TR-2003-3053"
-G = 386.1                          # in/s^2 (the report's gravity)
+G = 386.1  # in/s^2 (the report's gravity)
 # ---- the host: Sec. 8.2's beam model (as tools/make_decks.py), mounted on the base node -----
-BEAM_MASS = 2.04213e-4             # lbf s^2/in, Sec. 8.2 equivalent mass (beam + cavity)
-BEAM_K = 1.14823e1                 # lbf/in, Table 4
-BEAM_C = 3.08293e-4                # lbf s/in, Table 4
+BEAM_MASS = 2.04213e-4  # lbf s^2/in, Sec. 8.2 equivalent mass (beam + cavity)
+BEAM_K = 1.14823e1  # lbf/in, Table 4
+BEAM_C = 3.08293e-4  # lbf s/in, Table 4
 # ---- Figure 9's damper ------------------------------------------------------------------
-N_SPHERES = 8                      # "Eight 0.125 inch tungsten carbide particles"
-RADIUS = 0.0625                    # in (0.125 in diameter)
-CAVITY_LENGTH = 0.19               # in ("0.19 len")
-CAVITY_RADIUS = 0.25               # in ("0.5 dia")
+N_SPHERES = 8  # "Eight 0.125 inch tungsten carbide particles"
+RADIUS = 0.0625  # in (0.125 in diameter)
+CAVITY_LENGTH = 0.19  # in ("0.19 len")
+CAVITY_RADIUS = 0.25  # in ("0.5 dia")
 # ---- tungsten carbide: handbook values, not the report's (it gives none) ---------------------
-WC_E = 90.0e6                      # psi (620 GPa)
+WC_E = 90.0e6  # psi (620 GPa)
 WC_NU = 0.24
-WC_DENSITY = 0.5636 / G            # lbf s^2/in^4 (15.6 g/cm^3 = 0.5636 lbf/in^3)
-STEEL_LOSS = 5.0 / 32.5            # Sec. 8.3 steel: E1 / (E0 + E1) = 5e6 / (27.5e6 + 5e6)
-WC_TAU1 = 2.0e-6                   # s, Sec. 8.3 steel's relaxation time
+WC_DENSITY = 0.5636 / G  # lbf s^2/in^4 (15.6 g/cm^3 = 0.5636 lbf/in^3)
+STEEL_LOSS = 5.0 / 32.5  # Sec. 8.3 steel: E1 / (E0 + E1) = 5e6 / (27.5e6 + 5e6)
+WC_TAU1 = 2.0e-6  # s, Sec. 8.3 steel's relaxation time
 WC_E1 = STEEL_LOSS * WC_E
 WC_E0 = WC_E - WC_E1
-WC_MU = 0.30                       # Sec. 8.3 steel's friction coefficient
+WC_MU = 0.30  # Sec. 8.3 steel's friction coefficient
 # ---- run -------------------------------------------------------------------------------------
 DT, TMAX, ITRAC, TREST = 5e-7, 2.0, 2000, 0.1
-RING = 0.175                       # in, radius of the ring the spheres start on
-GAP = 0.05 * RADIUS                # in, start gap above the bottom cap
+RING = 0.175  # in, radius of the ring the spheres start on
+GAP = 0.05 * RADIUS  # in, start gap above the bottom cap
 SEED = 2003
-V_IMPACT = 5.0                     # in/s: the cavity's speed at 3 g and 37 Hz, 3 g / w
+V_IMPACT = 5.0  # in/s: the cavity's speed at 3 g and 37 Hz, 3 g / w
 MASTER, AXIS_A, AXIS_B, BASE = 1, 2, 3, 4
 
 
@@ -67,31 +82,39 @@ def shaker_deck() -> tuple[Deck, list[str]]:
     """The deck and its header lines."""
     pos = sphere_positions()
     ids = list(range(BASE + 1, BASE + 1 + N_SPHERES))
-    mass = WC_DENSITY * 4.0 / 3.0 * math.pi * RADIUS ** 3
+    mass = WC_DENSITY * 4.0 / 3.0 * math.pi * RADIUS**3
     f_bare = math.sqrt(BEAM_K / BEAM_MASS) / (2 * math.pi)
     f_added = math.sqrt(BEAM_K / (BEAM_MASS + N_SPHERES * mass)) / (2 * math.pi)
     zeta = BEAM_C / (2 * math.sqrt(BEAM_K * BEAM_MASS))
     # Hertz on a cap at V_IMPACT (report Sec. 5): k = 4/3 E* sqrt(R), contact time
-    k = 4.0 / 3.0 * WC_E / (1.0 - WC_NU ** 2) * math.sqrt(RADIUS)
-    tc = 2.0 * 1.4716 * (5.0 * mass * V_IMPACT ** 2 / (4.0 * k)) ** 0.4 / V_IMPACT
+    k = 4.0 / 3.0 * WC_E / (1.0 - WC_NU**2) * math.sqrt(RADIUS)
+    tc = 2.0 * 1.4716 * (5.0 * mass * V_IMPACT**2 / (4.0 * k)) ** 0.4 / V_IMPACT
     deck = Deck(
         path="<generated>",
-        title=Title("Fig. 9 shaker: (8) 0.125 in tungsten carbide spheres, base-driven\n"
-                    f"cylinder {CAVITY_LENGTH} long (y) x {2 * CAVITY_RADIUS} in diameter on "
-                    "the Sec. 8.2 beam, spring to base node 4"),
+        title=Title(
+            "Fig. 9 shaker: (8) 0.125 in tungsten carbide spheres, base-driven\n"
+            f"cylinder {CAVITY_LENGTH} long (y) x {2 * CAVITY_RADIUS} in diameter on "
+            "the Sec. 8.2 beam, spring to base node 4"
+        ),
         parameters=Parameters(0.0, TMAX, TREST, DT, DT, 0, 1.0e9, 0, 5, 0, ITRAC),
         materials=(Material(1, 1, 0.0, 1.0, 0.0, BEAM_K, 0.0, BEAM_C),),
         pdmp=(Pdmp(BASE, RADIUS, WC_DENSITY, WC_NU, WC_E0, WC_E1, WC_TAU1, WC_MU),),
         body=Body(0.0, -G, 0.0),
         trace=Trace(tuple([MASTER, BASE] + ids)),
-        nodes=(Node(MASTER, 0.0, 0.0, 0.0), Node(AXIS_A, 0.0, 0.0, 0.0),
-               Node(AXIS_B, 0.0, CAVITY_LENGTH, 0.0), Node(BASE, 0.0, -1.0, 0.0),
-               *(Node(i, *map(float, p)) for i, p in zip(ids, pos))),
+        nodes=(
+            Node(MASTER, 0.0, 0.0, 0.0),
+            Node(AXIS_A, 0.0, 0.0, 0.0),
+            Node(AXIS_B, 0.0, CAVITY_LENGTH, 0.0),
+            Node(BASE, 0.0, -1.0, 0.0),
+            *(Node(i, *map(float, p)) for i, p in zip(ids, pos)),
+        ),
         elements=(Element(1, 1, (MASTER, BASE)),),
         masses=(Mass(MASTER, BEAM_MASS, 1.0e20, 1.0e20, 1.0e20),),
         rbels=(Rbel(MASTER, (1, 2, 3, 4, 5, 6), (AXIS_A, AXIS_B)),),
-        boundaries=(Boundary(MASTER, MASTER, 1, (1, 3, 4, 5, 6)),
-                    Boundary(BASE, BASE, 1, (1, 2, 3, 4, 5, 6))),
+        boundaries=(
+            Boundary(MASTER, MASTER, 1, (1, 3, 4, 5, 6)),
+            Boundary(BASE, BASE, 1, (1, 2, 3, 4, 5, 6)),
+        ),
         contacts=(Contact((), (SlaveSet(1, tuple(ids)),)),),
         analytic_walls=(AnalyticWall("cylinder", 1, (AXIS_A, AXIS_B), (CAVITY_RADIUS,)),),
     )

@@ -36,8 +36,7 @@ def golden_path(deck: str) -> Path:
 
 
 def case_argv(case: dict, trace: str | os.PathLike) -> list[str]:
-    argv = [f"decks/{case['deck']}", *case.get("args", []), "--trace", os.fspath(trace),
-            "--quiet"]
+    argv = [f"decks/{case['deck']}", *case.get("args", []), "--trace", os.fspath(trace), "--quiet"]
     if case.get("tmax") is not None:
         argv += ["--tmax", repr(float(case["tmax"]))]
     return argv
@@ -56,9 +55,15 @@ def machine() -> dict:
     import numba
     import numpy
 
-    return {"platform": platform.platform(), "machine": platform.machine(), "cpu": cpu,
-            "python": platform.python_version(), "numpy": numpy.__version__,
-            "numba": numba.__version__, "llvm_cpu": llvm_cpu()}
+    return {
+        "platform": platform.platform(),
+        "machine": platform.machine(),
+        "cpu": cpu,
+        "python": platform.python_version(),
+        "numpy": numpy.__version__,
+        "numba": numba.__version__,
+        "llvm_cpu": llvm_cpu(),
+    }
 
 
 def llvm_cpu() -> str:
@@ -71,10 +76,15 @@ def llvm_cpu() -> str:
 
 def git_commit() -> str:
     try:
-        rev = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True,
-                             text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--", "x3dpd", "decks"],
-                               cwd=ROOT, capture_output=True, text=True).stdout.strip()
+        rev = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--", "x3dpd", "decks"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+        ).stdout.strip()
         return rev + (" (with uncommitted changes)" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
@@ -86,8 +96,11 @@ def main(argv: list[str]) -> int:
     from x3dpd.deck import read_deck
 
     wanted = argv[1:]
-    cases = [c for c in load_cases() if not c.get("refused")
-             and (not wanted or any(c["deck"].startswith(w) for w in wanted))]
+    cases = [
+        c
+        for c in load_cases()
+        if not c.get("refused") and (not wanted or any(c["deck"].startswith(w) for w in wanted))
+    ]
     if not cases:
         print("no case matches", wanted, file=sys.stderr)
         return 2
@@ -110,13 +123,17 @@ def main(argv: list[str]) -> int:
             for key in ("energy_file", "restart_file", "command"):
                 side.pop(key, None)
             Path(str(dest) + ".json").write_text(
-                "{\n" + ",\n".join(f"  {json.dumps(k)}: {json.dumps(v)}"
-                                   for k, v in side.items()) + "\n}\n")
+                "{\n"
+                + ",\n".join(f"  {json.dumps(k)}: {json.dumps(v)}" for k, v in side.items())
+                + "\n}\n"
+            )
             prov["cases"][case["deck"]] = {
                 "command": "x3dpd " + " ".join(case_argv(case, dest.relative_to(ROOT))),
-                "x3dpd_version": __version__, "git_commit": git_commit(),
+                "x3dpd_version": __version__,
+                "git_commit": git_commit(),
                 "date": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M:%S UTC"),
-                "machine": machine(), "blocks": side["blocks"],
+                "machine": machine(),
+                "blocks": side["blocks"],
                 "deck_sha256": side["deck_sha256"],
                 "deck_key": deck_key(read_deck(ROOT / "decks" / case["deck"])),
             }

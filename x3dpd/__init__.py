@@ -18,9 +18,25 @@ The package is layered; imports only go downward: ``cli`` -> ``api`` -> ``deck``
 __version__ = "0.1.0"
 
 __all__ = [
-    "Chunk", "DeckError", "EnergyData", "FinalState", "FittedStep", "InputError", "RunResult",
-    "TraceData", "TraceError", "UnstableRunError", "X3dpdError", "build", "check",
-    "fit_time_step", "load_deck", "read_energy", "read_trace", "rules_of_thumb", "run",
+    "Chunk",
+    "DeckError",
+    "EnergyData",
+    "FinalState",
+    "FittedStep",
+    "InputError",
+    "RunResult",
+    "TraceData",
+    "TraceError",
+    "UnstableRunError",
+    "X3dpdError",
+    "build",
+    "check",
+    "fit_time_step",
+    "load_deck",
+    "read_energy",
+    "read_trace",
+    "rules_of_thumb",
+    "run",
 ]
 
 

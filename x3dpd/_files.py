@@ -12,8 +12,9 @@ from collections.abc import Callable
 from typing import BinaryIO
 
 
-def write_atomically(path: str | os.PathLike, write: Callable[[BinaryIO], None], *,
-                     sync_dir: bool = True) -> None:
+def write_atomically(
+    path: str | os.PathLike, write: Callable[[BinaryIO], None], *, sync_dir: bool = True
+) -> None:
     """Create or replace ``path`` so that it is never seen half-written.
 
     ``write(f)`` fills a temporary file in the same directory; the file is then flushed,
@@ -33,8 +34,9 @@ def write_atomically(path: str | os.PathLike, write: Callable[[BinaryIO], None],
     """
     path = os.fspath(path)
     directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
-                               dir=directory)
+    fd, tmp = tempfile.mkstemp(
+        prefix="." + os.path.basename(path) + ".", suffix=".tmp", dir=directory
+    )
     try:
         if hasattr(os, "fchmod"):
             os.fchmod(fd, _new_file_mode(path))

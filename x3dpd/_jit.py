@@ -16,12 +16,17 @@ from numba.core import options as _numba_options
 
 #: Flags shared by all kernels. ``cache=True`` stores compiled machine code beside the sources
 #: (or in NUMBA_CACHE_DIR) so a second run starts in about a second.
-JIT_FLAGS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True,
-             # explicit, so that a kernel first compiled from inside a loop kernel keeps numba's
-             # runtime: numba lets an unset flag inherit the caller's _nrt=False, and an
-             # allocating kernel (a list rebuild) then fails to compile (a fresh checkout
-             # resuming a state from a warm kernel cache stopped with a TypingError)
-             "_nrt": True}
+JIT_FLAGS = {
+    "cache": True,
+    "fastmath": False,
+    "error_model": "numpy",
+    "nogil": True,
+    # explicit, so that a kernel first compiled from inside a loop kernel keeps numba's
+    # runtime: numba lets an unset flag inherit the caller's _nrt=False, and an
+    # allocating kernel (a list rebuild) then fails to compile (a fresh checkout
+    # resuming a state from a warm kernel cache stopped with a TypingError)
+    "_nrt": True,
+}
 
 #: True when NUMBA_DISABLE_JIT=1 (coverage runs of the kernels in pure Python).
 JIT_DISABLED = os.environ.get("NUMBA_DISABLE_JIT", "0") == "1"
@@ -141,8 +146,9 @@ def _inline_fresh_ir(self, caller_ir, block, i, function, arg_typs=None):
     saved = _numba_inline.copy
     _numba_inline.copy = _NoCopy
     try:
-        return self.inline_ir(caller_ir, block, i, callee_ir, function.__code__.co_freevars,
-                              arg_typs=arg_typs)
+        return self.inline_ir(
+            caller_ir, block, i, callee_ir, function.__code__.co_freevars, arg_typs=arg_typs
+        )
     finally:
         _numba_inline.copy = saved
 
@@ -206,11 +212,11 @@ def _memo_call_type(self, context, args, kws):
     try:
         key = (self, context, tuple(args), tuple(kws.items()), len(self.templates))
         known = entry[1].get(key)
-    except TypeError:   # an unhashable argument type: resolve as numba does
+    except TypeError:  # an unhashable argument type: resolve as numba does
         return _resolve_call_type(self, context, args, kws)
     if known is not None:
         sig, impl_key = known
-        self._impl_keys[sig.args] = impl_key   # as the resolution did (lowering reads it)
+        self._impl_keys[sig.args] = impl_key  # as the resolution did (lowering reads it)
         return sig
     sig = _resolve_call_type(self, context, args, kws)
     if sig is not None:

@@ -51,8 +51,9 @@ class DeckError(InputError):
         The card's canonical name (``"NODE COORDINATES"``), or ``"DECK"`` for the file as a whole.
     """
 
-    def __init__(self, message: str, path: str = "<deck>", line: int = 0, column: int = 0,
-                 card: str = "DECK"):
+    def __init__(
+        self, message: str, path: str = "<deck>", line: int = 0, column: int = 0, card: str = "DECK"
+    ):
         self.message = message
         self.path = path
         self.line = line

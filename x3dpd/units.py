@@ -36,8 +36,10 @@ def parse_units(words) -> tuple[str, str, str]:
     matched case-insensitively). Raises ValueError saying what was expected."""
     words = [str(w) for w in words]
     if len(words) != 3:
-        raise ValueError(f"expected 3 unit names LENGTH FORCE TIME (e.g. 'in lbf s' or 'm N s'); "
-                         f"got {len(words)}: {' '.join(words) or '(none)'}")
+        raise ValueError(
+            f"expected 3 unit names LENGTH FORCE TIME (e.g. 'in lbf s' or 'm N s'); "
+            f"got {len(words)}: {' '.join(words) or '(none)'}"
+        )
     out = []
     for word, allowed, what in zip(words, (LENGTHS, FORCES, TIMES), ("LENGTH", "FORCE", "TIME")):
         hit = [a for a in allowed if a.lower() == word.lower()]
@@ -63,7 +65,8 @@ def labels_for(system=None) -> dict[str, str]:
         "mass": named.get("mass", f"{force} {time}^2/{length}"),
         "energy": named.get("energy", f"{force} {length}"),
         "pressure": named.get("pressure", f"{force}/{length}^2"),
-        "density": f"{named['mass']}/{length}^3" if "mass" in named
+        "density": f"{named['mass']}/{length}^3"
+        if "mass" in named
         else f"{force} {time}^2/{length}^4",
     }
 
@@ -72,15 +75,22 @@ def trace_units(system=None) -> dict[str, str]:
     """The units a trace's sidecar records: those of its columns (``x3dpd.io.trace.
     DEFAULT_UNITS``) and, for tools that read the energy file beside it, force, mass, energy."""
     lab = labels_for(system)
-    return {k: lab[k] for k in ("time", "length", "velocity", "angular_velocity", "force",
-                                "mass", "energy")}
+    return {
+        k: lab[k]
+        for k in ("time", "length", "velocity", "angular_velocity", "force", "mass", "energy")
+    }
 
 
 #: Standard gravity g_n = 9.80665 m/s^2 in each length unit per s^2; inch decks use the
 #: report's 386.1 in/s^2 (its BODY card, Appendix A; 9.80665 / 0.0254 = 386.0886), so that
 #: "1 g" means what the shipped decks' gravity and the ring-down's dB re 1 g mean.
-_STANDARD_GRAVITY = {"in": 386.1, "ft": 9.80665 / 0.3048, "m": 9.80665, "cm": 980.665,
-                     "mm": 9806.65}
+_STANDARD_GRAVITY = {
+    "in": 386.1,
+    "ft": 9.80665 / 0.3048,
+    "m": 9.80665,
+    "cm": 980.665,
+    "mm": 9806.65,
+}
 #: SI size of each unit: metres per length unit, newtons per force unit, seconds per time unit
 #: (lbf: the international pound-force, 0.45359237 kg x 9.80665 m/s^2, exact).
 LENGTH_SI = {"in": 0.0254, "ft": 0.3048, "m": 1.0, "cm": 0.01, "mm": 0.001}

@@ -13,7 +13,7 @@ WN = 2.0 * np.pi * 39.37  # the report's beam, 39.37 Hz [rad/s]
 
 def linear_ringdown(zeta: float, a0: float = 0.05, cycles: float = 60.0, per_cycle: int = 200):
     """x = A0 exp(-zeta wn t) cos(wd t): the free linear SDOF ring-down."""
-    wd = WN * np.sqrt(1.0 - zeta ** 2)
+    wd = WN * np.sqrt(1.0 - zeta**2)
     t = np.arange(int(cycles * per_cycle)) * (2.0 * np.pi / wd) / per_cycle
     return t, a0 * np.exp(-zeta * WN * t) * np.cos(wd * t)
 
@@ -43,12 +43,10 @@ def test_linear_ringdown_gives_its_exact_zeta(zeta):
     np.testing.assert_allclose(rd.zeta, zeta, rtol=2e-3)
     exact = 0.05 * np.exp(-zeta * WN * rd.time)
     np.testing.assert_allclose(rd.amplitude, exact, rtol=1e-4)
-    np.testing.assert_allclose(rd.frequency_hz, WN * np.sqrt(1 - zeta ** 2) / (2 * np.pi),
-                               rtol=1e-3)
+    np.testing.assert_allclose(rd.frequency_hz, WN * np.sqrt(1 - zeta**2) / (2 * np.pi), rtol=1e-3)
     # dB re 1 g of the acceleration amplitude wd^2 A
-    wd = WN * np.sqrt(1 - zeta ** 2)
-    np.testing.assert_allclose(rd.amplitude_db, 20 * np.log10(wd ** 2 * exact / G_IN_S2),
-                               atol=0.03)
+    wd = WN * np.sqrt(1 - zeta**2)
+    np.testing.assert_allclose(rd.amplitude_db, 20 * np.log10(wd**2 * exact / G_IN_S2), atol=0.03)
 
 
 def test_coulomb_ringdown_gives_its_linear_envelope():

@@ -17,9 +17,9 @@ from x3dpd.analysis.frf import (
 from x3dpd.analysis.sdof_fit import fit_sdof
 from x3dpd.errors import InputError
 
-M, K, ZETA = 1.87646e-4, 11.4823, 0.02            # the report's Table 4 beam, 2 % damping
-FN = math.sqrt(K / M) / (2 * math.pi)               # 39.37 Hz
-F = np.linspace(30.0, 50.0, 201)                    # 0.1 Hz lines, 12 half-power widths
+M, K, ZETA = 1.87646e-4, 11.4823, 0.02  # the report's Table 4 beam, 2 % damping
+FN = math.sqrt(K / M) / (2 * math.pi)  # 39.37 Hz
+F = np.linspace(30.0, 50.0, 201)  # 0.1 Hz lines, 12 half-power widths
 
 
 def sdof(f, order, m=M, k=K, zeta=ZETA, scale=1.0):
@@ -32,7 +32,7 @@ def sdof(f, order, m=M, k=K, zeta=ZETA, scale=1.0):
 @pytest.mark.parametrize("order", [0, 1, 2])
 def test_noiseless_fit_recovers_the_sdof(order):
     fit = fit_sdof(F, sdof(F, order), order=order)
-    values = fit.deck_values()                      # force scale 1: an FRF per unit force
+    values = fit.deck_values()  # force scale 1: an FRF per unit force
     assert abs(fit.fn / FN - 1) < 0.005
     assert abs(fit.zeta / ZETA - 1) < 0.005
     assert abs(values["mass"] / M - 1) < 0.005
@@ -67,7 +67,7 @@ def test_five_percent_noise_stays_within_four_standard_errors():
     noise = 0.05 * (rng.standard_normal(F.size) + 1j * rng.standard_normal(F.size)) / math.sqrt(2)
     h_true = sdof(F, order)
     fit = fit_sdof(F, h_true * (1 + noise), order=order)
-    p0 = np.array([FN, ZETA, 1 / M])                # fn, zeta, R = 1 / m
+    p0 = np.array([FN, ZETA, 1 / M])  # fn, zeta, R = 1 / m
 
     def rel(p):
         wn = 2 * np.pi * p[0]
@@ -81,14 +81,14 @@ def test_five_percent_noise_stays_within_four_standard_errors():
         dp = np.zeros(3)
         dp[j] = 1e-6 * p0[j]
         jac[:, j] = (rel(p0 + dp) - rel(p0 - dp)) / (2 * dp[j])
-    sigma = np.sqrt(np.diag(np.linalg.inv(jac.T @ jac)) * 0.05 ** 2 / 2)
+    sigma = np.sqrt(np.diag(np.linalg.inv(jac.T @ jac)) * 0.05**2 / 2)
     got = np.array([fit.fn, fit.zeta, fit.residue])
     assert np.all(np.abs(got - p0) < 4 * sigma), (got - p0) / sigma
     bound = 4 * sigma / p0
     assert bound[0] < 0.001 and bound[1] < 0.04 and bound[2] < 0.015  # the stated bounds
     # the fit's own standard errors estimate the same spread (within 25 %)
     np.testing.assert_allclose([fit.fn_se, fit.zeta_se, fit.residue_se], sigma, rtol=0.25)
-    assert abs(fit.residual - 0.05) < 0.01           # the residual is the noise level
+    assert abs(fit.residual - 0.05) < 0.01  # the residual is the noise level
 
 
 def test_fit_band_errors():
@@ -104,7 +104,7 @@ def test_amplitude_spectrum_reads_a_sines_amplitude():
     t = np.arange(n) / fs
     f, amp = amplitude_spectrum(0.7 * np.sin(2 * np.pi * 37.25 * t) + 0.2, fs)
     k = int(np.argmax(amp))
-    assert f[k] == 37.25 and abs(amp[k] / 0.7 - 1) < 1e-3   # on a bin: the window's gain out
+    assert f[k] == 37.25 and abs(amp[k] / 0.7 - 1) < 1e-3  # on a bin: the window's gain out
 
 
 def test_central_difference_gain():

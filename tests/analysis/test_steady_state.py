@@ -21,16 +21,17 @@ def sdof_from_rest(hz: float, zeta: float, t: np.ndarray):
     """
     w, wn = 2 * math.pi * hz, math.sqrt(K / M)
     c = 2 * zeta * math.sqrt(K * M)
-    wd = wn * math.sqrt(1 - zeta ** 2)
-    amp = F / math.hypot(K - M * w ** 2, c * w)
-    phi = -math.atan2(c * w, K - M * w ** 2)
+    wd = wn * math.sqrt(1 - zeta**2)
+    amp = F / math.hypot(K - M * w**2, c * w)
+    phi = -math.atan2(c * w, K - M * w**2)
     c1 = -amp * math.sin(phi)
     c2 = (zeta * wn * c1 - amp * w * math.cos(phi)) / wd
     s = zeta * wn
     decay = np.exp(-s * t)
     x = amp * np.sin(w * t + phi) + decay * (c1 * np.cos(wd * t) + c2 * np.sin(wd * t))
-    v = (amp * w * np.cos(w * t + phi)
-         + decay * ((-s * c1 + wd * c2) * np.cos(wd * t) + (-s * c2 - wd * c1) * np.sin(wd * t)))
+    v = amp * w * np.cos(w * t + phi) + decay * (
+        (-s * c1 + wd * c2) * np.cos(wd * t) + (-s * c2 - wd * c1) * np.sin(wd * t)
+    )
     return x, v, amp, phi
 
 
@@ -91,8 +92,9 @@ def test_without_extrapolation_it_waits_for_the_transient():
     hz, zeta, tol = 38.5, 0.02, 0.01
     t = np.arange(0, 8.0, 1.0 / (hz * 200))
     x, v, amp, _ = sdof_from_rest(hz, zeta, t)
-    mon = SteadyStateMonitor(2 * math.pi * hz, t0=0.0, t_start=0.0, window=5, tol=tol,
-                             extrapolate=False)
+    mon = SteadyStateMonitor(
+        2 * math.pi * hz, t0=0.0, t_start=0.0, window=5, tol=tol, extrapolate=False
+    )
     res = feed_in_chunks(mon, t, x, v)
     assert res.converged and not res.extrapolated
     assert res.amplitude == pytest.approx(amp, rel=tol)
@@ -131,12 +133,14 @@ def test_a_pause_on_the_way_is_not_taken_for_the_steady_state():
     the run's last two thirds: the monitor waits for the amplitude 1."""
     hz, n = 37.0, 400
     w = 2 * math.pi * hz
-    amps = np.concatenate([np.linspace(0.5, 0.9, 60), np.full(15, 0.9),
-                           1 - 0.1 * np.exp(-np.arange(n - 75) / 20)])
+    amps = np.concatenate(
+        [np.linspace(0.5, 0.9, 60), np.full(15, 0.9), 1 - 0.1 * np.exp(-np.arange(n - 75) / 20)]
+    )
     t = np.arange(n * 200 + 1) / (200 * hz)
     x = amps[np.minimum((t * hz).astype(int), n - 1)] * np.sin(w * t)
-    mon = SteadyStateMonitor(w, t0=0.0, t_start=0.0, window=5, tol=0.01, max_cycles=n,
-                             extrapolate=False)
+    mon = SteadyStateMonitor(
+        w, t0=0.0, t_start=0.0, window=5, tol=0.01, max_cycles=n, extrapolate=False
+    )
     res = feed_in_chunks(mon, t, x, x)
     assert res.converged and res.cycles > 75
     assert res.amplitude == pytest.approx(1.0, rel=0.01)

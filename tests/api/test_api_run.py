@@ -53,8 +53,9 @@ def cli(*args) -> int:
 
 
 @pytest.mark.parametrize("deck, cli_args, kw, tmax", SHIPPED, ids=[s[0] for s in SHIPPED])
-def test_api_writes_the_same_bytes_as_the_cli(deck, cli_args, kw, tmax, tmp_path, monkeypatch,
-                                              capsys):
+def test_api_writes_the_same_bytes_as_the_cli(
+    deck, cli_args, kw, tmax, tmp_path, monkeypatch, capsys
+):
     monkeypatch.chdir(tmp_path)
     shutil.copy(DECKS / deck, deck)
     extra = ["--tmax", repr(tmax)] if tmax else []
@@ -89,15 +90,15 @@ def test_trace_arrays_and_ledger(tmp_path, monkeypatch):
     tr = r.trace
     T, N = tr.time.shape[0], tr.node_ids.shape[0]
     assert T == 1201 and tr.position.shape == tr.velocity.shape == tr.spin.shape == (T, N, 3)
-    assert os.listdir(tmp_path) == []          # trace=None: nothing written
+    assert os.listdir(tmp_path) == []  # trace=None: nothing written
     v0, v1 = tr.velocity[0, -1], tr.velocity[-1, -1]
     assert np.linalg.norm(v0) == pytest.approx(62.832, rel=1e-9)
-    assert np.dot(v0, v1) < 0                                        # it bounced
-    assert np.linalg.norm(v1) == pytest.approx(62.832, rel=1e-3)     # elastic Hertz
+    assert np.dot(v0, v1) < 0  # it bounced
+    assert np.linalg.norm(v1) == pytest.approx(62.832, rel=1e-3)  # elastic Hertz
     assert r.energy.columns[0] == "time" and r.energy.data.shape == (T, 12)
     ke = r.energy["kinetic_translation"]
     m = r.model.mass[-1]
-    assert ke[0] == pytest.approx(0.5 * m * 62.832 ** 2, rel=1e-12)
+    assert ke[0] == pytest.approx(0.5 * m * 62.832**2, rel=1e-12)
     s = r.summary
     assert s["steps"] == 12000 and s["t_end"] == pytest.approx(1.2e-5)
     assert abs(s["residual"]) < 1e-3
@@ -114,8 +115,9 @@ def test_continue_from_final_state_equals_one_run():
     assert second.trace.time[0] == pytest.approx(2e-3 + 1e-3, rel=1e-12)
     joined = np.concatenate([first.trace.data, second.trace.data])
     np.testing.assert_array_equal(joined, whole.trace.data)
-    np.testing.assert_array_equal(np.concatenate([first.energy.data, second.energy.data]),
-                                  whole.energy.data)
+    np.testing.assert_array_equal(
+        np.concatenate([first.energy.data, second.energy.data]), whole.energy.data
+    )
     with pytest.raises(x3dpd.InputError, match="same step"):
         x3dpd.run(deck, tmax=4e-3, dt=2.5e-7, initial_state=first.final_state)
     with pytest.raises(x3dpd.InputError, match="another deck"):
@@ -154,8 +156,9 @@ def test_where_a_stopped_run_ends_does_not_depend_on_the_machines_speed(monkeypa
     ends = []
     for seconds in (1e-6, 60.0):
         monkeypatch.setattr(loop, "CHUNK_SECONDS", seconds)
-        r = x3dpd.run(DECKS / "beam_1.inp", tmax=0.1, trace_nodes=[9], itrac=5, stop=stop,
-                      stop_every=200)
+        r = x3dpd.run(
+            DECKS / "beam_1.inp", tmax=0.1, trace_nodes=[9], itrac=5, stop=stop, stop_every=200
+        )
         assert r.summary["status"] == "stopped"
         ends.append((r.summary["t_end"], r.summary["steps"], r.final_state))
     (t_a, n_a, s_a), (t_b, n_b, s_b) = ends
@@ -199,8 +202,7 @@ def test_unstable_run_raises_and_keeps_rows_up_to_the_diagnosis(tmp_path):
     """A step 2000 times too large on impact_wall: UnstableRunError, the rows computed before
     it written, none later than the time the diagnosis names."""
     with pytest.raises(x3dpd.UnstableRunError) as exc:
-        x3dpd.run(DECKS / "impact_wall.inp", dt=2e-6, tmax=1e-3,
-                  trace=tmp_path / "u.trace.txt")
+        x3dpd.run(DECKS / "impact_wall.inp", dt=2e-6, tmax=1e-3, trace=tmp_path / "u.trace.txt")
     err = exc.value
     tr = x3dpd.read_trace(tmp_path / "u.trace.txt")
     assert tr.status == "unstable" and tr.times[0] == 0.0

@@ -21,8 +21,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from factories import (FIG30_E0, FIG30_E1, FIG30_TAU1, STEEL_E, STEEL_NU,
-                       floor_deck, sdof_deck, sphere_mass)
+from factories import (
+    FIG30_E0,
+    FIG30_E1,
+    FIG30_TAU1,
+    STEEL_E,
+    STEEL_NU,
+    floor_deck,
+    sdof_deck,
+    sphere_mass,
+)
 
 import x3dpd
 from x3dpd.deck.cards import Usrfrc
@@ -31,7 +39,7 @@ from x3dpd.model.timestep import peak_force_error
 
 R, V, T = 0.03125, 62.8, 8e-5
 DTMAX = 2e-6
-CLAIM = peak_force_error(50) / 100      # 5.4e-4
+CLAIM = peak_force_error(50) / 100  # 5.4e-4
 VISCO = dict(e0=FIG30_E0, e1=FIG30_E1, tau1=FIG30_TAU1, radius=R)
 
 
@@ -39,18 +47,17 @@ def lee_radok(dtmin=1e-10, **material):
     """A 0.03125 in sphere 0.003 in above a wall, flying at it at 62.8 in/s (Lee & Radok's
     viscoelastic material: a ~3.8 us contact), a second sphere resting on the floor; DTMAX
     2e-6 s, DTMIN 1e-10 s."""
-    deck = floor_deck(dt=DTMAX, height=R + 0.003, velocity=(0.0, -V, 0.0),
-                      **(material or VISCO))
+    deck = floor_deck(dt=DTMAX, height=R + 0.003, velocity=(0.0, -V, 0.0), **(material or VISCO))
     return replace(deck, parameters=replace(deck.parameters, dtmin=dtmin, tmax=T))
 
 
 def test_the_lee_radok_wall_impact_gets_its_restitution_right():
-    auto = x3dpd.run(lee_radok())                      # DTMIN < DTMAX: auto by default
+    auto = x3dpd.run(lee_radok())  # DTMIN < DTMAX: auto by default
     assert auto.summary["step"]["mode"] == "auto"
     fine = x3dpd.run(lee_radok(), dt=1e-9, itrac=2000)
     e_auto = auto.trace.velocity[-1, 0, 1] / V
     e_fine = fine.trace.velocity[-1, 0, 1] / V
-    assert 0.5 < e_fine < 1.0                          # a viscoelastic rebound
+    assert 0.5 < e_fine < 1.0  # a viscoelastic rebound
     assert e_auto == pytest.approx(e_fine, rel=CLAIM)
     # the same deck at its fixed DTMAX cannot follow a 3.8 us contact: a diagnosed stop
     with pytest.raises(UnstableRunError):
@@ -90,8 +97,10 @@ def spring_under_load():
     the structure asks for 0.2 x 2/omega = 0.04 s, so the run switches to DTMAX/4 at t = 0,
     where the load's force makes the Verlet term S = dt^2/8 F^2/m jump by 6 % of the energy
     scale."""
-    deck = replace(sdof_deck(dt=0.1, hz=1.0, mass=1.0, k=100.0, c=0.0, drive=0.0, itrac=1),
-                   usrfrc=(Usrfrc(("constant:node=1,dof=1,amp=5.0",)),))
+    deck = replace(
+        sdof_deck(dt=0.1, hz=1.0, mass=1.0, k=100.0, c=0.0, drive=0.0, itrac=1),
+        usrfrc=(Usrfrc(("constant:node=1,dof=1,amp=5.0",)),),
+    )
     return replace(deck, parameters=replace(deck.parameters, dtmin=1e-3, tmax=5.0))
 
 
@@ -102,7 +111,7 @@ def test_the_ledger_stays_exact_and_output_times_are_those_of_a_fixed_dtmax_run(
     e = res.energy.data
     assert np.max(np.abs(e[:, 11])) < 1e-12 * np.max(np.abs(e[:, 1:11]))
     times = res.trace.time
-    assert np.array_equal(times, np.arange(times.size) * 0.1)     # t0 + n DTMAX, exactly
+    assert np.array_equal(times, np.arange(times.size) * 0.1)  # t0 + n DTMAX, exactly
     # the static deflection F/k = 0.05 is the mean of the undamped oscillation 0 .. 2F/k
     x = res.trace.position[:, 0, 0] - res.trace.position[0, 0, 0]
     assert 0.0 <= x.min() and x.max() <= 0.1 * (1 + 1e-3)
@@ -114,8 +123,7 @@ def test_a_continued_run_repeats_the_uninterrupted_one_bit_for_bit():
     state = pickle.loads(pickle.dumps(half.final_state))
     rest = x3dpd.run(lee_radok(), initial_state=state)
     assert np.array_equal(np.concatenate([half.trace.data, rest.trace.data]), whole.trace.data)
-    assert np.array_equal(np.concatenate([half.energy.data, rest.energy.data]),
-                          whole.energy.data)
+    assert np.array_equal(np.concatenate([half.energy.data, rest.energy.data]), whole.energy.data)
     with pytest.raises(InputError, match="chosen by accuracy"):
         x3dpd.run(lee_radok(), dt=DTMAX, initial_state=state)
 

@@ -40,7 +40,7 @@ def expected():
     |residual| > TOL * scale + U_c, scale = max(|e_ref|, every |term| of the rows after t0 up
     to this one) (x3dpd.solver.ledger_checks)."""
     free = x3dpd.run(DECK, tmax=TMAX, energy_tolerance=math.inf)
-    e = free.energy.data[1:]                  # row 0 is t0's, before any step
+    e = free.energy.data[1:]  # row 0 is t0's, before any step
     e_ref = free.final_state.state.e_ref
     scale = np.maximum.accumulate(np.maximum(np.max(np.abs(e[:, 1:11]), axis=1), abs(e_ref)))
     bad = np.abs(e[:, RESIDUAL]) > TOL * scale + np.maximum(e[:, U_CONTACT], 0.0)
@@ -63,8 +63,14 @@ def test_the_api_stops_where_the_rule_says_whatever_its_chunks(expected):
     """Chunks sized to the machine's speed, and one trace row per chunk (a stop callback asked
     after every row)."""
     assert _stops_at(lambda: x3dpd.run(DECK, tmax=TMAX, energy_tolerance=TOL)) == expected
-    assert _stops_at(lambda: x3dpd.run(DECK, tmax=TMAX, energy_tolerance=TOL,
-                                       stop=lambda chunk: False, stop_every=1)) == expected
+    assert (
+        _stops_at(
+            lambda: x3dpd.run(
+                DECK, tmax=TMAX, energy_tolerance=TOL, stop=lambda chunk: False, stop_every=1
+            )
+        )
+        == expected
+    )
 
 
 @pytest.mark.parametrize("calls", [1, 37], ids=["one-call", "37-calls"])

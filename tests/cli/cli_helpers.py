@@ -18,7 +18,7 @@ SHORT_RUNS = {
     "beam_512.inp": 0.002,
     "cylinder_64.inp": 0.003,
     "capsule_64.inp": 0.003,
-    "impact_wall.inp": 2e-7,         # ITRAC 10 x 1e-9 s: 21 output times
+    "impact_wall.inp": 2e-7,  # ITRAC 10 x 1e-9 s: 21 output times
 }
 
 
@@ -33,7 +33,7 @@ def with_card(text: str, card: str) -> str:
 def first_record_line(text: str, keyword: str) -> int:
     """Line number of the first record of card ``keyword`` (right after its keyword and a
     header comment line, as the deck writer puts them)."""
-    return text[:text.index(f"\n{keyword}\n")].count("\n") + 3
+    return text[: text.index(f"\n{keyword}\n")].count("\n") + 3
 
 
 def run_cli(*args) -> int:

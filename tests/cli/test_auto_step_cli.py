@@ -20,15 +20,16 @@ from processes import kill_after_first_dump, x3dpd
 from x3dpd.deck.writer import format_deck
 from x3dpd.io.restart import load_restart
 
-TMAX = 0.006    # 3,000 output intervals of 2e-6 s, three restart dumps: about a second of CPU time
+TMAX = 0.006  # 3,000 output intervals of 2e-6 s, three restart dumps: about a second of CPU time
 TREST = 0.002
 
 
 def write_deck(path: Path) -> None:
-    deck = floor_deck(dt=2e-6, height=0.03125 + 0.003, velocity=(0.0, -62.8, 0.0),
-                      gravity=G, radius=0.03125)
+    deck = floor_deck(
+        dt=2e-6, height=0.03125 + 0.003, velocity=(0.0, -62.8, 0.0), gravity=G, radius=0.03125
+    )
     deck = replace(deck, parameters=replace(deck.parameters, tmax=TMAX, trest=TREST))
-    path.write_text(format_deck(deck))          # DTMIN = DTMAX: auto only when asked
+    path.write_text(format_deck(deck))  # DTMIN = DTMAX: auto only when asked
 
 
 def test_sigkill_during_an_auto_step_run_then_restart_loses_nothing(tmp_path):

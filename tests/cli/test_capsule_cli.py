@@ -29,22 +29,37 @@ R, BIG_R, LENGTH = 0.03125, 0.2, 0.3
 
 
 def _deck(pos, vel=None, *, dt=5e-7, shape="capsule"):
-    return cylinder_cavity_deck(length=LENGTH, cavity_radius=BIG_R, particles=pos, radius=R,
-                                material=STEEL, structure_mass=1e-3, stiffness=10.0,
-                                damping=0.0, free_dofs=(), gravity=(0.0, 0.0, 0.0), dt=dt,
-                                itrac=10, velocities=vel, shape=shape)
+    return cylinder_cavity_deck(
+        length=LENGTH,
+        cavity_radius=BIG_R,
+        particles=pos,
+        radius=R,
+        material=STEEL,
+        structure_mass=1e-3,
+        stiffness=10.0,
+        damping=0.0,
+        free_dofs=(),
+        gravity=(0.0, 0.0, 0.0),
+        dt=dt,
+        itrac=10,
+        velocities=vel,
+        shape=shape,
+    )
 
 
 def _text(pos, vel=None, *, dt=5e-7):
     return format_deck(_deck(pos, vel, dt=dt))
 
 
-@pytest.mark.parametrize("card, message, column", [
-    ("CAPSULE\n 1 2 3\nEND", "CAPSULE needs 4 values", None),
-    ("CAPSULE\n 1 2 3 -0.2\nEND", "RADIUS must be > 0", 8),
-    ("CAPSULE\n 1 2 3 0\nEND", "RADIUS must be > 0", 8),
-    ("CAPSULE\n 1 2 2 0.2\nEND", "NODE_B must differ from NODE_A", 6),
-])
+@pytest.mark.parametrize(
+    "card, message, column",
+    [
+        ("CAPSULE\n 1 2 3\nEND", "CAPSULE needs 4 values", None),
+        ("CAPSULE\n 1 2 3 -0.2\nEND", "RADIUS must be > 0", 8),
+        ("CAPSULE\n 1 2 3 0\nEND", "RADIUS must be > 0", 8),
+        ("CAPSULE\n 1 2 2 0.2\nEND", "NODE_B must differ from NODE_A", 6),
+    ],
+)
 def test_bad_capsule_records_are_deck_errors_at_the_field(card, message, column):
     text = with_card(_text([[0.15, 0.0, 0.0]]), card)
     with pytest.raises(DeckError, match=message) as err:
@@ -57,11 +72,14 @@ def test_bad_capsule_records_are_deck_errors_at_the_field(card, message, column)
         assert err.value.column == column
 
 
-@pytest.mark.parametrize("card, message, column", [
-    ("CAPSULE\n 1 2 99 0.2\nEND", "axis node B 99 is not defined", 6),
-    ("CAPSULE\n 1 99 3 0.2\nEND", "axis node A 99 is not defined", 4),
-    ("CAPSULE\n 1 2 5 0.2\nEND", "axis node B 5 is a particle node", 6),
-])
+@pytest.mark.parametrize(
+    "card, message, column",
+    [
+        ("CAPSULE\n 1 2 99 0.2\nEND", "axis node B 99 is not defined", 6),
+        ("CAPSULE\n 1 99 3 0.2\nEND", "axis node A 99 is not defined", 4),
+        ("CAPSULE\n 1 2 5 0.2\nEND", "axis node B 5 is a particle node", 6),
+    ],
+)
 def test_bad_capsule_references_are_deck_errors_at_the_node(card, message, column):
     """The error points at the offending node id's field (1-based column)."""
     text = with_card(_text([[0.15, 0.0, 0.0], [0.15, 0.1, 0.0]]), card)
@@ -77,8 +95,11 @@ def test_bad_capsule_references_are_deck_errors_at_the_node(card, message, colum
 def test_a_slave_set_without_triangles_or_capsule_is_a_deck_error():
     # the capsule names set 7; the particles' set 1 then has no wall at all
     text = with_card(_text([[0.15, 0.0, 0.0]]), "CAPSULE\n 7 2 3 0.2\nEND")
-    with pytest.raises(DeckError, match="slave set 1 has no master triangles and no "
-                                        r"CYLINDER or CAPSULE \(.*set ids 7\)") as err:
+    with pytest.raises(
+        DeckError,
+        match="slave set 1 has no master triangles and no "
+        r"CYLINDER or CAPSULE \(.*set ids 7\)",
+    ) as err:
         build_model(parse_deck(text, "deck.inp"))
     assert err.value.card == "CONTACT" and err.value.line > 0 and err.value.column > 0
 
@@ -88,8 +109,7 @@ def test_axis_nodes_must_move_as_one_rigid_cavity():
     # node 3 leaves the rigid body (RBEL lists 2 and 3; keep only 2) and is free
     assert "   1 123456 2 2 3\n" in text
     text = text.replace("   1 123456 2 2 3\n", "   1 123456 1 2\n")
-    with pytest.raises(DeckError, match="axis nodes 2 and 3 must move as one rigid cavity"
-                       ) as err:
+    with pytest.raises(DeckError, match="axis nodes 2 and 3 must move as one rigid cavity") as err:
         build_model(parse_deck(text, "deck.inp"))
     assert err.value.card == "CAPSULE"
     line = text.index("   1 2 3 0.2\n")
@@ -101,8 +121,12 @@ def test_axis_nodes_must_move_as_one_rigid_cavity():
 #: One sphere 0.01 deep in the cylindrical wall (0.32 R, beyond the 0.25 R refusal limit), one
 #: with its centre 0.21 from B (outside the rounded end), one beyond B but inside the
 #: hemisphere (outside a flat-capped cylinder: must not be flagged), one clean on the axis.
-CHECK_POS = [[0.15, BIG_R - R + 0.01, 0.0], [LENGTH + 0.21, 0.0, 0.0],
-             [LENGTH + 0.1, 0.05, 0.0], [0.15, 0.0, 0.0]]
+CHECK_POS = [
+    [0.15, BIG_R - R + 0.01, 0.0],
+    [LENGTH + 0.21, 0.0, 0.0],
+    [LENGTH + 0.1, 0.05, 0.0],
+    [0.15, 0.0, 0.0],
+]
 
 
 def _check_text():
@@ -126,12 +150,15 @@ def test_check_reports_the_capsule_its_volume_and_the_clearances():
     model = build_model(parse_deck(_check_text(), "deck.inp"))
     report = check_model(model)
     (cav,) = report.cavities
-    assert cav.volume == pytest.approx(math.pi * BIG_R**2 * LENGTH
-                                       + 4.0 / 3.0 * math.pi * BIG_R**3, rel=1e-12)
+    assert cav.volume == pytest.approx(
+        math.pi * BIG_R**2 * LENGTH + 4.0 / 3.0 * math.pi * BIG_R**3, rel=1e-12
+    )
     want = BIG_R - _distances() - R
     (wall,) = cav.analytic_walls
-    assert wall == (f"the capsule on axis nodes 2, 3 (radius 0.2, 0.3 between the cap "
-                    f"centres); smallest particle clearance {want.min():.6g}")
+    assert wall == (
+        f"the capsule on axis nodes 2, 3 (radius 0.2, 0.3 between the cap "
+        f"centres); smallest particle clearance {want.min():.6g}"
+    )
     found = sorted(shape_clearances(model), key=lambda f: f.node_id)
     assert [f.node_id for f in found] == [4, 5, 6, 7]
     np.testing.assert_allclose([f.gap for f in found], want, atol=1e-12)
@@ -140,7 +167,7 @@ def test_check_reports_the_capsule_its_volume_and_the_clearances():
 
 
 def test_check_flags_spheres_outside_and_in_the_wall(tmp_path, capsys, monkeypatch):
-    monkeypatch.chdir(tmp_path)          # a run writes its outputs to the working directory
+    monkeypatch.chdir(tmp_path)  # a run writes its outputs to the working directory
     text = _check_text()
     report = check_model(build_model(parse_deck(text, "deck.inp")))
     codes = {w.code: w for w in report.warnings}
@@ -153,15 +180,15 @@ def test_check_flags_spheres_outside_and_in_the_wall(tmp_path, capsys, monkeypat
     assert run_cli("check", path) == 1
     out = capsys.readouterr().out
     assert f"particle node 5: centre outside {where}" in out
-    assert "interior volume 0.0712094" in out            # pi 0.04 0.3 + 4/3 pi 0.008
-    assert run_cli(path, "--quiet") == 2                 # refused: the run would blow up
-    assert not list(tmp_path.glob("bad.*trace*"))     # nothing ran, nothing written
+    assert "interior volume 0.0712094" in out  # pi 0.04 0.3 + 4/3 pi 0.008
+    assert run_cli(path, "--quiet") == 2  # refused: the run would blow up
+    assert not list(tmp_path.glob("bad.*trace*"))  # nothing ran, nothing written
 
 
 def test_the_run_refuses_only_a_sphere_in_the_wall(tmp_path, monkeypatch):
     """Without the sphere outside, the one 0.32 R deep in the wall alone refuses the start;
     a sphere beyond a cap centre but inside the rounded end is not refused."""
-    monkeypatch.chdir(tmp_path)          # a run writes its outputs to the working directory
+    monkeypatch.chdir(tmp_path)  # a run writes its outputs to the working directory
     text = _text([[0.15, 0.0, 0.0]])
     assert "   4 0.15 0.0 0.0\n" in text
     text = text.replace("   4 0.15 0.0 0.0\n", f"   4 0.15 {BIG_R - R + 0.01!r} 0.0\n")
@@ -175,7 +202,7 @@ def test_the_run_refuses_only_a_sphere_in_the_wall(tmp_path, monkeypatch):
     (tmp_path / "ok.inp").write_text(_text([[LENGTH + 0.1, 0.05, 0.0]]))
     assert run_cli("check", tmp_path / "ok.inp") == 0
     model = build_model(parse_deck((tmp_path / "ok.inp").read_text(), "ok.inp"))
-    assert x3dpd_safety.initial_penetration_error(model, 0.25, "ok.inp") is None   # the default
+    assert x3dpd_safety.initial_penetration_error(model, 0.25, "ok.inp") is None  # the default
 
 
 def test_deck_writer_round_trips_a_capsule_card():
@@ -205,15 +232,19 @@ def _two_cavities(tmax=1.0):
     nodes += [Node(6 + k, *map(float, p)) for k, p in enumerate(TWO_POS)]
     (rbel,) = base.rbels
     return dataclasses.replace(
-        base, nodes=tuple(nodes),
+        base,
+        nodes=tuple(nodes),
         pdmp=(dataclasses.replace(base.pdmp[0], nodlim=5),),
         rbels=(Rbel(rbel.master, rbel.dofs, (2, 3, 4, 5)),),
         contacts=(Contact((), (SlaveSet(1, (6,)), SlaveSet(2, (7, 8)))),),
-        analytic_walls=(AnalyticWall("cylinder", 1, (2, 3), (BIG_R,)),
-                        AnalyticWall("capsule", 2, (4, 5), (BIG_R,))),
+        analytic_walls=(
+            AnalyticWall("cylinder", 1, (2, 3), (BIG_R,)),
+            AnalyticWall("capsule", 2, (4, 5), (BIG_R,)),
+        ),
         initials=tuple(Initial(6 + k, tuple(map(float, v))) for k, v in enumerate(TWO_VEL)),
         trace=Trace((1, 6, 7, 8)),
-        parameters=dataclasses.replace(base.parameters, tmax=tmax))
+        parameters=dataclasses.replace(base.parameters, tmax=tmax),
+    )
 
 
 def test_a_cylinder_and_a_capsule_cavity_run_side_by_side():
@@ -230,7 +261,7 @@ def test_a_cylinder_and_a_capsule_cavity_run_side_by_side():
     model = build_model(parse_deck(text, "two.inp"))
     assert {"cylinder_contact", "capsule_contact"} <= model.effects
     sim = Simulation(model)
-    block = sim.advance(40_000)                       # 0.02 s: several impacts each
+    block = sim.advance(40_000)  # 0.02 s: several impacts each
     x = block.data[:, 1:, :3]
     e_star = STEEL.e0 / (1.0 - STEEL.nu**2)
     v_max = math.sqrt((TWO_VEL**2).sum())
@@ -240,7 +271,7 @@ def test_a_cylinder_and_a_capsule_cavity_run_side_by_side():
     rho = np.hypot(cyl[:, 1], cyl[:, 2])
     assert rho.max() + R - BIG_R <= a_max
     assert -cyl[:, 0].min() + R <= a_max and cyl[:, 0].max() + R - LENGTH <= a_max
-    assert rho.max() + R - BIG_R > -0.1 * R            # it did reach its curved wall
+    assert rho.max() + R - BIG_R > -0.1 * R  # it did reach its curved wall
     for k in (1, 2):
         p = x[:, k]
         t = np.clip((p[:, 0] - CAP_A[0]) / LENGTH, 0.0, 1.0)
@@ -257,8 +288,9 @@ def test_restart_continues_the_two_cavity_deck_bit_for_bit(tmp_path, monkeypatch
     (tmp_path / "c.inp").write_text(format_deck(_two_cavities()))
     assert run_cli("c.inp", "--tmax", 0.004, "--trace", "whole.trace.txt", "--quiet") == 0
     assert run_cli("c.inp", "--tmax", 0.002, "--trace", "part.trace.txt", "--quiet") == 0
-    assert run_cli("c.inp", "--tmax", 0.004, "--trace", "part.trace.txt", "--restart",
-                   "--quiet") == 0
+    assert (
+        run_cli("c.inp", "--tmax", 0.004, "--trace", "part.trace.txt", "--restart", "--quiet") == 0
+    )
     whole = (tmp_path / "whole.trace.txt").read_bytes()
     assert (tmp_path / "part.trace.txt").read_bytes() == whole
     rows = np.loadtxt(tmp_path / "whole.trace.txt", delimiter=";")

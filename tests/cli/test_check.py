@@ -26,7 +26,8 @@ def test_printed_appendix_a_opens_with_the_cavity_headline():
     assert lines[1].startswith(
         "warning: cavity set 1: the twelve contact triangles lie in the planes x = 0.0625, "
         "0.1875, y = 0.0625, 0.1875, z = ±0.09375, inside the particle cloud (particle centres "
-        "span x, y from 0.03125 to 0.21875 and z from -0.09375 to 0.09375)")
+        "span x, y from 0.03125 to 0.21875 and z from -0.09375 to 0.09375)"
+    )
     assert "38 of the 50 particles start outside the cavity they bound" in lines[1]
     assert "decks/appendix_a_cube.inp" in lines[1]
     assert "open: the faces do not close" in result.output
@@ -48,8 +49,10 @@ def test_a_hooke_deck_is_advised_by_its_own_contact():
     not a Hertz impact of the deck's unused E0 (1.09e-5 s)."""
     result = run(DECKS / "hooke_wall.inp")
     assert result.exit_code == 0, result.output
-    assert ("contact: HOOKE particle-wall impact at 10 in/s lasts 2.73e-05 s; / 50 = 5.45e-07 s"
-            in result.output)
+    assert (
+        "contact: HOOKE particle-wall impact at 10 in/s lasts 2.73e-05 s; / 50 = 5.45e-07 s"
+        in result.output
+    )
     assert "Hertz" not in result.output
     # the peak-force error check quotes was measured on Hertz impacts: not said of this one
     assert "2.73e+03 steps per contact)" in result.output and "peak force" not in result.output
@@ -90,8 +93,12 @@ def test_missing_file_is_a_usage_error(tmp_path):
 
 def test_console_entry_point_passes_the_exit_status_on():
     for name, status in (("appendix_a.inp", 1), ("appendix_a_cube.inp", 0)):
-        proc = subprocess.run([sys.executable, "-m", "x3dpd", "check", str(DECKS / name)],
-                              capture_output=True, text=True, timeout=120)
+        proc = subprocess.run(
+            [sys.executable, "-m", "x3dpd", "check", str(DECKS / name)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
         assert proc.returncode == status, proc.stdout + proc.stderr
 
 

@@ -10,8 +10,9 @@ def test_several_decks_are_all_reported(capsys):
     out = capsys.readouterr().out
     assert out.count("summary") == 2
     assert "beam_64.inp:" in out and "impact_wall.inp:" in out
-    assert rc == max(run_cli("check", DECKS / "beam_64.inp"),
-                     run_cli("check", DECKS / "impact_wall.inp"))
+    assert rc == max(
+        run_cli("check", DECKS / "beam_64.inp"), run_cli("check", DECKS / "impact_wall.inp")
+    )
 
 
 def test_a_bad_deck_does_not_stop_the_others(tmp_path, capsys):

@@ -25,18 +25,32 @@ R, BIG_R, LENGTH = 0.03125, 0.2, 0.3
 
 
 def _text(pos, vel=None, *, dt=5e-7):
-    deck = cylinder_cavity_deck(length=LENGTH, cavity_radius=BIG_R, particles=pos, radius=R,
-                                material=STEEL, structure_mass=1e-3, stiffness=10.0,
-                                damping=0.0, free_dofs=(), gravity=(0.0, 0.0, 0.0), dt=dt,
-                                itrac=10, velocities=vel)
+    deck = cylinder_cavity_deck(
+        length=LENGTH,
+        cavity_radius=BIG_R,
+        particles=pos,
+        radius=R,
+        material=STEEL,
+        structure_mass=1e-3,
+        stiffness=10.0,
+        damping=0.0,
+        free_dofs=(),
+        gravity=(0.0, 0.0, 0.0),
+        dt=dt,
+        itrac=10,
+        velocities=vel,
+    )
     return format_deck(deck)
 
 
-@pytest.mark.parametrize("card, message, column", [
-    ("CYLINDER\n 1 2 3\nEND", "CYLINDER needs 4 values", None),
-    ("CYLINDER\n 1 2 3 -0.2\nEND", "RADIUS must be > 0", 8),
-    ("CYLINDER\n 1 2 2 0.2\nEND", "NODE_B must differ from NODE_A", 6),
-])
+@pytest.mark.parametrize(
+    "card, message, column",
+    [
+        ("CYLINDER\n 1 2 3\nEND", "CYLINDER needs 4 values", None),
+        ("CYLINDER\n 1 2 3 -0.2\nEND", "RADIUS must be > 0", 8),
+        ("CYLINDER\n 1 2 2 0.2\nEND", "NODE_B must differ from NODE_A", 6),
+    ],
+)
 def test_bad_cylinder_records_are_deck_errors_at_the_field(card, message, column):
     text = with_card(_text([[0.15, 0.0, 0.0]]), card)
     with pytest.raises(DeckError, match=message) as err:
@@ -47,11 +61,14 @@ def test_bad_cylinder_records_are_deck_errors_at_the_field(card, message, column
         assert err.value.column == column
 
 
-@pytest.mark.parametrize("card, message", [
-    ("CYLINDER\n 1 2 99 0.2\nEND", "axis node B 99 is not defined"),
-    ("CYLINDER\n 1 2 5 0.2\nEND", "axis node B 5 is a particle node"),
-    ("CYLINDER\n 7 2 3 0.2\nEND", "slave set 1 has no master triangles and no CYLINDER"),
-])
+@pytest.mark.parametrize(
+    "card, message",
+    [
+        ("CYLINDER\n 1 2 99 0.2\nEND", "axis node B 99 is not defined"),
+        ("CYLINDER\n 1 2 5 0.2\nEND", "axis node B 5 is a particle node"),
+        ("CYLINDER\n 7 2 3 0.2\nEND", "slave set 1 has no master triangles and no CYLINDER"),
+    ],
+)
 def test_bad_cylinder_references_are_deck_errors(card, message):
     text = with_card(_text([[0.15, 0.0, 0.0], [0.15, 0.1, 0.0]]), card)
     with pytest.raises(DeckError, match=message) as err:
@@ -78,14 +95,16 @@ def test_check_flags_spheres_outside_and_in_the_wall(tmp_path, monkeypatch):
         text = text.replace(old, f"   {4 + k} {p[0]!r} {p[1]!r} {p[2]!r}\n", 1)
     report = check_model(build_model(parse_deck(text, "deck.inp")))
     codes = {w.code: w for w in report.warnings}
-    assert "particle node 5: centre outside the cylinder on axis nodes 2, 3" in \
-        codes["particles-outside"].details[0]
+    assert (
+        "particle node 5: centre outside the cylinder on axis nodes 2, 3"
+        in codes["particles-outside"].details[0]
+    )
     assert codes["wall-penetration"].details[0].startswith("particle node 4: 0.01 (0.32 R)")
     path = tmp_path / "bad.inp"
     path.write_text(text)
-    monkeypatch.chdir(tmp_path)          # a run writes its outputs to the working directory
+    monkeypatch.chdir(tmp_path)  # a run writes its outputs to the working directory
     assert run_cli("check", path) == 1
-    assert run_cli(path, "--quiet") == 2                 # refused: the run would blow up
+    assert run_cli(path, "--quiet") == 2  # refused: the run would blow up
     assert not (tmp_path / "bad.trace.txt").exists()
 
 
@@ -97,8 +116,9 @@ def test_a_penetration_names_the_cylinder_part():
     y0 = (BIG_R - R) + 0.009 - 10 * 0.01
     text = _text([[0.15, y0, 0.0]], [[0.0, 100.0, 0.0]], dt=1e-4)
     sim = Simulation(build_model(parse_deck(text, "deck.inp")))
-    with pytest.raises(UnstableRunError, match="penetrated the curved wall of the cylinder on "
-                                               "axis nodes 2, 3"):
+    with pytest.raises(
+        UnstableRunError, match="penetrated the curved wall of the cylinder on axis nodes 2, 3"
+    ):
         sim.advance(2000)
 
 
@@ -111,8 +131,9 @@ def test_a_sphere_that_tunnels_out_is_caught():
     text = _text([[0.15, 0.0, 0.0]], [[0.0, 0.0, -2000.0]], dt=2e-4)
     steps = []
     for calls in (1, 10):
-        sim = Simulation(build_model(parse_deck(text, "deck.inp")), penetration_limit=1e9,
-                         energy_tolerance=1e300)
+        sim = Simulation(
+            build_model(parse_deck(text, "deck.inp")), penetration_limit=1e9, energy_tolerance=1e300
+        )
         with pytest.raises(UnstableRunError, match="particle node 4 left its cylinder") as err:
             for _ in range(calls):
                 sim.advance(10 // calls)
@@ -125,8 +146,9 @@ def test_restart_continues_cylinder_64_bit_for_bit(tmp_path, monkeypatch):
     shutil.copy(DECK, "c.inp")
     assert run_cli("c.inp", "--tmax", 0.004, "--trace", "whole.trace.txt", "--quiet") == 0
     assert run_cli("c.inp", "--tmax", 0.002, "--trace", "part.trace.txt", "--quiet") == 0
-    assert run_cli("c.inp", "--tmax", 0.004, "--trace", "part.trace.txt", "--restart",
-                   "--quiet") == 0
+    assert (
+        run_cli("c.inp", "--tmax", 0.004, "--trace", "part.trace.txt", "--restart", "--quiet") == 0
+    )
     whole = (tmp_path / "whole.trace.txt").read_bytes()
     assert (tmp_path / "part.trace.txt").read_bytes() == whole
     rows = np.loadtxt(tmp_path / "whole.trace.txt", delimiter=";")

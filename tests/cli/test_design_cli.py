@@ -25,24 +25,45 @@ def sdof(tmp_path):
 
 def test_sweep_writes_csv_and_png(capsys, sdof, tmp_path):
     out = tmp_path / "out"
-    code, stdout, err = x3dpd(capsys, "sweep", sdof, "--freq", "38:39:0.5", "--amp", "4.8404e-3",
-                              "--out", out, "--workers", "1", "--baseline", "added-mass")
+    code, stdout, err = x3dpd(
+        capsys,
+        "sweep",
+        sdof,
+        "--freq",
+        "38:39:0.5",
+        "--amp",
+        "4.8404e-3",
+        "--out",
+        out,
+        "--workers",
+        "1",
+        "--baseline",
+        "added-mass",
+    )
     assert code == 0, err
     rows = read_csv(out / "sweep.csv")
     assert [(r["config"], r["frequency_hz"]) for r in rows] == [
-        ("deck", 38.0), ("deck", 38.5), ("deck", 39.0),
-        ("added-mass", 38.0), ("added-mass", 38.5), ("added-mass", 39.0)]
+        ("deck", 38.0),
+        ("deck", 38.5),
+        ("deck", 39.0),
+        ("added-mass", 38.0),
+        ("added-mass", 38.5),
+        ("added-mass", 39.0),
+    ]
     assert (out / "sweep.png").stat().st_size > 0
     assert "peak attenuation" in stdout
 
 
-@pytest.mark.parametrize("args, message", [
-    (("--freq", "40:35:1"), "--freq '40:35:1': expected START:STOP:STEP"),
-    (("--freq", "36", "--amp", "x"), "--amp 'x': expected a drive amplitude"),
-    (("--freq", "36", "--baseline", "nothing"), "unknown baseline 'nothing'"),
-    (("--freq", "36", "--dof", "5"), "dof 1, 2 or 3"),
-    (("--freq", "36", "--node", "7"), "node 7 is not a node of"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (("--freq", "40:35:1"), "--freq '40:35:1': expected START:STOP:STEP"),
+        (("--freq", "36", "--amp", "x"), "--amp 'x': expected a drive amplitude"),
+        (("--freq", "36", "--baseline", "nothing"), "unknown baseline 'nothing'"),
+        (("--freq", "36", "--dof", "5"), "dof 1, 2 or 3"),
+        (("--freq", "36", "--node", "7"), "node 7 is not a node of"),
+    ],
+)
 def test_sweep_bad_input_is_one_line_and_exit_2(capsys, sdof, tmp_path, args, message):
     full = ["sweep", sdof, "--out", tmp_path / "out", "--workers", "1", *args]
     if "--amp" not in args:
@@ -61,8 +82,9 @@ def test_ringdown_of_a_solver_trace_gives_the_structures_zeta(capsys, tmp_path):
     write_deck(sdof_deck(dt=1e-5, hz=37.0, drive=0.0, v0=5.0, itrac=10), deck)
     trace = tmp_path / "free.trace.txt"
     run(deck, tmax=3.0, trace=trace)
-    code, stdout, err = x3dpd(capsys, "ringdown", trace, "--node", 1, "--dof", 1,
-                              "--out", tmp_path / "rd")
+    code, stdout, err = x3dpd(
+        capsys, "ringdown", trace, "--node", 1, "--dof", 1, "--out", tmp_path / "rd"
+    )
     assert code == 0, err
     lines = (tmp_path / "rd" / "ringdown.csv").read_text().splitlines()
     head = lines[0].split(",")

@@ -8,17 +8,20 @@ from pathlib import Path
 from cli_helpers import DECKS, run_cli
 
 
-def test_a_malformed_design_file_is_one_line_at_its_place_exit_2_nothing_written(tmp_path,
-                                                                                  capsys):
+def test_a_malformed_design_file_is_one_line_at_its_place_exit_2_nothing_written(tmp_path, capsys):
     spec = tmp_path / "bad.toml"
-    spec.write_text(f'structure = "{DECKS / "beam_1.inp"}"\n[vary]\nradius = [0.1]\n'
-                    'colour = ["red"]\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
-                    'frequencies = [37.0]\n')
+    spec.write_text(
+        f'structure = "{DECKS / "beam_1.inp"}"\n[vary]\nradius = [0.1]\n'
+        'colour = ["red"]\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
+        "frequencies = [37.0]\n"
+    )
     assert run_cli("design", spec, "--out", tmp_path / "out") == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
-    assert err[0].startswith(f"x3dpd: error: {spec}:4: vary.colour: unknown key 'colour'; "
-                             "expected one of material, radius, count, fill_ratio")
+    assert err[0].startswith(
+        f"x3dpd: error: {spec}:4: vary.colour: unknown key 'colour'; "
+        "expected one of material, radius, count, fill_ratio"
+    )
     assert not Path(tmp_path / "out").exists()
 
 

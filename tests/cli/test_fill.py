@@ -21,26 +21,47 @@ def test_filled_deck_checks_clean_and_reports_its_fill(name, packing, tmp_path, 
     out = tmp_path / "out.inp"
     tpl = read_deck(DECKS / name)
     r = tpl.pdmp[0].rzero
-    assert run_cli("fill", DECKS / name, "--n", 20, "--radius", r, "--packing", packing,
-                   "--gap", 0.02 * r, "--seed", 1, "-o", out) == 0
+    assert (
+        run_cli(
+            "fill",
+            DECKS / name,
+            "--n",
+            20,
+            "--radius",
+            r,
+            "--packing",
+            packing,
+            "--gap",
+            0.02 * r,
+            "--seed",
+            1,
+            "-o",
+            out,
+        )
+        == 0
+    )
     msg = capsys.readouterr().out
     deck = read_deck(out)
     model = build_model(deck)
     report = check_model(model)
     assert not report.errors
-    assert not [w for w in report.warnings if "overlap" in w.headline or "outside" in
-                w.headline or "penetrat" in w.headline]
+    assert not [
+        w
+        for w in report.warnings
+        if "overlap" in w.headline or "outside" in w.headline or "penetrat" in w.headline
+    ]
     n = model.n_particles
     fits = "only" not in msg
     assert n == 20 or not fits
     # the reported fill ratio, recomputed from the deck: N 4/3 pi R^3 / cavity volume
     cav = report.cavities[0]
-    ratio = n * 4 / 3 * math.pi * r ** 3 / cav.volume
+    ratio = n * 4 / 3 * math.pi * r**3 / cav.volume
     assert f"fill ratio {ratio:.3f}" in msg
     # structure untouched, particles after NODLIM, traced after the structure's nodes
     nodlim = tpl.pdmp[0].nodlim
-    assert [(nd.nid, nd.x, nd.y, nd.z) for nd in deck.nodes if nd.nid <= nodlim] == \
-        [(nd.nid, nd.x, nd.y, nd.z) for nd in tpl.nodes if nd.nid <= nodlim]
+    assert [(nd.nid, nd.x, nd.y, nd.z) for nd in deck.nodes if nd.nid <= nodlim] == [
+        (nd.nid, nd.x, nd.y, nd.z) for nd in tpl.nodes if nd.nid <= nodlim
+    ]
     assert deck.trace.nodes[-n:] == tuple(range(nodlim + 1, nodlim + 1 + n))
 
 
@@ -60,8 +81,23 @@ def test_refill_of_a_shipped_beam_deck_reproduces_it(tmp_path):
     """tools/make_decks.py builds the beam decks through the same library: filling beam_64 with
     its own recipe gives its particles back exactly."""
     out = tmp_path / "out.inp"
-    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 64, "--gap", 0.05 * 0.03125,
-                   "--jitter", 0.5, "--seed", 2003, "-o", out) == 0
+    assert (
+        run_cli(
+            "fill",
+            DECKS / "beam_64.inp",
+            "--n",
+            64,
+            "--gap",
+            0.05 * 0.03125,
+            "--jitter",
+            0.5,
+            "--seed",
+            2003,
+            "-o",
+            out,
+        )
+        == 0
+    )
     a, b = read_deck(DECKS / "beam_64.inp"), read_deck(out)
     strip = [(n.nid, n.x, n.y, n.z) for n in a.nodes]
     assert strip == [(n.nid, n.x, n.y, n.z) for n in b.nodes]
@@ -71,7 +107,7 @@ def test_impossible_fill_is_an_error_and_writes_nothing(tmp_path, capsys):
     out = tmp_path / "out.inp"
     assert run_cli("fill", DECKS / "beam_64.inp", "--radius", 1.0, "-o", out) == 2
     assert "no particle of radius 1" in capsys.readouterr().err and not out.exists()
-    assert run_cli("fill", DECKS / "impact_wall.inp", "-o", out) == 2   # an open wall: no cavity
+    assert run_cli("fill", DECKS / "impact_wall.inp", "-o", out) == 2  # an open wall: no cavity
     assert "not a closed surface" in capsys.readouterr().err and not out.exists()
     # the printed Appendix A deck: its triangles do not close either (docs/running.md)
     assert run_cli("fill", DECKS / "appendix_a.inp", "-o", out) == 2
@@ -92,16 +128,32 @@ def test_settle_lets_the_particles_fall_onto_the_floor(tmp_path, capsys):
     r = 0.03125
     # --keep-dt: the template's 5e-7 s step (settling is about where they rest, and the
     # recommended 9.5e-8 s would make this test 5 times longer)
-    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 20, "--packing", "random", "--seed", 4,
-                   "--settle", 0.15, "--keep-dt", "-o", out) == 0
+    assert (
+        run_cli(
+            "fill",
+            DECKS / "beam_64.inp",
+            "--n",
+            20,
+            "--packing",
+            "random",
+            "--seed",
+            4,
+            "--settle",
+            0.15,
+            "--keep-dt",
+            "-o",
+            out,
+        )
+        == 0
+    )
     assert "settled for 0.15 s" in capsys.readouterr().out
     model = build_model(read_deck(out))
-    y = model.x0[model.particle_start:, 1]
+    y = model.x0[model.particle_start :, 1]
     report = check_model(model)
     assert not report.errors
     assert not [w for w in report.warnings if "overlap" in w.headline or "outside" in w.headline]
     lowest = np.sort(y)[:5]
-    np.testing.assert_allclose(lowest, r, rtol=1e-2)     # several resting on the floor
+    np.testing.assert_allclose(lowest, r, rtol=1e-2)  # several resting on the floor
 
 
 def test_cards_only_holds_what_changes(tmp_path):

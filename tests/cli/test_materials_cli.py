@@ -7,7 +7,7 @@ from cli_helpers import run_cli
 
 from x3dpd.materials import materials
 
-PSI = 0.45359237 * 9.80665 / 0.0254 ** 2
+PSI = 0.45359237 * 9.80665 / 0.0254**2
 
 
 def test_table_lists_every_material(capsys):

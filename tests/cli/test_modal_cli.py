@@ -34,8 +34,13 @@ def _cantilever_deck(tmp_path: Path) -> Path:
 
 
 def _x3dpd(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "x3dpd", *map(str, args)], cwd=cwd,
-                          capture_output=True, text=True, timeout=900)
+    return subprocess.run(
+        [sys.executable, "-m", "x3dpd", *map(str, args)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
 
 
 def test_a_mode_file_deck_checks_and_sweeps_with_closed_form_baselines(tmp_path):
@@ -46,9 +51,29 @@ def test_a_mode_file_deck_checks_and_sweeps_with_closed_form_baselines(tmp_path)
     assert "node 9 (rigid body master): moves in y, z, ry, rz" in chk.stdout
     assert "warning" not in chk.stdout
     out = tmp_path / "sw"
-    run = _x3dpd("sweep", deck, "--freq", "150", "--amp", "0.02", "--node", "9", "--dof", "3",
-                 "--baseline", "undamped,added-mass", "--max-cycles", "15", "--window", "5",
-                 "--out", out, "--workers", "1", cwd=tmp_path)
+    run = _x3dpd(
+        "sweep",
+        deck,
+        "--freq",
+        "150",
+        "--amp",
+        "0.02",
+        "--node",
+        "9",
+        "--dof",
+        "3",
+        "--baseline",
+        "undamped,added-mass",
+        "--max-cycles",
+        "15",
+        "--window",
+        "5",
+        "--out",
+        out,
+        "--workers",
+        "1",
+        cwd=tmp_path,
+    )
     assert run.returncode == 0, run.stdout + run.stderr
     rows = list(csv.DictReader((out / "sweep.csv").open()))
     by = {r["config"]: r for r in rows}

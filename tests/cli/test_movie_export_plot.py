@@ -51,16 +51,20 @@ def test_cavity_moves_with_its_master_node(name):
     moved = scene.vertices(last) - scene.vertex_x0
     for v in range(scene.vertex_x0.shape[0]):
         m = scene.vertex_master_row[v]
-        if m >= 0:   # a rigid slave: the master's translation since t = 0
-            np.testing.assert_allclose(moved[v], tr.data[-1, m, :3] - tr.data[0, m, :3],
-                                       rtol=0, atol=1e-12)
+        if m >= 0:  # a rigid slave: the master's translation since t = 0
+            np.testing.assert_allclose(
+                moved[v], tr.data[-1, m, :3] - tr.data[0, m, :3], rtol=0, atol=1e-12
+            )
         elif scene.vertex_row[v] < 0:
-            assert np.all(moved[v] == 0.0)       # a fixed wall stays put
+            assert np.all(moved[v] == 0.0)  # a fixed wall stays put
     # the outline of a box is its 12 edges (no face diagonals); Fig. 28's lone square: 4; a
     # drawn cylinder its two rims of CYLINDER_FACETS edges; a capsule the two circles where its
     # hemispheres meet the bore
-    n_edges = {"impact_wall.inp": 4, "cylinder_64.inp": 2 * CYLINDER_FACETS,
-               "capsule_64.inp": 2 * CYLINDER_FACETS}.get(name, 12)
+    n_edges = {
+        "impact_wall.inp": 4,
+        "cylinder_64.inp": 2 * CYLINDER_FACETS,
+        "capsule_64.inp": 2 * CYLINDER_FACETS,
+    }.get(name, 12)
     assert scene.outline.shape == (n_edges, 2)
 
 
@@ -92,7 +96,7 @@ def test_movie_still_shades_by_depth_and_every_skips(tmp_path):
 
     pixels = np.asarray(Image.open(tmp_path / "a.png").convert("RGB")).reshape(-1, 3)
     blues = {tuple(p) for p in pixels.astype(int) if p[2] > p[0] + 40}
-    assert len(blues) > 3       # particles at several depths get several shades
+    assert len(blues) > 3  # particles at several depths get several shades
     assert run_cli("movie", trace, "-o", tmp_path / "b.gif", "--every", 2) == 0
     from PIL import Image as I2
 
@@ -119,9 +123,10 @@ def test_vtk_export_reads_back_with_meshio(name, tmp_path):
     np.testing.assert_array_equal(mesh.point_data["velocity"], tr.data[k, p, 3:6])
     np.testing.assert_array_equal(mesh.point_data["spin"], tr.data[k, p, 6:9])
     ids = tr.node_ids[p]
-    np.testing.assert_array_equal(mesh.point_data["radius"],
-                                  model.radius[np.searchsorted(model.node_ids, ids)
-                                               - model.particle_start])
+    np.testing.assert_array_equal(
+        mesh.point_data["radius"],
+        model.radius[np.searchsorted(model.node_ids, ids) - model.particle_start],
+    )
     cav = meshio.read(folder / parts["1"][k][1])
     np.testing.assert_array_equal(cav.cells_dict["triangle"], scene.tri)
     np.testing.assert_allclose(cav.points, scene.vertices(tr.data[k]), rtol=0, atol=0)
@@ -135,8 +140,9 @@ def test_lammps_dump_reads_back(tmp_path):
     assert [f[0] for f in frames] == tr.times.tolist()
     t, ids, cols = frames[-1]
     np.testing.assert_array_equal(ids, tr.node_ids[scene.particle_rows])
-    np.testing.assert_allclose(cols[:, :9], tr.data[-1, scene.particle_rows], rtol=1e-9,
-                               atol=1e-15)   # 10 significant digits in the dump
+    np.testing.assert_allclose(
+        cols[:, :9], tr.data[-1, scene.particle_rows], rtol=1e-9, atol=1e-15
+    )  # 10 significant digits in the dump
     assert np.all(cols[:, 9] == 0.03125)
 
 
@@ -144,30 +150,45 @@ def test_lammps_dump_reads_back(tmp_path):
 def test_plot_writes_a_png_and_the_particle_kinetic_energy_is_right(name, tmp_path):
     tr, model, scene = _scene(name)
     out = tmp_path / "p.png"
-    assert run_cli("plot", SHORT_RUNS_TRACES[name], "-o", out, "--quantity", "velocity",
-                   "--quantity", "acceleration") == 0
+    assert (
+        run_cli(
+            "plot",
+            SHORT_RUNS_TRACES[name],
+            "-o",
+            out,
+            "--quantity",
+            "velocity",
+            "--quantity",
+            "acceleration",
+        )
+        == 0
+    )
     assert out.stat().st_size > 10_000
     # KE from the deck's PDMP cards, computed here: m = rho 4/3 pi R^3, I = 2/5 m R^2
     deck = read_deck(DECKS / name)
     rho, r = deck.pdmp[0].prho, deck.pdmp[0].rzero
-    m = rho * 4.0 / 3.0 * math.pi * r ** 3
+    m = rho * 4.0 / 3.0 * math.pi * r**3
     parts = [k for k, nid in enumerate(tr.node_ids) if nid > deck.pdmp[0].nodlim]
     v = tr.data[:, parts]
-    expect = (0.5 * m * np.sum(v[..., 3:6] ** 2, axis=(1, 2))
-              + 0.5 * 0.4 * m * r * r * np.sum(v[..., 6:9] ** 2, axis=(1, 2)))
+    expect = 0.5 * m * np.sum(v[..., 3:6] ** 2, axis=(1, 2)) + 0.5 * 0.4 * m * r * r * np.sum(
+        v[..., 6:9] ** 2, axis=(1, 2)
+    )
     hist = collect(iter_blocks(SHORT_RUNS_TRACES[name], tr.node_ids.size), scene, [(0, 0)])
     np.testing.assert_allclose(hist.ke_particles, expect, rtol=1e-12, atol=0)
 
 
-@pytest.mark.parametrize("args, words", [
-    (["movie", "{trace}", "-o", "{tmp}/m.avi"], ["format"]),
-    (["movie", "{trace}", "-o", "{tmp}/m.mp4", "--deck", "{tmp}/none.inp"], ["--deck"]),
-    (["movie", "{tmp}/none.txt", "-o", "{tmp}/m.mp4"], ["no such trace"]),
-    (["movie", "{trace}", "-o", "{tmp}/nodir/m.mp4"], ["does not exist"]),
-    (["plot", "{trace}", "-o", "{tmp}/p.png", "--node", "99999"], ["not traced"]),
-    (["plot", "{trace}", "-o", "{tmp}/p.png", "--dof", "rx"], ["rotation"]),
-    (["export", "{trace}"], ["--vtk"]),
-])
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["movie", "{trace}", "-o", "{tmp}/m.avi"], ["format"]),
+        (["movie", "{trace}", "-o", "{tmp}/m.mp4", "--deck", "{tmp}/none.inp"], ["--deck"]),
+        (["movie", "{tmp}/none.txt", "-o", "{tmp}/m.mp4"], ["no such trace"]),
+        (["movie", "{trace}", "-o", "{tmp}/nodir/m.mp4"], ["does not exist"]),
+        (["plot", "{trace}", "-o", "{tmp}/p.png", "--node", "99999"], ["not traced"]),
+        (["plot", "{trace}", "-o", "{tmp}/p.png", "--dof", "rx"], ["rotation"]),
+        (["export", "{trace}"], ["--vtk"]),
+    ],
+)
 def test_bad_requests_are_one_line_errors(args, words, tmp_path, capsys):
     trace = SHORT_RUNS_TRACES["beam_1.inp"]
     argv = [a.format(trace=trace, tmp=tmp_path) for a in args]
@@ -206,8 +227,11 @@ def test_labels_follow_the_decks_declared_units(tmp_path):
     si = tmp_path / "beam_1_si.inp"
     si.write_text("UNITS\n  m N s\nEND\n" + (DECKS / "beam_1.inp").read_text())
     _, _, scene = load_scene(str(SHORT_RUNS_TRACES["beam_1.inp"]), str(si))
-    assert (scene.units["length"], scene.units["energy"], scene.units["velocity"]) == \
-        ("m", "J", "m/s")
+    assert (scene.units["length"], scene.units["energy"], scene.units["velocity"]) == (
+        "m",
+        "J",
+        "m/s",
+    )
     _, _, scene = load_scene(str(SHORT_RUNS_TRACES["beam_1.inp"]), None)
     assert scene.units["length"] == "in"
 
@@ -228,7 +252,7 @@ def test_still_frames_the_particles(name, tmp_path):
     out = tmp_path / "s.png"
     assert write_movie(out, scene, iter([(tr.times[0], tr.data[0])])) == 1
     pixels = np.asarray(Image.open(out).convert("RGB")).reshape(-1, 3).astype(int)
-    assert np.count_nonzero(pixels[:, 2] > pixels[:, 0] + 40) > 500    # particles drawn
+    assert np.count_nonzero(pixels[:, 2] > pixels[:, 0] + 40) > 500  # particles drawn
 
 
 def test_a_cavity_whose_master_is_not_traced_is_flagged(tmp_path, capsys):

@@ -21,8 +21,13 @@ def test_quick_start_outputs_are_ignored(tmp_path, monkeypatch):
     shutil.copy(ROOT / ".gitignore", tmp_path / ".gitignore")
 
     def git(*args):
-        return subprocess.run([GIT, "-c", "user.email=t@t", "-c", "user.name=t", *args],
-                              cwd=tmp_path, capture_output=True, text=True, check=True).stdout
+        return subprocess.run(
+            [GIT, "-c", "user.email=t@t", "-c", "user.name=t", *args],
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
 
     git("init", "-q")
     git("add", "-A")

@@ -32,9 +32,20 @@ TIMEOUT = 600  # a cold numba cache compiles the step loop first (about 30 s)
 def ten_sphere_deck(path: Path, irest: int = 0, damping: float = 3.08293e-4) -> Path:
     radius = 0.03125
     pos = lattice_fill(CAVITY, radius, 10, gap=0.05 * radius, seed=1, jitter=0.5)
-    deck = box_cavity_deck(size=CAVITY, particles=pos, radius=radius, material=STEEL,
-                           structure_mass=2.04213e-4, stiffness=1.14823e1, damping=damping,
-                           dt=5e-7, tmax=TMAX, itrac=2000, trest=TREST, usrfrc=(DRIVE,))
+    deck = box_cavity_deck(
+        size=CAVITY,
+        particles=pos,
+        radius=radius,
+        material=STEEL,
+        structure_mass=2.04213e-4,
+        stiffness=1.14823e1,
+        damping=damping,
+        dt=5e-7,
+        tmax=TMAX,
+        itrac=2000,
+        trest=TREST,
+        usrfrc=(DRIVE,),
+    )
     text = "$ ten spheres in the Sec. 8.2 beam cavity (tests/cli/test_restart.py)\n"
     text += format_deck(deck)
     if irest:
@@ -46,13 +57,24 @@ def ten_sphere_deck(path: Path, irest: int = 0, damping: float = 3.08293e-4) -> 
 
 
 def x3dpd(*args, cwd, **kw):
-    return subprocess.run([sys.executable, "-m", "x3dpd", *map(str, args)], cwd=cwd,
-                          capture_output=True, text=True, timeout=TIMEOUT, **kw)
+    return subprocess.run(
+        [sys.executable, "-m", "x3dpd", *map(str, args)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+        **kw,
+    )
 
 
 def start(*args, cwd):
-    return subprocess.Popen([sys.executable, "-m", "x3dpd", *map(str, args)], cwd=cwd,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(
+        [sys.executable, "-m", "x3dpd", *map(str, args)],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
 
 
 def wait_for(path: Path, proc: subprocess.Popen) -> None:
@@ -94,7 +116,7 @@ def test_sigkill_then_restart_is_bytewise_identical(reference, tmp_path):
     _, meta = load_restart(dump)
     assert 0 < meta["step"] < round(TMAX / 5e-7)
     side = json.loads((tmp_path / "part.trace.txt.json").read_text())
-    assert side["status"] == "running"            # killed: nobody closed it
+    assert side["status"] == "running"  # killed: nobody closed it
     res = x3dpd(deck, "--trace", "part.trace.txt", "--restart", cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     same_files(tmp_path, reference, "part", "ref")
@@ -106,7 +128,7 @@ def test_sigint_exits_130_with_a_valid_dump(reference, tmp_path):
     deck = ten_sphere_deck(tmp_path / "ten.inp")
     dump = tmp_path / "part.trace.txt.restart.npz"
     proc = start(deck, "--trace", "part.trace.txt", cwd=tmp_path)
-    wait_for(dump, proc)                          # stepping is under way
+    wait_for(dump, proc)  # stepping is under way
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=TIMEOUT)
     assert proc.returncode == 130, err
@@ -138,15 +160,27 @@ def finished(reference, tmp_path):
     return tmp_path
 
 
-@pytest.mark.parametrize("extra, words", [
-    (("--dt", "2.5e-7"), "dt 2.5e-07"),
-    (("--usrfrc", "constant:node=9,dof=1,amp=1e-3"), "--usrfrc"),
-    (("--friction", "coulomb"), "--friction"),
-])
+@pytest.mark.parametrize(
+    "extra, words",
+    [
+        (("--dt", "2.5e-7"), "dt 2.5e-07"),
+        (("--usrfrc", "constant:node=9,dof=1,amp=1e-3"), "--usrfrc"),
+        (("--friction", "coulomb"), "--friction"),
+    ],
+)
 def test_restart_refuses_another_setup(finished, extra, words):
     before = (finished / "ref.trace.txt").read_bytes()
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", "--tmax",
-                "0.22", *extra, cwd=finished)
+    res = x3dpd(
+        "ten.inp",
+        "--trace",
+        "ref.trace.txt",
+        "--restart",
+        "--overwrite",
+        "--tmax",
+        "0.22",
+        *extra,
+        cwd=finished,
+    )
     assert res.returncode == 2, res.stderr
     assert "cannot resume from ref.trace.txt.restart.npz" in res.stderr and words in res.stderr
     assert (finished / "ref.trace.txt").read_bytes() == before
@@ -154,8 +188,16 @@ def test_restart_refuses_another_setup(finished, extra, words):
 
 def test_restart_refuses_a_changed_deck(finished):
     ten_sphere_deck(finished / "ten.inp", damping=4e-4)
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--overwrite", "--tmax",
-                "0.22", cwd=finished)
+    res = x3dpd(
+        "ten.inp",
+        "--trace",
+        "ref.trace.txt",
+        "--restart",
+        "--overwrite",
+        "--tmax",
+        "0.22",
+        cwd=finished,
+    )
     assert res.returncode == 2 and "the deck's cards differ" in res.stderr
 
 
@@ -185,16 +227,18 @@ def test_complete_trace_needs_overwrite_and_irest_resumes(reference, tmp_path):
     res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--overwrite", cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     same_files(tmp_path, reference, "ref", "ref")
-    assert (tmp_path / "ref.trace.txt.bak").read_bytes() == \
-        (reference / "ref.trace.txt").read_bytes()
+    assert (tmp_path / "ref.trace.txt.bak").read_bytes() == (
+        reference / "ref.trace.txt"
+    ).read_bytes()
     assert (tmp_path / "ref.energy.csv.bak").is_file()
     assert "t = 0.18 .. 0.2 s" in res.stdout
 
 
 def test_resume_with_a_later_tmax_extends_the_run(finished, reference):
     """A finished run goes on from its end dump: nothing is cut, so no --overwrite is needed."""
-    res = x3dpd("ten.inp", "--trace", "ref.trace.txt", "--restart", "--tmax", "0.22", "-q",
-                cwd=finished)
+    res = x3dpd(
+        "ten.inp", "--trace", "ref.trace.txt", "--restart", "--tmax", "0.22", "-q", cwd=finished
+    )
     assert res.returncode == 0, res.stderr
     new = (finished / "ref.trace.txt").read_bytes()
     old = (reference / "ref.trace.txt").read_bytes()

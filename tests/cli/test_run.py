@@ -51,6 +51,7 @@ def impact(tmp_path, monkeypatch):
 
 # ---------------------------------------------------------------------------------- a full run
 
+
 def test_run_writes_trace_energy_and_summary(capsys, impact):
     code, out, err = x3dpd(capsys, impact)
     assert code == 0, err
@@ -68,40 +69,77 @@ def test_run_writes_trace_energy_and_summary(capsys, impact):
     assert abs(en.column("residual")[-1]) < 1e-6 * en.column("total_energy")[0]
     # the elastic sphere leaves the wall at its impact speed
     assert tr.node(9)[-1, 3] == pytest.approx(62.832, rel=1e-6)
-    for word in ("effects", "wall_contact", "steps", "12000", "wall time", "compile",
-                 "steps/s", "us/step", "energy ledger", "kinetic_translation",
-                 "dissipated (total)", "residual", "of the energy scale"):
+    for word in (
+        "effects",
+        "wall_contact",
+        "steps",
+        "12000",
+        "wall time",
+        "compile",
+        "steps/s",
+        "us/step",
+        "energy ledger",
+        "kinetic_translation",
+        "dissipated (total)",
+        "residual",
+        "of the energy scale",
+    ):
         assert word in out, word
     assert "Traceback" not in err
 
 
 def test_run_subcommand_and_options(capsys, impact, tmp_path):
     (tmp_path / "out").mkdir()
-    code, out, err = x3dpd(capsys, "run", impact, "--trace", "out/a.trace.txt", "--tmax",
-                           "2e-6", "--dt", "2e-9", "--quiet")
+    code, out, err = x3dpd(
+        capsys,
+        "run",
+        impact,
+        "--trace",
+        "out/a.trace.txt",
+        "--tmax",
+        "2e-6",
+        "--dt",
+        "2e-9",
+        "--quiet",
+    )
     assert code == 0, err
-    assert out == "" and err == ""               # --quiet prints errors only
+    assert out == "" and err == ""  # --quiet prints errors only
     tr = read_trace("out/a.trace.txt")
     assert tr.meta["dt"] == 2e-9
     assert tr.times[-1] == pytest.approx(2e-6)
-    assert tr.times.size == 101                  # 1000 steps, a row every 10
-    assert os.path.isfile("out/a.energy.csv")    # beside the trace, named after it
+    assert tr.times.size == 101  # 1000 steps, a row every 10
+    assert os.path.isfile("out/a.energy.csv")  # beside the trace, named after it
 
 
 def test_resume_command_repeats_what_matters():
-    opts = RunOptions(deck="d.inp", trace="a b.txt", usrfrc=(DRIVE,), tmax=0.5, dt=2.5e-7,
-                      friction="coulomb", plot="p.png", quiet=True)
+    opts = RunOptions(
+        deck="d.inp",
+        trace="a b.txt",
+        usrfrc=(DRIVE,),
+        tmax=0.5,
+        dt=2.5e-7,
+        friction="coulomb",
+        plot="p.png",
+        quiet=True,
+    )
     assert resume_command(opts) == (
         f"d.inp --restart --trace 'a b.txt' --usrfrc {DRIVE} --dt 2.5e-07 --tmax 0.5 "
-        "--friction coulomb")
+        "--friction coulomb"
+    )
     assert resume_command(RunOptions(deck="d.inp")) == "d.inp --restart"
 
 
 def test_default_paths():
     assert default_paths(RunOptions(deck="decks/x.inp")) == (
-        "x.trace.txt", "x.energy.csv", "x.trace.txt.restart.npz")
+        "x.trace.txt",
+        "x.energy.csv",
+        "x.trace.txt.restart.npz",
+    )
     assert default_paths(RunOptions(deck="x.inp", trace="o/t.txt")) == (
-        "o/t.txt", "o/t.txt.energy.csv", "o/t.txt.restart.npz")
+        "o/t.txt",
+        "o/t.txt.energy.csv",
+        "o/t.txt.restart.npz",
+    )
     assert default_paths(RunOptions(deck="x.inp", energy="e.csv"))[1] == "e.csv"
 
 
@@ -115,6 +153,7 @@ def test_plot(capsys, impact):
 
 # ------------------------------------------------------------------------------------ refusals
 
+
 def test_printed_appendix_a_deck_is_refused(capsys, tmp_path, monkeypatch):
     """The report's Appendix A deck puts its walls through the particle cloud: exit 2, one
     message naming a particle, a triangle and a depth, pointing to `x3dpd check` and the
@@ -123,8 +162,14 @@ def test_printed_appendix_a_deck_is_refused(capsys, tmp_path, monkeypatch):
     code, out, err = x3dpd(capsys, DECKS / "appendix_a.inp", "--usrfrc", DRIVE)
     assert code == 2
     assert err.startswith("x3dpd: error: ") and err.count("\n") == 1
-    for word in ("particle node 26", "triangle 3 (nodes 5 8 6)", "0.0625 (2 R) deep",
-                 "x3dpd check", "decks/appendix_a_cube.inp", "penetration limit"):
+    for word in (
+        "particle node 26",
+        "triangle 3 (nodes 5 8 6)",
+        "0.0625 (2 R) deep",
+        "x3dpd check",
+        "decks/appendix_a_cube.inp",
+        "penetration limit",
+    ):
         assert word in err, word
     assert "Traceback" not in err
     assert not os.path.exists("appendix_a.trace.txt")
@@ -163,8 +208,9 @@ def test_bad_input_exits_2(capsys, impact):
 
 
 def test_irest_without_dump_exits_2(capsys, impact):
-    text = impact.read_text().replace("1e-09 1e-09 0 1000000000.0 0 5 0",
-                                      "1e-09 1e-09 0 1000000000.0 1 5 0")
+    text = impact.read_text().replace(
+        "1e-09 1e-09 0 1000000000.0 0 5 0", "1e-09 1e-09 0 1000000000.0 1 5 0"
+    )
     assert text != impact.read_text()
     impact.write_text(text)
     code, _, err = x3dpd(capsys, impact)
@@ -187,6 +233,7 @@ def test_unstable_run_exits_3_and_keeps_the_trace(capsys, impact):
 
 
 # ------------------------------------------------------------------------------ CLI plumbing
+
 
 def test_main_passes_on_ctx_exit_codes(capsys):
     _register()
@@ -221,7 +268,7 @@ def test_progress_terminal_and_plain():
     assert text.endswith("\n") and text.count("\n") == 1
     plain = io.StringIO()
     p = Progress(False, 15.0, stream=plain)
-    p.update(1.5, 5e4, 270.0, 0.0)             # less than 10 s since start: nothing
+    p.update(1.5, 5e4, 270.0, 0.0)  # less than 10 s since start: nothing
     p.update(1.5, 5e4, 270.0, 0.0, force=True)
     assert plain.getvalue().count("\n") == 1 and "\r" not in plain.getvalue()
     quiet = io.StringIO()
@@ -232,8 +279,10 @@ def test_progress_terminal_and_plain():
 def test_deck_key_masks_tmax_trest_irest_and_comments():
     base = read_deck(IMPACT)
     text = IMPACT.read_text()
-    changed = text.replace("0.0 1.2e-05 0.0 1e-09 1e-09 0 1000000000.0 0",
-                           "0.0 5.0e-05 1.0e-6 1e-09 1e-09 0 1000000000.0 1")
+    changed = text.replace(
+        "0.0 1.2e-05 0.0 1e-09 1e-09 0 1000000000.0 0",
+        "0.0 5.0e-05 1.0e-6 1e-09 1e-09 0 1000000000.0 1",
+    )
     assert changed != text
     assert deck_key(parse_deck("$ another comment\n" + changed, "x.inp")) == deck_key(base)
     other = text.replace("-62.832", "-60.0")
@@ -241,6 +290,7 @@ def test_deck_key_masks_tmax_trest_irest_and_comments():
 
 
 # ---------------------------------------------------------------------------------- energy file
+
 
 def test_energy_writer_streams_and_resumes(tmp_path):
     path = tmp_path / "e.csv"
@@ -260,7 +310,7 @@ def test_energy_writer_streams_and_resumes(tmp_path):
     with pytest.raises(Exception, match="already exists"):
         EnergyWriter(path, cols)
     with open(path, "ab") as f:
-        f.write(b"0.004,7")                                          # a cut row (killed run)
+        f.write(b"0.004,7")  # a cut row (killed run)
     assert read_energy(path).data.shape == (4, 3)
     with EnergyWriter(path, cols, append_at=(off, rows)) as w:
         w.write_rows(np.array([[3e-3, 5.0, 6.0]]))
@@ -289,6 +339,7 @@ def test_energy_times_are_written_as_the_trace_writes_them(tmp_path):
 
 # ------------------------------------------------------------------- rough edges of a run
 
+
 def test_bad_plot_path_is_refused_before_the_run(capsys, impact):
     code, out, err = x3dpd(capsys, impact, "--plot", "no/such/folder/run.png")
     assert code == 2 and "--plot" in err and "does not exist" in err
@@ -303,16 +354,29 @@ def test_usrfrc_replaces_the_decks_drive_and_says_so(capsys, tmp_path, monkeypat
     other = "sine:node=9,dof=1,amp=4.84040e-3,hz=38"
     code, out, err = x3dpd(capsys, "beam_1.inp", "--usrfrc", other, "--tmax", "1e-3")
     assert code == 0, err
-    assert (f"drive          {other} (replaces the deck's USRFRC "
-            "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21") in out
+    assert (
+        f"drive          {other} (replaces the deck's USRFRC "
+        "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21"
+    ) in out
     side = read_trace("beam_1.trace.txt").meta
     assert side["usrfrc"] == [other]
     assert side["usrfrc_replaced"] == ["sine:node=9,dof=1,amp=4.84040e-3,hz=37.21"]
-    code, out, err = x3dpd(capsys, "beam_1.inp", "--usrfrc", other, "--usrfrc-add", "--tmax",
-                           "1e-3", "--trace", "add.trace.txt")
+    code, out, err = x3dpd(
+        capsys,
+        "beam_1.inp",
+        "--usrfrc",
+        other,
+        "--usrfrc-add",
+        "--tmax",
+        "1e-3",
+        "--trace",
+        "add.trace.txt",
+    )
     assert code == 0, err
     assert read_trace("add.trace.txt").meta["usrfrc"] == [
-        "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21", other]
+        "sine:node=9,dof=1,amp=4.84040e-3,hz=37.21",
+        other,
+    ]
 
 
 def test_unstable_summary_agrees_with_the_error_line(capsys, impact):

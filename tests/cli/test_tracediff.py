@@ -31,8 +31,11 @@ def pair(tmp_path):
     ref = rng.normal(size=(4, len(IDS), 9))
     run = ref.copy()
     run[2, 1, 4] *= 1 + 1e-6
-    return (write(tmp_path / "ref.txt", ref), write(tmp_path / "same.txt", ref),
-            write(tmp_path / "run.txt", run))
+    return (
+        write(tmp_path / "ref.txt", ref),
+        write(tmp_path / "same.txt", ref),
+        write(tmp_path / "run.txt", run),
+    )
 
 
 def invoke(*args):
@@ -109,14 +112,25 @@ def test_truncated_trace_warns(pair, tmp_path):
 
 def test_python_m_exit_statuses(pair, tmp_path):
     ref, same, run = pair
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-        [os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
-         os.environ.get("PYTHONPATH", "")])}
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join(
+            [
+                os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                os.environ.get("PYTHONPATH", ""),
+            ]
+        ),
+    }
 
     def x3dpd(*args):
-        return subprocess.run([sys.executable, "-m", "x3dpd", "tracediff", *args],
-                              capture_output=True, text=True, env=env, timeout=120,
-                              check=False)
+        return subprocess.run(
+            [sys.executable, "-m", "x3dpd", "tracediff", *args],
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=120,
+            check=False,
+        )
 
     assert x3dpd(same, ref).returncode == 0
     assert x3dpd(run, ref).returncode == 1

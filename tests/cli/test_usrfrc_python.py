@@ -14,45 +14,73 @@ from x3dpd.io.trace import read_trace
 DECK = Path(__file__).resolve().parents[2] / "decks" / "appendix_a_cube.inp"
 
 # A global dict: numba cannot compile a function that reads one.
-PYTHON_ONLY = '''
+PYTHON_ONLY = """
 import math
 DRIVE = {"amp": 4.84040e-3, "omega": 2.0 * math.pi * 37.21}
 
 def usrfrc(time, coords, vels, force):
     force[NODE_INDEX[25], 0] += DRIVE["amp"] * math.sin(DRIVE["omega"] * time)
-'''
+"""
 
 
 def _run(tmp_path, *args, quiet=True):
     from click.testing import CliRunner
 
     _register()
-    return CliRunner().invoke(cli, ["run", str(DECK), "--tmax", "0.002",
-                                    *(["--quiet"] if quiet else []), *args])
+    return CliRunner().invoke(
+        cli, ["run", str(DECK), "--tmax", "0.002", *(["--quiet"] if quiet else []), *args]
+    )
 
 
 def test_uncompilable_force_is_refused_without_the_fallback(tmp_path):
     user = tmp_path / "force.py"
     user.write_text(PYTHON_ONLY)
-    proc = subprocess.run([sys.executable, "-m", "x3dpd", "run", str(DECK), "--tmax", "0.002",
-                           "--usrfrc", str(user), "--trace", str(tmp_path / "a.txt")],
-                          capture_output=True, text=True, timeout=300)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "x3dpd",
+            "run",
+            str(DECK),
+            "--tmax",
+            "0.002",
+            "--usrfrc",
+            str(user),
+            "--trace",
+            str(tmp_path / "a.txt"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert proc.returncode == 2, proc.stderr
     assert "force.py:6: numba cannot compile" in proc.stderr
     assert "--usrfrc-python" in proc.stderr and "Traceback" not in proc.stderr
-    assert not (tmp_path / "a.txt").exists()   # nothing written
+    assert not (tmp_path / "a.txt").exists()  # nothing written
 
 
 def test_fallback_runs_and_matches_the_builtin_force(tmp_path):
     user = tmp_path / "force.py"
     user.write_text(PYTHON_ONLY)
-    slow = _run(tmp_path, "--usrfrc", str(user), "--usrfrc-python",
-                "--trace", str(tmp_path / "slow.txt"), quiet=False)
+    slow = _run(
+        tmp_path,
+        "--usrfrc",
+        str(user),
+        "--usrfrc-python",
+        "--trace",
+        str(tmp_path / "slow.txt"),
+        quiet=False,
+    )
     assert slow.exit_code == 0, slow.output
     # the summary names the code the run executed (docs/usrfrc.md)
     assert f"code run       {user} (a USRFRC Python file" in slow.output
-    fast = _run(tmp_path, "--usrfrc", "sine:node=25,dof=1,amp=4.84040e-3,hz=37.21",
-                "--trace", str(tmp_path / "fast.txt"))
+    fast = _run(
+        tmp_path,
+        "--usrfrc",
+        "sine:node=25,dof=1,amp=4.84040e-3,hz=37.21",
+        "--trace",
+        str(tmp_path / "fast.txt"),
+    )
     assert fast.exit_code == 0, fast.output
     a = read_trace(tmp_path / "slow.txt").node(25)[:, 0]
     b = read_trace(tmp_path / "fast.txt").node(25)[:, 0]

@@ -21,8 +21,9 @@ def strip_positions(obj: Any) -> Any:
         changes = {}
         for f in dataclasses.fields(obj):
             value = getattr(obj, f.name)
-            changes[f.name] = _POSITION_FIELDS[f.name] if f.name in _POSITION_FIELDS \
-                else strip_positions(value)
+            changes[f.name] = (
+                _POSITION_FIELDS[f.name] if f.name in _POSITION_FIELDS else strip_positions(value)
+            )
         return dataclasses.replace(obj, **changes)
     if isinstance(obj, tuple):
         return tuple(strip_positions(x) for x in obj)

@@ -16,8 +16,9 @@ FIXTURES = ROOT / "tests" / "fixtures" / "modes"
 
 def make_mode_files():
     """tools/make_mode_files.py as a module (its CHAIN and CANTILEVER parameters, its writers)."""
-    spec = importlib.util.spec_from_file_location("make_mode_files",
-                                                  ROOT / "tools" / "make_mode_files.py")
+    spec = importlib.util.spec_from_file_location(
+        "make_mode_files", ROOT / "tools" / "make_mode_files.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -26,6 +27,7 @@ def make_mode_files():
 def need_pynastran():
     """Skip the calling test unless pyNastran's OP2 reader imports."""
     from x3dpd.deck.modes.op2_format import INSTALL_HINT, pynastran_op2
+
     try:
         pynastran_op2()
         import cpylog  # noqa: F401
@@ -54,15 +56,32 @@ def cantilever_fe(p: dict):
     ne, L = p["elements"], p["L"]
     le, nn = L / ne, ne + 1
     A = p["b"] * p["h"]
-    ke = np.array([[12, 6 * le, -12, 6 * le], [6 * le, 4 * le**2, -6 * le, 2 * le**2],
-                   [-12, -6 * le, 12, -6 * le], [6 * le, 2 * le**2, -6 * le, 4 * le**2]]) / le**3
-    me = np.array([[156, 22 * le, 54, -13 * le], [22 * le, 4 * le**2, 13 * le, -3 * le**2],
-                   [54, 13 * le, 156, -22 * le], [-13 * le, -3 * le**2, -22 * le, 4 * le**2]])
+    ke = (
+        np.array(
+            [
+                [12, 6 * le, -12, 6 * le],
+                [6 * le, 4 * le**2, -6 * le, 2 * le**2],
+                [-12, -6 * le, 12, -6 * le],
+                [6 * le, 2 * le**2, -6 * le, 4 * le**2],
+            ]
+        )
+        / le**3
+    )
+    me = np.array(
+        [
+            [156, 22 * le, 54, -13 * le],
+            [22 * le, 4 * le**2, 13 * le, -3 * le**2],
+            [54, 13 * le, 156, -22 * le],
+            [-13 * le, -3 * le**2, -22 * le, 4 * le**2],
+        ]
+    )
     me = me * p["rho"] * A * le / 420
     # one plane at a time: unknowns (v_2, t_2, ..., v_nn, t_nn), node 1 clamped
     freqs, shapes = [], []
-    for comp, rot, inertia, rot_sign in ((1, 5, p["h"] * p["b"] ** 3 / 12, 1.0),
-                                         (2, 4, p["b"] * p["h"] ** 3 / 12, -1.0)):
+    for comp, rot, inertia, rot_sign in (
+        (1, 5, p["h"] * p["b"] ** 3 / 12, 1.0),
+        (2, 4, p["b"] * p["h"] ** 3 / 12, -1.0),
+    ):
         K, M = np.zeros((2 * nn, 2 * nn)), np.zeros((2 * nn, 2 * nn))
         for e in range(ne):
             idx = np.arange(2 * e, 2 * e + 4)
@@ -88,6 +107,5 @@ def aligned(actual: np.ndarray, expected: np.ndarray) -> np.ndarray:
     shape is defined up to its sign, and the sign of the dot product of the two (over the
     values both have) decides. Only a whole mode is flipped, never one component."""
     both = ~np.isnan(actual) & ~np.isnan(expected)
-    dots = np.array([np.sum(actual[r][both[r]] * expected[r][both[r]])
-                     for r in range(len(actual))])
+    dots = np.array([np.sum(actual[r][both[r]] * expected[r][both[r]]) for r in range(len(actual))])
     return expected * np.where(dots < 0, -1.0, 1.0).reshape((-1,) + (1,) * (expected.ndim - 1))

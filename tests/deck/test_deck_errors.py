@@ -17,24 +17,46 @@ BAD = FIXTURES / "bad"
 CASES = [
     # file, line, column, card, key phrase
     ("unknown_keyword.inp", 4, 1, "DECK", "unknown card keyword 'REEL'; did you mean RBEL?"),
-    ("missing_end_next_card.inp", 3, 1, "PDMP",
-     "PDMP (opened at line 1) has no END before the next card BODY"),
-    ("missing_end_eof.inp", 7, 1, "NODE COORDINATES",
-     "NODE COORDINATES (opened at line 4) has no END: the file ends inside it"),
+    (
+        "missing_end_next_card.inp",
+        3,
+        1,
+        "PDMP",
+        "PDMP (opened at line 1) has no END before the next card BODY",
+    ),
+    (
+        "missing_end_eof.inp",
+        7,
+        1,
+        "NODE COORDINATES",
+        "NODE COORDINATES (opened at line 4) has no END: the file ends inside it",
+    ),
     ("missing_end_title.inp", 3, 1, "TITLE", "TITLE (opened at line 1) has no END"),
     ("contact_one_block.inp", 4, 1, "CONTACT", "has no second END (a CONTACT card is: master"),
     ("contact_second_block_eof.inp", 6, 1, "CONTACT", "has no second END"),
     ("non_number.inp", 3, 14, "NODE COORDINATES", "Y (field 3) must be a number; got 'abc'"),
     ("non_number_continued.inp", 3, 8, "TRACE", "NODE (field 5) must be a number; got 'x29'"),
     ("bad_number_two_dots.inp", 2, 8, "BODY", "AY (field 2) must be a number; got '-386.1.0'"),
-    ("parameters_too_few.inp", 3, 7, "PARAMETERS",
-     ("PARAMETERS needs 11 values: TIME TMAX TREST DTMIN DTMAX INCR INCMAX IREST NINTPL ISTAT "
-      "ITRAC; got 9")),
+    (
+        "parameters_too_few.inp",
+        3,
+        7,
+        "PARAMETERS",
+        (
+            "PARAMETERS needs 11 values: TIME TMAX TREST DTMIN DTMAX INCR INCMAX IREST NINTPL ISTAT "
+            "ITRAC; got 9"
+        ),
+    ),
     ("parameters_two_records.inp", 3, 5, "PARAMETERS", "a second record starts here"),
     ("body_too_many.inp", 2, 22, "BODY", "BODY needs 3 values: AX AY AZ; got 4"),
     ("node_too_few.inp", 2, 5, "NODE COORDINATES", "needs 4 values: ID X Y Z; got 3"),
-    ("matid_too_few.inp", 2, 4, "MATID",
-     "needs at least 8 values: MID TYPE MASS SCALE KX KY KZ C [EXTRA...]; got 7"),
+    (
+        "matid_too_few.inp",
+        2,
+        4,
+        "MATID",
+        "needs at least 8 values: MID TYPE MASS SCALE KX KY KZ C [EXTRA...]; got 7",
+    ),
     ("initial_fields.inp", 2, 4, "INITIAL", "needs 4 or 7 values: NODE VX VY VZ [WX WY WZ]"),
     ("contact_triangle_fields.inp", 2, 4, "CONTACT", "4 values per master triangle"),
     ("integer_expected.inp", 3, 6, "ELEMENTS", "MID (field 2) must be an integer; got 2.5"),
@@ -52,8 +74,13 @@ CASES = [
     ("prho_not_positive.inp", 2, 17, "PDMP", "PRHO (particle density) must be > 0"),
     ("pdmp_odd_maxwell.inp", 3, 19, "PDMP", "extra Maxwell terms come in pairs"),
     ("mass_negative.inp", 2, 8, "MASS", "MASS (field 2) must be >= 0"),
-    ("duplicate_parameters.inp", 7, 1, "PARAMETERS",
-     "PARAMETERS may appear only once; it was already given at line 1"),
+    (
+        "duplicate_parameters.inp",
+        7,
+        1,
+        "PARAMETERS",
+        "PARAMETERS may appear only once; it was already given at line 1",
+    ),
     ("amp_mid_line.inp", 2, 7, "TRACE", "'&' continues a record only at the end of a line"),
     ("text_after_end.inp", 3, 5, "BODY", "END must end its line; got 'BODY'"),
     ("values_outside_card.inp", 4, 4, "DECK", "expected a card keyword at the start of a line"),
@@ -66,8 +93,9 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize(("name", "line", "column", "card", "phrase"), CASES,
-                         ids=[c[0] for c in CASES])
+@pytest.mark.parametrize(
+    ("name", "line", "column", "card", "phrase"), CASES, ids=[c[0] for c in CASES]
+)
 def test_bad_deck(name, line, column, card, phrase):
     path = BAD / name
     with pytest.raises(DeckError) as info:
@@ -82,9 +110,11 @@ def test_every_fixture_has_a_case():
     assert sorted(p.name for p in BAD.glob("*.inp")) == sorted(c[0] for c in CASES)
 
 
-@pytest.mark.parametrize(("name", "line", "column", "card", "phrase"),
-                         [c for c in CASES if c[0] not in ("not_utf8.inp",)],
-                         ids=[c[0] for c in CASES if c[0] not in ("not_utf8.inp",)])
+@pytest.mark.parametrize(
+    ("name", "line", "column", "card", "phrase"),
+    [c for c in CASES if c[0] not in ("not_utf8.inp",)],
+    ids=[c[0] for c in CASES if c[0] not in ("not_utf8.inp",)],
+)
 def test_parse_deck_reports_the_same(name, line, column, card, phrase):
     """parse_deck(text) and read_deck(path) share one pipeline and give the same error."""
     text = (BAD / name).read_bytes().decode("utf-8")
@@ -99,42 +129,48 @@ def test_missing_file_is_a_deck_error(tmp_path):
         read_deck(tmp_path / "nope.inp")
 
 
-@pytest.mark.parametrize(("text", "phrase"), [
-    ("TITLE\nx\nEND\nPARM\n", "did you mean PARAMETERS?"),
-    ("TITEL\nx\nEND\n", "did you mean TITLE?"),
-    ("MATERIAL\n 1 1 0 1 1 1 1 0\nEND\n", "did you mean MATID?"),
-    ("GRAVITY\n 0 -386.1 0\nEND\n", "expected one of TITLE, PARAMETERS"),
-])
+@pytest.mark.parametrize(
+    ("text", "phrase"),
+    [
+        ("TITLE\nx\nEND\nPARM\n", "did you mean PARAMETERS?"),
+        ("TITEL\nx\nEND\n", "did you mean TITLE?"),
+        ("MATERIAL\n 1 1 0 1 1 1 1 0\nEND\n", "did you mean MATID?"),
+        ("GRAVITY\n 0 -386.1 0\nEND\n", "expected one of TITLE, PARAMETERS"),
+    ],
+)
 def test_unknown_keyword_suggestions(text, phrase):
     with pytest.raises(DeckError, match=phrase.replace("?", r"\?")):
         parse_deck(text)
 
 
-@pytest.mark.parametrize("text", [
-    "TRACE\n 1 2\n 3 2.5\nEND\n",     # integer expected in a list
-    "NODE\n 1 0 0 0 0\nEND\n",        # too many (slow path of the node fast path)
-    "NODE\n 1, 0, 0\nEND\n",          # too few with commas
-    "NODE\n 1 0 0 0 $ c\n 2 0 0\nEND\n",
-    "NODE\n -1 0 0 0\nEND\n",
-    "CONTACT\n1 1 2 3\nEND\n 1\nEND\n",  # a slave record without nodes
-    "RBEL\n 25 123456 0\nEND\n",
-    "TRACE\nEND\n",
-    "BODY\nEND\n",
-    "ELEMENTS\n 1 2 3 4 5\nEND\n",
-    "INITIAL\n 28 1 2 3 4\nEND\n",   # rotational velocities come all three or none
-    "INITIAL\n 28 1 2 3 4 5 6 7\nEND\n",
-    "MASS\n 25 1 2 3 4 5\nEND\n",
-    "PDMP\n 25 .1 1 .3 1 1 1\nEND\n",
-    "PDMP\n -1 .1 1 .3 1 1 1 .3\nEND\n",
-    "BOUNDARY CONDITIONS\n 1 25 0 2\nEND\n",
-    "TITLE\nx\nEND\nTITLE\ny\nEND\n",
-    "BODY\n 0 0 0\nEND\nTRACE\n 1\nEND\nBODY\n 1 1 1\nEND\n",
-    "BODY\n 1e400 0 0\n",
-    "NODE\n 1 0 0 0 &\nEND\n",
-    "BODY\n 0 0 0 END END\n",
-    "\x0c",
-    "TITLE\r\nx\rEND\n",
-])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "TRACE\n 1 2\n 3 2.5\nEND\n",  # integer expected in a list
+        "NODE\n 1 0 0 0 0\nEND\n",  # too many (slow path of the node fast path)
+        "NODE\n 1, 0, 0\nEND\n",  # too few with commas
+        "NODE\n 1 0 0 0 $ c\n 2 0 0\nEND\n",
+        "NODE\n -1 0 0 0\nEND\n",
+        "CONTACT\n1 1 2 3\nEND\n 1\nEND\n",  # a slave record without nodes
+        "RBEL\n 25 123456 0\nEND\n",
+        "TRACE\nEND\n",
+        "BODY\nEND\n",
+        "ELEMENTS\n 1 2 3 4 5\nEND\n",
+        "INITIAL\n 28 1 2 3 4\nEND\n",  # rotational velocities come all three or none
+        "INITIAL\n 28 1 2 3 4 5 6 7\nEND\n",
+        "MASS\n 25 1 2 3 4 5\nEND\n",
+        "PDMP\n 25 .1 1 .3 1 1 1\nEND\n",
+        "PDMP\n -1 .1 1 .3 1 1 1 .3\nEND\n",
+        "BOUNDARY CONDITIONS\n 1 25 0 2\nEND\n",
+        "TITLE\nx\nEND\nTITLE\ny\nEND\n",
+        "BODY\n 0 0 0\nEND\nTRACE\n 1\nEND\nBODY\n 1 1 1\nEND\n",
+        "BODY\n 1e400 0 0\n",
+        "NODE\n 1 0 0 0 &\nEND\n",
+        "BODY\n 0 0 0 END END\n",
+        "\x0c",
+        "TITLE\r\nx\rEND\n",
+    ],
+)
 def test_more_bad_decks_give_deck_errors(text):
     with pytest.raises(DeckError) as info:
         parse_deck(text, "t.inp")

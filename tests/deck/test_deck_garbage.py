@@ -21,12 +21,15 @@ def _write(path, head: bytes, chunk: bytes, total: int = 100 * MB) -> None:
         f.writelines(chunk for _ in range((total - len(head)) // len(chunk)))
 
 
-@pytest.mark.parametrize(("kind", "line", "phrase"), [
-    ("binary", 1, "binary"),
-    ("text", 1, "unknown card keyword 'lorem'"),
-    ("deck then garbage", 9, "X (field 2) must be a number"),
-    ("no newline", 1, "line longer than"),
-])
+@pytest.mark.parametrize(
+    ("kind", "line", "phrase"),
+    [
+        ("binary", 1, "binary"),
+        ("text", 1, "unknown card keyword 'lorem'"),
+        ("deck then garbage", 9, "X (field 2) must be a number"),
+        ("no newline", 1, "line longer than"),
+    ],
+)
 def test_100_mb_of_garbage_fails_fast(tmp_path, kind, line, phrase):
     path = tmp_path / "garbage.inp"
     if kind == "binary":

@@ -44,13 +44,13 @@ nonneg = st.floats(0.0, allow_infinity=False)
 positive = st.floats(0.0, exclude_min=True, allow_infinity=False)
 ints = st.integers(-(10**6), 10**6)
 dof_sets = st.lists(st.integers(1, 6), min_size=1, max_size=6, unique=True).map(tuple)
-text_chars = st.characters(codec="utf-8", exclude_characters="$\n\r",
-                           exclude_categories=("Cc", "Cs", "Zl", "Zp"))
+text_chars = st.characters(
+    codec="utf-8", exclude_characters="$\n\r", exclude_categories=("Cc", "Cs", "Zl", "Zp")
+)
 
 
 def _writable_line(line: str) -> bool:
-    return (bool(line.strip(" \t,")) and line == line.rstrip()
-            and line.strip().upper() != "END")
+    return bool(line.strip(" \t,")) and line == line.rstrip() and line.strip().upper() != "END"
 
 
 title_lines = st.text(text_chars, min_size=1, max_size=30).filter(_writable_line)
@@ -61,28 +61,67 @@ specs = st.text(text_chars, min_size=1, max_size=40).map(str.strip).filter(_writ
 def parameters(draw):
     dtmax = draw(positive)
     time = draw(reals)
-    return Parameters(time, draw(st.floats(time, allow_infinity=False)), draw(reals),
-                      draw(st.floats(0.0, dtmax)), dtmax, draw(ints), draw(reals), draw(ints),
-                      draw(ints), draw(ints), draw(st.integers(1, 10**6)))
+    return Parameters(
+        time,
+        draw(st.floats(time, allow_infinity=False)),
+        draw(reals),
+        draw(st.floats(0.0, dtmax)),
+        dtmax,
+        draw(ints),
+        draw(reals),
+        draw(ints),
+        draw(ints),
+        draw(ints),
+        draw(st.integers(1, 10**6)),
+    )
 
 
-materials = st.builds(Material, ids, ints, nonneg, reals, reals, reals, reals, reals,
-                      st.lists(reals, max_size=20).map(tuple))
-pdmps = st.builds(Pdmp, st.integers(0, 10**9), positive, positive, reals, reals, reals, reals,
-                  reals, reals, reals, reals, st.lists(st.tuples(reals, reals), max_size=4)
-                  .map(tuple))
+materials = st.builds(
+    Material,
+    ids,
+    ints,
+    nonneg,
+    reals,
+    reals,
+    reals,
+    reals,
+    reals,
+    st.lists(reals, max_size=20).map(tuple),
+)
+pdmps = st.builds(
+    Pdmp,
+    st.integers(0, 10**9),
+    positive,
+    positive,
+    reals,
+    reals,
+    reals,
+    reals,
+    reals,
+    reals,
+    reals,
+    reals,
+    st.lists(st.tuples(reals, reals), max_size=4).map(tuple),
+)
 nodes = st.builds(Node, ids, reals, reals, reals)
 elements = st.builds(Element, ids, ids, st.lists(ids, min_size=1, max_size=2).map(tuple))
 masses = st.builds(Mass, ids, nonneg, nonneg, nonneg, nonneg)
 rbels = st.builds(Rbel, ids, dof_sets, st.lists(ids, min_size=1, max_size=40).map(tuple))
-boundaries = st.builds(lambda first, span, inc, dofs: Boundary(first, first + span, inc, dofs),
-                       ids, st.integers(0, 1000), st.integers(1, 100), dof_sets)
+boundaries = st.builds(
+    lambda first, span, inc, dofs: Boundary(first, first + span, inc, dofs),
+    ids,
+    st.integers(0, 1000),
+    st.integers(1, 100),
+    dof_sets,
+)
 triangles = st.builds(Triangle, ids, st.tuples(ids, ids, ids))
 slave_sets = st.builds(SlaveSet, ids, st.lists(ids, min_size=1, max_size=40).map(tuple))
-contacts = st.builds(Contact, st.lists(triangles, max_size=5).map(tuple),
-                     st.lists(slave_sets, max_size=3).map(tuple))
-initials = st.builds(Initial, ids, st.one_of(st.tuples(reals, reals, reals),
-                                             st.tuples(*[reals] * 6)))
+contacts = st.builds(
+    Contact, st.lists(triangles, max_size=5).map(tuple), st.lists(slave_sets, max_size=3).map(tuple)
+)
+initials = st.builds(
+    Initial, ids, st.one_of(st.tuples(reals, reals, reals), st.tuples(*[reals] * 6))
+)
 
 
 def _maybe(strategy):
@@ -97,14 +136,25 @@ decks = st.builds(
     Deck,
     title=_maybe(st.builds(Title, st.lists(title_lines, max_size=4).map("\n".join))),
     parameters=_maybe(parameters()),
-    materials=_some(materials), pdmp=_some(pdmps, 3),
+    materials=_some(materials),
+    pdmp=_some(pdmps, 3),
     body=_maybe(st.builds(Body, reals, reals, reals)),
     trace=_maybe(st.builds(Trace, st.lists(ids, min_size=1, max_size=30).map(tuple))),
-    nodes=_some(nodes, 20), elements=_some(elements), masses=_some(masses), rbels=_some(rbels),
-    boundaries=_some(boundaries), contacts=_some(contacts, 2), initials=_some(initials),
+    nodes=_some(nodes, 20),
+    elements=_some(elements),
+    masses=_some(masses),
+    rbels=_some(rbels),
+    boundaries=_some(boundaries),
+    contacts=_some(contacts, 2),
+    initials=_some(initials),
     usrfrc=_some(st.builds(Usrfrc, st.lists(specs, min_size=1, max_size=3).map(tuple)), 2),
-    wallmat=_maybe(st.lists(st.builds(WallMat, ids, positive, st.floats(-0.999, 0.499),
-                                      nonneg), min_size=1, max_size=3).map(tuple)),
+    wallmat=_maybe(
+        st.lists(
+            st.builds(WallMat, ids, positive, st.floats(-0.999, 0.499), nonneg),
+            min_size=1,
+            max_size=3,
+        ).map(tuple)
+    ),
 ).filter(lambda d: format_deck(d).strip())
 
 
@@ -133,11 +183,22 @@ def test_format_then_parse_gives_the_same_cards(deck):
 
 # -- the same cards, written in other legal forms ------------------------------------------------
 
-_CANONICAL = {"TITLE": "titl", "PARAMETERS": "para", "MATID": "mati", "PDMP": "pdmp",
-              "BODY": "body", "TRACE": "trac", "NODE COORDINATES": "node",
-              "ELEMENTS": "elem", "MASS": "mass", "RBEL": "rbel",
-              "BOUNDARY CONDITIONS": "boun", "CONTACT": "cont", "INITIAL": "init",
-              "USRFRC": "usrf"}
+_CANONICAL = {
+    "TITLE": "titl",
+    "PARAMETERS": "para",
+    "MATID": "mati",
+    "PDMP": "pdmp",
+    "BODY": "body",
+    "TRACE": "trac",
+    "NODE COORDINATES": "node",
+    "ELEMENTS": "elem",
+    "MASS": "mass",
+    "RBEL": "rbel",
+    "BOUNDARY CONDITIONS": "boun",
+    "CONTACT": "cont",
+    "INITIAL": "init",
+    "USRFRC": "usrf",
+}
 _NUMBER = re.compile(r"(?<![\w.])([+-]?\d[\d.]*)(e)([+-]?\d+)")
 
 
@@ -151,8 +212,11 @@ def restyled(draw, text: str) -> str:
             pass  # a TITLE line or USRFRC spec: only a comment may be added
         elif line in _CANONICAL:
             short = _CANONICAL[line]
-            word = draw(st.sampled_from([line, line.lower(), short, short.upper(),
-                                         short.capitalize() + "xyz"]))
+            word = draw(
+                st.sampled_from(
+                    [line, line.lower(), short, short.upper(), short.capitalize() + "xyz"]
+                )
+            )
             in_text_card = line in ("TITLE", "USRFRC")
             line = word
         elif line == "END":
@@ -160,8 +224,11 @@ def restyled(draw, text: str) -> str:
             in_text_card = False
         elif not in_text_card and not line.startswith("$"):
             sep = draw(st.sampled_from([" ", ", ", ",", "\t", "   ", " ,"]))
-            line = line.replace(" ", sep) if not line.endswith("&") else \
-                line[:-2].replace(" ", sep) + draw(st.sampled_from([" &", ", &", "&"]))
+            line = (
+                line.replace(" ", sep)
+                if not line.endswith("&")
+                else line[:-2].replace(" ", sep) + draw(st.sampled_from([" &", ", &", "&"]))
+            )
             line = _NUMBER.sub(lambda m: m[1] + draw(st.sampled_from("eEdD")) + m[3], line)
         if draw(st.booleans()):
             line += " $ " + draw(st.text(text_chars, max_size=8))
@@ -188,9 +255,15 @@ def test_write_deck_is_atomic_and_round_trips(tmp_path):
 
 
 def test_writer_refuses_what_the_language_cannot_hold():
-    for bad in (Deck(body=Body(math.inf, 0, 0)), Deck(title=Title("a\nEND")),
-                Deck(title=Title("cost $5")), Deck(trace=Trace((1.5,))),
-                Deck(usrfrc=(Usrfrc(("",)),)), Deck(usrfrc=(Usrfrc((" , ,",)),)),
-                Deck(title=Title(",")), Deck(rbels=(Rbel(1, (), (2,)),))):
+    for bad in (
+        Deck(body=Body(math.inf, 0, 0)),
+        Deck(title=Title("a\nEND")),
+        Deck(title=Title("cost $5")),
+        Deck(trace=Trace((1.5,))),
+        Deck(usrfrc=(Usrfrc(("",)),)),
+        Deck(usrfrc=(Usrfrc((" , ,",)),)),
+        Deck(title=Title(",")),
+        Deck(rbels=(Rbel(1, (), (2,)),)),
+    ):
         with pytest.raises(ValueError):
             format_deck(bad)

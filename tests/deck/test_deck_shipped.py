@@ -15,8 +15,7 @@ from x3dpd.deck import Pos, format_deck, parse_deck, read_deck
 PRINTED = FIXTURES / "good" / "appendix_a_printed.inp"
 
 
-@pytest.fixture(scope="module", params=[DECKS / "appendix_a.inp", PRINTED],
-                ids=["decks", "frozen"])
+@pytest.fixture(scope="module", params=[DECKS / "appendix_a.inp", PRINTED], ids=["decks", "frozen"])
 def appendix_a(request):
     deck = read_deck(request.param)
     assert deck.path == str(request.param)
@@ -38,8 +37,9 @@ def test_exact_positions_in_the_frozen_copy():
 def test_title_is_kept_verbatim(appendix_a):
     assert appendix_a.title.text == (
         '(50) 0.0625" diameter steel particles with viscoelastic properties\n'
-        "cavity interior dimensions: 0.25 x 0.25 x 0.25\"\n"
-        "coefficient of friction =0.30")
+        'cavity interior dimensions: 0.25 x 0.25 x 0.25"\n'
+        "coefficient of friction =0.30"
+    )
 
 
 def test_parameters(appendix_a):
@@ -109,8 +109,10 @@ def test_contact(appendix_a):
 
 def test_cube_variant_differs_only_in_cavity_nodes(appendix_a):
     """decks/appendix_a_cube.inp: the same deck with nodes 1-24 moved onto the cube's faces."""
-    cube, printed = strip_positions(read_deck(DECKS / "appendix_a_cube.inp")), \
-        strip_positions(appendix_a)
+    cube, printed = (
+        strip_positions(read_deck(DECKS / "appendix_a_cube.inp")),
+        strip_positions(appendix_a),
+    )
     assert cube.nodes[24:] == printed.nodes[24:]
     assert all(a != b for a, b in zip(cube.nodes[:24], printed.nodes[:24], strict=True))
     assert cube.contacts == printed.contacts and cube.pdmp == printed.pdmp

@@ -42,37 +42,75 @@ def test_blank_and_comment_lines_inside_a_continued_record():
 
 
 def test_comments_everywhere():
-    text = ("$ leading comment\n\nBODY $ gravity\n$\n$ AX AY AZ\n 0.0, -386.1, 0.0 $ in/s^2\n"
-            "END $ done\n$ trailing\n")
+    text = (
+        "$ leading comment\n\nBODY $ gravity\n$\n$ AX AY AZ\n 0.0, -386.1, 0.0 $ in/s^2\n"
+        "END $ done\n$ trailing\n"
+    )
     deck = parse_deck(text)
     assert (deck.body.ax, deck.body.ay, deck.body.az) == (0.0, -386.1, 0.0)
     assert deck.body.pos == Pos(6, 2)
 
 
-@pytest.mark.parametrize(("keyword", "field"), [
-    ("TITL", "title"), ("TITLE", "title"), ("title", "title"), ("Titles", "title"),
-    ("PARA", "parameters"), ("PARAMETERS", "parameters"), ("parameter", "parameters"),
-    ("MATI", "materials"), ("MATID", "materials"), ("matid", "materials"),
-    ("PDMP", "pdmp"), ("pdmp", "pdmp"),
-    ("BODY", "body"), ("Body Force", "body"),
-    ("TRAC", "trace"), ("TRACE", "trace"), ("tracer nodes", "trace"),
-    ("NODE", "nodes"), ("NODE COORDINATES", "nodes"), ("nodes", "nodes"),
-    ("ELEM", "elements"), ("ELEMENTS", "elements"), ("elem", "elements"),
-    ("MASS", "masses"), ("masses", "masses"),
-    ("RBEL", "rbels"), ("rbel", "rbels"),
-    ("BOUN", "boundaries"), ("BOUNDARY CONDITIONS", "boundaries"), ("boundary", "boundaries"),
-    ("CONT", "contacts"), ("CONTACT", "contacts"), ("contact surfaces", "contacts"),
-    ("INIT", "initials"), ("INITIAL", "initials"), ("INITIAL VELOCITIES", "initials"),
-    ("USRF", "usrfrc"), ("USRFRC", "usrfrc"), ("usrfrc", "usrfrc"),
-])
+@pytest.mark.parametrize(
+    ("keyword", "field"),
+    [
+        ("TITL", "title"),
+        ("TITLE", "title"),
+        ("title", "title"),
+        ("Titles", "title"),
+        ("PARA", "parameters"),
+        ("PARAMETERS", "parameters"),
+        ("parameter", "parameters"),
+        ("MATI", "materials"),
+        ("MATID", "materials"),
+        ("matid", "materials"),
+        ("PDMP", "pdmp"),
+        ("pdmp", "pdmp"),
+        ("BODY", "body"),
+        ("Body Force", "body"),
+        ("TRAC", "trace"),
+        ("TRACE", "trace"),
+        ("tracer nodes", "trace"),
+        ("NODE", "nodes"),
+        ("NODE COORDINATES", "nodes"),
+        ("nodes", "nodes"),
+        ("ELEM", "elements"),
+        ("ELEMENTS", "elements"),
+        ("elem", "elements"),
+        ("MASS", "masses"),
+        ("masses", "masses"),
+        ("RBEL", "rbels"),
+        ("rbel", "rbels"),
+        ("BOUN", "boundaries"),
+        ("BOUNDARY CONDITIONS", "boundaries"),
+        ("boundary", "boundaries"),
+        ("CONT", "contacts"),
+        ("CONTACT", "contacts"),
+        ("contact surfaces", "contacts"),
+        ("INIT", "initials"),
+        ("INITIAL", "initials"),
+        ("INITIAL VELOCITIES", "initials"),
+        ("USRF", "usrfrc"),
+        ("USRFRC", "usrfrc"),
+        ("usrfrc", "usrfrc"),
+    ],
+)
 def test_keywords_by_four_letters_any_case(keyword, field):
     bodies = {
-        "title": "a title\nEND", "parameters": "0 1 0 1e-7 1e-7 0 1e9 0 5 0 1\nEND",
-        "materials": "2 1 0 1 1 1 1 0\nEND", "pdmp": f"{PDMP_RECORD}\nEND",
-        "body": "0 -386.1 0\nEND", "trace": "25\nEND", "nodes": "1 0 0 0\nEND",
-        "elements": "1 2 25\nEND", "masses": "25 1.0\nEND", "rbels": "25 123 1 3\nEND",
-        "boundaries": "1 25 1 2\nEND", "contacts": "1 1 2 3\nEND\n1 26\nEND",
-        "initials": "26 1 0 0\nEND", "usrfrc": "sine:node=25,dof=1,amp=1,hz=2\nEND",
+        "title": "a title\nEND",
+        "parameters": "0 1 0 1e-7 1e-7 0 1e9 0 5 0 1\nEND",
+        "materials": "2 1 0 1 1 1 1 0\nEND",
+        "pdmp": f"{PDMP_RECORD}\nEND",
+        "body": "0 -386.1 0\nEND",
+        "trace": "25\nEND",
+        "nodes": "1 0 0 0\nEND",
+        "elements": "1 2 25\nEND",
+        "masses": "25 1.0\nEND",
+        "rbels": "25 123 1 3\nEND",
+        "boundaries": "1 25 1 2\nEND",
+        "contacts": "1 1 2 3\nEND\n1 26\nEND",
+        "initials": "26 1 0 0\nEND",
+        "usrfrc": "sine:node=25,dof=1,amp=1,hz=2\nEND",
     }
     deck = parse_deck(f"{keyword}\n{bodies[field]}\n")
     assert getattr(deck, field)
@@ -83,11 +121,26 @@ def test_end_is_case_insensitive_and_may_be_indented():
     assert deck.body.az == -1.0 and deck.trace.nodes == (1, 2)
 
 
-@pytest.mark.parametrize(("text", "value"), [
-    ("0.", 0.0), ("5.e-7", 5e-7), ("1.e9", 1e9), ("1.0E20", 1e20), ("1.87500e-001", 0.1875),
-    ("10.0e6", 1e7), ("-386.100", -386.1), ("+1", 1.0), ("1.0D0", 1.0), ("2.5d-3", 2.5e-3),
-    (".5", 0.5), ("-.5E+2", -50.0), ("7", 7.0), ("0.00000e+000", 0.0), ("3.08293e-4", 3.08293e-4),
-])
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("0.", 0.0),
+        ("5.e-7", 5e-7),
+        ("1.e9", 1e9),
+        ("1.0E20", 1e20),
+        ("1.87500e-001", 0.1875),
+        ("10.0e6", 1e7),
+        ("-386.100", -386.1),
+        ("+1", 1.0),
+        ("1.0D0", 1.0),
+        ("2.5d-3", 2.5e-3),
+        (".5", 0.5),
+        ("-.5E+2", -50.0),
+        ("7", 7.0),
+        ("0.00000e+000", 0.0),
+        ("3.08293e-4", 3.08293e-4),
+    ],
+)
 def test_fortran_numbers(text, value):
     deck = parse_deck(f"BODY\n {text} {text},{text}\nEND\nNODE\n 1 {text} 0 0\nEND\n")
     assert (deck.body.ax, deck.body.ay, deck.body.az) == (value, value, value)
@@ -101,19 +154,25 @@ def test_integer_fields_accept_integral_numbers(text, value):
 
 
 def test_separators_blanks_tabs_and_commas():
-    deck = parse_deck("NODE COORDINATES\n1,0.5,0.25,0.125\n\t2\t1.0 ,2.0,  3.0\n"
-                      "3 , 4 ,5 ,6 ,\nEND\n")
+    deck = parse_deck(
+        "NODE COORDINATES\n1,0.5,0.25,0.125\n\t2\t1.0 ,2.0,  3.0\n3 , 4 ,5 ,6 ,\nEND\n"
+    )
     assert [(n.nid, n.x, n.y, n.z) for n in deck.nodes] == [
-        (1, 0.5, 0.25, 0.125), (2, 1.0, 2.0, 3.0), (3, 4.0, 5.0, 6.0)]
+        (1, 0.5, 0.25, 0.125),
+        (2, 1.0, 2.0, 3.0),
+        (3, 4.0, 5.0, 6.0),
+    ]
     assert [n.pos for n in deck.nodes] == [Pos(2, 1), Pos(3, 2), Pos(4, 1)]
 
 
 def test_contact_with_two_slave_sets_and_two_triangle_sets():
-    text = ("CONTACT\n 1 1 2 4\n 1 2 3 4\n 2 5 6 7\nEND\n"
-            " 1 26 27 28 &\n   29 30\n 2 31, 32\nEND\n")
+    text = "CONTACT\n 1 1 2 4\n 1 2 3 4\n 2 5 6 7\nEND\n 1 26 27 28 &\n   29 30\n 2 31, 32\nEND\n"
     (c,) = parse_deck(text).contacts
-    assert [(t.set_id, t.nodes) for t in c.triangles] == [(1, (1, 2, 4)), (1, (2, 3, 4)),
-                                                           (2, (5, 6, 7))]
+    assert [(t.set_id, t.nodes) for t in c.triangles] == [
+        (1, (1, 2, 4)),
+        (1, (2, 3, 4)),
+        (2, (5, 6, 7)),
+    ]
     assert [(s.set_id, s.nodes) for s in c.slaves] == [(1, (26, 27, 28, 29, 30)), (2, (31, 32))]
     assert c.slaves[0].positions[-1] == Pos(7, 7) and c.slaves[1].pos == Pos(8, 2)
     assert c.pos == Pos(1, 1)
@@ -125,9 +184,11 @@ def test_contact_without_slaves():
 
 
 def test_several_pdmp_cards_are_particle_groups_in_file_order():
-    text = (f"PDMP\n {PDMP_RECORD}\nEND\n"
-            "PDMP\n 75, 0.05, 7.3e-4, 0.33, 25.0e6, 0.0, 1.0, 0.2, 1.0, 2.0, 3.0, 5.e6, 1.e-5 &\n"
-            "   2.e6, 1.e-4\n 90 0.01 1e-3 0.3 1e7 0 1 0\nEND\n")
+    text = (
+        f"PDMP\n {PDMP_RECORD}\nEND\n"
+        "PDMP\n 75, 0.05, 7.3e-4, 0.33, 25.0e6, 0.0, 1.0, 0.2, 1.0, 2.0, 3.0, 5.e6, 1.e-5 &\n"
+        "   2.e6, 1.e-4\n 90 0.01 1e-3 0.3 1e7 0 1 0\nEND\n"
+    )
     g1, g2, g3 = parse_deck(text).pdmp
     assert (g1.nodlim, g1.vx0, g1.extra_terms) == (25, 0.0, ())
     assert (g2.nodlim, g2.rzero, g2.e1, (g2.vx0, g2.vy0, g2.vz0)) == (75, 0.05, 0.0, (1, 2, 3))
@@ -136,29 +197,38 @@ def test_several_pdmp_cards_are_particle_groups_in_file_order():
 
 
 def test_repeated_cards_accumulate_in_file_order():
-    text = ("MATID\n 2 1 0 1 1 1 1 0\nEND\nNODE\n 1 0 0 0\nEND\nMATID\n 3 1 0 1 2 2 2 0 9 9\nEND\n"
-            "NODE\n 2 1 0 0\nEND\nUSRFRC\n sine:node=1,dof=1,amp=1,hz=1\nEND\n"
-            "USRFRC\n sine:node=2,dof=2,amp=1,hz=1\n  ramp:node=2  \nEND\n")
+    text = (
+        "MATID\n 2 1 0 1 1 1 1 0\nEND\nNODE\n 1 0 0 0\nEND\nMATID\n 3 1 0 1 2 2 2 0 9 9\nEND\n"
+        "NODE\n 2 1 0 0\nEND\nUSRFRC\n sine:node=1,dof=1,amp=1,hz=1\nEND\n"
+        "USRFRC\n sine:node=2,dof=2,amp=1,hz=1\n  ramp:node=2  \nEND\n"
+    )
     deck = parse_deck(text)
     assert [m.mid for m in deck.materials] == [2, 3] and deck.materials[1].extra == (9.0, 9.0)
     assert [n.nid for n in deck.nodes] == [1, 2]
-    assert [u.specs for u in deck.usrfrc] == [("sine:node=1,dof=1,amp=1,hz=1",),
-                                              ("sine:node=2,dof=2,amp=1,hz=1", "ramp:node=2")]
+    assert [u.specs for u in deck.usrfrc] == [
+        ("sine:node=1,dof=1,amp=1,hz=1",),
+        ("sine:node=2,dof=2,amp=1,hz=1", "ramp:node=2"),
+    ]
 
 
 def test_title_lines_are_kept_verbatim():
-    text = ("TITLE first line on the keyword line\n  indented second line  \n\n$ a comment\n"
-            "PARAMETERS study, cost $5\nEND\n")
+    text = (
+        "TITLE first line on the keyword line\n  indented second line  \n\n$ a comment\n"
+        "PARAMETERS study, cost $5\nEND\n"
+    )
     deck = parse_deck(text)
-    assert deck.title.text == ("first line on the keyword line\n  indented second line\n"
-                               "PARAMETERS study, cost")
+    assert deck.title.text == (
+        "first line on the keyword line\n  indented second line\nPARAMETERS study, cost"
+    )
     assert parse_deck("TITLE\nEND\n").title.text == ""
     assert parse_deck("TITLE\nENDING is not END\nend\n").title.text == "ENDING is not END"
 
 
 def test_optional_fields_default_to_zero():
-    deck = parse_deck("MASS\n 25 3.0e-3\n 26 1 2\nEND\nINITIAL\n 26 1 2 3\n 27 1 2 3 4 5 6\n"
-                      "END\nPDMP\n 25 .1 1 .3 1 0 1 .3 5\nEND\n")
+    deck = parse_deck(
+        "MASS\n 25 3.0e-3\n 26 1 2\nEND\nINITIAL\n 26 1 2 3\n 27 1 2 3 4 5 6\n"
+        "END\nPDMP\n 25 .1 1 .3 1 0 1 .3 5\nEND\n"
+    )
     assert [(m.mass, m.ixx, m.iyy, m.izz) for m in deck.masses] == [(3e-3, 0, 0, 0), (1, 2, 0, 0)]
     assert [i.velocity for i in deck.initials] == [(1, 2, 3), (1, 2, 3, 4, 5, 6)]
     assert (deck.pdmp[0].vx0, deck.pdmp[0].vy0, deck.pdmp[0].vz0) == (5.0, 0.0, 0.0)
@@ -170,10 +240,14 @@ def test_elements_with_one_or_two_nodes():
 
 
 def test_boundary_and_dof_codes():
-    deck = parse_deck("BOUNDARY CONDITIONS\n 1, 25, 1, 2, 3, 4, 5 6\n 30 40 2 1\nEND\n"
-                      "RBEL\n 25 135 1 3\n 26 6 2 4 5\nEND\n")
+    deck = parse_deck(
+        "BOUNDARY CONDITIONS\n 1, 25, 1, 2, 3, 4, 5 6\n 30 40 2 1\nEND\n"
+        "RBEL\n 25 135 1 3\n 26 6 2 4 5\nEND\n"
+    )
     assert [(b.first, b.last, b.inc, b.dofs) for b in deck.boundaries] == [
-        (1, 25, 1, (2, 3, 4, 5, 6)), (30, 40, 2, (1,))]
+        (1, 25, 1, (2, 3, 4, 5, 6)),
+        (30, 40, 2, (1,)),
+    ]
     assert [(r.dofs, r.slaves) for r in deck.rbels] == [((1, 3, 5), (3,)), ((6,), (4, 5))]
 
 

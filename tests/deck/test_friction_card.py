@@ -67,11 +67,15 @@ def test_the_run_option_offers_every_registered_law():
 
 
 def test_parse_model_and_roundtrip(tmp_path):
-    path = _deck(tmp_path, "FRICTION\n$ group law mu_s mu_k\n 4 mindlin 0.4 0.3 epsd 0.01\n"
-                           " 5 MINDLIN 0.2 0.2\nEND\n")
+    path = _deck(
+        tmp_path,
+        "FRICTION\n$ group law mu_s mu_k\n 4 mindlin 0.4 0.3 epsd 0.01\n 5 MINDLIN 0.2 0.2\nEND\n",
+    )
     deck = x3dpd.load_deck(path)
     assert [(r.nodlim, r.law, r.mu_s, r.mu_k, r.roll, r.mu_r) for r in deck.friction] == [
-        (4, "mindlin", 0.4, 0.3, "epsd", 0.01), (5, "mindlin", 0.2, 0.2, "none", 0.0)]
+        (4, "mindlin", 0.4, 0.3, "epsd", 0.01),
+        (5, "mindlin", 0.2, 0.2, "none", 0.0),
+    ]
     model = build_model(deck)
     assert model.friction_law == "mindlin" and model.rolling_law == "epsd"
     assert list(model.mu) == [0.4, 0.2] and list(model.mu_kinetic) == [0.3, 0.2]
@@ -80,19 +84,33 @@ def test_parse_model_and_roundtrip(tmp_path):
     again.write_text(format_deck(deck))
     assert x3dpd.load_deck(again).friction == tuple(
         r.__class__(**{**r.__dict__, "pos": x3dpd.load_deck(again).friction[k].pos})
-        for k, r in enumerate(deck.friction))
+        for k, r in enumerate(deck.friction)
+    )
     assert format_deck(x3dpd.load_deck(again)) == format_deck(deck)
 
 
-@pytest.mark.parametrize("card, line, col, phrase", [
-    ("FRICTION\n 4 stick 0.3 0.3\nEND\n", 9, 4, "LAW must be one of coulomb, regularized, mindlin"),
-    ("FRICTION\n 4 mindlin 0.3\nEND\n", 9, 2, "needs 4 or 6 values: NODLIM LAW MUS MUK"),
-    ("FRICTION\n 4 mindlin 0.3 0.4\nEND\n", 9, 16, "MUK (kinetic) must not exceed MUS"),
-    ("FRICTION\n 4 coulomb 0.3 0.2\nEND\n", 9, 16, "the coulomb law has one friction coefficient"),
-    ("FRICTION\n 4 mindlin 0.3 0.3 spin 0.1\nEND\n", 9, 20, "ROLL must be one of none, epsd"),
-    ("FRICTION\n 4 mindlin -0.3 -0.3\nEND\n", 9, 12, "MUS must be >= 0"),
-    ("FRICTION\n 4 mindlin 0.3 0.3 epsd\nEND\n", 9, 24, "ROLL needs its MUR"),
-])
+@pytest.mark.parametrize(
+    "card, line, col, phrase",
+    [
+        (
+            "FRICTION\n 4 stick 0.3 0.3\nEND\n",
+            9,
+            4,
+            "LAW must be one of coulomb, regularized, mindlin",
+        ),
+        ("FRICTION\n 4 mindlin 0.3\nEND\n", 9, 2, "needs 4 or 6 values: NODLIM LAW MUS MUK"),
+        ("FRICTION\n 4 mindlin 0.3 0.4\nEND\n", 9, 16, "MUK (kinetic) must not exceed MUS"),
+        (
+            "FRICTION\n 4 coulomb 0.3 0.2\nEND\n",
+            9,
+            16,
+            "the coulomb law has one friction coefficient",
+        ),
+        ("FRICTION\n 4 mindlin 0.3 0.3 spin 0.1\nEND\n", 9, 20, "ROLL must be one of none, epsd"),
+        ("FRICTION\n 4 mindlin -0.3 -0.3\nEND\n", 9, 12, "MUS must be >= 0"),
+        ("FRICTION\n 4 mindlin 0.3 0.3 epsd\nEND\n", 9, 24, "ROLL needs its MUR"),
+    ],
+)
 def test_bad_records_point_at_the_field(tmp_path, card, line, col, phrase):
     path = _deck(tmp_path, card)
     with pytest.raises(DeckError) as err:
@@ -102,11 +120,17 @@ def test_bad_records_point_at_the_field(tmp_path, card, line, col, phrase):
     assert phrase in text
 
 
-@pytest.mark.parametrize("card, phrase", [
-    ("FRICTION\n 4 mindlin 0.3 0.3\n 5 coulomb 0.3 0.3\nEND\n", "a scene runs one tangential law"),
-    ("FRICTION\n 7 mindlin 0.3 0.3\nEND\n", "NODLIM 7 names no PDMP group"),
-    ("FRICTION\n 4 mindlin 0.3 0.3\n 4 mindlin 0.3 0.3\nEND\n", "is given twice"),
-])
+@pytest.mark.parametrize(
+    "card, phrase",
+    [
+        (
+            "FRICTION\n 4 mindlin 0.3 0.3\n 5 coulomb 0.3 0.3\nEND\n",
+            "a scene runs one tangential law",
+        ),
+        ("FRICTION\n 7 mindlin 0.3 0.3\nEND\n", "NODLIM 7 names no PDMP group"),
+        ("FRICTION\n 4 mindlin 0.3 0.3\n 4 mindlin 0.3 0.3\nEND\n", "is given twice"),
+    ],
+)
 def test_bad_groups_are_refused(tmp_path, card, phrase):
     path = _deck(tmp_path, card)
     with pytest.raises(DeckError) as err:
@@ -117,6 +141,7 @@ def test_bad_groups_are_refused(tmp_path, card, phrase):
 def test_the_card_chooses_the_law_and_the_option_overrides_it(tmp_path):
     path = _deck(tmp_path, "FRICTION\n 4 mindlin 0.3 0.3\n 5 mindlin 0.2 0.2\nEND\n")
     from x3dpd.solver.simulation import Simulation
+
     model = build_model(x3dpd.load_deck(path))
     assert Simulation(model).variant.friction_law == "mindlin"
     assert Simulation(model, friction="coulomb").variant.friction_law == "coulomb"
@@ -154,8 +179,20 @@ def test_the_run_option_accepts_mindlin(tmp_path):
     _register()
     path = _deck(tmp_path, "")
     trace = tmp_path / "d.trace.txt"
-    result = CliRunner().invoke(cli, ["run", str(path), "--friction", "mindlin", "--trace",
-                                      str(trace), "--tmax", "2e-6", "--quiet"])
+    result = CliRunner().invoke(
+        cli,
+        [
+            "run",
+            str(path),
+            "--friction",
+            "mindlin",
+            "--trace",
+            str(trace),
+            "--tmax",
+            "2e-6",
+            "--quiet",
+        ],
+    )
     assert result.exit_code == 0, result.output
     assert json.loads((tmp_path / "d.trace.txt.json").read_text())["friction"] == "mindlin"
     bad = CliRunner().invoke(cli, ["run", str(path), "--friction", "sticky"])

@@ -37,10 +37,11 @@ GOOD = """ MODE 1 10.0 0.02
 
 def test_records_read_with_their_values():
     d = parse_deck(_deck(GOOD))
-    assert [(m.number, m.freq, m.zeta) for m in d.modal.modes] == [(1, 10.0, 0.02),
-                                                                    (2, 25.0, 0.03)]
-    assert [(s.node, s.dof, s.values) for s in d.modal.shapes] == [(1, 1, (20.0, 15.0)),
-                                                                   (2, 1, (12.0, -30.0))]
+    assert [(m.number, m.freq, m.zeta) for m in d.modal.modes] == [(1, 10.0, 0.02), (2, 25.0, 0.03)]
+    assert [(s.node, s.dof, s.values) for s in d.modal.shapes] == [
+        (1, 1, (20.0, 15.0)),
+        (2, 1, (12.0, -30.0)),
+    ]
     assert d.modal.housing == "added"
 
 
@@ -48,26 +49,30 @@ def test_writer_round_trip():
     d = parse_deck(_deck(GOOD + " HOUSING included\n"))
     again = parse_deck(format_deck(d))
     assert again.modal.lines == d.modal.lines
-    assert [(s.node, s.values) for s in again.modal.shapes] == [(s.node, s.values)
-                                                                for s in d.modal.shapes]
+    assert [(s.node, s.values) for s in again.modal.shapes] == [
+        (s.node, s.values) for s in d.modal.shapes
+    ]
     assert again.modal.housing == "included"
 
 
-@pytest.mark.parametrize("modal, line, col, says", [
-    (" MODE 1 10.0\n SHAPE 1 1 2.0\n", 9, 2, "MODE takes 3 or 4 values"),
-    (" MODE 1 ten 0.01\n SHAPE 1 1 2.0\n", 9, 9, "expected a number"),
-    (" MODE 1 10.0 -0.1\n SHAPE 1 1 2.0\n", 9, 14, "ZETA must be >= 0"),
-    (" MODE 1 10.0 0.01\n SHAPE 1 7 2.0\n", 10, 10, "not one of 1..6"),
-    (" MODE 1 10.0 0.01\n SHAPE 1 1 2.0 3.0\n", 10, 12, "one per MODE record"),
-    (" MODE 1 10.0 0.01\n MODE 1 12.0 0.01\n SHAPE 1 1 2.0 3.0\n", 10, 7, "given twice"),
-    (" MODE 1 10.0 0.01\n SHAPE 1 1 2.0\n SHAPE 1 1 3.0\n", 11, 2, "shape values twice"),
-    (" MODE 1 10.0 0.01\n SHAPE 1 1 2.0\n HOUSING maybe\n", 11, 10, "HOUSING takes one word"),
-    (" MODES 1 10.0 0.01\n", 9, 2, "unknown MODAL record"),
-    (" FILE x.uff modes=3:1\n", 9, 19, "range is empty"),
-    (" FILE x.uff band=5\n", 9, 18, "expected LO:HI"),
-    (" FILE x.uff units=m,N\n", 9, 19, "FILE units"),
-    (" MODE 1 10.0 0.01\n", 9, 2, "without SHAPE records"),
-])
+@pytest.mark.parametrize(
+    "modal, line, col, says",
+    [
+        (" MODE 1 10.0\n SHAPE 1 1 2.0\n", 9, 2, "MODE takes 3 or 4 values"),
+        (" MODE 1 ten 0.01\n SHAPE 1 1 2.0\n", 9, 9, "expected a number"),
+        (" MODE 1 10.0 -0.1\n SHAPE 1 1 2.0\n", 9, 14, "ZETA must be >= 0"),
+        (" MODE 1 10.0 0.01\n SHAPE 1 7 2.0\n", 10, 10, "not one of 1..6"),
+        (" MODE 1 10.0 0.01\n SHAPE 1 1 2.0 3.0\n", 10, 12, "one per MODE record"),
+        (" MODE 1 10.0 0.01\n MODE 1 12.0 0.01\n SHAPE 1 1 2.0 3.0\n", 10, 7, "given twice"),
+        (" MODE 1 10.0 0.01\n SHAPE 1 1 2.0\n SHAPE 1 1 3.0\n", 11, 2, "shape values twice"),
+        (" MODE 1 10.0 0.01\n SHAPE 1 1 2.0\n HOUSING maybe\n", 11, 10, "HOUSING takes one word"),
+        (" MODES 1 10.0 0.01\n", 9, 2, "unknown MODAL record"),
+        (" FILE x.uff modes=3:1\n", 9, 19, "range is empty"),
+        (" FILE x.uff band=5\n", 9, 18, "expected LO:HI"),
+        (" FILE x.uff units=m,N\n", 9, 19, "FILE units"),
+        (" MODE 1 10.0 0.01\n", 9, 2, "without SHAPE records"),
+    ],
+)
 def test_bad_records_point_at_the_value(modal, line, col, says):
     with pytest.raises(DeckError) as err:
         parse_deck(_deck(modal), "m.inp")
@@ -113,5 +118,5 @@ def test_boundary_and_missing_dofs_are_held():
     d = _deck(GOOD, "BOUNDARY CONDITIONS\n 2 2 1 1\nEND\n")
     ms = build_model(parse_deck(d)).modal
     assert ms.held[0].tolist() == [False] + [True] * 5
-    assert ms.held[1].all()                 # node 2's x fixed by BOUNDARY, the rest not given
+    assert ms.held[1].all()  # node 2's x fixed by BOUNDARY, the rest not given
     assert np.all(ms.shape[1] == 0.0)

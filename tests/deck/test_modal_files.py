@@ -6,8 +6,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from modal_models import (CANTILEVER_BETA_L, FIXTURES, aligned, cantilever_fe, chain_closed_form,
-                          make_mode_files, need_pynastran)
+from modal_models import (
+    CANTILEVER_BETA_L,
+    FIXTURES,
+    aligned,
+    cantilever_fe,
+    chain_closed_form,
+    make_mode_files,
+    need_pynastran,
+)
 
 from x3dpd.errors import ModeFileError
 from x3dpd.deck.modes import (
@@ -72,13 +79,13 @@ def test_what_each_chain_file_declares():
     freq, shapes = chain_expected()
     # the CSV holds the tool's float64 values: only the two eigen-solutions' round-off differs
     np.testing.assert_allclose(csv.freq_hz, freq, rtol=1e-12)
-    np.testing.assert_allclose(csv.shapes[:, :, 0], aligned(csv.shapes, shapes)[:, :, 0],
-                               rtol=1e-12, atol=atol(shapes))
+    np.testing.assert_allclose(
+        csv.shapes[:, :, 0], aligned(csv.shapes, shapes)[:, :, 0], rtol=1e-12, atol=atol(shapes)
+    )
     assert np.isnan(csv.shapes[:, :, 1:]).all()
 
 
-@pytest.mark.parametrize("name, rtol", [("cantilever.op2", OP2_RTOL),
-                                        ("cantilever.uff", UFF_RTOL)])
+@pytest.mark.parametrize("name, rtol", [("cantilever.op2", OP2_RTOL), ("cantilever.uff", UFF_RTOL)])
 def test_cantilever_reads_back_to_its_beam_elements(name, rtol):
     if name.endswith(".op2"):
         need_pynastran()
@@ -86,9 +93,10 @@ def test_cantilever_reads_back_to_its_beam_elements(name, rtol):
     freq, shapes = cantilever_fe(TOOL.CANTILEVER)
     assert modes.node_ids.tolist() == list(range(1, TOOL.CANTILEVER["elements"] + 2))
     np.testing.assert_allclose(modes.freq_hz, freq, rtol=rtol)
-    np.testing.assert_allclose(modes.shapes, aligned(modes.shapes, shapes), rtol=rtol,
-                               atol=atol(shapes))
-    assert (modes.shapes[:, 0] == 0).all()      # the clamped node
+    np.testing.assert_allclose(
+        modes.shapes, aligned(modes.shapes, shapes), rtol=rtol, atol=atol(shapes)
+    )
+    assert (modes.shapes[:, 0] == 0).all()  # the clamped node
     assert (modes.shapes[:, :, [0, 3]] == 0).all()  # no axial, no torsion freedom
     assert modes.units == (None if name.endswith(".op2") else ("in", "lbf", "s"))
     assert modes.damping is None
@@ -119,8 +127,9 @@ def test_op2_and_uff_of_one_model_agree():
     need_pynastran()
     op2, uff = read_modes(FIXTURES / "cantilever.op2"), read_modes(FIXTURES / "cantilever.uff")
     np.testing.assert_allclose(uff.freq_hz, op2.freq_hz, rtol=UFF_RTOL + OP2_RTOL)
-    np.testing.assert_allclose(uff.shapes, op2.shapes, rtol=UFF_RTOL + OP2_RTOL,
-                               atol=atol(op2.shapes))
+    np.testing.assert_allclose(
+        uff.shapes, op2.shapes, rtol=UFF_RTOL + OP2_RTOL, atol=atol(op2.shapes)
+    )
 
 
 def rich_mode_set(path="rich"):
@@ -131,9 +140,16 @@ def rich_mode_set(path="rich"):
     shapes[:, 1, 3:] = np.nan
     shapes[2, 3, :] = np.nan
     shapes[:, 2, :] = np.nan  # node 100: no value at all
-    return ModeSet(path, [2, 5, 9], [0.0, 1 / 3, 12345.678901234567], [3, 7, 100, 2_000_000_000],
-                   shapes, damping=[0.0, 0.05, 0.999], modal_mass=[1.0, 2.5, 1e-9],
-                   units=("mm", "N", "s"))
+    return ModeSet(
+        path,
+        [2, 5, 9],
+        [0.0, 1 / 3, 12345.678901234567],
+        [3, 7, 100, 2_000_000_000],
+        shapes,
+        damping=[0.0, 0.05, 0.999],
+        modal_mass=[1.0, 2.5, 1e-9],
+        units=("mm", "N", "s"),
+    )
 
 
 def assert_same(a: ModeSet, b: ModeSet):
@@ -160,22 +176,23 @@ def test_csv_and_npz_round_trips_are_exact(tmp_path, write, suffix, source):
 def test_csv_layout_as_a_person_or_a_spreadsheet_writes_it(tmp_path):
     path = tmp_path / "hand.csv"
     path.write_bytes(
-        "\ufeff# modes of a test article\r\n"          # Excel's BOM, CRLF lines, a comment
+        "\ufeff# modes of a test article\r\n"  # Excel's BOM, CRLF lines, a comment
         "units, in, lbf, s\r\n"
-        "freq_hz,12.5,80\r\n"                          # no blank second cell: fine
+        "freq_hz,12.5,80\r\n"  # no blank second cell: fine
         "\r\n"
-        "modal_mass,,2,2,,\r\n"                        # trailing empty cells: padding
+        "modal_mass,,2,2,,\r\n"  # trailing empty cells: padding
         "Node,DOF,1,2\r\n"
         "5,1,0.5,-0.25\r\n"
-        "5,rz,1e-3,\r\n"                               # an empty cell: no value
-        "\"3\",Y,-1.5,2\r\n"
-        "3,6.0,7,8\r\n".encode("utf-8"))
+        "5,rz,1e-3,\r\n"  # an empty cell: no value
+        '"3",Y,-1.5,2\r\n'
+        "3,6.0,7,8\r\n".encode("utf-8")
+    )
     modes = read_modes(path)
     assert modes.units == ("in", "lbf", "s")
     np.testing.assert_array_equal(modes.freq_hz, [12.5, 80.0])
     np.testing.assert_array_equal(modes.modal_mass, [2.0, 2.0])
     assert modes.damping is None
-    assert modes.node_ids.tolist() == [3, 5]                 # sorted
+    assert modes.node_ids.tolist() == [3, 5]  # sorted
     expected = np.full((2, 2, 6), np.nan)
     expected[:, 1, 0] = [0.5, -0.25]
     expected[0, 1, 5] = 1e-3
@@ -209,14 +226,20 @@ def test_select_by_numbers_and_band():
     assert modes.select().mode_numbers.tolist() == [2, 5, 9]
 
 
-@pytest.mark.parametrize("kwargs, words", [
-    ({"modes": [2, 4, 6]}, "rich: no mode 4, 6 in the file; it has modes 2, 5, 9"),
-    ({"band": (1, 100)}, "rich: no mode between 1 and 100 Hz"),
-    ({"modes": 2, "band": (1, 1e6)}, "rich: no mode between 1 and 1e+06 Hz; the modes are at 0 Hz"),
-    ({"band": (5, 1)}, "rich: band (5, 1) Hz: expected lo <= hi"),
-    ({"band": 5}, "rich: band must be (lo, hi) in Hz"),
-    ({"modes": [1.5]}, "rich: modes to select must be mode numbers"),
-])
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"modes": [2, 4, 6]}, "rich: no mode 4, 6 in the file; it has modes 2, 5, 9"),
+        ({"band": (1, 100)}, "rich: no mode between 1 and 100 Hz"),
+        (
+            {"modes": 2, "band": (1, 1e6)},
+            "rich: no mode between 1 and 1e+06 Hz; the modes are at 0 Hz",
+        ),
+        ({"band": (5, 1)}, "rich: band (5, 1) Hz: expected lo <= hi"),
+        ({"band": 5}, "rich: band must be (lo, hi) in Hz"),
+        ({"modes": [1.5]}, "rich: modes to select must be mode numbers"),
+    ],
+)
 def test_select_says_what_it_cannot_do(kwargs, words):
     with pytest.raises(ModeFileError) as e:
         rich_mode_set().select(**kwargs)
@@ -227,8 +250,9 @@ def test_mass_normalised_divides_by_the_root_of_the_modal_mass():
     modes = rich_mode_set()
     unit = modes.mass_normalised()
     np.testing.assert_array_equal(unit.modal_mass, 1.0)
-    np.testing.assert_allclose(unit.shapes * np.sqrt([1.0, 2.5, 1e-9])[:, None, None],
-                               modes.shapes, rtol=1e-15)
+    np.testing.assert_allclose(
+        unit.shapes * np.sqrt([1.0, 2.5, 1e-9])[:, None, None], modes.shapes, rtol=1e-15
+    )
     assert read_modes(FIXTURES / "chain3.csv").mass_normalised().modal_mass is None
 
 
@@ -236,8 +260,15 @@ def test_modes_from_matrices_matches_the_chain_closed_form():
     m, k, n = 3.0, 250.0, 5
     K = k * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
     K[-1, -1] = k
-    modes = modes_from_matrices(K, m * np.eye(n), [50, 40, 30, 20, 10], ["z"] * n, n_modes=4,
-                                damping=0.02, units=("m", "N", "s"))
+    modes = modes_from_matrices(
+        K,
+        m * np.eye(n),
+        [50, 40, 30, 20, 10],
+        ["z"] * n,
+        n_modes=4,
+        damping=0.02,
+        units=("m", "N", "s"),
+    )
     freq, phi = chain_closed_form(m, k, n)
     np.testing.assert_allclose(modes.freq_hz, freq[:4], rtol=1e-12)
     # nodes come sorted: node 10 is the chain's last mass
@@ -251,21 +282,30 @@ def test_modes_from_matrices_matches_the_chain_closed_form():
 
 
 def test_modes_from_matrices_keeps_rigid_body_modes_at_zero_hertz():
-    K = 100.0 * np.array([[1.0, -1.0], [-1.0, 1.0]])   # two free masses on one spring
+    K = 100.0 * np.array([[1.0, -1.0], [-1.0, 1.0]])  # two free masses on one spring
     modes = modes_from_matrices(K, np.eye(2), [1, 2], [1, 1])
     assert modes.freq_hz[0] == 0.0
     np.testing.assert_allclose(modes.freq_hz[1], np.sqrt(200.0) / (2 * np.pi), rtol=1e-12)
 
 
-@pytest.mark.parametrize("K, M, nodes, dofs, words", [
-    ([[1.0, 2.0], [0.0, 1.0]], np.eye(2), [1, 2], [1, 1], "K is not symmetric"),
-    (np.eye(2), [[1.0, 0.0], [0.0, -1.0]], [1, 2], [1, 1], "M is not positive definite"),
-    (-np.eye(2), np.eye(2), [1, 2], [1, 1], "K is not positive semi-definite"),
-    (np.eye(2), np.eye(2), [1, 1], ["x", 1], "node 1 DOF 1 names more than one matrix row"),
-    (np.eye(2), np.eye(2), [1, 2], [1, 7], "DOF '7': expected 1-6"),
-    (np.eye(2), np.eye(3), [1, 2], [1, 1], "must be square matrices of one size"),
-    (np.eye(2), np.eye(2), [1, 2, 3], [1, 1, 1], "3 node ids and 3 DOFs for matrices of size 2"),
-])
+@pytest.mark.parametrize(
+    "K, M, nodes, dofs, words",
+    [
+        ([[1.0, 2.0], [0.0, 1.0]], np.eye(2), [1, 2], [1, 1], "K is not symmetric"),
+        (np.eye(2), [[1.0, 0.0], [0.0, -1.0]], [1, 2], [1, 1], "M is not positive definite"),
+        (-np.eye(2), np.eye(2), [1, 2], [1, 1], "K is not positive semi-definite"),
+        (np.eye(2), np.eye(2), [1, 1], ["x", 1], "node 1 DOF 1 names more than one matrix row"),
+        (np.eye(2), np.eye(2), [1, 2], [1, 7], "DOF '7': expected 1-6"),
+        (np.eye(2), np.eye(3), [1, 2], [1, 1], "must be square matrices of one size"),
+        (
+            np.eye(2),
+            np.eye(2),
+            [1, 2, 3],
+            [1, 1, 1],
+            "3 node ids and 3 DOFs for matrices of size 2",
+        ),
+    ],
+)
 def test_modes_from_matrices_refuses_what_is_not_a_structure(K, M, nodes, dofs, words):
     with pytest.raises(ValueError, match=words):
         modes_from_matrices(K, M, nodes, dofs)
@@ -273,8 +313,8 @@ def test_modes_from_matrices_refuses_what_is_not_a_structure(K, M, nodes, dofs, 
 
 def test_the_csv_example_of_the_deck_reference_reads(tmp_path):
     doc = (FIXTURES.parents[2] / "docs" / "deck-reference.md").read_text()
-    section = doc[doc.index("### CSV layout"):]
-    block = section[section.index("    # comment"):section.index("\n\n*")]
+    section = doc[doc.index("### CSV layout") :]
+    block = section[section.index("    # comment") : section.index("\n\n*")]
     path = tmp_path / "example.csv"
     path.write_text("\n".join(line[4:] for line in block.splitlines()) + "\n")
     modes = read_modes(path)

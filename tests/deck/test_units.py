@@ -20,20 +20,31 @@ def test_default_is_the_reports_inch_lbf_second():
     model = build_model(parse_deck(BASE))
     assert model.units == ("in", "lbf", "s")
     lab = labels_for(model.units)
-    assert (lab["length"], lab["mass"], lab["energy"], lab["velocity"]) == \
-        ("in", "lbf s^2/in", "lbf in", "in/s")
+    assert (lab["length"], lab["mass"], lab["energy"], lab["velocity"]) == (
+        "in",
+        "lbf s^2/in",
+        "lbf in",
+        "in/s",
+    )
     from x3dpd.io.trace import DEFAULT_UNITS
 
-    assert trace_units(None) == {**DEFAULT_UNITS, "force": "lbf", "mass": "lbf s^2/in",
-                                 "energy": "lbf in"}
+    assert trace_units(None) == {
+        **DEFAULT_UNITS,
+        "force": "lbf",
+        "mass": "lbf s^2/in",
+        "energy": "lbf in",
+    }
 
 
-@pytest.mark.parametrize("text, system, mass, energy", [
-    ("m N s", ("m", "N", "s"), "kg", "J"),
-    ("MM, n, S", ("mm", "N", "s"), "t", "mJ"),
-    ("cm dyn s", ("cm", "dyn", "s"), "g", "erg"),
-    ("ft lbf s", ("ft", "lbf", "s"), "slug", "lbf ft"),
-])
+@pytest.mark.parametrize(
+    "text, system, mass, energy",
+    [
+        ("m N s", ("m", "N", "s"), "kg", "J"),
+        ("MM, n, S", ("mm", "N", "s"), "t", "mJ"),
+        ("cm dyn s", ("cm", "dyn", "s"), "g", "erg"),
+        ("ft lbf s", ("ft", "lbf", "s"), "slug", "lbf ft"),
+    ],
+)
 def test_declared_system_reaches_the_model_and_round_trips(text, system, mass, energy):
     deck = parse_deck(f"UNITS\n  {text}\nEND\n" + BASE)
     assert deck.units.system == system
@@ -44,16 +55,19 @@ def test_declared_system_reaches_the_model_and_round_trips(text, system, mass, e
     assert again.units.system == system
 
 
-@pytest.mark.parametrize("text, words", [
-    ("m furlong s", ["UNITS", "FORCE unit 'furlong'", "lbf, N"]),
-    ("m N", ["expected 3 unit names"]),
-    ("", ["expected 3 unit names"]),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("m furlong s", ["UNITS", "FORCE unit 'furlong'", "lbf, N"]),
+        ("m N", ["expected 3 unit names"]),
+        ("", ["expected 3 unit names"]),
+    ],
+)
 def test_bad_units_card_is_a_deck_error_at_the_card(text, words):
     with pytest.raises(DeckError) as err:
         parse_deck(BASE + f"UNITS\n  {text}\nEND\n")
     msg = str(err.value)
-    assert ":7:" in msg or ":8:" in msg          # the card's lines
+    assert ":7:" in msg or ":8:" in msg  # the card's lines
     for w in words:
         assert w in msg
 
@@ -97,7 +111,14 @@ def test_a_runs_sidecar_and_plot_follow_the_declared_units(tmp_path, monkeypatch
         assert ex.value.code == 0
     si = json.loads(Path("si.trace.txt.json").read_text())["units"]
     inch = json.loads(Path("in.trace.txt.json").read_text())["units"]
-    assert si == {"time": "s", "length": "m", "velocity": "m/s", "angular_velocity": "rad/s",
-                  "force": "N", "mass": "kg", "energy": "J"}
+    assert si == {
+        "time": "s",
+        "length": "m",
+        "velocity": "m/s",
+        "angular_velocity": "rad/s",
+        "force": "N",
+        "mass": "kg",
+        "energy": "J",
+    }
     assert inch["length"] == "in" and inch["energy"] == "lbf in" and inch["mass"] == "lbf s^2/in"
     assert Path("si.png").stat().st_size > 10_000

@@ -30,7 +30,9 @@ def test_a_linear_design_reproduces_the_closed_form_frf_in_every_configuration(t
     # the Table 4 structure without particles, at two time steps: both configurations are
     # the linear SDOF m x'' + c x' + k x = F sin(w t), X = F / |k - m w^2 + i c w|
     write_deck(sdof_deck(dt=1e-5, hz=37.0), tmp_path / "sdof.inp")
-    spec = write(tmp_path, """
+    spec = write(
+        tmp_path,
+        """
 structure = "sdof.inp"
 [fill]
 count = 0
@@ -44,7 +46,8 @@ drives = [4.84040e-3]
 frequencies = [36.0, 37.5, 39.0]
 baselines = ["undamped"]
 tol = 1e-3
-""")
+""",
+    )
     rows = run_design(spec, tmp_path / "out", workers=1, echo=lambda s: None)
     assert sorted({r["config"] for r in rows}) == ["dt2e-05", "dt4e-05"]
     assert len(rows) == 6
@@ -55,13 +58,14 @@ tol = 1e-3
         # tolerance: the criterion's 1e-3 plus the integrator's phase error (w dt)^2 / 24 =
         # 3.6e-6 at dt = 4e-5 s, amplified near resonance by 1 / (2 zeta) = 160: 2e-3 in all
         assert r["amplitude"] == pytest.approx(exact, rel=2e-3)
-        assert r["baseline_undamped"] == pytest.approx(exact, rel=1e-12)   # closed form
+        assert r["baseline_undamped"] == pytest.approx(exact, rel=1e-12)  # closed form
         assert abs(r["attenuation_undamped_db"]) < 20 * math.log10(1 + 2e-3)
         # the ledger: all the drive's work goes to the dashpot, pi c w X^2 per cycle
         assert r["dissipated_dampers_per_cycle"] == pytest.approx(
-            math.pi * TABLE4_C * w * exact ** 2, rel=5e-3)
+            math.pi * TABLE4_C * w * exact**2, rel=5e-3
+        )
         assert r["dissipated_friction_per_cycle"] == r["dissipated_viscoelastic_per_cycle"] == 0
-    for name in ("dt2e-05", "dt4e-05"):   # each configuration's deck runs on its own
+    for name in ("dt2e-05", "dt4e-05"):  # each configuration's deck runs on its own
         deck = tmp_path / "out" / "configs" / name / f"{name}.inp"
         assert check(deck).exit_status == 0
         assert (tmp_path / "out" / "configs" / name / "sweep" / "sweep.csv").exists()
@@ -100,15 +104,15 @@ def serial_two_by_two(tmp_path_factory):
     return spec, (tmp / "serial" / "design.csv").read_text()
 
 
-def test_a_two_by_two_design_on_dask_equals_the_serial_run_bit_for_bit(tmp_path,
-                                                                      serial_two_by_two):
+def test_a_two_by_two_design_on_dask_equals_the_serial_run_bit_for_bit(tmp_path, serial_two_by_two):
     spec, serial = serial_two_by_two
     run_design(spec, tmp_path / "dask", workers=2, echo=lambda s: None)
     assert (tmp_path / "dask" / "design.csv").read_text() == serial
 
 
-def test_an_interrupted_design_resumes_and_computes_only_what_is_missing(tmp_path,
-                                                                         serial_two_by_two):
+def test_an_interrupted_design_resumes_and_computes_only_what_is_missing(
+    tmp_path, serial_two_by_two
+):
     spec, serial = serial_two_by_two
     lines = []
 
@@ -124,15 +128,20 @@ def test_an_interrupted_design_resumes_and_computes_only_what_is_missing(tmp_pat
     run_design(spec, tmp_path / "out", workers=1, echo=again.append)
     assert "(2 stored before)" in again[0]
     assert [x.split(", ETA")[0] for x in again if x.startswith("  [")] == [
-        "  [3/4 points, 3/4 configurations", "  [4/4 points, 4/4 configurations"]
+        "  [3/4 points, 3/4 configurations",
+        "  [4/4 points, 4/4 configurations",
+    ]
     assert (tmp_path / "out" / "design.csv").read_text() == serial
 
 
 BAD = {
     "unknown key": ("[fill]\ncount = 1\nradious = 0.1\n", 6, "unknown key 'radious'"),
     "no values": ("[vary]\nradius = []\n", 5, "a design variable with no values"),
-    "cannot fit": ("[[configuration]]\nname = \"big\"\ncount = 500\nradius = 0.05\n", 4,
-                   "a fill that cannot fit"),
+    "cannot fit": (
+        '[[configuration]]\nname = "big"\ncount = 500\nradius = 0.05\n',
+        4,
+        "a fill that cannot fit",
+    ),
     "bad toml": ("[fill\ncount = 1\n", 4, "not a TOML file"),
 }
 
@@ -140,8 +149,12 @@ BAD = {
 @pytest.mark.parametrize("case", sorted(BAD))
 def test_a_malformed_design_file_is_refused_at_its_line_with_nothing_run(tmp_path, case):
     body, line, words = BAD[case]
-    spec = write(tmp_path, f'title = "bad"\nstructure = "{BEAM_1}"\n\n' + body
-                 + '\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\nfrequencies = [37.0]\n')
+    spec = write(
+        tmp_path,
+        f'title = "bad"\nstructure = "{BEAM_1}"\n\n'
+        + body
+        + '\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\nfrequencies = [37.0]\n',
+    )
     with pytest.raises(InputError) as err:
         run_design(spec, tmp_path / "out", workers=1, echo=lambda s: None)
     assert str(err.value).startswith(f"{spec}:{line}")
@@ -151,9 +164,12 @@ def test_a_malformed_design_file_is_refused_at_its_line_with_nothing_run(tmp_pat
 
 def test_a_material_not_in_the_library_is_refused_at_its_line(tmp_path):
     pytest.importorskip("x3dpd.materials")
-    spec = write(tmp_path, f'structure = "{BEAM_1}"\n[vary]\nmaterial = ["steel-beam",\n'
-                 '  "unobtainium"]\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
-                 'frequencies = [37.0]\n')
+    spec = write(
+        tmp_path,
+        f'structure = "{BEAM_1}"\n[vary]\nmaterial = ["steel-beam",\n'
+        '  "unobtainium"]\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
+        "frequencies = [37.0]\n",
+    )
     with pytest.raises(InputError) as err:
         run_design(spec, tmp_path / "out", workers=1, echo=lambda s: None)
     assert str(err.value).startswith(f"{spec}:3")
@@ -163,11 +179,12 @@ def test_a_material_not_in_the_library_is_refused_at_its_line(tmp_path):
 
 def test_a_deck_named_code_file_runs_only_when_the_design_says_so(tmp_path):
     deck = tmp_path / "coded.inp"
-    deck.write_text(BEAM_1.read_text().replace(
-        "USRFRC\n", "USRFRC\n   force.py\n", 1))
+    deck.write_text(BEAM_1.read_text().replace("USRFRC\n", "USRFRC\n   force.py\n", 1))
     (tmp_path / "force.py").write_text("def usrfrc(time, coords, vels, force):\n    pass\n")
-    text = ('structure = "coded.inp"\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
-            'frequencies = [37.0]\nwindow = 2\nmax_cycles = 6\n')
+    text = (
+        'structure = "coded.inp"\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
+        "frequencies = [37.0]\nwindow = 2\nmax_cycles = 6\n"
+    )
     with pytest.raises(InputError, match="usrfrc_code = true"):
         run_design(write(tmp_path, text), tmp_path / "out", workers=1, echo=lambda s: None)
     assert not (tmp_path / "out").exists()
@@ -179,14 +196,21 @@ def test_a_deck_named_code_file_travels_with_each_configuration_when_allowed(tmp
     deck = tmp_path / "coded.inp"
     deck.write_text(BEAM_1.read_text().replace("USRFRC\n", "USRFRC\n   force.py\n", 1))
     (tmp_path / "force.py").write_text("def usrfrc(time, coords, vels, force):\n    pass\n")
-    text = ('structure = "coded.inp"\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
-            'frequencies = [37.0]\nwindow = 2\nmax_cycles = 6\n')
-    allowed = text.replace('structure = "coded.inp"\n',
-                           'structure = "coded.inp"\nusrfrc_code = true\n[fill]\ncount = 0\n'
-                           'dt = 4e-5\n').replace('kind = "sweep"', 'kind = "dwell"').replace(
-        "frequencies = [37.0]", "frequency = 37.0")
-    run_design(write(tmp_path, allowed, "allowed.toml"), tmp_path / "out", workers=1,
-               echo=lambda s: None)
+    text = (
+        'structure = "coded.inp"\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\n'
+        "frequencies = [37.0]\nwindow = 2\nmax_cycles = 6\n"
+    )
+    allowed = (
+        text.replace(
+            'structure = "coded.inp"\n',
+            'structure = "coded.inp"\nusrfrc_code = true\n[fill]\ncount = 0\ndt = 4e-5\n',
+        )
+        .replace('kind = "sweep"', 'kind = "dwell"')
+        .replace("frequencies = [37.0]", "frequency = 37.0")
+    )
+    run_design(
+        write(tmp_path, allowed, "allowed.toml"), tmp_path / "out", workers=1, echo=lambda s: None
+    )
     folder = tmp_path / "out" / "configs" / "config_1"
     assert (folder / "force.py").read_text() == (tmp_path / "force.py").read_text()
     assert "force.py" in (folder / "config_1.inp").read_text()
@@ -194,27 +218,36 @@ def test_a_deck_named_code_file_travels_with_each_configuration_when_allowed(tmp
 
 def _sdof_design(tmp_path: Path, evaluate: str) -> Path:
     write_deck(sdof_deck(dt=1e-5, hz=37.0), tmp_path / "sdof.inp")
-    return write(tmp_path, f'structure = "sdof.inp"\n[fill]\ncount = 0\n[vary]\n'
-                 f'dt = [2e-5, 4e-5]\n[evaluate]\nnode = 1\ndof = 1\n{evaluate}')
+    return write(
+        tmp_path,
+        f'structure = "sdof.inp"\n[fill]\ncount = 0\n[vary]\n'
+        f"dt = [2e-5, 4e-5]\n[evaluate]\nnode = 1\ndof = 1\n{evaluate}",
+    )
 
 
 @pytest.mark.validate
 def test_a_dwell_of_the_linear_structure_is_its_closed_form_at_every_drive_level(tmp_path):
-    spec = _sdof_design(tmp_path, 'kind = "dwell"\nfrequency = 38.0\n'
-                        'drives = [2e-3, 4e-3, 8e-3]\nbaselines = ["undamped"]\ntol = 1e-3\n')
+    spec = _sdof_design(
+        tmp_path,
+        'kind = "dwell"\nfrequency = 38.0\n'
+        'drives = [2e-3, 4e-3, 8e-3]\nbaselines = ["undamped"]\ntol = 1e-3\n',
+    )
     rows = run_design(spec, tmp_path / "out", workers=1, echo=lambda s: None)
     assert len(rows) == 6 and {r["frequency_hz"] for r in rows} == {38.0}
     w = 2 * math.pi * 38.0
     for r in rows:
         exact = r["drive"] / math.hypot(TABLE4_K - TABLE4_MASS * w * w, TABLE4_C * w)
-        assert r["amplitude"] == pytest.approx(exact, rel=2e-3)   # as the sweep above
+        assert r["amplitude"] == pytest.approx(exact, rel=2e-3)  # as the sweep above
 
 
 @pytest.mark.validate
 def test_a_ring_down_of_the_linear_structure_gives_its_damping_ratio(tmp_path):
     # free decay of m x'' + c x' + k x = 0: zeta = c / (2 sqrt(k m)) at every amplitude
-    spec = _sdof_design(tmp_path, 'kind = "ringdown"\ndrive_frequency = 37.0\n'
-                        'drives = [4.84040e-3]\ndrive_until = 0.3\nring = 1.5\n')
+    spec = _sdof_design(
+        tmp_path,
+        'kind = "ringdown"\ndrive_frequency = 37.0\n'
+        "drives = [4.84040e-3]\ndrive_until = 0.3\nring = 1.5\n",
+    )
     rows = run_design(spec, tmp_path / "out", workers=1, echo=lambda s: None)
     zeta = 100 * TABLE4_C / (2 * math.sqrt(TABLE4_K * TABLE4_MASS))
     assert len(rows) == 2 * 25
@@ -231,10 +264,13 @@ def test_a_cylinder_cavity_is_resized_and_refilled_with_every_sphere_inside(tmp_
     from x3dpd.design.configs import make_configurations
     from x3dpd.design.design_file import read_design
 
-    spec = write(tmp_path, f'structure = "{ROOT / "decks" / "cylinder_64.inp"}"\n[fill]\n'
-                 'count = 20\nradius = 0.03125\ndt = 5e-7\n[vary]\ncavity_length = [0.2, 0.3]\n'
-                 'cavity_radius = [0.15, 0.2]\n[evaluate]\nkind = "dwell"\nfrequency = 37.2\n'
-                 'drives = [4.84040e-3]\n')
+    spec = write(
+        tmp_path,
+        f'structure = "{ROOT / "decks" / "cylinder_64.inp"}"\n[fill]\n'
+        "count = 20\nradius = 0.03125\ndt = 5e-7\n[vary]\ncavity_length = [0.2, 0.3]\n"
+        'cavity_radius = [0.15, 0.2]\n[evaluate]\nkind = "dwell"\nfrequency = 37.2\n'
+        "drives = [4.84040e-3]\n",
+    )
     made = make_configurations(read_design(spec))
     assert len(made) == 4
     for m in made:
@@ -243,13 +279,16 @@ def test_a_cylinder_cavity_is_resized_and_refilled_with_every_sphere_inside(tmp_
         assert wall.params == (big_r,)
         xyz = {n.nid: (n.x, n.y, n.z) for n in m.deck.nodes}
         assert xyz[wall.nodes[1]] == pytest.approx((length, 0.0, 0.0), abs=1e-15)
-        inside = [(x, math.hypot(y, z)) for (x, y, z) in
-                  (xyz[k] for k in xyz if k > m.deck.pdmp[0].nodlim)]
+        inside = [
+            (x, math.hypot(y, z))
+            for (x, y, z) in (xyz[k] for k in xyz if k > m.deck.pdmp[0].nodlim)
+        ]
         assert len(inside) == 20
         r = 0.03125
         assert all(r <= x <= length - r and rho <= big_r - r for x, rho in inside)
         assert m.values["fill_ratio"] == pytest.approx(
-            20 * r ** 3 * 4 / 3 / (big_r ** 2 * length), rel=1e-12)
+            20 * r**3 * 4 / 3 / (big_r**2 * length), rel=1e-12
+        )
         assert check(m.deck).exit_status == 0
 
 
@@ -257,20 +296,23 @@ def test_a_changed_configuration_is_refused_without_overwrite_and_its_deck_kept(
     write_deck(sdof_deck(dt=1e-5, hz=37.0), tmp_path / "sdof.inp")
 
     def design(dt):
-        return write(tmp_path, f'structure = "sdof.inp"\n[[configuration]]\nname = "a"\n'
-                     f'count = 0\ndt = {dt}\n[[configuration]]\nname = "b"\ncount = 0\n'
-                     'dt = 4e-5\n[evaluate]\nkind = "dwell"\nnode = 1\ndof = 1\n'
-                     'frequency = 37.5\ndrives = [4.84040e-3]\nbaselines = []\n')
+        return write(
+            tmp_path,
+            f'structure = "sdof.inp"\n[[configuration]]\nname = "a"\n'
+            f'count = 0\ndt = {dt}\n[[configuration]]\nname = "b"\ncount = 0\n'
+            'dt = 4e-5\n[evaluate]\nkind = "dwell"\nnode = 1\ndof = 1\n'
+            "frequency = 37.5\ndrives = [4.84040e-3]\nbaselines = []\n",
+        )
 
     out = tmp_path / "out"
     first = run_design(design("4e-5"), out, workers=1, echo=lambda s: None)
     deck_a = (out / "configs" / "a" / "a.inp").read_text()
     with pytest.raises(InputError, match="configuration a .*--overwrite"):
         run_design(design("2e-5"), out, workers=1, echo=lambda s: None)
-    assert (out / "configs" / "a" / "a.inp").read_text() == deck_a     # nothing lost
+    assert (out / "configs" / "a" / "a.inp").read_text() == deck_a  # nothing lost
     said = []
     rows = run_design(design("2e-5"), out, workers=1, overwrite=True, echo=said.append)
-    assert "(1 stored before)" in said[0]                                # b kept, a redone
+    assert "(1 stored before)" in said[0]  # b kept, a redone
     assert [r["dt"] for r in rows] == [2e-5, 4e-5]
     assert rows[1]["amplitude"] == first[1]["amplitude"]
 
@@ -281,9 +323,12 @@ def test_a_clearance_sets_the_cavity_length_to_the_bed_plus_the_clearance(tmp_pa
     from x3dpd.design.configs import make_configurations
     from x3dpd.design.design_file import read_design
 
-    spec = write(tmp_path, f'structure = "{BEAM_1}"\n[fill]\ncount = 1\nradius = 0.1\n'
-                 'dt = 5e-7\n[vary]\nclearance = [0.01, 0.2]\n[evaluate]\nkind = "dwell"\n'
-                 'frequency = 37.2\ndrives = [4.84040e-3]\n')
+    spec = write(
+        tmp_path,
+        f'structure = "{BEAM_1}"\n[fill]\ncount = 1\nradius = 0.1\n'
+        'dt = 5e-7\n[vary]\nclearance = [0.01, 0.2]\n[evaluate]\nkind = "dwell"\n'
+        "frequency = 37.2\ndrives = [4.84040e-3]\n",
+    )
     for m in make_configurations(read_design(spec)):
         c = m.config.values["clearance"]
         nodlim = m.deck.pdmp[0].nodlim

@@ -32,13 +32,13 @@ def test_the_beam_count_design_makes_the_shipped_beam_decks():
     assert sorted(made) == ["beam_1", "beam_512", "beam_64"]
     for name, m in made.items():
         shipped = load_deck(ROOT / "decks" / f"{name}.inp")
-        assert _particles(m.deck) == _particles(shipped)          # bit for bit
+        assert _particles(m.deck) == _particles(shipped)  # bit for bit
         fields = ("nodlim", "rzero", "prho", "ppoi", "e0", "e1", "t1", "pcof", "extra_terms")
-        assert ([getattr(m.deck.pdmp[0], f) for f in fields]
-                == [getattr(shipped.pdmp[0], f) for f in fields])
+        assert [getattr(m.deck.pdmp[0], f) for f in fields] == [
+            getattr(shipped.pdmp[0], f) for f in fields
+        ]
         assert m.deck.parameters.dtmax == shipped.parameters.dtmax
-        assert [(x.nid, x.mass) for x in m.deck.masses] == [(x.nid, x.mass)
-                                                           for x in shipped.masses]
+        assert [(x.nid, x.mass) for x in m.deck.masses] == [(x.nid, x.mass) for x in shipped.masses]
     # equal total particle mass, as the report's tests
     masses = [m.values["added_mass"] for m in made.values()]
     assert max(masses) == pytest.approx(min(masses), rel=1e-12)
@@ -48,13 +48,15 @@ def _reduced(tmp_path: Path) -> Path:
     """designs/beam_count.toml with beam_1 only, the 400 mV drive, two frequencies and a short
     cap."""
     text = BEAM_COUNT.read_text()
-    head = text[:text.index("[[configuration]]")]
+    head = text[: text.index("[[configuration]]")]
     head = head.replace('"../decks/beam_64.inp"', f'"{ROOT / "decks" / "beam_64.inp"}"')
     beam_1 = re.search(r"\[\[configuration\]\]\nname = \"beam_1\"\n(?:[^\[\n].*\n)*", text)
-    evaluate = ('[evaluate]\nkind = "sweep"\ndrives = [9.68080e-3]\n'
-                'frequencies = [37.0, 38.0]\ndirection = "down"\n'
-                'baselines = ["undamped", "added-mass"]\ntol = 0.02\nwindow = 2\n'
-                'max_cycles = 6\n')
+    evaluate = (
+        '[evaluate]\nkind = "sweep"\ndrives = [9.68080e-3]\n'
+        'frequencies = [37.0, 38.0]\ndirection = "down"\n'
+        'baselines = ["undamped", "added-mass"]\ntol = 0.02\nwindow = 2\n'
+        "max_cycles = 6\n"
+    )
     path = tmp_path / "beam_count_reduced.toml"
     path.write_text(head + beam_1.group(0) + "\n" + evaluate)
     return path
@@ -65,10 +67,19 @@ def test_the_beam_count_design_gives_the_numbers_of_x3dpd_sweep_on_the_shipped_d
     # design must give the same points and the same numbers, bit for bit
     rows = run_design(_reduced(tmp_path), tmp_path / "design", workers=1, echo=lambda s: None)
     said = []
-    sweep_command(str(ROOT / "decks" / "beam_1.inp"), freq="37,38",
-                  amps=["9.68080e-3"], direction="down",
-                  baselines=("undamped", "added-mass"), out=str(tmp_path / "sweep"),
-                  workers=1, tol=0.02, window=2, max_cycles=6, echo=said.append)
+    sweep_command(
+        str(ROOT / "decks" / "beam_1.inp"),
+        freq="37,38",
+        amps=["9.68080e-3"],
+        direction="down",
+        baselines=("undamped", "added-mass"),
+        out=str(tmp_path / "sweep"),
+        workers=1,
+        tol=0.02,
+        window=2,
+        max_cycles=6,
+        echo=said.append,
+    )
     by_design = read_csv(tmp_path / "design" / "configs" / "beam_1" / "sweep" / "sweep.csv")
     by_sweep = read_csv(tmp_path / "sweep" / "sweep.csv")
     # (the deck and its two baselines) x 2 frequencies
@@ -82,7 +93,8 @@ def test_the_beam_count_design_gives_the_numbers_of_x3dpd_sweep_on_the_shipped_d
     assert all("(report Section" in r["notes"] for r in rows)
     deck_rows = [r for r in by_sweep if r["config"] == "deck"]
     assert [(r["drive"], r["frequency_hz"], r["amplitude"]) for r in rows] == [
-        (r["drive"], r["frequency_hz"], r["amplitude"]) for r in deck_rows]
+        (r["drive"], r["frequency_hz"], r["amplitude"]) for r in deck_rows
+    ]
     # the peak attenuations x3dpd sweep prints (beam_study.py's table) are design.csv's
     for line in said:
         hit = re.match(r"peak attenuation at drive (\S+): (\S+) dB vs (\S+)", line)
@@ -102,7 +114,7 @@ def test_the_size_fill_design_is_well_formed_and_every_configuration_checks_clea
         asked, got, r = m.config.values["fill_ratio"], m.values["fill_ratio"], m.values["radius"]
         one = got / m.values["count"]
         assert asked - one < got <= asked + 1e-12
-        assert one == pytest.approx(4 / 3 * math.pi * r ** 3 / (0.263 * 0.372 * 0.372), rel=1e-9)
+        assert one == pytest.approx(4 / 3 * math.pi * r**3 / (0.263 * 0.372 * 0.372), rel=1e-9)
 
 
 @pytest.mark.validate
@@ -110,14 +122,16 @@ def test_a_reduced_size_fill_design_runs_and_the_particles_add_damping(tmp_path)
     # designs/beam_size_fill.toml with the 1/8 in spheres at 5 and 10 % only, one drive, 0.3 s
     # driven and 0.6 s of ring-down (the shipped file: 1 s and 2 s, nine configurations)
     text = SIZE_FILL.read_text()
-    head = text[:text.index("[[configuration]]")]
+    head = text[: text.index("[[configuration]]")]
     head = head.replace('"../decks/beam_64.inp"', f'"{ROOT / "decks" / "beam_64.inp"}"')
     head = head.replace("fill_ratio = [0.05, 0.1, 0.2]", "fill_ratio = [0.05, 0.1]")
     big = re.search(r"\[\[configuration\]\]\nname = \"d1-8in\"\n(?:[^\[\n].*\n)*", text)
     path = tmp_path / "size_fill_reduced.toml"
-    path.write_text(head + big.group(0) + '\n[evaluate]\nkind = "ringdown"\n'
-                    'drives = [9.68080e-3]\ndrive_frequency = 37.2\ndrive_until = 0.3\n'
-                    'ring = 0.6\n')
+    path.write_text(
+        head + big.group(0) + '\n[evaluate]\nkind = "ringdown"\n'
+        "drives = [9.68080e-3]\ndrive_frequency = 37.2\ndrive_until = 0.3\n"
+        "ring = 0.6\n"
+    )
     rows = run_design(path, tmp_path / "out", workers=1, echo=lambda s: None)
     assert sorted({r["config"] for r in rows}) == ["d1-8in_fill0.05", "d1-8in_fill0.1"]
     for r in rows:

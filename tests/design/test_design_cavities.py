@@ -35,11 +35,20 @@ def write(tmp_path: Path, text: str, name: str = "design.toml") -> Path:
     return path
 
 
-def _design(tmp_path, structure=BEAM_64, fill="count = 8\nradius = 0.0625\n",
-            vary="cavities = [1, 2, 3]\n", cavity="", evaluate=None) -> Path:
+def _design(
+    tmp_path,
+    structure=BEAM_64,
+    fill="count = 8\nradius = 0.0625\n",
+    vary="cavities = [1, 2, 3]\n",
+    cavity="",
+    evaluate=None,
+) -> Path:
     evaluate = evaluate or ('kind = "dwell"\nfrequency = 37.2\ndrives = [4.84040e-3]\n')
-    return write(tmp_path, f'structure = "{structure}"\n{cavity}[fill]\n{fill}dt = 5e-7\n'
-                 f'gap_fraction = 0.05\n[vary]\n{vary}[evaluate]\n{evaluate}')
+    return write(
+        tmp_path,
+        f'structure = "{structure}"\n{cavity}[fill]\n{fill}dt = 5e-7\n'
+        f"gap_fraction = 0.05\n[vary]\n{vary}[evaluate]\n{evaluate}",
+    )
 
 
 def _boxes(deck) -> dict[int, tuple[np.ndarray, np.ndarray]]:
@@ -55,14 +64,13 @@ def _boxes(deck) -> dict[int, tuple[np.ndarray, np.ndarray]]:
 def _particles(deck) -> dict[int, np.ndarray]:
     """{CONTACT set: (n, 3) centres of its particles, in slave-list order}."""
     xyz = {n.nid: np.array([n.x, n.y, n.z]) for n in deck.nodes}
-    return {s.set_id: np.array([xyz[k] for k in s.nodes]) for c in deck.contacts
-            for s in c.slaves}
+    return {s.set_id: np.array([xyz[k] for k in s.nodes]) for c in deck.contacts for s in c.slaves}
 
 
 def test_n_identical_cavities_hold_n_times_the_particles_and_the_added_mass(tmp_path):
     r, n = 0.0625, 8
     made = make_configurations(read_design(_design(tmp_path)))
-    one = 4.0 / 3.0 * math.pi * r ** 3 * RHO                 # a sphere's mass, rho 4/3 pi R^3
+    one = 4.0 / 3.0 * math.pi * r**3 * RHO  # a sphere's mass, rho 4/3 pi R^3
     structure = x3dpd.check(BEAM_64).structure_mass
     first = None
     for m, cavities in zip(made, (1, 2, 3)):
@@ -71,25 +79,24 @@ def test_n_identical_cavities_hold_n_times_the_particles_and_the_added_mass(tmp_
         assert v["added_mass"] == pytest.approx(cavities * n * one, rel=1e-12)
         report = x3dpd.check(m.deck)
         assert report.exit_status == 0
-        assert report.structure_mass == structure                 # no housing mass in beam_64
+        assert report.structure_mass == structure  # no housing mass in beam_64
         assert v["mass_ratio"] == pytest.approx(cavities * n * one / structure, rel=1e-12)
         # a cavity's fill ratio: n spheres over the box's volume, in every configuration
-        assert v["fill_ratio"] == pytest.approx(n * 4 / 3 * math.pi * r ** 3 / BOX.prod(),
-                                                rel=1e-12)
+        assert v["fill_ratio"] == pytest.approx(n * 4 / 3 * math.pi * r**3 / BOX.prod(), rel=1e-12)
         boxes, parts = _boxes(m.deck), _particles(m.deck)
         assert sorted(boxes) == sorted(parts) and len(boxes) == cavities
         lows = sorted(boxes.values(), key=lambda b: b[0][2])
-        for (_, hi), (lo2, _) in zip(lows, lows[1:]):           # side by side along z, apart
+        for (_, hi), (lo2, _) in zip(lows, lows[1:]):  # side by side along z, apart
             assert lo2[2] > hi[2]
         base = parts[min(parts)]
         first = base if first is None else first
-        assert np.array_equal(base, first)                       # cavity 0 as with one cavity
+        assert np.array_equal(base, first)  # cavity 0 as with one cavity
         for s, (lo, hi) in boxes.items():
-            assert hi - lo == pytest.approx(BOX, abs=1e-15)         # identical boxes
+            assert hi - lo == pytest.approx(BOX, abs=1e-15)  # identical boxes
             # the same particles, moved with their cavity, each inside it
             assert parts[s] - lo == pytest.approx(base - boxes[min(boxes)][0], abs=1e-14)
             assert np.all(parts[s] >= lo + r) and np.all(parts[s] <= hi - r)
-        (rb,) = m.deck.rbels                                      # every wall on master 9
+        (rb,) = m.deck.rbels  # every wall on master 9
         assert rb.master == 9 and len(rb.slaves) == 8 * cavities
 
 
@@ -99,8 +106,9 @@ def test_the_copies_particles_replay_the_first_cavitys_free_fall_and_bounces(tmp
     # acceleration); after, every copy bounces as the first (same walls, same master, particles
     # of different cavities never touch): positions relative to their cavity agree to 1e-9 in
     # over 30 ms (rounding differences, ~1e-16 in, grow little over a few soft bounces)
-    (m,) = make_configurations(read_design(_design(
-        tmp_path, fill="count = 1\nradius = 0.0625\n", vary="cavities = [3]\n")))
+    (m,) = make_configurations(
+        read_design(_design(tmp_path, fill="count = 1\nradius = 0.0625\n", vary="cavities = [3]\n"))
+    )
     path = tmp_path / "three.inp"
     path.write_text(m.text)
     res = x3dpd.run(path, tmax=0.03)
@@ -116,12 +124,18 @@ def test_the_copies_particles_replay_the_first_cavitys_free_fall_and_bounces(tmp
     assert falling.sum() >= 3
     for s, k in pid.items():
         assert tr.position[falling, k, 1] == pytest.approx(
-            y0 - G * tr.time[falling] ** 2 / 2, abs=1e-12)
-        np.testing.assert_allclose(tr.position[:, k, :] - (lows[s] - lows[first]),
-                                   tr.position[:, pid[first], :], rtol=0, atol=1e-9)
-        np.testing.assert_allclose(tr.velocity[:, k, :], tr.velocity[:, pid[first], :],
-                                   rtol=0, atol=1e-6)
-    assert np.ptp(tr.position[:, pid[first], 1]) > 0.002          # it did fall and bounce
+            y0 - G * tr.time[falling] ** 2 / 2, abs=1e-12
+        )
+        np.testing.assert_allclose(
+            tr.position[:, k, :] - (lows[s] - lows[first]),
+            tr.position[:, pid[first], :],
+            rtol=0,
+            atol=1e-9,
+        )
+        np.testing.assert_allclose(
+            tr.velocity[:, k, :], tr.velocity[:, pid[first], :], rtol=0, atol=1e-6
+        )
+    assert np.ptp(tr.position[:, pid[first], 1]) > 0.002  # it did fall and bounce
 
 
 def _two_masters(tmp_path: Path) -> Path:
@@ -132,21 +146,33 @@ def _two_masters(tmp_path: Path) -> Path:
     nodes = tuple(n for n in deck.nodes if n.nid <= 9) + (Node(10, 1.0, 0.0, 0.0),)
     (mass,), (el,) = deck.masses, deck.elements
     (bc,) = deck.boundaries
-    deck = replace(deck, nodes=nodes, pdmp=(replace(pd, nodlim=10),),
-                   masses=(mass, replace(mass, nid=10)),
-                   elements=(el, Element(2, el.mid, (10,))),
-                   boundaries=(bc, replace(bc, first=10, last=10)),
-                   contacts=tuple(replace(c, slaves=()) for c in deck.contacts),
-                   trace=replace(deck.trace, nodes=(9, 10)), initials=())
+    deck = replace(
+        deck,
+        nodes=nodes,
+        pdmp=(replace(pd, nodlim=10),),
+        masses=(mass, replace(mass, nid=10)),
+        elements=(el, Element(2, el.mid, (10,))),
+        boundaries=(bc, replace(bc, first=10, last=10)),
+        contacts=tuple(replace(c, slaves=()) for c in deck.contacts),
+        trace=replace(deck.trace, nodes=(9, 10)),
+        initials=(),
+    )
     write_deck(deck, tmp_path / "two.inp")
     return tmp_path / "two.inp"
 
 
 def test_cavities_go_on_the_master_nodes_the_design_names(tmp_path):
     two = _two_masters(tmp_path)
-    made = make_configurations(read_design(_design(
-        tmp_path, structure=two, vary="cavities = [2, 3]\n",
-        cavity="[cavity]\nmasters = [9, 10, 10]\nspacing = [0, 0, 0.5]\n")))
+    made = make_configurations(
+        read_design(
+            _design(
+                tmp_path,
+                structure=two,
+                vary="cavities = [2, 3]\n",
+                cavity="[cavity]\nmasters = [9, 10, 10]\nspacing = [0, 0, 0.5]\n",
+            )
+        )
+    )
     for m, cavities in zip(made, (2, 3)):
         assert x3dpd.check(m.deck).exit_status == 0
         boxes = [lo for lo, _ in sorted(_boxes(m.deck).values(), key=lambda b: tuple(b[0]))]
@@ -159,38 +185,49 @@ def test_cavities_go_on_the_master_nodes_the_design_names(tmp_path):
         assert m.values["count"] == 8 * cavities
 
 
-@pytest.mark.parametrize("case, text, message", [
-    ("zero", "cavities = [0, 2]\n", r":\d+: vary.cavities: expected a value > 0"),
-    ("masters", "cavities = [2]\n", r"configuration cav2: cavities: masters: node 1 is not "),
-    ("too few", "cavities = [3]\n", r"masters lists 2 master nodes; give one per cavity"),
-])
+@pytest.mark.parametrize(
+    "case, text, message",
+    [
+        ("zero", "cavities = [0, 2]\n", r":\d+: vary.cavities: expected a value > 0"),
+        ("masters", "cavities = [2]\n", r"configuration cav2: cavities: masters: node 1 is not "),
+        ("too few", "cavities = [3]\n", r"masters lists 2 master nodes; give one per cavity"),
+    ],
+)
 def test_a_bad_cavities_setting_is_refused_at_its_line(tmp_path, case, text, message):
-    cavity = {"masters": "[cavity]\nmasters = [9, 1]\n",
-              "too few": "[cavity]\nmasters = [9, 9]\n"}.get(case, "")
+    cavity = {
+        "masters": "[cavity]\nmasters = [9, 1]\n",
+        "too few": "[cavity]\nmasters = [9, 9]\n",
+    }.get(case, "")
     with pytest.raises(InputError, match=message):
         make_configurations(read_design(_design(tmp_path, vary=text, cavity=cavity)))
 
 
 def test_several_cavities_need_the_cavity_on_a_master_node(tmp_path):
     # decks/impact_wall.inp: a fixed wall, no rigid body to copy the cavity onto
-    spec = write(tmp_path, f'structure = "{ROOT / "decks" / "impact_wall.inp"}"\n[fill]\n'
-                 'cavities = 2\n[evaluate]\nkind = "ringdown"\n')
+    spec = write(
+        tmp_path,
+        f'structure = "{ROOT / "decks" / "impact_wall.inp"}"\n[fill]\n'
+        'cavities = 2\n[evaluate]\nkind = "ringdown"\n',
+    )
     with pytest.raises(InputError, match=r"cavities: .*not all in one rigid body \(RBEL\)"):
         make_configurations(read_design(spec))
 
 
 def test_design_csv_carries_the_cavities_and_the_stiffness_scale(tmp_path):
     # one configuration, 3 cavities of one sphere each, contacts 10x softer: a short dwell
-    spec = _design(tmp_path, fill="count = 1\nradius = 0.0625\n",
-                   vary="cavities = [3]\nstiffness_scale = [0.1]\n",
-                   evaluate='kind = "dwell"\nfrequency = 37.2\ndrives = [9.68080e-3]\n'
-                            'baselines = ["added-mass"]\nwindow = 2\nmax_cycles = 6\n')
+    spec = _design(
+        tmp_path,
+        fill="count = 1\nradius = 0.0625\n",
+        vary="cavities = [3]\nstiffness_scale = [0.1]\n",
+        evaluate='kind = "dwell"\nfrequency = 37.2\ndrives = [9.68080e-3]\n'
+        'baselines = ["added-mass"]\nwindow = 2\nmax_cycles = 6\n',
+    )
     rows = run_design(spec, tmp_path / "out", workers=1, echo=lambda s: None)
     (row,) = read_csv(tmp_path / "out" / "design.csv")
     assert row["config"] == rows[0]["config"] == "cav3_Ex0.1"
     assert (row["count"], row["cavities"], row["stiffness_scale"]) == (3, 3, 0.1)
-    assert row["dt"] == pytest.approx(5e-7 * 0.1 ** -0.4, rel=1e-12)
-    one = 4.0 / 3.0 * math.pi * 0.0625 ** 3 * RHO
+    assert row["dt"] == pytest.approx(5e-7 * 0.1**-0.4, rel=1e-12)
+    one = 4.0 / 3.0 * math.pi * 0.0625**3 * RHO
     assert row["added_mass"] == pytest.approx(3 * one, rel=1e-12)
     # the added-mass baseline carries all three cavities' particles: the beam's SDOF (its MASS
     # plus half its spring element's 1e-12, its spring's KX and C) with m + 3 m_p,
@@ -204,4 +241,4 @@ def test_design_csv_carries_the_cavities_and_the_stiffness_scale(tmp_path):
     deck = x3dpd.load_deck(tmp_path / "out" / "configs" / "cav3_Ex0.1" / "cav3_Ex0.1.inp")
     assert deck.pdmp[0].e0 == pytest.approx(27.5e6 * 0.1, rel=1e-15)
     assert len(_boxes(deck)) == 3
-    assert format_deck(deck)   # the kept deck reads back and writes
+    assert format_deck(deck)  # the kept deck reads back and writes

@@ -31,8 +31,10 @@ def hertz_contact_time(e, v=62.832, r=0.0625, nu=0.33, rho=0.0007329707329707328
 
 def _design(tmp_path: Path, structure: Path, scales: str) -> Path:
     path = tmp_path / "soft.toml"
-    path.write_text(f'structure = "{structure}"\n[fill]\ndt = 1e-9\n[vary]\n'
-                    f'stiffness_scale = {scales}\n[evaluate]\nkind = "ringdown"\n')
+    path.write_text(
+        f'structure = "{structure}"\n[fill]\ndt = 1e-9\n[vary]\n'
+        f'stiffness_scale = {scales}\n[evaluate]\nkind = "ringdown"\n'
+    )
     return path
 
 
@@ -42,7 +44,7 @@ def test_a_softer_configuration_lasts_f_to_the_minus_2_5_longer_as_hertz_says(tm
     p0, p1 = full.deck.pdmp[0], soft.deck.pdmp[0]
     assert (p1.e0, p1.e1, p1.t1) == (p0.e0 * f, p0.e1 * f, p0.t1)
     assert full.values["dt"] == 1e-9
-    assert soft.values["dt"] == pytest.approx(1e-9 * f ** -0.4, rel=1e-12)
+    assert soft.values["dt"] == pytest.approx(1e-9 * f**-0.4, rel=1e-12)
     assert (full.values["stiffness_scale"], soft.values["stiffness_scale"]) == (1.0, f)
     times = {}
     for m in (full, soft):
@@ -56,12 +58,15 @@ def test_a_softer_configuration_lasts_f_to_the_minus_2_5_longer_as_hertz_says(tm
         # ~7,550 steps per contact in both (the step scales with t_c): a step in 7,550 (1.3e-4)
         # plus the 2.9432 constant's 4 digits, inside 1e-3
         assert times[scale] == pytest.approx(t_c, rel=1e-3)
-    assert times[f] / times[1.0] == pytest.approx(f ** -0.4, rel=1e-3)
+    assert times[f] / times[1.0] == pytest.approx(f**-0.4, rel=1e-3)
 
 
 def test_a_bad_stiffness_scale_is_refused_at_its_line(tmp_path):
-    with pytest.raises(InputError, match=r"soft.toml:5: vary.stiffness_scale: expected a scale "
-                                         r"in \(0, 1\]"):
+    with pytest.raises(
+        InputError,
+        match=r"soft.toml:5: vary.stiffness_scale: expected a scale "
+        r"in \(0, 1\]",
+    ):
         read_design(_design(tmp_path, IMPACT, "[1, 2]"))
     with pytest.raises(InputError, match=r"vary.stiffness_scale: expected a value > 0"):
         read_design(_design(tmp_path, IMPACT, "[0]"))

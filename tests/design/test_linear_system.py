@@ -27,7 +27,7 @@ from x3dpd.design.sweep import deck_hash, plan
 from x3dpd.model.build import build_model
 
 DECKS = Path(__file__).resolve().parents[2] / "decks"
-M1, M2, K1, K2, C1, C2 = 2e-4, 1e-4, 12.0, 5.0, 1.2e-2, 4e-3   # modes 26, 50 Hz; 12, 8 %
+M1, M2, K1, K2, C1, C2 = 2e-4, 1e-4, 12.0, 5.0, 1.2e-2, 4e-3  # modes 26, 50 Hz; 12, 8 %
 FREQS = (20.0, 31.0, 38.0, 55.0, 70.0, 120.0)
 
 
@@ -36,14 +36,18 @@ def chain_deck(*, base: bool) -> Deck:
     - K2, C2 - node 2 (M2), free along x only."""
     free = (2, 3, 4, 5, 6)
     return Deck(
-        path="<chain>", parameters=parameters(1e-5),
-        materials=(Material(1, 1, 0.0, 1.0, K1, K1, K1, C1),
-                   Material(2, 1, 0.0, 1.0, K2, K2, K2, C2)),
+        path="<chain>",
+        parameters=parameters(1e-5),
+        materials=(
+            Material(1, 1, 0.0, 1.0, K1, K1, K1, C1),
+            Material(2, 1, 0.0, 1.0, K2, K2, K2, C2),
+        ),
         trace=Trace((1, 2)),
         nodes=(Node(1, 0.0, 0.0, 0.0), Node(2, 1.0, 0.0, 0.0), Node(3, -1.0, 0.0, 0.0)),
         elements=(Element(1, 1, (1, 3) if base else (1,)), Element(2, 2, (1, 2))),
         masses=(Mass(1, M1, 1.0, 1.0, 1.0), Mass(2, M2, 1.0, 1.0, 1.0)),
-        boundaries=(Boundary(1, 2, 1, free), Boundary(3, 3, 1, ALL_DOFS)))
+        boundaries=(Boundary(1, 2, 1, free), Boundary(3, 3, 1, ALL_DOFS)),
+    )
 
 
 def chain_cramer(hz: float):
@@ -64,9 +68,17 @@ def test_a_two_mass_chain_on_a_shaker_is_its_closed_form(tmp_path):
     dashpots' pi w (c1 |X1 - U|^2 + c2 |X2 - X1|^2)."""
     path = tmp_path / "chain.inp"
     write_deck(chain_deck(base=True), path)
-    spec = SweepSpec(deck=read_deck(path), deck_text_hash=deck_hash(path), frequencies=FREQS,
-                     drives=(1e-3,), node=3, dof=1, baselines=("undamped",),
-                     responses=((1, 1), (2, 1)), quantity="displacement")
+    spec = SweepSpec(
+        deck=read_deck(path),
+        deck_text_hash=deck_hash(path),
+        frequencies=FREQS,
+        drives=(1e-3,),
+        node=3,
+        dof=1,
+        baselines=("undamped",),
+        responses=((1, 1), (2, 1)),
+        quantity="displacement",
+    )
     chains, closed = plan(spec)
     assert {p.config for c in chains for p in c} == {"deck"}
     assert len(closed) == len(FREQS)
@@ -89,9 +101,16 @@ def test_a_force_on_one_mass_measured_at_the_other(tmp_path):
     driving point X1 / F = d / det; before, such a chain's baselines were simulated."""
     path = tmp_path / "chain.inp"
     write_deck(chain_deck(base=False), path)
-    spec = SweepSpec(deck=read_deck(path), deck_text_hash=deck_hash(path), frequencies=FREQS,
-                     drives=(0.01,), node=1, dof=1, baselines=("undamped",),
-                     responses=((2, 1),))
+    spec = SweepSpec(
+        deck=read_deck(path),
+        deck_text_hash=deck_hash(path),
+        frequencies=FREQS,
+        drives=(0.01,),
+        node=1,
+        dof=1,
+        baselines=("undamped",),
+        responses=((2, 1),),
+    )
     chains, closed = plan(spec)
     assert {p.config for c in chains for p in c} == {"deck"}
     for r in closed:
@@ -103,8 +122,7 @@ def test_a_force_on_one_mass_measured_at_the_other(tmp_path):
         assert m["phase"] == pytest.approx(math.degrees(np.angle(g2)), abs=1e-8)
         assert m["accelerance"] == pytest.approx(w * w * abs(g2), rel=1e-10)
         # the force's work per cycle, pi F^2 (-Im H11)
-        assert r["input_work_per_cycle"] == pytest.approx(math.pi * 0.01 ** 2 * -g1.imag,
-                                                          rel=1e-10)
+        assert r["input_work_per_cycle"] == pytest.approx(math.pi * 0.01**2 * -g1.imag, rel=1e-10)
 
 
 @pytest.mark.validate
@@ -120,11 +138,19 @@ def test_the_simulated_chain_is_its_closed_form(tmp_path, drive):
 
     path = tmp_path / "chain.inp"
     write_deck(chain_deck(base=drive == "base"), path)
-    rows = sweep_command(str(path), freq="20,38,60", amps=["1e-3" if drive == "base" else "0.01"],
-                         node=3 if drive == "base" else 1, dof=1,
-                         responses=["1:1", "2:1"] if drive == "base" else ["2:1"],
-                         out=str(tmp_path / "out"), workers=1, tol=1e-3, drive=drive,
-                         echo=lambda s: None)
+    rows = sweep_command(
+        str(path),
+        freq="20,38,60",
+        amps=["1e-3" if drive == "base" else "0.01"],
+        node=3 if drive == "base" else 1,
+        dof=1,
+        responses=["1:1", "2:1"] if drive == "base" else ["2:1"],
+        out=str(tmp_path / "out"),
+        workers=1,
+        tol=1e-3,
+        drive=drive,
+        echo=lambda s: None,
+    )
     for r in rows:
         g1, g2, z = chain_cramer(r["frequency_hz"])
         exact = [z * g1, z * g2] if drive == "base" else [g2]
@@ -149,18 +175,29 @@ def test_modes_on_a_spring_to_the_base(tmp_path):
     modes = [(1, 6.0, 0.04), (2, 17.0, 0.05)]
     phi = {1: (20.0, 14.0), 2: (9.0, -25.0)}
     k, c = 300.0, 0.4
-    extra = ("MATID\n 1 1 0.0 1.0 300.0 300.0 300.0 0.4\nEND\nELEMENTS\n 1 1 1 3\nEND\n"
-             "BOUNDARY CONDITIONS\n 3 3 1 1 2 3 4 5 6\nEND\n")
+    extra = (
+        "MATID\n 1 1 0.0 1.0 300.0 300.0 300.0 0.4\nEND\nELEMENTS\n 1 1 1 3\nEND\n"
+        "BOUNDARY CONDITIONS\n 3 3 1 1 2 3 4 5 6\nEND\n"
+    )
     path = tmp_path / "modes.inp"
-    path.write_text(modal_deck(dt=1e-4, tmax=1.0, modes=modes, nodes=[1, 2, 3],
-                               masses=[(3, 1e-3)], shapes=[(n, 1, v) for n, v in phi.items()],
-                               extra=extra))
+    path.write_text(
+        modal_deck(
+            dt=1e-4,
+            tmax=1.0,
+            modes=modes,
+            nodes=[1, 2, 3],
+            masses=[(3, 1e-3)],
+            shapes=[(n, 1, v) for n, v in phi.items()],
+            extra=extra,
+        )
+    )
 
     def h(hz, o):
         w = 2 * math.pi * hz
-        return sum(phi[o][j] * phi[1][j] / ((2 * math.pi * f) ** 2 - w * w
-                                             + 2j * z * 2 * math.pi * f * w)
-                   for j, (_, f, z) in enumerate(modes))
+        return sum(
+            phi[o][j] * phi[1][j] / ((2 * math.pi * f) ** 2 - w * w + 2j * z * 2 * math.pi * f * w)
+            for j, (_, f, z) in enumerate(modes)
+        )
 
     model = build_model(read_deck(path))
     for out in (1, 2):
@@ -179,16 +216,27 @@ def _mounted_beam(tmp_path) -> Path:
     (p,) = deck.pdmp
     shift = {n.nid: n.nid + 1 for n in deck.nodes if n.nid > p.nodlim}
     nodes = tuple(replace(n, nid=shift.get(n.nid, n.nid)) for n in deck.nodes)
-    contacts = tuple(replace(c, slaves=tuple(
-        replace(s, nodes=tuple(shift.get(n, n) for n in s.nodes), positions=())
-        for s in c.slaves)) for c in deck.contacts)
+    contacts = tuple(
+        replace(
+            c,
+            slaves=tuple(
+                replace(s, nodes=tuple(shift.get(n, n) for n in s.nodes), positions=())
+                for s in c.slaves
+            ),
+        )
+        for c in deck.contacts
+    )
     mounted = replace(
-        deck, pdmp=(replace(p, nodlim=p.nodlim + 1),), contacts=contacts,
-        nodes=nodes[:p.nodlim] + (Node(10, 0.0, -1.0, 0.0),) + nodes[p.nodlim:],
+        deck,
+        pdmp=(replace(p, nodlim=p.nodlim + 1),),
+        contacts=contacts,
+        nodes=nodes[: p.nodlim] + (Node(10, 0.0, -1.0, 0.0),) + nodes[p.nodlim :],
         trace=replace(deck.trace, nodes=(9, 10)),
         materials=deck.materials + (Material(7, 1, 0.0, 1.0, 40.0, 0.0, 0.0, 2e-3),),
         elements=deck.elements + (Element(70, 7, (9, 10)),),
-        boundaries=deck.boundaries + (Boundary(10, 10, 1, ALL_DOFS),), usrfrc=())
+        boundaries=deck.boundaries + (Boundary(10, 10, 1, ALL_DOFS),),
+        usrfrc=(),
+    )
     path = tmp_path / "mounted.inp"
     write_deck(mounted, path)
     return path
@@ -202,9 +250,17 @@ def test_a_modal_beam_on_a_shaker_has_closed_form_baselines(tmp_path):
     path = _mounted_beam(tmp_path)
     deck = read_deck(path)
     g = 386.1
-    spec = SweepSpec(deck=deck, deck_text_hash=deck_hash(path), frequencies=(30.0, 40.0, 45.0),
-                     drives=(2 * g,), node=10, dof=1, baselines=("undamped", "added-mass"),
-                     responses=((9, 1),), quantity="acceleration")
+    spec = SweepSpec(
+        deck=deck,
+        deck_text_hash=deck_hash(path),
+        frequencies=(30.0, 40.0, 45.0),
+        drives=(2 * g,),
+        node=10,
+        dof=1,
+        baselines=("undamped", "added-mass"),
+        responses=((9, 1),),
+        quantity="acceleration",
+    )
     chains, closed = plan(spec)
     assert {p.config for c in chains for p in c} == {"deck"}
     assert sorted({r["config"] for r in closed}) == ["added-mass", "undamped"]
@@ -213,13 +269,14 @@ def test_a_modal_beam_on_a_shaker_has_closed_form_baselines(tmp_path):
     for config, extra in (("undamped", 0.0), ("added-mass", mp)):
         ms = bare.modal
         j = int(np.flatnonzero(ms.nodes == bare.index_of(9))[0])
-        phi_given = ms.shape[j, 0]                  # the cavity's modes: add the particles
-        lam, vec = scipy.linalg.eigh(np.diag(ms.omega ** 2),
-                                     np.eye(ms.n_modes) + extra * np.outer(phi_given,
-                                                                             phi_given))
-        phi = vec.T @ phi_given                     # mass-normalised: vec^T (I + ..) vec = I
-        coupled = build_model(with_added_mass(deck, 9, extra) if extra
-                              else without_particles(deck)).modal
+        phi_given = ms.shape[j, 0]  # the cavity's modes: add the particles
+        lam, vec = scipy.linalg.eigh(
+            np.diag(ms.omega**2), np.eye(ms.n_modes) + extra * np.outer(phi_given, phi_given)
+        )
+        phi = vec.T @ phi_given  # mass-normalised: vec^T (I + ..) vec = I
+        coupled = build_model(
+            with_added_mass(deck, 9, extra) if extra else without_particles(deck)
+        ).modal
         for r in (r for r in closed if r["config"] == config):
             hz = r["frequency_hz"]
             w = 2 * math.pi * hz
@@ -230,7 +287,7 @@ def test_a_modal_beam_on_a_shaker_has_closed_form_baselines(tmp_path):
             t = _spring_on_modes(h99, h99, hz, 40.0, 2e-3)
             (m,) = r["responses"]
             assert m["transmissibility"] == pytest.approx(abs(t), rel=1e-8), config
-            assert m["amplitude"] == pytest.approx(abs(t) * 2 * g / w ** 2, rel=1e-8)
+            assert m["amplitude"] == pytest.approx(abs(t) * 2 * g / w**2, rel=1e-8)
             assert m["phase"] == pytest.approx(math.degrees(np.angle(t)), abs=1e-6)
         assert np.allclose(np.sort(coupled.omega), np.sqrt(lam), rtol=1e-10)
 
@@ -245,7 +302,8 @@ def test_the_shaker_decks_base_sdof_is_the_same_linear_system():
         w = 2 * math.pi * hz
         assert system.transmissibility(w) == pytest.approx(sdof.transmissibility(w), rel=1e-12)
         assert system.dissipated_per_cycle(1e-3, w) == pytest.approx(
-            sdof.dissipated_per_cycle(1e-3, w), rel=1e-10)
+            sdof.dissipated_per_cycle(1e-3, w), rel=1e-10
+        )
 
 
 @pytest.mark.validate
@@ -256,17 +314,37 @@ def test_a_simulated_modal_structure_on_a_shaker_equals_its_closed_form(tmp_path
     from x3dpd.design.commands import sweep_command
 
     modes = [(1, 6.0, 0.04), (2, 17.0, 0.05)]
-    extra = ("MATID\n 1 1 0.0 1.0 300.0 300.0 300.0 0.4\nEND\nELEMENTS\n 1 1 1 3\nEND\n"
-             "BOUNDARY CONDITIONS\n 3 3 1 1 2 3 4 5 6\nEND\n")
+    extra = (
+        "MATID\n 1 1 0.0 1.0 300.0 300.0 300.0 0.4\nEND\nELEMENTS\n 1 1 1 3\nEND\n"
+        "BOUNDARY CONDITIONS\n 3 3 1 1 2 3 4 5 6\nEND\n"
+    )
     path = tmp_path / "modes.inp"
-    path.write_text(modal_deck(dt=1e-4, tmax=1.0, modes=modes, nodes=[1, 2, 3],
-                               masses=[(3, 1e-3)], trace=[1, 2, 3],
-                               shapes=[(1, 1, (20.0, 14.0)), (2, 1, (9.0, -25.0))],
-                               extra=extra))
-    rows = sweep_command(str(path), freq="5,8.5,12", amps=["1e-3"], node=3, dof=1,
-                         responses=["1:1", "2:1"], baselines=["undamped"],
-                         out=str(tmp_path / "out"), workers=1, tol=1e-3, drive="base",
-                         echo=lambda s: None)
+    path.write_text(
+        modal_deck(
+            dt=1e-4,
+            tmax=1.0,
+            modes=modes,
+            nodes=[1, 2, 3],
+            masses=[(3, 1e-3)],
+            trace=[1, 2, 3],
+            shapes=[(1, 1, (20.0, 14.0)), (2, 1, (9.0, -25.0))],
+            extra=extra,
+        )
+    )
+    rows = sweep_command(
+        str(path),
+        freq="5,8.5,12",
+        amps=["1e-3"],
+        node=3,
+        dof=1,
+        responses=["1:1", "2:1"],
+        baselines=["undamped"],
+        out=str(tmp_path / "out"),
+        workers=1,
+        tol=1e-3,
+        drive="base",
+        echo=lambda s: None,
+    )
     by = {(r["config"], r["frequency_hz"]): r for r in rows}
     for hz in (5.0, 8.5, 12.0):
         sim, closed = by["deck", hz], by["undamped", hz]

@@ -44,8 +44,7 @@ def test_a_linear_structure_starts_on_its_steady_state(predict):
         assert row["start"] == "predicted"
         assert row["cycles"] <= least + 1
         # the next point of a chain, from the previous one's state, is predicted as well
-        nxt = SweepPoint("deck", deck, 37.0, TABLE4_DRIVE, 1, 1, direction="down",
-                         criterion=crit)
+        nxt = SweepPoint("deck", deck, 37.0, TABLE4_DRIVE, 1, 1, direction="down", criterion=crit)
         row2, _ = run_point(nxt, (row, state))
         assert row2["start"] == "predicted"
         assert row2["cycles"] <= least + 1
@@ -73,6 +72,7 @@ def test_the_particles_ride_along_and_the_energy_is_booked():
     assert np.all(state.x[:, 1:] == x0[:, 1:])
     # u = |X| sin(phi), u' = |X| w cos(phi) of the added-mass structure
     from x3dpd.design.predict import added_mass_response
+
     w = 2 * math.pi * 36.0
     x = added_mass_response(deck, 9, 1, point.drive, w)
     assert moved[i] == pytest.approx(abs(x) * math.sin(np.angle(x)), rel=1e-12)
@@ -83,8 +83,9 @@ def test_the_particles_ride_along_and_the_energy_is_booked():
     m_all = float(np.sum(np.asarray(model.mass)[free]))
     k = float(model.spring_k[0][0])
     added = 0.5 * k * moved[i] ** 2 + 0.5 * m_all * state.vel[i, 0] ** 2
-    rest = predicted_start(SweepPoint("deck", deck, 36.0, 0.0, 9, 1), None, 5e-7, 0.0,
-                           (spec,)).state.e_ref
+    rest = predicted_start(
+        SweepPoint("deck", deck, 36.0, 0.0, 9, 1), None, 5e-7, 0.0, (spec,)
+    ).state.e_ref
     assert state.e_ref - rest == pytest.approx(added, rel=1e-6)
 
 
@@ -98,14 +99,17 @@ def test_a_chain_builds_its_models_once(monkeypatch):
     monkeypatch.setattr(predict, "build", lambda deck: built.append(deck) or real(deck))
     deck = read_deck(DECKS / "beam_1.inp")
     spec = "sine:node=9,dof=1,amp=4.8404e-3,hz=36.0,t0=0.0"
-    starts = [predicted_start(SweepPoint("deck", deck, hz, 4.8404e-3, 9, 1), None, 5e-7, 0.0,
-                              (spec,)) for hz in (36.0, 37.0, 38.0)]
-    assert len(built) == 2    # the deck's model, the added-mass deck's model
+    starts = [
+        predicted_start(SweepPoint("deck", deck, hz, 4.8404e-3, 9, 1), None, 5e-7, 0.0, (spec,))
+        for hz in (36.0, 37.0, 38.0)
+    ]
+    assert len(built) == 2  # the deck's model, the added-mass deck's model
     assert built[0] is deck and built[1] is not deck
     # a start computed from the cache is the one computed afresh
     predict._CACHE.clear()
-    fresh = predicted_start(SweepPoint("deck", deck, 38.0, 4.8404e-3, 9, 1), None, 5e-7, 0.0,
-                            (spec,))
+    fresh = predicted_start(
+        SweepPoint("deck", deck, 38.0, 4.8404e-3, 9, 1), None, 5e-7, 0.0, (spec,)
+    )
     assert np.array_equal(fresh.state.x, starts[-1].state.x)
     assert np.array_equal(fresh.state.vel, starts[-1].state.vel)
     assert fresh.state.e_ref == starts[-1].state.e_ref

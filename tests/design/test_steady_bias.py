@@ -25,13 +25,14 @@ import x3dpd
 from x3dpd.cli import _register, cli
 
 DECK = Path(__file__).resolve().parents[1] / "fixtures" / "decks" / "masri_caughey.inp"
-DRIVE = 4.84040e-3    # lbf, the beam decks' 200 mV drive (decks/README.md)
-TOL = 0.01            # the sweep's default --tol
-SAMPLES = 200         # samples per drive cycle, as the sweep records
+DRIVE = 4.84040e-3  # lbf, the beam decks' 200 mV drive (decks/README.md)
+TOL = 0.01  # the sweep's default --tol
+SAMPLES = 200  # samples per drive cycle, as the sweep records
 
 
-def periodic_amplitude(hz: float, cycles: int, initial_state=None,
-                       drive: float = DRIVE) -> tuple[float, float, object]:
+def periodic_amplitude(
+    hz: float, cycles: int, initial_state=None, drive: float = DRIVE
+) -> tuple[float, float, object]:
     """(X, spread, final state) of a straight run of ``cycles`` drive cycles from rest (or on
     from ``initial_state``): X the fundamental amplitude of node 9's x over its last 25 cycles,
     x = m + a cos(w t) + b sin(w t) fitted by least squares, X = hypot(a, b); spread the relative
@@ -41,9 +42,15 @@ def periodic_amplitude(hz: float, cycles: int, initial_state=None,
     period = 1.0 / hz
     t0 = initial_state.time if initial_state is not None else 0.0
     itrac = max(1, int(period / (SAMPLES * dt)))
-    res = x3dpd.run(deck, tmax=t0 + cycles * period, dt=dt, itrac=itrac, trace_nodes=(9,),
-                    usrfrc=(f"sine:node=9,dof=1,amp={drive!r},hz={hz!r},t0={t0!r}",),
-                    initial_state=initial_state)
+    res = x3dpd.run(
+        deck,
+        tmax=t0 + cycles * period,
+        dt=dt,
+        itrac=itrac,
+        trace_nodes=(9,),
+        usrfrc=(f"sine:node=9,dof=1,amp={drive!r},hz={hz!r},t0={t0!r}",),
+        initial_state=initial_state,
+    )
     t, x = res.trace.time, res.trace.position[:, 0, 0]
     w = 2.0 * math.pi * hz
 
@@ -65,8 +72,23 @@ def sweep_amplitude(tmp_path: Path, hz: float, *options: str) -> dict:
 
     out = tmp_path / ("sweep" + "".join(options))
     _register()
-    res = CliRunner().invoke(cli, ["sweep", str(DECK), "--freq", str(hz), "--amp", repr(DRIVE),
-                                    "--workers", "1", "--out", str(out), "-q", *options])
+    res = CliRunner().invoke(
+        cli,
+        [
+            "sweep",
+            str(DECK),
+            "--freq",
+            str(hz),
+            "--amp",
+            repr(DRIVE),
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+            "-q",
+            *options,
+        ],
+    )
     assert res.exit_code == 0, res.output
     with open(out / "sweep.csv") as f:
         return next(csv.DictReader(f))
@@ -74,7 +96,7 @@ def sweep_amplitude(tmp_path: Path, hz: float, *options: str) -> dict:
 
 def test_a_default_sweep_point_keeps_its_tolerance_whatever_its_start(tmp_path):
     ref, spread, _ = periodic_amplitude(36.0, 600)
-    assert spread < 1e-3            # the long run has settled on its periodic motion
+    assert spread < 1e-3  # the long run has settled on its periodic motion
     for options in ((), ("--no-predict",)):
         row = sweep_amplitude(tmp_path, 36.0, *options)
         amp = float(row["amplitude"])

@@ -33,16 +33,24 @@ def sdof_file(tmp_path: Path) -> Path:
 def spec_for(path: Path, freqs, **kw) -> SweepSpec:
     deck = read_deck(path)
     kw.setdefault("criterion", Criterion(tol=1e-3))
-    return SweepSpec(deck=deck, deck_text_hash=deck_hash(path), frequencies=tuple(freqs),
-                     drives=kw.pop("drives", (TABLE4_DRIVE,)), node=kw.pop("node", 1),
-                     dof=1, **kw)
+    return SweepSpec(
+        deck=deck,
+        deck_text_hash=deck_hash(path),
+        frequencies=tuple(freqs),
+        drives=kw.pop("drives", (TABLE4_DRIVE,)),
+        node=kw.pop("node", 1),
+        dof=1,
+        **kw,
+    )
 
 
 def exact(hz: float):
     """m x'' + c x' + k x = F sin(w t): X = F / |k - m w^2 + i c w|, phi = -arg(...)."""
     w = 2 * math.pi * hz
-    return (TABLE4_DRIVE / math.hypot(TABLE4_K - TABLE4_MASS * w * w, TABLE4_C * w),
-            -math.atan2(TABLE4_C * w, TABLE4_K - TABLE4_MASS * w * w))
+    return (
+        TABLE4_DRIVE / math.hypot(TABLE4_K - TABLE4_MASS * w * w, TABLE4_C * w),
+        -math.atan2(TABLE4_C * w, TABLE4_K - TABLE4_MASS * w * w),
+    )
 
 
 def test_the_linear_structures_sweep_equals_its_closed_form(tmp_path):
@@ -58,12 +66,20 @@ def test_the_linear_structures_sweep_equals_its_closed_form(tmp_path):
         assert math.radians(r["phase"]) == pytest.approx(phi, abs=2e-3)
         w = 2 * math.pi * r["frequency_hz"]
         # steady state: the drive's work per cycle is the dashpot's pi c w X^2
-        assert r["input_work_per_cycle"] == pytest.approx(math.pi * TABLE4_C * w * amp ** 2,
-                                                          rel=4e-3)
+        assert r["input_work_per_cycle"] == pytest.approx(math.pi * TABLE4_C * w * amp**2, rel=4e-3)
         assert r["acceleration"] == pytest.approx(w * w * r["amplitude"], rel=1e-12)
     csv = read_csv(tmp_path / "out" / "sweep.csv")
-    assert {"config", "frequency_hz", "drive", "amplitude", "phase", "dissipated_per_cycle",
-            "cycles", "converged", "wall_s"} <= set(csv[0])
+    assert {
+        "config",
+        "frequency_hz",
+        "drive",
+        "amplitude",
+        "phase",
+        "dissipated_per_cycle",
+        "cycles",
+        "converged",
+        "wall_s",
+    } <= set(csv[0])
     assert [c["amplitude"] for c in csv] == [r["amplitude"] for r in rows]
 
 
@@ -91,11 +107,16 @@ def test_a_rerun_computes_only_the_missing_points(tmp_path):
 
 
 def test_a_chain_continues_from_the_previous_points_state(tmp_path):
-    rows = run_sweep(spec_for(sdof_file(tmp_path), (37.0, 38.0, 39.0), direction="both"),
-                     tmp_path / "out", workers=1)
+    rows = run_sweep(
+        spec_for(sdof_file(tmp_path), (37.0, 38.0, 39.0), direction="both"),
+        tmp_path / "out",
+        workers=1,
+    )
     for direction, order in (("up", [37.0, 38.0, 39.0]), ("down", [39.0, 38.0, 37.0])):
-        chain = sorted((r for r in rows if r["direction"] == direction),
-                       key=lambda r: order.index(r["frequency_hz"]))
+        chain = sorted(
+            (r for r in rows if r["direction"] == direction),
+            key=lambda r: order.index(r["frequency_hz"]),
+        )
         assert chain[0]["t_start"] == 0.0
         for before, after in zip(chain, chain[1:]):
             assert after["t_start"] == before["t_end"]
@@ -109,13 +130,18 @@ def test_a_point_inserted_into_a_finished_chain_is_refused(tmp_path):
     run_sweep(spec_for(path, (37.0, 39.0), direction="up"), tmp_path / "out", workers=1)
     # appending at the chain's end continues from its last state: allowed
     computed = []
-    run_sweep(spec_for(path, (37.0, 39.0, 40.0), direction="up"), tmp_path / "out",
-              workers=1, on_point=computed.append)
+    run_sweep(
+        spec_for(path, (37.0, 39.0, 40.0), direction="up"),
+        tmp_path / "out",
+        workers=1,
+        on_point=computed.append,
+    )
     assert [r["frequency_hz"] for r in computed] == [40.0]
     # inserting 38 Hz would rewrite the history of 39 and 40 Hz: refused
     with pytest.raises(InputError, match="inserted before 39 Hz"):
-        run_sweep(spec_for(path, (37.0, 38.0, 39.0, 40.0), direction="up"), tmp_path / "out",
-                  workers=1)
+        run_sweep(
+            spec_for(path, (37.0, 38.0, 39.0, 40.0), direction="up"), tmp_path / "out", workers=1
+        )
 
 
 def test_added_mass_baseline_is_the_closed_form_with_the_particles_mass():
@@ -128,7 +154,7 @@ def test_added_mass_baseline_is_the_closed_form_with_the_particles_mass():
     assert sdof.m == pytest.approx(2.04213e-4 + 0.5e-12, rel=1e-12)
     assert (sdof.k, sdof.c) == (11.4823, 0.000308293)
     n, radius, rho = 64, 0.03125, 0.000732971
-    mp = n * rho * 4.0 / 3.0 * math.pi * radius ** 3
+    mp = n * rho * 4.0 / 3.0 * math.pi * radius**3
     assert particle_mass(build_model(deck)) == pytest.approx(mp, rel=1e-12)
     added = linear_sdof(build_model(with_added_mass(deck, 9, mp)), 9, 1)
     assert added.m == pytest.approx(sdof.m + mp, rel=1e-12)
@@ -137,19 +163,31 @@ def test_added_mass_baseline_is_the_closed_form_with_the_particles_mass():
 
 
 def row(config, f, amp, direction="", drive=1.0, **kw):
-    return {"config": config, "frequency_hz": f, "amplitude": amp, "direction": direction,
-            "drive": drive, "change": 0.001, "irregular": False, **kw}
+    return {
+        "config": config,
+        "frequency_hz": f,
+        "amplitude": amp,
+        "direction": direction,
+        "drive": drive,
+        "change": 0.001,
+        "irregular": False,
+        **kw,
+    }
 
 
 def test_hysteresis_puts_points_on_high_and_low_branches():
     from x3dpd.design.sweep import label_branches
 
-    rows = [row("deck", 37.0, 1.0, "up"), row("deck", 37.0, 0.5, "down"),
-            row("deck", 38.0, 0.30, "up"), row("deck", 38.0, 0.301, "down"),
-            row("deck", 39.0, 0.2, "up", irregular=True), row("deck", 39.0, 0.2, "down")]
+    rows = [
+        row("deck", 37.0, 1.0, "up"),
+        row("deck", 37.0, 0.5, "down"),
+        row("deck", 38.0, 0.30, "up"),
+        row("deck", 38.0, 0.301, "down"),
+        row("deck", 39.0, 0.2, "up", irregular=True),
+        row("deck", 39.0, 0.2, "down"),
+    ]
     label_branches(rows)
-    assert [r["branch"] for r in rows] == ["high", "low", "single", "single", "irregular",
-                                           "single"]
+    assert [r["branch"] for r in rows] == ["high", "low", "single", "single", "irregular", "single"]
 
 
 def test_peak_attenuation_is_20_log10_of_the_peaks_ratio():
@@ -157,8 +195,12 @@ def test_peak_attenuation_is_20_log10_of_the_peaks_ratio():
 
     from x3dpd.analysis.design_plots import attenuations
 
-    rows = [row("deck", 37.0, 0.01), row("deck", 38.0, 0.02), row("undamped", 37.0, 0.05),
-            row("undamped", 38.0, 0.1)]
+    rows = [
+        row("deck", 37.0, 0.01),
+        row("deck", 38.0, 0.02),
+        row("undamped", 37.0, 0.05),
+        row("undamped", 38.0, 0.1),
+    ]
     curve = {("added-mass", 1.0): (np.array([37.0, 37.5, 38.0]), np.array([0.1, 0.2, 0.1]))}
     att = {a["baseline"]: a["attenuation_db"] for a in attenuations(rows, curve)}
     # swept undamped peak 0.1 / damper peak 0.02 = 5 -> 13.98 dB; closed-form curve peak 0.2

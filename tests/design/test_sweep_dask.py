@@ -28,19 +28,27 @@ def _same_rows(serial, other):
 def _spec():
     """beam_1 (one sphere in the cavity), two chains (up and down) of two points, each capped
     short (9 cycles at about 37 Hz), and the closed-form undamped baseline."""
-    return SweepSpec(deck=read_deck(BEAM_1), deck_text_hash=deck_hash(BEAM_1),
-                     frequencies=(37.0, 38.0), drives=(9.68080e-3,), node=9, dof=1,
-                     direction="both", baselines=("undamped",),
-                     criterion=Criterion(window=3, max_cycles=9))
+    return SweepSpec(
+        deck=read_deck(BEAM_1),
+        deck_text_hash=deck_hash(BEAM_1),
+        frequencies=(37.0, 38.0),
+        drives=(9.68080e-3,),
+        node=9,
+        dof=1,
+        direction="both",
+        baselines=("undamped",),
+        criterion=Criterion(window=3, max_cycles=9),
+    )
 
 
-@pytest.mark.validate   # a second LocalCluster of worker processes: python -m pytest -m validate
+@pytest.mark.validate  # a second LocalCluster of worker processes: python -m pytest -m validate
 def test_an_existing_cluster_given_by_its_address_equals_serial_bit_for_bit(tmp_path):
     spec = _spec()
     serial = run_sweep(spec, tmp_path / "serial", workers=1)
     # --scheduler: an existing cluster, here a LocalCluster of two worker processes
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                      dashboard_address=":0") as cluster:
+    with LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
+    ) as cluster:
         remote = run_sweep(spec, tmp_path / "scheduler", scheduler=cluster.scheduler_address)
     assert len(remote) == 6
     _same_rows(serial, remote)

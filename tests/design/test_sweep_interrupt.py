@@ -21,10 +21,26 @@ def test_ctrl_c_stops_a_dask_sweep_promptly_and_keeps_finished_points(tmp_path):
     freqs = ",".join(f"{35 + 0.25 * k:g}" for k in range(16))
     # a process group of its own, with SIGINT at its default (as a terminal's Ctrl-C finds it)
     proc = subprocess.Popen(
-        [sys.executable, "-m", "x3dpd", "sweep", str(DECKS / "beam_1.inp"), "--freq", freqs,
-         "--amp", "4.84040e-3", "--out", str(out), "--workers", "2"],
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        preexec_fn=lambda: (signal.signal(signal.SIGINT, signal.SIG_DFL), os.setpgrp()))
+        [
+            sys.executable,
+            "-m",
+            "x3dpd",
+            "sweep",
+            str(DECKS / "beam_1.inp"),
+            "--freq",
+            freqs,
+            "--amp",
+            "4.84040e-3",
+            "--out",
+            str(out),
+            "--workers",
+            "2",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        preexec_fn=lambda: (signal.signal(signal.SIGINT, signal.SIG_DFL), os.setpgrp()),
+    )
     points = out / "points"
     deadline = time.monotonic() + 300
     while not (points.is_dir() and any(points.glob("*.json"))):

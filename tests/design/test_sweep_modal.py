@@ -14,8 +14,13 @@ import scipy.linalg
 from modal_decks import modal_deck
 
 from x3dpd.deck.parser import read_deck
-from x3dpd.design.baselines import (linear_modal, linear_structure, particle_mass,
-                                    with_added_mass, without_particles)
+from x3dpd.design.baselines import (
+    linear_modal,
+    linear_structure,
+    particle_mass,
+    with_added_mass,
+    without_particles,
+)
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import Criterion
 from x3dpd.design.sweep import deck_hash, plan, run_sweep
@@ -28,9 +33,12 @@ PHI = {1: (20.0, 14.0), 2: (9.0, -25.0)}
 
 def _frf(hz, node_out, node_in=1):
     w = 2 * math.pi * hz
-    return sum(PHI[node_out][k] * PHI[node_in][k]
-               / ((2 * math.pi * f) ** 2 - w * w + 2j * z * (2 * math.pi * f) * w)
-               for k, (_, f, z) in enumerate(TWO))
+    return sum(
+        PHI[node_out][k]
+        * PHI[node_in][k]
+        / ((2 * math.pi * f) ** 2 - w * w + 2j * z * (2 * math.pi * f) * w)
+        for k, (_, f, z) in enumerate(TWO)
+    )
 
 
 def test_a_modal_decks_sweep_equals_its_frf(tmp_path):
@@ -38,12 +46,24 @@ def test_a_modal_decks_sweep_equals_its_frf(tmp_path):
     criterion's 1e-3 plus the integrator's error of the two-mode FRF, and its ledger's input
     work per cycle is pi F |X| sin(-phi)."""
     path = tmp_path / "two.inp"
-    path.write_text(modal_deck(dt=1e-4, tmax=100.0, modes=TWO,
-                               shapes=[(n, 1, v) for n, v in PHI.items()],
-                               drive="sine:node=1,dof=1,amp=0.002,hz=6.0"))
-    spec = SweepSpec(deck=read_deck(path), deck_text_hash=deck_hash(path),
-                     frequencies=(5.0, 6.0, 11.0, 17.0), drives=(0.002,), node=1, dof=1,
-                     criterion=Criterion(tol=1e-3))
+    path.write_text(
+        modal_deck(
+            dt=1e-4,
+            tmax=100.0,
+            modes=TWO,
+            shapes=[(n, 1, v) for n, v in PHI.items()],
+            drive="sine:node=1,dof=1,amp=0.002,hz=6.0",
+        )
+    )
+    spec = SweepSpec(
+        deck=read_deck(path),
+        deck_text_hash=deck_hash(path),
+        frequencies=(5.0, 6.0, 11.0, 17.0),
+        drives=(0.002,),
+        node=1,
+        dof=1,
+        criterion=Criterion(tol=1e-3),
+    )
     rows = run_sweep(spec, tmp_path / "out", workers=1)
     for r in rows:
         h = 0.002 * _frf(r["frequency_hz"], 1)
@@ -51,7 +71,7 @@ def test_a_modal_decks_sweep_equals_its_frf(tmp_path):
         assert r["start"] == "predicted"
         assert r["amplitude"] == pytest.approx(abs(h), rel=2e-3)
         assert math.radians(r["phase"]) == pytest.approx(np.angle(h), abs=2e-3)
-        assert r["cycles"] <= 5 * 4      # on the steady state from the start: few windows
+        assert r["cycles"] <= 5 * 4  # on the steady state from the start: few windows
 
 
 def test_modal_baselines_are_closed_form_rows(tmp_path):
@@ -59,9 +79,15 @@ def test_modal_baselines_are_closed_form_rows(tmp_path):
     only the deck's own points; the undamped one is the modes with the cavity, the added-mass
     one has the particles' mass coupled in too (the reduced eigenproblem, computed here)."""
     deck = read_deck(DECKS / "beam_64_modal.inp")
-    spec = SweepSpec(deck=deck, deck_text_hash="x", frequencies=(36.0, 37.5),
-                     drives=(4.8404e-3,), node=9, dof=1,
-                     baselines=("undamped", "added-mass"))
+    spec = SweepSpec(
+        deck=deck,
+        deck_text_hash="x",
+        frequencies=(36.0, 37.5),
+        drives=(4.8404e-3,),
+        node=9,
+        dof=1,
+        baselines=("undamped", "added-mass"),
+    )
     chains, closed = plan(spec)
     assert {p.config for chain in chains for p in chain} == {"deck"}
     assert sorted({r["config"] for r in closed}) == ["added-mass", "undamped"]
@@ -72,14 +98,15 @@ def test_modal_baselines_are_closed_form_rows(tmp_path):
     ms = bare.modal
     j = int(np.flatnonzero(ms.nodes == bare.index_of(9))[0])
     phi = ms.shape[j, 0]
-    lam = scipy.linalg.eigh(np.diag(ms.omega ** 2), np.eye(ms.n_modes) + mp * np.outer(phi, phi),
-                            eigvals_only=True)
+    lam = scipy.linalg.eigh(
+        np.diag(ms.omega**2), np.eye(ms.n_modes) + mp * np.outer(phi, phi), eigvals_only=True
+    )
     assert np.allclose(added.modal.omega, np.sqrt(lam), rtol=1e-10)
     lin = linear_structure(added, 9, 1)
     for r in (r for r in closed if r["config"] == "added-mass"):
         w = 2 * math.pi * r["frequency_hz"]
         assert r["amplitude"] == pytest.approx(abs(4.8404e-3 * lin.receptance(w)), rel=1e-12)
-    assert linear_modal(build_model(deck), 9, 1) is None        # particles: not linear
+    assert linear_modal(build_model(deck), 9, 1) is None  # particles: not linear
 
 
 def test_a_response_elsewhere_is_the_cross_frf(tmp_path):
@@ -90,12 +117,28 @@ def test_a_response_elsewhere_is_the_cross_frf(tmp_path):
     from x3dpd.design.sweep import read_csv
 
     path = tmp_path / "two.inp"
-    path.write_text(modal_deck(dt=1e-4, tmax=100.0, modes=TWO,
-                               shapes=[(n, 1, v) for n, v in PHI.items()],
-                               drive="sine:node=1,dof=1,amp=0.002,hz=6.0"))
-    rows = sweep_command(str(path), freq="6.0,11.0", amps=["0.002"], node=1, dof=1,
-                         responses=["2:1"], baselines=["undamped"], out=str(tmp_path / "o"),
-                         workers=1, tol=1e-3, echo=lambda s: None)
+    path.write_text(
+        modal_deck(
+            dt=1e-4,
+            tmax=100.0,
+            modes=TWO,
+            shapes=[(n, 1, v) for n, v in PHI.items()],
+            drive="sine:node=1,dof=1,amp=0.002,hz=6.0",
+        )
+    )
+    rows = sweep_command(
+        str(path),
+        freq="6.0,11.0",
+        amps=["0.002"],
+        node=1,
+        dof=1,
+        responses=["2:1"],
+        baselines=["undamped"],
+        out=str(tmp_path / "o"),
+        workers=1,
+        tol=1e-3,
+        echo=lambda s: None,
+    )
     for r in rows:
         (m,) = r["responses"]
         h = 0.002 * _frf(r["frequency_hz"], 2)
@@ -107,8 +150,10 @@ def test_a_response_elsewhere_is_the_cross_frf(tmp_path):
         assert m["accelerance"] == pytest.approx(w * w * abs(h) / 0.002, rel=rel)
     csv = read_csv(tmp_path / "o" / "sweep.csv")
     assert len(csv) == 2 * len(rows)
-    assert sorted({(c["response_node"], c["response_dof"]) for c in csv}) == [(1.0, 1.0),
-                                                                            (2.0, 1.0)]
+    assert sorted({(c["response_node"], c["response_dof"]) for c in csv}) == [
+        (1.0, 1.0),
+        (2.0, 1.0),
+    ]
     assert (tmp_path / "o" / "sweep_responses.png").stat().st_size > 10000
 
 
@@ -117,12 +162,22 @@ def test_bad_responses_are_refused_before_anything_runs(tmp_path):
     from x3dpd.errors import InputError
 
     path = tmp_path / "two.inp"
-    path.write_text(modal_deck(dt=1e-4, tmax=1.0, modes=TWO,
-                               shapes=[(n, 1, v) for n, v in PHI.items()]))
+    path.write_text(
+        modal_deck(dt=1e-4, tmax=1.0, modes=TWO, shapes=[(n, 1, v) for n, v in PHI.items()])
+    )
     for bad, says in (("7:1", "not a node"), ("2:5", "DOF 1, 2 or 3"), ("2", "NODE:DOF")):
         with pytest.raises(InputError, match=says):
-            sweep_command(str(path), freq="6", amps=["1"], node=1, dof=1, responses=[bad],
-                          out=str(tmp_path / "o"), workers=1, echo=lambda s: None)
+            sweep_command(
+                str(path),
+                freq="6",
+                amps=["1"],
+                node=1,
+                dof=1,
+                responses=[bad],
+                out=str(tmp_path / "o"),
+                workers=1,
+                echo=lambda s: None,
+            )
         assert not (tmp_path / "o").exists()
 
 
@@ -134,9 +189,15 @@ def test_ringdown_of_a_modal_structure_gives_its_modal_damping(tmp_path):
     from x3dpd.design.ringdown import ringdown_of_deck
 
     path = tmp_path / "one.inp"
-    path.write_text(modal_deck(dt=1e-4, tmax=10.0, modes=[(1, 8.0, 0.02)],
-                               shapes=[(1, 1, (30.0,))],
-                               drive="sine:node=1,dof=1,amp=0.01,hz=8.0"))
+    path.write_text(
+        modal_deck(
+            dt=1e-4,
+            tmax=10.0,
+            modes=[(1, 8.0, 0.02)],
+            shapes=[(1, 1, (30.0,))],
+            drive="sine:node=1,dof=1,amp=0.01,hz=8.0",
+        )
+    )
     rd = ringdown_of_deck(read_deck(path), 1, 1, drive_until=3.0, ring=4.0)
-    middle = rd.zeta[len(rd.zeta) // 4: 3 * len(rd.zeta) // 4]
+    middle = rd.zeta[len(rd.zeta) // 4 : 3 * len(rd.zeta) // 4]
     assert np.median(middle) == pytest.approx(0.02, rel=0.03)

@@ -13,13 +13,18 @@ import math
 import numpy as np
 import pytest
 
-from x3dpd.geometry.capsule import (SHAPE, capsule_clearance, capsule_mesh, capsule_outline,
-                                    locate_parts)
+from x3dpd.geometry.capsule import (
+    SHAPE,
+    capsule_clearance,
+    capsule_mesh,
+    capsule_outline,
+    locate_parts,
+)
 
 A = np.array([1.0, -2.0, 0.5])
-U = np.array([2.0, 1.0, -2.0]) / 3.0              # unit axis, tilted
-E = np.array([1.0, -2.0, 0.0]) / math.sqrt(5.0)   # unit, perpendicular to U
-F = np.cross(U, E)                                # completes the frame
+U = np.array([2.0, 1.0, -2.0]) / 3.0  # unit axis, tilted
+E = np.array([1.0, -2.0, 0.0]) / math.sqrt(5.0)  # unit, perpendicular to U
+F = np.cross(U, E)  # completes the frame
 LENGTH = 0.8
 B = A + LENGTH * U
 BIG_R = 0.3
@@ -58,8 +63,7 @@ def test_sphere_over_the_cylindrical_part():
         np.testing.assert_allclose(n, -E, atol=TOL)
         assert xi == pytest.approx(s / LENGTH, abs=TOL)
         np.testing.assert_allclose(lever, BIG_R * E, atol=TOL)
-        np.testing.assert_allclose((1 - xi) * A + xi * B + lever, A + s * U + BIG_R * E,
-                                   atol=TOL)
+        np.testing.assert_allclose((1 - xi) * A + xi * B + lever, A + s * U + BIG_R * E, atol=TOL)
 
 
 @pytest.mark.parametrize("end", ["A", "B"])
@@ -70,8 +74,7 @@ def test_sphere_beyond_either_cap_centre(end):
     distance overlaps the hemisphere by 3e-3 -- a flat cap at C (the cylinder's) would have
     reported r - d |w . U| instead."""
     centre, sign, xi_want = (A, -1.0, 0.0) if end == "A" else (B, 1.0, 1.0)
-    for w in (_unit(sign * 0.6 * U + 0.8 * E), _unit(sign * U + 0.3 * E - 0.5 * F),
-              sign * U):
+    for w in (_unit(sign * 0.6 * U + 0.8 * E), _unit(sign * U + 0.3 * E - 0.5 * F), sign * U):
         for d in (BIG_R - R + 0.003, 0.1):
             p = centre + d * w
             valid, a, n, xi, lever = _locate(p)
@@ -119,11 +122,13 @@ def test_clearance_of_spheres():
     (outside a flat-capped cylinder, inside the capsule), beyond A off the axis, in the wall,
     and outside the rounded end."""
     w = _unit(-0.6 * U + 0.8 * E)
-    cases = [(A + 0.4 * U + 0.1 * E, 0.1),
-             (B + 0.2 * U, 0.2),
-             (A + 0.25 * w, 0.25),
-             (B + (BIG_R - R + 0.01) * _unit(U - F), BIG_R - R + 0.01),
-             (A + (BIG_R + 0.01) * w, BIG_R + 0.01)]
+    cases = [
+        (A + 0.4 * U + 0.1 * E, 0.1),
+        (B + 0.2 * U, 0.2),
+        (A + 0.25 * w, 0.25),
+        (B + (BIG_R - R + 0.01) * _unit(U - F), BIG_R - R + 0.01),
+        (A + (BIG_R + 0.01) * w, BIG_R + 0.01),
+    ]
     pts = np.array([p for p, _ in cases])
     dist = np.array([d for _, d in cases])
     gap, inside = capsule_clearance(pts, np.full(len(cases), R), A, B, BIG_R)
@@ -149,13 +154,15 @@ def test_volume_and_extent():
     np.testing.assert_allclose(hi, want_hi, atol=TOL)
     # a sphere: volume 4/3 pi R^3, box A +- R
     assert SHAPE.volume(np.stack([A, A]), (BIG_R,)) == pytest.approx(
-        4.0 / 3.0 * math.pi * BIG_R**3, rel=1e-14)
+        4.0 / 3.0 * math.pi * BIG_R**3, rel=1e-14
+    )
     lo, hi = SHAPE.extent(np.stack([A, A]), (BIG_R,))
     np.testing.assert_allclose(lo, A - BIG_R, atol=TOL)
     np.testing.assert_allclose(hi, A + BIG_R, atol=TOL)
 
 
 # --- the triangulated capsule --------------------------------------------------------------
+
 
 def _segment_distance(points, a, b):
     """Distance of points (N, 3) to the segment a-b (closed form, written for the test)."""
@@ -187,17 +194,17 @@ def _mesh_checks(a, b, n, degenerate_ok=False):
     fwd = {tuple(e) for e in edges.tolist()}
     assert len(fwd) == edges.shape[0]
     assert all((j, i) in fwd for i, j in fwd)
-    assert len(np.unique(tris)) == len(verts)           # no stray vertex
+    assert len(np.unique(tris)) == len(verts)  # no stray vertex
     p0, p1, p2 = (verts[tris[:, k]] for k in range(3))
     normal = np.cross(p1 - p0, p2 - p0)
     area = np.linalg.norm(normal, axis=1)
     # enclosed volume (divergence theorem about a; positive when wound outwards)
     volume = np.einsum("ij,ij->i", p0 - a, np.cross(p1 - a, p2 - a)).sum() / 6.0
-    if degenerate_ok:     # leave zero-area triangles out of the facet-error check only
+    if degenerate_ok:  # leave zero-area triangles out of the facet-error check only
         keep = area > 1e-14
         p0, normal, area = p0[keep], normal[keep], area[keep]
         tris = tris[keep]
-    assert area.min() > 0.0                              # no degenerate triangle
+    assert area.min() > 0.0  # no degenerate triangle
     normal /= area[:, None]
     # Facet error, rigorously: a facet's points are no nearer the segment than its plane is
     # to the cap centre it surrounds (facets with every corner beyond A, or beyond B) or to
@@ -217,7 +224,7 @@ def _mesh_checks(a, b, n, degenerate_ok=False):
         depth[middle] = BIG_R - np.abs(np.einsum("ij,ij->i", normal[middle], p0[middle] - a))
     delta = facet_error(BIG_R, n)
     assert depth.max() <= delta + 1e-12, (depth.max(), delta)
-    assert depth.max() > 0.9 * delta          # the claim is close: the solver test relies on it
+    assert depth.max() > 0.9 * delta  # the claim is close: the solver test relies on it
     return volume, delta, length
 
 
@@ -275,15 +282,21 @@ def test_outline_is_where_the_hemispheres_meet_the_bore(length):
     verts, tris = capsule_mesh(A, b, BIG_R, n)
     edges = capsule_outline(np.stack([A, b]), (BIG_R,), n)
     circles = 2 if length > 0.0 else 1
-    axis = U if length > 0.0 else np.array([1.0, 0.0, 0.0])   # a sphere's mesh turns about x
+    axis = U if length > 0.0 else np.array([1.0, 0.0, 0.0])  # a sphere's mesh turns about x
     assert edges.shape == (circles * n, 2)
     mesh_edges = {frozenset(e) for tri in tris for e in itertools.combinations(tri, 2)}
     assert all(frozenset(e) in mesh_edges for e in edges.tolist())
-    for centre in ([A, b] if length > 0.0 else [A]):
+    for centre in [A, b] if length > 0.0 else [A]:
         on = [e for e in edges if abs((verts[e[0]] - centre) @ axis) < 1e-12]
-        assert len(on) == n                                  # a whole loop per circle
+        assert len(on) == n  # a whole loop per circle
         pts = verts[np.unique(np.array(on))]
         np.testing.assert_allclose(np.linalg.norm(pts - centre, axis=1), BIG_R, atol=1e-12)
         np.testing.assert_allclose((pts - centre) @ axis, 0.0, atol=1e-12)
-        assert sorted(np.bincount(np.array(on).ravel(), minlength=verts.shape[0])[
-            np.unique(np.array(on))].tolist()) == [2] * n   # each vertex on two edges: a loop
+        assert (
+            sorted(
+                np.bincount(np.array(on).ravel(), minlength=verts.shape[0])[
+                    np.unique(np.array(on))
+                ].tolist()
+            )
+            == [2] * n
+        )  # each vertex on two edges: a loop

@@ -10,11 +10,15 @@ import math
 import numpy as np
 import pytest
 
-from x3dpd.geometry.cylinder import (_cylinder_frame, _locate_on_cylinder, cylinder_clearance,
-                                     cylinder_mesh)
+from x3dpd.geometry.cylinder import (
+    _cylinder_frame,
+    _locate_on_cylinder,
+    cylinder_clearance,
+    cylinder_mesh,
+)
 
 A = np.array([1.0, -2.0, 0.5])
-U = np.array([2.0, 1.0, -2.0]) / 3.0            # unit axis, tilted
+U = np.array([2.0, 1.0, -2.0]) / 3.0  # unit axis, tilted
 E = np.array([1.0, -2.0, 0.0]) / math.sqrt(5.0)  # unit, perpendicular to U
 LENGTH = 0.8
 BIG_R = 0.3
@@ -34,19 +38,30 @@ def _locate(s: float, rho: float):
     out = []
     for part in range(3):
         ok, a, nx, ny, nz, xi, lx, ly, lz = _locate_on_cylinder(
-            part=part, r=R, big_r=BIG_R, length=length, ux=ux, uy=uy, uz=uz, s=s_, rx=rx, ry=ry,
-            rz=rz, rho=rho_)
+            part=part,
+            r=R,
+            big_r=BIG_R,
+            length=length,
+            ux=ux,
+            uy=uy,
+            uz=uz,
+            s=s_,
+            rx=rx,
+            ry=ry,
+            rz=rz,
+            rho=rho_,
+        )
         out.append((ok, a, np.array([nx, ny, nz]), xi, np.array([lx, ly, lz])))
     return out
 
 
 def test_sphere_touching_the_curved_wall_and_nothing_else():
-    s, rho = 0.35, BIG_R - R + 0.002      # overlaps the curved wall by 0.002
+    s, rho = 0.35, BIG_R - R + 0.002  # overlaps the curved wall by 0.002
     curved, cap_a, cap_b = _locate(s, rho)
     ok, a, n, xi, lever = curved
     assert ok
     assert a == pytest.approx(0.002, abs=TOL)
-    np.testing.assert_allclose(n, -E, atol=TOL)          # from the wall back towards the axis
+    np.testing.assert_allclose(n, -E, atol=TOL)  # from the wall back towards the axis
     assert xi == pytest.approx(s / LENGTH, abs=TOL)
     np.testing.assert_allclose(lever, BIG_R * E, atol=TOL)
     # the reaction's point: (1 - xi) A + xi B + lever is the wall point A + s U + R E
@@ -63,7 +78,7 @@ def test_sphere_in_the_rim_corner_touches_the_wall_and_a_cap():
     assert curved[0] and curved[1] == pytest.approx(0.003, abs=TOL)
     ok, a, n, xi, lever = cap_a
     assert ok and a == pytest.approx(0.001, abs=TOL)
-    np.testing.assert_allclose(n, U, atol=TOL)            # the cap at A pushes along +axis
+    np.testing.assert_allclose(n, U, atol=TOL)  # the cap at A pushes along +axis
     assert xi == 0.0
     np.testing.assert_allclose(lever, rho * E, atol=TOL)  # from A to the wall point A + rho E
     assert cap_b[1] < 0.0
@@ -90,9 +105,13 @@ def test_parts_out_of_reach_are_not_valid():
 
 def test_clearance_of_spheres():
     b = A + LENGTH * U
-    pts = np.array([A + 0.4 * U + 0.1 * E,            # nearest: curved wall at 0.2
-                    A + 0.02 * U,                      # on the axis, 0.02 from cap A
-                    A + 0.4 * U + (BIG_R + 0.01) * E])  # centre outside
+    pts = np.array(
+        [
+            A + 0.4 * U + 0.1 * E,  # nearest: curved wall at 0.2
+            A + 0.02 * U,  # on the axis, 0.02 from cap A
+            A + 0.4 * U + (BIG_R + 0.01) * E,
+        ]
+    )  # centre outside
     gap, inside = cylinder_clearance(pts, np.full(3, R), A, b, BIG_R)
     np.testing.assert_allclose(gap, [0.2 - R, 0.02 - R, -0.01 - R], atol=TOL)
     assert inside.tolist() == [True, True, False]
@@ -107,15 +126,16 @@ def test_triangulated_cylinder_lies_within_the_sagitta(n):
     b = A + LENGTH * U
     verts, tris = cylinder_mesh(A, b, BIG_R, n)
     _, rho = _axial_radial(verts, A, b)
-    np.testing.assert_allclose(rho[:2 * n], BIG_R, atol=TOL)
-    np.testing.assert_allclose(rho[2 * n:], 0.0, atol=TOL)
+    np.testing.assert_allclose(rho[: 2 * n], BIG_R, atol=TOL)
+    np.testing.assert_allclose(rho[2 * n :], 0.0, atol=TOL)
     # the side facets (the first 2n triangles): planes parallel to the axis at R cos(pi/n)
-    p0, p1, p2 = (verts[tris[:2 * n, k]] for k in range(3))
+    p0, p1, p2 = (verts[tris[: 2 * n, k]] for k in range(3))
     normal = np.cross(p1 - p0, p2 - p0)
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     np.testing.assert_allclose(normal @ U, 0.0, atol=TOL)
-    np.testing.assert_allclose(np.abs(np.einsum("ij,ij->i", normal, p0 - A)),
-                               BIG_R * math.cos(math.pi / n), atol=TOL)
+    np.testing.assert_allclose(
+        np.abs(np.einsum("ij,ij->i", normal, p0 - A)), BIG_R * math.cos(math.pi / n), atol=TOL
+    )
     edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
     fwd = {tuple(e) for e in edges.tolist()}
     assert len(fwd) == edges.shape[0] and all((b_, a_) in fwd for a_, b_ in fwd)

@@ -15,11 +15,27 @@ from x3dpd.geometry.cavity import (
 )
 from x3dpd.geometry.triangle import inward_signs, unit_normals
 
-CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
-                    [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
+CORNERS = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+    dtype=float,
+)
 # 0-based corners; every triangle wound with its normal pointing inward
-TRIS = np.array([(0, 1, 2), (0, 2, 3), (4, 6, 5), (4, 7, 6), (0, 5, 1), (0, 4, 5),
-                 (3, 2, 6), (3, 6, 7), (0, 3, 7), (0, 7, 4), (1, 5, 6), (1, 6, 2)])
+TRIS = np.array(
+    [
+        (0, 1, 2),
+        (0, 2, 3),
+        (4, 6, 5),
+        (4, 7, 6),
+        (0, 5, 1),
+        (0, 4, 5),
+        (3, 2, 6),
+        (3, 6, 7),
+        (0, 3, 7),
+        (0, 7, 4),
+        (1, 5, 6),
+        (1, 6, 2),
+    ]
+)
 FLIP = [1, 2, 5, 6, 9, 10]  # half of them, one of each face's pair
 
 
@@ -62,8 +78,10 @@ def _group_faces_reference(n_in, p0, size, tol):
     face, reps = np.full(n_in.shape[0], -1), []
     for t in range(n_in.shape[0]):
         for f, r in enumerate(reps):
-            if (np.max(np.abs(n_in[t] - n_in[r])) <= tol
-                    and abs(offsets[t] - offsets[r]) <= tol * size):
+            if (
+                np.max(np.abs(n_in[t] - n_in[r])) <= tol
+                and abs(offsets[t] - offsets[r]) <= tol * size
+            ):
                 face[t] = f
                 break
         else:
@@ -91,7 +109,7 @@ def test_face_grouping_matches_its_definition_at_the_tolerance():
     order = rng.permutation(normals.shape[0])
     normals, p0 = normals[order], p0[order]
     expected = _group_faces_reference(normals, p0, size, tol)
-    assert 12 < expected.max() + 1 < normals.shape[0]     # some grouped, some apart
+    assert 12 < expected.max() + 1 < normals.shape[0]  # some grouped, some apart
     np.testing.assert_array_equal(group_faces(normals, p0, size, tol), expected)
 
 
@@ -103,8 +121,10 @@ def test_extents_and_size():
     assert geometry_size(pts) == 5.0
 
 
-@pytest.mark.parametrize("size, origin", [((1, 1, 1), (0, 0, 0)), ((2, 3, 5), (-1, 0.5, 2)),
-                                          ((0.25, 0.25, 0.25), (0, 0, -0.125))])
+@pytest.mark.parametrize(
+    "size, origin",
+    [((1, 1, 1), (0, 0, 0)), ((2, 3, 5), (-1, 0.5, 2)), ((0.25, 0.25, 0.25), (0, 0, -0.125))],
+)
 def test_closed_box_volume_by_the_divergence_theorem(size, origin):
     pts, tris = box(size, origin)
     p = [pts[tris[:, k]] for k in range(3)]

@@ -49,7 +49,16 @@ def test_sphere_triangle_pairs_same_group_and_edge_tolerance():
     n_in = np.array([[0.0, 0.0, 1.0]] * 2)
     centres = np.array([[0.2, 0.2, 0.05], [0.2, -0.05, -0.3], [0.2, 0.2, 0.5], [5.0, 5.0, 0.0]])
     group = np.array([0, 0, -1, 1])
-    s, t, d = sphere_triangle_pairs(centres, group, p0, p1, p2, n_in, np.array([0, 1]),
-                                    np.array([0.1, 0.1, 0.1, 0.1]), max_block=3)
+    s, t, d = sphere_triangle_pairs(
+        centres,
+        group,
+        p0,
+        p1,
+        p2,
+        n_in,
+        np.array([0, 1]),
+        np.array([0.1, 0.1, 0.1, 0.1]),
+        max_block=3,
+    )
     assert list(zip(s.tolist(), t.tolist())) == [(0, 0), (1, 0)]
     np.testing.assert_allclose(d, [0.05, -0.3])

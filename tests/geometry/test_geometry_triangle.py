@@ -45,16 +45,19 @@ def test_edge_distances_of_a_right_triangle():
     np.testing.assert_allclose(d[0, 0], [(12 - (-8 + 3)) / 5.0, -2.0, 1.0])
 
 
-@pytest.mark.parametrize("point, tol, inside", [
-    ((1.0, 1.0), 0.0, True),
-    ((3.0, 0.0), 0.0, True),           # a corner
-    ((1.5, 2.0), 0.0, True),           # on the hypotenuse: 4*1.5 + 3*2 = 12
-    ((1.0, -0.1), 0.0, False),         # 0.1 below the leg y = 0
-    ((1.0, -0.1), 0.1001, True),       # ... within a tolerance of 0.1
-    ((1.0, -0.1), 0.0999, False),
-    ((2.0, 2.0), 0.4001, True),        # (4*2 + 3*2 - 12) / 5 = 0.4 beyond the hypotenuse
-    ((2.0, 2.0), 0.3999, False),
-])
+@pytest.mark.parametrize(
+    "point, tol, inside",
+    [
+        ((1.0, 1.0), 0.0, True),
+        ((3.0, 0.0), 0.0, True),  # a corner
+        ((1.5, 2.0), 0.0, True),  # on the hypotenuse: 4*1.5 + 3*2 = 12
+        ((1.0, -0.1), 0.0, False),  # 0.1 below the leg y = 0
+        ((1.0, -0.1), 0.1001, True),  # ... within a tolerance of 0.1
+        ((1.0, -0.1), 0.0999, False),
+        ((2.0, 2.0), 0.4001, True),  # (4*2 + 3*2 - 12) / 5 = 0.4 beyond the hypotenuse
+        ((2.0, 2.0), 0.3999, False),
+    ],
+)
 def test_point_in_triangle_with_an_edge_tolerance(point, tol, inside):
     pts = np.array([[point[0], point[1], -7.0]])  # the height above the plane does not matter
     assert points_in_triangles(pts, P0, P1, P2, tol)[0, 0] == inside
@@ -79,8 +82,9 @@ def test_point_in_triangle_matches_a_brute_force_area_test():
 
 def test_per_point_tolerances():
     pts = np.array([[1.0, -0.2, 0.0], [1.0, -0.2, 0.0]])
-    np.testing.assert_array_equal(points_in_triangles(pts, P0, P1, P2, np.array([0.1, 0.3]))[:, 0],
-                                  [False, True])
+    np.testing.assert_array_equal(
+        points_in_triangles(pts, P0, P1, P2, np.array([0.1, 0.3]))[:, 0], [False, True]
+    )
 
 
 def test_inward_signs_face_the_reference_point():

@@ -32,10 +32,20 @@ def packed_deck(n_side, radius, *, clearance, dt, peak_g=10.0, tmax=1.0, trest=0
     pos = lattice_fill((size, size, size), radius, n_side**3, gap=gap)
     w, wn = 2 * math.pi * HZ, math.sqrt(STIFFNESS / STRUCTURE_MASS)
     force = peak_g * G * STRUCTURE_MASS * (w * w - wn * wn) / (w * w)
-    deck = box_cavity_deck(size=(size,) * 3, particles=pos, radius=radius, material=BEAM_MATERIAL,
-                           structure_mass=STRUCTURE_MASS, stiffness=STIFFNESS, damping=3e-4,
-                           dt=dt, itrac=int(round(1e-4 / dt)), tmax=tmax, trest=trest,
-                           usrfrc=(f"sine:node=9,dof=1,amp={force!r},hz={HZ!r}",))
+    deck = box_cavity_deck(
+        size=(size,) * 3,
+        particles=pos,
+        radius=radius,
+        material=BEAM_MATERIAL,
+        structure_mass=STRUCTURE_MASS,
+        stiffness=STIFFNESS,
+        damping=3e-4,
+        dt=dt,
+        itrac=int(round(1e-4 / dt)),
+        tmax=tmax,
+        trest=trest,
+        usrfrc=(f"sine:node=9,dof=1,amp={force!r},hz={HZ!r}",),
+    )
     return size, deck
 
 
@@ -57,10 +67,14 @@ def check_bed(sim, block, size, radius):
     return master_x
 
 
-@pytest.mark.parametrize("n_side, radius, dt, seconds", [
-    (4, 0.03125, 5e-7, 0.03),       # 64 report-size spheres, packed full
-    (8, 0.015625, 2.5e-7, 0.01),    # 512 small spheres (half the radius: half the contact time)
-], ids=["packed-64", "packed-512"])
+@pytest.mark.parametrize(
+    "n_side, radius, dt, seconds",
+    [
+        (4, 0.03125, 5e-7, 0.03),  # 64 report-size spheres, packed full
+        (8, 0.015625, 2.5e-7, 0.01),  # 512 small spheres (half the radius: half the contact time)
+    ],
+    ids=["packed-64", "packed-512"],
+)
 def test_a_packed_cavity_shaken_at_10g(n_side, radius, dt, seconds):
     size, sim = shaken_box(n_side, radius, clearance=0.01, dt=dt)
     block = sim.advance(int(round(seconds / dt)))
@@ -69,5 +83,5 @@ def test_a_packed_cavity_shaken_at_10g(n_side, radius, dt, seconds):
     # samples, error (w h)^2/12 ~ 1e-3) peaks near 10 g over the last drive period; the free
     # response at w_n adds (w_n/w)^2 ~ 8 % of it and the particles' impacts jolt it: 25 %
     acc = np.diff(x, 2) / 1e-4**2
-    tail = acc[-int(round(1 / HZ / 1e-4)):]
+    tail = acc[-int(round(1 / HZ / 1e-4)) :]
     assert np.max(np.abs(tail)) == pytest.approx(10 * G, rel=0.25)

@@ -47,10 +47,13 @@ def test_a_body_acceleration_of_1e300_is_an_error(tmp_path, capsys):
     assert code == 2 and "BODY acceleration" in text and "time step" in text
 
 
-@pytest.mark.parametrize("old, new", [
-    ("   9 0.0625 0.0 0.0", "   9999999999999999999 0.0625 0.0 0.0"),
-    ("   1 9", "   1 9999999999999999999"),
-])
+@pytest.mark.parametrize(
+    "old, new",
+    [
+        ("   9 0.0625 0.0 0.0", "   9999999999999999999 0.0625 0.0 0.0"),
+        ("   1 9", "   1 9999999999999999999"),
+    ],
+)
 def test_an_id_beyond_int64_is_a_deck_error(tmp_path, capsys, old, new):
     path = mutated(tmp_path, "impact_wall.inp", old, new)
     code, text = check(path, capsys)

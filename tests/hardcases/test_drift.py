@@ -20,13 +20,14 @@ R = 0.03125
 
 
 def drift(height, seconds, dt=None):
-    deck = floor_deck(dt=5e-7, height=R + height, velocity=(0.0, 0.0, 0.0), gravity=G,
-                      radius=R, itrac=1000)
+    deck = floor_deck(
+        dt=5e-7, height=R + height, velocity=(0.0, 0.0, 0.0), gravity=G, radius=R, itrac=1000
+    )
     model = build_model(deck)
     dt = dt or recommended_time_step(model).dt_recommended
     sim = Simulation(model, dt=dt, itrac=max(1, int(round(1e-3 / dt))))
     e = sim.advance(int(round(seconds / dt))).energy
-    e0 = float(model.mass[-2]) * G * height        # the drop's energy above the resting state
+    e0 = float(model.mass[-2]) * G * height  # the drop's energy above the resting state
     return np.max(np.abs(e[:, 11])) / e0
 
 

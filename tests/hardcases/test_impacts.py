@@ -11,8 +11,16 @@ import math
 
 import numpy as np
 import pytest
-from factories import (FIG30_E0, FIG30_E1, FIG30_TAU1, STEEL_E, STEEL_NU, STEEL_R, floor_deck,
-                       sphere_mass)
+from factories import (
+    FIG30_E0,
+    FIG30_E1,
+    FIG30_TAU1,
+    STEEL_E,
+    STEEL_NU,
+    STEEL_R,
+    floor_deck,
+    sphere_mass,
+)
 
 from x3dpd.errors import UnstableRunError
 from x3dpd.model.build import build_model
@@ -34,8 +42,9 @@ def wall_contact_time(v, radius=STEEL_R, e=STEEL_E, nu=STEEL_NU):
 def bounce(v, dt, *, radius=STEEL_R, phase=0.5, **material):
     """Drop a sphere at speed v on the floor from ``phase`` steps' flight above contact; return
     the simulation and its block (rows every step) after the rebound has left the wall."""
-    deck = floor_deck(dt=dt, height=radius + v * dt * phase, velocity=(0.0, -v, 0.0),
-                      radius=radius, **material)
+    deck = floor_deck(
+        dt=dt, height=radius + v * dt * phase, velocity=(0.0, -v, 0.0), radius=radius, **material
+    )
     sim = Simulation(build_model(deck))
     steps = int(3 * wall_contact_time(v, radius) / dt) + 4
     return sim, sim.advance(steps)
@@ -49,13 +58,13 @@ def test_table3_impacts_at_the_report_step_rebound_no_faster_and_stay_out(v, vis
     assert np.all(np.isfinite(block.data)) and np.all(np.isfinite(block.energy))
     e = vy[-1] / v
     assert vy[-1] > 0.0, "the sphere must have left the wall"
-    assert np.min(y) > STEEL_R * (1 - sim.penetration_limit)      # no tunnelling
+    assert np.min(y) > STEEL_R * (1 - sim.penetration_limit)  # no tunnelling
     n = wall_contact_time(v) / REPORT_DT
     # restitution errs less than the peak force: 1.35 % (10/n)^2, the fitted bound (x3dpd
     # .model.timestep.peak_force_error); at 6280 in/s n = 6 and this allows 3.8 %
     bound = 0.0135 * (10.0 / n) ** 2
     if visco:
-        assert e < 1.0                                   # a dissipative law never gives back more
+        assert e < 1.0  # a dissipative law never gives back more
     else:
         assert abs(e - 1.0) < bound
     assert abs(block.energy[-1, 11]) < 0.05 * block.energy[0, 10]  # a closed ledger

@@ -30,8 +30,7 @@ def test_sigkill_during_a_packed_shaken_bed_then_restart_loses_nothing(tmp_path)
     res = x3dpd("bed.inp", "--trace", "bed.trace.txt", "--quiet", cwd=ref)
     assert res.returncode == 0, res.stderr
     dump = part / "bed.trace.txt.restart.npz"
-    kill_after_first_dump("bed.inp", "--trace", "bed.trace.txt", "--quiet", cwd=part,
-                          dump=dump)
+    kill_after_first_dump("bed.inp", "--trace", "bed.trace.txt", "--quiet", cwd=part, dump=dump)
     _, meta = load_restart(dump)
     assert 0 < meta["step"] < round(TMAX / 5e-7)
     res = x3dpd("bed.inp", "--trace", "bed.trace.txt", "--restart", "--quiet", cwd=part)

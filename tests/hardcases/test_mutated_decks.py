@@ -23,8 +23,14 @@ from x3dpd.cli import main
 
 DECK = (Path(__file__).resolve().parents[2] / "decks" / "impact_wall.inp").read_text()
 LINES = DECK.splitlines()
-DATA = [k for k, line in enumerate(LINES) if line.strip() and not line.startswith("$")
-        and not line.strip().isalpha() and line.strip() not in ("END",)]
+DATA = [
+    k
+    for k, line in enumerate(LINES)
+    if line.strip()
+    and not line.startswith("$")
+    and not line.strip().isalpha()
+    and line.strip() not in ("END",)
+]
 #: (line, token) positions whose change keeps the variant: PDMP RZERO..E0 and VX0..VZ0, node
 #: coordinates, PARAMETERS' TMAX..ITRAC.
 
@@ -37,14 +43,36 @@ def _card(name):
 
 
 _PDMP, _PARAM, _NODES = _card("PDMP")[0], _card("PARAMETERS")[0], _card("NODE COORDINATES")
-SAFE = ([(_PDMP, t) for t in (1, 2, 3, 4, 8, 9, 10)] + [(_PARAM, t) for t in range(1, 11)]
-        + [(k, t) for k in _NODES for t in (1, 2, 3)])
+SAFE = (
+    [(_PDMP, t) for t in (1, 2, 3, 4, 8, 9, 10)]
+    + [(_PARAM, t) for t in range(1, 11)]
+    + [(k, t) for k in _NODES for t in (1, 2, 3)]
+)
 
 VALUES = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True).map(repr),
-    st.sampled_from(["0", "-0.0", "-1", "1e300", "-1e300", "1e-300", "1e-322", "nan", "inf",
-                     "-inf", "1e400", "0x10", "1,5", "abc", "", "1.2.3", "9999999999999999999"]),
-    st.integers(min_value=-10**20, max_value=10**20).map(str),
+    st.sampled_from(
+        [
+            "0",
+            "-0.0",
+            "-1",
+            "1e300",
+            "-1e300",
+            "1e-300",
+            "1e-322",
+            "nan",
+            "inf",
+            "-inf",
+            "1e400",
+            "0x10",
+            "1,5",
+            "abc",
+            "",
+            "1.2.3",
+            "9999999999999999999",
+        ]
+    ),
+    st.integers(min_value=-(10**20), max_value=10**20).map(str),
 )
 
 
@@ -53,7 +81,7 @@ def replace_token(lines, k, t, value):
     if t >= len(tokens):
         return lines
     tokens[t] = value
-    return lines[:k] + ["   " + " ".join(tokens)] + lines[k + 1:]
+    return lines[:k] + ["   " + " ".join(tokens)] + lines[k + 1 :]
 
 
 def exit_code(argv, capsys):
@@ -69,14 +97,29 @@ def check_and_run(tmp_path, lines, capsys):
     deck.write_text("\n".join(lines) + "\n")
     assert exit_code(["check", str(deck)], capsys) in (0, 1, 2)
     trace = tmp_path / "mutant.trace.txt"
-    code = exit_code(["run", str(deck), "--dt", "1e-9", "--tmax", "2e-8", "--quiet",
-                      "--overwrite", "--trace", str(trace)], capsys)
+    code = exit_code(
+        [
+            "run",
+            str(deck),
+            "--dt",
+            "1e-9",
+            "--tmax",
+            "2e-8",
+            "--quiet",
+            "--overwrite",
+            "--trace",
+            str(trace),
+        ],
+        capsys,
+    )
     assert code in (0, 2, 3)
 
 
-_SETTINGS = dict(deadline=None, derandomize=True,
-                 suppress_health_check=[HealthCheck.function_scoped_fixture,
-                                        HealthCheck.too_slow])
+_SETTINGS = dict(
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
 
 
 @settings(max_examples=40, **_SETTINGS)

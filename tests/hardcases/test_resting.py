@@ -52,8 +52,9 @@ def stack_heights(n, e):
 def stack(seconds, n=3, dt=5e-7):
     """n viscoelastic spheres with friction stacked at x = z = 0.5, starting just touching."""
     pos = [(0.5, R + 2 * R * k, 0.5) for k in range(n)]
-    deck = closed_box_deck(pos, [(0.0, 0.0, 0.0)] * n, dt=dt, gravity=G, mu=0.3,
-                           itrac=int(round(1e-3 / dt)), **VISCO)
+    deck = closed_box_deck(
+        pos, [(0.0, 0.0, 0.0)] * n, dt=dt, gravity=G, mu=0.3, itrac=int(round(1e-3 / dt)), **VISCO
+    )
     sim = Simulation(build_model(deck))
     return sim.advance(int(round(seconds / dt)))
 
@@ -64,12 +65,13 @@ def check_stack(block, n=3):
     # the contacts' approaches (1e-7 in) are what the weights set: compare them, to 1 %
     # (the Verlet equilibrium of a Hertz spring is exact; what remains is the decaying ring)
     got_floor = R - y[-1, 0]
-    assert got_floor == pytest.approx(R - expect[0], rel=1e-2)   # the floor carries n m g
+    assert got_floor == pytest.approx(R - expect[0], rel=1e-2)  # the floor carries n m g
     for k in range(1, n):
         assert (2 * R - (y[-1, k] - y[-1, k - 1])) == pytest.approx(
-            2 * R - (expect[k] - expect[k - 1]), rel=1e-2)
+            2 * R - (expect[k] - expect[k - 1]), rel=1e-2
+        )
     half = y.shape[0] // 2
-    assert np.ptp(y[half:, 0]) < 1e-3 * got_floor                 # no creep through the floor
+    assert np.ptp(y[half:, 0]) < 1e-3 * got_floor  # no creep through the floor
     e = block.energy
     stored = e[:, 1] + e[:, 2] + e[:, 3] + e[:, 5]
     # no energy gain from contact jitter: once settled (second half) the stored energy never
@@ -101,11 +103,11 @@ def test_stick_slip_at_a_tiny_slip_speed(friction):
     deck = closed_box_deck([(0.5, R - a_eq, 0.5)], [(v0, 0.0, 0.0)], dt=5e-7, gravity=G, mu=0.3)
     block = Simulation(build_model(deck), friction=friction).advance(20000)
     vx, wz = block.data[:, 0, 3], block.data[:, 0, 8]
-    assert np.all(np.abs(vx) <= v0 * (1 + 1e-9))             # chatter never adds speed
+    assert np.all(np.abs(vx) <= v0 * (1 + 1e-9))  # chatter never adds speed
     kin = 0.5 * M * vx**2 + 0.5 * 0.4 * M * R**2 * wz**2
     assert np.all(kin <= 0.5 * M * v0**2 * (1 + 1e-9))
     if friction == "regularized":
-        assert vx[-1] == pytest.approx(5 / 7 * v0, rel=1e-6)     # rolling, as a rigid sphere
+        assert vx[-1] == pytest.approx(5 / 7 * v0, rel=1e-6)  # rolling, as a rigid sphere
         assert abs(vx[-1] + wz[-1] * R) < 1e-9 * v0
     else:
         # bare Coulomb reverses the force every step: it never settles into rolling (the
@@ -120,13 +122,14 @@ def test_viscoelastic_unloading_clamps_the_force_at_zero():
     v = 62.832
     t_c = 7.5e-6
     dt = t_c / 400
-    deck = closed_box_deck([(0.5, R + 1e-6, 0.5)], [(0.0, -v, 0.0)], dt=dt,
-                           e0=FIG30_E0, e1=2 * FIG30_E0, tau1=t_c)
+    deck = closed_box_deck(
+        [(0.5, R + 1e-6, 0.5)], [(0.0, -v, 0.0)], dt=dt, e0=FIG30_E0, e1=2 * FIG30_E0, tau1=t_c
+    )
     block = Simulation(build_model(deck)).advance(int(3 * t_c / dt))
     y, vy = block.data[:, 0, 1], block.data[:, 0, 4]
-    assert np.all(np.diff(vy) >= 0.0)                     # the normal force never pulls
+    assert np.all(np.diff(vy) >= 0.0)  # the normal force never pulls
     approach = R - y
     free = (approach[:-1] > 0) & (np.diff(vy) == 0.0) & (vy[:-1] > 0)
-    assert free.any()                                     # clamped while still overlapping
-    assert 0.0 < vy[-1] < v                               # e < 1
-    assert block.energy[-1, 6] > 0.0                      # and the law dissipated
+    assert free.any()  # clamped while still overlapping
+    assert 0.0 < vy[-1] < v  # e < 1
+    assert block.energy[-1, 6] > 0.0  # and the law dissipated

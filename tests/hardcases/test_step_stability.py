@@ -25,8 +25,16 @@ OMEGA = math.sqrt(K / M)
 
 
 def oscillator(omega_dt, *, itrac, load=False, v0=1.0):
-    deck = sdof_deck(dt=omega_dt / OMEGA, hz=1.0, mass=M, k=K, c=0.0, drive=0.0, itrac=itrac,
-                     v0=0.0 if load else v0)
+    deck = sdof_deck(
+        dt=omega_dt / OMEGA,
+        hz=1.0,
+        mass=M,
+        k=K,
+        c=0.0,
+        drive=0.0,
+        itrac=itrac,
+        v0=0.0 if load else v0,
+    )
     if load:
         deck = replace(deck, usrfrc=(Usrfrc((f"constant:node=1,dof=1,amp={LOAD}",)),))
     return Simulation(build_model(deck))
@@ -53,7 +61,7 @@ def test_a_step_beyond_the_limit_stops_naming_the_limit_and_a_safe_step(omega_dt
     text = str(err.value)
     crit = 2.0 / OMEGA
     got = float(text.split("stability limit 2/omega = ")[1].split(" s")[0])
-    assert got == pytest.approx(crit, rel=1e-2)        # the message's 3 digits
+    assert got == pytest.approx(crit, rel=1e-2)  # the message's 3 digits
     safe = float(text.split("a safe step is <= ")[1].split(" s")[0])
     assert safe == pytest.approx(0.2 * crit, rel=1e-2)
     assert err.value.step <= 100

@@ -46,11 +46,14 @@ def run_box(pos, vel, *, friction="regularized", mu=0.0, steps_per_contact=200):
     return block.data[:, 0, :]  # (T, 9) of the sphere
 
 
-@pytest.mark.parametrize("where, direction", [
-    ("seam", (0.0, -1.0, 0.0)),           # floor y = 0 at x = z: the diagonal both triangles share
-    ("edge", (1.0, 1.0, 0.0)),            # the edge x = 1, y = 1
-    ("corner", (1.0, 1.0, 1.0)),          # the corner (1, 1, 1): three faces, each two triangles
-])
+@pytest.mark.parametrize(
+    "where, direction",
+    [
+        ("seam", (0.0, -1.0, 0.0)),  # floor y = 0 at x = z: the diagonal both triangles share
+        ("edge", (1.0, 1.0, 0.0)),  # the edge x = 1, y = 1
+        ("corner", (1.0, 1.0, 1.0)),  # the corner (1, 1, 1): three faces, each two triangles
+    ],
+)
 def test_impacts_where_walls_meet_bounce_back_with_single_counted_forces(where, direction):
     d = np.asarray(direction) / np.linalg.norm(direction)
     target = {"seam": (0.3, 0.0, 0.3), "edge": (1.0, 1.0, 0.5), "corner": (1.0, 1.0, 1.0)}[where]
@@ -62,8 +65,8 @@ def test_impacts_where_walls_meet_bounce_back_with_single_counted_forces(where, 
     h = run_box(tuple(pos), tuple(vel))
     x, v = h[:, :3], h[:, 3:6]
     assert np.all(np.isfinite(h))
-    assert np.all((x > 0) & (x < 1))                                  # still inside the box
-    np.testing.assert_allclose(v[-1], -vel, atol=2e-3 * V)           # mirrored, elastic
+    assert np.all((x > 0) & (x < 1))  # still inside the box
+    np.testing.assert_allclose(v[-1], -vel, atol=2e-3 * V)  # mirrored, elastic
     for ax in np.flatnonzero(d):
         wall = target[ax]
         approach = STEEL_R - np.abs(wall - x[:, ax])
@@ -90,4 +93,4 @@ def test_oblique_and_grazing_impacts_with_friction(friction, vt, vn):
     inertia = 0.4 * m * STEEL_R**2
     e_in = 0.5 * m * (vt**2 + vn**2)
     e_out = 0.5 * m * np.sum(v_out**2) + 0.5 * inertia * np.sum(w_out**2)
-    assert e_out <= e_in * (1 + 1e-3)      # friction never adds energy (cf. LAMMPS PR #5007)
+    assert e_out <= e_in * (1 + 1e-3)  # friction never adds energy (cf. LAMMPS PR #5007)

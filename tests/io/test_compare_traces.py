@@ -18,9 +18,12 @@ from x3dpd.io.tracediff import compare_traces
 def trace(data, times=None, ids=None, known=True):
     data = np.asarray(data, dtype=float)
     k, R, _ = data.shape
-    return TraceData(times=np.arange(k) * 1e-3 if times is None else np.asarray(times, float),
-                     node_ids=np.arange(10, 10 + R) if ids is None else np.asarray(ids),
-                     data=data, node_ids_known=known)
+    return TraceData(
+        times=np.arange(k) * 1e-3 if times is None else np.asarray(times, float),
+        node_ids=np.arange(10, 10 + R) if ids is None else np.asarray(ids),
+        data=data,
+        node_ids_known=known,
+    )
 
 
 def naive(a, b, rtol, atol):
@@ -38,9 +41,15 @@ def naive(a, b, rtol, atol):
 
 
 @settings(max_examples=60, deadline=None)
-@given(k=st.integers(1, 5), R=st.integers(1, 4), seed=st.integers(0, 2**32 - 1),
-       nbad=st.integers(0, 6), rtol=st.sampled_from([0.0, 1e-9, 1e-3]),
-       atol=st.sampled_from([0.0, 1e-12, 1e-2]), chunk=st.sampled_from([1 << 22, 9, 40]))
+@given(
+    k=st.integers(1, 5),
+    R=st.integers(1, 4),
+    seed=st.integers(0, 2**32 - 1),
+    nbad=st.integers(0, 6),
+    rtol=st.sampled_from([0.0, 1e-9, 1e-3]),
+    atol=st.sampled_from([0.0, 1e-12, 1e-2]),
+    chunk=st.sampled_from([1 << 22, 9, 40]),
+)
 def test_matches_naive_reference(k, R, seed, nbad, rtol, atol, chunk):
     rng = np.random.default_rng(seed)
     b = rng.normal(size=(k, R, 9))
@@ -148,8 +157,10 @@ def test_report_text_lists_every_column():
     lines = text.splitlines()
     assert lines[0].split()[:2] == ["column", "max"]
     assert [ln.split()[0] for ln in lines[1:10]] == list(DATA_COLUMNS)
-    assert "first difference: t=1.000000000e-03 node 10 column vx: run.txt=1.500000000e+00 " \
-           "ref.txt=1.000000000e+00" in text
+    assert (
+        "first difference: t=1.000000000e-03 node 10 column vx: run.txt=1.500000000e+00 "
+        "ref.txt=1.000000000e+00" in text
+    )
     assert "1 value(s) differ within rtol=1e-09, atol=0 up to t=1.000000000e-03" in text
 
 
@@ -165,10 +176,10 @@ def test_different_output_intervals_are_compared_at_common_times():
     assert rep.agree and rep.n_times == 5 and rep.t_end == pytest.approx(8e-3)
     assert "A has 9 output times" in rep.format() and "compared the 5 common ones" in rep.format()
     odd = fine.copy()
-    odd[3, 1, 4] += 1.0          # t = 3 ms: not in B
+    odd[3, 1, 4] += 1.0  # t = 3 ms: not in B
     assert compare_traces(trace(odd, times=t_fine), b).agree
     even = fine.copy()
-    even[4, 1, 4] += 1.0         # t = 4 ms: in both
+    even[4, 1, 4] += 1.0  # t = 4 ms: in both
     rep = compare_traces(trace(even, times=t_fine), b)
     assert not rep.agree and rep.first.time == pytest.approx(4e-3) and rep.first.time_index == 4
     with pytest.raises(TraceError, match="no output time in common"):

@@ -50,8 +50,14 @@ def state(seed=0):
 
 def test_round_trip_many_dtypes_and_shapes(tmp_path):
     arrays = state()
-    meta = {"time": 1.25e-3, "step": np.int64(2500), "trace": {"bytes": 1020, "blocks": 2},
-            "deck_sha256": "ab" * 32, "effects": ["gravity"], "ratio": np.float32(0.5)}
+    meta = {
+        "time": 1.25e-3,
+        "step": np.int64(2500),
+        "trace": {"bytes": 1020, "blocks": 2},
+        "deck_sha256": "ab" * 32,
+        "effects": ["gravity"],
+        "ratio": np.float32(0.5),
+    }
     path = tmp_path / "run.restart.npz"
     save_restart(path, arrays, meta)
     got, gmeta = load_restart(path)
@@ -59,8 +65,14 @@ def test_round_trip_many_dtypes_and_shapes(tmp_path):
     for name, arr in arrays.items():
         assert_same(got[name], np.asarray(arr))
     assert got["v"].flags.f_contiguous
-    assert gmeta == {"time": 1.25e-3, "step": 2500, "trace": {"bytes": 1020, "blocks": 2},
-                     "deck_sha256": "ab" * 32, "effects": ["gravity"], "ratio": 0.5}
+    assert gmeta == {
+        "time": 1.25e-3,
+        "step": 2500,
+        "trace": {"bytes": 1020, "blocks": 2},
+        "deck_sha256": "ab" * 32,
+        "effects": ["gravity"],
+        "ratio": 0.5,
+    }
     with zipfile.ZipFile(path) as zf:  # one uncompressed .npz, numpy can open it
         assert all(i.compress_type == zipfile.ZIP_STORED for i in zf.infolist())
         assert json.loads(zf.read(META_MEMBER))["format"] == RESTART_FORMAT
@@ -69,9 +81,12 @@ def test_round_trip_many_dtypes_and_shapes(tmp_path):
 
 
 @settings(max_examples=60, deadline=None)
-@given(arr=hnp.arrays(
-    dtype=st.one_of(hnp.scalar_dtypes(), hnp.byte_string_dtypes(), hnp.unicode_string_dtypes()),
-    shape=hnp.array_shapes(min_dims=0, max_dims=4, min_side=0, max_side=4)))
+@given(
+    arr=hnp.arrays(
+        dtype=st.one_of(hnp.scalar_dtypes(), hnp.byte_string_dtypes(), hnp.unicode_string_dtypes()),
+        shape=hnp.array_shapes(min_dims=0, max_dims=4, min_side=0, max_side=4),
+    )
+)
 def test_round_trip_property(tmp_path_factory, arr):
     path = tmp_path_factory.mktemp("rs") / "d.npz"
     save_restart(path, {"a": arr, "b": arr.T}, {"n": int(arr.size)})
@@ -94,6 +109,7 @@ def test_crash_mid_write_keeps_previous_dump(tmp_path, monkeypatch, crash_in):
     before = path.read_bytes()
 
     if crash_in == "replace":
+
         def boom(*args, **kwargs):
             raise OSError("simulated crash before rename")
 
@@ -145,13 +161,15 @@ def test_foreign_and_corrupt_files(tmp_path):
         load_restart(tmp_path / "flip.npz")
 
     with zipfile.ZipFile(tmp_path / "future.npz", "w") as zf:
-        zf.writestr(META_MEMBER, json.dumps({"format": "x3dpd-restart/9", "arrays": [],
-                                             "meta": {}}))
+        zf.writestr(
+            META_MEMBER, json.dumps({"format": "x3dpd-restart/9", "arrays": [], "meta": {}})
+        )
     with pytest.raises(InputError, match="'x3dpd-restart/9'"):
         load_restart(tmp_path / "future.npz")
     with zipfile.ZipFile(tmp_path / "missing.npz", "w") as zf:
-        zf.writestr(META_MEMBER, json.dumps({"format": RESTART_FORMAT, "arrays": ["x"],
-                                             "meta": {}}))
+        zf.writestr(
+            META_MEMBER, json.dumps({"format": RESTART_FORMAT, "arrays": ["x"], "meta": {}})
+        )
     with pytest.raises(InputError, match=r"missing members \['x.npy'\]"):
         load_restart(tmp_path / "missing.npz")
 

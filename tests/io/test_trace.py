@@ -89,16 +89,21 @@ def test_columns_align(make_trace, synthetic):
     lines = path.read_text().splitlines()
     assert {len(line) for line in lines} == {10 * 16 + 9}
     assert {tuple(i for i, c in enumerate(line) if c == ";") for line in lines} == {
-        tuple(16 + 17 * i for i in range(9))}
+        tuple(16 + 17 * i for i in range(9))
+    }
 
 
 finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
 
 
 @settings(max_examples=40, deadline=None)
-@given(data=hnp.arrays(np.float64, st.tuples(st.integers(1, 4), st.integers(1, 6),
-                                             st.just(9)), elements=finite),
-       t0=st.floats(0, 1e3), step=st.floats(1e-7, 1.0))
+@given(
+    data=hnp.arrays(
+        np.float64, st.tuples(st.integers(1, 4), st.integers(1, 6), st.just(9)), elements=finite
+    ),
+    t0=st.floats(0, 1e3),
+    step=st.floats(1e-7, 1.0),
+)
 def test_round_trip(tmp_path_factory, data, t0, step):
     k, R, _ = data.shape
     times = t0 + step * np.arange(k)
@@ -217,12 +222,18 @@ def test_cannot_create_in_missing_directory(tmp_path):
 def test_sidecar_contents(tmp_path):
     deck = tmp_path / "deck.inp"
     deck.write_text("TITLE\nx\n")
-    side = {"deck_path": str(deck), "deck_sha256": sha256_file(deck), "dt": 5e-7,
-            "itrac": 2000, "effects": frozenset({"gravity", "wall_contact"}), "title": "x",
-            "status": "ignored", "format": "ignored"}
+    side = {
+        "deck_path": str(deck),
+        "deck_sha256": sha256_file(deck),
+        "dt": 5e-7,
+        "itrac": 2000,
+        "effects": frozenset({"gravity", "wall_contact"}),
+        "title": "x",
+        "status": "ignored",
+        "format": "ignored",
+    }
     path = tmp_path / "t.txt"
-    with TraceWriter(path, np.array([25, 26]), side, units={"length": "m",
-                                                           "velocity": "m/s"}) as w:
+    with TraceWriter(path, np.array([25, 26]), side, units={"length": "m", "velocity": "m/s"}) as w:
         meta = json.loads((tmp_path / "t.txt.json").read_text())
         assert meta["status"] == "running" and meta["blocks"] == 0
         w.write_block([0.0, 1e-3], np.zeros((2, 2, 9)))
@@ -403,10 +414,13 @@ def test_complete_sidecar_but_short_file_warns(make_trace, synthetic):
         read_trace(path)
 
 
-@pytest.mark.parametrize("bad, line, match", [
-    ("abc", 7, r"column 4 \(z\): 'abc' is not a number"),
-    (None, 5, "expected 10 ';'-separated numbers"),
-])
+@pytest.mark.parametrize(
+    "bad, line, match",
+    [
+        ("abc", 7, r"column 4 \(z\): 'abc' is not a number"),
+        (None, 5, "expected 10 ';'-separated numbers"),
+    ],
+)
 def test_malformed_line_is_named(make_trace, synthetic, bad, line, match):
     times, data = synthetic(3, IDS)
     path = make_trace("t.txt", IDS, times, data)
@@ -428,9 +442,14 @@ def test_wrong_row_count_per_time_is_reported(make_trace, synthetic, tmp_path):
     side = json.loads((tmp_path / "t.txt.json").read_text())
     side["node_ids"] = [25, 26, 27]
     (tmp_path / "t.txt.json").write_text(json.dumps(side))
-    with pytest.raises(TraceError, match=(r"t\.txt:6: time 1\.0+e-03 differs from 0\.0+e\+00 on "
-                                          r"line 4; each output time should have 3 rows "
-                                          r"\(from the sidecar\)")):
+    with pytest.raises(
+        TraceError,
+        match=(
+            r"t\.txt:6: time 1\.0+e-03 differs from 0\.0+e\+00 on "
+            r"line 4; each output time should have 3 rows "
+            r"\(from the sidecar\)"
+        ),
+    ):
         read_trace(path)
 
 

@@ -9,12 +9,19 @@ import tomllib
 
 import pytest
 
-from x3dpd.materials import (LIBRARY, Material, MaterialError, in_units, material, materials,
-                             read_library)
+from x3dpd.materials import (
+    LIBRARY,
+    Material,
+    MaterialError,
+    in_units,
+    material,
+    materials,
+    read_library,
+)
 
 INCH = 0.0254
 LBF = 0.45359237 * 9.80665
-PSI = LBF / INCH ** 2
+PSI = LBF / INCH**2
 
 
 def test_every_value_of_every_material_has_a_source():
@@ -46,9 +53,24 @@ def test_values_are_physically_plausible(m: Material):
 
 
 def test_the_report_and_damper_materials_are_there():
-    for name in ("tungsten carbide", "lead", "tungsten", "brass", "titanium", "acrylic",
-                 "steel", "beam steel", "302", "SS-304", "316", "440C", "aluminium",
-                 "6061-T6", "Inconel 718", "alumina"):
+    for name in (
+        "tungsten carbide",
+        "lead",
+        "tungsten",
+        "brass",
+        "titanium",
+        "acrylic",
+        "steel",
+        "beam steel",
+        "302",
+        "SS-304",
+        "316",
+        "440C",
+        "aluminium",
+        "6061-T6",
+        "Inconel 718",
+        "alumina",
+    ):
         assert isinstance(material(name), Material), name
 
 
@@ -61,8 +83,11 @@ def test_names_are_case_and_alias_tolerant():
 
 
 def test_unknown_name_lists_close_matches():
-    with pytest.raises(MaterialError, match=r"unknown material 'tungstn carbde'.*"
-                                            r"tungsten-carbide"):
+    with pytest.raises(
+        MaterialError,
+        match=r"unknown material 'tungstn carbde'.*"
+        r"tungsten-carbide",
+    ):
         material("tungstn carbde")
     with pytest.raises(MaterialError, match="x3dpd materials"):
         material("unobtainium")
@@ -72,8 +97,15 @@ def test_report_beam_steel_is_the_beam_decks_pdmp():
     """Section 8.2: E0 27.5e6 psi, E1 5.0e6 psi, tau1 2e-6 s, nu 0.33, mu 0.30, and the
     density 0.283 lbf/in^3 / 386.1 in/s^2 of Appendix A's PDMP card, back exactly in psi."""
     d = in_units(material("beam-steel"))
-    assert d.pdmp_fields() == {"prho": 7.32971e-4, "ppoi": 0.33, "e0": 27.5e6, "e1": 5.0e6,
-                               "t1": 2.0e-6, "pcof": 0.30, "extra_terms": ()}
+    assert d.pdmp_fields() == {
+        "prho": 7.32971e-4,
+        "ppoi": 0.33,
+        "e0": 27.5e6,
+        "e1": 5.0e6,
+        "t1": 2.0e-6,
+        "pcof": 0.30,
+        "extra_terms": (),
+    }
     assert material("steel-beam").E == pytest.approx(27.5e6 * PSI, rel=1e-12)
 
 
@@ -84,21 +116,20 @@ def test_conversion_to_si_and_inch_lbf_s_closed_form():
     si = in_units(wc, ("m", "N", "s"))
     assert si.E == pytest.approx(620e9, rel=1e-11) and si.rho == pytest.approx(14950.0, rel=1e-11)
     inch = in_units(wc, "in lbf s")
-    assert inch.E == pytest.approx(620e9 / PSI, rel=1e-11)            # ~89.9e6 psi
+    assert inch.E == pytest.approx(620e9 / PSI, rel=1e-11)  # ~89.9e6 psi
     # mass density: kg/m^3 -> (lbf s^2/in) / in^3 = kg/m^3 * in^4 / lbf
-    assert inch.rho == pytest.approx(14950.0 * INCH ** 4 / LBF, rel=1e-11)
+    assert inch.rho == pytest.approx(14950.0 * INCH**4 / LBF, rel=1e-11)
     # the same thing through weight density: 14.95 g/cm^3 = 0.5401 lb/in^3, / g in in/s^2
-    assert inch.rho == pytest.approx(14950.0 * INCH ** 3 / 0.45359237 / (9.80665 / INCH),
-                                     rel=1e-11)
+    assert inch.rho == pytest.approx(14950.0 * INCH**3 / 0.45359237 / (9.80665 / INCH), rel=1e-11)
     assert inch.nu == wc.nu and inch.mu == wc.mu
 
 
 def test_conversion_mm_n_s_and_milliseconds():
     steel = material("steel-beam")
-    mm = in_units(steel, "mm N s")          # MPa and t/mm^3
+    mm = in_units(steel, "mm N s")  # MPa and t/mm^3
     assert mm.E == pytest.approx(steel.E / 1e6, rel=1e-11)
     assert mm.rho == pytest.approx(steel.rho * 1e-12, rel=1e-11)
-    ms = in_units(steel, ("m", "N", "ms"))   # time 1e-3 s: tau in ms, rho in N ms^2/m^4
+    ms = in_units(steel, ("m", "N", "ms"))  # time 1e-3 s: tau in ms, rho in N ms^2/m^4
     assert ms.maxwell[0][1] == pytest.approx(2.0e-3, rel=1e-12)
     assert ms.rho == pytest.approx(steel.rho * 1e6, rel=1e-11)
     with pytest.raises(MaterialError, match="units: LENGTH unit 'furlong'"):
@@ -107,10 +138,12 @@ def test_conversion_mm_n_s_and_milliseconds():
 
 def test_a_value_without_source_is_refused(tmp_path):
     bad = tmp_path / "lib.toml"
-    bad.write_text('[material.x]\nE = { value = 1.0, unit = "GPa" }\n'
-                   'nu = { value = 0.3, source = "a" }\n'
-                   'rho = { value = 1.0, unit = "g/cm^3", source = "a" }\n'
-                   'mu = { value = 0.3, source = "a" }\n')
+    bad.write_text(
+        '[material.x]\nE = { value = 1.0, unit = "GPa" }\n'
+        'nu = { value = 0.3, source = "a" }\n'
+        'rho = { value = 1.0, unit = "g/cm^3", source = "a" }\n'
+        'mu = { value = 0.3, source = "a" }\n'
+    )
     with pytest.raises(MaterialError, match=r"lib.toml: material 'x': E has no source"):
         read_library(bad)
     bad.write_text(bad.read_text().replace('unit = "GPa" }', 'unit = "bar", source = "a" }'))

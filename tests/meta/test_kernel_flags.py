@@ -32,8 +32,10 @@ def test_only_the_jit_module_names_numba_compile_decorators():
         if path.name == "_jit.py":
             continue
         tree = ast.parse(path.read_text(), filename=str(path))
-        bad += [f"{path.relative_to(PACKAGE)}:{line}: {what}"
-                for line, what in _numba_compile_uses(tree)]
+        bad += [
+            f"{path.relative_to(PACKAGE)}:{line}: {what}"
+            for line, what in _numba_compile_uses(tree)
+        ]
     assert not bad, "compile through x3dpd._jit instead:\n" + "\n".join(bad)
 
 
@@ -125,7 +127,8 @@ def test_vector_kernels_vectorize_loops_over_many_columns():
         assert a.tobytes() == b.tobytes()
     packed_sqrt = re.compile(r"@llvm\.sqrt\.v\d+f64")
     assert packed_sqrt.search("".join(vec.inspect_llvm().values())), (
-        "vector_kernel no longer vectorizes")
+        "vector_kernel no longer vectorizes"
+    )
     assert not packed_sqrt.search("".join(plain.inspect_llvm().values()))
 
 
@@ -143,7 +146,8 @@ def test_numba_inlines_through_the_copy_free_inliner():
 
     assert inline_closurecall.InlineWorker.inline_function is jit._inline_fresh_ir
     assert "inline_worker.inline_function(" in inspect.getsource(
-        untyped_passes.InlineInlinables._do_work)
+        untyped_passes.InlineInlinables._do_work
+    )
     assert "copy.deepcopy(" in inspect.getsource(inline_closurecall.InlineWorker.inline_ir)
 
 
@@ -166,8 +170,9 @@ def test_the_copy_free_inliner_computes_what_numba_inlines():
         return clipped_sum(a, 0.5) - 2.0 * clipped_sum(a[::-1], 0.25)
 
     a = np.linspace(0.0, 1.0, 11)
-    expect = (sum(v if v > 0.5 else 0.5 for v in a)
-              - 2.0 * sum(v if v > 0.25 else 0.25 for v in a[::-1]))
+    expect = sum(v if v > 0.5 else 0.5 for v in a) - 2.0 * sum(
+        v if v > 0.25 else 0.25 for v in a[::-1]
+    )
     assert twice(a) == expect
 
 
@@ -250,6 +255,7 @@ def test_numba_types_calls_through_the_memo():
 
     jit._resolve_call_type = counting
     try:
+
         @kernel(cache=False)
         def many(a):
             s = 0.0
@@ -272,7 +278,7 @@ def test_numba_types_calls_through_the_memo():
 
         with pytest.raises(errors.TypingError):
             untypable(a)
-        with pytest.raises(errors.TypingError):   # again: the failure was not remembered
+        with pytest.raises(errors.TypingError):  # again: the failure was not remembered
             kernel(cache=False)(untypable.py_func)(a)
     finally:
         jit._resolve_call_type = real

@@ -11,11 +11,26 @@ import ast
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[2] / "x3dpd"
-LAYER = {"cli": 5, "design": 4, "study": 4, "api": 3,
-         "deck": 2, "model": 2, "solver": 2, "io": 2, "analysis": 2,
-         "physics": 1, "geometry": 1, "materials": 0.5,
-         "errors": 0, "units": 0, "_jit": 0, "_files": 0, "__init__": 0,
-         "__main__": 6}
+LAYER = {
+    "cli": 5,
+    "design": 4,
+    "study": 4,
+    "api": 3,
+    "deck": 2,
+    "model": 2,
+    "solver": 2,
+    "io": 2,
+    "analysis": 2,
+    "physics": 1,
+    "geometry": 1,
+    "materials": 0.5,
+    "errors": 0,
+    "units": 0,
+    "_jit": 0,
+    "_files": 0,
+    "__init__": 0,
+    "__main__": 6,
+}
 #: What the facade ``x3dpd/__init__.py`` may import (lazily) besides the bottom layer.
 FACADE = {"api"}
 
@@ -73,9 +88,11 @@ ABOVE_API = {
 
 def _beside_the_api(tool: str, source: str, name: str) -> list[str]:
     """The imports in ``source`` (a module of ``tool``) of groups the tool may not import."""
-    return [f"{name}:{line}: {tool} imports {module}"
-            for line, module in _runtime_imports(ast.parse(source))
-            if (group := _group(module)) is not None and group not in ABOVE_API[tool]]
+    return [
+        f"{name}:{line}: {tool} imports {module}"
+        for line, module in _runtime_imports(ast.parse(source))
+        if (group := _group(module)) is not None and group not in ABOVE_API[tool]
+    ]
 
 
 def test_the_tools_above_the_api_go_through_it():
@@ -97,36 +114,47 @@ def _design_below(name: str, source: str) -> list[str]:
     :data:`DESIGN_LEFT` does not allow."""
     below = {group for group, layer in LAYER.items() if 0.5 < layer < LAYER["api"]}
     left = DESIGN_LEFT.get(name, set())
-    return [f"x3dpd/design/{name}:{line}: design imports {module}"
-            for line, module in _runtime_imports(ast.parse(source))
-            if (group := _group(module)) in below and group not in left]
+    return [
+        f"x3dpd/design/{name}:{line}: design imports {module}"
+        for line, module in _runtime_imports(ast.parse(source))
+        if (group := _group(module)) in below and group not in left
+    ]
 
 
 def test_design_reaches_below_the_api_no_further_than_it_did():
     bad = []
     for path in sorted((PACKAGE / "design").rglob("*.py")):
         bad += _design_below(path.name, path.read_text())
-    assert not bad, ("design modules that import below x3dpd.api (use or add a re-export in "
-                     "x3dpd/api/):\n" + "\n".join(bad))
+    assert not bad, (
+        "design modules that import below x3dpd.api (use or add a re-export in "
+        "x3dpd/api/):\n" + "\n".join(bad)
+    )
 
 
 def test_the_ratchet_catches_a_new_import_below_the_api():
-    for line in ("from x3dpd.deck.cards import Deck", "import x3dpd.model.build",
-                 "def f():\n    from x3dpd.analysis.frf import estimate_frf"):
+    for line in (
+        "from x3dpd.deck.cards import Deck",
+        "import x3dpd.model.build",
+        "def f():\n    from x3dpd.analysis.frf import estimate_frf",
+    ):
         assert _design_below("configs.py", line), line
         assert _beside_the_api("design", line, "x3dpd/design/configs.py"), line
     assert not _design_below("configs.py", "from x3dpd.api.decks import Deck")
-    assert not _design_below("configs.py", "if TYPE_CHECKING:\n    from x3dpd.model.model "
-                             "import Model")
+    assert not _design_below(
+        "configs.py", "if TYPE_CHECKING:\n    from x3dpd.model.model import Model"
+    )
 
 
 def test_a_cli_import_below_the_api_is_caught():
     # the check above must fail on each way of writing such an import, lazy ones included
-    for line in ("from x3dpd.model.build import build_model",
-                 "import x3dpd.solver.simulation",
-                 "def f():\n    from x3dpd.io.trace import read_trace"):
+    for line in (
+        "from x3dpd.model.build import build_model",
+        "import x3dpd.solver.simulation",
+        "def f():\n    from x3dpd.io.trace import read_trace",
+    ):
         assert _beside_the_api("cli", line, "x3dpd/cli/new.py"), line
     assert _beside_the_api("design", "from x3dpd.solver.simulation import Simulation", "d.py")
     assert not _beside_the_api("cli", "from x3dpd.api.decks import read_deck", "x3dpd/cli/new.py")
-    assert not _beside_the_api("cli", "if TYPE_CHECKING:\n    from x3dpd.model.model import "
-                               "Model", "x3dpd/cli/new.py")
+    assert not _beside_the_api(
+        "cli", "if TYPE_CHECKING:\n    from x3dpd.model.model import Model", "x3dpd/cli/new.py"
+    )

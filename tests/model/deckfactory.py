@@ -40,15 +40,31 @@ LINE_TRIANGLE = 70  # triangle k (0-based) is on line 70 + k
 LINE_SLAVES = 90
 LINE_NODE = 100  # node id n is on line 100 + n
 
-CORNERS = {1: (0, 0, 0), 2: (1, 0, 0), 3: (1, 1, 0), 4: (0, 1, 0),
-           5: (0, 0, 1), 6: (1, 0, 1), 7: (1, 1, 1), 8: (0, 1, 1)}
+CORNERS = {
+    1: (0, 0, 0),
+    2: (1, 0, 0),
+    3: (1, 1, 0),
+    4: (0, 1, 0),
+    5: (0, 0, 1),
+    6: (1, 0, 1),
+    7: (1, 1, 1),
+    8: (0, 1, 1),
+}
 #: The twelve triangles, all wound so that (p1-p0) x (p2-p0) points inward, with that normal.
-TRIANGLES = (((1, 2, 3), (0, 0, 1)), ((1, 3, 4), (0, 0, 1)),     # z = 0, wound +z (inward)
-             ((5, 7, 6), (0, 0, -1)), ((5, 8, 7), (0, 0, -1)),   # z = 1, wound -z (inward)
-             ((1, 6, 2), (0, 1, 0)), ((1, 5, 6), (0, 1, 0)),     # y = 0, wound +y (inward)
-             ((4, 3, 7), (0, -1, 0)), ((4, 7, 8), (0, -1, 0)),   # y = 1, wound -y (inward)
-             ((1, 4, 8), (1, 0, 0)), ((1, 8, 5), (1, 0, 0)),     # x = 0, wound +x (inward)
-             ((2, 6, 7), (-1, 0, 0)), ((2, 7, 3), (-1, 0, 0)))   # x = 1, wound -x (inward)
+TRIANGLES = (
+    ((1, 2, 3), (0, 0, 1)),
+    ((1, 3, 4), (0, 0, 1)),  # z = 0, wound +z (inward)
+    ((5, 7, 6), (0, 0, -1)),
+    ((5, 8, 7), (0, 0, -1)),  # z = 1, wound -z (inward)
+    ((1, 6, 2), (0, 1, 0)),
+    ((1, 5, 6), (0, 1, 0)),  # y = 0, wound +y (inward)
+    ((4, 3, 7), (0, -1, 0)),
+    ((4, 7, 8), (0, -1, 0)),  # y = 1, wound -y (inward)
+    ((1, 4, 8), (1, 0, 0)),
+    ((1, 8, 5), (1, 0, 0)),  # x = 0, wound +x (inward)
+    ((2, 6, 7), (-1, 0, 0)),
+    ((2, 7, 3), (-1, 0, 0)),
+)  # x = 1, wound -x (inward)
 MASTER = 9
 RADIUS = 0.1
 DENSITY = 7.0
@@ -77,8 +93,7 @@ def triangles(flip=(), set_id: int = 1, first_line: int = LINE_TRIANGLE):
 
 def slave_set(ids, set_id: int = 1, line: int = LINE_SLAVES) -> SlaveSet:
     ids = tuple(ids)
-    return SlaveSet(set_id, ids, tuple(pos(line, 5 + 4 * k) for k in range(len(ids))),
-                    pos(line))
+    return SlaveSet(set_id, ids, tuple(pos(line, 5 + 4 * k) for k in range(len(ids))), pos(line))
 
 
 def cube_deck(particles=((0.5, 0.5, 0.5),), flip=(), **over) -> Deck:
@@ -89,16 +104,24 @@ def cube_deck(particles=((0.5, 0.5, 0.5),), flip=(), **over) -> Deck:
     nodes += [node(n, *xyz) for n, xyz in zip(ids, particles)]
     deck = Deck(
         path="cube.inp",
-        parameters=Parameters(0.0, 1.0, 0.0, 1e-7, 1e-7, 0, 1e9, 0, 5, 0, 100,
-                              pos(LINE_PARAMETERS)),
+        parameters=Parameters(
+            0.0, 1.0, 0.0, 1e-7, 1e-7, 0, 1e9, 0, 5, 0, 100, pos(LINE_PARAMETERS)
+        ),
         materials=(Material(2, 1, 0.0, SCALE, KX, 0.0, 0.0, C, pos=pos(LINE_MATERIAL)),),
         pdmp=(Pdmp(MASTER, RADIUS, DENSITY, 0.3, 2.0e7, 0.0, 1.0, 0.0, pos=pos(LINE_PDMP)),),
         body=Body(0.0, -10.0, 0.0, pos(LINE_BODY)),
         nodes=tuple(nodes),
         elements=(Element(1, 2, (MASTER,), pos(LINE_ELEMENT)),),
         masses=(Mass(MASTER, MASTER_MASS, 0.1, 0.2, 0.3, pos(LINE_MASS)),),
-        rbels=(Rbel(MASTER, (1, 2, 3, 4, 5, 6), tuple(range(1, 9)),
-                    tuple(pos(LINE_RBEL, 10 + 3 * k) for k in range(8)), pos(LINE_RBEL)),),
+        rbels=(
+            Rbel(
+                MASTER,
+                (1, 2, 3, 4, 5, 6),
+                tuple(range(1, 9)),
+                tuple(pos(LINE_RBEL, 10 + 3 * k) for k in range(8)),
+                pos(LINE_RBEL),
+            ),
+        ),
         boundaries=(Boundary(1, MASTER, 1, (2, 3, 4, 5, 6), pos(LINE_BOUNDARY)),),
         contacts=(Contact(triangles(flip), (slave_set(ids),) if ids else ()),),
     )
@@ -109,6 +132,22 @@ def with_nodes(deck: Deck, *extra: Node) -> Deck:
     return replace(deck, nodes=deck.nodes + tuple(extra))
 
 
-__all__ = ["Body", "Boundary", "Contact", "Deck", "Element", "Initial", "Mass", "Material",
-           "Node", "Parameters", "Pdmp", "Pos", "Rbel", "SlaveSet", "Trace", "Triangle",
-           "replace"]
+__all__ = [
+    "Body",
+    "Boundary",
+    "Contact",
+    "Deck",
+    "Element",
+    "Initial",
+    "Mass",
+    "Material",
+    "Node",
+    "Parameters",
+    "Pdmp",
+    "Pos",
+    "Rbel",
+    "SlaveSet",
+    "Trace",
+    "Triangle",
+    "replace",
+]

@@ -57,7 +57,7 @@ def test_appendix_a_particle_mass_matches_the_decks_readme():
     m = build_model(read_deck(DECKS / "appendix_a.inp"))
     expected = 7.32971e-4 * 4.0 / 3.0 * math.pi * 0.03125**3
     assert expected == pytest.approx(9.3696e-8, rel=1e-4)  # decks/README.md
-    np.testing.assert_allclose(m.mass[m.particle_start:], expected, rtol=1e-15)
+    np.testing.assert_allclose(m.mass[m.particle_start :], expected, rtol=1e-15)
     # node 25: MASS 3.002e-3 plus half the element mass 1e-12 (the ground half is dropped)
     assert m.mass[m.index_of(25)] == pytest.approx(3.002e-3 + 0.5e-12, rel=1e-15)
     assert m.rigid_mass[0] == pytest.approx(3.002e-3 + 0.5e-12, rel=1e-15)
@@ -68,13 +68,16 @@ def test_mass_records_add_and_element_mass_is_lumped_on_its_nodes():
     deck = with_nodes(deck, node(20, 3, 0, 0), node(21, 4, 0, 0))
     deck = replace(
         deck,
-        materials=deck.materials + (Material(3, 1, 0.8, 1.0, 5.0, 5.0, 5.0, 0.0,
-                                             pos=pos(11)),),
-        elements=deck.elements + (Element(2, 3, (20, 21), pos(31)),
-                                  Element(3, 3, (21,), pos(32))),
-        masses=deck.masses + (Mass(20, 1.0, 0, 0, 0, pos(41)), Mass(20, 0.25, 1, 2, 3, pos(42)),
-                              Mass(21, 2.0, 0, 0, 0, pos(43))),
-        pdmp=())
+        materials=deck.materials + (Material(3, 1, 0.8, 1.0, 5.0, 5.0, 5.0, 0.0, pos=pos(11)),),
+        elements=deck.elements + (Element(2, 3, (20, 21), pos(31)), Element(3, 3, (21,), pos(32))),
+        masses=deck.masses
+        + (
+            Mass(20, 1.0, 0, 0, 0, pos(41)),
+            Mass(20, 0.25, 1, 2, 3, pos(42)),
+            Mass(21, 2.0, 0, 0, 0, pos(43)),
+        ),
+        pdmp=(),
+    )
     m = build_model(deck)
     assert m.mass[m.index_of(20)] == pytest.approx(1.0 + 0.25 + 0.8 / 2)
     assert m.mass[m.index_of(21)] == pytest.approx(2.0 + 0.8 / 2 + 0.8 / 2)
@@ -91,10 +94,27 @@ def test_springs_apply_the_scale_and_damp_along_all_axes():
 
 def test_viscoelastic_terms_are_padded_across_groups():
     deck = cube_deck(particles=[(0.3, 0.5, 0.5), (0.7, 0.5, 0.5)])
-    deck = replace(deck, pdmp=(
-        Pdmp(9, 0.1, 7.0, 0.3, 2.0e7, 0.0, 0.0, 0.0, pos=pos(20)),
-        Pdmp(10, 0.05, 3.0, 0.25, 1.0e7, 5.0e6, 2e-6, 0.2, 1.0, 2.0, 3.0,
-             extra_terms=((3.0e6, 5e-7),), pos=pos(21))))
+    deck = replace(
+        deck,
+        pdmp=(
+            Pdmp(9, 0.1, 7.0, 0.3, 2.0e7, 0.0, 0.0, 0.0, pos=pos(20)),
+            Pdmp(
+                10,
+                0.05,
+                3.0,
+                0.25,
+                1.0e7,
+                5.0e6,
+                2e-6,
+                0.2,
+                1.0,
+                2.0,
+                3.0,
+                extra_terms=((3.0e6, 5e-7),),
+                pos=pos(21),
+            ),
+        ),
+    )
     m = build_model(deck)
     np.testing.assert_array_equal(m.particle_group, [0, 1])
     np.testing.assert_array_equal(m.moduli, [[2.0e7, 0.0, 0.0], [1.0e7, 5.0e6, 3.0e6]])
@@ -102,7 +122,7 @@ def test_viscoelastic_terms_are_padded_across_groups():
     np.testing.assert_array_equal(m.radius, [0.1, 0.05])
     np.testing.assert_array_equal(m.poisson, [0.3, 0.25])
     np.testing.assert_array_equal(m.mu, [0.0, 0.2])
-    np.testing.assert_array_equal(m.v0[m.particle_start:, :3], [[0, 0, 0], [1, 2, 3]])
+    np.testing.assert_array_equal(m.v0[m.particle_start :, :3], [[0, 0, 0], [1, 2, 3]])
 
 
 def test_elastic_particles_have_one_modulus_column():
@@ -113,11 +133,15 @@ def test_elastic_particles_have_one_modulus_column():
 
 def test_initial_velocities_pdmp_then_initial_then_boundary():
     deck = cube_deck(particles=[(0.3, 0.5, 0.5), (0.7, 0.5, 0.5)])
-    deck = replace(deck,
-                   pdmp=(replace(deck.pdmp[0], vx0=1.0, vy0=2.0, vz0=3.0),),
-                   initials=(Initial(11, (7.0, 8.0, 9.0, 0.1, 0.2, 0.3), pos(80)),
-                             Initial(MASTER, (4.0, 5.0, 6.0), pos(81))),
-                   boundaries=deck.boundaries + (Boundary(10, 10, 1, (3,), pos(61)),))
+    deck = replace(
+        deck,
+        pdmp=(replace(deck.pdmp[0], vx0=1.0, vy0=2.0, vz0=3.0),),
+        initials=(
+            Initial(11, (7.0, 8.0, 9.0, 0.1, 0.2, 0.3), pos(80)),
+            Initial(MASTER, (4.0, 5.0, 6.0), pos(81)),
+        ),
+        boundaries=deck.boundaries + (Boundary(10, 10, 1, (3,), pos(61)),),
+    )
     m = build_model(deck)
     np.testing.assert_array_equal(m.v0[m.index_of(10)], [1, 2, 0, 0, 0, 0])  # z fixed
     np.testing.assert_array_equal(m.v0[m.index_of(11)], [7, 8, 9, 0.1, 0.2, 0.3])
@@ -125,9 +149,11 @@ def test_initial_velocities_pdmp_then_initial_then_boundary():
 
 
 def test_boundary_ranges_use_the_increment_and_skip_missing_nodes():
-    deck = cube_deck(particles=[], pdmp=(),
-                     boundaries=(Boundary(1, 9, 2, (1, 4), pos(60)),
-                                 Boundary(9, 9, 1, (2, 3, 5, 6), pos(61))))
+    deck = cube_deck(
+        particles=[],
+        pdmp=(),
+        boundaries=(Boundary(1, 9, 2, (1, 4), pos(60)), Boundary(9, 9, 1, (2, 3, 5, 6), pos(61))),
+    )
     deck = with_nodes(deck, node(30, 5, 5, 5))
     deck = replace(deck, boundaries=deck.boundaries + (Boundary(2, 30, 7, (2,), pos(62)),))
     # 2..30 step 7 names nodes 2, 9, 16, 23, 30; 16 and 23 do not exist
@@ -142,11 +168,16 @@ def test_boundary_ranges_use_the_increment_and_skip_missing_nodes():
 def test_rigid_inertia_by_the_parallel_axis_theorem():
     # master 9 at the origin with Ixx, Iyy, Izz = 0.1, 0.2, 0.3; slaves with masses at r:
     deck = cube_deck(particles=[])
-    deck = replace(deck, masses=deck.masses + (
-        Mass(2, 2.0, 0.01, 0.02, 0.03, pos(41)),   # r = (1, 0, 0)
-        Mass(4, 3.0, 0.0, 0.0, 0.0, pos(42)),      # r = (0, 1, 0)
-        Mass(3, 0.5, 0.0, 0.0, 0.0, pos(43))),     # r = (1, 1, 0)
-        pdmp=())
+    deck = replace(
+        deck,
+        masses=deck.masses
+        + (
+            Mass(2, 2.0, 0.01, 0.02, 0.03, pos(41)),  # r = (1, 0, 0)
+            Mass(4, 3.0, 0.0, 0.0, 0.0, pos(42)),  # r = (0, 1, 0)
+            Mass(3, 0.5, 0.0, 0.0, 0.0, pos(43)),
+        ),  # r = (1, 1, 0)
+        pdmp=(),
+    )
     m = build_model(deck)
     # m (|r|^2 1 - r r^T) by hand:
     j2 = 2.0 * np.diag([0.0, 1.0, 1.0]) + np.diag([0.01, 0.02, 0.03])
@@ -166,8 +197,9 @@ def _inward(m):
     return m.tri_sign[:, None] * n / np.linalg.norm(n, axis=1, keepdims=True)
 
 
-@pytest.mark.parametrize("flip", [(), tuple(range(0, 12, 2)), (1, 2, 5, 6, 9, 10),
-                                  tuple(range(12))])
+@pytest.mark.parametrize(
+    "flip", [(), tuple(range(0, 12, 2)), (1, 2, 5, 6, 9, 10), tuple(range(12))]
+)
 def test_wall_normals_point_inward_whatever_the_winding(flip):
     m = build_model(cube_deck(flip=flip))
     expected = np.array([n for _, n in TRIANGLES], dtype=float)
@@ -192,18 +224,28 @@ def test_two_cavities_are_sorted_by_set_id_and_particles_follow_their_sets():
     deck = with_nodes(deck, *[node(n, *xyz) for n, xyz in shifted.items()])
     # particles must have the highest ids: renumber the second box's nodes below NODLIM
     deck = replace(deck, pdmp=(replace(deck.pdmp[0], nodlim=38),))
-    deck = replace(deck, nodes=tuple(
-        nd if nd.nid < 10 or nd.nid > 12 else replace(nd, nid=nd.nid + 30, pos=pos(200 + nd.nid))
-        for nd in deck.nodes))
-    tris2 = tuple(replace(t, set_id=7, nodes=tuple(n + 30 for n in t.nodes), pos=pos(150 + k))
-                  for k, t in enumerate(triangles()))
-    deck = replace(deck, contacts=(
-        Contact(tris2 + triangles(), (slave_set([40], 1), slave_set([41], 7, line=91))),),
+    deck = replace(
+        deck,
+        nodes=tuple(
+            nd
+            if nd.nid < 10 or nd.nid > 12
+            else replace(nd, nid=nd.nid + 30, pos=pos(200 + nd.nid))
+            for nd in deck.nodes
+        ),
+    )
+    tris2 = tuple(
+        replace(t, set_id=7, nodes=tuple(n + 30 for n in t.nodes), pos=pos(150 + k))
+        for k, t in enumerate(triangles())
+    )
+    deck = replace(
+        deck,
+        contacts=(Contact(tris2 + triangles(), (slave_set([40], 1), slave_set([41], 7, line=91))),),
         rbels=deck.rbels + (Rbel(31, (1, 2, 3, 4, 5, 6), tuple(range(32, 39)), pos=pos(51)),),
-        masses=deck.masses + (Mass(31, 1.0, 1, 1, 1, pos(41)),))
+        masses=deck.masses + (Mass(31, 1.0, 1, 1, 1, pos(41)),),
+    )
     m = build_model(deck)
     np.testing.assert_array_equal(m.cavity_set_ids, [1, 7])
-    np.testing.assert_array_equal(m.node_ids[m.particle_start:], [40, 41, 42])
+    np.testing.assert_array_equal(m.node_ids[m.particle_start :], [40, 41, 42])
     np.testing.assert_array_equal(m.particle_cavity, [0, 1, -1])
     # faces of set 1 first (cavity 0), then set 7, though set 7's triangles come first
     np.testing.assert_array_equal(m.face_cavity, [0] * 6 + [1] * 6)
@@ -243,6 +285,7 @@ def test_appendix_a_windings_disagree_but_normals_face_the_master_centroid():
 
 # -- effects --------------------------------------------------------------------------------------
 
+
 def test_effects_of_the_base_cube():
     m = build_model(cube_deck())
     assert m.effects == {"gravity", "springs", "dampers", "rigid_links", "wall_contact"}
@@ -251,29 +294,54 @@ def test_effects_of_the_base_cube():
 
 def test_effects_of_the_appendix_a_deck():
     m = build_model(read_deck(DECKS / "appendix_a_cube.inp"))
-    assert m.effects == {"gravity", "springs", "dampers", "rigid_links", "wall_contact",
-                         "pair_contact", "viscoelastic", "friction"}
+    assert m.effects == {
+        "gravity",
+        "springs",
+        "dampers",
+        "rigid_links",
+        "wall_contact",
+        "pair_contact",
+        "viscoelastic",
+        "friction",
+    }
 
 
 def test_effects_springs_only_on_fixed_dofs_do_not_count():
-    deck = cube_deck(materials=(Material(2, 1, 0.0, 1.0, 0.0, 7.0, 7.0, 0.0, pos=pos(10)),),
-                     body=None)
+    deck = cube_deck(
+        materials=(Material(2, 1, 0.0, 1.0, 0.0, 7.0, 7.0, 0.0, pos=pos(10)),), body=None
+    )
     m = build_model(deck)  # ky, kz act on DOFs 2 and 3 of node 9, which BOUNDARY fixes
     assert "springs" not in m.effects and "dampers" not in m.effects
     assert "gravity" not in m.effects
 
 
 def test_effects_rigid_rotation_pairs_viscoelastic_friction_external_motion():
-    deck = cube_deck(particles=[(0.3, 0.5, 0.5), (0.7, 0.5, 0.5)],
-                     boundaries=(Boundary(1, 9, 1, (2, 3, 4, 5), pos(60)),))
+    deck = cube_deck(
+        particles=[(0.3, 0.5, 0.5), (0.7, 0.5, 0.5)],
+        boundaries=(Boundary(1, 9, 1, (2, 3, 4, 5), pos(60)),),
+    )
     deck = replace(deck, pdmp=(replace(deck.pdmp[0], e1=1.0e6, t1=1e-6, pcof=0.3),))
-    m = build_model(deck, usrfrc=("sine:node=9,dof=1,amp=1,hz=10",),
-                    motion=("node=9,dof=6,amp=0.01,hz=5",))
-    assert {"rigid_rotation", "pair_contact", "viscoelastic", "friction", "external_force",
-            "prescribed_motion"} <= m.effects
+    m = build_model(
+        deck, usrfrc=("sine:node=9,dof=1,amp=1,hz=10",), motion=("node=9,dof=6,amp=0.01,hz=5",)
+    )
+    assert {
+        "rigid_rotation",
+        "pair_contact",
+        "viscoelastic",
+        "friction",
+        "external_force",
+        "prescribed_motion",
+    } <= m.effects
     assert build_model(cube_deck()).effects.isdisjoint(
-        {"rigid_rotation", "pair_contact", "viscoelastic", "friction", "external_force",
-         "prescribed_motion"})
+        {
+            "rigid_rotation",
+            "pair_contact",
+            "viscoelastic",
+            "friction",
+            "external_force",
+            "prescribed_motion",
+        }
+    )
 
 
 def test_effects_particles_in_separate_cavities_do_not_pair():
@@ -306,10 +374,11 @@ def test_user_force_file_on_the_card_is_found_beside_the_deck(tmp_path, monkeypa
     (folder / "force.py").write_text("def usrfrc(time, coords, vels, force):\n    pass\n")
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
-    monkeypatch.chdir(elsewhere)          # the working directory holds no force.py
-    deck = replace(cube_deck(usrfrc=(Usrfrc(("force.py", "constant:node=9,dof=1,amp=2"),
-                                             pos(95)),)),
-                   path=str(folder / "deck.inp"))
+    monkeypatch.chdir(elsewhere)  # the working directory holds no force.py
+    deck = replace(
+        cube_deck(usrfrc=(Usrfrc(("force.py", "constant:node=9,dof=1,amp=2"), pos(95)),)),
+        path=str(folder / "deck.inp"),
+    )
     m = build_model(deck)
     assert m.usrfrc == (str(folder / "force.py"), "constant:node=9,dof=1,amp=2")
 

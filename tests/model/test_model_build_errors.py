@@ -71,8 +71,14 @@ def test_end_time_before_start_time():
 
 def test_duplicate_node_points_at_the_second_and_names_the_first():
     deck = with_nodes(cube_deck(), replace(node(4, 9, 9, 9), pos=pos(300, 3)))
-    _raises(deck, 300, 3, "NODE COORDINATES", "node 4 is defined twice",
-            f"first at line {LINE_NODE + 4}")
+    _raises(
+        deck,
+        300,
+        3,
+        "NODE COORDINATES",
+        "node 4 is defined twice",
+        f"first at line {LINE_NODE + 4}",
+    )
 
 
 def test_undefined_node_in_elements():
@@ -81,8 +87,12 @@ def test_undefined_node_in_elements():
 
 
 def test_undefined_node_in_mass():
-    deck = cube_deck(masses=(Mass(9, 1.0, 0, 0, 0, pos(LINE_MASS)),
-                             Mass(78, 1.0, 0, 0, 0, pos(LINE_MASS + 1, 2))))
+    deck = cube_deck(
+        masses=(
+            Mass(9, 1.0, 0, 0, 0, pos(LINE_MASS)),
+            Mass(78, 1.0, 0, 0, 0, pos(LINE_MASS + 1, 2)),
+        )
+    )
     _raises(deck, LINE_MASS + 1, 2, "MASS", "node 78 is not defined")
 
 
@@ -144,14 +154,14 @@ def test_material_type_other_than_1_2_3():
 
 def test_element_touching_a_particle():
     deck = cube_deck(elements=(Element(1, 2, (9, 10), pos(LINE_ELEMENT)),))
-    _raises(deck, LINE_ELEMENT, 1, "ELEMENTS", "element 1 node 10 is a particle node",
-            "NODLIM 9")
+    _raises(deck, LINE_ELEMENT, 1, "ELEMENTS", "element 1 node 10 is a particle node", "NODLIM 9")
 
 
 def test_rbel_touching_a_particle():
     deck = cube_deck()
-    deck = replace(deck, rbels=(replace(deck.rbels[0], slaves=tuple(range(1, 9)) + (10,),
-                                        slave_positions=()),))
+    deck = replace(
+        deck, rbels=(replace(deck.rbels[0], slaves=tuple(range(1, 9)) + (10,), slave_positions=()),)
+    )
     _raises(deck, LINE_RBEL, 1, "RBEL", "slave node 10 is a particle node")
 
 
@@ -162,17 +172,28 @@ def test_mass_on_a_particle():
 
 def test_node_in_two_rigid_bodies():
     deck = cube_deck()
-    deck = replace(deck, rbels=deck.rbels + (
-        Rbel(4, (1, 2, 3, 4, 5, 6), (3,), (pos(52, 9),), pos(52)),))
-    _raises(deck, 52, 1, "RBEL", "master node 4 already belongs to the rigid body of master 9",
-            f"line {LINE_RBEL}")
+    deck = replace(
+        deck, rbels=deck.rbels + (Rbel(4, (1, 2, 3, 4, 5, 6), (3,), (pos(52, 9),), pos(52)),)
+    )
+    _raises(
+        deck,
+        52,
+        1,
+        "RBEL",
+        "master node 4 already belongs to the rigid body of master 9",
+        f"line {LINE_RBEL}",
+    )
 
 
 def test_slave_in_two_rigid_bodies():
     deck = cube_deck(masses=(Mass(9, 1.0, 1, 1, 1, pos(40)), Mass(1, 1.0, 1, 1, 1, pos(41))))
-    deck = replace(deck, rbels=(replace(deck.rbels[0], slaves=(2, 3, 4, 5, 6, 7, 8),
-                                        slave_positions=()),
-                                Rbel(1, (1, 2, 3, 4, 5, 6), (3,), (pos(52, 9),), pos(52))))
+    deck = replace(
+        deck,
+        rbels=(
+            replace(deck.rbels[0], slaves=(2, 3, 4, 5, 6, 7, 8), slave_positions=()),
+            Rbel(1, (1, 2, 3, 4, 5, 6), (3,), (pos(52, 9),), pos(52)),
+        ),
+    )
     _raises(deck, 52, 9, "RBEL", "slave node 3 already belongs to the rigid body of master 9")
 
 
@@ -186,8 +207,9 @@ def test_degenerate_triangle_gives_its_area():
     tris = list(triangles())
     tris[5] = replace(tris[5], nodes=(1, 2, 2))
     deck = cube_deck(contacts=(Contact(tuple(tris), (slave_set([10]),)),))
-    _raises(deck, LINE_TRIANGLE + 5, 1, "CONTACT", "triangle 6 (nodes 1 2 2) is degenerate",
-            "area 0")
+    _raises(
+        deck, LINE_TRIANGLE + 5, 1, "CONTACT", "triangle 6 (nodes 1 2 2) is degenerate", "area 0"
+    )
 
 
 def test_collinear_triangle_is_degenerate():
@@ -205,14 +227,17 @@ def test_triangle_node_that_is_a_particle():
     _raises(deck, LINE_TRIANGLE + 2, 1, "CONTACT", "triangle node 10 is a particle node")
 
 
-@pytest.mark.parametrize("field, value, phrase", [
-    ("rzero", 0.0, "radius RZERO must be > 0"),
-    ("rzero", -0.1, "radius RZERO must be > 0"),
-    ("prho", 0.0, "density PRHO must be > 0"),
-    ("e0", 0.0, "E0 must be > 0"),
-    ("ppoi", 0.5, "PPOI must lie in (-1, 0.5)"),
-    ("pcof", -0.1, "PCOF must be >= 0"),
-])
+@pytest.mark.parametrize(
+    "field, value, phrase",
+    [
+        ("rzero", 0.0, "radius RZERO must be > 0"),
+        ("rzero", -0.1, "radius RZERO must be > 0"),
+        ("prho", 0.0, "density PRHO must be > 0"),
+        ("e0", 0.0, "E0 must be > 0"),
+        ("ppoi", 0.5, "PPOI must lie in (-1, 0.5)"),
+        ("pcof", -0.1, "PCOF must be >= 0"),
+    ],
+)
 def test_bad_particle_properties(field, value, phrase):
     deck = cube_deck()
     deck = replace(deck, pdmp=(replace(deck.pdmp[0], **{field: value}),))
@@ -247,10 +272,20 @@ def test_negative_element_mass():
 def test_particle_in_two_slave_sets():
     deck = cube_deck(particles=[(0.5, 0.5, 0.5), (0.2, 0.2, 0.2)])
     tris2 = tuple(replace(t, set_id=2) for t in triangles(first_line=150))
-    deck = replace(deck, contacts=(Contact(triangles() + tris2,
-                                           (slave_set([10, 11]), slave_set([11], 2, line=92))),))
-    _raises(deck, 92, 5, "CONTACT", "particle 11 is already a slave of another set",
-            f"line {LINE_SLAVES}")
+    deck = replace(
+        deck,
+        contacts=(
+            Contact(triangles() + tris2, (slave_set([10, 11]), slave_set([11], 2, line=92))),
+        ),
+    )
+    _raises(
+        deck,
+        92,
+        5,
+        "CONTACT",
+        "particle 11 is already a slave of another set",
+        f"line {LINE_SLAVES}",
+    )
 
 
 def test_slave_that_is_not_a_particle():
@@ -266,38 +301,63 @@ def test_slave_set_without_triangles():
 def test_free_massless_node_loaded_by_a_spring():
     deck = with_nodes(cube_deck(particles=[], pdmp=()), node(50, 3, 0, 0))
     deck = replace(deck, elements=deck.elements + (Element(2, 2, (50,), pos(31)),))
-    _raises(deck, LINE_NODE + 50, 1, "NODE COORDINATES",
-            "node 50 has no mass but its free x DOF is loaded by element 2 (line 31)",
-            "add a MASS record for node 50", "fix DOF 1")
+    _raises(
+        deck,
+        LINE_NODE + 50,
+        1,
+        "NODE COORDINATES",
+        "node 50 has no mass but its free x DOF is loaded by element 2 (line 31)",
+        "add a MASS record for node 50",
+        "fix DOF 1",
+    )
 
 
 def test_free_massless_node_loaded_by_a_wall():
     # the cavity's corners are not in a rigid body and nothing fixes them
     deck = cube_deck(rbels=(), boundaries=(Boundary(9, 9, 1, (2, 3, 4, 5, 6), pos(60)),))
-    _raises(deck, LINE_NODE + 1, 1, "NODE COORDINATES", "node 1 has no mass",
-            "wall contact of the CONTACT triangle at line")
+    _raises(
+        deck,
+        LINE_NODE + 1,
+        1,
+        "NODE COORDINATES",
+        "node 1 has no mass",
+        "wall contact of the CONTACT triangle at line",
+    )
 
 
 def test_massless_rigid_body_loaded_by_its_spring():
     deck = cube_deck(masses=())
-    _raises(deck, LINE_NODE + 9, 1, "NODE COORDINATES",
-            "the rigid body of master 9 has no mass but its free x DOF is loaded by",
-            "add a MASS record for node 9")
+    _raises(
+        deck,
+        LINE_NODE + 9,
+        1,
+        "NODE COORDINATES",
+        "the rigid body of master 9 has no mass but its free x DOF is loaded by",
+        "add a MASS record for node 9",
+    )
 
 
 def test_free_massless_node_loaded_by_usrfrc():
     deck = with_nodes(cube_deck(particles=[], pdmp=()), node(50, 3, 0, 0))
-    _raises(deck, LINE_NODE + 50, 1, "NODE COORDINATES", "node 50 has no mass",
-            "USRFRC force 'constant:node=50,dof=2,amp=1'", "fix DOF 2",
-            usrfrc=("constant:node=50,dof=2,amp=1",))
+    _raises(
+        deck,
+        LINE_NODE + 50,
+        1,
+        "NODE COORDINATES",
+        "node 50 has no mass",
+        "USRFRC force 'constant:node=50,dof=2,amp=1'",
+        "fix DOF 2",
+        usrfrc=("constant:node=50,dof=2,amp=1",),
+    )
 
 
 def test_massless_node_is_fine_when_fixed_slaved_or_prescribed():
     base = with_nodes(cube_deck(particles=[], pdmp=()), node(50, 3, 0, 0))
     loaded = replace(base, elements=base.elements + (Element(2, 2, (50,), pos(31)),))
     # fixed x (the spring acts along x only: ky = kz = 0 and c acts on fixed y, z too)
-    fixed = replace(loaded, boundaries=loaded.boundaries + (
-        Boundary(50, 50, 1, (1, 2, 3), pos(61)),))
+    fixed = replace(
+        loaded, boundaries=loaded.boundaries + (Boundary(50, 50, 1, (1, 2, 3), pos(61)),)
+    )
     build_model(fixed)
     # slave of the rigid body
     rb = loaded.rbels[0]
@@ -326,8 +386,9 @@ def test_ambiguous_inside_of_a_lone_floor():
 
 def test_lone_floor_takes_its_inside_from_its_particles():
     floor = (Triangle(1, (1, 2, 3), pos(LINE_TRIANGLE)), Triangle(1, (1, 4, 3), pos(71)))
-    m = build_model(cube_deck(particles=[(0.5, 0.5, -0.5)],
-                              contacts=(Contact(floor, (slave_set([10]),)),)))
+    m = build_model(
+        cube_deck(particles=[(0.5, 0.5, -0.5)], contacts=(Contact(floor, (slave_set([10]),)),))
+    )
     # (1,2,3) is wound +z and (1,4,3) -z; the particle is below, so both face -z
     assert m.tri_sign.tolist() == [-1.0, 1.0]
 

@@ -31,6 +31,7 @@ def model(particles, **kw):
 
 # -- penetrations -------------------------------------------------------------------------------
 
+
 def test_penetration_depth_and_triangle():
     m = model([(0.7, 0.3, 0.05)])  # over triangle 1 (nodes 1 2 3, the part x > y of z = 0)
     assert particle_wall_penetrations(m) == [WallPenetration(0, 10, 0, pytest.approx(0.05))]
@@ -57,15 +58,20 @@ def test_edge_tolerance_is_the_radius():
     """An open floor z = 0 over 0 <= x, y <= 1: a sphere just past its rim still touches it."""
     from deckfactory import Contact, Triangle, pos, slave_set
 
-    floor = (Triangle(1, (1, 2, 3), pos(70)), Triangle(1, (1, 3, 4), pos(71)),
-             Triangle(1, (5, 6, 7), pos(72)))  # plus the lid, so the inside is known
+    floor = (
+        Triangle(1, (1, 2, 3), pos(70)),
+        Triangle(1, (1, 3, 4), pos(71)),
+        Triangle(1, (5, 6, 7), pos(72)),
+    )  # plus the lid, so the inside is known
     for x, hits in ((1.05, 1), (1.0 + 0.99 * RADIUS, 1), (1.0 + 1.01 * RADIUS, 0)):
-        m = build_model(cube_deck(particles=[(x, 0.5, 0.05)],
-                                  contacts=(Contact(floor, (slave_set([10]),)),)))
+        m = build_model(
+            cube_deck(particles=[(x, 0.5, 0.05)], contacts=(Contact(floor, (slave_set([10]),)),))
+        )
         assert len(particle_wall_penetrations(m)) == hits, x
 
 
 # -- outside ------------------------------------------------------------------------------------
+
 
 def test_particle_behind_a_wall_is_outside():
     m = model([(0.3, 0.6, -0.05), (0.5, 0.5, 0.5)])  # (0.3, 0.6) is over triangle 2 (1 3 4)
@@ -88,11 +94,19 @@ def test_an_open_cavity_has_no_box_to_be_outside_of():
     assert report.cavities[0].closed is False
     assert "particles-outside" not in [w.code for w in report.warnings]
     # beyond the floor's rim, over no wall: still not "outside" (an open cavity has no box)
-    assert particles_outside(model([(1.5, 0.5, 0.3), (0.5, 0.5, 0.3)],
-                                   contacts=(Contact(floor, (slave_set([10, 11]),)),))) == []
+    assert (
+        particles_outside(
+            model(
+                [(1.5, 0.5, 0.3), (0.5, 0.5, 0.3)],
+                contacts=(Contact(floor, (slave_set([10, 11]),)),),
+            )
+        )
+        == []
+    )
 
 
 # -- overlaps -----------------------------------------------------------------------------------
+
 
 def test_overlapping_particles_by_node_id():
     pairs, depth = particle_overlaps(model([(0.3, 0.5, 0.5), (0.45, 0.5, 0.5), (0.8, 0.5, 0.5)]))
@@ -112,6 +126,7 @@ def test_overlap_listing_is_capped():
 
 # -- faces inside the particle cloud ------------------------------------------------------------
 
+
 def test_a_face_with_particles_on_both_sides_is_inside_the_cloud():
     m = model([(0.5, 0.5, 0.5), (0.5, 0.5, -0.05)])
     assert faces_in_particle_cloud(m) == [0]  # z = 0
@@ -121,19 +136,24 @@ def test_a_face_with_particles_on_both_sides_is_inside_the_cloud():
 def test_cloud_headline_is_found_from_geometry_not_the_file_name():
     """Move the x = 1 side of the cube to x = 0.5, through a row of particles."""
     deck = cube_deck(particles=[(0.3, 0.5, 0.5), (0.7, 0.5, 0.5)])
-    deck = replace(deck, path="anything.inp", nodes=tuple(
-        replace(nd, x=0.5) if nd.nid in (2, 3, 6, 7) else nd for nd in deck.nodes))
+    deck = replace(
+        deck,
+        path="anything.inp",
+        nodes=tuple(replace(nd, x=0.5) if nd.nid in (2, 3, 6, 7) else nd for nd in deck.nodes),
+    )
     report = check_model(build_model(deck))
     first = report.warnings[0]
     assert first.code == "faces-in-particle-cloud"
     assert first.headline.startswith(
         "cavity set 1: two of the twelve contact triangles lie in the plane x = 0.5, inside the "
-        "particle cloud (particle centres span x from 0.3 to 0.7 and y, z from 0.5 to 0.5)")
+        "particle cloud (particle centres span x from 0.3 to 0.7 and y, z from 0.5 to 0.5)"
+    )
     assert "1 of the 2 particles start outside the cavity they bound" in first.headline
     assert report.exit_status == 1
 
 
 # -- report -------------------------------------------------------------------------------------
+
 
 def test_report_of_a_clean_cube():
     centres = [(0.5, 0.5, 0.5), (0.2, 0.2, 0.2)]
@@ -164,7 +184,8 @@ def test_particles_in_no_slave_set_are_reported():
     deck = replace(deck, contacts=(Contact(triangles(), (slave_set([10]),)),))
     report = check_model(build_model(deck))
     assert [w.headline for w in report.warnings if w.code == "no-cavity"] == [
-        "2 particles are in no CONTACT slave set and will pass through every wall: nodes 11-12"]
+        "2 particles are in no CONTACT slave set and will pass through every wall: nodes 11-12"
+    ]
 
 
 def test_appendix_a_headline():
@@ -176,21 +197,23 @@ def test_appendix_a_headline():
         "cavity set 1: the twelve contact triangles lie in the planes x = 0.0625, 0.1875, "
         "y = 0.0625, 0.1875, z = ±0.09375, inside the particle cloud (particle centres span "
         "x, y from 0.03125 to 0.21875 and z from -0.09375 to 0.09375), so no closed cavity holds "
-        "the particles")
+        "the particles"
+    )
     # outside: a centre in the outer ring x or y in {1/32, 7/32} lies behind the walls at
     # x, y = 1/16 and 3/16
-    x = m.x0[m.particle_start:]
+    x = m.x0[m.particle_start :]
     ring = np.isin(x[:, 0], [0.03125, 0.21875]) | np.isin(x[:, 1], [0.03125, 0.21875])
     assert int(ring.sum()) == 38
     assert "38 of the 50 particles start outside the cavity they bound" in head.headline
     assert "decks/appendix_a_cube.inp" in head.headline
     outside = [o.node_id for o in particles_outside(m)]
-    assert outside == (m.node_ids[m.particle_start:][ring]).tolist()
+    assert outside == (m.node_ids[m.particle_start :][ring]).tolist()
     # the four inner particles of the bottom layer have their centres on the plane z = -3/32
     (pen,) = [w for w in report.warnings if w.code == "wall-penetration"]
     assert pen.headline.startswith("4 particles inside their cavity start penetrating a wall")
-    assert [d.split(":")[0] for d in pen.details] == [f"particle node {n}"
-                                                      for n in (31, 32, 35, 36)]
+    assert [d.split(":")[0] for d in pen.details] == [
+        f"particle node {n}" for n in (31, 32, 35, 36)
+    ]
     cav = report.cavities[0]
     assert not cav.closed and cav.volume is None
     assert report.exit_status == 1

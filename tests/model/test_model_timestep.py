@@ -67,19 +67,24 @@ def integrated_contact_time(m, r, e_star, v, n=20000):
         a, t = a_new, t + dt
 
 
-@pytest.mark.parametrize("m, r, e_star, v", [
-    (9.3697e-8, 0.03125, 35e6 / (1 - 0.33**2), 13.9),  # Appendix A particle on a wall
-    (1.0, 0.5, 1.0e9, 2.0),
-    (2.0e-3, 1e-3, 7.0e10, 0.1),
-])
+@pytest.mark.parametrize(
+    "m, r, e_star, v",
+    [
+        (9.3697e-8, 0.03125, 35e6 / (1 - 0.33**2), 13.9),  # Appendix A particle on a wall
+        (1.0, 0.5, 1.0e9, 2.0),
+        (2.0e-3, 1e-3, 7.0e10, 0.1),
+    ],
+)
 def test_contact_time_matches_the_closed_form_and_an_integration(m, r, e_star, v):
     t = hertz_contact_time(m, r, e_star, v)
     assert t == pytest.approx(closed_form(m, r, e_star, v), rel=2e-4)
     assert t == pytest.approx(integrated_contact_time(m, r, e_star, v), rel=1e-4)
 
 
-@pytest.mark.parametrize("v, t_max", [(6.28e-2, 1.72e-5), (6.28e-1, 1.09e-5), (6.28, 6.86e-6),
-                                      (62.8, 4.33e-6), (628.0, 2.73e-6)])
+@pytest.mark.parametrize(
+    "v, t_max",
+    [(6.28e-2, 1.72e-5), (6.28e-1, 1.09e-5), (6.28, 6.86e-6), (62.8, 4.33e-6), (628.0, 2.73e-6)],
+)
 def test_report_table_3(v, t_max):
     """Report Table 3: time of maximum compression of two identical steel spheres (the §7.2
     sphere: R = 0.0625 in, E = 30e6 psi, nu = 0.33, 0.283 lbf/in^3) to 0.5 % (the table's
@@ -147,8 +152,9 @@ def test_pair_contact_alone():
     deck = replace(deck, contacts=())
     pair = recommended_time_step(build_model(deck))
     assert pair.contact_kind == "particle-particle"
-    assert pair.t_contact / wall.t_contact == pytest.approx(2**0.2 * (
-        characteristic_speed(build_model(deck)) / wall.impact_speed) ** -0.2, rel=1e-12)
+    assert pair.t_contact / wall.t_contact == pytest.approx(
+        2**0.2 * (characteristic_speed(build_model(deck)) / wall.impact_speed) ** -0.2, rel=1e-12
+    )
 
 
 def _hooke_period(k_n, e, m_eff):
@@ -176,13 +182,17 @@ def test_a_hooke_pair_of_two_groups_mixes_as_the_step_loop():
     the mean of theirs (x3dpd.physics.hooke.hooke_tables); each group alone has one particle,
     so only the pair of groups meets."""
     from x3dpd.deck.cards import Hooke
+
     deck = cube_deck(particles=[(0.3, 0.5, 0.5), (0.7, 0.5, 0.5)])
-    deck = replace(deck, contacts=(), pdmp=(deck.pdmp[0], replace(deck.pdmp[0], nodlim=10,
-                                                                    rzero=0.5 * RADIUS)),
-                   hooke=(Hooke(deck.pdmp[0].nodlim, 1e4, 0.8), Hooke(10, 3e4, 0.5)))
+    deck = replace(
+        deck,
+        contacts=(),
+        pdmp=(deck.pdmp[0], replace(deck.pdmp[0], nodlim=10, rzero=0.5 * RADIUS)),
+        hooke=(Hooke(deck.pdmp[0].nodlim, 1e4, 0.8), Hooke(10, 3e4, 0.5)),
+    )
     m = build_model(deck)
     ts = recommended_time_step(m)
-    m1, m2 = m.mass[m.particle_start:]
+    m1, m2 = m.mass[m.particle_start :]
     z1, z2 = (-math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2) for e in (0.8, 0.5))
     k = 2 * 1e4 * 3e4 / (1e4 + 3e4)
     zeta = 0.5 * (z1 + z2)
@@ -214,10 +224,15 @@ def test_springs_on_fixed_dofs_do_not_count():
 def test_a_spring_between_two_free_masses_counts_twice():
     """Two equal masses on one spring: omega^2 = 2k/m exactly, the Gershgorin bound."""
     deck = with_nodes(cube_deck(particles=[]), node(50, 3, 0, 0), node(51, 4, 0, 0))
-    deck = replace(deck, pdmp=(), contacts=(), body=None, elements=(
-        Element(1, 3, (50, 51), pos(30)),), materials=(
-        Material(3, 1, 0.0, 1.0, 8.0, 0.0, 0.0, 0.0, pos=pos(10)),), masses=deck.masses + (
-        Mass(50, 2.0, 0, 0, 0, pos(41)), Mass(51, 2.0, 0, 0, 0, pos(42))))
+    deck = replace(
+        deck,
+        pdmp=(),
+        contacts=(),
+        body=None,
+        elements=(Element(1, 3, (50, 51), pos(30)),),
+        materials=(Material(3, 1, 0.0, 1.0, 8.0, 0.0, 0.0, 0.0, pos=pos(10)),),
+        masses=deck.masses + (Mass(50, 2.0, 0, 0, 0, pos(41)), Mass(51, 2.0, 0, 0, 0, pos(42))),
+    )
     ts = recommended_time_step(build_model(deck))
     assert ts.omega_max == pytest.approx(math.sqrt(2 * 8.0 / 2.0))
     assert ts.binding == "structure" and ts.contact_kind == "none"
@@ -243,12 +258,12 @@ def test_appendix_a_recommendation():
     assert ts.deck_steps_per_contact == pytest.approx(9.6, abs=0.05)
     assert check_model(m).warnings == ()
     # twice the deck's step gives 4.8 steps per contact: a warning
-    m2 = build_model(replace(m_deck, parameters=replace(m_deck.parameters, dtmin=1e-6,
-                                                          dtmax=1e-6)))
+    m2 = build_model(replace(m_deck, parameters=replace(m_deck.parameters, dtmin=1e-6, dtmax=1e-6)))
     (w,) = check_model(m2).warnings
     assert w.code == "time-step"
-    assert w.headline.startswith("time step: DTMAX 1e-06 s is 10.4 times the recommended "
-                                 "9.6e-08 s.")
+    assert w.headline.startswith(
+        "time step: DTMAX 1e-06 s is 10.4 times the recommended 9.6e-08 s."
+    )
     assert "resolves it in 4.8 steps" in w.headline
 
 

@@ -23,8 +23,8 @@ from x3dpd.model.rules_of_thumb import DriveEstimate, drive_estimate, rules_of_t
 
 DECKS = Path(__file__).resolve().parents[2] / "decks"
 G = 386.1
-M, K, C = 2.04213e-4, 11.4823, 3.08293e-4           # report Table 4 [lbf s^2/in, lbf/in, lbf s/in]
-F = 4.8404e-3                                        # [lbf]
+M, K, C = 2.04213e-4, 11.4823, 3.08293e-4  # report Table 4 [lbf s^2/in, lbf/in, lbf s/in]
+F = 4.8404e-3  # [lbf]
 # the generator's MATID element mass (Appendix A's 1.0e-12), lumped half on each end (the
 # ground's half dropped), joins M
 MASS = M + 0.5e-12
@@ -35,9 +35,17 @@ STEEL = Material3(27.5e6, 5.0e6, 2.0e-6, 0.33, MU, RHO)
 
 def box(drive: str, n: int = 20, gravity=(0.0, -G, 0.0)):
     pos = lattice_fill(SIZE, R, n, gap=0.05 * R)
-    deck = box_cavity_deck(size=SIZE, particles=pos, radius=R, material=STEEL,
-                           structure_mass=M, stiffness=K, damping=C, gravity=gravity,
-                           usrfrc=(drive,) if drive else ())
+    deck = box_cavity_deck(
+        size=SIZE,
+        particles=pos,
+        radius=R,
+        material=STEEL,
+        structure_mass=M,
+        stiffness=K,
+        damping=C,
+        gravity=gravity,
+        usrfrc=(drive,) if drive else (),
+    )
     return build_model(deck), pos
 
 
@@ -60,7 +68,7 @@ def test_sine_drive_turn_on_clearance_and_mass_ratio_closed_form():
     assert "slide" in got["turn-on"].text
     bed = (pos[:, 0] + R).max() - (pos[:, 0] - R).min()
     assert got["clearance"].value == pytest.approx((SIZE[0] - bed) / (2 * x), rel=1e-9)
-    mp = 20 * 4 / 3 * math.pi * R ** 3 * RHO
+    mp = 20 * 4 / 3 * math.pi * R**3 * RHO
     assert got["mass-ratio"].value == pytest.approx(mp / MASS, rel=1e-12)
     f_stuck = math.sqrt(K / MASS) / (2 * math.pi) / math.sqrt(1 + mp / MASS)
     assert f"to {f_stuck:.4g} Hz" in got["mass-ratio"].text
@@ -68,11 +76,16 @@ def test_sine_drive_turn_on_clearance_and_mass_ratio_closed_form():
     assert all(r.section.startswith("report Section") for r in got.values())
 
 
-@pytest.mark.parametrize("gravity, level", [
-    ((-G, 0.0, 0.0), G),                                  # along the drive: lift at 1 g
-    ((-G / math.sqrt(2), -G / math.sqrt(2), 0.0),         # 45 deg: lift at g / cos 45,
-     MU * G * math.sqrt(2)),                              # slide at mu g / sin 45: the lower
-])
+@pytest.mark.parametrize(
+    "gravity, level",
+    [
+        ((-G, 0.0, 0.0), G),  # along the drive: lift at 1 g
+        (
+            (-G / math.sqrt(2), -G / math.sqrt(2), 0.0),  # 45 deg: lift at g / cos 45,
+            MU * G * math.sqrt(2),
+        ),  # slide at mu g / sin 45: the lower
+    ],
+)
 def test_turn_on_level_follows_the_angle_to_gravity(gravity, level):
     hz = 30.0
     model, _ = box(f"sine:node=9,dof=1,amp={F},hz={hz}", gravity=gravity)
@@ -84,11 +97,12 @@ def test_sweep_through_resonance_gives_the_textbook_peaks():
     model, _ = box(f"sweep:node=9,dof=1,amp={F},f0=30,f1=45,rate=1")
     est = drive_estimate(model)
     zeta = C / (2 * math.sqrt(K * MASS))
-    q = 2 * zeta * math.sqrt(1 - zeta ** 2)
+    q = 2 * zeta * math.sqrt(1 - zeta**2)
     assert est.peak_displacement == pytest.approx(F / (q * K), rel=1e-7)
     assert est.peak_acceleration == pytest.approx(F / (q * MASS), rel=1e-7)
-    assert est.hz == pytest.approx(math.sqrt(K / MASS) * math.sqrt(1 - 2 * zeta ** 2)
-                                   / (2 * math.pi), rel=1e-5)
+    assert est.hz == pytest.approx(
+        math.sqrt(K / MASS) * math.sqrt(1 - 2 * zeta**2) / (2 * math.pi), rel=1e-5
+    )
 
 
 def test_weak_drive_says_the_particles_will_not_move():
@@ -101,11 +115,12 @@ def test_no_drive_or_a_user_file_is_said_not_estimated(tmp_path):
     model, _ = box("")
     got = rules(model)
     assert math.isnan(got["turn-on"].value) and "no USRFRC drive" in got["turn-on"].text
-    assert "clearance" not in got                         # no peak displacement to compare
+    assert "clearance" not in got  # no peak displacement to compare
     assert got["mass-ratio"].text.count("total structure mass") == 1
     # a caller's own estimate (the design tools): used as given
-    own = DriveEstimate(node=9, dof=1, peak_displacement=0.01, peak_acceleration=2 * G, hz=40,
-                        description="given")
+    own = DriveEstimate(
+        node=9, dof=1, peak_displacement=0.01, peak_acceleration=2 * G, hz=40, description="given"
+    )
     got = rules(model, drive=own)
     assert got["turn-on"].value == pytest.approx(2 * G / (MU * G), rel=1e-12)
     assert "given" in got["clearance"].text
@@ -115,28 +130,33 @@ def test_modal_structure_closed_form():
     """beam_64_modal with its MODAL card replaced by two modes, HOUSING included (the modes as
     given): 40 Hz zeta 0.01 and 50 Hz zeta 0.02, shape 70 and 30 at node 9 x."""
     text = (DECKS / "beam_64_modal.inp").read_text()
-    card = ("MODAL\n   MODE 1 40.0 0.01\n   MODE 2 50.0 0.02\n   SHAPE 9 1 70.0 30.0\n"
-            "   HOUSING included\nEND\n")
+    card = (
+        "MODAL\n   MODE 1 40.0 0.01\n   MODE 2 50.0 0.02\n   SHAPE 9 1 70.0 30.0\n"
+        "   HOUSING included\nEND\n"
+    )
     text = re.sub(r"MODAL\n.*?END\n", card, text, flags=re.DOTALL)
     model = build_model(parse_deck(text, "modal.inp"))
     w = 2 * math.pi * 37.21
-    h = sum(p * p / complex((2 * math.pi * f) ** 2 - w * w, 2 * z * 2 * math.pi * f * w)
-            for f, z, p in ((40.0, 0.01, 70.0), (50.0, 0.02, 30.0)))
+    h = sum(
+        p * p / complex((2 * math.pi * f) ** 2 - w * w, 2 * z * 2 * math.pi * f * w)
+        for f, z, p in ((40.0, 0.01, 70.0), (50.0, 0.02, 30.0))
+    )
     est = drive_estimate(model)
     assert est.peak_displacement == pytest.approx(F * abs(h), rel=1e-9)
     assert est.mode == 0
     got = rules(model)
-    mp = float(np.sum(model.mass[model.particle_start:]))
-    assert mp == pytest.approx(64 * 4 / 3 * math.pi * R ** 3 * RHO, rel=1e-12)
-    assert got["mass-ratio"].value == pytest.approx(mp * 70.0 ** 2, rel=1e-12)
+    mp = float(np.sum(model.mass[model.particle_start :]))
+    assert mp == pytest.approx(64 * 4 / 3 * math.pi * R**3 * RHO, rel=1e-12)
+    assert got["mass-ratio"].value == pytest.approx(mp * 70.0**2, rel=1e-12)
     assert got["mode-separation"].value == pytest.approx(50.0 / 40.0, rel=1e-12)
     assert "12.5 half-power bandwidths" in got["mode-separation"].text
     # without a drive: mode 1 at the cavity's master (node 9), along its largest shape value
-    bare = build_model(parse_deck(re.sub(r"USRFRC\n.*?END\n", "", text, flags=re.DOTALL),
-                                  "modal.inp"))
+    bare = build_model(
+        parse_deck(re.sub(r"USRFRC\n.*?END\n", "", text, flags=re.DOTALL), "modal.inp")
+    )
     got = rules(bare)
     assert "not estimated" in got["turn-on"].text
-    assert got["mass-ratio"].value == pytest.approx(mp * 70.0 ** 2, rel=1e-12)
+    assert got["mass-ratio"].value == pytest.approx(mp * 70.0**2, rel=1e-12)
     assert got["mode-separation"].value == pytest.approx(50.0 / 40.0, rel=1e-12)
 
 
@@ -159,6 +179,6 @@ def test_check_command_prints_each_rule_with_its_section(capsys):
     assert exc.value.code == 0
     out = capsys.readouterr().out
     assert out.startswith(f"{DECKS / 'beam_64.inp'}: clean, 1 note\n")
-    tail = out[out.index("rules of thumb"):].splitlines()[1:]
+    tail = out[out.index("rules of thumb") :].splitlines()[1:]
     assert [line.split()[0] for line in tail] == ["turn-on", "clearance", "mass-ratio"]
     assert all(re.search(r"\[report Sections? [0-9.]", line) for line in tail)

@@ -46,8 +46,8 @@ BOUNDARY CONDITIONS
    2 2 1 4 5 6
 END
 """
-LINE_MATID = 5           # first MATID record
-LINE_ELEMENTS = 16       # first ELEMENTS record
+LINE_MATID = 5  # first MATID record
+LINE_ELEMENTS = 16  # first ELEMENTS record
 
 
 def _lines(text: str, **changes: str) -> str:
@@ -102,8 +102,9 @@ def test_unknown_type_is_an_error_at_its_record():
 
 def test_type_2_to_ground_is_an_error_at_the_element():
     err = _error(_lines(DECK, l17="   2 2 2"))
-    assert str(err).startswith(f"springs.inp:{LINE_ELEMENTS + 1}:4: ELEMENTS: element 2 uses "
-                               f"material 2 of type 2")
+    assert str(err).startswith(
+        f"springs.inp:{LINE_ELEMENTS + 1}:4: ELEMENTS: element 2 uses material 2 of type 2"
+    )
     assert "has one node" in err.message and "type 1" in err.message
 
 
@@ -115,15 +116,15 @@ def test_type_2_between_coincident_nodes_is_an_error_at_the_element():
 
 def test_type_2_takes_kx_alone():
     err = _error(_lines(DECK, l6="   2 2 0.2 3.0 40.0 1.0 0.0 0.5"))
-    assert str(err).startswith(f"springs.inp:{LINE_MATID + 1}:4: MATID: material 2 is of "
-                               f"type 2")
+    assert str(err).startswith(f"springs.inp:{LINE_MATID + 1}:4: MATID: material 2 is of type 2")
     assert "KY and KZ must be 0" in err.message
 
 
 def test_rotational_spring_on_a_node_without_inertia_is_an_error():
-    err = _error(_lines(DECK, l24="   4 1.0 2.0 0.0 4.0"))   # Iyy = 0, ry free
-    assert str(err).startswith("springs.inp:13:4: NODE COORDINATES: node 4 has no rotary "
-                               "inertia about y")
+    err = _error(_lines(DECK, l24="   4 1.0 2.0 0.0 4.0"))  # Iyy = 0, ry free
+    assert str(err).startswith(
+        "springs.inp:13:4: NODE COORDINATES: node 4 has no rotary inertia about y"
+    )
     assert "element 3 (line 18)" in err.message and "fix DOF 5" in err.message
     # a fixed DOF needs none
     fixed = _lines(DECK, l24="   4 1.0 2.0 0.0 4.0", l28="   2 2 1 4 5 6\n   4 4 1 5")
@@ -135,8 +136,19 @@ def test_the_writer_round_trips_the_new_types():
     again = parse_deck(format_deck(deck), "again.inp")
     assert [m.mtype for m in again.materials] == [1, 2, 3]
     a, b = build_model(deck), build_model(again)
-    for name in ("spring_nodes", "spring_k", "spring_c", "axial_nodes", "axial_k", "axial_c",
-                 "axial_length", "rotational_nodes", "rotational_k", "rotational_c", "mass"):
+    for name in (
+        "spring_nodes",
+        "spring_k",
+        "spring_c",
+        "axial_nodes",
+        "axial_k",
+        "axial_c",
+        "axial_length",
+        "rotational_nodes",
+        "rotational_k",
+        "rotational_c",
+        "mass",
+    ):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
 
 
@@ -145,24 +157,40 @@ def _check_omega(text: str):
     return ts.omega_max, ts.omega_node, ts.omega_dof
 
 
-def _only(records_matid: list[str], elements: list[str], masses: list[str],
-          boundaries: list[str]) -> str:
+def _only(
+    records_matid: list[str], elements: list[str], masses: list[str], boundaries: list[str]
+) -> str:
     nodes = ["1 0.0 0.0 0.0", "2 3.0 4.0 12.0"]
 
     def card(name, records):
         return [name, *(f"   {r}" for r in records), "END"]
 
-    return "\n".join(["PARAMETERS", "   0.0 1.0 0.0 1e-5 1e-5 0 1e12 0 5 0 10", "END",
-                      *card("MATID", records_matid), *card("NODE COORDINATES", nodes),
-                      *card("ELEMENTS", elements), *card("MASS", masses),
-                      *card("BOUNDARY CONDITIONS", boundaries)]) + "\n"
+    return (
+        "\n".join(
+            [
+                "PARAMETERS",
+                "   0.0 1.0 0.0 1e-5 1e-5 0 1e12 0 5 0 10",
+                "END",
+                *card("MATID", records_matid),
+                *card("NODE COORDINATES", nodes),
+                *card("ELEMENTS", elements),
+                *card("MASS", masses),
+                *card("BOUNDARY CONDITIONS", boundaries),
+            ]
+        )
+        + "\n"
+    )
 
 
 def test_check_bounds_an_axial_spring_by_sqrt_k_over_m():
     """A mass m on an axial spring k to a fixed node has the one frequency sqrt(k/m), whatever
     the spring's direction: the check's bound is that exactly (each axis counts k)."""
-    text = _only(["2 2 0.0 1.0 400.0 0.0 0.0 0.0"], ["1 2 1 2"], ["2 4.0"],
-                 ["1 1 1 1 2 3 4 5 6", "2 2 1 4 5 6"])
+    text = _only(
+        ["2 2 0.0 1.0 400.0 0.0 0.0 0.0"],
+        ["1 2 1 2"],
+        ["2 4.0"],
+        ["1 1 1 1 2 3 4 5 6", "2 2 1 4 5 6"],
+    )
     omega, node, dof = _check_omega(text)
     assert omega == pytest.approx(math.sqrt(400.0 / 4.0), rel=1e-15)
     assert node == 2 and dof in "xyz"
@@ -171,8 +199,9 @@ def test_check_bounds_an_axial_spring_by_sqrt_k_over_m():
 def test_check_bounds_a_rotational_spring_by_sqrt_k_over_i():
     """A node of inertia I on a rotational spring k to ground: sqrt(k/I), about the stiffest
     axis (here z: 90 / 0.1)."""
-    text = _only(["3 3 0.0 1.0 10.0 20.0 90.0 0.0"], ["1 3 2"], ["2 0.0 1.0 1.0 0.1"],
-                 ["2 2 1 1 2 3"])
+    text = _only(
+        ["3 3 0.0 1.0 10.0 20.0 90.0 0.0"], ["1 3 2"], ["2 0.0 1.0 1.0 0.1"], ["2 2 1 1 2 3"]
+    )
     omega, node, dof = _check_omega(text)
     assert omega == pytest.approx(math.sqrt(90.0 / 0.1), rel=1e-15)
     assert (node, dof) == (2, "rz")
@@ -183,12 +212,21 @@ def test_the_linear_sdof_baseline_leaves_the_new_types_out():
     ground; a deck with an axial or rotational element is not in that form."""
     from x3dpd.design.baselines import linear_sdof
 
-    fixed = ["1 1 1 1 2 3 4 5 6", "2 2 1 2 3 4 5 6"]   # node 2 free along x only
-    for extra, element in (("2 2 0.0 1.0 50.0 0.0 0.0 0.0", "2 2 1 2"),
-                           ("3 3 0.0 1.0 1.0 1.0 1.0 0.0", "2 3 2")):
-        text = _only(["1 1 0.0 1.0 400.0 0.0 0.0 0.0", extra], ["1 1 2", element],
-                     ["2 4.0 1.0 1.0 1.0"], fixed)
+    fixed = ["1 1 1 1 2 3 4 5 6", "2 2 1 2 3 4 5 6"]  # node 2 free along x only
+    for extra, element in (
+        ("2 2 0.0 1.0 50.0 0.0 0.0 0.0", "2 2 1 2"),
+        ("3 3 0.0 1.0 1.0 1.0 1.0 0.0", "2 3 2"),
+    ):
+        text = _only(
+            ["1 1 0.0 1.0 400.0 0.0 0.0 0.0", extra],
+            ["1 1 2", element],
+            ["2 4.0 1.0 1.0 1.0"],
+            fixed,
+        )
         assert linear_sdof(build_model(parse_deck(text, "springs.inp")), 2, 1) is None
-    plain = build_model(parse_deck(_only(["1 1 0.0 1.0 400.0 0.0 0.0 0.0"], ["1 1 2"],
-                                         ["2 4.0"], fixed), "springs.inp"))
+    plain = build_model(
+        parse_deck(
+            _only(["1 1 0.0 1.0 400.0 0.0 0.0 0.0"], ["1 1 2"], ["2 4.0"], fixed), "springs.inp"
+        )
+    )
     assert linear_sdof(plain, 2, 1) is not None

@@ -29,21 +29,40 @@ import x3dpd
 DT = 1e-4
 
 
-def _deck(tmp_path, *, materials, nodes, elements, masses, boundaries, initials, tmax,
-          rbels=(), itrac=10, trace=None, name="springs.inp"):
+def _deck(
+    tmp_path,
+    *,
+    materials,
+    nodes,
+    elements,
+    masses,
+    boundaries,
+    initials,
+    tmax,
+    rbels=(),
+    itrac=10,
+    trace=None,
+    name="springs.inp",
+):
     """A deck file of the given records (one string per record) and the spectators, no
     particles."""
+
     def card(title, records):
         return [title, *(f"   {r}" for r in records), "END"]
 
-    lines = ["$ axial and rotational spring test scene", "TITLE", name, "END",
-             *card("PARAMETERS", [f"0.0 {tmax!r} 0.0 {DT!r} {DT!r} 0 1e12 0 5 0 {itrac}"]),
-             *card("MATID", [*materials, *SPECTATOR_MATERIALS]),
-             *card("NODE COORDINATES", [*nodes, *SPECTATOR_NODES]),
-             *card("ELEMENTS", [*elements, *SPECTATOR_ELEMENTS]),
-             *card("MASS", [*masses, *SPECTATOR_MASSES]),
-             *card("RBEL", [*rbels, *SPECTATOR_RBELS]),
-             *card("BOUNDARY CONDITIONS", [*boundaries, *SPECTATOR_BOUNDARIES])]
+    lines = [
+        "$ axial and rotational spring test scene",
+        "TITLE",
+        name,
+        "END",
+        *card("PARAMETERS", [f"0.0 {tmax!r} 0.0 {DT!r} {DT!r} 0 1e12 0 5 0 {itrac}"]),
+        *card("MATID", [*materials, *SPECTATOR_MATERIALS]),
+        *card("NODE COORDINATES", [*nodes, *SPECTATOR_NODES]),
+        *card("ELEMENTS", [*elements, *SPECTATOR_ELEMENTS]),
+        *card("MASS", [*masses, *SPECTATOR_MASSES]),
+        *card("RBEL", [*rbels, *SPECTATOR_RBELS]),
+        *card("BOUNDARY CONDITIONS", [*boundaries, *SPECTATOR_BOUNDARIES]),
+    ]
     if initials:
         lines += card("INITIAL", initials)
     if trace:
@@ -67,8 +86,13 @@ def _unit(v):
 #: node 92 resting on a rotational spring to ground (MID 91), a free rigid body (master 93,
 #: slave 94) at rest. Nothing moves them.
 SPECTATOR_MATERIALS = ["90 2 0.0 1.0 10.0 0.0 0.0 0.0", "91 3 0.0 1.0 10.0 10.0 10.0 0.0"]
-SPECTATOR_NODES = ["90 9.0 9.0 9.0", "91 9.0 9.0 10.0", "92 8.0 8.0 8.0", "93 7.0 7.0 7.0",
-                   "94 7.5 7.0 7.0"]
+SPECTATOR_NODES = [
+    "90 9.0 9.0 9.0",
+    "91 9.0 9.0 10.0",
+    "92 8.0 8.0 8.0",
+    "93 7.0 7.0 7.0",
+    "94 7.5 7.0 7.0",
+]
 SPECTATOR_ELEMENTS = ["90 90 90 91", "91 91 92"]
 SPECTATOR_MASSES = ["91 1.0", "92 0.0 1.0 1.0 1.0", "93 1.0 1.0 1.0 1.0"]
 SPECTATOR_RBELS = ["93 123456 1 94"]
@@ -96,7 +120,10 @@ def _axial_scene(tmp_path, *, anchor, direction, rest, k, c, m, v0, tmax):
         elements=["1 1 1 2"],
         masses=[f"2 {_f(m)}"],
         boundaries=["1 1 1 1 2 3 4 5 6", "2 2 1 4 5 6"],
-        initials=[f"2 {_f(*v0)}"], tmax=tmax, trace=(2, 91, 92))
+        initials=[f"2 {_f(*v0)}"],
+        tmax=tmax,
+        trace=(2, 91, 92),
+    )
     return x3dpd.run(path), tip
 
 
@@ -105,8 +132,17 @@ def test_inclined_axial_spring_oscillates_along_its_line(tmp_path):
     inclined to every axis; no motion across it."""
     k, m, speed = 80.0, 0.5, 0.3
     e = _unit([0.31, -0.52, 0.79])
-    r, tip = _axial_scene(tmp_path, anchor=(0.2, -0.1, 0.3), direction=e, rest=1.3, k=k,
-                          c=0.0, m=m, v0=speed * e, tmax=2.0)
+    r, tip = _axial_scene(
+        tmp_path,
+        anchor=(0.2, -0.1, 0.3),
+        direction=e,
+        rest=1.3,
+        k=k,
+        c=0.0,
+        m=m,
+        v0=speed * e,
+        tmax=2.0,
+    )
     w = math.sqrt(k / m)
     t = r.trace.time
     want = tip + np.outer(speed / w * np.sin(w * t), e)
@@ -130,8 +166,17 @@ def test_axial_spring_whirls_through_large_rotations(tmp_path):
     u = _unit([0.6, 0.2, -0.3])
     across = _unit(np.cross(u, [0.1, 0.9, 0.4]))
     anchor = np.array([0.5, 0.0, -0.2])
-    r, _ = _axial_scene(tmp_path, anchor=anchor, direction=u, rest=rest, k=k, c=0.0, m=m,
-                        v0=speed * across, tmax=4.0)
+    r, _ = _axial_scene(
+        tmp_path,
+        anchor=anchor,
+        direction=u,
+        rest=rest,
+        k=k,
+        c=0.0,
+        m=m,
+        v0=speed * across,
+        tmax=4.0,
+    )
     x = r.trace.node(2)[:, :3] - anchor
     v = r.trace.node(2)[:, 3:6]
     radius = np.linalg.norm(x, axis=1)
@@ -139,8 +184,10 @@ def test_axial_spring_whirls_through_large_rotations(tmp_path):
     # kicks are parallel to x), so only rounding is left (measured 1.5e-14)
     h0 = m * rest * speed * np.cross(u, across)
     h = m * np.cross(x, v)
-    print(f"\nwhirl: angular momentum drift {np.abs(h - h0).max() / np.linalg.norm(h0):.1e}, "
-          f"r_max {radius.max():.6f}, min {radius.min():.6f}")
+    print(
+        f"\nwhirl: angular momentum drift {np.abs(h - h0).max() / np.linalg.norm(h0):.1e}, "
+        f"r_max {radius.max():.6f}, min {radius.min():.6f}"
+    )
     assert np.abs(h - h0).max() / np.linalg.norm(h0) < 1e-10
     # more than two full turns in the plane of (u, across)
     turned = np.unwrap(np.arctan2(x @ across, x @ u))
@@ -148,6 +195,7 @@ def test_axial_spring_whirls_through_large_rotations(tmp_path):
     # r_max: the other root of m V^2 L0^2 / r^2 + k (r - L0)^2 = m V^2 (energy and angular
     # momentum at the turning points), found by bisection
     lo, hi = rest * (1 + 1e-9), 10 * rest
+
     def excess(q):
         return m * speed**2 * rest**2 / q**2 + k * (q - rest) ** 2 - m * speed**2
 
@@ -161,8 +209,12 @@ def test_axial_spring_whirls_through_large_rotations(tmp_path):
     assert radius.min() == pytest.approx(rest, rel=1e-4)
     # the stored energy is that of the stretch along the turning line (an axis-wise spring
     # would store k |x - x0|^2 / 2, many times more after half a turn)
-    np.testing.assert_allclose(r.energy["spring_energy"], 0.5 * k * (radius - rest) ** 2,
-                               rtol=1e-9, atol=1e-12 * k * rest**2)
+    np.testing.assert_allclose(
+        r.energy["spring_energy"],
+        0.5 * k * (radius - rest) ** 2,
+        rtol=1e-9,
+        atol=1e-12 * k * rest**2,
+    )
     # a turning force is not linear: the residual is the integrator's O((kappa dt)^2), kappa
     # ~ 12 rad/s the radial frequency: ~2e-6 of the energy (measured 1e-7)
     _ledger_closes(r, 1e-5)
@@ -177,8 +229,17 @@ def test_axial_damper_rings_down_as_the_closed_form(tmp_path):
     zeta = c / (2 * m * w)
     wd = w * math.sqrt(1 - zeta**2)
     e = _unit([-0.4, 0.35, 0.85])
-    r, tip = _axial_scene(tmp_path, anchor=(0.0, 0.0, 0.0), direction=e, rest=0.7, k=k, c=c,
-                          m=m, v0=speed * e, tmax=2.0)
+    r, tip = _axial_scene(
+        tmp_path,
+        anchor=(0.0, 0.0, 0.0),
+        direction=e,
+        rest=0.7,
+        k=k,
+        c=c,
+        m=m,
+        v0=speed * e,
+        tmax=2.0,
+    )
     t = r.trace.time
     s = speed / wd * np.exp(-zeta * w * t) * np.sin(wd * t)
     sdot = speed * np.exp(-zeta * w * t) * (np.cos(wd * t) - zeta * w / wd * np.sin(wd * t))
@@ -192,7 +253,7 @@ def test_axial_damper_rings_down_as_the_closed_form(tmp_path):
     d = r.energy["dissipated_dampers"]
     print(f"dissipation error {np.abs(d - lost).max() / (0.5 * m * speed**2):.1e} of the start")
     assert np.abs(d - lost).max() < 1e-3 * 0.5 * m * speed**2
-    assert d[-1] > 0.9 * 0.5 * m * speed**2      # most of it gone after 2 s (zeta w t = 2.4)
+    assert d[-1] > 0.9 * 0.5 * m * speed**2  # most of it gone after 2 s (zeta w t = 2.4)
     # linear: the ledger closes to round-off (measured 1e-13)
     _ledger_closes(r, 1e-10)
 
@@ -208,16 +269,25 @@ def _rotational_run(tmp_path):
 
     path = _deck(
         tmp_path,
-        materials=[f"3 3 0.0 1.0 {fmt(p['K3'])} 0.0", f"4 3 0.0 1.0 {fmt(p['K45'])} 0.0",
-                   f"6 3 0.0 1.0 {fmt(p['K6'])} {_f(p['C6'])}"],
+        materials=[
+            f"3 3 0.0 1.0 {fmt(p['K3'])} 0.0",
+            f"4 3 0.0 1.0 {fmt(p['K45'])} 0.0",
+            f"6 3 0.0 1.0 {fmt(p['K6'])} {_f(p['C6'])}",
+        ],
         nodes=["3 0.0 0.0 0.0", "4 1.0 0.0 0.0", "5 2.0 0.5 0.0", "6 0.0 3.0 0.0"],
         elements=["3 3 3", "4 4 4 5", "6 6 6"],
-        masses=[f"3 0.0 {fmt(p['I3'])}", f"4 0.0 {fmt(p['I4'])}", f"5 0.0 {fmt(p['I5'])}",
-                f"6 0.0 {fmt(p['I6'])}"],
+        masses=[
+            f"3 0.0 {fmt(p['I3'])}",
+            f"4 0.0 {fmt(p['I4'])}",
+            f"5 0.0 {fmt(p['I5'])}",
+            f"6 0.0 {fmt(p['I6'])}",
+        ],
         boundaries=["3 6 1 1 2 3"],
-        initials=[f"3 0 0 0 {fmt(p['W3'])}", f"4 0 0 0 {fmt(p['W4'])}",
-                  f"6 0 0 0 {fmt(p['W6'])}"],
-        tmax=3.0, trace=(3, 4, 5, 6, 91, 92, 93), name="rotational.inp")
+        initials=[f"3 0 0 0 {fmt(p['W3'])}", f"4 0 0 0 {fmt(p['W4'])}", f"6 0 0 0 {fmt(p['W6'])}"],
+        tmax=3.0,
+        trace=(3, 4, 5, 6, 91, 92, 93),
+        name="rotational.inp",
+    )
     return x3dpd.run(path)
 
 
@@ -227,22 +297,39 @@ def _rigid_body_run(tmp_path):
     it starts turning at W7."""
     p = ROTATIONAL
     path = _deck(
-        tmp_path, materials=[f"8 3 0.0 1.0 0.0 0.0 {_f(p['K8'])} 0.0"],
-        nodes=["7 0.0 -3.0 0.0", f"8 {_f(p['R8'])} -3.0 0.0"], elements=["8 8 8"],
-        masses=[f"7 {_f(p['M7'], *p['I7'])}", f"8 {_f(p['M8'])}"], rbels=["7 123456 1 8"],
-        boundaries=["7 7 1 1 2 3 4 5"], initials=[f"7 0 0 0 0 0 {_f(p['W7'])}"],
-        tmax=3.0, trace=(7,), name="rigid.inp")
+        tmp_path,
+        materials=[f"8 3 0.0 1.0 0.0 0.0 {_f(p['K8'])} 0.0"],
+        nodes=["7 0.0 -3.0 0.0", f"8 {_f(p['R8'])} -3.0 0.0"],
+        elements=["8 8 8"],
+        masses=[f"7 {_f(p['M7'], *p['I7'])}", f"8 {_f(p['M8'])}"],
+        rbels=["7 123456 1 8"],
+        boundaries=["7 7 1 1 2 3 4 5"],
+        initials=[f"7 0 0 0 0 0 {_f(p['W7'])}"],
+        tmax=3.0,
+        trace=(7,),
+        name="rigid.inp",
+    )
     return x3dpd.run(path)
 
 
 ROTATIONAL = {
-    "I3": np.array([2.0, 0.5, 1.0]), "K3": np.array([50.0, 8.0, 30.0]),
+    "I3": np.array([2.0, 0.5, 1.0]),
+    "K3": np.array([50.0, 8.0, 30.0]),
     "W3": np.array([0.2, -0.3, 0.1]),
-    "I4": np.array([1.5, 1.5, 1.5]), "I5": np.array([0.5, 0.5, 0.5]),
-    "K45": np.array([20.0, 20.0, 20.0]), "W4": np.array([0.2, -0.1, 0.2]),
-    "I6": np.array([1.0, 1.0, 1.0]), "K6": np.array([40.0, 40.0, 40.0]), "C6": 0.8,
+    "I4": np.array([1.5, 1.5, 1.5]),
+    "I5": np.array([0.5, 0.5, 0.5]),
+    "K45": np.array([20.0, 20.0, 20.0]),
+    "W4": np.array([0.2, -0.1, 0.2]),
+    "I6": np.array([1.0, 1.0, 1.0]),
+    "K6": np.array([40.0, 40.0, 40.0]),
+    "C6": 0.8,
     "W6": np.array([0.3, 0.0, -0.1]),
-    "M7": 1.0, "I7": np.array([0.4, 0.4, 0.4]), "M8": 2.0, "R8": 0.5, "K8": 36.0, "W7": 0.25,
+    "M7": 1.0,
+    "I7": np.array([0.4, 0.4, 0.4]),
+    "M8": 2.0,
+    "R8": 0.5,
+    "K8": 36.0,
+    "W7": 0.25,
 }
 
 
@@ -279,8 +366,10 @@ def test_two_node_rotational_spring_keeps_the_angular_momentum(rotational):
     w4 = rotational.trace.node(4)[:, 6:9]
     w5 = rotational.trace.node(5)[:, 6:9]
     scale = np.abs(p["W4"]).max()
-    print(f"\ntwo-node: {np.abs(w4 - (wc + i5 / (i4 + i5) * rel)).max() / scale:.1e}, "
-          f"{np.abs(w5 - (wc - i4 / (i4 + i5) * rel)).max() / scale:.1e} of W")
+    print(
+        f"\ntwo-node: {np.abs(w4 - (wc + i5 / (i4 + i5) * rel)).max() / scale:.1e}, "
+        f"{np.abs(w5 - (wc - i4 / (i4 + i5) * rel)).max() / scale:.1e} of W"
+    )
     # phase error at Omega dt = 7.3e-4 over 22 rad: 5e-7 of W (measured 3.4e-7); 1e-5 bounds
     # it. Without the
     # reaction on the second node, w_5 stays 0 and the momentum is not kept.
@@ -334,8 +423,11 @@ def test_rotational_ledger_closes(rotational):
     what the damped node has lost."""
     p = ROTATIONAL
     e = rotational.energy
-    start = 0.5 * (np.sum(p["I3"] * p["W3"] ** 2) + np.sum(p["I4"] * p["W4"] ** 2)
-                   + np.sum(p["I6"] * p["W6"] ** 2))
+    start = 0.5 * (
+        np.sum(p["I3"] * p["W3"] ** 2)
+        + np.sum(p["I4"] * p["W4"] ** 2)
+        + np.sum(p["I6"] * p["W6"] ** 2)
+    )
     assert e["kinetic_rotation"][0] == pytest.approx(start, rel=1e-14)
     assert e["spring_energy"][0] == 0.0
     _ledger_closes(rotational, 1e-10)
@@ -362,7 +454,9 @@ def _damped_pair_deck(tmp_path, tmax):
         masses=["2 0.5", f"6 0.0 {_f(*p['I6'])}"],
         boundaries=["1 1 1 1 2 3 4 5 6", "2 2 1 4 5 6", "6 6 1 1 2 3"],
         initials=[f"2 {_f(*(0.3 * _unit([1.0, 0.2, 0.1])))}", f"6 0 0 0 {_f(*p['W6'])}"],
-        tmax=tmax, name="damped.inp")
+        tmax=tmax,
+        name="damped.inp",
+    )
 
 
 def test_a_resumed_run_continues_bit_for_bit(tmp_path, monkeypatch):

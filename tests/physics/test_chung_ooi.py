@@ -17,9 +17,10 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tests"))   # tests/: shared helpers
+sys.path.insert(0, str(ROOT / "tests"))  # tests/: shared helpers
 
 from contact_reference import hertz_mindlin_impact, hooke_oblique_beta  # noqa: E402
+
 _spec = importlib.util.spec_from_file_location("chung_ooi", ROOT / "tools" / "chung_ooi.py")
 co = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(co)
@@ -31,9 +32,10 @@ _spec.loader.exec_module(co)
 T4_TOLERANCE = 0.05
 
 
-@pytest.mark.parametrize("test, material", [(1, "glass"), (1, "limestone"),
-                                            (2, "aluminium alloy (test 2)"),
-                                            (2, "magnesium alloy")])
+@pytest.mark.parametrize(
+    "test, material",
+    [(1, "glass"), (1, "limestone"), (2, "aluminium alloy (test 2)"), (2, "magnesium alloy")],
+)
 def test_1_and_2_normal_impacts_are_hertz(tmp_path, test, material):
     """Peak force and contact time of an elastic head-on impact (test 1: two spheres at 10 m/s
     each; test 2: a sphere at 0.2 m/s on a rigid plane) vs Hertz's closed forms, to 1e-3
@@ -83,7 +85,7 @@ def test_6_and_8_gross_sliding_recoil(tmp_path, test):
     point = co.test6_point if test == 6 else co.test8_point
     beta = point("aluminium alloy", co.T8_CHI[0], tmp_path)
     assert beta == pytest.approx(co.sliding_beta(co.T8_CHI[0], 0.5), abs=1e-3)
-    assert beta == pytest.approx(co.T8_BETA[0], abs=0.02)   # the digitised paper point
+    assert beta == pytest.approx(co.T8_BETA[0], abs=0.02)  # the digitised paper point
 
 
 def _test5_reference(material: str, x: float, steps: int = 20000) -> float:
@@ -95,8 +97,7 @@ def _test5_reference(material: str, x: float, steps: int = 20000) -> float:
     r, mu, vn = cfg["radius"], cfg["mu"], cfg["speed"]
     young, nu, _ = co.MATERIALS[material]
     h = co.hertz_wall(material, r, vn)["contact_time"] / steps
-    *_, w = hertz_mindlin_impact(co.sphere_mass(material, r), r, young, nu, mu, vn,
-                                 x * mu * vn, h)
+    *_, w = hertz_mindlin_impact(co.sphere_mass(material, r), r, young, nu, mu, vn, x * mu * vn, h)
     return -abs(r * w) / (mu * vn)
 
 
@@ -126,9 +127,17 @@ def _sticking_reference(test: int, material: str, chi: float, steps: int) -> flo
     m = co.sphere_mass(material, r)
     pair = test == 8
     m_n, inv_mt = (m / 2.0, 7.0 / m) if pair else (m, 3.5 / m)
-    return hooke_oblique_beta(co.hooke_stiffness(material, r, vn, pair), e,
-                              co.MATERIALS[material][1], m_n, inv_mt, mu, vn,
-                              3.5 * mu * (1.0 + e) * vn / chi, steps)
+    return hooke_oblique_beta(
+        co.hooke_stiffness(material, r, vn, pair),
+        e,
+        co.MATERIALS[material][1],
+        m_n,
+        inv_mt,
+        mu,
+        vn,
+        3.5 * mu * (1.0 + e) * vn / chi,
+        steps,
+    )
 
 
 #: The sticking branch of tests 6 and 8 converges slowly in the step: as the unclamped HOOKE
@@ -166,6 +175,7 @@ def test_7_spins_that_do_not_slip_stay(tmp_path):
 
 # -- the full curves (pytest -m validate) -----------------------------------------------------
 
+
 @pytest.mark.validate
 def test_4_full_curves(tmp_path):
     errors = _test4("aluminium oxide", co.T4_ANGLES, tmp_path)
@@ -178,10 +188,14 @@ def test_4_converges_as_the_step_shrinks(tmp_path):
     """The test-4 results at 50, 100, 200, 400 steps per contact: successive changes shrink
     (second order: about fourfold per halving) and the errors against the paper settle."""
     angles = (10.0, 25.0, 60.0)
-    runs = {n: np.array([co.test4_point("aluminium oxide", a, tmp_path, n) for a in angles])
-            for n in (50, 100, 200, 400)}
-    changes = [float(np.max(np.abs(runs[2 * n] - runs[n]) / np.maximum(np.abs(runs[400]), 1)))
-               for n in (50, 100, 200)]
+    runs = {
+        n: np.array([co.test4_point("aluminium oxide", a, tmp_path, n) for a in angles])
+        for n in (50, 100, 200, 400)
+    }
+    changes = [
+        float(np.max(np.abs(runs[2 * n] - runs[n]) / np.maximum(np.abs(runs[400]), 1)))
+        for n in (50, 100, 200)
+    ]
     print("\nlargest change per halving:", changes)
     assert changes[1] < 0.5 * changes[0] and changes[2] < 0.5 * changes[1]
     assert changes[2] < 1e-3
@@ -195,15 +209,17 @@ def test_3_full(tmp_path, material):
 
 
 @pytest.mark.validate
-@pytest.mark.parametrize("test, material", [(6, "aluminium alloy"), (6, "nylon"),
-                                            (8, "aluminium alloy"), (8, "nylon")])
+@pytest.mark.parametrize(
+    "test, material", [(6, "aluminium alloy"), (6, "nylon"), (8, "aluminium alloy"), (8, "nylon")]
+)
 def test_6_and_8_sliding_branch(tmp_path, test, material):
     """The gross-sliding branch chi < 0.6 (the slip never reverses) against the closed form;
     the Mindlin spring's build-up at the onset costs up to 1 % of chi."""
     point = co.test6_point if test == 6 else co.test8_point
     for chi in co.T8_CHI[:3]:
-        assert point(material, chi, tmp_path) == pytest.approx(co.sliding_beta(chi, 0.5),
-                                                               abs=0.01 * chi)
+        assert point(material, chi, tmp_path) == pytest.approx(
+            co.sliding_beta(chi, 0.5), abs=0.01 * chi
+        )
 
 
 @pytest.mark.validate

@@ -22,8 +22,7 @@ import reference as ref
 from factories import STEEL_E, STEEL_NU, STEEL_R, G, closed_box_deck, sphere_mass
 
 from x3dpd.model.build import build_model
-from x3dpd.physics.coulomb import (coulomb_slip_coefficient,
-                                   regularized_coulomb_slip_coefficient)
+from x3dpd.physics.coulomb import coulomb_slip_coefficient, regularized_coulomb_slip_coefficient
 from x3dpd.solver.simulation import ENERGY_COLUMNS, Simulation
 
 M = sphere_mass()
@@ -45,21 +44,29 @@ def test_friction_laws():
     # the laws return |F_t| / |v_t|; multiplied by the slip speed, the force magnitude
     # Coulomb (Eq. 29): mu |F_N| for any slip
     for vt in (1e-12, 1.0):
-        assert coulomb_slip_coefficient(vt, -5.0, 0.3, mt, gamma) * vt == pytest.approx(1.5,
-                                                                                       rel=1e-15)
+        assert coulomb_slip_coefficient(vt, -5.0, 0.3, mt, gamma) * vt == pytest.approx(
+            1.5, rel=1e-15
+        )
     # Haff-Werner (Eq. 30) with gamma = 1/(2 dt): min(m_t |v_t| / (2 dt), mu |F_N|)
     regularized = regularized_coulomb_slip_coefficient
     assert regularized(1e-3, 5.0, 0.3, mt, gamma) * 1e-3 == pytest.approx(1.0, rel=1e-15)
-    assert regularized(1e-3, 5.0, 0.3, mt, gamma) == mt / (2 * dt)   # stick: no division by v_t
-    assert regularized(1.0, -5.0, 0.3, mt, gamma) == 1.5               # sliding: Coulomb
+    assert regularized(1e-3, 5.0, 0.3, mt, gamma) == mt / (2 * dt)  # stick: no division by v_t
+    assert regularized(1.0, -5.0, 0.3, mt, gamma) == 1.5  # sliding: Coulomb
     # the branches meet where m_t |v_t| / (2 dt) = mu |F_N|, at |v_t| = 1.5e-3
     assert regularized(1.5e-3 * (1 - 1e-9), 5.0, 0.3, mt, gamma) == pytest.approx(1000.0)
     assert regularized(1.5e-3 * (1 + 1e-9), 5.0, 0.3, mt, gamma) == pytest.approx(1000.0)
 
 
 def _slide(friction: str, t_end: float):
-    deck = closed_box_deck([(0.45, STEEL_R - DELTA, 0.25)], [(V0, 0.0, 0.0)], dt=DT, gravity=G,
-                           mu=MU, spectators=[(0.15, STEEL_R - DELTA, 0.85)], itrac=1)
+    deck = closed_box_deck(
+        [(0.45, STEEL_R - DELTA, 0.25)],
+        [(V0, 0.0, 0.0)],
+        dt=DT,
+        gravity=G,
+        mu=MU,
+        spectators=[(0.15, STEEL_R - DELTA, 0.85)],
+        itrac=1,
+    )
     model = build_model(deck)
     sim = Simulation(model, friction=friction)
     first = sim.snapshot()
@@ -78,7 +85,7 @@ def regularized():
 def test_sliding_to_rolling_transition(regularized):
     _, t, d, _ = regularized
     vx, wz, y = d[:, 3], d[:, 8], d[:, 1]
-    slip = vx + wz * STEEL_R              # contact point velocity along x (rolling: w_z = -v/R)
+    slip = vx + wz * STEEL_R  # contact point velocity along x (rolling: w_z = -v/R)
     # The transition: zero of a straight line fitted to the slip while it clearly slides
     # (0.1 v0 < slip < 0.9 v0); the solver's slip is linear there to rounding.
     sliding = (slip > 0.1 * V0) & (slip < 0.9 * V0)
@@ -86,9 +93,11 @@ def test_sliding_to_rolling_transition(regularized):
     t_roll = -icpt / slope
     v_roll = vx[-1]
     w_roll = -wz[-1] * STEEL_R
-    print(f"\nrolling at t = {t_roll:.6e} s (closed form {T1:.6e}, {t_roll / T1 - 1:+.1e}); "
-          f"v = {v_roll:.6f} in/s (5/7 v0 = {V1:.6f}, {v_roll / V1 - 1:+.1e}); "
-          f"slope {slope:.3f} (-7/2 mu g = {-3.5 * MU * G:.3f})")
+    print(
+        f"\nrolling at t = {t_roll:.6e} s (closed form {T1:.6e}, {t_roll / T1 - 1:+.1e}); "
+        f"v = {v_roll:.6f} in/s (5/7 v0 = {V1:.6f}, {v_roll / V1 - 1:+.1e}); "
+        f"slope {slope:.3f} (-7/2 mu g = {-3.5 * MU * G:.3f})"
+    )
     # the brief's bounds: 1 %
     assert t_roll == pytest.approx(T1, rel=1e-2)
     assert v_roll == pytest.approx(V1, rel=1e-2)
@@ -110,8 +119,10 @@ def test_sliding_to_rolling_transition(regularized):
 def test_friction_energy_in_the_ledger(regularized):
     _, _, _, energy = regularized
     e = dict(zip(ENERGY_COLUMNS, energy[-1]))
-    print(f"\nfriction dissipation {e['dissipated_friction']:.6e} (m v0^2/7 = {D_FRICTION:.6e}, "
-          f"{e['dissipated_friction'] / D_FRICTION - 1:+.1e}); residual {e['residual']:.1e}")
+    print(
+        f"\nfriction dissipation {e['dissipated_friction']:.6e} (m v0^2/7 = {D_FRICTION:.6e}, "
+        f"{e['dissipated_friction'] / D_FRICTION - 1:+.1e}); residual {e['residual']:.1e}"
+    )
     # the brief's bound: 1 %; measured 1e-9 (trapezoidal ledger of constant forces), so 1e-6
     assert e["dissipated_friction"] == pytest.approx(D_FRICTION, rel=1e-2)
     assert e["dissipated_friction"] == pytest.approx(D_FRICTION, rel=1e-6)
@@ -139,9 +150,11 @@ def test_bare_coulomb_chatters():
         slips.append(s.vel[p, 0] + s.vel[p, 5] * STEEL_R)
     forces, slips = np.array(forces), np.array(slips)
     flips = int(np.sum(np.sign(forces[1:]) != np.sign(forces[:-1])))
-    print(f"\ncoulomb: {flips} sign flips of the friction force in 200 steps, slip "
-          f"{np.abs(slips).min():.2e} .. {np.abs(slips).max():.2e} in/s")
-    assert flips >= 190                          # every step (measured 199)
+    print(
+        f"\ncoulomb: {flips} sign flips of the friction force in 200 steps, slip "
+        f"{np.abs(slips).min():.2e} .. {np.abs(slips).max():.2e} in/s"
+    )
+    assert flips >= 190  # every step (measured 199)
     assert np.all(np.abs(forces) == pytest.approx(MU * M * G, rel=1e-6))
-    assert np.abs(slips).min() > 1e-6            # the regularised law reaches < 1e-6
+    assert np.abs(slips).min() > 1e-6  # the regularised law reaches < 1e-6
     assert np.abs(slips).max() < 3.5 * MU * G * DT

@@ -38,6 +38,7 @@ K_WALL = ref.hertz_k(STEEL_E / (1.0 - STEEL_NU**2), STEEL_R)
 
 # --- the helper functions ----------------------------------------------------------------------
 
+
 def test_reference_time_factor():
     # the reference quadrature itself (mpmath at 30 digits: 1.47163759216235231976)
     assert ref.hertz_time_factor() == pytest.approx(1.47163759216235232, rel=1e-13)
@@ -56,10 +57,12 @@ def test_effective_properties_and_constant():
     assert hertz.effective_radius(0.1, 0.3) == pytest.approx(1 / (1 / 0.1 + 1 / 0.3), rel=1e-15)
     assert hertz.effective_modulus_wall(e, nu) == pytest.approx(e / (1 - nu**2), rel=1e-15)
     # identical spheres: E* = E / (2 (1 - nu^2)) (report Eq. 24's coefficient)
-    assert hertz.effective_modulus_pair(e, nu, e, nu) == pytest.approx(e / (2 * (1 - nu**2)),
-                                                                       rel=1e-15)
+    assert hertz.effective_modulus_pair(e, nu, e, nu) == pytest.approx(
+        e / (2 * (1 - nu**2)), rel=1e-15
+    )
     assert hertz.effective_modulus_pair(1e7, 0.2, 3e7, 0.4) == pytest.approx(
-        1 / ((1 - 0.04) / 1e7 + (1 - 0.16) / 3e7), rel=1e-15)
+        1 / ((1 - 0.04) / 1e7 + (1 - 0.16) / 3e7), rel=1e-15
+    )
     assert hertz.hertz_constant(2.0e7, 0.04) == pytest.approx(4 / 3 * 2.0e7 * 0.2, rel=1e-15)
 
 
@@ -86,8 +89,13 @@ def test_impact_closed_form_amplitude_and_force():
 def _direct_t_max(m, k, v):
     """Independent route: t_max = int_0^a_max da / v(a), v(a)^2 = v^2 - 4 K a^{5/2} / (5 m)."""
     a_max = (5.0 * m * v * v / (4.0 * k)) ** 0.4
-    t, _ = quad(lambda a: 1.0 / math.sqrt(max(v * v - 0.8 * k / m * a**2.5, 0.0)), 0.0, a_max,
-                epsrel=1e-12, limit=200)
+    t, _ = quad(
+        lambda a: 1.0 / math.sqrt(max(v * v - 0.8 * k / m * a**2.5, 0.0)),
+        0.0,
+        a_max,
+        epsrel=1e-12,
+        limit=200,
+    )
     return t
 
 
@@ -105,12 +113,14 @@ def test_impact_time_against_direct_quadrature():
 
 # --- sphere on a rigid wall, Figure 28 ---------------------------------------------------------
 
+
 def _wall_impact(dt: float, nsteps: int, material=None):
     """Sphere touching the floor of a closed box at t = 0 moving down at FIG28_V: per step the
     time, approach R - y, vertical velocity and the wall's normal force on it."""
     material = material or {}
-    deck = closed_box_deck([(0.5, STEEL_R, 0.5)], [(0.0, -FIG28_V, 0.0)], dt=dt,
-                           spectators=[SPECTATOR], **material)
+    deck = closed_box_deck(
+        [(0.5, STEEL_R, 0.5)], [(0.0, -FIG28_V, 0.0)], dt=dt, spectators=[SPECTATOR], **material
+    )
     model = build_model(deck)
     sim = Simulation(model)
     sim.snapshot()
@@ -137,14 +147,19 @@ def test_elastic_sphere_on_wall_matches_hertz():
     t, a, vy, f = rec.T
     peak_force = _peak(f)
     a_max = _peak(a)
-    t_max = _zero_crossing(t, vy, falling=False)      # vy goes from - to +
+    t_max = _zero_crossing(t, vy, falling=False)  # vy goes from - to +
     contact = _zero_crossing(t, a, falling=True)
     rebound = vy[-1]
-    errors = {"peak force": peak_force / h.f_max - 1, "max approach": a_max / h.a_max - 1,
-              "time of max approach": t_max / h.t_max - 1,
-              "contact time": contact / h.contact_time - 1, "rebound speed": rebound / FIG28_V - 1}
-    print("\nFigure 28 relative errors at dt = t_c/2000:",
-          {k: f"{v:.2e}" for k, v in errors.items()})
+    errors = {
+        "peak force": peak_force / h.f_max - 1,
+        "max approach": a_max / h.a_max - 1,
+        "time of max approach": t_max / h.t_max - 1,
+        "contact time": contact / h.contact_time - 1,
+        "rebound speed": rebound / FIG28_V - 1,
+    }
+    print(
+        "\nFigure 28 relative errors at dt = t_c/2000:", {k: f"{v:.2e}" for k, v in errors.items()}
+    )
     # The brief's acceptance bound: 0.5 % (0.1 % for the rebound speed).
     for name in ("peak force", "max approach", "time of max approach", "contact time"):
         assert abs(errors[name]) < 5e-3, name
@@ -177,12 +192,14 @@ def test_rebound_from_a_single_floor_face():
 #: Report Table 3 as printed (the OCR kept the mantissas, the exponents are restored from the
 #: column's obvious decade pattern): impact speed [in/s], time of maximum compression [s],
 #: approximate period of loading [s] (= 4 t), approximate loading frequency [Hz].
-TABLE3 = ((6.28e-2, 1.72e-5, 6.90e-5, 1.45e4),
-          (6.28e-1, 1.09e-5, 4.35e-5, 2.30e4),
-          (6.28e0, 6.86e-6, 2.75e-5, 3.64e4),
-          (6.28e1, 4.33e-6, 1.73e-5, 5.77e4),
-          (6.28e2, 2.73e-6, 1.09e-5, 9.15e4),
-          (6.28e3, 1.72e-6, 6.90e-6, 1.45e5))
+TABLE3 = (
+    (6.28e-2, 1.72e-5, 6.90e-5, 1.45e4),
+    (6.28e-1, 1.09e-5, 4.35e-5, 2.30e4),
+    (6.28e0, 6.86e-6, 2.75e-5, 3.64e4),
+    (6.28e1, 4.33e-6, 1.73e-5, 5.77e4),
+    (6.28e2, 2.73e-6, 1.09e-5, 9.15e4),
+    (6.28e3, 1.72e-6, 6.90e-6, 1.45e5),
+)
 
 
 def _pair_hertz(v: float, radius: float = STEEL_R) -> ref.HertzImpact:
@@ -220,16 +237,23 @@ def test_closed_form_reproduces_report_table3():
     for v, t_rep, period_rep, f_rep in TABLE3:
         h = _pair_hertz(v)
         t = h.t_max
-        print(f"\nv = {v:8.2e} in/s: t_max = {t:.4e} s (report {t_rep:.2e}, "
-              f"{t / t_rep - 1:+.2%}), 4t = {4 * t:.3e} ({period_rep:.2e}), "
-              f"1/4t = {1 / (4 * t):.3e} Hz ({f_rep:.2e})", end="")
+        print(
+            f"\nv = {v:8.2e} in/s: t_max = {t:.4e} s (report {t_rep:.2e}, "
+            f"{t / t_rep - 1:+.2%}), 4t = {4 * t:.3e} ({period_rep:.2e}), "
+            f"1/4t = {1 / (4 * t):.3e} Hz ({f_rep:.2e})",
+            end="",
+        )
         worst = max(worst, abs(t / t_rep - 1))
         for factor in matches:
             tf = factor * h.a_max / v
-            matches[factor] += ((_sig3(tf) == t_rep) + (_sig3(4 * tf) == period_rep)
-                                + (_sig3(1 / (4 * tf)) == f_rep))
-    print(f"\nprinted numbers reproduced: exact factor {matches[exact]}/18, "
-          f"1.47: {matches[1.47]}/18")
+            matches[factor] += (
+                (_sig3(tf) == t_rep)
+                + (_sig3(4 * tf) == period_rep)
+                + (_sig3(1 / (4 * tf)) == f_rep)
+            )
+    print(
+        f"\nprinted numbers reproduced: exact factor {matches[exact]}/18, 1.47: {matches[1.47]}/18"
+    )
     # the exact closed form is within 0.4 % of every printed time (measured 0.36 %)...
     assert worst < 4e-3
     # ...and the report's rounded factor reproduces the whole table digit for digit.
@@ -243,19 +267,21 @@ def test_two_spheres_head_on_time_of_max_compression(v):
     h = _pair_hertz(v)
     dt = h.t_max / 1000
     c = np.array([0.5, 0.5, 0.5])
-    pos = [c - [STEEL_R, 0, 0], c + [STEEL_R, 0, 0]]    # touching at t = 0
+    pos = [c - [STEEL_R, 0, 0], c + [STEEL_R, 0, 0]]  # touching at t = 0
     deck = closed_box_deck(pos, [(v / 2, 0, 0), (-v / 2, 0, 0)], dt=dt)
     sim = Simulation(build_model(deck))
     first = sim.snapshot()
     block = sim.advance(2100)
     t = np.concatenate([first.times, block.times])
     data = np.concatenate([first.data, block.data])
-    closing = data[:, 0, 3] - data[:, 1, 3]              # v1x - v2x: > 0 while compressing
+    closing = data[:, 0, 3] - data[:, 1, 3]  # v1x - v2x: > 0 while compressing
     approach = 2 * STEEL_R - (data[:, 1, 0] - data[:, 0, 0])
     t_max = _zero_crossing(t, closing, falling=True)
     err = t_max / h.t_max - 1
-    print(f"\nv = {v:.2e}: t_max = {t_max:.5e} s, Hertz {h.t_max:.5e} s, error {err:.1e}; "
-          f"a_max = {approach.max():.3e} in ({approach.max() / h.a_max - 1:.1e})")
+    print(
+        f"\nv = {v:.2e}: t_max = {t_max:.5e} s, Hertz {h.t_max:.5e} s, error {err:.1e}; "
+        f"a_max = {approach.max():.3e} in ({approach.max() / h.a_max - 1:.1e})"
+    )
     # The brief's bound is 0.5 %; the interpolated zero crossing of the closing speed is accurate
     # to O(dt^2) and the scheme is second order, so at 1000 steps to the maximum the error is
     # ~1e-6 (measured <= 3e-7 at every speed); 1e-4 is the regression bound.

@@ -38,7 +38,7 @@ def test_sphere_on_wall_matches_the_closed_form():
     x = np.r_[first.data[:, -1, 0], block.data[:, -1, 0]]
     vx = np.r_[first.data[:, -1, 3], block.data[:, -1, 3]]
     r = model.radius[-1]
-    a = r - x                                   # approach on the wall x = 0
+    a = r - x  # approach on the wall x = 0
     on = np.flatnonzero(a > 0.0)
     assert on.size and on[-1] < a.size - 1, "the sphere must touch and leave the wall"
     t_in = _crossing(t, a, on[0])
@@ -73,12 +73,15 @@ def _deck_text(hooke_lines: str) -> str:
     return text[:start] + hooke_lines + text[end:]
 
 
-@pytest.mark.parametrize("card, message", [
-    ("HOOKE\n 7 1e4 0.8\nEND", "NODLIM 7 names no PDMP group"),
-    ("HOOKE\n 8 1e4 1.5\nEND", "E (coefficient of restitution) must be in (0, 1]"),
-    ("HOOKE\n 8 -1 0.8\nEND", "KN (normal stiffness) must be > 0"),
-    ("HOOKE\n 8 1e4\nEND", "HOOKE needs 3 values"),
-])
+@pytest.mark.parametrize(
+    "card, message",
+    [
+        ("HOOKE\n 7 1e4 0.8\nEND", "NODLIM 7 names no PDMP group"),
+        ("HOOKE\n 8 1e4 1.5\nEND", "E (coefficient of restitution) must be in (0, 1]"),
+        ("HOOKE\n 8 -1 0.8\nEND", "KN (normal stiffness) must be > 0"),
+        ("HOOKE\n 8 1e4\nEND", "HOOKE needs 3 values"),
+    ],
+)
 def test_bad_hooke_cards_are_deck_errors(card, message):
     with pytest.raises(DeckError, match=message.replace("(", r"\(").replace(")", r"\)")) as err:
         build_model(parse_deck(_deck_text(card), "deck.inp"))

@@ -41,7 +41,7 @@ from x3dpd.solver.simulation import Simulation
 DECK = pathlib.Path(__file__).resolve().parents[2] / "decks" / "hooke_wall.inp"
 #: Residual allowed, as a fraction of the impact's kinetic energy (module docstring).
 ROUND_OFF = 1e-8
-RESIDUAL = 11   # ledger column (x3dpd.solver.simulation.ENERGY_COLUMNS)
+RESIDUAL = 11  # ledger column (x3dpd.solver.simulation.ENERGY_COLUMNS)
 D_VISC = 6
 
 
@@ -77,8 +77,17 @@ def _pair(dt: float, offset: float = 0.0):
     their centres ``offset`` R apart in y, a gap of 0.001 in between them along x."""
     r = STEEL_R
     x = math.sqrt(4.0 - offset**2) * r + 0.001
-    return build_model(_hooke(pair_deck([(0.0, 0.0, 0.0), (x, offset * r, 0.0)],
-                                        [(10.0, 0.0, 0.0), (-10.0, 0.0, 0.0)], dt=dt), 1e4, 0.5))
+    return build_model(
+        _hooke(
+            pair_deck(
+                [(0.0, 0.0, 0.0), (x, offset * r, 0.0)],
+                [(10.0, 0.0, 0.0), (-10.0, 0.0, 0.0)],
+                dt=dt,
+            ),
+            1e4,
+            0.5,
+        )
+    )
 
 
 def _pair_contact_time() -> float:
@@ -92,7 +101,7 @@ def test_a_hooke_pair_impact_books_all_its_work(dt):
     """Two spheres head-on: the pair pass books the onset step from the gap too."""
     model = _pair(dt)
     m = sphere_mass()
-    t_meet = 0.001 / 20.0                                # the gap closes at 20 in/s
+    t_meet = 0.001 / 20.0  # the gap closes at 20 in/s
     sim, energy = _run(model, dt, t_meet + _pair_contact_time() + 2e-5)
     ke0 = 2 * 0.5 * m * 10.0**2
     worst = float(np.max(np.abs(energy[:, RESIDUAL])))

@@ -35,8 +35,8 @@ _spec.loader.exec_module(co)
 
 M = sphere_mass()
 INERTIA = 0.4 * M * STEEL_R**2
-KN = 1.0e4          # HOOKE k_n [lbf/in]
-G = 386.1           # [in/s^2]
+KN = 1.0e4  # HOOKE k_n [lbf/in]
+G = 386.1  # [in/s^2]
 LAW = "linear_history"
 
 
@@ -60,8 +60,14 @@ def _rocking(law, e, steps_per_period, degrees=10.0):
     w = math.sqrt(kt / m_t - alpha * alpha)
     period = 2.0 * math.pi / math.sqrt(kt / m_t)
     gx, gy = G * math.sin(math.radians(degrees)), G * math.cos(math.radians(degrees))
-    deck = floor_deck(dt=period / steps_per_period, height=STEEL_R - M * gy / KN,
-                      velocity=(0.0, 0.0, 0.0), gravity=G, mu=0.3, spectator=False)
+    deck = floor_deck(
+        dt=period / steps_per_period,
+        height=STEEL_R - M * gy / KN,
+        velocity=(0.0, 0.0, 0.0),
+        gravity=G,
+        mu=0.3,
+        spectator=False,
+    )
     deck = dataclasses.replace(_hooke(deck, e), body=Body(gx, -gy, 0.0))
     res = x3dpd.run(deck, tmax=2.0 * period, friction=law)
     t = res.trace.time
@@ -88,8 +94,7 @@ def test_gross_sliding_matches_the_rigid_body_impulse():
     """80 deg on Hertz, mu 0.3: the contact slides throughout, v_t' = v_t - mu (1 + e)
     (1 + m R^2/I) v_n to 1e-3 (as every tangential law: tests/physics/test_mindlin.py)."""
     vn, vt = 10.0 * math.cos(math.radians(80.0)), 10.0 * math.sin(math.radians(80.0))
-    res = x3dpd.run(floor_deck(dt=5e-7, velocity=(vt, -vn, 0.0), mu=0.3), tmax=8e-5,
-                    friction=LAW)
+    res = x3dpd.run(floor_deck(dt=5e-7, velocity=(vt, -vn, 0.0), mu=0.3), tmax=8e-5, friction=LAW)
     v, w = res.trace.velocity[-1, 0], res.trace.spin[-1, 0]
     e = v[1] / vn
     expected = vt - 0.3 * (1.0 + e) * (1.0 + M * STEEL_R**2 / INERTIA) * vn
@@ -104,9 +109,18 @@ def _lammps_reference(chi: float, steps: int) -> float:
     cfg = co.TESTS[6]
     r, e, mu, vn = cfg["radius"], cfg["e"], cfg["mu"], cfg["speed"]
     m = co.sphere_mass("aluminium alloy", r)
-    return hooke_oblique_beta(co.hooke_stiffness("aluminium alloy", r, vn), e,
-                              co.MATERIALS["aluminium alloy"][1], m, 3.5 / m, mu, vn,
-                              3.5 * mu * (1.0 + e) * vn / chi, steps, dashpot_rests=False)
+    return hooke_oblique_beta(
+        co.hooke_stiffness("aluminium alloy", r, vn),
+        e,
+        co.MATERIALS["aluminium alloy"][1],
+        m,
+        3.5 / m,
+        mu,
+        vn,
+        3.5 * mu * (1.0 + e) * vn / chi,
+        steps,
+        dashpot_rests=False,
+    )
 
 
 def test_sliding_keeps_the_dashpot_as_lammps_does(tmp_path):
@@ -117,8 +131,16 @@ def test_sliding_keeps_the_dashpot_as_lammps_does(tmp_path):
     chi = co.T8_CHI[12]
     cfg = co.TESTS[6]
     slip = 3.5 * cfg["mu"] * (1.0 + cfg["e"]) * cfg["speed"] / chi
-    out = co.oblique_wall(6, "aluminium alloy", cfg["speed"], 0.0, -slip / cfg["radius"],
-                          tmp_path, 20000, friction=LAW)
+    out = co.oblique_wall(
+        6,
+        "aluminium alloy",
+        cfg["speed"],
+        0.0,
+        -slip / cfg["radius"],
+        tmp_path,
+        20000,
+        friction=LAW,
+    )
     beta = -out["slip_out"] / out["slip_in"]
     ref = _lammps_reference(chi, 320000)
     print(f"\nchi {chi}: beta {beta:+.4f}, reference {ref:+.4f}")

@@ -40,11 +40,13 @@ FIG30 = {"e0": FIG30_E0, "e1": FIG30_E1, "tau1": FIG30_TAU1}
 
 @pytest.fixture(scope="module")
 def reference_impact():
-    return ref.maxwell_impact(M, STEEL_R, STEEL_NU, [FIG30_E0, FIG30_E1],
-                              [math.inf, FIG30_TAU1], FIG28_V)
+    return ref.maxwell_impact(
+        M, STEEL_R, STEEL_NU, [FIG30_E0, FIG30_E1], [math.inf, FIG30_TAU1], FIG28_V
+    )
 
 
 # --- helpers of x3dpd.physics.maxwell ----------------------------------------------------------
+
 
 def test_step_factors_and_pair_weight():
     d, h = maxwell.maxwell_step_factors(2e-6, 1e-7)
@@ -80,6 +82,7 @@ def test_update_is_exact_for_a_linear_ramp_of_g():
 
 # --- the reference -----------------------------------------------------------------------------
 
+
 def test_reference_reduces_to_hertz_when_e1_is_zero():
     k = ref.hertz_k(STEEL_E / (1 - STEEL_NU**2), STEEL_R)
     h = ref.hertz_impact(M, k, FIG28_V)
@@ -103,19 +106,29 @@ def test_reference_has_figure34_shape(reference_impact):
     assert r.t_force_zero < r.contact_time
     assert r.rebound_speed < FIG28_V
     # bounded by the long-term and instantaneous elastic contacts
-    assert (ref.hertz_impact(M, k_inst, FIG28_V).a_max < r.max_approach
-            < ref.hertz_impact(M, k_long, FIG28_V).a_max)
+    assert (
+        ref.hertz_impact(M, k_inst, FIG28_V).a_max
+        < r.max_approach
+        < ref.hertz_impact(M, k_long, FIG28_V).a_max
+    )
     # Figure 34's scale: peak ~21 lbf, contact ~8 us (read off the plot)
     assert 19.0 < r.peak_force < 23.0 and 7e-6 < r.contact_time < 9e-6
 
 
 # --- the solver against the reference ----------------------------------------------------------
 
+
 def _impact(dt: float, nsteps: int, material: dict, groups=()):
     """Sphere touching the floor of a closed box at t = 0, moving down at FIG28_V. Per step:
     time, approach, vertical velocity, normal force; plus the simulation."""
-    deck = closed_box_deck([(0.5, STEEL_R, 0.5)], [(0.0, -FIG28_V, 0.0)], dt=dt,
-                           spectators=[] if groups else [SPECTATOR], groups=groups, **material)
+    deck = closed_box_deck(
+        [(0.5, STEEL_R, 0.5)],
+        [(0.0, -FIG28_V, 0.0)],
+        dt=dt,
+        spectators=[] if groups else [SPECTATOR],
+        groups=groups,
+        **material,
+    )
     model = build_model(deck)
     sim = Simulation(model)
     sim.snapshot()
@@ -136,7 +149,7 @@ def _measure(rec):
     the approach is exactly linear there), rebound speed, first step with zero force."""
     t, a, vy, f = rec.T
     k = int(np.argmax(f))
-    f0, f1, f2 = f[k - 1:k + 2]
+    f0, f1, f2 = f[k - 1 : k + 2]
     peak = f1 + (f2 - f0) ** 2 / (8.0 * (2.0 * f1 - f0 - f2))
     e = np.nonzero((a[:-1] > 0) & (a[1:] <= 0))[0][-1]
     end = t[e] + (t[e + 1] - t[e]) * a[e] / (a[e] - a[e + 1])
@@ -154,8 +167,9 @@ def test_solver_converges_to_lee_radok_at_second_order(reference_impact):
         dt = r.contact_time / n
         rec, _ = _impact(dt, int(1.15 * n), FIG30)
         peak, end, rebound, zero = _measure(rec)
-        errors.append((peak / r.peak_force - 1, end / r.contact_time - 1,
-                       rebound / r.rebound_speed - 1))
+        errors.append(
+            (peak / r.peak_force - 1, end / r.contact_time - 1, rebound / r.rebound_speed - 1)
+        )
         # Figure 34: the force is zero before the approach is; the step at which the solver's
         # force first reads zero is the first step after the reference's zero crossing (the
         # solver's crossing is O(dt^2) off the reference's: 0.1 dt of slack either side)
@@ -165,9 +179,11 @@ def test_solver_converges_to_lee_radok_at_second_order(reference_impact):
     dts = r.contact_time / np.array(STEPS_PER_CONTACT)
     order_peak = np.polyfit(np.log(dts), np.log(np.abs(errors[:, 0])), 1)[0]
     order_end = np.polyfit(np.log(dts), np.log(np.abs(errors[:, 1])), 1)[0]
-    print(f"\nrelative errors (peak force, contact time, rebound speed) at t_c/N, "
-          f"N = {STEPS_PER_CONTACT}:\n{errors}\norders: peak {order_peak:.2f}, "
-          f"contact {order_end:.2f}")
+    print(
+        f"\nrelative errors (peak force, contact time, rebound speed) at t_c/N, "
+        f"N = {STEPS_PER_CONTACT}:\n{errors}\norders: peak {order_peak:.2f}, "
+        f"contact {order_end:.2f}"
+    )
     # second-order scheme (velocity Verlet + midpoint-weighted Maxwell update): measured 2.02
     # and 2.03; 1.5 is the brief's bound
     assert order_peak > 1.5 and order_end > 1.5

@@ -34,8 +34,8 @@ from factories import STEEL_E, STEEL_NU, STEEL_R, floor_deck, pair_deck, sphere_
 
 import x3dpd
 
-DT = 5e-7                       # the report's step (decks/beam_64.inp DTMAX)
-V = 10.0                        # impact speed [in/s]
+DT = 5e-7  # the report's step (decks/beam_64.inp DTMAX)
+V = 10.0  # impact speed [in/s]
 MU = 0.3
 M = sphere_mass()
 INERTIA = 0.4 * M * STEEL_R**2
@@ -56,11 +56,12 @@ def _impact(law, degrees, *, mu=MU, t_end=8e-5, dt=DT, hooke_e=None, **kw):
     deck = floor_deck(dt=dt, velocity=(vt, -vn, 0.0), mu=mu)
     if hooke_e is not None:
         from x3dpd.deck.cards import Hooke
+
         deck = dataclasses.replace(deck, hooke=(Hooke(deck.pdmp[0].nodlim, KN, hooke_e),))
     res = x3dpd.run(deck, tmax=t_end, friction=law, **kw)
     v = res.trace.velocity[-1, 0]
     w = res.trace.spin[-1, 0]
-    slip = v[0] + w[2] * STEEL_R          # contact point at -R y: v_x + w_z R
+    slip = v[0] + w[2] * STEEL_R  # contact point at -R y: v_x + w_z R
     # the tangential and rotational kinetic energy before and after
     ke_in = 0.5 * M * vt * vt
     ke_out = 0.5 * M * (v[0] ** 2 + v[2] ** 2) + 0.5 * INERTIA * float(w @ w)
@@ -84,10 +85,16 @@ def _mindlin_reference(degrees, mu=MU, steps_per_dt=100):
     unloading, Coulomb limit) on the rigid-body equations of a sphere on a rigid floor, with
     the Hertz normal force, by symplectic Euler at DT/100 (tests/contact_reference.py): the
     contact point's slip and the normal speed after the impact."""
-    slip, vn_out, _ = hertz_mindlin_impact(M, STEEL_R, STEEL_E, STEEL_NU, mu,
-                                           V * math.cos(math.radians(degrees)),
-                                           V * math.sin(math.radians(degrees)),
-                                           DT / steps_per_dt)
+    slip, vn_out, _ = hertz_mindlin_impact(
+        M,
+        STEEL_R,
+        STEEL_E,
+        STEEL_NU,
+        mu,
+        V * math.cos(math.radians(degrees)),
+        V * math.sin(math.radians(degrees)),
+        DT / steps_per_dt,
+    )
     return slip, vn_out
 
 
@@ -99,7 +106,7 @@ def test_the_contact_point_reverses_at_intermediate_angles():
     vn, vt, slip, vn_out, *_ = _impact("mindlin", 45.0, dt=DT / 16)
     ref_slip, ref_vn = _mindlin_reference(45.0)
     print(f"\nmindlin 45 deg: slip out / in {slip / vt:.5f}, reference {ref_slip / vt:.5f}")
-    assert ref_slip < -0.3 * vt                  # the reference itself recoils (-0.36 v_t)
+    assert ref_slip < -0.3 * vt  # the reference itself recoils (-0.36 v_t)
     assert slip == pytest.approx(ref_slip, abs=1e-2 * vt)
     assert vn_out == pytest.approx(ref_vn, rel=1e-3)
     _, _, coulomb_slip, *_ = _impact("regularized", 45.0)
@@ -144,9 +151,11 @@ def test_a_damped_mindlin_impact_never_creates_energy():
             assert ke_out <= ke_in + 1e-6 * total, (mu, degrees)
     *_, ke_in, damped, _ = _impact("mindlin", 10.0, mu=10.0, hooke_e=0.5)
     *_, ke_in, undamped, _ = _impact("mindlin", 10.0, mu=10.0, hooke_e=1.0)
-    print(f"\nsticking at 10 deg: tangential energy kept {damped / ke_in:.4f} damped, "
-          f"{undamped / ke_in:.4f} undamped")
-    assert damped < undamped - 0.05 * ke_in      # measured 0.716 against 0.796 of ke_in
+    print(
+        f"\nsticking at 10 deg: tangential energy kept {damped / ke_in:.4f} damped, "
+        f"{undamped / ke_in:.4f} undamped"
+    )
+    assert damped < undamped - 0.05 * ke_in  # measured 0.716 against 0.796 of ke_in
 
 
 def test_the_ledger_closes_and_books_the_spring():
@@ -183,8 +192,10 @@ def test_the_last_step_slip_work_is_booked(law):
         assert abs(gap) < 1e-9 * total
     positions = [(0.0, 0.0, 0.0), (1.7321 * STEEL_R, STEEL_R, 0.0)]
     velocities = [(V, 0.0, 0.0), (0.0, 0.0, 0.0)]
-    res, bare = (x3dpd.run(pair_deck(positions, velocities, dt=DT, mu=mu), tmax=6e-5,
-                           friction=law) for mu in (MU, 0.0))
+    res, bare = (
+        x3dpd.run(pair_deck(positions, velocities, dt=DT, mu=mu), tmax=6e-5, friction=law)
+        for mu in (MU, 0.0)
+    )
     gap = res.energy["residual"][-1] - bare.energy["residual"][-1]
     print(f"{law} pair: residual - frictionless {gap / total:.2e}")
     assert abs(gap) < 1e-5 * total
@@ -205,8 +216,12 @@ def test_a_pair_impact_never_creates_energy():
     """Two spheres, oblique (30 deg: centres R apart across the line of flight), Mindlin between
     them: the kinetic energy after is not above the energy before (1e-6), and some of it went
     into friction."""
-    deck = pair_deck([(0.0, 0.0, 0.0), (1.7321 * STEEL_R, STEEL_R, 0.0)],
-                     [(V, 0.0, 0.0), (0.0, 0.0, 0.0)], dt=DT, mu=MU)
+    deck = pair_deck(
+        [(0.0, 0.0, 0.0), (1.7321 * STEEL_R, STEEL_R, 0.0)],
+        [(V, 0.0, 0.0), (0.0, 0.0, 0.0)],
+        dt=DT,
+        mu=MU,
+    )
     res = x3dpd.run(deck, tmax=6e-5, friction="mindlin")
     v, w = res.trace.velocity[-1], res.trace.spin[-1]
     ke_out = 0.5 * M * float((v * v).sum()) + 0.5 * INERTIA * float((w * w).sum())

@@ -21,32 +21,46 @@ X0 = np.arange(12, dtype=np.float64).reshape(4, 3) * 0.1
 
 
 def test_table_layout():
-    table = motion_table(["node=25,dof=1,amp=0.01,hz=37.21",
-                          "sine:node=40,dof=3,amp=-2e-3,omega=100,phase=90,t0=0.5",
-                          "node=3,dof=5,amp=0.1,hz=2,phase=0.25rad,ramp=0.3"], IDS, x0=X0)
-    np.testing.assert_allclose(table, [
-        [2, 0, 0.01, 2 * math.pi * 37.21, 0.0, 0.0, X0[2, 0], 0.0],
-        [3, 2, -2e-3, 100.0, math.pi / 2, 0.5, X0[3, 2], 0.0],
-        [0, 4, 0.1, 4 * math.pi, 0.25, 0.0, 0.0, 0.3],
-    ], rtol=1e-15)
+    table = motion_table(
+        [
+            "node=25,dof=1,amp=0.01,hz=37.21",
+            "sine:node=40,dof=3,amp=-2e-3,omega=100,phase=90,t0=0.5",
+            "node=3,dof=5,amp=0.1,hz=2,phase=0.25rad,ramp=0.3",
+        ],
+        IDS,
+        x0=X0,
+    )
+    np.testing.assert_allclose(
+        table,
+        [
+            [2, 0, 0.01, 2 * math.pi * 37.21, 0.0, 0.0, X0[2, 0], 0.0],
+            [3, 2, -2e-3, 100.0, math.pi / 2, 0.5, X0[3, 2], 0.0],
+            [0, 4, 0.1, 4 * math.pi, 0.25, 0.0, 0.0, 0.3],
+        ],
+        rtol=1e-15,
+    )
     assert motion_table(["node=25,dof=2,amp=1,hz=1"], IDS)[0, 6] == 0.0  # no x0 given
     assert motion_table([], IDS).shape == (0, 8)
 
     class FakeModel:
         node_ids = IDS
         x0 = X0
+
     assert motion_table(["node=40,dof=2,amp=1,hz=1"], FakeModel())[0, 6] == X0[3, 1]
 
 
-@pytest.mark.parametrize("spec, words", [
-    ("node=25,dof=1,hz=3", ["missing", "amp"]),
-    ("node=25,dof=1,amp=1,hz=3,law=log", ["unknown key", "'law'"]),
-    ("node=24,dof=1,amp=1,hz=3", ["node=24", "not defined"]),
-    ("node=25,dof=9,amp=1,hz=3", ["dof=", "1..6"]),
-    ("node=25,dof=1,amp=1,hz=-3", ["hz=", "positive"]),
-    ("node=25,dof=1,amp=1", ["hz=", "omega="]),
-    ("node=25,dof=1,amp=inf,hz=3", ["amp=", "finite"]),
-])
+@pytest.mark.parametrize(
+    "spec, words",
+    [
+        ("node=25,dof=1,hz=3", ["missing", "amp"]),
+        ("node=25,dof=1,amp=1,hz=3,law=log", ["unknown key", "'law'"]),
+        ("node=24,dof=1,amp=1,hz=3", ["node=24", "not defined"]),
+        ("node=25,dof=9,amp=1,hz=3", ["dof=", "1..6"]),
+        ("node=25,dof=1,amp=1,hz=-3", ["hz=", "positive"]),
+        ("node=25,dof=1,amp=1", ["hz=", "omega="]),
+        ("node=25,dof=1,amp=inf,hz=3", ["amp=", "finite"]),
+    ],
+)
 def test_bad_motion_specs(spec, words):
     with pytest.raises(UsrfrcError) as err:
         motion_table([spec], IDS)
@@ -60,8 +74,9 @@ def test_a_dof_cannot_be_driven_twice():
         motion_table(["node=25,dof=1,amp=1,hz=3", "node=25,dof=1,amp=2,hz=4"], IDS)
 
 
-@pytest.mark.parametrize("phase, phi", [("", 0.0), (",phase=45", math.pi / 4),
-                                        (",phase=-1rad", -1.0)])
+@pytest.mark.parametrize(
+    "phase, phi", [("", 0.0), (",phase=45", math.pi / 4), (",phase=-1rad", -1.0)]
+)
 @pytest.mark.parametrize("t0", [0.0, 0.2])
 def test_history_closed_form_and_derivatives(phase, phi, t0):
     amp, hz = 0.01, 37.21
@@ -71,15 +86,18 @@ def test_history_closed_form_and_derivatives(phase, phi, t0):
     u, v, a = (c[:, 0] for c in motion_history(t, table))
     arg = w * (t - t0) + phi
     on = t >= t0
-    np.testing.assert_allclose(u, np.where(on, amp * np.sin(arg), amp * math.sin(phi)),
-                               rtol=0, atol=1e-15)
-    np.testing.assert_allclose(v, np.where(on, amp * w * np.cos(arg), 0.0), rtol=0,
-                               atol=1e-13 * amp * w)
-    np.testing.assert_allclose(a, np.where(on, -amp * w * w * np.sin(arg), 0.0), rtol=0,
-                               atol=1e-12 * amp * w * w)
+    np.testing.assert_allclose(
+        u, np.where(on, amp * np.sin(arg), amp * math.sin(phi)), rtol=0, atol=1e-15
+    )
+    np.testing.assert_allclose(
+        v, np.where(on, amp * w * np.cos(arg), 0.0), rtol=0, atol=1e-13 * amp * w
+    )
+    np.testing.assert_allclose(
+        a, np.where(on, -amp * w * w * np.sin(arg), 0.0), rtol=0, atol=1e-12 * amp * w * w
+    )
     # velocity and acceleration are the time derivatives (central differences, away from t0)
     h = t[1] - t[0]
-    inner = (np.abs(t[1:-1] - t0) > 2 * h)
+    inner = np.abs(t[1:-1] - t0) > 2 * h
     du = (u[2:] - u[:-2]) / (2 * h)
     dv = (v[2:] - v[:-2]) / (2 * h)
     np.testing.assert_allclose(du[inner], v[1:-1][inner], rtol=0, atol=2e-4 * amp * w)
@@ -87,9 +105,15 @@ def test_history_closed_form_and_derivatives(phase, phi, t0):
 
 
 def test_apply_motion_sets_only_the_driven_dofs():
-    table = motion_table(["node=25,dof=2,amp=0.01,hz=5",
-                          "node=40,dof=6,amp=0.2,hz=3,phase=30",  # rotational: velocity only
-                          "node=3,dof=3,amp=-0.5,omega=7,t0=1"], IDS, x0=X0)
+    table = motion_table(
+        [
+            "node=25,dof=2,amp=0.01,hz=5",
+            "node=40,dof=6,amp=0.2,hz=3,phase=30",  # rotational: velocity only
+            "node=3,dof=3,amp=-0.5,omega=7,t0=1",
+        ],
+        IDS,
+        x0=X0,
+    )
     rng = np.random.default_rng(3)
     x, vel = rng.normal(size=(4, 3)), rng.normal(size=(4, 6))
     x_before, vel_before = x.copy(), vel.copy()
@@ -129,8 +153,7 @@ def test_ramp_starts_smoothly_and_reaches_the_sine():
     u, v, a = (c[:, 0] for c in motion_history(t, table))
     tau = t - t0
     h = np.where(tau < 0, 0.0, np.where(tau < tr, 0.5 * (1 - np.cos(np.pi * tau / tr)), 1.0))
-    np.testing.assert_allclose(u, h * amp * np.sin(w * tau + math.pi / 6), rtol=0,
-                               atol=1e-15)
+    np.testing.assert_allclose(u, h * amp * np.sin(w * tau + math.pi / 6), rtol=0, atol=1e-15)
     assert u[t < t0].max() == 0.0 and v[t < t0].max() == 0.0
     # u and u' continuous everywhere (central differences of u match u' across t0 and
     # t0 + TR); u'' is continuous but at those two instants, where h'' jumps by pi^2/(2 TR^2)

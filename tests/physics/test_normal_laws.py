@@ -9,8 +9,13 @@ import numpy as np
 import pytest
 
 from x3dpd.physics import hooke, maxwell
-from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
-                                 effective_radius, hertz_constant, hertz_energy)
+from x3dpd.physics.hertz import (
+    effective_modulus_pair,
+    effective_modulus_wall,
+    effective_radius,
+    hertz_constant,
+    hertz_energy,
+)
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
 from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAW_CHECKS, NORMAL_LAWS
 from x3dpd.solver.bundles import Particles
@@ -36,11 +41,26 @@ def _particles(e_terms=(E0,), taus=(math.inf,), hooke_law=None) -> Particles:
     law_wall, law_pair = np.zeros((2, 2)), np.zeros((1, 1, 2))
     if hooke_law is not None:
         kn, e = hooke_law
-        law_wall, law_pair = hooke.hooke_tables(np.full(2, kn), np.full(2, e), np.full(2, MASS),
-                                                rep)
-    return Particles(0, radius, kw, ep, kind, pair_c, decay, half, mu, inv_mt,
-                     np.zeros(2, np.int64), law_wall, law_pair, np.zeros((2, 4)),
-                     np.zeros((1, 1, 4)))
+        law_wall, law_pair = hooke.hooke_tables(
+            np.full(2, kn), np.full(2, e), np.full(2, MASS), rep
+        )
+    return Particles(
+        0,
+        radius,
+        kw,
+        ep,
+        kind,
+        pair_c,
+        decay,
+        half,
+        mu,
+        inv_mt,
+        np.zeros(2, np.int64),
+        law_wall,
+        law_pair,
+        np.zeros((2, 4)),
+        np.zeros((1, 1, 4)),
+    )
 
 
 def test_every_registered_law_provides_the_loop_api():
@@ -63,7 +83,8 @@ def test_lee_radok_without_maxwell_terms_is_hertz(a):
     assert f == pytest.approx(k_pair * a**1.5, rel=1e-14)
     # stored energy 2/5 F a is Hertz's 2/5 K a^{5/2}
     assert maxwell.stored_energy(k_wall * a**1.5, a, 0.0) == pytest.approx(
-        hertz_energy(a, k_wall), rel=1e-14)
+        hertz_energy(a, k_wall), rel=1e-14
+    )
 
 
 def test_lee_radok_relaxes_at_constant_approach():
@@ -105,9 +126,11 @@ def test_hooke_force_and_energy():
     a, rate = 2e-5, -3.0
     states = np.zeros((1, S_H + 1))
     assert hooke.wall_force(a, 0.0, rate, 0, p, states, 0, S_H, 0) == pytest.approx(
-        kn * a + c_wall * rate, rel=1e-15 * 4)
+        kn * a + c_wall * rate, rel=1e-15 * 4
+    )
     assert hooke.pair_force(a, 0.0, rate, 0, 1, 0, 0, p, states, 0, S_H, 0) == pytest.approx(
-        kn * a + c_pair * rate, rel=1e-15 * 4)
+        kn * a + c_pair * rate, rel=1e-15 * 4
+    )
     assert hooke.stored_energy(123.0, a, kn) == pytest.approx(0.5 * kn * a * a, rel=1e-15)
     assert not hooke.CLAMPED and maxwell.CLAMPED
 

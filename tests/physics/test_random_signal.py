@@ -37,7 +37,7 @@ def multisine(t, lo, hi, period, seed, psd, integrate=0):
         return np.sin(arg) @ np.full(w.size, amp)
     if integrate == 1:
         return -np.cos(arg) @ (amp / w)
-    return -np.sin(arg) @ (amp / w ** 2)
+    return -np.sin(arg) @ (amp / w**2)
 
 
 def periodogram_bands(signal, fs, lo, hi):
@@ -50,7 +50,7 @@ def periodogram_bands(signal, fs, lo, hi):
     out = []
     for k in range(-20, 10):
         centre = 1000.0 * 10 ** (k / 10)
-        a, b = centre * 10 ** -0.05, centre * 10 ** 0.05
+        a, b = centre * 10**-0.05, centre * 10**0.05
         if a >= lo and b <= hi:
             out.append((centre, psd[(f >= a) & (f < b)].mean()))
     return out
@@ -58,7 +58,7 @@ def periodogram_bands(signal, fs, lo, hi):
 
 def test_force_is_the_documented_multisine():
     spec = f"random:node=2,dof=1,psd=2e-4,band={LO}:{HI},seed={SEED},period={PERIOD}"
-    t = np.linspace(0.0, 9.0, 7001)      # more than two periods: it repeats
+    t = np.linspace(0.0, 9.0, 7001)  # more than two periods: it repeats
     got = force_values(t, force_table([spec], IDS))[:, 0]
     want = multisine(t, LO, HI, PERIOD, SEED, 2e-4)
     # quintic Hermite between 8 knots per period of the highest line: 5e-6 of a line's
@@ -70,10 +70,10 @@ def test_force_is_the_documented_multisine():
 def test_realised_psd_per_third_octave_and_rms(level):
     spec = f"random:node=1,dof=3,{level},band=20:400,seed=5,period=2"
     fs = 2000.0
-    t = np.arange(int(2 * fs)) / fs       # exactly one period
+    t = np.arange(int(2 * fs)) / fs  # exactly one period
     x = force_values(t, force_table([spec], IDS))[:, 0]
     lines = math.floor(400 * 2) - math.ceil(20 * 2) + 1
-    psd = 2e-4 if level.startswith("psd") else 0.25 ** 2 * 2 / lines
+    psd = 2e-4 if level.startswith("psd") else 0.25**2 * 2 / lines
     bands = periodogram_bands(x, fs, 20.0, 400.0)
     assert len(bands) >= 10
     for centre, level_psd in bands:
@@ -104,10 +104,13 @@ def test_motion_u_v_a_are_the_integrals_of_the_random_acceleration():
     w = 2 * np.pi * lines / PERIOD
     amp = math.sqrt(2 * 4.0 / PERIOD)
     up, um = (motion_history(t + s, table)[0][:, 0] for s in (h, -h))
-    np.testing.assert_allclose((up - um) / (2 * h), v, rtol=0,
-                               atol=2 * h ** 2 / 6 * np.sum(amp * w))
-    np.testing.assert_allclose((up - 2 * u + um) / h ** 2, a, rtol=0,
-                               atol=2 * h ** 2 / 12 * np.sum(amp * w ** 2) + 1e-6 * a.std())
+    np.testing.assert_allclose((up - um) / (2 * h), v, rtol=0, atol=2 * h**2 / 6 * np.sum(amp * w))
+    np.testing.assert_allclose(
+        (up - 2 * u + um) / h**2,
+        a,
+        rtol=0,
+        atol=2 * h**2 / 12 * np.sum(amp * w**2) + 1e-6 * a.std(),
+    )
 
 
 def test_motion_rests_before_t0_and_ramps_in():
@@ -130,43 +133,53 @@ def test_same_seed_same_bytes_other_seed_other_signal():
 
 
 def test_tables_keep_their_laws_apart_from_the_knots():
-    specs = ["sine:node=1,dof=1,amp=2,hz=3", "random:node=2,dof=2,rms=1,band=1:20,seed=0",
-             "constant:node=7,dof=3,amp=5"]
+    specs = [
+        "sine:node=1,dof=1,amp=2,hz=3",
+        "random:node=2,dof=2,rms=1,band=1:20,seed=0",
+        "constant:node=7,dof=3,amp=5",
+    ]
     table = force_table(specs, IDS)
     assert law_count(table) == 3 and table.shape[0] > 3
     v = force_values([0.1, 0.2], table)
     assert v.shape == (2, 3)
     np.testing.assert_array_equal(v[:, 2], [5.0, 5.0])
     np.testing.assert_allclose(v[:, 0], 2 * np.sin(2 * np.pi * 3 * np.array([0.1, 0.2])))
-    motions = motion_table(["node=1,dof=1,amp=0.1,hz=5",
-                            "random:node=2,dof=3,rms=1,band=1:20,seed=0"], IDS)
+    motions = motion_table(
+        ["node=1,dof=1,amp=0.1,hz=5", "random:node=2,dof=3,rms=1,band=1:20,seed=0"], IDS
+    )
     assert motion_count(motions) == 2 and motions.shape[0] > 2
     assert motion_rows(motions).shape == (2, 8)
     assert prescribed_mask(motions, 3).sum() == 2
 
 
-@pytest.mark.parametrize("spec, message", [
-    ("random:node=1,dof=1,rms=1,band=1:20", "missing required key(s) seed"),
-    ("random:node=1,dof=1,rms=1,psd=1,band=1:20,seed=1", "exactly one of rms="),
-    ("random:node=1,dof=1,band=1:20,seed=1", "exactly one of rms="),
-    ("random:node=1,dof=1,rms=1,band=20:10,seed=1", "band='20:10'"),
-    ("random:node=1,dof=1,rms=1,band=20,seed=1", "expected LO:HI"),
-    ("random:node=1,dof=1,rms=1,band=1:20,seed=-3", "seed='-3'"),
-    ("random:node=1,dof=1,rms=-1,band=1:20,seed=1", "rms='-1'"),
-    ("random:node=1,dof=1,rms=1,band=10.01:10.02,seed=1,period=1", "no line of the grid"),
-    ("random:node=1,dof=1,rms=1,band=1:20000,seed=1,period=100", "knots"),
-    ("random:node=3,dof=1,rms=1,band=1:20,seed=1", "node=3 is not defined"),
-])
+@pytest.mark.parametrize(
+    "spec, message",
+    [
+        ("random:node=1,dof=1,rms=1,band=1:20", "missing required key(s) seed"),
+        ("random:node=1,dof=1,rms=1,psd=1,band=1:20,seed=1", "exactly one of rms="),
+        ("random:node=1,dof=1,band=1:20,seed=1", "exactly one of rms="),
+        ("random:node=1,dof=1,rms=1,band=20:10,seed=1", "band='20:10'"),
+        ("random:node=1,dof=1,rms=1,band=20,seed=1", "expected LO:HI"),
+        ("random:node=1,dof=1,rms=1,band=1:20,seed=-3", "seed='-3'"),
+        ("random:node=1,dof=1,rms=-1,band=1:20,seed=1", "rms='-1'"),
+        ("random:node=1,dof=1,rms=1,band=10.01:10.02,seed=1,period=1", "no line of the grid"),
+        ("random:node=1,dof=1,rms=1,band=1:20000,seed=1,period=100", "knots"),
+        ("random:node=3,dof=1,rms=1,band=1:20,seed=1", "node=3 is not defined"),
+    ],
+)
 def test_bad_force_specs_are_named(spec, message):
     with pytest.raises(UsrfrcError) as err:
         force_table([spec], IDS)
     assert message in str(err.value) and spec in str(err.value)
 
 
-@pytest.mark.parametrize("spec, message", [
-    ("random:node=1,dof=1,rms=1,band=0:20,seed=1", "0 < LO < HI"),
-    ("random:node=1,dof=1,rms=1,band=1:20,seed=1,ramp=-1", "ramp='-1'"),
-])
+@pytest.mark.parametrize(
+    "spec, message",
+    [
+        ("random:node=1,dof=1,rms=1,band=0:20,seed=1", "0 < LO < HI"),
+        ("random:node=1,dof=1,rms=1,band=1:20,seed=1,ramp=-1", "ramp='-1'"),
+    ],
+)
 def test_bad_motion_specs_are_named(spec, message):
     with pytest.raises(UsrfrcError) as err:
         motion_table([spec], IDS)
@@ -175,5 +188,4 @@ def test_bad_motion_specs_are_named(spec, message):
 
 def test_a_dof_driven_twice_is_refused():
     with pytest.raises(UsrfrcError, match="already driven"):
-        motion_table(["node=1,dof=1,amp=1,hz=2", "random:node=1,dof=1,rms=1,band=1:9,seed=1"],
-                     IDS)
+        motion_table(["node=1,dof=1,amp=1,hz=2", "random:node=1,dof=1,rms=1,band=1:9,seed=1"], IDS)

@@ -35,8 +35,15 @@ V0 = 1.0
 
 @pytest.mark.parametrize("law", ["regularized", "mindlin"])
 def test_a_rolling_sphere_decelerates_at_five_sevenths_mu_r_g(law):
-    deck = floor_deck(dt=DT, height=STEEL_R - DELTA, velocity=(V0, 0.0, 0.0),
-                      omega=(0.0, 0.0, -V0 / STEEL_R), gravity=G, mu=0.3, spectator=False)
+    deck = floor_deck(
+        dt=DT,
+        height=STEEL_R - DELTA,
+        velocity=(V0, 0.0, 0.0),
+        omega=(0.0, 0.0, -V0 / STEEL_R),
+        gravity=G,
+        mu=0.3,
+        spectator=False,
+    )
     deck = dataclasses.replace(deck, friction=(Friction(4, law, 0.3, 0.3, "epsd", MU_R),))
     t_end = 0.05
     res = x3dpd.run(deck, tmax=t_end)
@@ -65,11 +72,19 @@ def test_a_rolling_sphere_decelerates_at_five_sevenths_mu_r_g(law):
 def test_the_rolling_column_is_there_only_with_a_rolling_law():
     """A scene without a rolling law keeps the ledger's twelve columns (its energy files and
     goldens are unchanged); with one, ``dissipated_rolling`` follows ``residual``."""
-    deck = floor_deck(dt=DT, height=STEEL_R - DELTA, velocity=(V0, 0.0, 0.0),
-                      omega=(0.0, 0.0, -V0 / STEEL_R), gravity=G, mu=0.3, spectator=False)
+    deck = floor_deck(
+        dt=DT,
+        height=STEEL_R - DELTA,
+        velocity=(V0, 0.0, 0.0),
+        omega=(0.0, 0.0, -V0 / STEEL_R),
+        gravity=G,
+        mu=0.3,
+        spectator=False,
+    )
     plain = x3dpd.run(deck, tmax=20 * DT)
     assert plain.energy.columns == ENERGY_COLUMNS
-    rolling = dataclasses.replace(deck, friction=(Friction(4, "regularized", 0.3, 0.3, "epsd",
-                                                           MU_R),))
+    rolling = dataclasses.replace(
+        deck, friction=(Friction(4, "regularized", 0.3, 0.3, "epsd", MU_R),)
+    )
     res = x3dpd.run(rolling, tmax=20 * DT)
     assert res.energy.columns == (*ENERGY_COLUMNS, "dissipated_rolling")

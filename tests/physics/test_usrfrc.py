@@ -42,16 +42,25 @@ def one(spec, t=T):
 
 # --- parsing ---------------------------------------------------------------------------------
 
+
 def test_table_layout_and_node_resolution():
-    table = force_table(["constant:node=25,dof=1,amp=2",
-                         "step:node=3,dof=6,amp=-1,t0=0.1,t1=0.2",
-                         "sine:node=40,dof=3,amp=4.84040e-3,hz=37.21,phase=90,t0=0.5",
-                         "SWEEP:node=10,dof=2,amp=1,f0=20,f1=10,rate=5,law=log,end=stop"], IDS)
+    table = force_table(
+        [
+            "constant:node=25,dof=1,amp=2",
+            "step:node=3,dof=6,amp=-1,t0=0.1,t1=0.2",
+            "sine:node=40,dof=3,amp=4.84040e-3,hz=37.21,phase=90,t0=0.5",
+            "SWEEP:node=10,dof=2,amp=1,f0=20,f1=10,rate=5,law=log,end=stop",
+        ],
+        IDS,
+    )
     assert table.shape == (4, 9) and table.dtype == np.float64
     np.testing.assert_array_equal(table[0], [1, 2, 0, 2, 0, 0, 0, 0, 0])
     np.testing.assert_array_equal(table[1], [2, 0, 5, -1, 0.1, 0.2, 0, 0, 0])
-    np.testing.assert_allclose(table[2], [KIND_SINE, 3, 2, 4.84040e-3, 2 * math.pi * 37.21,
-                                          math.pi / 2, 0.5, 0, 0], rtol=1e-15)
+    np.testing.assert_allclose(
+        table[2],
+        [KIND_SINE, 3, 2, 4.84040e-3, 2 * math.pi * 37.21, math.pi / 2, 0.5, 0, 0],
+        rtol=1e-15,
+    )
     # down-sweep: signed rate, octaves/min -> octaves/s
     np.testing.assert_allclose(table[3], [KIND_SWEEP_LOG, 1, 1, 1, 20, 10, -5 / 60, 0, 1])
     assert force_table([], IDS).shape == (0, 9)
@@ -60,6 +69,7 @@ def test_table_layout_and_node_resolution():
 def test_model_like_object_is_accepted():
     class FakeModel:
         node_ids = IDS
+
     assert force_table(["constant:node=40,dof=2,amp=1"], FakeModel())[0, 1] == 3
 
 
@@ -68,35 +78,38 @@ def test_step_without_t1_is_open_ended_and_fortran_exponent():
     assert row[3] == 1.5e-3 and row[5] == math.inf
 
 
-@pytest.mark.parametrize("spec, words", [
-    ("constant:node=25,dof=1", ["missing", "amp"]),
-    ("constant:node=25,dof=1,amp=1,hz=3", ["unknown key", "'hz'"]),
-    ("constant:node=25,dof=1,amp=1,amp=2", ["'amp'", "twice"]),
-    ("constant:node=26,dof=1,amp=1", ["node=26", "not defined"]),
-    ("constant:node=2.5,dof=1,amp=1", ["node=", "integer"]),
-    ("constant:node=25,dof=0,amp=1", ["dof=", "1..6"]),
-    ("constant:node=25,dof=7,amp=1", ["dof=", "1..6"]),
-    ("constant:node=25,dof=x,amp=1", ["dof=", "1..6"]),
-    ("constant:node=25,dof=1,amp=nan", ["amp=", "finite"]),
-    ("constant:node=25,dof=1,amp=inf", ["amp=", "finite"]),
-    ("constant:node=25,dof=1,amp=abc", ["amp=", "not a number"]),
-    ("constant:node=25,dof=1,amp", ["not key=value"]),
-    ("constant:node=25,,dof=1,amp=1", ["empty item"]),
-    ("sine:node=25,dof=1,amp=1", ["hz=", "omega="]),
-    ("sine:node=25,dof=1,amp=1,hz=3,omega=3", ["exactly one"]),
-    ("sine:node=25,dof=1,amp=1,hz=0", ["hz=", "positive"]),
-    ("sine:node=25,dof=1,amp=1,hz=-37.21", ["hz=", "positive"]),
-    ("sine:node=25,dof=1,amp=1,hz=nan", ["hz=", "positive"]),
-    ("sine:node=25,dof=1,amp=1,hz=3,phase=1xrad", ["phase="]),
-    ("step:node=25,dof=1,amp=1", ["missing", "t0"]),
-    ("step:node=25,dof=1,amp=1,t0=0.2,t1=0.1", ["t1=", "later"]),
-    ("sweep:node=25,dof=1,amp=1,f0=10,f1=10,rate=1", ["f0 == f1"]),
-    ("sweep:node=25,dof=1,amp=1,f0=10,f1=20,rate=0", ["rate=", "positive"]),
-    ("sweep:node=25,dof=1,amp=1,f0=10,f1=20,rate=1,law=cubic", ["law=", "linear, log"]),
-    ("sweep:node=25,dof=1,amp=1,f0=10,f1=20,rate=1,end=wrap", ["end=", "hold, stop"]),
-    ("spline:node=25,dof=1,amp=1", ["unknown force kind", "'spline'"]),
-    ("sine node=25,dof=1,amp=1,hz=1", ["unknown force kind"]),
-])
+@pytest.mark.parametrize(
+    "spec, words",
+    [
+        ("constant:node=25,dof=1", ["missing", "amp"]),
+        ("constant:node=25,dof=1,amp=1,hz=3", ["unknown key", "'hz'"]),
+        ("constant:node=25,dof=1,amp=1,amp=2", ["'amp'", "twice"]),
+        ("constant:node=26,dof=1,amp=1", ["node=26", "not defined"]),
+        ("constant:node=2.5,dof=1,amp=1", ["node=", "integer"]),
+        ("constant:node=25,dof=0,amp=1", ["dof=", "1..6"]),
+        ("constant:node=25,dof=7,amp=1", ["dof=", "1..6"]),
+        ("constant:node=25,dof=x,amp=1", ["dof=", "1..6"]),
+        ("constant:node=25,dof=1,amp=nan", ["amp=", "finite"]),
+        ("constant:node=25,dof=1,amp=inf", ["amp=", "finite"]),
+        ("constant:node=25,dof=1,amp=abc", ["amp=", "not a number"]),
+        ("constant:node=25,dof=1,amp", ["not key=value"]),
+        ("constant:node=25,,dof=1,amp=1", ["empty item"]),
+        ("sine:node=25,dof=1,amp=1", ["hz=", "omega="]),
+        ("sine:node=25,dof=1,amp=1,hz=3,omega=3", ["exactly one"]),
+        ("sine:node=25,dof=1,amp=1,hz=0", ["hz=", "positive"]),
+        ("sine:node=25,dof=1,amp=1,hz=-37.21", ["hz=", "positive"]),
+        ("sine:node=25,dof=1,amp=1,hz=nan", ["hz=", "positive"]),
+        ("sine:node=25,dof=1,amp=1,hz=3,phase=1xrad", ["phase="]),
+        ("step:node=25,dof=1,amp=1", ["missing", "t0"]),
+        ("step:node=25,dof=1,amp=1,t0=0.2,t1=0.1", ["t1=", "later"]),
+        ("sweep:node=25,dof=1,amp=1,f0=10,f1=10,rate=1", ["f0 == f1"]),
+        ("sweep:node=25,dof=1,amp=1,f0=10,f1=20,rate=0", ["rate=", "positive"]),
+        ("sweep:node=25,dof=1,amp=1,f0=10,f1=20,rate=1,law=cubic", ["law=", "linear, log"]),
+        ("sweep:node=25,dof=1,amp=1,f0=10,f1=20,rate=1,end=wrap", ["end=", "hold, stop"]),
+        ("spline:node=25,dof=1,amp=1", ["unknown force kind", "'spline'"]),
+        ("sine node=25,dof=1,amp=1,hz=1", ["unknown force kind"]),
+    ],
+)
 def test_bad_specs_name_the_spec_and_the_problem(spec, words):
     with pytest.raises(UsrfrcError) as err:
         force_table([spec], IDS)
@@ -111,8 +124,9 @@ def test_user_files_are_told_apart_from_laws(tmp_path):
     existing.write_text("")
     assert is_user_file("my/force.py") and is_user_file(str(existing))
     assert not is_user_file("sine:node=25,dof=1,amp=1,hz=1") and not is_user_file("bogus")
-    laws, files = split_specs(["constant:node=3,dof=1,amp=1", " f.py ",
-                               "step:node=3,dof=1,amp=1,t0=0"])
+    laws, files = split_specs(
+        ["constant:node=3,dof=1,amp=1", " f.py ", "step:node=3,dof=1,amp=1,t0=0"]
+    )
     assert laws == ("constant:node=3,dof=1,amp=1", "step:node=3,dof=1,amp=1,t0=0")
     assert files == ("f.py",)
     with pytest.raises(UsrfrcError, match="load_user_force"):
@@ -121,17 +135,26 @@ def test_user_files_are_told_apart_from_laws(tmp_path):
 
 # --- closed forms ----------------------------------------------------------------------------
 
+
 def test_constant_and_step():
     np.testing.assert_array_equal(one("constant:node=25,dof=1,amp=-2.5"), -2.5)
     step = one("step:node=25,dof=1,amp=3,t0=0.1,t1=0.7")
     np.testing.assert_array_equal(step, np.where((T >= 0.1) & (T < 0.7), 3.0, 0.0))
-    np.testing.assert_array_equal(one("step:node=25,dof=1,amp=3,t0=0.1"),
-                                  np.where(T >= 0.1, 3.0, 0.0))
+    np.testing.assert_array_equal(
+        one("step:node=25,dof=1,amp=3,t0=0.1"), np.where(T >= 0.1, 3.0, 0.0)
+    )
 
 
-@pytest.mark.parametrize("phase, phi", [("", 0.0), (",phase=30", math.pi / 6),
-                                        (",phase=30deg", math.pi / 6),
-                                        (",phase=0.5rad", 0.5), (",phase=-90", -math.pi / 2)])
+@pytest.mark.parametrize(
+    "phase, phi",
+    [
+        ("", 0.0),
+        (",phase=30", math.pi / 6),
+        (",phase=30deg", math.pi / 6),
+        (",phase=0.5rad", 0.5),
+        (",phase=-90", -math.pi / 2),
+    ],
+)
 @pytest.mark.parametrize("t0", [0.0, 0.25])
 def test_sine_closed_form(phase, phi, t0):
     amp, hz = 4.84040e-3, 37.21
@@ -153,9 +176,9 @@ def _freq(tau, f0, f1, k, log):
 
 
 SWEEPS = [  # spec, f0, f1, signed rate per second, log law
-    ("f0=10,f1=50,rate=40", 10, 50, 40.0, False),           # linear up, ends at 1 s
-    ("f0=50,f1=10,rate=40", 50, 10, -40.0, False),          # linear down
-    ("f0=10,f1=40,rate=120,law=log", 10, 40, 2.0, True),    # 2 octaves at 2 oct/s: ends at 1 s
+    ("f0=10,f1=50,rate=40", 10, 50, 40.0, False),  # linear up, ends at 1 s
+    ("f0=50,f1=10,rate=40", 50, 10, -40.0, False),  # linear down
+    ("f0=10,f1=40,rate=120,law=log", 10, 40, 2.0, True),  # 2 octaves at 2 oct/s: ends at 1 s
     ("f0=40,f1=10,rate=120,law=log", 40, 10, -2.0, True),
 ]
 
@@ -183,13 +206,22 @@ def test_sweep_frequency_and_phase(body, f0, f1, k, log):
     jump = sweep_phase([tau1 + 1e-9], row)[0] - sweep_phase([tau1 - 1e-9], row)[0]
     assert abs(jump - 2 * np.pi * f1 * 2e-9) < 1e-9
     # the force is amp sin(phase), zero before t0
-    np.testing.assert_allclose(force_values(t, row[None, :])[:, 0],
-                               np.where(t >= t0, 2 * np.sin(phi), 0.0), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        force_values(t, row[None, :])[:, 0],
+        np.where(t >= t0, 2 * np.sin(phi), 0.0),
+        rtol=0,
+        atol=1e-12,
+    )
 
 
 def test_sweep_end_stop_releases_the_force():
-    table = force_table(["sweep:node=25,dof=1,amp=1,f0=10,f1=50,rate=40,end=stop",
-                         "sweep:node=25,dof=1,amp=1,f0=10,f1=50,rate=40,end=hold"], IDS)
+    table = force_table(
+        [
+            "sweep:node=25,dof=1,amp=1,f0=10,f1=50,rate=40,end=stop",
+            "sweep:node=25,dof=1,amp=1,f0=10,f1=50,rate=40,end=hold",
+        ],
+        IDS,
+    )
     v = force_values(T, table)
     np.testing.assert_array_equal(v[T <= 1.0, 0], v[T <= 1.0, 1])
     np.testing.assert_array_equal(v[T > 1.0, 0], 0.0)
@@ -197,10 +229,15 @@ def test_sweep_end_stop_releases_the_force():
 
 
 def test_apply_forces_adds_to_the_right_entries():
-    table = force_table(["constant:node=25,dof=1,amp=2",
-                         "constant:node=25,dof=1,amp=0.5",
-                         "sine:node=40,dof=4,amp=3,hz=1",
-                         "step:node=3,dof=6,amp=7,t0=1"], IDS)
+    table = force_table(
+        [
+            "constant:node=25,dof=1,amp=2",
+            "constant:node=25,dof=1,amp=0.5",
+            "sine:node=40,dof=4,amp=3,hz=1",
+            "step:node=3,dof=6,amp=7,t0=1",
+        ],
+        IDS,
+    )
     rng = np.random.default_rng(1)
     force = rng.normal(size=(4, 6))
     before = force.copy()
@@ -217,6 +254,7 @@ def test_apply_forces_adds_to_the_right_entries():
 
 
 # --- user force files ------------------------------------------------------------------------
+
 
 def write(tmp_path, text, name="force.py"):
     path = tmp_path / name
@@ -277,7 +315,9 @@ def test_table_and_user_file_both_add_to_the_force_sums():
 
 
 def test_user_file_with_helpers_state_and_numba_decorator(tmp_path):
-    path = write(tmp_path, """
+    path = write(
+        tmp_path,
+        """
         import numba
         import numpy as np
 
@@ -291,7 +331,8 @@ def test_user_file_with_helpers_state_and_numba_decorator(tmp_path):
             i = NODE_INDEX[40]
             j = NODE_INDEX[3]
             force[i, 1] += spring(coords[i, 1] - coords[j, 1]) - 0.5 * vels[i, 1] + time
-    """)
+    """,
+    )
     uf = load_user_force(path, IDS)
     assert not uf.python
     rng = np.random.default_rng(2)
@@ -300,17 +341,25 @@ def test_user_file_with_helpers_state_and_numba_decorator(tmp_path):
     assert force[3, 1] == pytest.approx(-3.0 * (x[3, 1] - x[0, 1]) - 0.5 * vel[3, 1] + 2.0)
 
 
-@pytest.mark.parametrize("text, words", [
-    ("def other(time, coords, vels, force):\n    pass\n", ["no function usrfrc"]),
-    ("usrfrc = 3\n", ["no function usrfrc"]),
-    ("def usrfrc(time, coords, force):\n    pass\n", ["force.py:1", "exactly",
-                                                     "usrfrc(time, coords, force)"]),
-    ("def usrfrc(*args):\n    pass\n", ["exactly"]),
-    ("x = 1\ndef usrfrc(time, coords, vels, force)\n    pass\n", ["force.py:2", "SyntaxError"]),
-    ("import numpy\nraise RuntimeError('boom')\n", ["force.py:2", "RuntimeError: boom"]),
-    ("def usrfrc(time, coords, vels, force):\n    coords[0, 0] = 1.5\n", ["modified", "coords"]),
-    ("def usrfrc(time, coords, vels, force):\n    vels[:] = 0.0\n", ["modified", "vels"]),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("def other(time, coords, vels, force):\n    pass\n", ["no function usrfrc"]),
+        ("usrfrc = 3\n", ["no function usrfrc"]),
+        (
+            "def usrfrc(time, coords, force):\n    pass\n",
+            ["force.py:1", "exactly", "usrfrc(time, coords, force)"],
+        ),
+        ("def usrfrc(*args):\n    pass\n", ["exactly"]),
+        ("x = 1\ndef usrfrc(time, coords, vels, force)\n    pass\n", ["force.py:2", "SyntaxError"]),
+        ("import numpy\nraise RuntimeError('boom')\n", ["force.py:2", "RuntimeError: boom"]),
+        (
+            "def usrfrc(time, coords, vels, force):\n    coords[0, 0] = 1.5\n",
+            ["modified", "coords"],
+        ),
+        ("def usrfrc(time, coords, vels, force):\n    vels[:] = 0.0\n", ["modified", "vels"]),
+    ],
+)
 def test_bad_user_files(tmp_path, text, words):
     path = write(tmp_path, text)
     with pytest.raises(UsrfrcError) as err:
@@ -349,9 +398,12 @@ def test_uncompilable_user_file_reports_file_line_and_falls_back(tmp_path):
     assert "LOG[time] = i" in message and "--usrfrc-python" in message
     assert "\x1b[" not in message
 
-    undefined = write(tmp_path, "def usrfrc(time, coords, vels, force):\n"
-                                "    force[0, 0] += time\n    force[0, 1] += GAIN * time\n",
-                      "undefined.py")
+    undefined = write(
+        tmp_path,
+        "def usrfrc(time, coords, vels, force):\n"
+        "    force[0, 0] += time\n    force[0, 1] += GAIN * time\n",
+        "undefined.py",
+    )
     with pytest.raises(UsrfrcError) as err:
         load_user_force(undefined, IDS)
     assert f"{undefined}:3:" in str(err.value) and "'GAIN' is not defined" in str(err.value)
@@ -362,6 +414,7 @@ def test_uncompilable_user_file_reports_file_line_and_falls_back(tmp_path):
     uf(0.5, np.zeros((4, 3)), np.zeros((4, 6)), force)
     assert force[2, 2] == 2.0
 
-    forces = build_external_forces([str(path), "constant:node=3,dof=1,amp=1"], IDS,
-                                   allow_python=True)
+    forces = build_external_forces(
+        [str(path), "constant:node=3,dof=1,amp=1"], IDS, allow_python=True
+    )
     assert forces.table.shape == (1, 9) and forces.python_user and not forces.compiled_user

@@ -9,23 +9,39 @@ import numpy as np
 import scipy.linalg
 
 
-def modal_deck(*, dt: float, tmax: float, modes, shapes, drive: str = "",
-               masses=(), nodes=None, itrac: int = 1, trace=None, housing: str = "",
-               extra: str = "") -> str:
+def modal_deck(
+    *,
+    dt: float,
+    tmax: float,
+    modes,
+    shapes,
+    drive: str = "",
+    masses=(),
+    nodes=None,
+    itrac: int = 1,
+    trace=None,
+    housing: str = "",
+    extra: str = "",
+) -> str:
     """A deck of modal nodes only (no particles): ``modes`` (number, Hz, zeta), ``shapes``
     (node, dof, values), ``masses`` (node, mass) added in the deck, ``drive`` a USRFRC spec."""
     nodes = nodes or sorted({s[0] for s in shapes})
-    lines = ["TITLE", "modal test structure", "END", "PARAMETERS",
-             f" 0.0 {float(tmax)!r} 0.0 {float(dt)!r} {float(dt)!r} 0 1e12 0 5 0 {itrac}", "END",
-             "NODE COORDINATES"]
+    lines = [
+        "TITLE",
+        "modal test structure",
+        "END",
+        "PARAMETERS",
+        f" 0.0 {float(tmax)!r} 0.0 {float(dt)!r} {float(dt)!r} 0 1e12 0 5 0 {itrac}",
+        "END",
+        "NODE COORDINATES",
+    ]
     lines += [f" {n} {float(n)} 0 0" for n in nodes]
     lines += ["END", "MASS"]
     mass = dict(masses)
     lines += [f" {n} {float(mass.get(n, 0.0))!r} 0 0 0" for n in nodes]
     lines += ["END", "MODAL"]
     lines += [f" MODE {k} {float(f)!r} {float(z)!r}" for k, f, z in modes]
-    lines += [f" SHAPE {n} {d} " + " ".join(repr(float(v)) for v in vals)
-              for n, d, vals in shapes]
+    lines += [f" SHAPE {n} {d} " + " ".join(repr(float(v)) for v in vals) for n, d, vals in shapes]
     if housing:
         lines.append(f" HOUSING {housing}")
     lines.append("END")

@@ -26,15 +26,16 @@ from x3dpd.deck.cards import Boundary, Deck, Element, Mass, Material, Node, Trac
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import ENERGY_COLUMNS, Simulation
 
-Y = 0.01          # base amplitude [in]
-HZ = 37.21        # Appendix C's drive frequency, below the 39.37 Hz resonance
+Y = 0.01  # base amplitude [in]
+HZ = 37.21  # Appendix C's drive frequency, below the 39.37 Hz resonance
 M_BASE = 0.5 * TABLE4_MASS
 MOTION = f"node=1,dof=1,amp={Y},hz={HZ}"
 
 
 def _deck(dt: float, itrac: int, c: float) -> Deck:
     return Deck(
-        path="<base>", parameters=parameters(dt, itrac),
+        path="<base>",
+        parameters=parameters(dt, itrac),
         materials=(Material(1, 1, 0.0, 1.0, TABLE4_K, 0.0, 0.0, float(c)),),
         trace=Trace((1, 2)),
         nodes=(Node(1, 0.0, 0.0, 0.0), Node(2, 1.0, 0.0, 0.0)),
@@ -61,7 +62,7 @@ def _relative(c: float) -> ref.Sdof:
 
 @pytest.mark.parametrize("c", [0.0, TABLE4_C])
 def test_base_excited_mass_follows_the_closed_form(c):
-    dt = 1e-5                                   # w dt = 2.3e-3, wn dt = 2.5e-3
+    dt = 1e-5  # w dt = 2.3e-3, wn dt = 2.5e-3
     t, data, _, _ = _run(dt, 0.5, c=c)
     w = 2 * math.pi * HZ
     exact = Y * np.sin(w * t) + _relative(c).response(t, v0=-Y * w)
@@ -94,8 +95,9 @@ def test_actuator_work_closes_the_ledger():
     col = {name: k for k, name in enumerate(ENERGY_COLUMNS)}
     first = energy[0]
     assert first[col["external_work"]] == pytest.approx(0.5 * M_BASE * (Y * w) ** 2, rel=1e-14)
-    assert first[col["kinetic_translation"]] == pytest.approx(first[col["external_work"]],
-                                                               rel=1e-14)
+    assert first[col["kinetic_translation"]] == pytest.approx(
+        first[col["external_work"]], rel=1e-14
+    )
     assert first[col["residual"]] == 0.0
     scale = np.abs(energy[:, 1:11]).max()
     # Linear spring and damper: velocity Verlet's ledger (with its correction term) closes to
@@ -125,7 +127,7 @@ def test_ramped_start_needs_no_impulse_and_the_ledger_closes():
     _, data, energy, _ = _run(1e-5, 0.2, itrac=100, motion=MOTION + ",ramp=0.05")
     col = {name: k for k, name in enumerate(ENERGY_COLUMNS)}
     assert energy[0, col["external_work"]] == 0.0 and energy[0, col["kinetic_translation"]] == 0.0
-    assert data[0, 0, 3] == 0.0                     # base velocity at t0
+    assert data[0, 0, 3] == 0.0  # base velocity at t0
     scale = np.abs(energy[:, 1:11]).max()
     assert energy[-1, col["external_work"]] > 0.0
     assert np.abs(energy[:, col["residual"]]).max() < 1e-11 * scale

@@ -12,13 +12,21 @@ import numpy as np
 import pytest
 
 
-from bore_scenes import (BIG_R, LENGTH, V, angular_momentum, bore_deck, check_against_hertz,
-                         head_on_impact)
+from bore_scenes import (
+    BIG_R,
+    LENGTH,
+    V,
+    angular_momentum,
+    bore_deck,
+    check_against_hertz,
+    head_on_impact,
+)
 from factories import STEEL_R
 
 from x3dpd.geometry.capsule import capsule_mesh
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
+
 
 def _segment_distance(x, a, b):
     """Distance of points (N, 3) to the segment a-b (the capsule's axis)."""
@@ -42,12 +50,11 @@ def test_head_on_impact_on_a_hemispherical_end_matches_hertz(end):
         c, e = np.zeros(3), np.array([-0.48, 0.6, -0.64])
     else:
         c, e = np.array([LENGTH, 0.0, 0.0]), np.array([0.48, 0.6, 0.64])
-    check_against_hertz(*head_on_impact("capsule", c + (BIG_R - STEEL_R) * e, V * e,
-                                        _approach))
+    check_against_hertz(*head_on_impact("capsule", c + (BIG_R - STEEL_R) * e, V * e, _approach))
 
 
 def test_head_on_impact_on_the_cylindrical_part_matches_hertz():
-    e = np.array([0.0, 0.6, 0.8])                       # radial direction, off the axes
+    e = np.array([0.0, 0.6, 0.8])  # radial direction, off the axes
     pos = np.array([0.4, 0.0, 0.0]) + (BIG_R - STEEL_R) * e
     check_against_hertz(*head_on_impact("capsule", pos, V * e, _approach))
 
@@ -79,12 +86,12 @@ def _aim():
     as the wall's). Returns nu, the unit normal of the plane, and the depth of nu's facet."""
     b = np.array([CAP_L, 0.0, 0.0])
     verts, tris = capsule_mesh([0, 0, 0], b, CAP_R, FACETS)
-    ring = verts[np.abs(verts[:, 0] - CAP_L) < 1e-12] - b      # the equator at B, radial
+    ring = verts[np.abs(verts[:, 0] - CAP_L) < 1e-12] - b  # the equator at B, radial
     ring = ring[np.argsort(np.arctan2(ring[:, 2], ring[:, 1]))]
     mids = 0.5 * (ring + np.roll(ring, -1, axis=0))
     mids /= np.linalg.norm(mids, axis=1)[:, None]
     e = mids[0]
-    assert np.min(np.linalg.norm(mids + e, axis=1)) < 1e-12   # -e: a facet's middle too
+    assert np.min(np.linalg.norm(mids + e, axis=1)) < 1e-12  # -e: a facet's middle too
     plane = np.cross([1.0, 0.0, 0.0], e)
     p0, p1, p2 = (verts[tris[:, k]] for k in range(3))
     normal = np.cross(p1 - p0, p2 - p0)
@@ -119,13 +126,24 @@ def _zigzag(facets, tmax=0.062, itrac=100):
     around (8 latitude rings per hemisphere, 1024 triangles): the cylinder test's 128
     would make 16384 triangles, minutes of model building."""
     nu, _, _ = _aim()
-    deck = bore_deck("capsule", [[CAP_L, 0.0, 0.0]], [SPEED * nu], dt=2e-7, tmax=tmax, mu=0.3,
-                     facets=facets, itrac=itrac, radius=SMALL_R, e=27.5e6,
-                     length=CAP_L, big_r=CAP_R)
+    deck = bore_deck(
+        "capsule",
+        [[CAP_L, 0.0, 0.0]],
+        [SPEED * nu],
+        dt=2e-7,
+        tmax=tmax,
+        mu=0.3,
+        facets=facets,
+        itrac=itrac,
+        radius=SMALL_R,
+        e=27.5e6,
+        length=CAP_L,
+        big_r=CAP_R,
+    )
     return Simulation(build_model(deck))
 
 
-@pytest.mark.validate   # its own compiled loop; CI covers the same code through the
+@pytest.mark.validate  # its own compiled loop; CI covers the same code through the
 # cylinder's test of it and the capsule's locator tests (`python -m pytest -m validate`)
 def test_analytic_and_triangulated_capsules_agree_within_the_facet_error():
     nu, plane, depth_h = _aim()
@@ -160,8 +178,8 @@ def test_analytic_and_triangulated_capsules_agree_within_the_facet_error():
     # The bound below runs that recursion over the two oblique impacts.
     delta_c = CAP_R * (1.0 - math.cos(math.pi / FACETS))
     assert 0.0 < depth_h <= facet_error(CAP_R, FACETS) + 1e-15
-    d_n = 2.0 * depth_h * math.sqrt(1.0 - nu[0] ** 2)      # radial part of the first shift
-    d_t = 2.0 * depth_h * abs(nu[0])                      # axial part
+    d_n = 2.0 * depth_h * math.sqrt(1.0 - nu[0] ** 2)  # radial part of the first shift
+    d_t = 2.0 * depth_h * abs(nu[0])  # axial part
     for _ in peaks[1:]:
         d_t += 2 * 0.3 * (d_n + delta_c)
         d_n += 2.0 * delta_c
@@ -175,6 +193,7 @@ def test_analytic_and_triangulated_capsules_agree_within_the_facet_error():
 
 # --- a capsule that turns ---------------------------------------------------------------------
 
+
 def _turning(dt, chunk):
     """A light capsule free to move and turn (no springs, no gravity) hit by two spheres with
     friction, run for 0.03 s in chunks of ``chunk`` steps. Returns the angular momentum's
@@ -186,14 +205,28 @@ def _turning(dt, chunk):
     pos = [[0.3, 0.0, 0.0] + 0.1 * e1, [0.7, 0.0, 0.0] - 0.1 * e2]
     # the second sphere heads beyond B = (0.8, 0, 0): it meets the rounded end there
     vel = [15.0 * e1 + [4.0, 0.0, 0.0], -12.0 * e2 + [9.0, 0.0, 0.0]]
-    free = {"structure_mass": 1e-5, "rotary_inertia": 1e-7, "stiffness": 0.0, "damping": 0.0,
-            "transverse_stiffness": 0.0}
-    deck = bore_deck("capsule", pos, vel, dt=dt, tmax=1.0, mu=0.4, free_dofs=(1, 2, 3, 4, 5, 6),
-                     itrac=1000, structure=free)
+    free = {
+        "structure_mass": 1e-5,
+        "rotary_inertia": 1e-7,
+        "stiffness": 0.0,
+        "damping": 0.0,
+        "transverse_stiffness": 0.0,
+    }
+    deck = bore_deck(
+        "capsule",
+        pos,
+        vel,
+        dt=dt,
+        tmax=1.0,
+        mu=0.4,
+        free_dofs=(1, 2, 3, 4, 5, 6),
+        itrac=1000,
+        structure=free,
+    )
     model = build_model(deck)
     assert {"rigid_rotation", "capsule_contact"} <= model.effects
     ids = model.node_ids.tolist()
-    ia, ib = ids.index(2), ids.index(3)                # the cap centres (deck nodes 2, 3)
+    ia, ib = ids.index(2), ids.index(3)  # the cap centres (deck nodes 2, 3)
     sim = Simulation(model)
     energy = [sim.snapshot().energy]
     l0 = angular_momentum(model, sim.state)
@@ -203,7 +236,7 @@ def _turning(dt, chunk):
         energy.append(block.energy)
         x = sim.state.x
         a, b = x[ia], x[ib]
-        p = x[model.particle_start:model.n_nodes]
+        p = x[model.particle_start : model.n_nodes]
         t = np.clip((p - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
         dist = np.linalg.norm(p - a - t[:, None] * (b - a), axis=1)
         touches += [(k, t[k]) for k in np.flatnonzero(dist > BIG_R - STEEL_R)]
@@ -212,7 +245,7 @@ def _turning(dt, chunk):
     return drift, np.concatenate(energy), sim.state.vel[m, 3:], touches
 
 
-@pytest.mark.validate   # its own compiled loop; CI covers the same code through the
+@pytest.mark.validate  # its own compiled loop; CI covers the same code through the
 # cylinder's test of it and the capsule's locator tests (`python -m pytest -m validate`)
 def test_a_turning_capsule_conserves_momentum_and_energy():
     """A light capsule free to move and turn hit by spheres with friction, one of them on the
@@ -233,8 +266,8 @@ def test_a_turning_capsule_conserves_momentum_and_energy():
     residual = {}
     for dt, (drift, energy, omega, touches) in runs.items():
         assert drift < 1e-3, (dt, drift)
-        assert energy[-1, 7] > 0.05 * energy[0, 10]   # friction did work: the spheres hit walls
-        assert np.linalg.norm(omega) > 1.0              # the cavity turns (rad/s)
+        assert energy[-1, 7] > 0.05 * energy[0, 10]  # friction did work: the spheres hit walls
+        assert np.linalg.norm(omega) > 1.0  # the cavity turns (rad/s)
         # both spheres met the wall; the second on the rounded end (nearest axis point B)
         assert {k for k, _ in touches} == {0, 1}
         assert any(k == 1 and t == 1.0 for k, t in touches), touches

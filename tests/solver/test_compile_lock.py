@@ -25,8 +25,9 @@ _HOLDER = textwrap.dedent("""
 
 
 def test_a_second_process_waits_for_the_first_to_release_the_lock(tmp_path):
-    holder = subprocess.Popen([sys.executable, "-c", _HOLDER, str(tmp_path), "1.0"],
-                              stdout=subprocess.PIPE, text=True)
+    holder = subprocess.Popen(
+        [sys.executable, "-c", _HOLDER, str(tmp_path), "1.0"], stdout=subprocess.PIPE, text=True
+    )
     assert holder.stdout.readline().strip() == "held"
     with variant_compile_lock(tmp_path, "loop"):
         acquired = time.monotonic()
@@ -37,8 +38,9 @@ def test_a_second_process_waits_for_the_first_to_release_the_lock(tmp_path):
 
 
 def test_another_variant_and_a_nested_use_do_not_wait(tmp_path):
-    holder = subprocess.Popen([sys.executable, "-c", _HOLDER, str(tmp_path), "30"],
-                              stdout=subprocess.PIPE, text=True)
+    holder = subprocess.Popen(
+        [sys.executable, "-c", _HOLDER, str(tmp_path), "30"], stdout=subprocess.PIPE, text=True
+    )
     try:
         assert holder.stdout.readline().strip() == "held"
         t = time.monotonic()
@@ -68,7 +70,15 @@ def test_two_processes_starting_one_new_scene_compile_it_once(tmp_path):
     # a cold compile of impact_wall's loop (~20 CPU-s) while a second process waits for it
     deck = Path(__file__).parents[2] / "decks" / "impact_wall.inp"
     env = {**os.environ, "X3DPD_CACHE_DIR": str(tmp_path / "cache")}
-    procs = [subprocess.Popen([sys.executable, "-c", _RUN, str(deck)], env=env, cwd=tmp_path,
-                              stdout=subprocess.PIPE, text=True) for _ in range(2)]
+    procs = [
+        subprocess.Popen(
+            [sys.executable, "-c", _RUN, str(deck)],
+            env=env,
+            cwd=tmp_path,
+            stdout=subprocess.PIPE,
+            text=True,
+        )
+        for _ in range(2)
+    ]
     counts = [json.loads(p.communicate(timeout=900)[0].strip().splitlines()[-1]) for p in procs]
     assert sorted(c["misses"] for c in counts) == [0, 1], counts

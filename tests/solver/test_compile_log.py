@@ -25,5 +25,5 @@ def test_the_log_keeps_the_last_compiles_and_survives_a_corrupt_file(tmp_path, m
     assert kept == [float(k + 1) for k in range(5, compile_log.KEEP + 5)]
     compile_log._log_path().write_text("{not json")
     assert compile_log.expected_compile_seconds() == compile_log.DEFAULT_SECONDS
-    compile_log.record_compile_seconds(7.0)   # starts a new log
+    compile_log.record_compile_seconds(7.0)  # starts a new log
     assert compile_log.recorded_compile_seconds() == [7.0]

@@ -47,7 +47,7 @@ COL = {name: k for k, name in enumerate(ENERGY_COLUMNS)}
 
 BOX = 0.5
 N_GAS = 20
-SIGMA_V = 30.0   # in/s per component
+SIGMA_V = 30.0  # in/s per component
 
 
 def random_packing(n: int, size: float, r: float, seed: int, gap: float = 0.01) -> np.ndarray:
@@ -98,8 +98,10 @@ def test_elastic_gas_energy_drift_1e5_steps():
     """20 spheres, no gravity, no friction, E1 = 0, walls fixed; 1e5 steps at t_c/200 of the
     hardest impact (3.5 ms, ~80 contacts). Brief: drift below 1e-6 of the energy."""
     free, every, _ = run_gas(200, 100_000)
-    print(f"\n1e5 steps at t_c/200: drift max {np.abs(free).max():.2e}, "
-          f"during contacts max {np.abs(every).max():.2e}")
+    print(
+        f"\n1e5 steps at t_c/200: drift max {np.abs(free).max():.2e}, "
+        f"during contacts max {np.abs(every).max():.2e}"
+    )
     # measured 2.3e-7 (drift) and 8.4e-6 (during contacts)
     assert np.abs(free).max() < 1e-6
     assert np.abs(every).max() < 3e-5
@@ -111,8 +113,10 @@ def test_elastic_gas_energy_drift_1e6_steps():
     2.0e-6 during contacts. At coarser steps 1e-6 is NOT reached over 1e6 steps: t_c/200 gives
     2.9e-6 (35 ms, ~1000 contacts), t_c/100 gives 1.1e-5 (69 ms, ~2000 contacts)."""
     free, every, _ = run_gas(400, 1_000_000)
-    print(f"\n1e6 steps at t_c/400: drift max {np.abs(free).max():.2e}, "
-          f"during contacts max {np.abs(every).max():.2e}")
+    print(
+        f"\n1e6 steps at t_c/400: drift max {np.abs(free).max():.2e}, "
+        f"during contacts max {np.abs(every).max():.2e}"
+    )
     assert np.abs(free).max() < 1e-6
     assert np.abs(every).max() < 5e-6
 
@@ -148,7 +152,7 @@ def test_energy_error_per_contact_scales_as_dt_5_2():
         dt = h.contact_time / steps
         errs = []
         for ph in phases:
-            gap = v * dt * (3 + ph)           # contact starts 3 + ph steps after t0
+            gap = v * dt * (3 + ph)  # contact starts 3 + ph steps after t0
             c = np.array([0.5, 0.5, 0.5])
             pos = [c - [STEEL_R + gap / 2, 0, 0], c + [STEEL_R + gap / 2, 0, 0]]
             deck = closed_box_deck(pos, [(v / 2, 0, 0), (-v / 2, 0, 0)], dt=dt, itrac=10)
@@ -157,8 +161,10 @@ def test_energy_error_per_contact_scales_as_dt_5_2():
             errs.append(abs((block.data[-1, 1, 3] - block.data[-1, 0, 3]) / v - 1))
         worst.append(max(errs))
     order = -np.polyfit(np.log(n), np.log(worst), 1)[0]
-    print(f"\nper-contact speed error at t_c/{list(n)}: {[f'{w:.1e}' for w in worst]}, "
-          f"order {order:.2f}")
+    print(
+        f"\nper-contact speed error at t_c/{list(n)}: {[f'{w:.1e}' for w in worst]}, "
+        f"order {order:.2f}"
+    )
     assert order > 2.0
     # 30 steps per contact already keeps a single impact's energy error below 1e-3
     assert worst[0] < 1e-3
@@ -167,10 +173,10 @@ def test_energy_error_per_contact_scales_as_dt_5_2():
 # --- dissipation and momentum: the full damper -------------------------------------------------
 
 DAMPER_R = 0.03125
-DAMPER_SIZE = (0.372, 0.372, 0.263)     # Appendix A's cavity
-DAMPER_MASS = 2.04213e-4                # Appendix A's structure mass
+DAMPER_SIZE = (0.372, 0.372, 0.263)  # Appendix A's cavity
+DAMPER_MASS = 2.04213e-4  # Appendix A's structure mass
 DAMPER_HZ = 39.37
-DAMPER_DRIVE = 10 * TABLE4_DRIVE        # 10x Table 4, so the cavity shakes the particles
+DAMPER_DRIVE = 10 * TABLE4_DRIVE  # 10x Table 4, so the cavity shakes the particles
 
 
 def damper_deck(dt: float, itrac: int = 1):
@@ -180,11 +186,21 @@ def damper_deck(dt: float, itrac: int = 1):
     pos = lattice_fill(DAMPER_SIZE, DAMPER_R, 20, gap=0.01, seed=3, jitter=0.8)
     vel = np.random.default_rng(4).normal(size=(20, 3)) * 20.0
     mat = Material3(FIG30_E0, FIG30_E1, FIG30_TAU1, STEEL_NU, 0.3, STEEL_RHO)
-    deck = box_cavity_deck(size=DAMPER_SIZE, particles=pos, radius=DAMPER_R, material=mat,
-                           structure_mass=DAMPER_MASS, stiffness=TABLE4_K, damping=TABLE4_C,
-                           gravity=(0.0, -G, 0.0), dt=dt, itrac=itrac,
-                           usrfrc=(f"sine:node=9,dof=1,amp={DAMPER_DRIVE!r},hz={DAMPER_HZ!r}",),
-                           free_dofs=(1, 2, 3), transverse_stiffness=TABLE4_K)
+    deck = box_cavity_deck(
+        size=DAMPER_SIZE,
+        particles=pos,
+        radius=DAMPER_R,
+        material=mat,
+        structure_mass=DAMPER_MASS,
+        stiffness=TABLE4_K,
+        damping=TABLE4_C,
+        gravity=(0.0, -G, 0.0),
+        dt=dt,
+        itrac=itrac,
+        usrfrc=(f"sine:node=9,dof=1,amp={DAMPER_DRIVE!r},hz={DAMPER_HZ!r}",),
+        free_dofs=(1, 2, 3),
+        transverse_stiffness=TABLE4_K,
+    )
     initials = tuple(Initial(10 + i, tuple(map(float, v))) for i, v in enumerate(vel))
     return replace(deck, trace=Trace((9,)), initials=initials)
 
@@ -210,18 +226,31 @@ def damper_run():
 
 def test_dissipative_ledger_balances(damper_run):
     sim, _, _, _, energy, _, _ = damper_run
-    assert {"viscoelastic", "friction", "dampers", "external_force", "gravity",
-            "rigid_links"} <= set(sim.effects)
+    assert {
+        "viscoelastic",
+        "friction",
+        "dampers",
+        "external_force",
+        "gravity",
+        "rigid_links",
+    } <= set(sim.effects)
     last = dict(zip(ENERGY_COLUMNS, energy[-1]))
-    dissipated = (last["dissipated_viscoelastic"] + last["dissipated_friction"]
-                  + last["dissipated_dampers"])
+    dissipated = (
+        last["dissipated_viscoelastic"] + last["dissipated_friction"] + last["dissipated_dampers"]
+    )
     worst = np.abs(energy[:, COL["residual"]]).max() / dissipated
-    print(f"\ndissipated {dissipated:.3e} (visco {last['dissipated_viscoelastic']:.2e}, friction "
-          f"{last['dissipated_friction']:.2e}, dampers {last['dissipated_dampers']:.2e}), "
-          f"external work {last['external_work']:.3e}; max |residual| / dissipated {worst:.1e}")
+    print(
+        f"\ndissipated {dissipated:.3e} (visco {last['dissipated_viscoelastic']:.2e}, friction "
+        f"{last['dissipated_friction']:.2e}, dampers {last['dissipated_dampers']:.2e}), "
+        f"external work {last['external_work']:.3e}; max |residual| / dissipated {worst:.1e}"
+    )
     # every mechanism took part
-    for name in ("dissipated_viscoelastic", "dissipated_friction", "dissipated_dampers",
-                 "external_work"):
+    for name in (
+        "dissipated_viscoelastic",
+        "dissipated_friction",
+        "dissipated_dampers",
+        "external_work",
+    ):
         assert last[name] > 1e-3 * dissipated, name
     # Brief: 1e-3 of the energy dissipated. Measured 1.2e-4 at this step; it scales as ~dt^2.5
     # (4.0e-3, 4.5e-4, 1.2e-4, 2.1e-5 at dt = 4e-7, 2e-7, 1e-7, 5e-8 over 0.02 s).
@@ -240,7 +269,7 @@ def test_linear_momentum_changes_by_the_external_impulse(damper_run):
     dt = DAMPER_DT
     u = x9 - model.x0[model.index_of(9)]
     v_half = np.zeros_like(u)
-    v_half[1:] = np.diff(x9, axis=0) / dt      # v(0) = 0 at t0 (the structure starts at rest)
+    v_half[1:] = np.diff(x9, axis=0) / dt  # v(0) = 0 at t0 (the structure starts at rest)
     f = -TABLE4_K * u - TABLE4_C * v_half
     f[:, 0] += DAMPER_DRIVE * np.sin(2 * math.pi * DAMPER_HZ * t)
     f[:, 1] -= G * sim.setup.kin_mass.sum()
@@ -273,7 +302,9 @@ def test_dissipative_ledger_versus_step():
         d = e["dissipated_viscoelastic"] + e["dissipated_friction"] + e["dissipated_dampers"]
         worst.append(np.abs(block.energy[:, COL["residual"]]).max() / d)
     order = np.polyfit(np.log(dts), np.log(worst), 1)[0]
-    print(f"\nresidual / dissipated at dt = {list(dts)}: {[f'{w:.1e}' for w in worst]}, "
-          f"order {order:.2f}")
+    print(
+        f"\nresidual / dissipated at dt = {list(dts)}: {[f'{w:.1e}' for w in worst]}, "
+        f"order {order:.2f}"
+    )
     assert order > 2.0
     assert worst[1] < 1e-3

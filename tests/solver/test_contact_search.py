@@ -21,8 +21,14 @@ from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
 
 
-def _cloud(n: int, seed: int, fill: float = 0.4, r_lo: float = 0.02, r_hi: float = 0.05,
-           shape=(1.0, 1.0, 1.0)):
+def _cloud(
+    n: int,
+    seed: int,
+    fill: float = 0.4,
+    r_lo: float = 0.02,
+    r_hi: float = 0.05,
+    shape=(1.0, 1.0, 1.0),
+):
     """n random centres (overlaps allowed) in a box sized for volume fraction ~fill."""
     rng = np.random.default_rng(seed)
     r = rng.uniform(r_lo, r_hi, n)
@@ -40,7 +46,7 @@ def test_cells_equal_brute_force(n, skin_factor, ncav):
     skin = skin_factor * r.max()
     got = find_pairs(x, r, cav, skin=skin, method="cells")
     want = ref.brute_pairs(x, r, cav, skin=skin)
-    assert n < 100 or len(want) > n / (2 * ncav)   # dense: many pairs within each label
+    assert n < 100 or len(want) > n / (2 * ncav)  # dense: many pairs within each label
     np.testing.assert_array_equal(got, want)
     # "auto" (brute force below 64 particles) and "brute" agree too
     np.testing.assert_array_equal(find_pairs(x, r, cav, skin=skin), want)
@@ -67,13 +73,15 @@ def test_cells_on_awkward_clouds(case):
     else:
         g = np.arange(10) * 0.05
         x = np.array(np.meshgrid(g, g, g[:8], indexing="ij")).reshape(3, -1).T
-        r = np.full(n, 0.025)                    # neighbours exactly touching: d = R_i + R_j
+        r = np.full(n, 0.025)  # neighbours exactly touching: d = R_i + R_j
     for skin in (0.0, 0.01):
-        np.testing.assert_array_equal(find_pairs(x, r, skin=skin, method="cells"),
-                                      ref.brute_pairs(x, r, skin=skin))
+        np.testing.assert_array_equal(
+            find_pairs(x, r, skin=skin, method="cells"), ref.brute_pairs(x, r, skin=skin)
+        )
 
 
 # --- the solver's Verlet list ------------------------------------------------------------------
+
 
 def _dense_gas(n: int, size: float, r: float, seed: int):
     """Random non-overlapping centres (sequential addition) with random velocities."""
@@ -94,7 +102,7 @@ def test_solver_pair_list_after_every_rebuild():
     closer than R_i + R_j + skin - 2 d is in it (the Verlet guarantee)."""
     r, size = 0.05, 0.62
     pos, vel = _dense_gas(100, size, r, seed=5)
-    dt = 2e-7        # ~40 steps per contact at the fastest impacts here
+    dt = 2e-7  # ~40 steps per contact at the fastest impacts here
     sim = Simulation(build_model(closed_box_deck(pos, vel, dt=dt, size=(size,) * 3, radius=r)))
     sim.snapshot()
     s, k = sim.state, sim.setup
@@ -114,7 +122,7 @@ def test_solver_pair_list_after_every_rebuild():
         count = s.nbr[2]
         sim.advance(1)
         have = {tuple(p) for p in listed()}
-        if s.nbr[2] > count:          # rebuilt at the start of this step, from `before`
+        if s.nbr[2] > count:  # rebuilt at the start of this step, from `before`
             rebuilds += 1
             np.testing.assert_array_equal(listed(), ref.brute_pairs(before, radius, skin=skin))
         touching = ref.brute_pairs(s.x[p0:], radius)
@@ -136,11 +144,10 @@ def test_list_is_rebuilt_before_it_is_used():
     built at t0); after 1563 steps they overlap by 4e-6 in, and the old check (2 d = 0.015620 <
     skin = 0.015625 at the start of that step) skipped their force K a^{3/2} = 0.032 lbf."""
     dt, v, eps = 1e-7, 50.0, 1e-6
-    skin = 0.25 * STEEL_R               # the solver's default skin (a quarter of the radius)
+    skin = 0.25 * STEEL_R  # the solver's default skin (a quarter of the radius)
     c = np.array([0.5, 0.5, 0.5])
     d0 = 2 * STEEL_R + skin + eps
-    deck = closed_box_deck([c - [d0 / 2, 0, 0], c + [d0 / 2, 0, 0]], [(v, 0, 0), (-v, 0, 0)],
-                           dt=dt)
+    deck = closed_box_deck([c - [d0 / 2, 0, 0], c + [d0 / 2, 0, 0]], [(v, 0, 0), (-v, 0, 0)], dt=dt)
     sim = Simulation(build_model(deck))
     sim.snapshot()
     s, p0 = sim.state, sim.setup.p0

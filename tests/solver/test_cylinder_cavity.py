@@ -10,8 +10,15 @@ import math
 import numpy as np
 
 
-from bore_scenes import (BIG_R, LENGTH, V, angular_momentum, bore_deck, check_against_hertz,
-                         head_on_impact)
+from bore_scenes import (
+    BIG_R,
+    LENGTH,
+    V,
+    angular_momentum,
+    bore_deck,
+    check_against_hertz,
+    head_on_impact,
+)
 from bench_solver import best_seconds_per_step
 from factories import STEEL_R
 
@@ -19,8 +26,9 @@ from x3dpd.geometry.cylinder import cylinder_coordinates, cylinder_mesh
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
 
+
 def test_head_on_impact_on_the_curved_wall_matches_hertz():
-    e = np.array([0.0, 0.6, 0.8])                       # radial direction, off the axes
+    e = np.array([0.0, 0.6, 0.8])  # radial direction, off the axes
     pos = np.array([0.4, 0.0, 0.0]) + (BIG_R - STEEL_R) * e
 
     def approach(x):
@@ -56,9 +64,20 @@ def _bouncer(facets, tmax=0.05, itrac=500):
     mid = 0.5 * (verts[0] + verts[1])
     e = mid / np.linalg.norm(mid)
     vel = 20.0 * e + [5.0, 0.0, 0.0]
-    deck = bore_deck("cylinder", [[BEAM_L / 2, 0.0, 0.0]], [vel], dt=2e-7, tmax=tmax, mu=0.3,
-                     facets=facets, itrac=itrac, radius=SMALL_R, e=27.5e6,
-                     length=BEAM_L, big_r=BEAM_RC)
+    deck = bore_deck(
+        "cylinder",
+        [[BEAM_L / 2, 0.0, 0.0]],
+        [vel],
+        dt=2e-7,
+        tmax=tmax,
+        mu=0.3,
+        facets=facets,
+        itrac=itrac,
+        radius=SMALL_R,
+        e=27.5e6,
+        length=BEAM_L,
+        big_r=BEAM_RC,
+    )
     return Simulation(build_model(deck))
 
 
@@ -96,8 +115,10 @@ def test_analytic_cylinder_is_faster_than_the_triangulated_one():
     for sim in sims.values():
         sim.advance(2000)
     best = best_seconds_per_step(sims, 20_000)
-    print(f"\nper step: analytic {best[None] * 1e9:.0f} ns, {FACETS} facets "
-          f"{best[FACETS] * 1e9:.0f} ns")
+    print(
+        f"\nper step: analytic {best[None] * 1e9:.0f} ns, {FACETS} facets "
+        f"{best[FACETS] * 1e9:.0f} ns"
+    )
     assert best[None] < best[FACETS]
 
 
@@ -117,10 +138,24 @@ def test_a_turning_cylinder_conserves_momentum_and_energy():
     e2 = np.array([0.0, -0.8, 0.6])
     pos = [[0.3, 0.0, 0.0] + 0.1 * e1, [0.5, 0.0, 0.0] - 0.1 * e2]
     vel = [15.0 * e1 + [4.0, 0.0, 0.0], -12.0 * e2 + [-6.0, 0.0, 0.0]]
-    free = dict(structure_mass=1e-5, rotary_inertia=1e-7, stiffness=0.0, damping=0.0,
-                transverse_stiffness=0.0)
-    deck = bore_deck("cylinder", pos, vel, dt=2e-7, tmax=1.0, mu=0.4, free_dofs=(1, 2, 3, 4, 5, 6),
-                     itrac=1000, structure=free)
+    free = dict(
+        structure_mass=1e-5,
+        rotary_inertia=1e-7,
+        stiffness=0.0,
+        damping=0.0,
+        transverse_stiffness=0.0,
+    )
+    deck = bore_deck(
+        "cylinder",
+        pos,
+        vel,
+        dt=2e-7,
+        tmax=1.0,
+        mu=0.4,
+        free_dofs=(1, 2, 3, 4, 5, 6),
+        itrac=1000,
+        structure=free,
+    )
     model = build_model(deck)
     assert "rigid_rotation" in model.effects
     sim = Simulation(model)
@@ -130,7 +165,7 @@ def test_a_turning_cylinder_conserves_momentum_and_energy():
     drift = np.linalg.norm(angular_momentum(model, sim.state) - l0) / np.linalg.norm(l0)
     assert drift < 1e-3, drift
     energy = np.concatenate([first.energy, block.energy])
-    assert energy[-1, 7] > 0.05 * energy[0, 10]     # friction did work: the spheres hit walls
-    assert np.linalg.norm(block.data[-1, 0, 6:9]) > 1.0   # the cavity turns (rad/s)
+    assert energy[-1, 7] > 0.05 * energy[0, 10]  # friction did work: the spheres hit walls
+    assert np.linalg.norm(block.data[-1, 0, 6:9]) > 1.0  # the cavity turns (rad/s)
     residual = np.abs(energy[:, 11]).max()
     assert residual < 1e-4 * energy[0, 10], residual / energy[0, 10]

@@ -46,7 +46,7 @@ def _missing(module, hashed) -> set[Path]:
     for the template)."""
     template = Path(variants._TEMPLATE).resolve()
 
-    def source_of(f: Path) -> Path:   # a generated file stands for its template file
+    def source_of(f: Path) -> Path:  # a generated file stands for its template file
         if not f.name.startswith("advance_"):
             return f
         part = f.stem.partition("__")[2]
@@ -56,9 +56,20 @@ def _missing(module, hashed) -> set[Path]:
 
 
 def test_every_kernel_source_is_hashed():
-    variant = Variant(springs=True, rigid=True, rigid_rotation=True, walls=True,
-                      pairs=True, friction=True, viscoelastic=True, external=True, motion=True,
-                      n_maxwell=2, axial_springs=True, rotational_springs=True)
+    variant = Variant(
+        springs=True,
+        rigid=True,
+        rigid_rotation=True,
+        walls=True,
+        pairs=True,
+        friction=True,
+        viscoelastic=True,
+        external=True,
+        motion=True,
+        n_maxwell=2,
+        axial_springs=True,
+        rotational_springs=True,
+    )
     module = make_advance(variant)
     hashed = kernel_sources()
     assert not _missing(module, hashed), "kernel sources left out of the cache key"
@@ -78,7 +89,7 @@ def test_every_variant_field_changes_the_header_and_the_name():
         elif isinstance(value, int):
             other = value + 2
         else:
-            continue   # laws: see the registry test below
+            continue  # laws: see the registry test below
         changed = dataclasses.replace(base, **{f.name: other})
         assert changed.name() != base.name(), f.name
         assert changed.header() != base.header(), f.name
@@ -118,12 +129,13 @@ def test_the_source_hash_is_kept_until_a_source_file_changes(monkeypatch, tmp_pa
     walked = []
     real = variants.kernel_sources
     monkeypatch.setattr(variants, "kernel_sources", lambda: walked.append(1) or real())
-    assert variants._source_hash() == first and not walked   # kept: nothing re-walked
+    assert variants._source_hash() == first and not walked  # kept: nothing re-walked
     stamps, digest = variants._HASHED
     fake = tmp_path / "source.py"
     fake.write_text("x = 1\n")
     st = fake.stat()
-    monkeypatch.setattr(variants, "_HASHED", [stamps + ((fake, st.st_mtime_ns, st.st_size),),
-                                              digest])
-    fake.write_text("x = 12\n")   # an edit: another size
-    assert variants._source_hash() == first and walked == [1]   # re-walked, same real sources
+    monkeypatch.setattr(
+        variants, "_HASHED", [stamps + ((fake, st.st_mtime_ns, st.st_size),), digest]
+    )
+    fake.write_text("x = 12\n")  # an edit: another size
+    assert variants._source_hash() == first and walked == [1]  # re-walked, same real sources

@@ -42,10 +42,14 @@ def _x(result, row: int = 0, dof: int = 0):
 def _sdof_as_mode(dt, tmax, hz):
     wn = math.sqrt(TABLE4_K / TABLE4_MASS)
     zeta = TABLE4_C / (2 * math.sqrt(TABLE4_K * TABLE4_MASS))
-    return modal_deck(dt=dt, tmax=tmax, itrac=10,
-                      modes=[(1, wn / (2 * math.pi), zeta)],
-                      shapes=[(1, 1, [1.0 / math.sqrt(TABLE4_MASS)])],
-                      drive=f"sine:node=1,dof=1,amp={TABLE4_DRIVE!r},hz={hz!r}")
+    return modal_deck(
+        dt=dt,
+        tmax=tmax,
+        itrac=10,
+        modes=[(1, wn / (2 * math.pi), zeta)],
+        shapes=[(1, 1, [1.0 / math.sqrt(TABLE4_MASS)])],
+        drive=f"sine:node=1,dof=1,amp={TABLE4_DRIVE!r},hz={hz!r}",
+    )
 
 
 def test_one_mode_gives_the_sdof_decks_trajectory(tmp_path):
@@ -78,10 +82,10 @@ def test_one_mode_gives_the_sdof_decks_trajectory(tmp_path):
 
 
 # ---- a 2-DOF chain as modes, a lumped mass added in the deck -----------------------------------
-CHAIN_M = (2.0e-3, 1.0e-3)          # lbf s^2/in
-CHAIN_K = (40.0, 25.0)              # lbf/in (ground-1, 1-2)
+CHAIN_M = (2.0e-3, 1.0e-3)  # lbf s^2/in
+CHAIN_K = (40.0, 25.0)  # lbf/in (ground-1, 1-2)
 CHAIN_ZETA = (0.03, 0.04)
-ADDED = 0.5e-3                       # lbf s^2/in lumped on node 2 by the deck's MASS card
+ADDED = 0.5e-3  # lbf s^2/in lumped on node 2 by the deck's MASS card
 
 
 @pytest.mark.parametrize("factor", [0.85, 1.0, 1.6, 2.9])
@@ -100,11 +104,20 @@ def test_two_dof_chain_with_added_mass_has_its_closed_form_frf(tmp_path, factor)
     settle = math.log(1e7) / (min(CHAIN_ZETA) * math.sqrt(lam[0]))
     dt = 2e-5
     tmax = round((settle + 5 / hz) / dt) * dt
-    res = _run(tmp_path, modal_deck(
-        dt=dt, tmax=tmax, itrac=5, modes=[(k + 1, w / (2 * math.pi), z)
-                                          for k, (w, z) in enumerate(zip(omega, CHAIN_ZETA))],
-        shapes=[(1, 1, phi[0]), (2, 1, phi[1])], masses=[(2, ADDED)],
-        drive=f"sine:node=1,dof=1,amp={drive!r},hz={float(hz)!r}"))
+    res = _run(
+        tmp_path,
+        modal_deck(
+            dt=dt,
+            tmax=tmax,
+            itrac=5,
+            modes=[
+                (k + 1, w / (2 * math.pi), z) for k, (w, z) in enumerate(zip(omega, CHAIN_ZETA))
+            ],
+            shapes=[(1, 1, phi[0]), (2, 1, phi[1])],
+            masses=[(2, ADDED)],
+            drive=f"sine:node=1,dof=1,amp={drive!r},hz={float(hz)!r}",
+        ),
+    )
     h = receptance(hz, mm + ma, kk, cc)[:, 0] * drive
     for node in (0, 1):
         t, x = _x(res, node)
@@ -115,7 +128,7 @@ def test_two_dof_chain_with_added_mass_has_its_closed_form_frf(tmp_path, factor)
 
 # ---- a two-mode structure against its FRF -------------------------------------------------------
 TWO = [(1, 6.0, 0.04), (2, 17.0, 0.05)]
-PHI = {1: (20.0, 14.0), 2: (9.0, -25.0)}     # node -> shape values of modes 1, 2
+PHI = {1: (20.0, 14.0), 2: (9.0, -25.0)}  # node -> shape values of modes 1, 2
 
 
 @pytest.mark.parametrize("hz", [4.5, 6.0, 11.0, 17.0, 21.0])
@@ -129,13 +142,26 @@ def test_two_mode_structure_matches_its_frf(tmp_path, hz):
     settle = math.log(1e7) / (zk.min() * wk.min())
     dt = 1e-4
     tmax = round((settle + 5 / hz) / dt) * dt
-    res = _run(tmp_path, modal_deck(dt=dt, tmax=tmax, itrac=2, modes=TWO,
-                                    shapes=[(n, 1, v) for n, v in PHI.items()],
-                                    drive=f"sine:node=1,dof=1,amp={drive!r},hz={float(hz)!r}"))
+    res = _run(
+        tmp_path,
+        modal_deck(
+            dt=dt,
+            tmax=tmax,
+            itrac=2,
+            modes=TWO,
+            shapes=[(n, 1, v) for n, v in PHI.items()],
+            drive=f"sine:node=1,dof=1,amp={drive!r},hz={float(hz)!r}",
+        ),
+    )
     w = 2 * math.pi * hz
     for row, node in enumerate((1, 2)):
-        h = sum(PHI[node][k] * PHI[1][k] / (wk[k] ** 2 - w * w + 2j * zk[k] * wk[k] * w)
-                for k in range(2)) * drive
+        h = (
+            sum(
+                PHI[node][k] * PHI[1][k] / (wk[k] ** 2 - w * w + 2j * zk[k] * wk[k] * w)
+                for k in range(2)
+            )
+            * drive
+        )
         t, x = _x(res, row)
         got = steady_state(t, x, hz, 5)
         assert abs(got) == pytest.approx(abs(h), rel=5e-3)
@@ -154,16 +180,23 @@ def test_mode_far_above_nyquist_stays_bounded_and_the_ledger_exact(tmp_path):
     f2 = 100.3 / (2 * dt)
     force = 0.5
     phi = (10.0, 3.0)
-    res = _run(tmp_path, modal_deck(dt=dt, tmax=1e6 * dt, itrac=1000,
-                                    modes=[(1, 21.7, 0.0), (2, f2, 0.0)],
-                                    shapes=[(1, 1, phi)], drive=f"constant:node=1,dof=1,"
-                                                               f"amp={force!r}"))
+    res = _run(
+        tmp_path,
+        modal_deck(
+            dt=dt,
+            tmax=1e6 * dt,
+            itrac=1000,
+            modes=[(1, 21.7, 0.0), (2, f2, 0.0)],
+            shapes=[(1, 1, phi)],
+            drive=f"constant:node=1,dof=1,amp={force!r}",
+        ),
+    )
     assert res.summary["steps"] == 1_000_000
     w = (2 * math.pi * 21.7, 2 * math.pi * f2)
     bound = sum(2 * p * p * force / wk**2 for p, wk in zip(phi, w))
     t, x = _x(res)
     assert np.abs(x).max() <= bound * (1 + 1e-9)
-    assert np.abs(x).max() > 0.5 * bound       # it did move
+    assert np.abs(x).max() > 0.5 * bound  # it did move
     e = res.energy
     scale = np.abs(e["external_work"]).max()
     assert np.abs(e["residual"]).max() < 1e-9 * scale

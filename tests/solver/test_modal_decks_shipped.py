@@ -40,11 +40,16 @@ def _modal(name):
 def test_beam_modes_are_euler_bernoulli_cantilever_modes():
     deck, model = _modal("beam_64_modal.inp")
     card = deck.modal
-    roots = [brentq(lambda x: math.cos(x) * math.cosh(x) + 1.0, (k - .5) * math.pi - 1,
-                    (k - .5) * math.pi + 1) for k in (1, 2, 3)]
+    roots = [
+        brentq(
+            lambda x: math.cos(x) * math.cosh(x) + 1.0,
+            (k - 0.5) * math.pi - 1,
+            (k - 0.5) * math.pi + 1,
+        )
+        for k in (1, 2, 3)
+    ]
     freq = np.array([m.freq for m in card.modes])
-    assert freq[1:] / freq[0] == pytest.approx([(r / roots[0]) ** 2 for r in roots[1:]],
-                                               rel=1e-8)
+    assert freq[1:] / freq[0] == pytest.approx([(r / roots[0]) ** 2 for r in roots[1:]], rel=1e-8)
     tip = {s.dof: np.array(s.values) for s in card.shapes if s.node == 9}
     mu = RHO * B * H
     assert tip[1] == pytest.approx([2 / math.sqrt(mu * L)] * 3, rel=1e-8)
@@ -56,7 +61,7 @@ def test_beam_modes_are_euler_bernoulli_cantilever_modes():
         assert tip[6][k] == pytest.approx(-tip[1][k] * slope / value, rel=1e-8)
     # the modulus the frequencies imply: f1 = roots[0]^2 / (2 pi L^2) sqrt(E I / mu)
     e_eff = (2 * math.pi * freq[0] * L**2 / roots[0] ** 2) ** 2 * mu / (B * H**3 / 12)
-    assert 0.9 < e_eff / 10.0e6 < 1.0          # aluminium, tuned down a few per cent
+    assert 0.9 < e_eff / 10.0e6 < 1.0  # aluminium, tuned down a few per cent
 
 
 def test_beam_first_coupled_mode_is_table_4s_sdof():
@@ -72,16 +77,19 @@ def test_chassis_modes_are_plate_modes_and_the_first_is_table_5s_sdof():
     deck, model = _modal("chassis_128.inp")
     a, b = 17.0, 8.0
     freq = np.array([m.freq for m in deck.modal.modes])
-    ratio = [((m / a) ** 2 + (n / b) ** 2) / ((1 / a) ** 2 + (1 / b) ** 2)
-             for m, n in ((1, 1), (2, 1), (3, 1))]
+    ratio = [
+        ((m / a) ** 2 + (n / b) ** 2) / ((1 / a) ** 2 + (1 / b) ** 2)
+        for m, n in ((1, 1), (2, 1), (3, 1))
+    ]
     assert freq / freq[0] == pytest.approx(ratio, rel=1e-8)
     shapes = {(s.node, s.dof): np.array(s.values) for s in deck.modal.shapes}
     amp = shapes[(9, 1)][0]
     # panel centre (y' = a/2, z' = b/2) and the stinger 3.425 in above the bottom, centred
     for k, m in enumerate((1, 2, 3)):
         assert shapes[(9, 1)][k] == pytest.approx(amp * math.sin(m * math.pi / 2), abs=1e-9)
-        assert shapes[(10, 1)][k] == pytest.approx(amp * math.sin(m * math.pi * 3.425 / a),
-                                                   rel=1e-8)
+        assert shapes[(10, 1)][k] == pytest.approx(
+            amp * math.sin(m * math.pi * 3.425 / a), rel=1e-8
+        )
     ms = model.modal
     assert ms.omega[0] == pytest.approx(math.sqrt(T5_K / T5_M), rel=1e-7)
     j = int(np.flatnonzero(ms.nodes == model.index_of(9))[0])
@@ -96,8 +104,7 @@ def test_restart_of_the_modal_beam_is_bit_identical(tmp_path):
     x3dpd.run(deck, tmax=0.005, trace=tmp_path / "part.trace.txt")
     x3dpd.run(deck, tmax=0.01, trace=tmp_path / "part.trace.txt", restart=True)
     assert whole.summary["steps"] == 20000
-    assert ((tmp_path / "whole.trace.txt").read_bytes()
-            == (tmp_path / "part.trace.txt").read_bytes())
+    assert (tmp_path / "whole.trace.txt").read_bytes() == (tmp_path / "part.trace.txt").read_bytes()
 
 
 def test_the_ledger_closes_on_the_modal_beam_with_its_particles():
@@ -107,4 +114,4 @@ def test_the_ledger_closes_on_the_modal_beam_with_its_particles():
     res = x3dpd.run(str(DECKS / "beam_64_modal.inp"), tmax=0.3)
     scale = res.summary["energy_scale"]
     assert np.abs(res.energy["residual"]).max() < 1e-3 * scale
-    assert res.energy["dissipated_friction"][-1] > 0.0      # the particles did work
+    assert res.energy["dissipated_friction"][-1] > 0.0  # the particles did work

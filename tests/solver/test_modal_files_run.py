@@ -27,19 +27,43 @@ def _chain():
     k = CHAIN_K * np.array([[2.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
     lam, phi = np.linalg.eigh(np.linalg.solve(np.sqrt(m), np.linalg.solve(np.sqrt(m), k).T))
     omega = np.sqrt(lam)
-    phi = phi / math.sqrt(CHAIN_M)          # mass-normalised (M = m I)
+    phi = phi / math.sqrt(CHAIN_M)  # mass-normalised (M = m I)
     c = m @ phi @ np.diag(2 * np.array(CHAIN_ZETA) * omega) @ phi.T @ m
     return m, k, c, omega
 
 
-def _deck(tmp_path, file_record: str, units: str, hz: float, amp: float, dt: float,
-          tmax: float, name: str = "chain.inp") -> pathlib.Path:
-    text = "\n".join([
-        "PARAMETERS", f" 0.0 {tmax!r} 0.0 {dt!r} {dt!r} 0 1e12 0 5 0 4", "END",
-        "NODE COORDINATES", " 1 0 0 0", " 2 1 0 0", " 3 2 0 0", "END",
-        "MODAL", f" {file_record}", "END",
-        "UNITS", f" {units}", "END",
-        "USRFRC", f" sine:node=3,dof=1,amp={amp!r},hz={hz!r}", "END", ""])
+def _deck(
+    tmp_path,
+    file_record: str,
+    units: str,
+    hz: float,
+    amp: float,
+    dt: float,
+    tmax: float,
+    name: str = "chain.inp",
+) -> pathlib.Path:
+    text = "\n".join(
+        [
+            "PARAMETERS",
+            f" 0.0 {tmax!r} 0.0 {dt!r} {dt!r} 0 1e12 0 5 0 4",
+            "END",
+            "NODE COORDINATES",
+            " 1 0 0 0",
+            " 2 1 0 0",
+            " 3 2 0 0",
+            "END",
+            "MODAL",
+            f" {file_record}",
+            "END",
+            "UNITS",
+            f" {units}",
+            "END",
+            "USRFRC",
+            f" sine:node=3,dof=1,amp={amp!r},hz={hz!r}",
+            "END",
+            "",
+        ]
+    )
     path = tmp_path / name
     path.write_text(text)
     return path
@@ -62,8 +86,15 @@ def test_a_uff_file_in_si_units_gives_the_chains_frf(tmp_path, hz):
     m, k, c, omega = _chain()
     settle = math.log(1e7) / (min(CHAIN_ZETA[0] * omega[0], CHAIN_ZETA[1] * omega[1]))
     dt = 2e-4
-    path = _deck(tmp_path, f"FILE {FIXTURES / 'chain3.uff'} map=10:1,20:2,30:3", "m N s", hz,
-                 1.0, dt, round((settle + 5 / hz) / dt) * dt)
+    path = _deck(
+        tmp_path,
+        f"FILE {FIXTURES / 'chain3.uff'} map=10:1,20:2,30:3",
+        "m N s",
+        hz,
+        1.0,
+        dt,
+        round((settle + 5 / hz) / dt) * dt,
+    )
     got = _frf_run(path, hz)
     want = receptance(hz, m, k, c)[:, 2] * 1.0
     assert np.allclose(np.abs(got), np.abs(want), rtol=5e-3)
@@ -80,9 +111,15 @@ def test_an_op2_file_converted_to_inch_units(tmp_path):
     hz, amp = 5.0, 0.2
     settle = math.log(1e7) / (CHAIN_ZETA[0] * omega[0])
     dt = 2e-4
-    path = _deck(tmp_path, f"FILE {FIXTURES / 'chain3.op2'} map=10:1,20:2,30:3 units=m,N,s "
-                           "zeta=0.01,0.02,0.03", "in lbf s", hz, amp, dt,
-                 round((settle + 5 / hz) / dt) * dt)
+    path = _deck(
+        tmp_path,
+        f"FILE {FIXTURES / 'chain3.op2'} map=10:1,20:2,30:3 units=m,N,s zeta=0.01,0.02,0.03",
+        "in lbf s",
+        hz,
+        amp,
+        dt,
+        round((settle + 5 / hz) / dt) * dt,
+    )
     got = _frf_run(path, hz)
     want = receptance(hz, m, k, c)[:, 2] * amp * LBF / INCH
     # OP2 stores 32-bit floats: shapes to ~1e-7
@@ -90,17 +127,20 @@ def test_an_op2_file_converted_to_inch_units(tmp_path):
     assert np.degrees(np.abs(np.angle(got / want))).max() < 0.5
 
 
-@pytest.mark.parametrize("record, at, says", [
-    ("FILE no_such_file.uff", "FILE", "mode file no_such_file.uff"),
-    ("FILE {f} map=10:1,20:2,30:7", "map=", "not defined in NODE COORDINATES"),
-    ("FILE {f} map=10:1,20:2,30:3 modes=1:4", "modes=", "has no mode 4"),
-    ("FILE {f} map=10:1,20:2,30:3 units=in,lbf,s", "units=", "contradicts"),
-    ("FILE {f} map=10:1,99:2", "map=", "does not hold"),
-    ("FILE {f} map=10:1,20:2,30:3 band=100:200", "FILE", "no mode"),
-    ("FILE {f} map=10:1 zeta=0.1,0.2", "zeta=", "3 kept modes"),
-    ("FILE {f} colour=red", "colour", "unknown FILE option"),
-    ("FILE {f}", "FILE", "no node of mode file"),
-])
+@pytest.mark.parametrize(
+    "record, at, says",
+    [
+        ("FILE no_such_file.uff", "FILE", "mode file no_such_file.uff"),
+        ("FILE {f} map=10:1,20:2,30:7", "map=", "not defined in NODE COORDINATES"),
+        ("FILE {f} map=10:1,20:2,30:3 modes=1:4", "modes=", "has no mode 4"),
+        ("FILE {f} map=10:1,20:2,30:3 units=in,lbf,s", "units=", "contradicts"),
+        ("FILE {f} map=10:1,99:2", "map=", "does not hold"),
+        ("FILE {f} map=10:1,20:2,30:3 band=100:200", "FILE", "no mode"),
+        ("FILE {f} map=10:1 zeta=0.1,0.2", "zeta=", "3 kept modes"),
+        ("FILE {f} colour=red", "colour", "unknown FILE option"),
+        ("FILE {f}", "FILE", "no node of mode file"),
+    ],
+)
 def test_bad_file_records_are_deck_errors_at_their_place(tmp_path, record, at, says):
     """Every problem of a FILE record is FILE:LINE:COL: MODAL: ... at the record or at the
     value of its option (line 10 of the deck), raised before anything runs."""

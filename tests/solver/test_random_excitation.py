@@ -29,9 +29,9 @@ from x3dpd.design.trace_signals import drive_history
 ZETA = 0.05
 C = 2.0 * ZETA * math.sqrt(TABLE4_K * TABLE4_MASS)
 LO, HI, PERIOD = 10.0, 150.0, 32.0
-RMS = 0.01                                           # lbf over the band
+RMS = 0.01  # lbf over the band
 SPEC = f"random:node=1,dof=1,rms={RMS},band={LO}:{HI},seed=3,period={PERIOD}"
-DT, ITRAC = 2e-5, 50                                 # traced at 1 kHz
+DT, ITRAC = 2e-5, 50  # traced at 1 kHz
 FS = 1.0 / (DT * ITRAC)
 
 
@@ -54,7 +54,7 @@ def random_run(tmp_path_factory):
 def test_h1_is_the_closed_form_within_its_95_percent_band(random_run):
     trace, drive = random_run
     x = trace.position[:, 0, 0] - trace.position[0, 0, 0]
-    nperseg = 4000                                   # 4 s: 0.25 Hz resolution, 15 segments
+    nperseg = 4000  # 4 s: 0.25 Hz resolution, 15 segments
     est = estimate_frf(drive.values, x, FS, nperseg=nperseg)
     f = est.frequency
     # the Hann window's main lobe (+-2 bins) smears the input's band edges: judge inside them
@@ -82,20 +82,20 @@ def test_realised_input_psd_per_third_octave_band(random_run):
     n = int(round(PERIOD * FS))
     force = drive.values[:n]
     lines = math.floor(HI * PERIOD) - math.ceil(LO * PERIOD) + 1
-    psd = RMS ** 2 * PERIOD / lines                  # rms^2 = P lines / T
+    psd = RMS**2 * PERIOD / lines  # rms^2 = P lines / T
     spec = np.fft.rfft(force)
     g = 2.0 * np.abs(spec) ** 2 / (n * FS)
     f = np.fft.rfftfreq(n, 1.0 / FS)
     checked = 0
     for k in range(-20, 0):
         centre = 1000.0 * 10 ** (k / 10)
-        a, b = centre * 10 ** -0.05, centre * 10 ** 0.05
+        a, b = centre * 10**-0.05, centre * 10**0.05
         if a >= LO and b <= HI:
             level = g[(f >= a) & (f < b)].mean()
             assert abs(level / psd - 1) < 0.10, (centre, level / psd)
             checked += 1
-    assert checked == 11                              # 12.5 ... 125 Hz
-    assert abs(np.sqrt(np.mean(force ** 2)) / RMS - 1) < 1e-3
+    assert checked == 11  # 12.5 ... 125 Hz
+    assert abs(np.sqrt(np.mean(force**2)) / RMS - 1) < 1e-3
 
 
 def _deck_file(folder: pathlib.Path) -> pathlib.Path:
@@ -108,19 +108,35 @@ def test_same_seed_same_bytes_and_restart_is_exact(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     deck = _deck_file(tmp_path)
     for name in ("a", "b"):
-        assert run_cli(deck, "--usrfrc", SPEC, "--tmax", 2.0, "--trace", f"{name}.trace.txt",
-                       "--quiet") == 0
-    assert run_cli(deck, "--usrfrc", SPEC, "--tmax", 1.0, "--trace", "part.trace.txt",
-                   "--quiet") == 0
-    assert run_cli(deck, "--usrfrc", SPEC, "--tmax", 2.0, "--trace", "part.trace.txt",
-                   "--restart", "--quiet") == 0
+        assert (
+            run_cli(
+                deck, "--usrfrc", SPEC, "--tmax", 2.0, "--trace", f"{name}.trace.txt", "--quiet"
+            )
+            == 0
+        )
+    assert (
+        run_cli(deck, "--usrfrc", SPEC, "--tmax", 1.0, "--trace", "part.trace.txt", "--quiet") == 0
+    )
+    assert (
+        run_cli(
+            deck,
+            "--usrfrc",
+            SPEC,
+            "--tmax",
+            2.0,
+            "--trace",
+            "part.trace.txt",
+            "--restart",
+            "--quiet",
+        )
+        == 0
+    )
     for suffix in (".trace.txt", ".energy.csv"):
         full = (tmp_path / f"a{suffix}").read_bytes()
         assert (tmp_path / f"b{suffix}").read_bytes() == full
         assert (tmp_path / f"part{suffix}").read_bytes() == full
     other = SPEC.replace("seed=3", "seed=4")
-    assert run_cli(deck, "--usrfrc", other, "--tmax", 2.0, "--trace", "c.trace.txt",
-                   "--quiet") == 0
+    assert run_cli(deck, "--usrfrc", other, "--tmax", 2.0, "--trace", "c.trace.txt", "--quiet") == 0
     assert (tmp_path / "c.trace.txt").read_bytes() != (tmp_path / "a.trace.txt").read_bytes()
 
 
@@ -130,13 +146,16 @@ MOTION = f"random:node=1,dof=1,psd=100,band={LO}:{HI},seed=8,period=16,ramp=0.5"
 
 def _base_deck(dt: float, itrac: int) -> Deck:
     """Node 2 (m) on a spring k and damper c to node 1 (the base, M_BASE), along x."""
-    return Deck(path="<base>", parameters=parameters(dt, itrac),
-                materials=(Material(1, 1, 0.0, 1.0, TABLE4_K, 0.0, 0.0, C),),
-                trace=Trace((1, 2)),
-                nodes=(Node(1, 0.0, 0.0, 0.0), Node(2, 1.0, 0.0, 0.0)),
-                elements=(Element(1, 1, (1, 2)),),
-                masses=(Mass(1, M_BASE, 1.0, 1.0, 1.0), Mass(2, TABLE4_MASS, 1.0, 1.0, 1.0)),
-                boundaries=(Boundary(1, 2, 1, (2, 3, 4, 5, 6)),))
+    return Deck(
+        path="<base>",
+        parameters=parameters(dt, itrac),
+        materials=(Material(1, 1, 0.0, 1.0, TABLE4_K, 0.0, 0.0, C),),
+        trace=Trace((1, 2)),
+        nodes=(Node(1, 0.0, 0.0, 0.0), Node(2, 1.0, 0.0, 0.0)),
+        elements=(Element(1, 1, (1, 2)),),
+        masses=(Mass(1, M_BASE, 1.0, 1.0, 1.0), Mass(2, TABLE4_MASS, 1.0, 1.0, 1.0)),
+        boundaries=(Boundary(1, 2, 1, (2, 3, 4, 5, 6)),),
+    )
 
 
 def test_random_base_motion_restarts_bytewise(tmp_path, monkeypatch):
@@ -148,8 +167,9 @@ def test_random_base_motion_restarts_bytewise(tmp_path, monkeypatch):
     assert run_cli(*args, "--tmax", 0.6, "--trace", "part.trace.txt") == 0
     assert run_cli(*args, "--tmax", 1.0, "--trace", "part.trace.txt", "--restart") == 0
     for suffix in (".trace.txt", ".energy.csv"):
-        assert (tmp_path / f"part{suffix}").read_bytes() == \
-            (tmp_path / f"full{suffix}").read_bytes()
+        assert (tmp_path / f"part{suffix}").read_bytes() == (
+            tmp_path / f"full{suffix}"
+        ).read_bytes()
 
 
 def test_random_base_motion_transmissibility(tmp_path):
@@ -166,7 +186,7 @@ def test_random_base_motion_transmissibility(tmp_path):
     trace = x3dpd.read_trace(path)
     drive = drive_history(trace, 1, 1, str(path))
     assert drive.kind == "base acceleration"
-    keep = trace.time >= 1.0                          # after the ramp and its transient
+    keep = trace.time >= 1.0  # after the ramp and its transient
     # accelerations: central differences of the traced velocities, their gain sinc(w / fs)
     # divided out (x3dpd.analysis.frf.central_difference)
     acc = [central_difference(trace.velocity[:, k, 0], FS)[keep] for k in (0, 1)]

@@ -25,7 +25,7 @@ from x3dpd.solver.simulation import Simulation
 
 MAT_A = {"radius": STEEL_R, "e0": STEEL_E, "nu": STEEL_NU, "mu": 0.3, "density": STEEL_RHO}
 MAT_B = {"radius": 0.04, "e0": 10.0e6, "nu": 0.25, "mu": 0.5, "density": 2.5e-4}
-DT = 1e-9        # with these overlaps both branches of the regularised friction law occur
+DT = 1e-9  # with these overlaps both branches of the regularised friction law occur
 
 
 def _rotation(seed: int) -> np.ndarray:
@@ -40,10 +40,10 @@ def _configuration(seed: int, radius_b: float = MAT_B["radius"]):
     clearance from everything placed before. Returns (local positions A, local positions B)."""
     rng = np.random.default_rng(seed)
     rad = (MAT_A["radius"], radius_b)
-    placed: list = []                               # (group, position)
+    placed: list = []  # (group, position)
 
     def depth(r):
-        return rng.uniform(0.01, 0.1) * r          # overlaps of 1 % ... 10 % of the radius
+        return rng.uniform(0.01, 0.1) * r  # overlaps of 1 % ... 10 % of the radius
 
     def clear(members):
         for g, p in members:
@@ -63,7 +63,7 @@ def _configuration(seed: int, radius_b: float = MAT_B["radius"]):
     def wall(axes):
         g = int(rng.integers(2))
         r = rad[g]
-        p = rng.uniform(0.2, 0.8, 3)       # the centre's projection well inside the face
+        p = rng.uniform(0.2, 0.8, 3)  # the centre's projection well inside the face
         for axis, side in axes:
             p[axis] = r - depth(r) if side == 0 else 1.0 - r + depth(r)
         return [(g, p)]
@@ -86,11 +86,11 @@ def _configuration(seed: int, radius_b: float = MAT_B["radius"]):
         for side in (0, 1):
             for _ in range(2):
                 place(lambda axis=axis, side=side: wall([(axis, side)]))
-    for _ in range(2):                    # edges: two walls at once
+    for _ in range(2):  # edges: two walls at once
         place(lambda: wall([(a, 0) for a in rng.permutation(3)[:2]]))
-    for k in range(6):                    # pairs and chains of three inside
+    for k in range(6):  # pairs and chains of three inside
         place(lambda k=k: cluster(2 + k % 2))
-    for _ in range(3):                    # free particles
+    for _ in range(3):  # free particles
         place(lambda: [(int(rng.integers(2)), rng.uniform(0.15, 0.85, 3))])
     a_pos = np.array([p for g, p in placed if g == 0])
     b_pos = np.array([p for g, p in placed if g == 1])
@@ -106,9 +106,17 @@ def _velocities(rng, n):
     return np.hstack([v, w])
 
 
-@pytest.mark.parametrize("seed, rotated, mixed", [(1, False, True), (2, False, True),
-                                                  (3, True, True), (4, True, True),
-                                                  (5, False, False), (6, True, False)])
+@pytest.mark.parametrize(
+    "seed, rotated, mixed",
+    [
+        (1, False, True),
+        (2, False, True),
+        (3, True, True),
+        (4, True, True),
+        (5, False, False),
+        (6, True, False),
+    ],
+)
 def test_forces_match_reference(seed, rotated, mixed):
     """``mixed``: two materials; else all particles are of material A, and the step loop reads
     their constants once (the variant flag one_particle_kind) instead of per contact."""
@@ -121,8 +129,16 @@ def test_forces_match_reference(seed, rotated, mixed):
     rng = np.random.default_rng(100 + seed)
     vel_a = _velocities(rng, len(world_a))
     vel_b = _velocities(rng, len(world_b))
-    deck = closed_box_deck(world_a, vel_a, dt=DT, rotation=rot, origin=origin, gravity=G,
-                           groups=[(world_b, vel_b, mat_b)], **MAT_A)
+    deck = closed_box_deck(
+        world_a,
+        vel_a,
+        dt=DT,
+        rotation=rot,
+        origin=origin,
+        gravity=G,
+        groups=[(world_b, vel_b, mat_b)],
+        **MAT_A,
+    )
     model = build_model(deck)
     sim = Simulation(model, penetration_limit=0.25)
     sim.initialize()
@@ -139,16 +155,49 @@ def test_forces_match_reference(seed, rotated, mixed):
     e = np.r_[np.full(n_a, MAT_A["e0"]), np.full(n_b, mat_b["e0"])]
     nu = np.r_[np.full(n_a, MAT_A["nu"]), np.full(n_b, mat_b["nu"])]
     mu = np.r_[np.full(n_a, MAT_A["mu"]), np.full(n_b, mat_b["mu"])]
-    mass = np.r_[np.full(n_a, sphere_mass(MAT_A["radius"], MAT_A["density"])),
-                 np.full(n_b, sphere_mass(mat_b["radius"], mat_b["density"]))]
-    x = np.vstack([origin + (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1],
-                                       [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)) @ rot.T,
-                   world_a, world_b])
+    mass = np.r_[
+        np.full(n_a, sphere_mass(MAT_A["radius"], MAT_A["density"])),
+        np.full(n_b, sphere_mass(mat_b["radius"], mat_b["density"])),
+    ]
+    x = np.vstack(
+        [
+            origin
+            + (
+                np.array(
+                    [
+                        [0, 0, 0],
+                        [1, 0, 0],
+                        [1, 1, 0],
+                        [0, 1, 0],
+                        [0, 0, 1],
+                        [1, 0, 1],
+                        [1, 1, 1],
+                        [0, 1, 1],
+                    ],
+                    float,
+                )
+            )
+            @ rot.T,
+            world_a,
+            world_b,
+        ]
+    )
     vel = np.vstack([np.zeros((8, 6)), vel_a, vel_b])
     node_mass = np.r_[np.zeros(8), mass]
     want, scale, info = ref.contact_forces(
-        x, vel, p0=8, radius=radius, mass=mass, e=e, nu=nu, mu=mu,
-        faces=ref.box_faces(x[:8]), gravity=(0.0, -G, 0.0), dt=DT, node_mass=node_mass)
+        x,
+        vel,
+        p0=8,
+        radius=radius,
+        mass=mass,
+        e=e,
+        nu=nu,
+        mu=mu,
+        faces=ref.box_faces(x[:8]),
+        gravity=(0.0, -G, 0.0),
+        dt=DT,
+        node_mass=node_mass,
+    )
     print(f"\nseed {seed}: {info}")
     # the configuration exercises what it should
     assert info["wall"] >= 14 and info["pair"] >= 8
@@ -160,5 +209,6 @@ def test_forces_match_reference(seed, rotated, mixed):
     # is ~1e-16 / a <= 1e-13 here, and F ~ a^{3/2}); exact zeros where nothing acts.
     err = np.abs(force - want)
     assert np.all(err <= 1e-12 * scale), (
-        f"worst relative mismatch {np.max(err / np.where(scale > 0, scale, 1)):.2e}")
+        f"worst relative mismatch {np.max(err / np.where(scale > 0, scale, 1)):.2e}"
+    )
     print(f"worst relative mismatch {np.max(err / np.where(scale > 0, scale, 1)):.1e}")

@@ -10,14 +10,24 @@ import math
 import numpy as np
 import pytest
 
-from x3dpd.deck.cards import (Boundary, Deck, Element, Initial, Mass, Material, Node, Rbel,
-                              Trace, Usrfrc)
+from x3dpd.deck.cards import (
+    Boundary,
+    Deck,
+    Element,
+    Initial,
+    Mass,
+    Material,
+    Node,
+    Rbel,
+    Trace,
+    Usrfrc,
+)
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
 
 from factories import parameters
 
-I_PERP, I_AXIS = 2.0, 5.0   # body inertias of the master [mass length^2]
+I_PERP, I_AXIS = 2.0, 5.0  # body inertias of the master [mass length^2]
 
 
 def _rigid_deck(*, dt, fixed_rot=(), moment=None, omega0=(0.0, 0.0, 0.0)) -> Deck:
@@ -49,8 +59,9 @@ def test_constant_moment_turns_the_body_as_theta_equals_half_alpha_t2():
     """M about z from rest: theta = M t^2 / (2 I_zz). Velocity Verlet integrates a constant
     angular acceleration exactly, so only rounding remains."""
     dt, moment, steps = 1e-4, 0.3, 5000
-    model = build_model(_rigid_deck(dt=dt, fixed_rot=(4, 5),
-                                    moment=f"constant:node=1,dof=6,amp={moment!r}"))
+    model = build_model(
+        _rigid_deck(dt=dt, fixed_rot=(4, 5), moment=f"constant:node=1,dof=6,amp={moment!r}")
+    )
     assert "rigid_rotation" in model.effects
     t, data = _run(model, steps)
     theta = 0.5 * moment / I_AXIS * t**2
@@ -66,7 +77,7 @@ def _top(dt: float, t_end: float = 0.4, w_perp: float = 0.5, w_axis: float = 3.0
     t, data = _run(model, int(round(t_end / dt)))
     ex = data[:, 1, :3] - data[:, 0, :3]
     ey = data[:, 2, :3] - data[:, 0, :3]
-    rot = np.stack([ex, ey, np.cross(ex, ey)], axis=2)   # body axes in space, as columns
+    rot = np.stack([ex, ey, np.cross(ex, ey)], axis=2)  # body axes in space, as columns
     body = np.einsum("tji,tj->ti", rot, data[:, 0, 6:9])  # R^T omega
     ang_mom = np.einsum("tij,tj->ti", rot, body * [I_PERP, I_PERP, I_AXIS])
     return t, body, ang_mom, np.linalg.norm(ex, axis=1)
@@ -95,7 +106,7 @@ def test_torque_free_symmetric_top_precesses_at_the_euler_rate():
     np.testing.assert_allclose(body[:, 2], w_axis, atol=1e-9)
     # |L| ~ 15: the same relative error, 15 * 4.5e-9 = 7e-8
     np.testing.assert_allclose(ang_mom, ang_mom[:1].repeat(len(t), axis=0), atol=1e-7)
-    np.testing.assert_allclose(length, 1.0, atol=1e-12)   # the slaves stay rigid
+    np.testing.assert_allclose(length, 1.0, atol=1e-12)  # the slaves stay rigid
 
 
 def test_rigid_rotation_converges_at_second_order():
@@ -109,7 +120,7 @@ def test_mass_on_a_spring_driven_by_a_prescribed_base(hz):
     """Node 1 moves as u = A sin(w t) (--motion); node 2 (mass m) hangs on a spring k to it and
     starts at rest: x = A wn^2/(wn^2 - w^2) (sin w t - (w/wn) sin wn t) (undamped)."""
     m, k, amp, dt = 2.0e-3, 20.0, 0.01, 1e-5
-    wn = math.sqrt(k / m)                             # 100 rad/s = 15.9 Hz
+    wn = math.sqrt(k / m)  # 100 rad/s = 15.9 Hz
     deck = Deck(
         path="<base>",
         parameters=parameters(dt, 1),

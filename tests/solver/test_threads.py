@@ -24,8 +24,9 @@ import x3dpd
 from x3dpd.deck import write_deck
 from x3dpd.solver.threads import available
 
-needs_two = pytest.mark.skipif(available() < 2, reason="numba may start one thread here "
-                               "(NUMBA_NUM_THREADS=1)")
+needs_two = pytest.mark.skipif(
+    available() < 2, reason="numba may start one thread here (NUMBA_NUM_THREADS=1)"
+)
 SIDE = 8
 DT = 2.0e-7
 STEPS = 400
@@ -37,17 +38,19 @@ def _block_deck():
     idx = np.indices((SIDE, SIDE, SIDE)).reshape(3, -1).T
     positions = idx * spacing
     rng = np.random.default_rng(21)
-    spins = rng.uniform(-200.0, 200.0, (len(positions), 3))   # rad/s: slip ~ 10 in/s at R
-    squeeze = -(0.1 / spacing) * (positions - positions.mean(axis=0))   # in/s
+    spins = rng.uniform(-200.0, 200.0, (len(positions), 3))  # rad/s: slip ~ 10 in/s at R
+    squeeze = -(0.1 / spacing) * (positions - positions.mean(axis=0))  # in/s
     velocities = np.hstack([squeeze, spins])
-    return pair_deck(positions, velocities, dt=DT, itrac=20, e0=FIG30_E0, e1=FIG30_E1,
-                     tau1=FIG30_TAU1, mu=0.3)
+    return pair_deck(
+        positions, velocities, dt=DT, itrac=20, e0=FIG30_E0, e1=FIG30_E1, tau1=FIG30_TAU1, mu=0.3
+    )
 
 
 def _run(tmp_path, name, threads):
     trace = tmp_path / f"{name}.trace.txt"
-    result = x3dpd.run(_block_deck(), tmax=STEPS * DT, friction="mindlin", trace=trace,
-                       threads=threads)
+    result = x3dpd.run(
+        _block_deck(), tmax=STEPS * DT, friction="mindlin", trace=trace, threads=threads
+    )
     return result, trace.read_bytes(), trace.with_name(f"{name}.energy.csv").read_bytes()
 
 
@@ -60,7 +63,7 @@ def test_two_threads_give_the_same_bytes_as_one(tmp_path):
     # (the threaded pass runs on a list of more than one chunk of PAIR_CHUNK = 1024 candidates
     # after a step with at least 1024 busy ones: at the end it still did)
     state = two.final_state.state
-    open_pairs = int(state.pl_on[:int(state.npl[0])].sum())
+    open_pairs = int(state.pl_on[: int(state.npl[0])].sum())
     assert open_pairs >= 1024, open_pairs
     assert int(state.npl[0]) > 1024
     assert one.energy["dissipated_friction"][-1] > 0.0
@@ -75,8 +78,22 @@ def test_the_cli_option_runs_the_threaded_loop_to_the_same_bytes(tmp_path):
     write_deck(_block_deck(), deck)
     _, trace_api, energy_api = _run(tmp_path, "api", 1)
     out = tmp_path / "cli.trace.txt"
-    assert run_cli("run", deck, "--tmax", repr(STEPS * DT), "--friction", "mindlin", "--trace",
-                   out, "--threads", "2", "-q") == 0
+    assert (
+        run_cli(
+            "run",
+            deck,
+            "--tmax",
+            repr(STEPS * DT),
+            "--friction",
+            "mindlin",
+            "--trace",
+            out,
+            "--threads",
+            "2",
+            "-q",
+        )
+        == 0
+    )
     assert out.read_bytes() == trace_api
     assert out.with_name("cli.energy.csv").read_bytes() == energy_api
 

@@ -42,8 +42,7 @@ SINE = textwrap.dedent(f"""
 
 
 def _constant(value: float) -> str:
-    return ("def usrfrc(time, coords, vels, force):\n"
-            f"    force[NODE_INDEX[1], 0] += {value!r}\n")
+    return f"def usrfrc(time, coords, vels, force):\n    force[NODE_INDEX[1], 0] += {value!r}\n"
 
 
 def _run(files, steps=2000):
@@ -56,10 +55,18 @@ def _run(files, steps=2000):
 def _probe(user: Path, cache: Path) -> dict:
     """numba's cache hits and misses of the step loop in a fresh process running ``user``."""
     tests = str(Path(__file__).resolve().parents[1])  # the probe imports tests/factories.py
-    env = {**os.environ, "X3DPD_CACHE_DIR": str(cache),
-           "PYTHONPATH": os.pathsep.join(filter(None, [tests, os.environ.get("PYTHONPATH")]))}
-    proc = subprocess.run([sys.executable, "-c", PROBE.format(dt=DT, user=str(user))], env=env,
-                          capture_output=True, text=True, timeout=600)
+    env = {
+        **os.environ,
+        "X3DPD_CACHE_DIR": str(cache),
+        "PYTHONPATH": os.pathsep.join(filter(None, [tests, os.environ.get("PYTHONPATH")])),
+    }
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE.format(dt=DT, user=str(user))],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert proc.returncode == 0, proc.stderr
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
@@ -76,15 +83,15 @@ def test_a_user_force_step_loop_is_cached_and_matches_the_builtin(tmp_path, monk
     # a second process with the same file loads the compiled loop from disk: no compile
     probe = _probe(user, tmp_path / "cache")
     assert probe["hits"] >= 1 and probe["misses"] == 0, probe
-    model = build_model(sdof_deck(dt=DT, hz=HZ, drive=AMP))   # the same force, built in
+    model = build_model(sdof_deck(dt=DT, hz=HZ, drive=AMP))  # the same force, built in
     ref = Simulation(model, itrac=2000).advance(2000).data[-1, 0]
     # the same force: the two may differ only in how the sine's argument is rounded
     assert np.allclose(row, ref, rtol=1e-9, atol=1e-15)
     assert abs(row[0]) > 0.0
 
 
-@pytest.mark.validate   # compiles two user-file loops of their own (72 s warm on the 2-core
-                        # machine since the loop grew): python -m pytest -m validate
+@pytest.mark.validate  # compiles two user-file loops of their own (72 s warm on the 2-core
+# machine since the loop grew): python -m pytest -m validate
 def test_an_edited_file_gets_a_new_copy_and_its_new_force(tmp_path, monkeypatch):
     monkeypatch.setenv("X3DPD_CACHE_DIR", str(tmp_path / "cache"))
     user = tmp_path / "force.py"
@@ -97,8 +104,8 @@ def test_an_edited_file_gets_a_new_copy_and_its_new_force(tmp_path, monkeypatch)
     assert two[0] == pytest.approx(2.0 * one[0], rel=1e-9)
 
 
-@pytest.mark.validate   # compiles two user-file loops of their own (72 s warm on the 2-core
-                        # machine since the loop grew): python -m pytest -m validate
+@pytest.mark.validate  # compiles two user-file loops of their own (72 s warm on the 2-core
+# machine since the loop grew): python -m pytest -m validate
 def test_two_user_files_add_up_in_order(tmp_path, monkeypatch):
     monkeypatch.setenv("X3DPD_CACHE_DIR", str(tmp_path / "cache"))
     (tmp_path / "a.py").write_text(_constant(1e-3))

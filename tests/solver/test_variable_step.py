@@ -38,16 +38,20 @@ def test_free_flight_runs_at_dtmax_and_the_step_is_refined_before_the_contact():
     """A lone elastic sphere (no other particle: nothing else in contact) flies 0.003 in to a
     wall at 62.8 in/s (contact from t = 4.8e-5 s): DTMAX until the wall is within reach, the
     contact step through the impact, DTMAX again once it has left."""
+
     def model():
-        return build_model(floor_deck(dt=2e-6, height=R + 0.003, velocity=(0.0, -V, 0.0),
-                                      spectator=False, radius=R))
+        return build_model(
+            floor_deck(
+                dt=2e-6, height=R + 0.003, velocity=(0.0, -V, 0.0), spectator=False, radius=R
+            )
+        )
+
     t_end = 1.6e-4
     res = VariableStep(model(), dtmin=1e-10, dtmax=2e-6, interval=2e-6).run(t_end)
     steps = [dt for _, dt in res.steps]
     assert steps[0] == steps[-1] == 2e-6 and min(steps) <= 3.8e-6 / 50
     refined_at = next(t for t, dt in res.steps if dt < 2e-6)
-    assert refined_at < 0.003 / V                       # before the sphere touches the wall
+    assert refined_at < 0.003 / V  # before the sphere touches the wall
     fine = Simulation(model(), dt=1e-9, itrac=2000).advance(int(round(t_end / 1e-9)))
-    assert res.data[-1, 0, 4] == pytest.approx(fine.data[-1, 0, 4],
-                                               rel=peak_force_error(50) / 100)
+    assert res.data[-1, 0, 4] == pytest.approx(fine.data[-1, 0, 4], rel=peak_force_error(50) / 100)
     assert res.n_steps < 0.01 * round(t_end / 1e-9)

@@ -25,15 +25,28 @@ APPENDIX_C = "sine:node=25,dof=1,amp=4.84040e-3,hz=37.21"
 
 def refused(deck: Path) -> bool:
     """Whether ``x3dpd run`` refuses the deck before its first step (the same rule)."""
-    return initial_penetration_error(x3dpd.build(x3dpd.load_deck(deck)), 0.25,
-                                     str(deck)) is not None
+    return (
+        initial_penetration_error(x3dpd.build(x3dpd.load_deck(deck)), 0.25, str(deck)) is not None
+    )
 
 
 def study(deck: Path, out: Path, steps_of_dtmax: int, *extra: str):
     dt = x3dpd.load_deck(deck).parameters.dtmax
-    argv = ["study", str(deck), "--tmax", repr(steps_of_dtmax * dt), "--dt",
-            f"{dt!r},{2 * dt!r},auto", "--no-fidelity", "--workers", "1", "--out", str(out),
-            "-q", *extra]
+    argv = [
+        "study",
+        str(deck),
+        "--tmax",
+        repr(steps_of_dtmax * dt),
+        "--dt",
+        f"{dt!r},{2 * dt!r},auto",
+        "--no-fidelity",
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+        "-q",
+        *extra,
+    ]
     with pytest.raises(SystemExit) as e:
         main(argv)
     return e.value.code
@@ -47,7 +60,7 @@ def check_outputs(out: Path) -> list[dict]:
         assert r["dt"] == "auto" or float(r["dt"]) > 0
         if r["status"] == "complete":
             assert float(r["wall_s_per_sim_s"]) > 0
-        assert r["error"] == "" or float(r["error"]) >= 0   # empty: nothing to compare
+        assert r["error"] == "" or float(r["error"]) >= 0  # empty: nothing to compare
     assert sum(r["dt"] == "auto" for r in rows) == 1
     assert 0 < (out / "study.png").stat().st_size < 300_000
     return rows
@@ -63,7 +76,7 @@ def test_every_shipped_deck_can_be_studied_in_a_tiny_window(tmp_path, deck, caps
     assert code == 0, text.err
     assert "verdict: " in text.out
     rows = check_outputs(tmp_path / "s")
-    assert rows[0]["error"] in ("", "0.0")      # the finest run is the reference
+    assert rows[0]["error"] in ("", "0.0")  # the finest run is the reference
 
 
 @pytest.mark.validate

@@ -49,11 +49,13 @@ def _open_walls(st) -> set:
     return set(zip(st.wl_p[:n][on].tolist(), st.wl_f[:n][on].tolist()))
 
 
-def bed_stats(bed: str, steps: int, every: int = 1, from_start: bool = False,
-              series: bool = False) -> dict:
+def bed_stats(
+    bed: str, steps: int, every: int = 1, from_start: bool = False, series: bool = False
+) -> dict:
     """Means per look over ``steps`` steps of the prepared ``bed`` (module docstring)."""
     if from_start:
         from bench_solver import settled_simulation
+
         sim, sc = settled_simulation(*BEDS[bed][:1], 300_000, *BEDS[bed][1:])
         period = 1.0 / (sc["shake_freq_hz"] * sc["dt"])
     else:
@@ -70,8 +72,18 @@ def bed_stats(bed: str, steps: int, every: int = 1, from_start: bool = False,
     pairs, walls = _open_pairs(st), _open_walls(st)
     rebuilds0 = int(st.nbr[2])
     looks = steps // every
-    acc = {k: 0.0 for k in ("pair_open", "wall_open", "pair_opened", "pair_closed",
-                            "wall_opened", "wall_closed", "pair_sliding")}
+    acc = {
+        k: 0.0
+        for k in (
+            "pair_open",
+            "wall_open",
+            "pair_opened",
+            "pair_closed",
+            "wall_opened",
+            "wall_closed",
+            "pair_sliding",
+        )
+    }
     for _ in range(looks):
         sim.advance(every, max_rows=1)
         st = sim.state
@@ -84,22 +96,29 @@ def bed_stats(bed: str, steps: int, every: int = 1, from_start: bool = False,
         acc["wall_closed"] += len(walls - new_walls)
         n = int(st.npl[0])
         ps = st.ps[:n][(st.pl_on[:n] != 0) & (st.ps[:n, S_A] > 0.0)]
-        ft = np.sqrt((ps[:, S_FT:S_FT + 3] ** 2).sum(axis=1))
+        ft = np.sqrt((ps[:, S_FT : S_FT + 3] ** 2).sum(axis=1))
         acc["pair_sliding"] += int((ft >= 0.999 * MU * ps[:, S_FN]).sum())
         pairs, walls = new_pairs, new_walls
         if series:
             n_sph = sim.model.n_particles
             t = f"t/T {(st.step - step0) / period:5.2f} " if from_start else ""
-            print(f"step {st.step - step0:7d} {t}sphere-sphere {2 * len(new_pairs) / n_sph:.2f} "
-                  f"wall {len(new_walls) / n_sph:.2f}", flush=True)
+            print(
+                f"step {st.step - step0:7d} {t}sphere-sphere {2 * len(new_pairs) / n_sph:.2f} "
+                f"wall {len(new_walls) / n_sph:.2f}",
+                flush=True,
+            )
     out = {k: v / looks for k, v in acc.items()}
     n_spheres = sim.model.n_particles
-    out.update(bed=bed, steps=looks * every, every=every,
-               pair_per_sphere=2 * out["pair_open"] / n_spheres,
-               wall_per_sphere=out["wall_open"] / n_spheres,
-               sliding_fraction=out["pair_sliding"] / max(out["pair_open"], 1e-300),
-               rebuilds_per_1000_steps=1000.0 * (int(st.nbr[2]) - rebuilds0) / (looks * every),
-               cpu_us_per_step=cpu_us)
+    out.update(
+        bed=bed,
+        steps=looks * every,
+        every=every,
+        pair_per_sphere=2 * out["pair_open"] / n_spheres,
+        wall_per_sphere=out["wall_open"] / n_spheres,
+        sliding_fraction=out["pair_sliding"] / max(out["pair_open"], 1e-300),
+        rebuilds_per_1000_steps=1000.0 * (int(st.nbr[2]) - rebuilds0) / (looks * every),
+        cpu_us_per_step=cpu_us,
+    )
     return out
 
 
@@ -108,19 +127,24 @@ def main(argv=None) -> int:
     ap.add_argument("bed", choices=list(BEDS))
     ap.add_argument("--steps", type=int, default=4000)
     ap.add_argument("--every", type=int, default=1)
-    ap.add_argument("--from-start", action="store_true",
-                    help="settle afresh and start at the beginning of the shake")
+    ap.add_argument(
+        "--from-start",
+        action="store_true",
+        help="settle afresh and start at the beginning of the shake",
+    )
     ap.add_argument("--series", action="store_true", help="print every look's contacts")
     args = ap.parse_args(argv)
     r = bed_stats(args.bed, args.steps, args.every, args.from_start, args.series)
-    print(f"{r['bed']}: {r['steps']} steps, per {'step' if r['every'] == 1 else 'look'}: "
-          f"{r['pair_open']:.1f} pair + {r['wall_open']:.1f} wall contacts open "
-          f"({r['pair_per_sphere']:.2f} + {r['wall_per_sphere']:.2f} per sphere); "
-          f"pairs opened {r['pair_opened']:.2f}, closed {r['pair_closed']:.2f}; walls opened "
-          f"{r['wall_opened']:.2f}, closed {r['wall_closed']:.2f}; sliding pairs "
-          f"{r['pair_sliding']:.1f} ({100 * r['sliding_fraction']:.0f} %); list rebuilds "
-          f"{r['rebuilds_per_1000_steps']:.2f} per 1000 steps; CPU time "
-          f"{r['cpu_us_per_step']:.1f} us per step")
+    print(
+        f"{r['bed']}: {r['steps']} steps, per {'step' if r['every'] == 1 else 'look'}: "
+        f"{r['pair_open']:.1f} pair + {r['wall_open']:.1f} wall contacts open "
+        f"({r['pair_per_sphere']:.2f} + {r['wall_per_sphere']:.2f} per sphere); "
+        f"pairs opened {r['pair_opened']:.2f}, closed {r['pair_closed']:.2f}; walls opened "
+        f"{r['wall_opened']:.2f}, closed {r['wall_closed']:.2f}; sliding pairs "
+        f"{r['pair_sliding']:.1f} ({100 * r['sliding_fraction']:.0f} %); list rebuilds "
+        f"{r['rebuilds_per_1000_steps']:.2f} per 1000 steps; CPU time "
+        f"{r['cpu_us_per_step']:.1f} us per step"
+    )
     return 0
 
 

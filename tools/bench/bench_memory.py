@@ -36,9 +36,11 @@ def main(argv=None) -> int:
     for _ in range(4):
         sim.advance(args.steps)
     rss2 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    print(f"n={args.n}: state {state / 2**20:.2f} MiB, constant arrays {setup / 2**20:.2f} MiB, "
-          f"peak RSS {rss1 / 1024:.0f} MiB after {args.steps} steps, {rss2 / 1024:.0f} MiB after "
-          f"{5 * args.steps} (process incl. Python, numpy, numba, LLVM)")
+    print(
+        f"n={args.n}: state {state / 2**20:.2f} MiB, constant arrays {setup / 2**20:.2f} MiB, "
+        f"peak RSS {rss1 / 1024:.0f} MiB after {args.steps} steps, {rss2 / 1024:.0f} MiB after "
+        f"{5 * args.steps} (process incl. Python, numpy, numba, LLVM)"
+    )
     return 0
 
 

@@ -24,8 +24,14 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(ROOT), str(ROOT / "tools")]
 
 import x3dpd  # noqa: E402
-from make_modal_decks import (AL_RHO, BEAM_B, BEAM_H, BEAM_L, _modal_card,  # noqa: E402
-                              cantilever_modes)
+from make_modal_decks import (
+    AL_RHO,
+    BEAM_B,
+    BEAM_H,
+    BEAM_L,
+    _modal_card,  # noqa: E402
+    cantilever_modes,
+)
 from x3dpd.model.build import build_model  # noqa: E402
 from x3dpd.solver.simulation import Simulation  # noqa: E402
 
@@ -41,8 +47,7 @@ def modal_beam(n_modes: int, turning: bool = True):
     e = (2 * math.pi * m1.freq / omega1[0]) ** 2
     omega, tip, slope = cantilever_modes(n_modes, e, AL_RHO, BEAM_B, BEAM_H, BEAM_L)
     shapes = [(9, 1, list(tip))] + ([(9, 6, list(-slope))] if turning else [])
-    card = _modal_card([(k + 1, w / (2 * math.pi), m1.zeta) for k, w in enumerate(omega)],
-                       shapes)
+    card = _modal_card([(k + 1, w / (2 * math.pi), m1.zeta) for k, w in enumerate(omega)], shapes)
     return replace(deck, modal=card)
 
 
@@ -72,8 +77,10 @@ def main(argv=None) -> int:
     print(f"beam_64 (SDOF)                         {a * 1e6:8.3f} us/step")
     for turning, what in ((False, "translating cavity"), (True, "cavity turning with the tip")):
         b = time_per_step(modal_beam(args.modes, turning), args.settle, args.time, args.repeat)
-        print(f"beam_64 on {args.modes:2d} modes, {what:<27} {b * 1e6:8.3f} us/step  "
-              f"({(b / a - 1) * 100:+.1f} %)")
+        print(
+            f"beam_64 on {args.modes:2d} modes, {what:<27} {b * 1e6:8.3f} us/step  "
+            f"({(b / a - 1) * 100:+.1f} %)"
+        )
     return 0
 
 

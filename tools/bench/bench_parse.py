@@ -49,17 +49,34 @@ def make_deck(particles: int) -> Deck:
     side = math.ceil(particles ** (1 / 3))
     box = 2 * r * side + 0.2 * r
     corners = [Node(k + 1, box * (k & 1), box * (k >> 1 & 1), box * (k >> 2 & 1)) for k in range(8)]
-    faces = [(1, 3, 5), (3, 7, 5), (2, 6, 4), (4, 6, 8), (1, 5, 2), (2, 5, 6), (3, 4, 7),
-             (4, 8, 7), (1, 2, 3), (2, 4, 3), (5, 7, 6), (6, 7, 8)]
+    faces = [
+        (1, 3, 5),
+        (3, 7, 5),
+        (2, 6, 4),
+        (4, 6, 8),
+        (1, 5, 2),
+        (2, 5, 6),
+        (3, 4, 7),
+        (4, 8, 7),
+        (1, 2, 3),
+        (2, 4, 3),
+        (5, 7, 6),
+        (6, 7, 8),
+    ]
     at = [0.1 * r + r * (1 + 2 * i) for i in range(side)]
-    parts = [Node(10 + k, at[k % side], at[k // side % side], at[k // side // side])
-             for k in range(particles)]
+    parts = [
+        Node(10 + k, at[k % side], at[k // side % side], at[k // side // side])
+        for k in range(particles)
+    ]
     ids = tuple(range(10, 10 + particles))
     return Deck(
         title=Title(f"benchmark: {particles} particles in a {box:.4f} in box"),
         parameters=Parameters(0.0, 15.0, 0.1, 5e-7, 5e-7, 0, 1e9, 0, 5, 0, 2000),
-        materials=(Material(2, 1, 1e-12, 1.0, 11.4882, 1e12, 1e12, 3.08293e-4,
-                            (11.4882, 0, 0, 1, 0, 0, 1)),),
+        materials=(
+            Material(
+                2, 1, 1e-12, 1.0, 11.4882, 1e12, 1e12, 3.08293e-4, (11.4882, 0, 0, 1, 0, 0, 1)
+            ),
+        ),
         pdmp=(Pdmp(9, r, 7.32971e-4, 0.33, 25.0e6, 10.0e6, 2.0e-6, 0.30),),
         body=Body(0.0, -386.1, 0.0),
         trace=Trace(tuple(range(9, 9 + min(51, particles + 1)))),
@@ -88,9 +105,11 @@ def main() -> None:
             t0 = time.perf_counter()
             deck = read_deck(path)
             times.append(time.perf_counter() - t0)
-    print(f"read_deck: {args.particles} particles, {len(deck.nodes)} nodes, "
-          f"{size / 1e6:.1f} MB: best {min(times):.3f} s, first {times[0]:.3f} s "
-          f"(runs: {', '.join(f'{t:.3f}' for t in times)})")
+    print(
+        f"read_deck: {args.particles} particles, {len(deck.nodes)} nodes, "
+        f"{size / 1e6:.1f} MB: best {min(times):.3f} s, first {times[0]:.3f} s "
+        f"(runs: {', '.join(f'{t:.3f}' for t in times)})"
+    )
     if args.build:
         from x3dpd.model.build import build_model
 

@@ -42,34 +42,51 @@ from x3dpd.solver.simulation import Simulation  # noqa: E402
 SHAKEN_CAVITY_MASS = 0.05
 
 
-def scene_model(n: int, *, e1: float = 0.0, mu: float | None = None, seed: int = 0,
-                gravity: bool = True, drive: bool = True, free_cavity: bool = False):
+def scene_model(
+    n: int,
+    *,
+    e1: float = 0.0,
+    mu: float | None = None,
+    seed: int = 0,
+    gravity: bool = True,
+    drive: bool = True,
+    free_cavity: bool = False,
+):
     """The benchmark scene as an x3dpd model: box cavity on the Table 4 spring, force-driven;
     with ``free_cavity`` a free rigid cavity of SHAKEN_CAVITY_MASS (no spring, no damper)."""
     sc = bench_scene(n, seed=seed)
     if free_cavity:
-        sc = {**sc, "structure_mass": SHAKEN_CAVITY_MASS, "structure_k": 0.0,
-              "structure_c": 0.0}
+        sc = {**sc, "structure_mass": SHAKEN_CAVITY_MASS, "structure_k": 0.0, "structure_c": 0.0}
     mat = Material3(sc["E0"], e1, 2e-6, sc["nu"], sc["mu"] if mu is None else mu, sc["density"])
     spec = f"sine:node=9,dof=1,amp={sc['drive_force']!r},hz={sc['shake_freq_hz']!r}"
-    deck = box_cavity_deck(size=sc["box_hi"] - sc["box_lo"], particles=sc["positions"],
-                           radius=sc["radius"], material=mat,
-                           structure_mass=sc["structure_mass"], stiffness=sc["structure_k"],
-                           damping=sc["structure_c"],
-                           gravity=tuple(sc["gravity"]) if gravity else (0.0, 0.0, 0.0),
-                           dt=sc["dt"], itrac=10**9, usrfrc=(spec,) if drive else ())
+    deck = box_cavity_deck(
+        size=sc["box_hi"] - sc["box_lo"],
+        particles=sc["positions"],
+        radius=sc["radius"],
+        material=mat,
+        structure_mass=sc["structure_mass"],
+        stiffness=sc["structure_k"],
+        damping=sc["structure_c"],
+        gravity=tuple(sc["gravity"]) if gravity else (0.0, 0.0, 0.0),
+        dt=sc["dt"],
+        itrac=10**9,
+        usrfrc=(spec,) if drive else (),
+    )
     return build_model(deck), sc
 
 
 def sdof_model():
     """The structure alone (``--sdof``): the Table 4 SDOF driven at 37.21 Hz, no particles."""
-    from x3dpd.deck.cards import (Boundary, Deck, Element, Mass, Material, Node, Parameters,
-                                  Usrfrc)
-    deck = Deck(parameters=Parameters(0.0, 1.0, 0.0, 5e-7, 5e-7, 0, 1e9, 0, 5, 0, 10**9),
-                materials=(Material(2, 1, 1e-12, 1.0, 11.4823, 0.0, 0.0, 3.08293e-4),),
-                nodes=(Node(1, 0.0, 0.0, 0.0),), elements=(Element(1, 2, (1,)),),
-                masses=(Mass(1, 1.87646e-4, 0.0, 0.0, 0.0),),
-                usrfrc=(Usrfrc(("sine:node=1,dof=1,amp=4.84040e-3,hz=37.21",)),))
+    from x3dpd.deck.cards import Boundary, Deck, Element, Mass, Material, Node, Parameters, Usrfrc
+
+    deck = Deck(
+        parameters=Parameters(0.0, 1.0, 0.0, 5e-7, 5e-7, 0, 1e9, 0, 5, 0, 10**9),
+        materials=(Material(2, 1, 1e-12, 1.0, 11.4823, 0.0, 0.0, 3.08293e-4),),
+        nodes=(Node(1, 0.0, 0.0, 0.0),),
+        elements=(Element(1, 2, (1,)),),
+        masses=(Mass(1, 1.87646e-4, 0.0, 0.0, 0.0),),
+        usrfrc=(Usrfrc(("sine:node=1,dof=1,amp=4.84040e-3,hz=37.21",)),),
+    )
     deck = Deck(**{**deck.__dict__, "boundaries": (Boundary(1, 1, 1, (2, 3, 4, 5, 6)),)})
     return build_model(deck)
 
@@ -107,13 +124,28 @@ def bench_n(n: int, warmup: int, steps: int, repeat: int = 1, **kw) -> dict:
         if rep == 0:
             ready = time.perf_counter() - t
         best = min(best, time_steps(sim, warmup, steps))
-    return {"n": n, "us_per_step": best * 1e6, "steps": steps, "warmup": warmup,
-            "repeats": repeat, "setup_and_compile_s": ready, "effects": sorted(sim.effects),
-            "neighbour_rebuilds": int(sim.state.nbr[2])}
+    return {
+        "n": n,
+        "us_per_step": best * 1e6,
+        "steps": steps,
+        "warmup": warmup,
+        "repeats": repeat,
+        "setup_and_compile_s": ready,
+        "effects": sorted(sim.effects),
+        "neighbour_rebuilds": int(sim.state.nbr[2]),
+    }
 
 
-def settled_bed(n: int, settle_steps: int, steps: int, repeat: int, accel_g: float = 0.0,
-                warmup: int | None = None, e1: float = 0.0, shaken: bool = False) -> dict:
+def settled_bed(
+    n: int,
+    settle_steps: int,
+    steps: int,
+    repeat: int,
+    accel_g: float = 0.0,
+    warmup: int | None = None,
+    e1: float = 0.0,
+    shaken: bool = False,
+) -> dict:
     """Per-step time of a settled bed: the scene without drive (particles fall, pile up
     and come to rest on the floor under gravity) for ``settle_steps`` steps, then ``warmup``
     steps (default 2000) before ``repeat`` consecutive timed windows. Every particle has lasting
@@ -144,26 +176,37 @@ def settled_bed(n: int, settle_steps: int, steps: int, repeat: int, accel_g: flo
     best = math.inf
     pair_on = wall_on = 0
     rebuilds = int(sim.state.nbr[2])
-    for _ in range(repeat):   # consecutive windows of the bed
+    for _ in range(repeat):  # consecutive windows of the bed
         t = time.perf_counter()
         sim.advance(steps, max_rows=1)
         best = min(best, (time.perf_counter() - t) / steps)
         st = sim.state
-        pair_on += int(st.pl_on[:int(st.npl[0])].sum())
-        wall_on += int(st.wl_on[:int(st.nwl[0])].sum())
+        pair_on += int(st.pl_on[: int(st.npl[0])].sum())
+        wall_on += int(st.wl_on[: int(st.nwl[0])].sum())
     pair_on, wall_on = pair_on / repeat, wall_on / repeat
-    return {"case": "shaken" if shaken else "settled", "n": n, "settle_steps": settle_steps,
-            "accel_g": accel_g if (accel_g or not shaken) else 2.0, "e1": e1,
-            "warmup_steps": warmup, "us_per_step": best * 1e6, "pair_contacts": pair_on,
-            "wall_contacts": wall_on, "contacts_per_sphere": (2 * pair_on + wall_on) / n,
-            "pair_contacts_per_sphere": 2 * pair_on / n, "wall_contacts_per_sphere": wall_on / n,
-            "list_rebuilds_per_1000_steps": 1000.0 * (int(sim.state.nbr[2]) - rebuilds)
-            / (repeat * steps),
-            "ns_per_contact": best * 1e9 / max(pair_on + wall_on, 1)}
+    return {
+        "case": "shaken" if shaken else "settled",
+        "n": n,
+        "settle_steps": settle_steps,
+        "accel_g": accel_g if (accel_g or not shaken) else 2.0,
+        "e1": e1,
+        "warmup_steps": warmup,
+        "us_per_step": best * 1e6,
+        "pair_contacts": pair_on,
+        "wall_contacts": wall_on,
+        "contacts_per_sphere": (2 * pair_on + wall_on) / n,
+        "pair_contacts_per_sphere": 2 * pair_on / n,
+        "wall_contacts_per_sphere": wall_on / n,
+        "list_rebuilds_per_1000_steps": 1000.0
+        * (int(sim.state.nbr[2]) - rebuilds)
+        / (repeat * steps),
+        "ns_per_contact": best * 1e9 / max(pair_on + wall_on, 1),
+    }
 
 
-def settled_simulation(n: int, settle_steps: int, accel_g: float = 0.0, e1: float = 0.0,
-                       shaken: bool = False):
+def settled_simulation(
+    n: int, settle_steps: int, accel_g: float = 0.0, e1: float = 0.0, shaken: bool = False
+):
     """``(Simulation, scene)``: the bed of ``settled_bed`` after ``settle_steps`` steps at rest,
     with the shake (``shaken`` or ``accel_g``) started at that time and no step of it taken."""
     model, sc = scene_model(n, drive=False, e1=e1, free_cavity=shaken)
@@ -174,23 +217,26 @@ def settled_simulation(n: int, settle_steps: int, accel_g: float = 0.0, e1: floa
     period = 2.0 * math.pi / omega
     if shaken:
         force = SHAKEN_CAVITY_MASS * (accel_g or 2.0) * G
-        spec = (f"sine:node=9,dof=1,amp={force!r},hz={sc['shake_freq_hz']!r},phase=90,"
-                f"t0={sim.time!r}")
+        spec = (
+            f"sine:node=9,dof=1,amp={force!r},hz={sc['shake_freq_hz']!r},phase=90,t0={sim.time!r}"
+        )
         driven = Simulation(model, itrac=10**9, usrfrc=(spec,))
         driven.restore(sim.state)
         sim = driven
     elif accel_g:
         amp = accel_g * G / omega**2
-        spec = (f"node=9,dof=1,amp={amp!r},hz={sc['shake_freq_hz']!r},t0={sim.time!r},"
-                f"ramp={period!r}")
+        spec = (
+            f"node=9,dof=1,amp={amp!r},hz={sc['shake_freq_hz']!r},t0={sim.time!r},ramp={period!r}"
+        )
         shaken_sim = Simulation(model, itrac=10**9, motion=(spec,))
         shaken_sim.restore(sim.state)
         sim = shaken_sim
     return sim, sc
 
 
-def effect_costs(n: int, warmup: int, steps: int, repeat: int = 1,
-                 settled: bool = False) -> list[dict]:
+def effect_costs(
+    n: int, warmup: int, steps: int, repeat: int = 1, settled: bool = False
+) -> list[dict]:
     """Cost of each effect's code: a scene where the effect is physically absent, run with the
     variant the factory picks (effect compiled out) and with the effect forced in at zero
     strength (friction with mu = 0, a Maxwell term with E1 = 0, gravity 0). Both give identical
@@ -201,9 +247,11 @@ def effect_costs(n: int, warmup: int, steps: int, repeat: int = 1,
 
     from x3dpd.solver.variants import make_advance
 
-    cases = [("friction", {"mu": 0.0}, {"friction": True}),
-             ("viscoelastic", {"e1": 0.0}, {"viscoelastic": True, "n_maxwell": 1}),
-             ("gravity", {"gravity": False}, {"gravity": True})]
+    cases = [
+        ("friction", {"mu": 0.0}, {"friction": True}),
+        ("viscoelastic", {"e1": 0.0}, {"viscoelastic": True, "n_maxwell": 1}),
+        ("gravity", {"gravity": False}, {"gravity": True}),
+    ]
     if settled:
         # a bed settles only with gravity and some dissipation: frictionless particles get a
         # Maxwell term (E1 = 10e6 psi, tau1 = 2 us, as in the report's Appendix A material)
@@ -219,8 +267,10 @@ def effect_costs(n: int, warmup: int, steps: int, repeat: int = 1,
                 # (E1 = 0, tau1 = 2e-6 s) to read
                 p = model.n_particles
                 model = dataclasses.replace(
-                    model, moduli=np.hstack([model.moduli, np.zeros((p, 1))]),
-                    taus=np.hstack([model.taus, np.full((p, 1), 2e-6)]))
+                    model,
+                    moduli=np.hstack([model.moduli, np.zeros((p, 1))]),
+                    taus=np.hstack([model.taus, np.full((p, 1), 2e-6)]),
+                )
             times[label] = math.inf
             for _rep in range(1 if settled else repeat):
                 sim = Simulation(model, itrac=10**9)
@@ -230,13 +280,20 @@ def effect_costs(n: int, warmup: int, steps: int, repeat: int = 1,
                 sim.initialize()
                 if settled:
                     sim.advance(300_000, max_rows=1)
-                    for _ in range(repeat):   # consecutive windows of the resting bed
+                    for _ in range(repeat):  # consecutive windows of the resting bed
                         times[label] = min(times[label], time_steps(sim, 0, steps) * 1e6)
                 else:
                     times[label] = min(times[label], time_steps(sim, warmup, steps) * 1e6)
             finals[label] = sim.state.x.copy()
-        out.append({"n": n, "effect": name, "us_out": times["out"], "us_in": times["in"],
-                    "identical": bool(np.array_equal(finals["out"], finals["in"]))})
+        out.append(
+            {
+                "n": n,
+                "effect": name,
+                "us_out": times["out"],
+                "us_in": times["in"],
+                "identical": bool(np.array_equal(finals["out"], finals["in"])),
+            }
+        )
     return out
 
 
@@ -244,26 +301,51 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, nargs="*", default=[50, 64, 512, 4096])
     ap.add_argument("--steps", type=int, default=20000)
-    ap.add_argument("--warmup", type=int, default=None,
-                    help="untimed steps first (default 2000; --settled: one drive period)")
-    ap.add_argument("--repeat", type=int, default=1,
-                    help="time the same window this many times; report the fastest")
+    ap.add_argument(
+        "--warmup",
+        type=int,
+        default=None,
+        help="untimed steps first (default 2000; --settled: one drive period)",
+    )
+    ap.add_argument(
+        "--repeat",
+        type=int,
+        default=1,
+        help="time the same window this many times; report the fastest",
+    )
     ap.add_argument("--json")
-    ap.add_argument("--effects", action="store_true",
-                    help="cost of each effect's code (compiled in at zero strength vs out)")
+    ap.add_argument(
+        "--effects",
+        action="store_true",
+        help="cost of each effect's code (compiled in at zero strength vs out)",
+    )
     ap.add_argument("--sdof", action="store_true", help="structure-only steps per second")
-    ap.add_argument("--settled", action="store_true",
-                    help="a settled bed of --n particles (default 512) after 300000 steps "
-                         "(at rest, or shaken at --accel-g)")
-    ap.add_argument("--shaken", action="store_true",
-                    help="the settled bed (--n, default 512) in a free rigid cavity then pushed "
-                         "by M a g cos(wt) at --accel-g (default 2) g, 37.21 Hz")
-    ap.add_argument("--e1", type=float, default=0.0,
-                    help="with --settled/--shaken: Maxwell modulus E1 [psi] of the spheres "
-                         "(default 0: elastic; decks/beam_*.inp have 5e6)")
-    ap.add_argument("--accel-g", type=float, default=0.0,
-                    help="with --settled: peak acceleration of the cavity's prescribed motion "
-                         "in g (default 0: the bed at rest)")
+    ap.add_argument(
+        "--settled",
+        action="store_true",
+        help="a settled bed of --n particles (default 512) after 300000 steps "
+        "(at rest, or shaken at --accel-g)",
+    )
+    ap.add_argument(
+        "--shaken",
+        action="store_true",
+        help="the settled bed (--n, default 512) in a free rigid cavity then pushed "
+        "by M a g cos(wt) at --accel-g (default 2) g, 37.21 Hz",
+    )
+    ap.add_argument(
+        "--e1",
+        type=float,
+        default=0.0,
+        help="with --settled/--shaken: Maxwell modulus E1 [psi] of the spheres "
+        "(default 0: elastic; decks/beam_*.inp have 5e6)",
+    )
+    ap.add_argument(
+        "--accel-g",
+        type=float,
+        default=0.0,
+        help="with --settled: peak acceleration of the cavity's prescribed motion "
+        "in g (default 0: the bed at rest)",
+    )
     args = ap.parse_args(argv)
     args.warmup_given = args.warmup is not None
     if args.warmup is None:
@@ -277,30 +359,45 @@ def main(argv=None) -> int:
     elif (args.settled or args.shaken) and not args.effects:
         ns = args.n if args.n != [50, 64, 512, 4096] else [512]
         for n in ns:
-            r = settled_bed(n, 300_000, args.steps, max(args.repeat, 3), args.accel_g,
-                            args.warmup if args.warmup_given else None, args.e1, args.shaken)
+            r = settled_bed(
+                n,
+                300_000,
+                args.steps,
+                max(args.repeat, 3),
+                args.accel_g,
+                args.warmup if args.warmup_given else None,
+                args.e1,
+                args.shaken,
+            )
             results.append(r)
-            print(f"x3dpd {r['case']} n={n} us_per_step={r['us_per_step']:.2f} "
-                  f"({r['pair_contacts']:.0f} pair + {r['wall_contacts']:.0f} wall contacts, "
-                  f"{r['pair_contacts_per_sphere']:.2f} + {r['wall_contacts_per_sphere']:.2f} "
-                  f"per sphere, {r['ns_per_contact']:.0f} ns per contact, "
-                  f"{r['list_rebuilds_per_1000_steps']:.2f} list rebuilds per 1000 steps, "
-                  f"{r['accel_g']:g} g, E1 {args.e1:g})")
+            print(
+                f"x3dpd {r['case']} n={n} us_per_step={r['us_per_step']:.2f} "
+                f"({r['pair_contacts']:.0f} pair + {r['wall_contacts']:.0f} wall contacts, "
+                f"{r['pair_contacts_per_sphere']:.2f} + {r['wall_contacts_per_sphere']:.2f} "
+                f"per sphere, {r['ns_per_contact']:.0f} ns per contact, "
+                f"{r['list_rebuilds_per_1000_steps']:.2f} list rebuilds per 1000 steps, "
+                f"{r['accel_g']:g} g, E1 {args.e1:g})"
+            )
     elif args.effects:
         for n in args.n:
             for r in effect_costs(n, args.warmup, args.steps, args.repeat, args.settled):
                 results.append(r)
-                print(f"x3dpd n={n} {r['effect']:13s} compiled out {r['us_out']:7.3f} us/step, "
-                      f"compiled in with zero parameters {r['us_in']:7.3f} us/step "
-                      f"(identical trajectories: {r['identical']})")
+                print(
+                    f"x3dpd n={n} {r['effect']:13s} compiled out {r['us_out']:7.3f} us/step, "
+                    f"compiled in with zero parameters {r['us_in']:7.3f} us/step "
+                    f"(identical trajectories: {r['identical']})"
+                )
     else:
         for n in args.n:
-            r = bench_n(n, args.warmup, args.steps if n < 4096 else max(args.steps // 10, 1000),
-                        args.repeat)
+            r = bench_n(
+                n, args.warmup, args.steps if n < 4096 else max(args.steps // 10, 1000), args.repeat
+            )
             results.append(r)
-            print(f"x3dpd n={n} us_per_step={r['us_per_step']:.3f} "
-                  f"(best of {r['repeats']}, setup+compile/load {r['setup_and_compile_s']:.2f} s, "
-                  f"{r['neighbour_rebuilds']} list rebuilds)")
+            print(
+                f"x3dpd n={n} us_per_step={r['us_per_step']:.3f} "
+                f"(best of {r['repeats']}, setup+compile/load {r['setup_and_compile_s']:.2f} s, "
+                f"{r['neighbour_rebuilds']} list rebuilds)"
+            )
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2))
     return 0

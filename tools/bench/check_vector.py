@@ -42,8 +42,9 @@ VARIANTS = {
 PACKED = re.compile(r"^\s+(v(?:sqrt|div|mul|add|sub|fmadd\d*|gather[dq])p[sd])\s", re.M)
 
 
-def response_asm(scene: dict, friction: str, rolling: str, one_kind: bool,
-                 noalias: bool = True) -> str:
+def response_asm(
+    scene: dict, friction: str, rolling: str, one_kind: bool, noalias: bool = True
+) -> str:
     """Assembly of the variant's ``_pair_response``, compiled afresh for the argument types
     the step loop passes (a 64-sphere bench scene's bundles); ``noalias`` False compiles it
     without vector_kernel's ``noalias`` (then LLVM cannot prove the columns apart and keeps the
@@ -51,8 +52,13 @@ def response_asm(scene: dict, friction: str, rolling: str, one_kind: bool,
     model, _ = scene_model(64, **scene)
     if rolling != "none":
         p = model.n_particles
-        model = dataclasses.replace(model, rolling_law=rolling, mu_roll=np.full(p, 0.05),
-                                    friction_law=friction, mu_kinetic=np.full(p, 0.25))
+        model = dataclasses.replace(
+            model,
+            rolling_law=rolling,
+            mu_roll=np.full(p, 0.05),
+            friction_law=friction,
+            mu_kinetic=np.full(p, 0.25),
+        )
     sim = Simulation(model, itrac=10**9, friction=friction)
     variant = dataclasses.replace(sim.variant, one_particle_kind=one_kind)
     pairs = part_module(make_advance(variant), "pairs")
@@ -98,8 +104,11 @@ def main(argv=None) -> int:
         why = verdict(ops, one_kind)
         if why:
             failed.append(name)
-        print(f"{name:20s} {'SCALAR: ' + why if why else 'vectorized'}  "
-              + " ".join(f"{k}x{v}" for k, v in sorted(ops.items())), flush=True)
+        print(
+            f"{name:20s} {'SCALAR: ' + why if why else 'vectorized'}  "
+            + " ".join(f"{k}x{v}" for k, v in sorted(ops.items())),
+            flush=True,
+        )
         if args.asm:
             print("\n".join(line for line in asm.splitlines() if PACKED.match(line)))
     return 1 if failed else 0

@@ -33,6 +33,7 @@ def _exclusive_timer(acc: dict, stack: list, name: str, fn):
             acc[name] += elapsed - stack.pop()
             if stack:
                 stack[-1] += elapsed
+
     return timed
 
 
@@ -40,14 +41,17 @@ def _time_by_stage(acc, stack, codegen, machinery) -> None:
     run_pass = machinery.PassManager._runPass
 
     def timed_pass(self, index, pss, state):
-        return _exclusive_timer(acc, stack, "numba pass " + pss.name(),
-                                lambda: run_pass(self, index, pss, state))()
+        return _exclusive_timer(
+            acc, stack, "numba pass " + pss.name(), lambda: run_pass(self, index, pss, state)
+        )()
 
     machinery.PassManager._runPass = timed_pass
     for stage in ("_optimize_functions", "_optimize_final_module", "_finalize_final_module"):
-        setattr(codegen.CPUCodeLibrary, stage,
-                _exclusive_timer(acc, stack, "LLVM " + stage,
-                                 getattr(codegen.CPUCodeLibrary, stage)))
+        setattr(
+            codegen.CPUCodeLibrary,
+            stage,
+            _exclusive_timer(acc, stack, "LLVM " + stage, getattr(codegen.CPUCodeLibrary, stage)),
+        )
 
 
 def _time_by_function(acc, stack, codegen, dispatcher) -> None:
@@ -74,14 +78,23 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("deck")
     ap.add_argument("--tmax", type=float, default=0.002)
-    ap.add_argument("--fresh", action="store_true",
-                    help="also an empty numba cache for the kernels beside x3dpd's sources "
-                         "(NUMBA_CACHE_DIR), as in a fresh clone")
-    ap.add_argument("--by-function", action="store_true",
-                    help="CPU seconds per compiled function (numba's passes) and per code "
-                         "library (LLVM) instead of per pass and stage")
-    ap.add_argument("--threads", default="1",
-                    help="the run's thread count (more than 1: the threaded loop variant)")
+    ap.add_argument(
+        "--fresh",
+        action="store_true",
+        help="also an empty numba cache for the kernels beside x3dpd's sources "
+        "(NUMBA_CACHE_DIR), as in a fresh clone",
+    )
+    ap.add_argument(
+        "--by-function",
+        action="store_true",
+        help="CPU seconds per compiled function (numba's passes) and per code "
+        "library (LLVM) instead of per pass and stage",
+    )
+    ap.add_argument(
+        "--threads",
+        default="1",
+        help="the run's thread count (more than 1: the threaded loop variant)",
+    )
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as cache:
         os.environ["X3DPD_CACHE_DIR"] = cache
@@ -99,7 +112,7 @@ def main() -> None:
         import x3dpd
 
         t0 = time.process_time()
-        x3dpd.run(args.deck, tmax=args.tmax, threads=args.threads)   # writes nothing
+        x3dpd.run(args.deck, tmax=args.tmax, threads=args.threads)  # writes nothing
         total = time.process_time() - t0
     print(f"{args.deck}: {total:.1f} CPU s to compile and run {args.tmax:g} s")
     for name, seconds in sorted(acc.items(), key=lambda kv: -kv[1]):

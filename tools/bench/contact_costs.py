@@ -34,14 +34,21 @@ from x3dpd.solver.variants import part_module  # noqa: E402
 
 #: name -> (text in the kernel module, replacement)
 CUTS = {
-    "friction": ("        if HAS_FRICTION:\n            wix = vel[i, 3]",
-                 "        if HAS_FRICTION and nbusy < 0:\n            wix = vel[i, 3]"),
-    "friction torques": ("            tx = ny * ftz - nz * fty\n"
-                         "            ty = nz * ftx - nx * ftz\n"
-                         "            tz = nx * fty - ny * ftx\n", ""),
-    "friction slip work": ("    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty"
-                           " + (ftz_old + ftz) * vtz) * dt",
-                           "    lost = 0.0"),
+    "friction": (
+        "        if HAS_FRICTION:\n            wix = vel[i, 3]",
+        "        if HAS_FRICTION and nbusy < 0:\n            wix = vel[i, 3]",
+    ),
+    "friction torques": (
+        "            tx = ny * ftz - nz * fty\n"
+        "            ty = nz * ftx - nx * ftz\n"
+        "            tz = nx * fty - ny * ftx\n",
+        "",
+    ),
+    "friction slip work": (
+        "    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty"
+        " + (ftz_old + ftz) * vtz) * dt",
+        "    lost = 0.0",
+    ),
 }
 
 
@@ -90,15 +97,18 @@ def main() -> int:
     sim.initialize()
     sim.advance(300_000, max_rows=1)
     st = sim.state
-    contacts = int(st.pl_on[:int(st.npl[0])].sum())
-    pairs_mod, contact_mod, passes_mod = (part_module(sim.kernels, p)
-                                          for p in ("pairs", "contact", "pair_passes"))
-    source = Path(pairs_mod.__file__).read_text()   # the variant's pair passes
-    contact_source = Path(contact_mod.__file__).read_text()   # friction lives there
-    passes_source = Path(passes_mod.__file__).read_text()     # runs them
+    contacts = int(st.pl_on[: int(st.npl[0])].sum())
+    pairs_mod, contact_mod, passes_mod = (
+        part_module(sim.kernels, p) for p in ("pairs", "contact", "pair_passes")
+    )
+    source = Path(pairs_mod.__file__).read_text()  # the variant's pair passes
+    contact_source = Path(contact_mod.__file__).read_text()  # friction lives there
+    passes_source = Path(passes_mod.__file__).read_text()  # runs them
     full = time_pair_pass(passes_mod._pair_contacts, sim, args.calls)
-    print(f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
-          f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)")
+    print(
+        f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
+        f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)"
+    )
     with tempfile.TemporaryDirectory() as tmp:
         for name, (old, new) in CUTS.items():
             stem = f"cut_{name.replace(' ', '_')}"
@@ -107,18 +117,26 @@ def main() -> int:
                 cut_pairs = source.replace(old, new)
             elif contact_source.count(old) == 1:
                 # a cut copy of the shared contact part, imported by a copy of the pair part
-                _load(f"{stem}_contact", Path(tmp) / f"{stem}_contact.py",
-                      contact_source.replace(old, new))
-                cut_pairs = source.replace(f"from {contact_mod.__name__} import",
-                                           f"from {stem}_contact import")
+                _load(
+                    f"{stem}_contact",
+                    Path(tmp) / f"{stem}_contact.py",
+                    contact_source.replace(old, new),
+                )
+                cut_pairs = source.replace(
+                    f"from {contact_mod.__name__} import", f"from {stem}_contact import"
+                )
             else:
                 print(f"  {name}: its code was not found in the kernel (changed?)")
                 continue
             # the cut pair part, and a copy of the part that runs it importing it
             _load(f"{stem}_pairs", Path(tmp) / f"{stem}_pairs.py", cut_pairs)
-            passes = _load(f"{stem}_passes", Path(tmp) / f"{stem}_passes.py",
-                           passes_source.replace(f"from {pairs_mod.__name__} import",
-                                                 f"from {stem}_pairs import"))
+            passes = _load(
+                f"{stem}_passes",
+                Path(tmp) / f"{stem}_passes.py",
+                passes_source.replace(
+                    f"from {pairs_mod.__name__} import", f"from {stem}_pairs import"
+                ),
+            )
             cut = time_pair_pass(passes._pair_contacts, sim, args.calls)
             print(f"  {name:20s} costs {full - cut:6.2f} us/call")
     return 0

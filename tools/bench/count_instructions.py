@@ -48,15 +48,22 @@ from x3dpd.solver.simulation import Simulation  # noqa: E402
 
 
 def _instrument(on: bool) -> None:
-    subprocess.run(["callgrind_control", "-i", "on" if on else "off", str(os.getpid())],
-                   capture_output=True, check=False)
+    subprocess.run(
+        ["callgrind_control", "-i", "on" if on else "off", str(os.getpid())],
+        capture_output=True,
+        check=False,
+    )
 
 
 #: settled beds: name -> bench_solver.settled_simulation arguments (n, accel_g, e1, shaken);
 #: the larger elastic beds at rest are tools/bench/threads.py's
-BEDS = {"settled_512": (512, 0.0, 0.0, False), "settled_visco_512": (512, 0.0, 5e6, False),
-        "shaken_visco_512": (512, 2.0, 5e6, True), "settled_4096": (4096, 0.0, 0.0, False),
-        "settled_16384": (16384, 0.0, 0.0, False)}
+BEDS = {
+    "settled_512": (512, 0.0, 0.0, False),
+    "settled_visco_512": (512, 0.0, 5e6, False),
+    "shaken_visco_512": (512, 2.0, 5e6, True),
+    "settled_4096": (4096, 0.0, 0.0, False),
+    "settled_16384": (16384, 0.0, 0.0, False),
+}
 
 
 def _bed_file(scene: str) -> Path:
@@ -66,9 +73,10 @@ def _bed_file(scene: str) -> Path:
 def prepare_bed(scene: str) -> None:
     """Settle the bed natively (and shake it for two drive periods) and pickle its state."""
     from bench_solver import settled_simulation
+
     n, accel_g, e1, shaken = BEDS[scene]
     sim, sc = settled_simulation(n, 300_000, accel_g, e1, shaken)
-    t0 = sim.time   # the drive's start
+    t0 = sim.time  # the drive's start
     if shaken:
         sim.advance(2 * round(1.0 / (sc["shake_freq_hz"] * sc["dt"])), max_rows=1)
     _bed_file(scene).write_bytes(pickle.dumps((sim.state, t0)))
@@ -78,14 +86,17 @@ def prepare_bed(scene: str) -> None:
 def bed_simulation(scene: str) -> Simulation:
     """The prepared bed, restored into the simulation that shakes it (or not)."""
     from bench_solver import SHAKEN_CAVITY_MASS, G, scene_model
+
     n, accel_g, e1, shaken = BEDS[scene]
     state, t0 = pickle.loads(_bed_file(scene).read_bytes())
     model, sc = scene_model(n, drive=False, e1=e1, free_cavity=shaken)
     usrfrc = ()
     if shaken:
         # the drive as bench_solver.settled_simulation started it (t0: the settling's end)
-        usrfrc = (f"sine:node=9,dof=1,amp={SHAKEN_CAVITY_MASS * accel_g * G!r},"
-                  f"hz={sc['shake_freq_hz']!r},phase=90,t0={t0!r}",)
+        usrfrc = (
+            f"sine:node=9,dof=1,amp={SHAKEN_CAVITY_MASS * accel_g * G!r},"
+            f"hz={sc['shake_freq_hz']!r},phase=90,t0={t0!r}",
+        )
     sim = Simulation(model, itrac=10**9, usrfrc=usrfrc)
     sim.restore(state)
     return sim
@@ -100,15 +111,18 @@ def main(argv: list[str]) -> int:
         sim = bed_simulation(scene)
     elif scene == "sdof":
         from bench_solver import sdof_model
+
         sim = Simulation(sdof_model(), itrac=10**9)
     elif scene.startswith("bench"):
         from bench_solver import scene_model
+
         sim = Simulation(scene_model(int(scene[5:]))[0])
     else:
         deck = read_deck(ROOT / "decks" / f"{scene}.inp")
-        sim = Simulation(build_model(replace(deck, parameters=replace(deck.parameters,
-                                                                       itrac=10**9))))
-    if scene not in BEDS:   # a bed is restored with its lists built
+        sim = Simulation(
+            build_model(replace(deck, parameters=replace(deck.parameters, itrac=10**9)))
+        )
+    if scene not in BEDS:  # a bed is restored with its lists built
         sim.advance(4000, max_rows=1)
     sim.advance(10, max_rows=1)
     _instrument(True)

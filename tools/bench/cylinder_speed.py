@@ -33,15 +33,27 @@ def main() -> int:
     sims = {}
     for facets in (None, FACETS):
         deck = cylinder_cavity_deck(
-            length=md.CYL_LENGTH, cavity_radius=md.CYL_RADIUS, particles=pos, radius=radius,
-            material=md.STEEL, structure_mass=md.BEAM_MASS, stiffness=md.BEAM_K,
-            damping=md.BEAM_C, gravity=(0.0, -md.G, 0.0), dt=md.DT, itrac=10**9,
-            usrfrc=(md.CYL_DRIVE,), facets=facets)
+            length=md.CYL_LENGTH,
+            cavity_radius=md.CYL_RADIUS,
+            particles=pos,
+            radius=radius,
+            material=md.STEEL,
+            structure_mass=md.BEAM_MASS,
+            stiffness=md.BEAM_K,
+            damping=md.BEAM_C,
+            gravity=(0.0, -md.G, 0.0),
+            dt=md.DT,
+            itrac=10**9,
+            usrfrc=(md.CYL_DRIVE,),
+            facets=facets,
+        )
         sims[facets] = Simulation(build_model(deck))
         sims[facets].advance(200_000, max_rows=1)
     best = best_seconds_per_step(sims, 20_000)
-    print(f"analytic cylinder {best[None] * 1e6:.2f} us/step, {FACETS} facets "
-          f"{best[FACETS] * 1e6:.2f} us/step: {best[FACETS] / best[None]:.2f}x")
+    print(
+        f"analytic cylinder {best[None] * 1e6:.2f} us/step, {FACETS} facets "
+        f"{best[FACETS] * 1e6:.2f} us/step: {best[FACETS] / best[None]:.2f}x"
+    )
     return 0
 
 

@@ -127,8 +127,10 @@ def contact_model(sc: dict, restitution: float, style: str) -> str:
     E = sc["E"] * PSI
     nu, mu = sc["nu"], sc["mu"]
     if style == "granular":
-        return (f"hertz/material {E:.10g} {restitution:.10g} {nu:.10g} damping tsuji "
-                f"tangential mindlin NULL 1.0 {mu:.10g}")
+        return (
+            f"hertz/material {E:.10g} {restitution:.10g} {nu:.10g} damping tsuji "
+            f"tangential mindlin NULL 1.0 {mu:.10g}"
+        )
     R = sc["radius"] * IN
     m = sc["density"] * DENS * 4.0 / 3.0 * math.pi * R**3
     r_eff, m_eff = R / 2.0, m / 2.0
@@ -139,8 +141,7 @@ def contact_model(sc: dict, restitution: float, style: str) -> str:
     ln_e = math.log(min(max(restitution, 1e-6), 1.0))
     zeta = -ln_e / math.sqrt(math.pi**2 + ln_e**2)
     gamma_n = 2.0 * zeta * math.sqrt(k_lin * m_eff) / (m_eff * math.sqrt(r_eff * d_max))
-    return (f"{kn:.10g} {2.0 / 7.0 * kn:.10g} {gamma_n:.10g} {0.5 * gamma_n:.10g} "
-            f"{mu:.10g} 1")
+    return f"{kn:.10g} {2.0 / 7.0 * kn:.10g} {gamma_n:.10g} {0.5 * gamma_n:.10g} {mu:.10g} 1"
 
 
 def lee_radok_restitution(sc: dict, e1: float, tau1: float, v: float) -> float:
@@ -173,8 +174,7 @@ def lee_radok_restitution(sc: dict, e1: float, tau1: float, v: float) -> float:
         u -= 0.5 * dt * force / m_eff
 
 
-def setup(lmp, sc: dict, restitution: float, style: str = "classic",
-          shake: bool = True) -> dict:
+def setup(lmp, sc: dict, restitution: float, style: str = "classic", shake: bool = True) -> dict:
     """Build the scene in ``lmp`` (SI units). Returns the SI numbers used. ``shake`` False
     leaves the x walls at rest (see :func:`start_shaking`)."""
     R = sc["radius"] * IN
@@ -242,8 +242,16 @@ def setup(lmp, sc: dict, restitution: float, style: str = "classic",
     ]
     for c in cmds:
         lmp.command(c)
-    return {"R": R, "lo": lo, "hi": hi, "A": A, "omega": 2.0 * math.pi / period,
-            "wall": wall, "period": period, "t0": 0.0}
+    return {
+        "R": R,
+        "lo": lo,
+        "hi": hi,
+        "A": A,
+        "omega": 2.0 * math.pi / period,
+        "wall": wall,
+        "period": period,
+        "t0": 0.0,
+    }
 
 
 def start_shaking(lmp, si: dict, steps_done: int, dt: float, walls: str = "x") -> None:
@@ -253,8 +261,10 @@ def start_shaking(lmp, si: dict, steps_done: int, dt: float, walls: str = "x") -
     for axis in walls:
         d = "xyz".index(axis)
         lmp.command(f"unfix w{axis}")
-        lmp.command(f"fix w{axis} all wall/gran {si['wall']} {axis}plane {lo[d]:.12g} "
-                    f"{hi[d]:.12g} wiggle x {si['A']:.12g} {si['period']:.12g}")
+        lmp.command(
+            f"fix w{axis} all wall/gran {si['wall']} {axis}plane {lo[d]:.12g} "
+            f"{hi[d]:.12g} wiggle x {si['A']:.12g} {si['period']:.12g}"
+        )
     si["t0"] = steps_done * dt
 
 
@@ -318,9 +328,13 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", type=int, default=64, help="particle count (50, 64, 512, 4096)")
     ap.add_argument("--steps", type=int, default=20000, help="timed steps")
-    ap.add_argument("--warmup", type=int, default=None,
-                    help="untimed steps first (default 2000; --shaken: two drive periods, as "
-                         "bench_solver.py --shaken)")
+    ap.add_argument(
+        "--warmup",
+        type=int,
+        default=None,
+        help="untimed steps first (default 2000; --shaken: two drive periods, as "
+        "bench_solver.py --shaken)",
+    )
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument(
         "--restitution",
@@ -328,30 +342,53 @@ def main(argv=None) -> int:
         default=0.95,
         help="tsuji restitution coefficient e (1 = elastic)",
     )
-    ap.add_argument("--repeat", type=int, default=1,
-                    help="time the same window this many times, each in a fresh instance; "
-                         "report the fastest")
-    ap.add_argument("--style", choices=("classic", "granular"), default="classic",
-                    help="classic: gran/hertz/history (LAMMPS's fastest); granular: "
-                         "pair_style granular hertz/material")
-    ap.add_argument("--settled", action="store_true",
-                    help="settle the bed with the walls at rest first, then shake and time")
+    ap.add_argument(
+        "--repeat",
+        type=int,
+        default=1,
+        help="time the same window this many times, each in a fresh instance; report the fastest",
+    )
+    ap.add_argument(
+        "--style",
+        choices=("classic", "granular"),
+        default="classic",
+        help="classic: gran/hertz/history (LAMMPS's fastest); granular: "
+        "pair_style granular hertz/material",
+    )
+    ap.add_argument(
+        "--settled",
+        action="store_true",
+        help="settle the bed with the walls at rest first, then shake and time",
+    )
     ap.add_argument("--settle-steps", type=int, default=300_000)
-    ap.add_argument("--shaken", action="store_true",
-                    help="the viscoelastic settled bed (E1 --e1) with the whole cavity shaken "
-                         "along x at --accel-g (default 2) g after settling")
-    ap.add_argument("--e1", type=float, default=None,
-                    help="the Maxwell modulus E1 [psi] (tau1 2 us) of x3dpd's spheres whose "
-                         "restitution the damping is fitted to (default 5e6 with --shaken, "
-                         "else none: --restitution)")
-    ap.add_argument("--accel-g", type=float, default=None,
-                    help="peak wall acceleration in g (default 3, or 0 -- at rest -- with "
-                         "--settled)")
+    ap.add_argument(
+        "--shaken",
+        action="store_true",
+        help="the viscoelastic settled bed (E1 --e1) with the whole cavity shaken "
+        "along x at --accel-g (default 2) g after settling",
+    )
+    ap.add_argument(
+        "--e1",
+        type=float,
+        default=None,
+        help="the Maxwell modulus E1 [psi] (tau1 2 us) of x3dpd's spheres whose "
+        "restitution the damping is fitted to (default 5e6 with --shaken, "
+        "else none: --restitution)",
+    )
+    ap.add_argument(
+        "--accel-g",
+        type=float,
+        default=None,
+        help="peak wall acceleration in g (default 3, or 0 -- at rest -- with --settled)",
+    )
     ap.add_argument("--json", type=Path, default=None, help="write the result here")
     args = ap.parse_args(argv)
     if args.warmup is None:
-        args.warmup = (2 * round(1.0 / (bench_scene(1)["shake_freq_hz"] * bench_scene(1)["dt"]))
-                       if args.shaken else 2000)
+        args.warmup = (
+            2 * round(1.0 / (bench_scene(1)["shake_freq_hz"] * bench_scene(1)["dt"]))
+            if args.shaken
+            else 2000
+        )
     if args.steps < 1 or args.warmup < 0 or args.repeat < 1:
         ap.error("--steps and --repeat must be >= 1 and --warmup >= 0")
 
@@ -407,7 +444,7 @@ def _timed_run(lmp, args) -> dict:
         # the 0.1 m/s of contact_model's linearisation
         sc["E"] = sc["E0"]
         args.restitution = lee_radok_restitution(sc, args.e1, 2e-6, 0.1 / IN)
-    sc["shake_amplitude"] = sc["shake_amplitude"] * accel / 3.0   # scene.py's A is for 3 g
+    sc["shake_amplitude"] = sc["shake_amplitude"] * accel / 3.0  # scene.py's A is for 3 g
     si = setup(lmp, sc, args.restitution, args.style, shake=not args.settled)
     done = 0
     if args.settled:
@@ -445,9 +482,11 @@ def _timed_run(lmp, args) -> dict:
         "e1": args.e1 or 0.0,
         "pair_contacts_per_sphere": pair_contacts_per_sphere(lmp, args.n),
         "wall_contacts_per_sphere": wall_contacts(
-            lmp, si, (done + args.warmup + args.steps) * sc["dt"]) / args.n,
-        "contacts_per_sphere": pair_contacts_per_sphere(lmp, args.n) + wall_contacts(
-            lmp, si, (done + args.warmup + args.steps) * sc["dt"]) / args.n,
+            lmp, si, (done + args.warmup + args.steps) * sc["dt"]
+        )
+        / args.n,
+        "contacts_per_sphere": pair_contacts_per_sphere(lmp, args.n)
+        + wall_contacts(lmp, si, (done + args.warmup + args.steps) * sc["dt"]) / args.n,
         "atoms_end": lmp.get_natoms(),
         "warnings": warns,
     }

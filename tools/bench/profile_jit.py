@@ -61,7 +61,7 @@ def _code_mappings(folder: Path) -> dict[int, Path]:
     for line in Path("/proc/self/maps").read_text().splitlines():
         parts = line.split()
         lo, hi = (int(v, 16) for v in parts[0].split("-"))
-        if "x" in parts[1] and len(parts) < 6 and hi - lo < 64 << 20:   # anonymous, executable
+        if "x" in parts[1] and len(parts) < 6 and hi - lo < 64 << 20:  # anonymous, executable
             path = folder / f"{lo:x}.bin"
             path.write_bytes(ctypes.string_at(lo, hi - lo))
             maps[lo] = path
@@ -73,9 +73,11 @@ def main(argv=None) -> int:
     ap.add_argument("--n", type=int, default=50)
     ap.add_argument("--seconds", type=float, default=5.0)
     ap.add_argument("--settled", action="store_true", help="profile a settled bed (no drive)")
-    ap.add_argument("--bed", choices=sorted(BEDS),
-                    help="a bed prepared by count_instructions.py --prepare (restored, not "
-                         "settled again)")
+    ap.add_argument(
+        "--bed",
+        choices=sorted(BEDS),
+        help="a bed prepared by count_instructions.py --prepare (restored, not settled again)",
+    )
     ap.add_argument("--top", type=int, default=12, help="hottest 128-byte blocks to list")
     ap.add_argument("--asm", type=int, default=2, help="hottest blocks to disassemble")
     args = ap.parse_args(argv)
@@ -86,12 +88,13 @@ def main(argv=None) -> int:
 
     if args.bed:
         from count_instructions import bed_simulation
+
         sim = bed_simulation(args.bed)
         sim.advance(2000, max_rows=1)
     else:
         sim = Simulation(scene_model(args.n, drive=not args.settled)[0], itrac=10**9)
         sim.initialize()
-        sim.advance(300_000 if args.settled else 2000, max_rows=1)   # compile, settle/warm
+        sim.advance(300_000 if args.settled else 2000, max_rows=1)  # compile, settle/warm
     t = time.perf_counter()
     sim.advance(20_000, max_rows=1)
     per_step = (time.perf_counter() - t) / 20_000
@@ -100,8 +103,11 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         data = tmp / "perf.data"
-        rec = subprocess.Popen(["perf", "record", "-q", "-p", str(os.getpid()), "-o", str(data)],
-                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        rec = subprocess.Popen(
+            ["perf", "record", "-q", "-p", str(os.getpid()), "-o", str(data)],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
         time.sleep(0.5)
         t = time.perf_counter()
         sim.advance(steps, max_rows=1)
@@ -110,11 +116,17 @@ def main(argv=None) -> int:
         rec.wait()
         maps = _code_mappings(tmp)
         names = _entry_points()
-        script = subprocess.run(["perf", "script", "-i", str(data), "-F", "ip"],
-                                capture_output=True, text=True, check=False)
+        script = subprocess.run(
+            ["perf", "script", "-i", str(data), "-F", "ip"],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
         ips = [int(v, 16) for v in script.stdout.split() if re.fullmatch(r"[0-9a-f]+", v)]
-        print(f"{args.bed or f'n={args.n}'}{' settled' if args.settled else ''}: {steps} steps, "
-              f"{elapsed / steps * 1e6:.3f} us/step under perf; {len(ips)} samples")
+        print(
+            f"{args.bed or f'n={args.n}'}{' settled' if args.settled else ''}: {steps} steps, "
+            f"{elapsed / steps * 1e6:.3f} us/step under perf; {len(ips)} samples"
+        )
 
         bases = sorted(maps)
         sizes = {b: maps[b].stat().st_size for b in bases}
@@ -140,14 +152,27 @@ def main(argv=None) -> int:
         for blk, _ in blocks.most_common(args.asm):
             base = next(b for b in bases if b <= blk < b + sizes[b])
             start = max(blk - 48, base)
-            asm = subprocess.run(["objdump", "-D", "-b", "binary", "-m", "i386:x86-64",
-                                  f"--adjust-vma={base:#x}", f"--start-address={start:#x}",
-                                  f"--stop-address={blk + 128:#x}", str(maps[base])],
-                                 capture_output=True, text=True, check=False).stdout
+            asm = subprocess.run(
+                [
+                    "objdump",
+                    "-D",
+                    "-b",
+                    "binary",
+                    "-m",
+                    "i386:x86-64",
+                    f"--adjust-vma={base:#x}",
+                    f"--start-address={start:#x}",
+                    f"--stop-address={blk + 128:#x}",
+                    str(maps[base]),
+                ],
+                capture_output=True,
+                text=True,
+                check=False,
+            ).stdout
             print(f"\n{blk:#x} (samples per instruction; a stall shows on the next one):")
             for line in asm.splitlines():
                 m = re.match(r"\s*([0-9a-f]+):", line)
-                if m and int(m.group(1), 16) >= blk:   # decoding began early, in sync by now
+                if m and int(m.group(1), 16) >= blk:  # decoding began early, in sync by now
                     print(f"  {per_ip.get(int(m.group(1), 16), 0):6d} {line.strip()[:110]}")
     return 0
 

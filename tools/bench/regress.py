@@ -37,12 +37,39 @@ ROWS = {
     "falling_50": ["--n", "50", "--steps", "20000", "--repeat", "3"],
     "falling_64": ["--n", "64", "--steps", "20000", "--repeat", "3"],
     "falling_512": ["--n", "512", "--steps", "20000", "--repeat", "3"],
-    "settled_512": ["--settled", "--n", "512", "--steps", "10000", "--repeat", "3",
-                    "--accel-g", "0"],
-    "settled_visco_512": ["--settled", "--n", "512", "--steps", "10000", "--repeat", "3",
-                          "--e1", "5e6"],
-    "shaken_visco_512": ["--shaken", "--n", "512", "--steps", "10000", "--repeat", "3",
-                         "--e1", "5e6"],
+    "settled_512": [
+        "--settled",
+        "--n",
+        "512",
+        "--steps",
+        "10000",
+        "--repeat",
+        "3",
+        "--accel-g",
+        "0",
+    ],
+    "settled_visco_512": [
+        "--settled",
+        "--n",
+        "512",
+        "--steps",
+        "10000",
+        "--repeat",
+        "3",
+        "--e1",
+        "5e6",
+    ],
+    "shaken_visco_512": [
+        "--shaken",
+        "--n",
+        "512",
+        "--steps",
+        "10000",
+        "--repeat",
+        "3",
+        "--e1",
+        "5e6",
+    ],
     "sdof": ["--sdof"],
 }
 
@@ -54,11 +81,17 @@ def measure(tree: Path, args: list[str], harness: Path | None = None) -> float:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "r.json"
         env = {**ENV, "PYTHONPATH": str(tree)}
-        proc = subprocess.run([sys.executable, str(script), *args, "--json", str(out)], env=env,
-                              capture_output=True, text=True, cwd=tree)
+        proc = subprocess.run(
+            [sys.executable, str(script), *args, "--json", str(out)],
+            env=env,
+            capture_output=True,
+            text=True,
+            cwd=tree,
+        )
         if proc.returncode != 0 or not out.exists():
-            raise RuntimeError(f"bench_solver.py {' '.join(args)} failed in {tree}:\n"
-                               f"{proc.stdout}{proc.stderr}")
+            raise RuntimeError(
+                f"bench_solver.py {' '.join(args)} failed in {tree}:\n{proc.stdout}{proc.stderr}"
+            )
         return float(json.loads(out.read_text())[0]["us_per_step"])
 
 
@@ -68,20 +101,27 @@ def main(argv=None) -> int:
     ap.add_argument("--rounds", type=int, default=2)
     ap.add_argument("--tolerance", type=float, default=0.10)
     ap.add_argument("--rows", nargs="*", default=list(ROWS), choices=list(ROWS))
-    ap.add_argument("--harness", choices=("own", "this"), default="own",
-                    help="which bench_solver.py times the baseline: its own (default) or this "
-                         "tree's (for rows whose options the baseline's script lacks)")
+    ap.add_argument(
+        "--harness",
+        choices=("own", "this"),
+        default="own",
+        help="which bench_solver.py times the baseline: its own (default) or this "
+        "tree's (for rows whose options the baseline's script lacks)",
+    )
     args = ap.parse_args(argv)
     recorded = json.loads((HERE / "baseline.json").read_text())
     base = args.base or recorded["commit"]
     failed = []
     with tempfile.TemporaryDirectory() as tmp:
         tree = Path(tmp) / "base"
-        subprocess.run(["git", "worktree", "add", "--detach", "-q", str(tree), base], cwd=ROOT,
-                       check=True)
+        subprocess.run(
+            ["git", "worktree", "add", "--detach", "-q", str(tree), base], cwd=ROOT, check=True
+        )
         try:
-            print(f"| row | baseline {base[:10]} µs/step | this tree µs/step | change | "
-                  f"recorded {recorded.get('date', '')} |")
+            print(
+                f"| row | baseline {base[:10]} µs/step | this tree µs/step | change | "
+                f"recorded {recorded.get('date', '')} |"
+            )
             print("|---|---:|---:|---:|---:|")
             harness = HERE if args.harness == "this" else None
             for name in args.rows:
@@ -91,8 +131,11 @@ def main(argv=None) -> int:
                         best["base"] = min(best["base"], measure(tree, ROWS[name], harness))
                     except RuntimeError as exc:
                         # a row the baseline cannot run (an option its script lacks): no verdict
-                        print(f"| {name} | n/a | - | - | baseline cannot run it: "
-                              f"{str(exc).splitlines()[-1][:80]} |", flush=True)
+                        print(
+                            f"| {name} | n/a | - | - | baseline cannot run it: "
+                            f"{str(exc).splitlines()[-1][:80]} |",
+                            flush=True,
+                        )
                         break
                     best["this"] = min(best["this"], measure(ROOT, ROWS[name]))
                 if best["this"] == float("inf"):
@@ -101,14 +144,20 @@ def main(argv=None) -> int:
                 if change > args.tolerance:
                     failed.append(name)
                 rec = recorded.get("rows", {}).get(name)
-                print(f"| {name} | {best['base']:.3f} | {best['this']:.3f} | {change:+.1%}"
-                      f"{' SLOWER' if name in failed else ''} | "
-                      f"{rec if rec is not None else '-'} |", flush=True)
+                print(
+                    f"| {name} | {best['base']:.3f} | {best['this']:.3f} | {change:+.1%}"
+                    f"{' SLOWER' if name in failed else ''} | "
+                    f"{rec if rec is not None else '-'} |",
+                    flush=True,
+                )
         finally:
             subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT)
     if failed:
-        print(f"regression: {', '.join(failed)} more than {args.tolerance:.0%} slower than "
-              f"{base[:10]}", file=sys.stderr)
+        print(
+            f"regression: {', '.join(failed)} more than {args.tolerance:.0%} slower than "
+            f"{base[:10]}",
+            file=sys.stderr,
+        )
         return 1
     print(f"no row more than {args.tolerance:.0%} slower than {base[:10]}")
     return 0

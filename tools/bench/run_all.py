@@ -34,8 +34,9 @@ ENV = {**os.environ, "OMP_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1"}
 def _json_run(cmd: list[str], env=None) -> list | dict | None:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "r.json"
-        proc = subprocess.run(cmd + ["--json", str(out)], env=env or ENV, capture_output=True,
-                              text=True)
+        proc = subprocess.run(
+            cmd + ["--json", str(out)], env=env or ENV, capture_output=True, text=True
+        )
         if proc.returncode != 0 or not out.exists():
             sys.stderr.write(proc.stdout + proc.stderr)
             return None
@@ -43,16 +44,43 @@ def _json_run(cmd: list[str], env=None) -> list | dict | None:
 
 
 def x3dpd_step(n: int, steps: int, warmup: int, repeat: int) -> float | None:
-    r = _json_run([sys.executable, str(HERE / "bench_solver.py"), "--n", str(n), "--steps",
-                   str(steps), "--warmup", str(warmup), "--repeat", str(repeat)])
+    r = _json_run(
+        [
+            sys.executable,
+            str(HERE / "bench_solver.py"),
+            "--n",
+            str(n),
+            "--steps",
+            str(steps),
+            "--warmup",
+            str(warmup),
+            "--repeat",
+            str(repeat),
+        ]
+    )
     return r[0]["us_per_step"] if r else None
 
 
-def lammps_step(n: int, steps: int, warmup: int, repeat: int, style: str = "classic",
-                settled: bool = False) -> dict | None:
-    r = _json_run([sys.executable, str(HERE / "lammps_peer.py"), "--n", str(n), "--steps",
-                   str(steps), "--warmup", str(warmup), "--repeat", str(repeat), "--style",
-                   style] + (["--settled"] if settled else []))
+def lammps_step(
+    n: int, steps: int, warmup: int, repeat: int, style: str = "classic", settled: bool = False
+) -> dict | None:
+    r = _json_run(
+        [
+            sys.executable,
+            str(HERE / "lammps_peer.py"),
+            "--n",
+            str(n),
+            "--steps",
+            str(steps),
+            "--warmup",
+            str(warmup),
+            "--repeat",
+            str(repeat),
+            "--style",
+            style,
+        ]
+        + (["--settled"] if settled else [])
+    )
     if not r or "us_per_step" not in r:
         return None
     return r
@@ -72,35 +100,66 @@ def bed_row(name: str, n: int, steps: int, repeat: int, style: str) -> dict:
     """One bed, both codes, one after the other: us/step and contacts per sphere (sphere-sphere
     and wall)."""
     ours_args, theirs_args = BEDS[name]
-    ours = _json_run([sys.executable, str(HERE / "bench_solver.py"), *ours_args, "--n", str(n),
-                      "--steps", str(steps), "--repeat", str(repeat)])
-    theirs = _json_run([sys.executable, str(HERE / "lammps_peer.py"), *theirs_args, "--n",
-                        str(n), "--steps", str(steps), "--style", style]) if repeat else None
+    ours = _json_run(
+        [
+            sys.executable,
+            str(HERE / "bench_solver.py"),
+            *ours_args,
+            "--n",
+            str(n),
+            "--steps",
+            str(steps),
+            "--repeat",
+            str(repeat),
+        ]
+    )
+    theirs = (
+        _json_run(
+            [
+                sys.executable,
+                str(HERE / "lammps_peer.py"),
+                *theirs_args,
+                "--n",
+                str(n),
+                "--steps",
+                str(steps),
+                "--style",
+                style,
+            ]
+        )
+        if repeat
+        else None
+    )
     o = ours[0] if ours else None
     t = theirs if theirs and "us_per_step" in theirs else None
-    return {"bed": name, "n": n, "x3dpd_us": o["us_per_step"] if o else None,
-            "x3dpd_pair_per_sphere": o["pair_contacts_per_sphere"] if o else None,
-            "x3dpd_wall_per_sphere": o["wall_contacts_per_sphere"] if o else None,
-            "lammps_us": t["us_per_step"] if t else None,
-            "lammps_pair_per_sphere": t.get("pair_contacts_per_sphere") if t else None,
-            "lammps_wall_per_sphere": t.get("wall_contacts_per_sphere") if t else None,
-            "speedup": (t["us_per_step"] / o["us_per_step"]) if o and t else None}
+    return {
+        "bed": name,
+        "n": n,
+        "x3dpd_us": o["us_per_step"] if o else None,
+        "x3dpd_pair_per_sphere": o["pair_contacts_per_sphere"] if o else None,
+        "x3dpd_wall_per_sphere": o["wall_contacts_per_sphere"] if o else None,
+        "lammps_us": t["us_per_step"] if t else None,
+        "lammps_pair_per_sphere": t.get("pair_contacts_per_sphere") if t else None,
+        "lammps_wall_per_sphere": t.get("wall_contacts_per_sphere") if t else None,
+        "speedup": (t["us_per_step"] / o["us_per_step"]) if o and t else None,
+    }
 
 
 def compile_times(n: int = 64) -> tuple[float, float]:
     """Seconds to build and compile the scene's kernels: cold cache, then warm."""
-    code = (f"import sys, time; sys.path.insert(0, {str(HERE)!r}); t = time.perf_counter(); "
-            f"from bench_solver import scene_model; "
-            f"from x3dpd.solver.simulation import Simulation; "
-            f"s = Simulation(scene_model({n})[0]); s.initialize(); s.advance(10); "
-            f"print(time.perf_counter() - t)")
+    code = (
+        f"import sys, time; sys.path.insert(0, {str(HERE)!r}); t = time.perf_counter(); "
+        f"from bench_solver import scene_model; "
+        f"from x3dpd.solver.simulation import Simulation; "
+        f"s = Simulation(scene_model({n})[0]); s.initialize(); s.advance(10); "
+        f"print(time.perf_counter() - t)"
+    )
     with tempfile.TemporaryDirectory() as cache:
         env = {**ENV, "X3DPD_CACHE_DIR": cache}
         times = []
         for _ in range(2):
             t = time.perf_counter()
-            subprocess.run([sys.executable, "-c", code], env=env, check=True,
-                           capture_output=True)
+            subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True)
             times.append(time.perf_counter() - t)
     return times[0], times[1]
 
@@ -110,13 +169,25 @@ def main(argv=None) -> int:
     ap.add_argument("--n", type=int, nargs="*", default=[50, 64, 512, 4096])
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--warmup", type=int, default=2000)
-    ap.add_argument("--repeat", type=int, default=3,
-                    help="time each window this many times (fresh runs), keep the fastest")
+    ap.add_argument(
+        "--repeat",
+        type=int,
+        default=3,
+        help="time each window this many times (fresh runs), keep the fastest",
+    )
     ap.add_argument("--json")
-    ap.add_argument("--style", choices=("classic", "granular"), default="classic",
-                    help="LAMMPS's pair/wall styles (classic: gran/hertz/history, its fastest)")
-    ap.add_argument("--settled-n", type=int, default=512,
-                    help="particles of the settled beds (0: skip that table)")
+    ap.add_argument(
+        "--style",
+        choices=("classic", "granular"),
+        default="classic",
+        help="LAMMPS's pair/wall styles (classic: gran/hertz/history, its fastest)",
+    )
+    ap.add_argument(
+        "--settled-n",
+        type=int,
+        default=512,
+        help="particles of the settled beds (0: skip that table)",
+    )
     args = ap.parse_args(argv)
     rows = []
     for n in args.n:
@@ -124,11 +195,21 @@ def main(argv=None) -> int:
         ours = x3dpd_step(n, steps, args.warmup, args.repeat)
         lam = lammps_step(n, steps, args.warmup, args.repeat, args.style)
         theirs = lam["us_per_step"] if lam else None
-        rows.append({"n": n, "steps": steps, "x3dpd_us": ours, "lammps_us": theirs,
-                     "speedup": (theirs / ours) if ours and theirs else None})
+        rows.append(
+            {
+                "n": n,
+                "steps": steps,
+                "x3dpd_us": ours,
+                "lammps_us": theirs,
+                "speedup": (theirs / ours) if ours and theirs else None,
+            }
+        )
         print(rows[-1], flush=True)
-    beds = [bed_row(name, args.settled_n, args.steps // 2, args.repeat, args.style)
-            for name in BEDS] if args.settled_n else []
+    beds = (
+        [bed_row(name, args.settled_n, args.steps // 2, args.repeat, args.style) for name in BEDS]
+        if args.settled_n
+        else []
+    )
     sdof = _json_run([sys.executable, str(HERE / "bench_solver.py"), "--sdof"])
     cold, warm = compile_times()
     print()
@@ -139,27 +220,43 @@ def main(argv=None) -> int:
         ratio = f"{r['speedup']:.1f}×" if r["speedup"] else "–"
         print(f"| {r['n']} | {r['x3dpd_us']:.2f} | {lam} | {ratio} |")
     if beds:
-        print(f"\nSettled beds of {args.settled_n} (LAMMPS --style {args.style}); contacts per "
-              f"sphere: sphere-sphere + wall:")
-        print("| bed | x3dpd µs/step | contacts/sphere | LAMMPS µs/step | contacts/sphere | "
-              "LAMMPS / x3dpd |")
+        print(
+            f"\nSettled beds of {args.settled_n} (LAMMPS --style {args.style}); contacts per "
+            f"sphere: sphere-sphere + wall:"
+        )
+        print(
+            "| bed | x3dpd µs/step | contacts/sphere | LAMMPS µs/step | contacts/sphere | "
+            "LAMMPS / x3dpd |"
+        )
         print("|---|---:|---:|---:|---:|---:|")
 
         def f(v, d=2):
             return f"{v:.{d}f}" if v is not None else "–"
 
         for b in beds:
-            print(f"| {b['bed']} | {f(b['x3dpd_us'])} | {f(b['x3dpd_pair_per_sphere'])} + "
-                  f"{f(b['x3dpd_wall_per_sphere'])} | {f(b['lammps_us'])} | "
-                  f"{f(b['lammps_pair_per_sphere'])} + {f(b['lammps_wall_per_sphere'])} | "
-                  f"{f(b['speedup'], 1)}{'×' if b['speedup'] else ''} |")
+            print(
+                f"| {b['bed']} | {f(b['x3dpd_us'])} | {f(b['x3dpd_pair_per_sphere'])} + "
+                f"{f(b['x3dpd_wall_per_sphere'])} | {f(b['lammps_us'])} | "
+                f"{f(b['lammps_pair_per_sphere'])} + {f(b['lammps_wall_per_sphere'])} | "
+                f"{f(b['speedup'], 1)}{'×' if b['speedup'] else ''} |"
+            )
     if sdof:
         print(f"\nSDOF only (structure, no particles): {sdof[0]['steps_per_second']:.3g} steps/s")
     print(f"Start-up incl. compile, n = 64: cold cache {cold:.1f} s, warm cache {warm:.1f} s")
     if args.json:
-        Path(args.json).write_text(json.dumps({"rows": rows, "beds": beds, "sdof": sdof,
-                                               "compile_cold_s": cold, "compile_warm_s": warm,
-                                               "lammps_style": args.style}, indent=2))
+        Path(args.json).write_text(
+            json.dumps(
+                {
+                    "rows": rows,
+                    "beds": beds,
+                    "sdof": sdof,
+                    "compile_cold_s": cold,
+                    "compile_warm_s": warm,
+                    "lammps_style": args.style,
+                },
+                indent=2,
+            )
+        )
     return 0
 
 

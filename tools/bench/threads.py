@@ -34,8 +34,11 @@ from pathlib import Path
 
 # numba reads its thread limit once, at import: room for every count asked for (the bench
 # scripts default it to 1)
-_ASKED = [int(a) for a in sys.argv[sys.argv.index("--threads") + 1:] if a.isdigit()] \
-    if "--threads" in sys.argv else [2]
+_ASKED = (
+    [int(a) for a in sys.argv[sys.argv.index("--threads") + 1 :] if a.isdigit()]
+    if "--threads" in sys.argv
+    else [2]
+)
 os.environ["NUMBA_NUM_THREADS"] = str(max(_ASKED + [2]))
 
 HERE = Path(__file__).resolve().parent
@@ -58,8 +61,7 @@ def bed_state(n: int, settle_steps: int = SETTLE_STEPS):
     path = Path(tempfile.gettempdir()) / f"x3dpd-bench-settled_{n}.pkl"
     if path.exists():
         return pickle.loads(path.read_bytes())[0]
-    print(f"settling {n} spheres for {settle_steps} steps (once; kept in {path}) ...",
-          flush=True)
+    print(f"settling {n} spheres for {settle_steps} steps (once; kept in {path}) ...", flush=True)
     sim, _ = settled_simulation(n, settle_steps)
     tmp = path.with_suffix(f".tmp{os.getpid()}")
     tmp.write_bytes(pickle.dumps((sim.state, sim.time)))
@@ -74,9 +76,13 @@ def pass_seconds(sim: Simulation, calls: int, whole: bool) -> float:
     states again and more force, so repeated calls do the same work."""
     mod = part_module(sim.kernels, "pair_passes")
     pairs_mod = part_module(sim.kernels, "pairs")
-    chunks, contacts, cin, cout, size = (mod._pair_chunks, mod._pair_contacts,
-                                         pairs_mod._columns_in, pairs_mod._columns_out,
-                                         mod.PAIR_CHUNK)
+    chunks, contacts, cin, cout, size = (
+        mod._pair_chunks,
+        mod._pair_contacts,
+        pairs_mod._columns_in,
+        pairs_mod._columns_out,
+        mod.PAIR_CHUNK,
+    )
 
     def repeat(k, nodes, particles, pairs, stepping):
         npairs = pairs.count[0]
@@ -85,10 +91,26 @@ def pass_seconds(sim: Simulation, calls: int, whole: bool) -> float:
             if whole:
                 contacts(nodes, particles, pairs, stepping, pairs.first_new)
             else:
-                chunks((npairs + size - 1) // size, npairs, nodes.x, nodes.vel, particles.p0,
-                       particles.radius, pairs.first, pairs.second, pairs.on, pairs.state,
-                       pairs.first_new, c, pairs.history, pairs.second_new, particles,
-                       stepping.dt, cin(c), cout(c))
+                chunks(
+                    (npairs + size - 1) // size,
+                    npairs,
+                    nodes.x,
+                    nodes.vel,
+                    particles.p0,
+                    particles.radius,
+                    pairs.first,
+                    pairs.second,
+                    pairs.on,
+                    pairs.state,
+                    pairs.first_new,
+                    c,
+                    pairs.history,
+                    pairs.second_new,
+                    particles,
+                    stepping.dt,
+                    cin(c),
+                    cout(c),
+                )
 
     run = kernel(repeat, cache=False)
     b = sim._bundles()
@@ -103,8 +125,11 @@ def pass_seconds(sim: Simulation, calls: int, whole: bool) -> float:
 
 
 def same_bytes(a, b) -> bool:
-    return all(np.array_equal(getattr(a, f.name), getattr(b, f.name))
-               for f in dataclasses.fields(a) if isinstance(getattr(a, f.name), np.ndarray))
+    return all(
+        np.array_equal(getattr(a, f.name), getattr(b, f.name))
+        for f in dataclasses.fields(a)
+        if isinstance(getattr(a, f.name), np.ndarray)
+    )
 
 
 def measure(n: int, counts, steps: int, repeat: int) -> dict:
@@ -114,23 +139,24 @@ def measure(n: int, counts, steps: int, repeat: int) -> dict:
     for p in counts:
         sim = Simulation(model, itrac=10**9, threads=p)
         sim.restore(copy.deepcopy(state))
-        sim.advance(20, max_rows=1)   # compile or load, lists in place
+        sim.advance(20, max_rows=1)  # compile or load, lists in place
         sims[p] = sim
     best = best_seconds_per_step(sims, steps, repeat)
     st = sims[counts[0]].state
-    pairs_on = int(st.pl_on[:int(st.npl[0])].sum())
-    walls_on = int(st.wl_on[:int(st.nwl[0])].sum())
+    pairs_on = int(st.pl_on[: int(st.npl[0])].sum())
+    walls_on = int(st.wl_on[: int(st.nwl[0])].sum())
     identical = all(same_bytes(st, sims[p].state) for p in counts[1:])
     # the threaded share of a step, in CPU time at one thread (load inflates both alike)
     threaded = next((sims[p] for p in counts if p > 1), None)
     f = apply = math.nan
     if threaded is not None and threaded.variant.threaded:
         from x3dpd.solver.threads import use_threads
+
         # the threaded loop in one thread (a Simulation asks for its own count at every call)
         asked, threaded.threads = threaded.threads, 1
         use_threads(1)
         step_cpu = math.inf
-        for _ in range(3):   # the best of three windows, as for the passes alone
+        for _ in range(3):  # the best of three windows, as for the passes alone
             t = time.process_time()
             threaded.advance(steps, max_rows=1)
             step_cpu = min(step_cpu, (time.process_time() - t) / steps)
@@ -139,42 +165,66 @@ def measure(n: int, counts, steps: int, repeat: int) -> dict:
         f = pass_seconds(threaded, steps, whole=False) / step_cpu
         apply = pass_seconds(threaded, steps, whole=True) / step_cpu - f
         threaded.restore(snapshot)
-    return {"n": n, "contacts_per_sphere": (2 * pairs_on + walls_on) / n,
-            "candidates": int(st.npl[0]), "us": {p: best[p] * 1e6 for p in counts},
-            "identical": identical, "threaded_share": f, "apply_share": apply}
+    return {
+        "n": n,
+        "contacts_per_sphere": (2 * pairs_on + walls_on) / n,
+        "candidates": int(st.npl[0]),
+        "us": {p: best[p] * 1e6 for p in counts},
+        "identical": identical,
+        "threaded_share": f,
+        "apply_share": apply,
+    }
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, nargs="+", help=f"bed sizes [default: {SIZES}]")
-    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2],
-                    help="thread counts to time (the first is the reference) [default: 1 2]")
+    ap.add_argument(
+        "--threads",
+        type=int,
+        nargs="+",
+        default=[1, 2],
+        help="thread counts to time (the first is the reference) [default: 1 2]",
+    )
     ap.add_argument("--steps", type=int, default=500, help="steps per timed window")
     ap.add_argument("--repeat", type=int, default=3, help="windows per thread count")
-    ap.add_argument("--quick", action="store_true",
-                    help=f"beds {QUICK_SIZES}, 2 windows of 100 steps: proves the tool works, "
-                         "measures little (the beds are settled fully, once)")
+    ap.add_argument(
+        "--quick",
+        action="store_true",
+        help=f"beds {QUICK_SIZES}, 2 windows of 100 steps: proves the tool works, "
+        "measures little (the beds are settled fully, once)",
+    )
     args = ap.parse_args(argv)
     sizes = args.n or (QUICK_SIZES if args.quick else SIZES)
     steps, repeat = (100, 2) if args.quick else (args.steps, args.repeat)
     counts = args.threads
-    head = (f"{'spheres':>8} {'contacts/sphere':>15} "
-            + " ".join(f"{f'{p} thr us/step':>14}" for p in counts)
-            + " " + " ".join(f"{f'speedup {p}':>10}" for p in counts[1:])
-            + f" {'threaded f':>10} {'apply':>6} {'Amdahl 4/8/16':>16}  same bytes")
+    head = (
+        f"{'spheres':>8} {'contacts/sphere':>15} "
+        + " ".join(f"{f'{p} thr us/step':>14}" for p in counts)
+        + " "
+        + " ".join(f"{f'speedup {p}':>10}" for p in counts[1:])
+        + f" {'threaded f':>10} {'apply':>6} {'Amdahl 4/8/16':>16}  same bytes"
+    )
     print(head)
     status = 0
     for n in sizes:
         r = measure(n, counts, steps, repeat)
         us = r["us"]
         f = r["threaded_share"]
-        amdahl = ("/".join(f"{1.0 / ((1.0 - f) + f / p):.2f}" for p in (4, 8, 16))
-                  if math.isfinite(f) else "-")
-        print(f"{n:>8} {r['contacts_per_sphere']:>15.2f} "
-              + " ".join(f"{us[p]:>14.1f}" for p in counts)
-              + " " + " ".join(f"{us[counts[0]] / us[p]:>10.2f}" for p in counts[1:])
-              + f" {f:>10.2f} {r['apply_share']:>6.2f} {amdahl:>16}  "
-              f"{'yes' if r['identical'] else 'NO'}", flush=True)
+        amdahl = (
+            "/".join(f"{1.0 / ((1.0 - f) + f / p):.2f}" for p in (4, 8, 16))
+            if math.isfinite(f)
+            else "-"
+        )
+        print(
+            f"{n:>8} {r['contacts_per_sphere']:>15.2f} "
+            + " ".join(f"{us[p]:>14.1f}" for p in counts)
+            + " "
+            + " ".join(f"{us[counts[0]] / us[p]:>10.2f}" for p in counts[1:])
+            + f" {f:>10.2f} {r['apply_share']:>6.2f} {amdahl:>16}  "
+            f"{'yes' if r['identical'] else 'NO'}",
+            flush=True,
+        )
         if not r["identical"]:
             status = 1
     return status

@@ -27,8 +27,14 @@ R, V = 0.03125, 62.8
 
 
 def deck(t_end, *, spectator=True, **material):
-    d = floor_deck(dt=2e-6, height=R + 0.003, velocity=(0.0, -V, 0.0), spectator=spectator,
-                   radius=R, **material)
+    d = floor_deck(
+        dt=2e-6,
+        height=R + 0.003,
+        velocity=(0.0, -V, 0.0),
+        spectator=spectator,
+        radius=R,
+        **material,
+    )
     return replace(d, parameters=replace(d.parameters, dtmin=1e-10, tmax=t_end))
 
 
@@ -39,10 +45,12 @@ def main() -> None:
     e_auto = auto.trace.velocity[-1, 0, 1] / V
     e_fine = fine.trace.velocity[-1, 0, 1] / V
     st = auto.summary["step"]
-    print(f"Lee & Radok impact: restitution auto {e_auto:.5f} ({auto.summary['steps']} steps, "
-          f"{st['min']:.3g} .. {st['max']:.3g} s), fixed 1e-9 s {e_fine:.5f} "
-          f"({fine.summary['steps']} steps); relative difference "
-          f"{abs(e_auto - e_fine) / e_fine:.1e}")
+    print(
+        f"Lee & Radok impact: restitution auto {e_auto:.5f} ({auto.summary['steps']} steps, "
+        f"{st['min']:.3g} .. {st['max']:.3g} s), fixed 1e-9 s {e_fine:.5f} "
+        f"({fine.summary['steps']} steps); relative difference "
+        f"{abs(e_auto - e_fine) / e_fine:.1e}"
+    )
     try:
         x3dpd.run(visco, dt=2e-6, itrac=1)
         print("fixed 2e-6 s: ran")
@@ -51,9 +59,11 @@ def main() -> None:
     lone = deck(1.6e-4, spectator=False)
     auto = x3dpd.run(lone)
     fine = x3dpd.run(lone, dt=1e-9, itrac=2000)
-    print(f"lone elastic sphere: auto {auto.summary['steps']} steps, rebound "
-          f"{auto.trace.velocity[-1, 0, 1]:.6f} in/s; fixed 1e-9 s {fine.summary['steps']} "
-          f"steps, rebound {fine.trace.velocity[-1, 0, 1]:.6f} in/s")
+    print(
+        f"lone elastic sphere: auto {auto.summary['steps']} steps, rebound "
+        f"{auto.trace.velocity[-1, 0, 1]:.6f} in/s; fixed 1e-9 s {fine.summary['steps']} "
+        f"steps, rebound {fine.trace.velocity[-1, 0, 1]:.6f} in/s"
+    )
 
 
 if __name__ == "__main__":

@@ -71,10 +71,18 @@ def main(argv=None) -> int:
     result = {}
     for name, path in decks.items():
         t = time.perf_counter()
-        rows = sweep_command(str(path), freq=FREQ, amps=[repr(DRIVE)], node=9, dof=1,
-                             direction="down", baselines=["undamped", "added-mass"],
-                             out=str(out / Path(path).stem), workers=args.workers,
-                             echo=lambda s: None)
+        rows = sweep_command(
+            str(path),
+            freq=FREQ,
+            amps=[repr(DRIVE)],
+            node=9,
+            dof=1,
+            direction="down",
+            baselines=["undamped", "added-mass"],
+            out=str(out / Path(path).stem),
+            workers=args.workers,
+            echo=lambda s: None,
+        )
         sim = [r for r in rows if r["config"] == "deck"]
         result[name] = {
             "frequency_hz": [r["frequency_hz"] for r in sim],
@@ -95,12 +103,17 @@ def main(argv=None) -> int:
     (out / "modal_beam.json").write_text(json.dumps(result, indent=1))
     print(f"{'Hz':>6} " + " ".join(f"{n:>16}" for n in decks) + "   modes 2-3, no particles")
     for k, fk in enumerate(f):
-        print(f"{fk:6.2f} " + " ".join(f"{result[n]['amplitude'][k]:16.5e}" for n in decks)
-              + f"   {100 * result['closed_form_modes_2_3_change'][k]:+.4f} %")
+        print(
+            f"{fk:6.2f} "
+            + " ".join(f"{result[n]['amplitude'][k]:16.5e}" for n in decks)
+            + f"   {100 * result['closed_form_modes_2_3_change'][k]:+.4f} %"
+        )
     for n in decks:
         r = result[n]
-        print(f"{n:>16}: {r['steps']} steps, {r['us_per_step']:.2f} us/step "
-              f"(sweep {r['sweep_s']:.0f} s)")
+        print(
+            f"{n:>16}: {r['steps']} steps, {r['us_per_step']:.2f} us/step "
+            f"(sweep {r['sweep_s']:.0f} s)"
+        )
     _plot(out / "modal_beam.png", result, decks)
     print(f"wrote {out / 'modal_beam.json'} and {out / 'modal_beam.png'}")
     return 0
@@ -108,6 +121,7 @@ def main(argv=None) -> int:
 
 def _plot(png, result, decks) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -115,8 +129,14 @@ def _plot(png, result, decks) -> None:
     for k, name in enumerate(decks):
         r = result[name]
         ax.plot(r["frequency_hz"], r["amplitude"], marker="ov^"[k], label=f"{name}, particles")
-        ax.plot(r["frequency_hz"], r["undamped"], ls="--", color=f"C{k}", lw=0.8,
-                label=f"{name}, undamped")
+        ax.plot(
+            r["frequency_hz"],
+            r["undamped"],
+            ls="--",
+            color=f"C{k}",
+            lw=0.8,
+            label=f"{name}, undamped",
+        )
     ax.set_yscale("log")
     ax.set_xlabel("drive frequency [Hz]")
     ax.set_ylabel("tip displacement amplitude [in]")

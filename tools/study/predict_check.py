@@ -18,7 +18,7 @@ from x3dpd.deck.parser import read_deck
 from x3dpd.design.steady_state import Criterion, SweepPoint, run_point
 
 ROOT = Path(__file__).resolve().parents[2]
-DRIVE = 4.84040e-3   # 200 mV (Table 4)
+DRIVE = 4.84040e-3  # 200 mV (Table 4)
 
 
 def main() -> None:
@@ -33,14 +33,17 @@ def main() -> None:
             previous = None
             for hz, direction in ((36.0, ""), (35.5, "down")):
                 t = time.perf_counter()
-                point = SweepPoint("deck", deck, hz, DRIVE, 9, 1, direction=direction,
-                                   criterion=crit)
+                point = SweepPoint(
+                    "deck", deck, hz, DRIVE, 9, 1, direction=direction, criterion=crit
+                )
                 previous = run_point(point, previous)
                 row = previous[0]
-                print(f"{name} predict={predict!s:5} {hz:5.1f} Hz start={row['start']:9} "
-                      f"X={row['amplitude']:.4e} cycles={row['cycles']:4d} "
-                      f"converged={row['converged']} wall={time.perf_counter() - t:.1f} s",
-                      flush=True)
+                print(
+                    f"{name} predict={predict!s:5} {hz:5.1f} Hz start={row['start']:9} "
+                    f"X={row['amplitude']:.4e} cycles={row['cycles']:4d} "
+                    f"converged={row['converged']} wall={time.perf_counter() - t:.1f} s",
+                    flush=True,
+                )
 
 
 if __name__ == "__main__":

@@ -40,23 +40,46 @@ def main(argv=None) -> None:
     spec = f"random:node=9,dof=1,rms={args.rms!r},band=30:45,seed=1,period={PERIOD:g}"
     path = out / "beam_64.trace.txt"
     cpu = time.process_time()
-    run(ROOT / "decks" / "beam_64.inp", tmax=args.periods * PERIOD, usrfrc=[spec], trace=path,
-        trace_nodes=(9,), overwrite=True)
-    print(f"beam_64: {args.periods * PERIOD:g} s simulated in {time.process_time() - cpu:.0f} s "
-          "of CPU time")
-    rows = frf_command([str(path)], drive="9:1", responses=["9:1"], out=str(out / "frf"),
-                       quantity="displacement", window="boxcar", segment=PERIOD, overlap=0.0,
-                       band="30:45", t_from=PERIOD, baselines=("undamped", "added-mass"),
-                       overwrite=True)
+    run(
+        ROOT / "decks" / "beam_64.inp",
+        tmax=args.periods * PERIOD,
+        usrfrc=[spec],
+        trace=path,
+        trace_nodes=(9,),
+        overwrite=True,
+    )
+    print(
+        f"beam_64: {args.periods * PERIOD:g} s simulated in {time.process_time() - cpu:.0f} s "
+        "of CPU time"
+    )
+    rows = frf_command(
+        [str(path)],
+        drive="9:1",
+        responses=["9:1"],
+        out=str(out / "frf"),
+        quantity="displacement",
+        window="boxcar",
+        segment=PERIOD,
+        overlap=0.0,
+        band="30:45",
+        t_from=PERIOD,
+        baselines=("undamped", "added-mass"),
+        overwrite=True,
+    )
     peaks = {"beam_64": max(rows, key=lambda r: r["h1_mag"])["h1_mag"]}
     coherence = min(r["coherence"] for r in rows)
     with open(out / "frf" / "baselines.csv") as f:
         for row in csv.DictReader(line for line in f if not line.startswith("#")):
             peaks[row["baseline"]] = max(peaks.get(row["baseline"], 0.0), float(row["mag"]))
     for name, peak in peaks.items():
-        print(f"{name}: peak |H| {peak:.4g} in/lbf ({20 * np.log10(peak):.1f} dB re 1 in/lbf)"
-              + ("" if name == "beam_64" else
-                 f"; beam_64 {20 * np.log10(peaks['beam_64'] / peak):+.1f} dB against it"))
+        print(
+            f"{name}: peak |H| {peak:.4g} in/lbf ({20 * np.log10(peak):.1f} dB re 1 in/lbf)"
+            + (
+                ""
+                if name == "beam_64"
+                else f"; beam_64 {20 * np.log10(peaks['beam_64'] / peak):+.1f} dB against it"
+            )
+        )
     print(f"beam_64: coherence >= {coherence:.3f}")
 
 

@@ -26,16 +26,21 @@ from x3dpd.physics.motion import motion_history, motion_table
 from x3dpd.physics.usrfrc import force_table, force_values
 from x3dpd.solver.simulation import Simulation
 
-DRIVES = {"sine": "sine:node=1,dof=1,amp=4.84040e-3,hz=37.21",
-          "random": "random:node=1,dof=1,rms=4.84040e-3,band=10:150,seed=1"}
+DRIVES = {
+    "sine": "sine:node=1,dof=1,amp=4.84040e-3,hz=37.21",
+    "random": "random:node=1,dof=1,rms=4.84040e-3,band=10:150,seed=1",
+}
 
 
 def sdof() -> Deck:
-    return Deck(parameters=Parameters(0.0, 1.0, 0.0, 5e-7, 5e-7, 0, 1e9, 0, 5, 0, 10**9),
-                materials=(Material(2, 1, 1e-12, 1.0, 11.4823, 0.0, 0.0, 3.08293e-4),),
-                nodes=(Node(1, 0.0, 0.0, 0.0),), elements=(Element(1, 2, (1,)),),
-                masses=(Mass(1, 1.87646e-4, 0.0, 0.0, 0.0),),
-                boundaries=(Boundary(1, 1, 1, (2, 3, 4, 5, 6)),))
+    return Deck(
+        parameters=Parameters(0.0, 1.0, 0.0, 5e-7, 5e-7, 0, 1e9, 0, 5, 0, 10**9),
+        materials=(Material(2, 1, 1e-12, 1.0, 11.4823, 0.0, 0.0, 3.08293e-4),),
+        nodes=(Node(1, 0.0, 0.0, 0.0),),
+        elements=(Element(1, 2, (1,)),),
+        masses=(Mass(1, 1.87646e-4, 0.0, 0.0, 0.0),),
+        boundaries=(Boundary(1, 1, 1, (2, 3, 4, 5, 6)),),
+    )
 
 
 def step_cost(spec: str, steps: int = 2_000_000, repeat: int = 3) -> float:
@@ -57,7 +62,7 @@ def third_octaves(spec: str, lo: float, hi: float, period: float, fs: float = 40
     f = np.fft.rfftfreq(n, 1.0 / fs)
     for k in range(-20, 10):
         centre = 1000.0 * 10 ** (k / 10)
-        a, b = centre * 10 ** -0.05, centre * 10 ** 0.05
+        a, b = centre * 10**-0.05, centre * 10**0.05
         if a >= lo and b <= hi:
             yield centre, float(g[(f >= a) & (f < b)].mean())
 
@@ -69,10 +74,12 @@ def one_line_errors(hi: float = 150.0, period: float = 4.0) -> tuple[float, floa
     u, v, a = (c[:, 0] for c in motion_history(t, motion_table([spec], [1])))
     w = 2 * np.pi * hi
     phase = 2 * np.pi * np.random.default_rng(3).random(1)[0]
-    amp = math.sqrt(2.0)                              # unit RMS acceleration
-    return (float(np.max(np.abs(u + amp / w**2 * np.sin(w * t + phase)))) / (amp / w**2),
-            float(np.max(np.abs(v + amp / w * np.cos(w * t + phase)))) / (amp / w),
-            float(np.max(np.abs(a - amp * np.sin(w * t + phase)))) / amp)
+    amp = math.sqrt(2.0)  # unit RMS acceleration
+    return (
+        float(np.max(np.abs(u + amp / w**2 * np.sin(w * t + phase)))) / (amp / w**2),
+        float(np.max(np.abs(v + amp / w * np.cos(w * t + phase)))) / (amp / w),
+        float(np.max(np.abs(a - amp * np.sin(w * t + phase)))) / amp,
+    )
 
 
 def main() -> None:
@@ -82,11 +89,15 @@ def main() -> None:
     ratios = [level / 1e-6 for _, level in third_octaves(spec, 20.0, 1000.0, 4.0)]
     for (centre, _level), r in zip(third_octaves(spec, 20.0, 1000.0, 4.0), ratios):
         print(f"  {centre:7.1f} Hz  PSD / requested = {r:.5f}")
-    print(f"{spec}: {len(ratios)} third-octave bands, PSD / requested "
-          f"{min(ratios):.5f} .. {max(ratios):.5f}")
+    print(
+        f"{spec}: {len(ratios)} third-octave bands, PSD / requested "
+        f"{min(ratios):.5f} .. {max(ratios):.5f}"
+    )
     eu, ev, ea = one_line_errors()
-    print(f"one line at HI, 8 knots per period: errors {eu:.1e} (value), {ev:.1e} (slope), "
-          f"{ea:.1e} (curvature) of the line's amplitude")
+    print(
+        f"one line at HI, 8 knots per period: errors {eu:.1e} (value), {ev:.1e} (slope), "
+        f"{ea:.1e} (curvature) of the line's amplitude"
+    )
 
 
 if __name__ == "__main__":

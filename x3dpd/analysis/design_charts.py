@@ -50,9 +50,13 @@ def _budget(ax, budget: float | None) -> None:
             ax.set_xlim(lo, hi)
 
 
-def plot_attenuation_vs_mass(png: str | os.PathLike, rows: Sequence[Mapping],
-                             budget: float | None = None, title: str = "",
-                             mass_unit: str = "") -> str:
+def plot_attenuation_vs_mass(
+    png: str | os.PathLike,
+    rows: Sequence[Mapping],
+    budget: float | None = None,
+    title: str = "",
+    mass_unit: str = "",
+) -> str:
     """Peak attenuation vs the undamped baseline (else vs added mass; else the peak amplitude)
     against added mass, one panel per drive, a line per (material, radius)."""
     plt = _pyplot()
@@ -64,8 +68,9 @@ def plot_attenuation_vs_mass(png: str | os.PathLike, rows: Sequence[Mapping],
         quantity, label = "peak_amplitude", "peak amplitude"
     masses = {r["added_mass"] for r in rows}
     # an equal-mass study (the report's particle-count study): against the count instead
-    by_count = (len({r["count"] for r in rows}) > 1
-                and max(masses) - min(masses) <= 1e-9 * max(masses))
+    by_count = len({r["count"] for r in rows}) > 1 and max(masses) - min(masses) <= 1e-9 * max(
+        masses
+    )
     x_key = "count" if by_count else "added_mass"
     fig, axes = plt.subplots(1, len(drives), figsize=(5.4 * len(drives), 4.2), squeeze=False)
     for ax, drive in zip(axes[0], drives):
@@ -80,16 +85,23 @@ def plot_attenuation_vs_mass(png: str | os.PathLike, rows: Sequence[Mapping],
             families.setdefault(family, []).append((r[x_key], r[quantity], config))
         for k, (name, pts) in enumerate(sorted(families.items())):
             pts.sort()
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", color=f"C{k}",
-                    label=name)
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", color=f"C{k}", label=name)
             for m, y, config in pts:
-                ax.annotate(config, (m, y), fontsize=6, xytext=(3, 3),
-                            textcoords="offset points")
+                ax.annotate(config, (m, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
         best = [r for r in per_config.values() if r.get("best")]
         if best:
             b = best[0]
-            ax.plot(b[x_key], b[quantity], marker="*", ms=18, color="gold", mec="k",
-                    ls="none", label=f"best: {b['config']}", zorder=5)
+            ax.plot(
+                b[x_key],
+                b[quantity],
+                marker="*",
+                ms=18,
+                color="gold",
+                mec="k",
+                ls="none",
+                label=f"best: {b['config']}",
+                zorder=5,
+            )
         if by_count:
             ax.set_xscale("log")
             ax.set_xlabel(f"particle count (equal added mass {max(masses):.4g})")
@@ -105,8 +117,9 @@ def plot_attenuation_vs_mass(png: str | os.PathLike, rows: Sequence[Mapping],
     return save_figure(plt, fig, png, title)
 
 
-def plot_damping_families(png: str | os.PathLike, rows: Sequence[Mapping],
-                          budget: float | None = None, title: str = "") -> str:
+def plot_damping_families(
+    png: str | os.PathLike, rows: Sequence[Mapping], budget: float | None = None, title: str = ""
+) -> str:
     """% zeta vs amplitude, a line per configuration coloured by added mass; beside it the
     mean % zeta vs added mass per (material, radius)."""
     plt = _pyplot()
@@ -120,9 +133,13 @@ def plot_damping_families(png: str | os.PathLike, rows: Sequence[Mapping],
         best = bool(mine[0].get("best"))
         for drive in sorted({str(r["drive"]) for r in mine}):
             pts = [r for r in mine if str(r["drive"]) == drive]
-            ax.plot([r["amplitude_db"] for r in pts], [r["zeta_percent"] for r in pts],
-                    color=cmap(norm(mine[0]["added_mass"])), lw=3.0 if best else 1.2,
-                    label=f"best: {config}" if best and drive == str(pts[0]["drive"]) else None)
+            ax.plot(
+                [r["amplitude_db"] for r in pts],
+                [r["zeta_percent"] for r in pts],
+                color=cmap(norm(mine[0]["added_mass"])),
+                lw=3.0 if best else 1.2,
+                label=f"best: {config}" if best and drive == str(pts[0]["drive"]) else None,
+            )
     base = [r["baseline_zeta_percent"] for r in rows if math.isfinite(r["baseline_zeta_percent"])]
     if base:
         ax.axhline(base[0], color="k", ls=":", label=f"structure alone {base[0]:.3g} %")
@@ -135,15 +152,24 @@ def plot_damping_families(png: str | os.PathLike, rows: Sequence[Mapping],
     families: dict[str, list] = {}
     for config, mine in configs.items():
         families.setdefault(_family(mine[0]), []).append(
-            (mine[0]["added_mass"], float(np.mean([r["zeta_percent"] for r in mine])), config))
+            (mine[0]["added_mass"], float(np.mean([r["zeta_percent"] for r in mine])), config)
+        )
     for k, (name, pts) in enumerate(sorted(families.items())):
         pts.sort()
-        ax2.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", color=f"C{k}",
-                 label=name)
+        ax2.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", color=f"C{k}", label=name)
     best = [mine[0] for mine in configs.values() if mine[0].get("best")]
     if best:
-        ax2.plot(best[0]["added_mass"], best[0]["score"], marker="*", ms=18, color="gold",
-                 mec="k", ls="none", label=f"best: {best[0]['config']}", zorder=5)
+        ax2.plot(
+            best[0]["added_mass"],
+            best[0]["score"],
+            marker="*",
+            ms=18,
+            color="gold",
+            mec="k",
+            ls="none",
+            label=f"best: {best[0]['config']}",
+            zorder=5,
+        )
     _budget(ax2, budget)
     ax2.set_xlabel("added (particle) mass")
     ax2.set_ylabel("mean damping [% zeta]")

@@ -52,19 +52,31 @@ def attenuations(rows: Sequence[Mapping], curves: Mapping | None = None) -> list
             if (config, drive) in curves:
                 ref = float(np.max(curves[(config, drive)][1]))
             else:
-                ref_rows = [r["amplitude"] for r in rows
-                            if r["config"] == config and r["drive"] == drive]
+                ref_rows = [
+                    r["amplitude"] for r in rows if r["config"] == config and r["drive"] == drive
+                ]
                 if not ref_rows:
                     continue
                 ref = max(ref_rows)
-            out.append({"drive": drive, "baseline": config, "baseline_peak": ref,
-                        "deck_peak": max(deck),
-                        "attenuation_db": peak_attenuation_db(ref, max(deck))})
+            out.append(
+                {
+                    "drive": drive,
+                    "baseline": config,
+                    "baseline_peak": ref,
+                    "deck_peak": max(deck),
+                    "attenuation_db": peak_attenuation_db(ref, max(deck)),
+                }
+            )
     return out
 
 
-def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping | None = None,
-               title: str = "", units: str = "in") -> str:
+def plot_sweep(
+    png: str | os.PathLike,
+    rows: Sequence[Mapping],
+    curves: Mapping | None = None,
+    title: str = "",
+    units: str = "in",
+) -> str:
     """Amplitude versus frequency, one panel per drive: baselines and the damper overlaid."""
     plt = _pyplot()
     curves = curves or {}
@@ -73,18 +85,34 @@ def plot_sweep(png: str | os.PathLike, rows: Sequence[Mapping], curves: Mapping 
     fig, axes = plt.subplots(1, len(drives), figsize=(5.2 * len(drives), 4.0), squeeze=False)
     for ax, drive in zip(axes[0], drives):
         _sweep_axes(ax, rows, curves, drive, "amplitude", f"displacement amplitude [{units}]")
-        lines = [f"{a['attenuation_db']:.1f} dB vs {a['baseline']}" for a in att
-                 if a["drive"] == drive]
+        lines = [
+            f"{a['attenuation_db']:.1f} dB vs {a['baseline']}" for a in att if a["drive"] == drive
+        ]
         if lines:
-            ax.text(0.02, 0.97, "peak attenuation\n" + "\n".join(lines),
-                    transform=ax.transAxes, va="top", fontsize=8)
+            ax.text(
+                0.02,
+                0.97,
+                "peak attenuation\n" + "\n".join(lines),
+                transform=ax.transAxes,
+                va="top",
+                fontsize=8,
+            )
         ax.set_title(f"drive {drive:.5g}", fontsize=9)
     return save_figure(plt, fig, png, title)
 
 
-def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
-                   curves: Mapping, title: str = "", units: str = "in", force: str = "lbf",
-                   time: str = "s", base=None, drive_label=None) -> str:
+def plot_responses(
+    png: str | os.PathLike,
+    rows: Sequence[Mapping],
+    responses,
+    curves: Mapping,
+    title: str = "",
+    units: str = "in",
+    force: str = "lbf",
+    time: str = "s",
+    base=None,
+    drive_label=None,
+) -> str:
     """Accelerance (acceleration amplitude / drive) versus frequency at each measured response
     (``--response``; a row of panels each, one panel per drive), baselines overlaid (``curves``:
     {(node, dof): {(config, drive): (f, X)}}). ``base(f, drive)``: a base drive's displacement
@@ -92,19 +120,39 @@ def plot_responses(png: str | os.PathLike, rows: Sequence[Mapping], responses,
     ``drive_label(drive)``: how a panel's title names its drive (default: the number)."""
     plt = _pyplot()
     drives = sorted({r["drive"] for r in rows})
-    fig, axes = plt.subplots(len(responses), len(drives), squeeze=False,
-                             figsize=(5.2 * len(drives), 4.0 * len(responses)))
+    fig, axes = plt.subplots(
+        len(responses),
+        len(drives),
+        squeeze=False,
+        figsize=(5.2 * len(drives), 4.0 * len(responses)),
+    )
     for row_axes, (node, dof) in zip(axes, responses):
-        measured = [{**r, **m} for r in rows for m in r.get("responses", ())
-                    if (m["response_node"], m["response_dof"]) == (node, dof)]
+        measured = [
+            {**r, **m}
+            for r in rows
+            for m in r.get("responses", ())
+            if (m["response_node"], m["response_dof"]) == (node, dof)
+        ]
         for ax, drive in zip(row_axes, drives):
             if base is None:
-                _sweep_axes(ax, measured, curves.get((node, dof), {}), drive, "accelerance",
-                            f"accelerance [({units}/{time}^2) / {force}]")
+                _sweep_axes(
+                    ax,
+                    measured,
+                    curves.get((node, dof), {}),
+                    drive,
+                    "accelerance",
+                    f"accelerance [({units}/{time}^2) / {force}]",
+                )
             else:
-                _sweep_axes(ax, measured, curves.get((node, dof), {}), drive,
-                            "transmissibility", "transmissibility (acceleration / base's)",
-                            base)
+                _sweep_axes(
+                    ax,
+                    measured,
+                    curves.get((node, dof), {}),
+                    drive,
+                    "transmissibility",
+                    "transmissibility (acceleration / base's)",
+                    base,
+                )
             label = drive_label(drive) if drive_label is not None else f"{drive:.5g}"
             ax.set_title(f"node {node} dof {dof}, drive {label}", fontsize=9)
     return save_figure(plt, fig, png, title)
@@ -120,8 +168,7 @@ def save_figure(plt, fig, png: str | os.PathLike, suptitle: str = "") -> str:
     return str(png)
 
 
-def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str,
-                base=None) -> None:
+def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str, base=None) -> None:
     """One panel: the baselines' curves and points, measured FRFs (``curves`` keys "measured
     ...", dashed) and the damper's points at one drive, as
     displacement ``amplitude``, ``accelerance`` (w^2 X / |F|) or ``transmissibility`` (X / U,
@@ -139,33 +186,49 @@ def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str,
         if (config, drive) in curves:
             f, a = curves[(config, drive)]
             ax.plot(f, y_of(f, a), color=color, ls=ls, lw=1.2, label=f"{config} (closed form)")
-        pts = sorted((r["frequency_hz"], r["amplitude"]) for r in rows
-                     if r["config"] == config and r["drive"] == drive
-                     and r.get("method") != "closed-form")
+        pts = sorted(
+            (r["frequency_hz"], r["amplitude"])
+            for r in rows
+            if r["config"] == config and r["drive"] == drive and r.get("method") != "closed-form"
+        )
         if pts:
             f, a = zip(*pts)
             ax.plot(f, y_of(f, a), color=color, ls=ls, marker=".", label=config)
     grey = 0
     for (config, d), (f, a) in curves.items():
         if d == drive and config.startswith("measured"):
-            ax.plot(f, y_of(f, a), color=("C2", "C4", "C8")[grey % 3], ls=(0, (6, 2)),
-                    lw=1.0, label=config)
+            ax.plot(
+                f,
+                y_of(f, a),
+                color=("C2", "C4", "C8")[grey % 3],
+                ls=(0, (6, 2)),
+                lw=1.0,
+                label=config,
+            )
             grey += 1
     for direction, marker in markers.items():
-        pts = [r for r in rows if r["config"] == "deck" and r["drive"] == drive
-               and r["direction"] == direction]
+        pts = [
+            r
+            for r in rows
+            if r["config"] == "deck" and r["drive"] == drive and r["direction"] == direction
+        ]
         if not pts:
             continue
         pts.sort(key=lambda r: r["frequency_hz"])
         f = [r["frequency_hz"] for r in pts]
         a = [r["amplitude"] for r in pts]
-        ax.plot(f, y_of(f, a), color="C3" if direction != "down" else "C0", marker=marker,
-                ms=5, label="damper" + (f" ({direction})" if direction else ""))
+        ax.plot(
+            f,
+            y_of(f, a),
+            color="C3" if direction != "down" else "C0",
+            marker=marker,
+            ms=5,
+            label="damper" + (f" ({direction})" if direction else ""),
+        )
         bad = [(r["frequency_hz"], r["amplitude"]) for r in pts if not r["converged"]]
         if bad:
             bf, ba = zip(*bad)
-            ax.plot(bf, y_of(bf, ba), ls="none", marker="x", color="k", ms=8,
-                    label="not converged")
+            ax.plot(bf, y_of(bf, ba), ls="none", marker="x", color="k", ms=8, label="not converged")
     ax.set_yscale("log")
     ax.set_xlabel("drive frequency [Hz]")
     ax.set_ylabel(ylabel)
@@ -173,26 +236,33 @@ def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str,
     ax.legend(fontsize=7, loc="upper right")
 
 
-def plot_ringdown(png: str | os.PathLike, series: Mapping[str, Mapping[str, np.ndarray]],
-                  title: str = "") -> str:
+def plot_ringdown(
+    png: str | os.PathLike, series: Mapping[str, Mapping[str, np.ndarray]], title: str = ""
+) -> str:
     """% zeta versus amplitude in dB re 1 g (Figure 6, right), one line per series (measured
     ones, named ``measured ...``, dashed black)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4.0))
     for k, (name, cols) in enumerate(series.items()):
-        style = ({"color": "k", "ls": "--"} if name.startswith("measured")
-                 else {"color": "C3" if k == 0 else "C0"})
-        ax.plot(cols["amplitude_db"], 100.0 * np.asarray(cols["zeta"]), lw=1.5, label=name,
-                **style)
+        style = (
+            {"color": "k", "ls": "--"}
+            if name.startswith("measured")
+            else {"color": "C3" if k == 0 else "C0"}
+        )
+        ax.plot(cols["amplitude_db"], 100.0 * np.asarray(cols["zeta"]), lw=1.5, label=name, **style)
     ax.set_xlabel("amplitude [dB re 1 g]")
     ax.set_ylabel("damping [% zeta]")
     ax.grid(True, alpha=0.3)
     return _finish(fig, ax, png, title)
 
 
-def plot_configurations(png: str | os.PathLike, series: Mapping[str, Sequence[Mapping]],
-                        curves: Mapping[str, tuple[np.ndarray, np.ndarray]],
-                        title: str = "", units: str = "in") -> str:
+def plot_configurations(
+    png: str | os.PathLike,
+    series: Mapping[str, Sequence[Mapping]],
+    curves: Mapping[str, tuple[np.ndarray, np.ndarray]],
+    title: str = "",
+    units: str = "in",
+) -> str:
     """One drive level, several designs (Figures 45-48): closed-form baselines as lines,
     each damper's swept points as markers joined by lines, amplitude on a log scale.
 

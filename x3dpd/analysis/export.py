@@ -30,10 +30,15 @@ def _particles_mesh(scene: Scene, data: np.ndarray):
     p = data[scene.particle_rows]
     n = p.shape[0]
     return meshio.Mesh(
-        np.ascontiguousarray(p[:, :3]), [("vertex", np.arange(n, dtype=np.int64)[:, None])],
-        point_data={"radius": scene.radius.copy(), "velocity": np.ascontiguousarray(p[:, 3:6]),
-                    "spin": np.ascontiguousarray(p[:, 6:9]),
-                    "node_id": scene.node_ids[scene.particle_rows].astype(np.int64)})
+        np.ascontiguousarray(p[:, :3]),
+        [("vertex", np.arange(n, dtype=np.int64)[:, None])],
+        point_data={
+            "radius": scene.radius.copy(),
+            "velocity": np.ascontiguousarray(p[:, 3:6]),
+            "spin": np.ascontiguousarray(p[:, 6:9]),
+            "node_id": scene.node_ids[scene.particle_rows].astype(np.int64),
+        },
+    )
 
 
 def _cavity_mesh(scene: Scene, data: np.ndarray):
@@ -42,8 +47,9 @@ def _cavity_mesh(scene: Scene, data: np.ndarray):
     return meshio.Mesh(scene.vertices(data), [("triangle", scene.tri.copy())])
 
 
-def write_vtk_series(folder: str | os.PathLike, scene: Scene,
-                     blocks: Iterable[tuple[float, np.ndarray]]) -> int:
+def write_vtk_series(
+    folder: str | os.PathLike, scene: Scene, blocks: Iterable[tuple[float, np.ndarray]]
+) -> int:
     """Write the VTK time series into ``folder`` (created if missing); return the frame count.
 
     Files are written one frame at a time; ``run.pvd`` is written last, so a folder with a
@@ -54,29 +60,35 @@ def write_vtk_series(folder: str | os.PathLike, scene: Scene,
     entries = []
     n = 0
     for t, data in blocks:
-        for part, mesh in (("particles", _particles_mesh(scene, data)),
-                           ("cavity", _cavity_mesh(scene, data))):
+        for part, mesh in (
+            ("particles", _particles_mesh(scene, data)),
+            ("cavity", _cavity_mesh(scene, data)),
+        ):
             if part == "cavity" and scene.tri.shape[0] == 0:
                 continue
             name = f"{part}_{n:06d}.vtu"
             mesh.write(os.path.join(folder, name), file_format="vtu", binary=True)
             entries.append((t, part, name))
         n += 1
-    lines = ['<?xml version="1.0"?>',
-             '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
-             "  <Collection>"]
+    lines = [
+        '<?xml version="1.0"?>',
+        '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+        "  <Collection>",
+    ]
     for t, part, name in entries:
         part_no = 0 if part == "particles" else 1
-        lines.append(f'    <DataSet timestep="{t!r}" group="" part="{part_no}" '
-                     f"file={quoteattr(name)}/>")
+        lines.append(
+            f'    <DataSet timestep="{t!r}" group="" part="{part_no}" file={quoteattr(name)}/>'
+        )
     lines += ["  </Collection>", "</VTKFile>", ""]
     with open(os.path.join(folder, "run.pvd"), "w", encoding="utf-8") as f:
         f.write("\n".join(lines))
     return n
 
 
-def write_lammps_dump(path: str | os.PathLike, scene: Scene,
-                      blocks: Iterable[tuple[float, np.ndarray]]) -> int:
+def write_lammps_dump(
+    path: str | os.PathLike, scene: Scene, blocks: Iterable[tuple[float, np.ndarray]]
+) -> int:
     """Write a LAMMPS-style text dump of the particles; return the frame count.
 
     The box bounds of each frame are the cavity's bounding box at that time (or the particles'
@@ -89,9 +101,11 @@ def write_lammps_dump(path: str | os.PathLike, scene: Scene,
             p = data[scene.particle_rows]
             pts = scene.vertices(data) if scene.tri.shape[0] else p[:, :3]
             lo, hi = pts.min(axis=0), pts.max(axis=0)
-            f.write(f"ITEM: TIMESTEP\n{n}\nITEM: TIME\n{t!r}\n"
-                    f"ITEM: NUMBER OF ATOMS\n{p.shape[0]}\n"
-                    "ITEM: BOX BOUNDS ff ff ff\n")
+            f.write(
+                f"ITEM: TIMESTEP\n{n}\nITEM: TIME\n{t!r}\n"
+                f"ITEM: NUMBER OF ATOMS\n{p.shape[0]}\n"
+                "ITEM: BOX BOUNDS ff ff ff\n"
+            )
             for a in range(3):
                 f.write(f"{lo[a]!r} {hi[a]!r}\n")
             f.write("ITEM: ATOMS id type x y z vx vy vz omegax omegay omegaz radius\n")
@@ -113,7 +127,7 @@ def read_lammps_dump(path: str | os.PathLike) -> list[tuple[float, np.ndarray, n
         assert lines[k] == "ITEM: TIMESTEP", lines[k]
         t = float(lines[k + 3])
         n = int(lines[k + 5])
-        body = np.array([[float(v) for v in ln.split()] for ln in lines[k + 11:k + 11 + n]])
+        body = np.array([[float(v) for v in ln.split()] for ln in lines[k + 11 : k + 11 + n]])
         body = body.reshape(n, 12)
         frames.append((t, body[:, 0].astype(np.int64), body[:, 2:]))
         k += 11 + n

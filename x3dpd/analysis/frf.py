@@ -85,8 +85,10 @@ class FrfEstimate:
 
         n = self.n_effective
         if n <= 2.0:
-            raise InputError(f"FRF confidence: {n:.2f} equivalent averages; more than 2 are "
-                             "needed (a longer record or shorter segments)")
+            raise InputError(
+                f"FRF confidence: {n:.2f} equivalent averages; more than 2 are "
+                "needed (a longer record or shorter segments)"
+            )
         fq = f_dist.ppf(level, 2, n - 2.0)
         with np.errstate(divide="ignore", invalid="ignore"):
             r2 = 2.0 / (n - 2.0) * fq * (1.0 - self.coherence) * self.gyy / self.gxx
@@ -103,9 +105,18 @@ class FrfEstimate:
         (nf,) complex: G_xy / factor, G_yy / |factor|^2 (the coherence is unchanged) -- e.g. a
         central difference's gain sinc(w dt) taken out (:func:`central_difference`)."""
         factor = np.asarray(factor)
-        return FrfEstimate(self.frequency, self.gxx, self.gyy / np.abs(factor) ** 2,
-                           self.gxy / factor, self.n_segments, self.n_effective, self.nperseg,
-                           self.noverlap, self.window, self.fs)
+        return FrfEstimate(
+            self.frequency,
+            self.gxx,
+            self.gyy / np.abs(factor) ** 2,
+            self.gxy / factor,
+            self.n_segments,
+            self.n_effective,
+            self.nperseg,
+            self.noverlap,
+            self.window,
+            self.fs,
+        )
 
 
 def central_difference(signal, fs: float) -> np.ndarray:
@@ -147,7 +158,7 @@ def equivalent_averages(window, nperseg: int, noverlap: int, n_segments: int) ->
         shift = j * step
         if shift >= nperseg:
             break
-        rho = float(np.sum(w[shift:] * w[:nperseg - shift])) / denom
+        rho = float(np.sum(w[shift:] * w[: nperseg - shift])) / denom
         total += 2.0 * (1.0 - j / n_segments) * rho * rho
     return n_segments / total
 
@@ -160,16 +171,27 @@ def _check_welch(n: int, fs: float, nperseg: int, noverlap: int | None) -> int:
     if noverlap is None:
         noverlap = nperseg // 2
     if not 0 <= noverlap < nperseg:
-        raise InputError(f"overlap {noverlap} samples: expected 0 <= overlap < segment length "
-                         f"{nperseg}")
+        raise InputError(
+            f"overlap {noverlap} samples: expected 0 <= overlap < segment length {nperseg}"
+        )
     if n < nperseg:
-        raise InputError(f"the record holds {n} samples ({n / fs:.4g} s), fewer than one "
-                         f"segment of {nperseg} ({nperseg / fs:.4g} s); give a shorter segment")
+        raise InputError(
+            f"the record holds {n} samples ({n / fs:.4g} s), fewer than one "
+            f"segment of {nperseg} ({nperseg / fs:.4g} s); give a shorter segment"
+        )
     return noverlap
 
 
-def estimate_frf(drive, responses, fs: float, *, nperseg: int, noverlap: int | None = None,
-                 window="hann", detrend="constant") -> FrfEstimate:
+def estimate_frf(
+    drive,
+    responses,
+    fs: float,
+    *,
+    nperseg: int,
+    noverlap: int | None = None,
+    window="hann",
+    detrend="constant",
+) -> FrfEstimate:
     """H1, H2 and coherence between ``drive`` (n,) and ``responses`` (n,) or (m, n).
 
     ``fs`` [Hz] is the sampling rate; ``nperseg`` samples per Welch segment (the frequency
@@ -189,13 +211,29 @@ def estimate_frf(drive, responses, fs: float, *, nperseg: int, noverlap: int | N
     _, gyy = welch(y, axis=-1, **opts)
     _, gxy = csd(x[None, :], y, axis=-1, **opts)
     nseg = welch_segments(x.shape[0], nperseg, noverlap)
-    return FrfEstimate(freq, gxx, gyy, gxy, nseg,
-                       equivalent_averages(window, nperseg, noverlap, nseg), nperseg, noverlap,
-                       str(window), float(fs))
+    return FrfEstimate(
+        freq,
+        gxx,
+        gyy,
+        gxy,
+        nseg,
+        equivalent_averages(window, nperseg, noverlap, nseg),
+        nperseg,
+        noverlap,
+        str(window),
+        float(fs),
+    )
 
 
-def power_spectrum(signal, fs: float, *, nperseg: int, noverlap: int | None = None,
-                   window="hann", detrend="constant") -> tuple[np.ndarray, np.ndarray]:
+def power_spectrum(
+    signal,
+    fs: float,
+    *,
+    nperseg: int,
+    noverlap: int | None = None,
+    window="hann",
+    detrend="constant",
+) -> tuple[np.ndarray, np.ndarray]:
     """One-sided PSD [units^2/Hz] of ``signal`` by Welch's method: ``(frequency, psd)``."""
     from scipy.signal import welch
 
@@ -226,7 +264,7 @@ def third_octave_bands(lo: float, hi: float) -> list[tuple[float, float, float]]
     out = []
     for k in range(-40, 30):
         centre = 1000.0 * 10.0 ** (k / 10.0)
-        a, b = centre * 10.0 ** (-0.05), centre * 10.0 ** 0.05
+        a, b = centre * 10.0 ** (-0.05), centre * 10.0**0.05
         if a >= lo and b <= hi:
             out.append((a, centre, b))
     return out

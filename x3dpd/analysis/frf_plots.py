@@ -44,16 +44,23 @@ def _style(k: int, curve: Curve, n_measured: list[int]) -> dict:
     return {"color": f"C{k % 10}", "ls": "-." if curve.baseline else "-", "lw": 1.3}
 
 
-def plot_frf(png: str | os.PathLike, curves: Sequence[Curve], *, ylabel: str,
-             band: tuple[float, float] | None = None, title: str = "") -> str:
+def plot_frf(
+    png: str | os.PathLike,
+    curves: Sequence[Curve],
+    *,
+    ylabel: str,
+    band: tuple[float, float] | None = None,
+    title: str = "",
+) -> str:
     """Magnitude [dB re 1 unit], phase [deg] and coherence of each curve over frequency.
 
     H1 is drawn solid, H2 dotted in the same colour, the 95 % confidence band of H1 shaded (when
     given); measured curves dashed.
     """
     plt = _pyplot()
-    fig, (ax_m, ax_p, ax_c) = plt.subplots(3, 1, figsize=(7.0, 7.5), sharex=True,
-                                           gridspec_kw={"height_ratios": [3, 1.3, 1]})
+    fig, (ax_m, ax_p, ax_c) = plt.subplots(
+        3, 1, figsize=(7.0, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3, 1]}
+    )
     measured_count = [0]
     k_sim = 0
     for curve in curves:
@@ -67,8 +74,9 @@ def plot_frf(png: str | os.PathLike, curves: Sequence[Curve], *, ylabel: str,
         if curve.r95 is not None:
             mag = np.abs(curve.h)
             lo = np.maximum(mag - curve.r95, mag * 1e-3)
-            ax_m.fill_between(f, _db(lo), _db(mag + curve.r95), color=style["color"], alpha=0.2,
-                              lw=0)
+            ax_m.fill_between(
+                f, _db(lo), _db(mag + curve.r95), color=style["color"], alpha=0.2, lw=0
+            )
         ax_p.plot(f, np.degrees(np.angle(curve.h)), **style)
         if curve.coherence is not None:
             ax_c.plot(f, curve.coherence, **style)
@@ -88,9 +96,14 @@ def plot_frf(png: str | os.PathLike, curves: Sequence[Curve], *, ylabel: str,
     return save_figure(plt, fig, png)
 
 
-def plot_spectrum(png: str | os.PathLike, curves: Sequence[tuple[str, np.ndarray, np.ndarray]],
-                  *, ylabel: str, band: tuple[float, float] | None = None,
-                  title: str = "") -> str:
+def plot_spectrum(
+    png: str | os.PathLike,
+    curves: Sequence[tuple[str, np.ndarray, np.ndarray]],
+    *,
+    ylabel: str,
+    band: tuple[float, float] | None = None,
+    title: str = "",
+) -> str:
     """Spectra ``(label, frequency, values)`` on a log scale over linear frequency (Fig. 10)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7.0, 4.0))
@@ -107,12 +120,21 @@ def plot_spectrum(png: str | os.PathLike, curves: Sequence[tuple[str, np.ndarray
     return save_figure(plt, fig, png)
 
 
-def plot_fit(png: str | os.PathLike, frequency, measured, fitted, *, ylabel: str,
-             band: tuple[float, float], title: str = "") -> str:
+def plot_fit(
+    png: str | os.PathLike,
+    frequency,
+    measured,
+    fitted,
+    *,
+    ylabel: str,
+    band: tuple[float, float],
+    title: str = "",
+) -> str:
     """A measured FRF (markers) and the fitted model (line): magnitude in dB and phase."""
     plt = _pyplot()
-    fig, (ax_m, ax_p) = plt.subplots(2, 1, figsize=(6.5, 5.5), sharex=True,
-                                     gridspec_kw={"height_ratios": [2, 1]})
+    fig, (ax_m, ax_p) = plt.subplots(
+        2, 1, figsize=(6.5, 5.5), sharex=True, gridspec_kw={"height_ratios": [2, 1]}
+    )
     f = np.asarray(frequency)
     ax_m.plot(f, _db(measured), "o", ms=2.5, color="0.35", label="measured")
     ax_m.plot(f, _db(fitted), color="C3", lw=1.4, label="SDOF fit")

@@ -26,8 +26,14 @@ VIEWS = {"xy": (0, 1, 2), "xz": (0, 2, 1), "yz": (1, 2, 0), "zy": (2, 1, 0)}
 FORMATS = (".mp4", ".gif", ".png")
 
 
-def _figure(scene: Scene, view: str, size_px: tuple[int, int], lo: np.ndarray, hi: np.ndarray,
-            dpi: int = 100):
+def _figure(
+    scene: Scene,
+    view: str,
+    size_px: tuple[int, int],
+    lo: np.ndarray,
+    hi: np.ndarray,
+    dpi: int = 100,
+):
     import matplotlib
 
     matplotlib.use("Agg", force=True)
@@ -49,23 +55,31 @@ def _figure(scene: Scene, view: str, size_px: tuple[int, int], lo: np.ndarray, h
     ax.set_ylabel(f"{axis[b]} [{length}]" if length else axis[b])
     walls = LineCollection([], colors="0.25", linewidths=0.8, animated=True)
     ax.add_collection(walls)
-    balls = EllipseCollection(widths=2 * scene.radius, heights=2 * scene.radius,
-                              angles=np.zeros_like(scene.radius), units="xy",
-                              offsets=np.zeros((scene.radius.shape[0], 2)),
-                              offset_transform=ax.transData, cmap="Blues_r",
-                              edgecolors="k", linewidths=0.3, animated=True)
-    balls.set_clim(0.0, 1.3)   # depth 0 (far) .. 1 (near): dark blue to light
+    balls = EllipseCollection(
+        widths=2 * scene.radius,
+        heights=2 * scene.radius,
+        angles=np.zeros_like(scene.radius),
+        units="xy",
+        offsets=np.zeros((scene.radius.shape[0], 2)),
+        offset_transform=ax.transData,
+        cmap="Blues_r",
+        edgecolors="k",
+        linewidths=0.3,
+        animated=True,
+    )
+    balls.set_clim(0.0, 1.3)  # depth 0 (far) .. 1 (near): dark blue to light
     ax.add_collection(balls)
     label = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=9, animated=True)
     if scene.title:
         fig.suptitle(scene.title.splitlines()[0][:90], fontsize=8)
-    fig.canvas.draw()       # the static parts once; frames draw the animated artists over them
+    fig.canvas.draw()  # the static parts once; frames draw the animated artists over them
     background = fig.canvas.copy_from_bbox(fig.bbox)
     return fig, walls, balls, label, background
 
 
-def _draw(scene: Scene, view: str, parts, t: float, data: np.ndarray,
-          depth_range: tuple[float, float]) -> None:
+def _draw(
+    scene: Scene, view: str, parts, t: float, data: np.ndarray, depth_range: tuple[float, float]
+) -> None:
     fig, walls, balls, label, background = parts
     a, b, c = VIEWS[view]
     v = scene.vertices(data)
@@ -74,7 +88,7 @@ def _draw(scene: Scene, view: str, parts, t: float, data: np.ndarray,
     p = data[scene.particle_rows, :3]
     lo, hi = depth_range
     depth = (p[:, c] - lo) / (hi - lo) if hi > lo else np.full(p.shape[0], 0.5)
-    order = np.argsort(depth, kind="stable")           # far first, near drawn on top
+    order = np.argsort(depth, kind="stable")  # far first, near drawn on top
     balls.set_offsets(p[order][:, [a, b]])
     balls.set_widths(2 * scene.radius[order])
     balls.set_heights(2 * scene.radius[order])
@@ -90,9 +104,15 @@ def _rgb(fig) -> np.ndarray:
     return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
 
 
-def write_movie(path: str | os.PathLike, scene: Scene, blocks: Iterable[tuple[float, np.ndarray]],
-                *, view: str = "xy", fps: float = 25.0, size_px: tuple[int, int] = (768, 576)
-                ) -> int:
+def write_movie(
+    path: str | os.PathLike,
+    scene: Scene,
+    blocks: Iterable[tuple[float, np.ndarray]],
+    *,
+    view: str = "xy",
+    fps: float = 25.0,
+    size_px: tuple[int, int] = (768, 576),
+) -> int:
     """Encode one frame per ``(time, data)`` block into ``path`` (.mp4 or .gif); return the count.
 
     ``.png`` writes the first block only (a still). Raises InputError for an unknown view or
@@ -135,11 +155,18 @@ def write_movie(path: str | os.PathLike, scene: Scene, blocks: Iterable[tuple[fl
                 h, w = frame.shape[:2]
                 if ext == ".gif":
                     writer = imageio_ffmpeg.write_frames(
-                        path, (w, h), fps=fps, codec="gif", pix_fmt_out="rgb8",
-                        macro_block_size=1, output_params=["-loop", "0"])
+                        path,
+                        (w, h),
+                        fps=fps,
+                        codec="gif",
+                        pix_fmt_out="rgb8",
+                        macro_block_size=1,
+                        output_params=["-loop", "0"],
+                    )
                 else:
-                    writer = imageio_ffmpeg.write_frames(path, (w, h), fps=fps,
-                                                         codec="libx264", macro_block_size=16)
+                    writer = imageio_ffmpeg.write_frames(
+                        path, (w, h), fps=fps, codec="libx264", macro_block_size=16
+                    )
                 writer.send(None)
             writer.send(frame)
             n += 1

@@ -42,8 +42,9 @@ def _sidecar_units(trace_path) -> dict:
     return units if isinstance(units, dict) else {}
 
 
-def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
-             energy=None, title: str = "") -> str:
+def plot_run(
+    png: str | os.PathLike, trace_path: str | os.PathLike, node_ids, energy=None, title: str = ""
+) -> str:
     """Write a PNG: the first TRACE node's x displacement and the energy dissipated vs time.
 
     Parameters
@@ -75,15 +76,29 @@ def plot_run(png: str | os.PathLike, trace_path: str | os.PathLike, node_ids,
     if energy is not None:
         ax2 = axes[1, 0]
         et = energy.times
-        for col, color in (("dissipated_viscoelastic", "C1"), ("dissipated_friction", "C2"),
-                           ("dissipated_dampers", "C3")):
+        for col, color in (
+            ("dissipated_viscoelastic", "C1"),
+            ("dissipated_friction", "C2"),
+            ("dissipated_dampers", "C3"),
+        ):
             if col in energy.columns:
-                ax2.plot(et, energy.column(col), lw=0.8, color=color,
-                         label=col.replace("dissipated_", ""))
+                ax2.plot(
+                    et,
+                    energy.column(col),
+                    lw=0.8,
+                    color=color,
+                    label=col.replace("dissipated_", ""),
+                )
         ax2.plot(et, energy.dissipated, lw=1.2, color="k", label="total dissipated")
         if "external_work" in energy.columns:
-            ax2.plot(et, energy.column("external_work"), lw=0.8, ls="--", color="C4",
-                     label="external work")
+            ax2.plot(
+                et,
+                energy.column("external_work"),
+                lw=0.8,
+                ls="--",
+                color="C4",
+                label="external work",
+            )
         ax2.set_ylabel(f"energy [{units.get('energy', 'lbf in')}]")
         ax2.legend(fontsize=7, loc="upper left")
         ax2.grid(True, lw=0.3)

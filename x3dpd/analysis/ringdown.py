@@ -54,9 +54,15 @@ class Ringdown:
 
     def columns(self) -> dict[str, np.ndarray]:
         """The rows as named columns, in the order ``ringdown.csv`` writes them."""
-        return {"time": self.time, "amplitude": self.amplitude, "frequency_hz": self.frequency_hz,
-                "amplitude_g": self.amplitude_g, "amplitude_db": self.amplitude_db,
-                "zeta": self.zeta, "zeta_percent": 100.0 * self.zeta}
+        return {
+            "time": self.time,
+            "amplitude": self.amplitude,
+            "frequency_hz": self.frequency_hz,
+            "amplitude_g": self.amplitude_g,
+            "amplitude_db": self.amplitude_db,
+            "zeta": self.zeta,
+            "zeta_percent": 100.0 * self.zeta,
+        }
 
 
 def hilbert_envelope(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -77,7 +83,7 @@ def hilbert_envelope(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n = x.size
     before = -x[:0:-1] * _fade(n - 1)[::-1]
     after = _continued_decay(x, n) * _fade(n)
-    analytic = hilbert(np.concatenate([before, x, after]))[n - 1: 2 * n - 1]
+    analytic = hilbert(np.concatenate([before, x, after]))[n - 1 : 2 * n - 1]
     return np.abs(analytic), np.unwrap(np.angle(analytic))
 
 
@@ -94,8 +100,8 @@ def _continued_decay(x: np.ndarray, m: int) -> np.ndarray:
     up = np.flatnonzero((x[:-1] < 0.0) & (x[1:] >= 0.0)) + 1
     if up.size < 3:
         return np.zeros(m)
-    last, prev = x[up[-2]:up[-1]], x[up[-3]:up[-2]]
-    q = min(1.0, float(np.sqrt(np.mean(last ** 2) / np.mean(prev ** 2))))
+    last, prev = x[up[-2] : up[-1]], x[up[-3] : up[-2]]
+    q = min(1.0, float(np.sqrt(np.mean(last**2) / np.mean(prev**2))))
     copies = int(np.ceil(m / last.size))
     return np.concatenate([last * q ** (j + 1) for j in range(copies)])[:m]
 
@@ -119,10 +125,18 @@ def _lsq_spline(t: np.ndarray, y: np.ndarray, piece: float):
     return make_lsq_spline(t, y, knots, k=k)
 
 
-def damping_vs_amplitude(time, signal, *, kind: str = "displacement", g: float = G_IN_S2,
-                         piece_cycles: float = 4.0, trim_cycles: float = 3.0,
-                         floor: float = 0.0, floor_fraction: float = 0.01,
-                         points_per_cycle: float = 1.0) -> Ringdown:
+def damping_vs_amplitude(
+    time,
+    signal,
+    *,
+    kind: str = "displacement",
+    g: float = G_IN_S2,
+    piece_cycles: float = 4.0,
+    trim_cycles: float = 3.0,
+    floor: float = 0.0,
+    floor_fraction: float = 0.01,
+    points_per_cycle: float = 1.0,
+) -> Ringdown:
     """Ring-down -> damping ratio versus amplitude by the report's method (module docstring).
 
     Parameters
@@ -151,12 +165,17 @@ def damping_vs_amplitude(time, signal, *, kind: str = "displacement", g: float =
     duration = t[-1] - t[0]
     cycles = abs(phase[-1] - phase[0]) / (2.0 * np.pi)
     if cycles < 2.0 * trim_cycles + 2.0 * piece_cycles:
-        raise InputError(f"ring-down: the record holds {cycles:.1f} cycles; at least "
-                         f"{2 * trim_cycles + 2 * piece_cycles:.0f} are needed "
-                         f"({trim_cycles:g} trimmed at each end, two spline pieces)")
+        raise InputError(
+            f"ring-down: the record holds {cycles:.1f} cycles; at least "
+            f"{2 * trim_cycles + 2 * piece_cycles:.0f} are needed "
+            f"({trim_cycles:g} trimmed at each end, two spline pieces)"
+        )
     period = duration / cycles
-    keep = ((t >= t[0] + trim_cycles * period) & (t <= t[-1] - trim_cycles * period)
-            & (env > max(floor, floor_fraction * env.max())))
+    keep = (
+        (t >= t[0] + trim_cycles * period)
+        & (t <= t[-1] - trim_cycles * period)
+        & (env > max(floor, floor_fraction * env.max()))
+    )
     if np.count_nonzero(keep) < 16:
         raise InputError("ring-down: too few samples above the floor once the ends are trimmed")
     t_k = t[keep]
@@ -174,11 +193,17 @@ def damping_vs_amplitude(time, signal, *, kind: str = "displacement", g: float =
     omega = np.abs(phase_fit.derivative()(te))
     amp = np.exp(log_env(te))
     delta = -log_env.derivative()(te) * 2.0 * np.pi / omega
-    zeta = delta / np.sqrt(4.0 * np.pi ** 2 + delta ** 2)
-    accel = amp * omega ** 2 if kind == "displacement" else amp
+    zeta = delta / np.sqrt(4.0 * np.pi**2 + delta**2)
+    accel = amp * omega**2 if kind == "displacement" else amp
     amp_g = accel / g
-    return Ringdown(time=te, amplitude=amp, frequency_hz=omega / (2.0 * np.pi), amplitude_g=amp_g,
-                    amplitude_db=20.0 * np.log10(amp_g), zeta=zeta)
+    return Ringdown(
+        time=te,
+        amplitude=amp,
+        frequency_hz=omega / (2.0 * np.pi),
+        amplitude_g=amp_g,
+        amplitude_db=20.0 * np.log10(amp_g),
+        zeta=zeta,
+    )
 
 
 def rest_offset(signal: np.ndarray, cycles: int = 10) -> float:
@@ -189,11 +214,11 @@ def rest_offset(signal: np.ndarray, cycles: int = 10) -> float:
     of the final amplitude ripples the envelope by 1 %.
     """
     x = np.asarray(signal, dtype=float)
-    tail = x[-max(2, x.size // 10):]
+    tail = x[-max(2, x.size // 10) :]
     centre = float(np.median(tail))
     up = np.flatnonzero((x[:-1] < centre) & (x[1:] >= centre))
     if up.size < 2:
         return float(np.mean(tail))
-    seg = x[up[max(0, up.size - 1 - cycles)]:up[-1]]
+    seg = x[up[max(0, up.size - 1 - cycles)] : up[-1]]
     w = np.hanning(seg.size + 2)[1:-1]
     return float(np.sum(w * seg) / np.sum(w))

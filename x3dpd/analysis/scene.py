@@ -98,7 +98,7 @@ class Scene:
     @property
     def particle_inertia(self) -> np.ndarray:
         """Solid-sphere moments of inertia 2/5 m R^2 [mass length^2]."""
-        return 0.4 * self.mass * self.radius ** 2
+        return 0.4 * self.mass * self.radius**2
 
 
 def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
@@ -118,11 +118,12 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
     verts, tri = np.unique(tri_nodes, return_inverse=True)
     master_of = np.full(ids.shape[0], -1, dtype=np.int64)
     for b, m in enumerate(np.asarray(model.rigid_master)):
-        master_of[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = m
+        master_of[model.rigid_slaves[model.rigid_ptr[b] : model.rigid_ptr[b + 1]]] = m
     vrow = np.array([index.get(int(ids[v]), -1) for v in verts], dtype=np.int64)
     vmaster = master_of[verts] if verts.size else np.zeros(0, np.int64)
-    vmrow = np.array([index.get(int(ids[m]), -1) if m >= 0 else -1 for m in vmaster],
-                     dtype=np.int64)
+    vmrow = np.array(
+        [index.get(int(ids[m]), -1) if m >= 0 else -1 for m in vmaster], dtype=np.int64
+    )
     vmx0 = np.array([model.x0[m] if m >= 0 else np.zeros(3) for m in vmaster]).reshape(-1, 3)
     tri = tri.reshape(-1, 3).astype(np.int64)
     vx0 = np.asarray(model.x0)[verts].reshape(-1, 3)
@@ -130,8 +131,9 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
     for w in range(np.asarray(getattr(model, "shape_kind", np.zeros(0))).shape[0]):
         # a drawn analytic wall's vertices translate with its node A (traced) or A's master
         a = int(model.shape_nodes[w, 0])
-        shape, ends, lengths = analytic_wall(model.shape_kind[w], model.shape_nodes[w],
-                                             model.shape_params[w], model.x0)
+        shape, ends, lengths = analytic_wall(
+            model.shape_kind[w], model.shape_nodes[w], model.shape_params[w], model.x0
+        )
         cv, ct = shape.mesh(ends, lengths, CYLINDER_FACETS)
         k = cv.shape[0]
         ref = int(a) if int(ids[a]) in index else int(master_of[a])
@@ -139,23 +141,40 @@ def scene_from_model(model, node_ids, units: dict | None = None) -> Scene:
         tri = np.concatenate([tri, ct + vx0.shape[0]])
         # its outline: the shape's own, or its rims (the creases between facets are the
         # drawing's, not the shape's)
-        rims = (shape.outline(ends, lengths, CYLINDER_FACETS) if shape.outline is not None
-                else feature_edges(ct, cv, cos_tol=math.cos(3.0 * math.pi / CYLINDER_FACETS)))
+        rims = (
+            shape.outline(ends, lengths, CYLINDER_FACETS)
+            if shape.outline is not None
+            else feature_edges(ct, cv, cos_tol=math.cos(3.0 * math.pi / CYLINDER_FACETS))
+        )
         outline = np.concatenate([outline, rims + vx0.shape[0]])
         vx0 = np.concatenate([vx0, cv])
         verts = np.concatenate([verts, np.full(k, a)])
         vrow = np.concatenate([vrow, np.full(k, -1, np.int64)])
         vmaster = np.concatenate([vmaster, np.full(k, master_of[a])])
         vmrow = np.concatenate([vmrow, np.full(k, row, np.int64)])
-        vmx0 = np.concatenate([vmx0, np.tile(model.x0[ref] if ref >= 0 else np.zeros(3),
-                                             (k, 1))])
+        vmx0 = np.concatenate([vmx0, np.tile(model.x0[ref] if ref >= 0 else np.zeros(3), (k, 1))])
     fixed = getattr(model, "fixed", None)
-    held = (np.all(np.asarray(fixed)[verts, :3], axis=1) if fixed is not None
-            else np.zeros(verts.shape[0], bool))
+    held = (
+        np.all(np.asarray(fixed)[verts, :3], axis=1)
+        if fixed is not None
+        else np.zeros(verts.shape[0], bool)
+    )
     unplaced = int(np.count_nonzero((vrow < 0) & (vmrow < 0) & ((vmaster >= 0) | ~held)))
-    return Scene(node_ids, np.asarray(rows, np.int64), np.asarray(radius), np.asarray(mass),
-                 tri, vx0, vrow, vmrow, vmx0, dict(units or {}), str(getattr(model, "title", "")),
-                 outline, unplaced)
+    return Scene(
+        node_ids,
+        np.asarray(rows, np.int64),
+        np.asarray(radius),
+        np.asarray(mass),
+        tri,
+        vx0,
+        vrow,
+        vmrow,
+        vmx0,
+        dict(units or {}),
+        str(getattr(model, "title", "")),
+        outline,
+        unplaced,
+    )
 
 
 def feature_edges(tri: np.ndarray, x: np.ndarray, cos_tol: float = 1.0 - 1e-9) -> np.ndarray:
@@ -165,7 +184,7 @@ def feature_edges(tri: np.ndarray, x: np.ndarray, cos_tol: float = 1.0 - 1e-9) -
         return np.zeros((0, 2), np.int64)
     n = np.cross(x[tri[:, 1]] - x[tri[:, 0]], x[tri[:, 2]] - x[tri[:, 0]])
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    label = merge_vertices(x, geometry_size(x))     # coincident vertices are one
+    label = merge_vertices(x, geometry_size(x))  # coincident vertices are one
     owners: dict[tuple[int, int], list[int]] = {}
     ends: dict[tuple[int, int], tuple[int, int]] = {}
     for t, (a, b, c) in enumerate(tri):
@@ -173,6 +192,9 @@ def feature_edges(tri: np.ndarray, x: np.ndarray, cos_tol: float = 1.0 - 1e-9) -
             key = (min(label[e[0]], label[e[1]]), max(label[e[0]], label[e[1]]))
             owners.setdefault(key, []).append(t)
             ends.setdefault(key, e)
-    out = [ends[k] for k, ts in owners.items()
-           if len(ts) != 2 or abs(float(n[ts[0]] @ n[ts[1]])) < cos_tol]
+    out = [
+        ends[k]
+        for k, ts in owners.items()
+        if len(ts) != 2 or abs(float(n[ts[0]] @ n[ts[1]])) < cos_tol
+    ]
     return np.asarray(out, dtype=np.int64).reshape(-1, 2)

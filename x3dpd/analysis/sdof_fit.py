@@ -57,8 +57,9 @@ class SdofFit:
     def model(self, frequency) -> np.ndarray:
         return sdof_frf(frequency, self.fn, self.zeta, self.residue, self.order)
 
-    def deck_values(self, *, mass: float | None = None, force_scale: float | None = None
-                    ) -> dict[str, float]:
+    def deck_values(
+        self, *, mass: float | None = None, force_scale: float | None = None
+    ) -> dict[str, float]:
         """``mass``, ``force_scale``, ``stiffness`` m w_n^2 and ``damping`` 2 zeta m w_n, from the
         given mass or force scale (default: force scale 1, the FRF is per unit force)."""
         if mass is not None and force_scale is not None:
@@ -70,16 +71,23 @@ class SdofFit:
         else:
             force_scale = 1.0 if force_scale is None else force_scale
             if force_scale == 0 or not math.isfinite(force_scale):
-                raise InputError(f"the force scale must be a finite non-zero number, got "
-                                 f"{force_scale!r}")
+                raise InputError(
+                    f"the force scale must be a finite non-zero number, got {force_scale!r}"
+                )
             mass = force_scale / self.residue
         if mass <= 0:
-            raise InputError(f"the fit gives a negative mass {mass:.4g} for force scale "
-                             f"{force_scale:g}: the FRF's sign is reversed (drive and response "
-                             "in opposite directions); give a negative force scale")
+            raise InputError(
+                f"the fit gives a negative mass {mass:.4g} for force scale "
+                f"{force_scale:g}: the FRF's sign is reversed (drive and response "
+                "in opposite directions); give a negative force scale"
+            )
         wn = 2.0 * math.pi * self.fn
-        return {"mass": mass, "force_scale": force_scale, "stiffness": mass * wn * wn,
-                "damping": 2.0 * self.zeta * mass * wn}
+        return {
+            "mass": mass,
+            "force_scale": force_scale,
+            "stiffness": mass * wn * wn,
+            "damping": 2.0 * self.zeta * mass * wn,
+        }
 
 
 def _start(f: np.ndarray, hd: np.ndarray) -> tuple[float, float, float]:
@@ -120,12 +128,15 @@ def fit_sdof(frequency, h, *, order: int, band: tuple[float, float] | None = Non
     if not lo < hi:
         raise InputError(f"fit band {lo:g}:{hi:g} Hz: expected LO < HI")
     if hi <= f[0] or lo >= f[-1]:
-        raise InputError(f"fit band {lo:g}:{hi:g} Hz lies outside the data ({f[0]:g} .. "
-                         f"{f[-1]:g} Hz)")
+        raise InputError(
+            f"fit band {lo:g}:{hi:g} Hz lies outside the data ({f[0]:g} .. {f[-1]:g} Hz)"
+        )
     sel = (f >= lo) & (f <= hi) & (f > 0) & (np.abs(h) > 0)
     if np.count_nonzero(sel) < 5:
-        raise InputError(f"fit band {lo:g}:{hi:g} Hz holds {np.count_nonzero(sel)} usable "
-                         "points; at least 5 are needed")
+        raise InputError(
+            f"fit band {lo:g}:{hi:g} Hz holds {np.count_nonzero(sel)} usable "
+            "points; at least 5 are needed"
+        )
     f, h = f[sel], h[sel]
     hd = h / (2j * np.pi * f) ** order
     x0 = np.array(_start(f, hd))
@@ -136,9 +147,17 @@ def fit_sdof(frequency, h, *, order: int, band: tuple[float, float] | None = Non
         return np.concatenate([r.real, r.imag])
 
     scale = np.array([x0[0], x0[1], abs(x0[2])])
-    sol = least_squares(residuals, x0, x_scale=scale, method="trf",
-                        bounds=([f[0] * 0.5, 1e-6, -np.inf], [f[-1] * 2.0, 0.99, np.inf]),
-                        xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=2000)
+    sol = least_squares(
+        residuals,
+        x0,
+        x_scale=scale,
+        method="trf",
+        bounds=([f[0] * 0.5, 1e-6, -np.inf], [f[-1] * 2.0, 0.99, np.inf]),
+        xtol=1e-14,
+        ftol=1e-14,
+        gtol=1e-14,
+        max_nfev=2000,
+    )
     res = sol.fun
     dof = max(res.size - 3, 1)
     s2 = float(res @ res) / dof
@@ -147,6 +166,16 @@ def fit_sdof(frequency, h, *, order: int, band: tuple[float, float] | None = Non
         se = np.sqrt(np.maximum(np.diag(cov), 0.0))
     except np.linalg.LinAlgError:
         se = np.full(3, np.nan)
-    rms = float(np.sqrt(np.mean(np.abs(res[: f.size] + 1j * res[f.size:]) ** 2)))
-    return SdofFit(float(sol.x[0]), float(sol.x[1]), float(sol.x[2]), float(se[0]),
-                   float(se[1]), float(se[2]), rms, (float(lo), float(hi)), int(f.size), order)
+    rms = float(np.sqrt(np.mean(np.abs(res[: f.size] + 1j * res[f.size :]) ** 2)))
+    return SdofFit(
+        float(sol.x[0]),
+        float(sol.x[1]),
+        float(sol.x[2]),
+        float(se[0]),
+        float(se[1]),
+        float(se[2]),
+        rms,
+        (float(lo), float(hi)),
+        int(f.size),
+        order,
+    )

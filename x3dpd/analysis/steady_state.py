@@ -122,7 +122,7 @@ def prony_limit(phasors) -> tuple[complex, float, float]:
     d_a, d_b = d[-2], d[-1]
     v = (d_b - r1 * d_a) / (r2 - r1)
     u = d_a - v
-    rest = u * r1 ** 2 / (1 - r1) + v * r2 ** 2 / (1 - r2)
+    rest = u * r1**2 / (1 - r1) + v * r2**2 / (1 - r2)
     return complex(p[-1] + rest), residual, rmax
 
 
@@ -130,8 +130,9 @@ def prony_limit(phasors) -> tuple[complex, float, float]:
 CYCLE_POINTS = 256
 
 
-def fit_cycle(t: np.ndarray, x: np.ndarray, omega: float, t0: float,
-              lo: float) -> tuple[complex, float]:
+def fit_cycle(
+    t: np.ndarray, x: np.ndarray, omega: float, t0: float, lo: float
+) -> tuple[complex, float]:
     """Fundamental of ``x`` over the drive cycle [lo, lo + T): returns (b + i a, m).
 
     ``x = m + a cos(w (t - t0)) + b sin(w (t - t0)) + harmonics``. The samples (which need not
@@ -166,9 +167,18 @@ class SteadyStateMonitor:
     max_cycles : the cap.
     """
 
-    def __init__(self, omega: float, t0: float, t_start: float, *, window: int = 5,
-                 tol: float = 0.01, min_windows: int = 3, max_cycles: int = 600,
-                 extrapolate: bool = True):
+    def __init__(
+        self,
+        omega: float,
+        t0: float,
+        t_start: float,
+        *,
+        window: int = 5,
+        tol: float = 0.01,
+        min_windows: int = 3,
+        max_cycles: int = 600,
+        extrapolate: bool = True,
+    ):
         self.omega = float(omega)
         self.t0 = float(t0)
         self.period = 2.0 * math.pi / self.omega
@@ -206,8 +216,11 @@ class SteadyStateMonitor:
         self._v.append(np.asarray(v if v is not None else np.zeros_like(x), dtype=float))
         ledger = ledger or {}
         self._ledger_names = tuple(ledger)
-        self._e.append(np.column_stack([np.asarray(ledger[k], float) for k in ledger])
-                       if ledger else np.zeros((len(self._t[-1]), 0)))
+        self._e.append(
+            np.column_stack([np.asarray(ledger[k], float) for k in ledger])
+            if ledger
+            else np.zeros((len(self._t[-1]), 0))
+        )
         t = np.concatenate(self._t)
         x = np.concatenate(self._x)
         v = np.concatenate(self._v)
@@ -222,12 +235,13 @@ class SteadyStateMonitor:
             i_hi = int(np.searchsorted(t, hi)) + 3
             ts, xs, vs = t[i_lo:i_hi], x[i_lo:i_hi], v[i_lo:i_hi]
             if ts[0] > lo + 0.05 * self.period:  # a run's first sample is one interval in
-                raise InputError("steady state: samples are missing at the start of a drive "
-                                 "cycle")
+                raise InputError("steady state: samples are missing at the start of a drive cycle")
             inside = (ts >= lo) & (ts < hi)
             if np.count_nonzero(inside) < 20:
-                raise InputError(f"steady state: {np.count_nonzero(inside)} samples in a drive "
-                                 "cycle; record more often (>= 200 per cycle)")
+                raise InputError(
+                    f"steady state: {np.count_nonzero(inside)} samples in a drive "
+                    "cycle; record more often (>= 200 per cycle)"
+                )
             p, m = fit_cycle(ts, xs, self.omega, self.t0, lo)
             pv, _ = fit_cycle(ts, vs, self.omega, self.t0, lo)
             self.phasors.append(p)
@@ -248,7 +262,7 @@ class SteadyStateMonitor:
         return len(self.phasors) // self.window
 
     def _window(self, w: int, seq) -> np.ndarray:
-        return np.asarray(seq[w * self.window:(w + 1) * self.window])
+        return np.asarray(seq[w * self.window : (w + 1) * self.window])
 
     def _judge(self) -> None:
         n = len(self.phasors)
@@ -257,8 +271,7 @@ class SteadyStateMonitor:
             if self.extrapolate and self._extrapolated():
                 self.done = self.converged = True
             elif spread > self.tol:
-                if (change <= noise and self._previous_change() <= noise
-                        and self._settled()):
+                if change <= noise and self._previous_change() <= noise and self._settled():
                     self.done = self.converged = self.irregular = True
             elif change <= self.tol and tail <= self.tol and self._settled():
                 self.done = self.converged = True
@@ -268,10 +281,13 @@ class SteadyStateMonitor:
     def _extrapolated(self) -> bool:
         """Limits from the last two pairs of windows agree, and the recurrence fits."""
         n, w = len(self.phasors), self.window
-        now, res_now, r_now = prony_limit(self.phasors[n - 2 * w:])
-        before, res_before, r_before = prony_limit(self.phasors[n - 3 * w:n - w])
-        ok = (max(res_now, res_before) < PRONY_RESIDUAL and max(r_now, r_before) < 1.0
-              and abs(now - before) <= self.tol * abs(now))
+        now, res_now, r_now = prony_limit(self.phasors[n - 2 * w :])
+        before, res_before, r_before = prony_limit(self.phasors[n - 3 * w : n - w])
+        ok = (
+            max(res_now, res_before) < PRONY_RESIDUAL
+            and max(r_now, r_before) < 1.0
+            and abs(now - before) <= self.tol * abs(now)
+        )
         if ok:
             self.limit = now
         return ok
@@ -283,8 +299,10 @@ class SteadyStateMonitor:
         if k < 1:
             return []
         first = self._windows() - count * k
-        return [np.asarray(self.phasors[(first + j * k) * w:(first + (j + 1) * k) * w])
-                for j in range(count)]
+        return [
+            np.asarray(self.phasors[(first + j * k) * w : (first + (j + 1) * k) * w])
+            for j in range(count)
+        ]
 
     def _settled(self) -> bool:
         """No drift left beyond tol over the run's last two thirds (module docstring).
@@ -354,15 +372,24 @@ class SteadyStateMonitor:
         if self.limit is not None:
             p = self.limit
         return SteadyState(
-            extrapolated=self.limit is not None, measured_amplitude=abs(measured),
+            extrapolated=self.limit is not None,
+            measured_amplitude=abs(measured),
             measured_phase_deg=math.degrees(math.atan2(measured.imag, measured.real)),
-            amplitude=abs(p), phase_deg=math.degrees(math.atan2(p.imag, p.real)),
+            amplitude=abs(p),
+            phase_deg=math.degrees(math.atan2(p.imag, p.real)),
             velocity=abs(complex(np.mean(self.vphasors[lo:hi]))),
-            acceleration=self.omega ** 2 * abs(p), peak=float(np.mean(self.peaks[lo:hi])),
+            acceleration=self.omega**2 * abs(p),
+            peak=float(np.mean(self.peaks[lo:hi])),
             mean=float(np.mean(self.means[lo:hi])),
             spread=float(np.std(amps) / np.mean(amps)) if np.mean(amps) > 0 else 0.0,
-            change=change, tail=tail, cycles=n, converged=self.converged,
-            irregular=self.irregular, t_end=t_hi,
+            change=change,
+            tail=tail,
+            cycles=n,
+            converged=self.converged,
+            irregular=self.irregular,
+            t_end=t_hi,
             dissipated_per_cycle={
                 name: float(self._ledger_hi[hi - 1][j] - self._ledger_lo[lo][j]) / (hi - lo)
-                for j, name in enumerate(self._ledger_names)})
+                for j, name in enumerate(self._ledger_names)
+            },
+        )

@@ -36,8 +36,9 @@ class Histories:
     ke_particles: np.ndarray
 
 
-def collect(blocks: Iterable[tuple[float, np.ndarray]], scene: Scene,
-            picks: list[tuple[int, int]]) -> Histories:
+def collect(
+    blocks: Iterable[tuple[float, np.ndarray]], scene: Scene, picks: list[tuple[int, int]]
+) -> Histories:
     """Stream ``blocks`` and keep the chosen ``(trace row, dof index 0..5)`` columns."""
     times, pos, vel, ke = [], [], [], []
     m = scene.mass
@@ -47,11 +48,19 @@ def collect(blocks: Iterable[tuple[float, np.ndarray]], scene: Scene,
         pos.append([data[r, d] if d < 3 else np.nan for r, d in picks])
         vel.append([data[r, 3 + d] for r, d in picks])
         p = data[scene.particle_rows]
-        ke.append(float(np.sum(0.5 * m * np.sum(p[:, 3:6] ** 2, axis=1))
-                        + np.sum(0.5 * inertia * np.sum(p[:, 6:9] ** 2, axis=1))))
+        ke.append(
+            float(
+                np.sum(0.5 * m * np.sum(p[:, 3:6] ** 2, axis=1))
+                + np.sum(0.5 * inertia * np.sum(p[:, 6:9] ** 2, axis=1))
+            )
+        )
     k = len(times)
-    return Histories(np.asarray(times), np.asarray(pos, float).reshape(k, len(picks)),
-                     np.asarray(vel, float).reshape(k, len(picks)), np.asarray(ke))
+    return Histories(
+        np.asarray(times),
+        np.asarray(pos, float).reshape(k, len(picks)),
+        np.asarray(vel, float).reshape(k, len(picks)),
+        np.asarray(ke),
+    )
 
 
 def acceleration(times: np.ndarray, vel: np.ndarray) -> np.ndarray:
@@ -61,8 +70,15 @@ def acceleration(times: np.ndarray, vel: np.ndarray) -> np.ndarray:
     return np.gradient(vel, times, axis=0)
 
 
-def plot_trace(png: str | os.PathLike, hist: Histories, labels: list[str],
-               quantities: list[str], units: dict, energy=None, title: str = "") -> str:
+def plot_trace(
+    png: str | os.PathLike,
+    hist: Histories,
+    labels: list[str],
+    quantities: list[str],
+    units: dict,
+    energy=None,
+    title: str = "",
+) -> str:
     """Write the PNG; ``labels`` name the picks ("node 9 x"), ``energy`` is an
     ``x3dpd.io.energy.EnergyData`` (or None). Returns the path."""
     import matplotlib
@@ -70,10 +86,14 @@ def plot_trace(png: str | os.PathLike, hist: Histories, labels: list[str],
     matplotlib.use("Agg", force=True)
     import matplotlib.pyplot as plt
 
-    n_panels = len(quantities) + (1 if energy is not None else 0) + (
-        1 if hist.ke_particles.size and np.any(hist.ke_particles) else 0)
-    fig, axes = plt.subplots(max(n_panels, 1), 1, figsize=(8, 2.6 * max(n_panels, 1)),
-                             sharex=True, squeeze=False)
+    n_panels = (
+        len(quantities)
+        + (1 if energy is not None else 0)
+        + (1 if hist.ke_particles.size and np.any(hist.ke_particles) else 0)
+    )
+    fig, axes = plt.subplots(
+        max(n_panels, 1), 1, figsize=(8, 2.6 * max(n_panels, 1)), sharex=True, squeeze=False
+    )
     axes = list(axes[:, 0])
     L, T = units.get("length", "in"), units.get("time", "s")
     for q in quantities:
@@ -96,8 +116,14 @@ def plot_trace(png: str | os.PathLike, hist: Histories, labels: list[str],
     E = units.get("energy", "lbf in")
     if energy is not None:
         ax = axes.pop(0)
-        for col in ("dissipated_viscoelastic", "dissipated_friction", "dissipated_dampers",
-                    "external_work", "kinetic_translation", "spring_energy"):
+        for col in (
+            "dissipated_viscoelastic",
+            "dissipated_friction",
+            "dissipated_dampers",
+            "external_work",
+            "kinetic_translation",
+            "spring_energy",
+        ):
             if col in energy.columns:
                 ax.plot(energy.times, energy.column(col), lw=0.8, label=col.replace("_", " "))
         ax.plot(energy.times, energy.dissipated, lw=1.2, color="k", label="dissipated (total)")

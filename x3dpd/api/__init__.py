@@ -58,8 +58,9 @@ def check(deck, *, usrfrc=(), motion=(), steps_per_contact: int | None = None):
     from x3dpd.model.timestep import STEPS_PER_CONTACT
 
     model = build(deck, usrfrc=usrfrc, motion=motion)
-    return check_model(model, steps_per_contact=steps_per_contact or STEPS_PER_CONTACT,
-                       usrfrc=usrfrc)
+    return check_model(
+        model, steps_per_contact=steps_per_contact or STEPS_PER_CONTACT, usrfrc=usrfrc
+    )
 
 
 def rules_of_thumb(deck, *, usrfrc=(), motion=(), drive=None):
@@ -75,9 +76,26 @@ def rules_of_thumb(deck, *, usrfrc=(), motion=(), drive=None):
 
 
 __all__ = [
-    "Chunk", "DeckError", "EnergyData", "FRICTION_LAWS", "FinalState", "FittedStep",
-    "InputError", "RunResult",
-    "TraceData", "TraceError", "UnstableRunError", "X3dpdError", "build", "check",
-    "fit_time_step", "load_deck", "rules_of_thumb",
-    "read_energy", "read_trace", "run", "soft_step", "softened",
+    "Chunk",
+    "DeckError",
+    "EnergyData",
+    "FRICTION_LAWS",
+    "FinalState",
+    "FittedStep",
+    "InputError",
+    "RunResult",
+    "TraceData",
+    "TraceError",
+    "UnstableRunError",
+    "X3dpdError",
+    "build",
+    "check",
+    "fit_time_step",
+    "load_deck",
+    "rules_of_thumb",
+    "read_energy",
+    "read_trace",
+    "run",
+    "soft_step",
+    "softened",
 ]

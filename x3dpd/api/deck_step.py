@@ -33,16 +33,19 @@ class FittedStep:
 
     def describe(self) -> str:
         """One phrase for a command's summary line."""
-        how = ("as given" if self.advice is None else
-               f"recommended ({_why(self.advice)})")
-        return (f"DTMAX {self.dt:.3g} s {how}, was {self.old_dt:.3g} s; ITRAC {self.itrac} "
-                f"keeps the trace every {self.itrac * self.dt:.3g} s")
+        how = "as given" if self.advice is None else f"recommended ({_why(self.advice)})"
+        return (
+            f"DTMAX {self.dt:.3g} s {how}, was {self.old_dt:.3g} s; ITRAC {self.itrac} "
+            f"keeps the trace every {self.itrac * self.dt:.3g} s"
+        )
 
 
 def _why(ts: TimeStepAdvice) -> str:
     if ts.binding == "contact":
-        return (f"{ts.contact_law} {ts.contact_kind} contact {ts.t_contact:.3g} s / "
-                f"{ts.steps_per_contact} steps")
+        return (
+            f"{ts.contact_law} {ts.contact_kind} contact {ts.t_contact:.3g} s / "
+            f"{ts.steps_per_contact} steps"
+        )
     return f"0.2 x the structure's critical step, node {ts.omega_node} {ts.omega_dof}"
 
 
@@ -65,11 +68,14 @@ def fit_time_step(deck: Deck, *, dt: float | None = None, usrfrc=(), motion=()) 
         raise InputError(f"{deck.path}: no PARAMETERS card: no time step to set")
     advice = None
     if dt is None:
-        advice = recommended_time_step(build_model(deck, usrfrc=tuple(usrfrc),
-                                                   motion=tuple(motion)))
+        advice = recommended_time_step(
+            build_model(deck, usrfrc=tuple(usrfrc), motion=tuple(motion))
+        )
         if not math.isfinite(advice.dt_recommended):
-            raise InputError(f"{deck.path}: no contact and no loaded structural DOF limits the "
-                             "time step: give one (--dt)")
+            raise InputError(
+                f"{deck.path}: no contact and no loaded structural DOF limits the "
+                "time step: give one (--dt)"
+            )
         dt = floor_digits(advice.dt_recommended)
     dt = float(dt)
     if not (dt > 0.0 and math.isfinite(dt)):
@@ -95,7 +101,15 @@ def softened(deck: Deck, stiffness: float) -> Deck:
     ``stiffness_scale``). The walls' WALLMAT moduli and a HOOKE card's stiffness are not the
     particles' and are kept."""
     f = float(stiffness)
-    return replace(deck, pdmp=tuple(
-        replace(p, e0=p.e0 * f, e1=p.e1 * f,
-                extra_terms=tuple((e * f, tau) for e, tau in p.extra_terms))
-        for p in deck.pdmp))
+    return replace(
+        deck,
+        pdmp=tuple(
+            replace(
+                p,
+                e0=p.e0 * f,
+                e1=p.e1 * f,
+                extra_terms=tuple((e * f, tau) for e, tau in p.extra_terms),
+            )
+            for p in deck.pdmp
+        ),
+    )

@@ -38,7 +38,28 @@ from x3dpd.geometry.shapes import BY_SHAPE_NAME
 from x3dpd.model.build import build_model
 from x3dpd.physics.usrfrc import is_user_file
 
-__all__ = ["BY_SHAPE_NAME", "PACKINGS", "Contact", "Deck", "Element", "Mass", "Node", "Title",
-           "Triangle", "WallMat", "build_model", "cavity_box", "cavity_set", "cavity_triangles",
-           "default_spacing", "fill_positions", "filled_deck", "format_deck", "is_user_file",
-           "read_deck", "with_cavities", "with_material", "write_deck"]
+__all__ = [
+    "BY_SHAPE_NAME",
+    "PACKINGS",
+    "Contact",
+    "Deck",
+    "Element",
+    "Mass",
+    "Node",
+    "Title",
+    "Triangle",
+    "WallMat",
+    "build_model",
+    "cavity_box",
+    "cavity_set",
+    "cavity_triangles",
+    "default_spacing",
+    "fill_positions",
+    "filled_deck",
+    "format_deck",
+    "is_user_file",
+    "read_deck",
+    "with_cavities",
+    "with_material",
+    "write_deck",
+]

@@ -31,8 +31,27 @@ from x3dpd.analysis.plots import plot_run
 from x3dpd.analysis.scene import Scene, scene_from_model
 from x3dpd.analysis.trace_plot import DOF_NAMES, QUANTITIES, collect, plot_trace
 
-__all__ = ["DOF_NAMES", "QUANTITIES", "VIEWS", "Curve", "Scene", "attenuations", "collect",
-           "plot_attenuation_vs_mass", "plot_configurations", "plot_damping_families",
-           "plot_fit", "plot_frf", "plot_responses", "plot_ringdown", "plot_run",
-           "plot_spectrum", "plot_sweep", "plot_trace", "scene_from_model",
-           "write_lammps_dump", "write_movie", "write_vtk_series"]
+__all__ = [
+    "DOF_NAMES",
+    "QUANTITIES",
+    "VIEWS",
+    "Curve",
+    "Scene",
+    "attenuations",
+    "collect",
+    "plot_attenuation_vs_mass",
+    "plot_configurations",
+    "plot_damping_families",
+    "plot_fit",
+    "plot_frf",
+    "plot_responses",
+    "plot_ringdown",
+    "plot_run",
+    "plot_spectrum",
+    "plot_sweep",
+    "plot_trace",
+    "scene_from_model",
+    "write_lammps_dump",
+    "write_movie",
+    "write_vtk_series",
+]

@@ -60,8 +60,8 @@ class Interrupts:
 
 @dataclass
 class Stats:
-    steps: int = 0              # steps done by this call
-    timed_steps: int = 0        # steps whose wall time excludes compilation
+    steps: int = 0  # steps done by this call
+    timed_steps: int = 0  # steps whose wall time excludes compilation
     timed_seconds: float = 0.0
     wall_start: float = field(default_factory=time.perf_counter)
     setup_seconds: float = 0.0
@@ -75,7 +75,7 @@ class Sink:
 
     def __init__(self, writer, ewriter, recorder: Recorder):
         self.writer, self.ewriter, self.recorder = writer, ewriter, recorder
-        self.on_close = None   # called before the trace is closed (sidecar additions)
+        self.on_close = None  # called before the trace is closed (sidecar additions)
 
     def write(self, times, data, energy) -> None:
         if self.writer is not None:
@@ -113,8 +113,19 @@ def note_energy(stats: Stats, energy: np.ndarray) -> None:
         stats.last_energy = energy[-1].copy()
 
 
-def step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
-               ids, stop_every: int = STOP_CHECK_ROWS) -> bool:
+def step_loop(
+    sim,
+    sink,
+    n_end,
+    trest_steps,
+    stats,
+    progress,
+    dump,
+    intr,
+    stop,
+    ids,
+    stop_every: int = STOP_CHECK_ROWS,
+) -> bool:
     """Advance to step ``n_end``; return True when ``stop`` ended the run early (asked after
     every ``stop_every`` trace rows)."""
     # steps per sim.advance call: adapted to the measured speed (CHUNK_SECONDS), except with a
@@ -174,8 +185,9 @@ def step_loop(sim, sink, n_end, trest_steps, stats, progress, dump, intr, stop,
         if progress is not None:
             left = n_end - sim.clock
             eta = left / rate if rate > 0 else float("nan")
-            progress(sim.time, rate, eta, relative_residual(stats, sim),
-                     sim.model.t0 + n_end * sim.dt)
+            progress(
+                sim.time, rate, eta, relative_residual(stats, sim), sim.model.t0 + n_end * sim.dt
+            )
         if stop is not None and block.times.shape[0]:
             if stop(Chunk(block.times, ids, block.data, block.energy)):
                 return True
@@ -189,8 +201,10 @@ MAX_STEPS = 2**53
 def step_count(steps: float, what: str) -> int:
     """round(steps), or an InputError when it is not a countable number of steps."""
     if not math.isfinite(steps) or abs(steps) > MAX_STEPS:
-        raise InputError(f"{what} is {steps:.4g} time steps: not a number of steps a run can "
-                         f"count (at most 2^53)")
+        raise InputError(
+            f"{what} is {steps:.4g} time steps: not a number of steps a run can "
+            f"count (at most 2^53)"
+        )
     return int(round(steps))
 
 

@@ -34,9 +34,28 @@ from x3dpd.io.measured import MeasuredFrf, read_measured_frf, read_measured_hist
 from x3dpd.physics.motion import motion_history, motion_rows, motion_table
 from x3dpd.physics.usrfrc import force_table, force_values, law_count, split_specs
 
-__all__ = ["G_IN_S2", "QUANTITY_ORDER", "MeasuredFrf", "Ringdown", "SdofFit",
-           "SteadyStateMonitor", "amplitude_spectrum", "central_difference",
-           "damping_vs_amplitude", "difference_gain", "estimate_frf", "fit_sdof", "force_table",
-           "force_values", "law_count", "motion_history", "motion_rows", "motion_table",
-           "power_spectrum", "read_measured_frf", "read_measured_history", "rest_offset",
-           "split_specs"]
+__all__ = [
+    "G_IN_S2",
+    "QUANTITY_ORDER",
+    "MeasuredFrf",
+    "Ringdown",
+    "SdofFit",
+    "SteadyStateMonitor",
+    "amplitude_spectrum",
+    "central_difference",
+    "damping_vs_amplitude",
+    "difference_gain",
+    "estimate_frf",
+    "fit_sdof",
+    "force_table",
+    "force_values",
+    "law_count",
+    "motion_history",
+    "motion_rows",
+    "motion_table",
+    "power_spectrum",
+    "read_measured_frf",
+    "read_measured_history",
+    "rest_offset",
+    "split_specs",
+]

@@ -20,8 +20,9 @@ import numpy as np
 from x3dpd.errors import InputError, Pos
 
 
-def default_paths(deck_path: str, trace: str | None = None,
-                  energy: str | None = None) -> tuple[str, str, str]:
+def default_paths(
+    deck_path: str, trace: str | None = None, energy: str | None = None
+) -> tuple[str, str, str]:
     """(trace, energy, restart dump) paths of a run of ``deck_path``.
 
     The trace defaults to ``<deck stem>.trace.txt`` in the current directory; the energy file to
@@ -53,17 +54,17 @@ def deck_key(deck) -> str:
     return hashlib.sha256(repr(plain).encode("utf-8")).hexdigest()
 
 
-_POSITION_FIELDS = frozenset({"pos", "positions", "slave_positions", "path", "value_pos",
-                              "node_pos", "housing_pos"})
+_POSITION_FIELDS = frozenset(
+    {"pos", "positions", "slave_positions", "path", "value_pos", "node_pos", "housing_pos"}
+)
 #: Cards added to the language later: absent, they leave the key of older decks unchanged.
-_ABSENT_IS_OLD = frozenset({"units", "hooke", "analytic_walls", "modal", "wallmat",
-                            "friction"})
+_ABSENT_IS_OLD = frozenset({"units", "hooke", "analytic_walls", "modal", "wallmat", "friction"})
 
 
 def _plain(obj):
     """Cards as nested tuples of (field, value), positions left out; floats as repr."""
     if isinstance(obj, Pos):
-        return None    # where a value stands is not what it is
+        return None  # where a value stands is not what it is
     if isinstance(obj, np.ndarray):
         return hashlib.sha256(np.ascontiguousarray(obj).tobytes()).hexdigest()
     if is_dataclass(obj) and not isinstance(obj, type):
@@ -72,8 +73,9 @@ def _plain(obj):
             value = getattr(obj, f.name)
             if f.name in _POSITION_FIELDS or (f.name in _ABSENT_IS_OLD and value is None):
                 continue
-            out += (_analytic_plain(value) if f.name == "analytic_walls"
-                    else ((f.name, _plain(value)),))
+            out += (
+                _analytic_plain(value) if f.name == "analytic_walls" else ((f.name, _plain(value)),)
+            )
         return out
     if isinstance(obj, (tuple, list)):
         return tuple(_plain(v) for v in obj)
@@ -93,8 +95,7 @@ def _analytic_plain(walls) -> tuple:
         shape = BY_SHAPE_NAME[w.shape]
         names = ("set_id",) + tuple(n.lower() for n in shape.node_fields + shape.param_fields)
         values = (w.set_id,) + tuple(w.nodes) + tuple(repr(float(v)) for v in w.params)
-        groups.setdefault(w.shape, []).append(
-            (w.shape.capitalize(),) + tuple(zip(names, values)))
+        groups.setdefault(w.shape, []).append((w.shape.capitalize(),) + tuple(zip(names, values)))
     return tuple((f"{name}s", tuple(records)) for name, records in groups.items())
 
 
@@ -130,9 +131,11 @@ def load_dump(dump_path: str, *, asked_by: str, sim, key: str, options: dict, mo
     from x3dpd.solver.state import State
 
     if not os.path.exists(dump_path):
-        raise InputError(f"{asked_by} asks to resume from {dump_path}, which does not exist (it "
-                         "is written every TREST of simulated time, on Ctrl-C and at the end of "
-                         "a run). Run without --restart and with IREST = 0 to start from t0")
+        raise InputError(
+            f"{asked_by} asks to resume from {dump_path}, which does not exist (it "
+            "is written every TREST of simulated time, on Ctrl-C and at the end of "
+            "a run). Run without --restart and with IREST = 0 to start from t0"
+        )
     arrays, meta = load_restart(dump_path)
     diffs = []
     if meta.get("deck_key") != key:
@@ -146,27 +149,33 @@ def load_dump(dump_path: str, *, asked_by: str, sim, key: str, options: dict, mo
     for name in ("usrfrc", "motion", "friction", "usrfrc_files", "usrfrc_mode", "step"):
         theirs = old.get(name, defaults.get(name))
         if theirs != options[name]:
-            label = {"usrfrc_files": "user force file contents",
-                     "step": "the step (auto: chosen by accuracy; fixed: --dt or DTMAX)",
-                     "usrfrc_mode": "--usrfrc replacing or adding to the deck's USRFRC"
-                     }.get(name, f"--{name}")
+            label = {
+                "usrfrc_files": "user force file contents",
+                "step": "the step (auto: chosen by accuracy; fixed: --dt or DTMAX)",
+                "usrfrc_mode": "--usrfrc replacing or adding to the deck's USRFRC",
+            }.get(name, f"--{name}")
             diffs.append(f"{label}: {options[name]!r} (the dump's: {theirs!r})")
     if diffs:
-        raise InputError(f"cannot resume from {dump_path}: it was written by a different "
-                         f"setup: " + "; ".join(diffs) + ". Resume with the dump's deck and "
-                         "options, or start anew without --restart (IREST = 0)")
+        raise InputError(
+            f"cannot resume from {dump_path}: it was written by a different "
+            f"setup: " + "; ".join(diffs) + ". Resume with the dump's deck and "
+            "options, or start anew without --restart (IREST = 0)"
+        )
     try:
         state = State.from_arrays(arrays)
     except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{dump_path}: the restart dump does not hold a solver state "
-                         f"({exc})") from None
+        raise InputError(
+            f"{dump_path}: the restart dump does not hold a solver state ({exc})"
+        ) from None
     if state.x.shape != (model.n_nodes, 3):
-        raise InputError(f"{dump_path}: the restart dump holds {state.x.shape[0]} nodes, the "
-                         f"deck {model.n_nodes}")
-    if options["step"] == "auto":   # the driver's level and step record too
+        raise InputError(
+            f"{dump_path}: the restart dump holds {state.x.shape[0]} nodes, the "
+            f"deck {model.n_nodes}"
+        )
+    if options["step"] == "auto":  # the driver's level and step record too
         sim.restore(state, meta.get("variable_step"))
     else:
-        sim.restore(state)   # the state carries the audit's energy scale too
+        sim.restore(state)  # the state carries the audit's energy scale too
     return meta
 
 
@@ -190,9 +199,11 @@ def open_outputs(trace_path, energy_path, sim, sidecar, meta, columns, *, overwr
     units = sidecar.get("units")
     if meta is None:
         if os.path.lexists(energy_path) and not overwrite:
-            raise InputError(f"energy file {energy_path} already exists; pass --overwrite to "
-                             f"replace it (the old one is kept as {energy_path}.bak) or choose "
-                             "another --energy path")
+            raise InputError(
+                f"energy file {energy_path} already exists; pass --overwrite to "
+                f"replace it (the old one is kept as {energy_path}.bak) or choose "
+                "another --energy path"
+            )
         writer = TraceWriter(trace_path, ids, sidecar, overwrite=overwrite, units=units)
         try:
             ewriter = EnergyWriter(energy_path, columns, overwrite=overwrite)
@@ -202,14 +213,23 @@ def open_outputs(trace_path, energy_path, sim, sidecar, meta, columns, *, overwr
         return writer, ewriter
     tr, en = meta["trace"], meta["energy"]
     complete = sidecar_status(trace_path) == "complete"
-    writer = TraceWriter(trace_path, ids, sidecar, overwrite=overwrite, units=units,
-                         append_at=(int(tr["bytes"]), int(tr["blocks"])))
+    writer = TraceWriter(
+        trace_path,
+        ids,
+        sidecar,
+        overwrite=overwrite,
+        units=units,
+        append_at=(int(tr["bytes"]), int(tr["blocks"])),
+    )
     try:
-        if complete and overwrite and os.path.isfile(energy_path) \
-                and os.path.getsize(energy_path) > int(en["bytes"]):
+        if (
+            complete
+            and overwrite
+            and os.path.isfile(energy_path)
+            and os.path.getsize(energy_path) > int(en["bytes"])
+        ):
             copy_backup(energy_path)
-        ewriter = EnergyWriter(energy_path, columns,
-                               append_at=(int(en["bytes"]), int(en["rows"])))
+        ewriter = EnergyWriter(energy_path, columns, append_at=(int(en["bytes"]), int(en["rows"])))
     except BaseException:
         writer.close("interrupted")
         raise

@@ -27,11 +27,11 @@ class FinalState:
     run continues only a state of the same scene at the same step. Picklable.
     """
 
-    state: Any            # x3dpd.solver.state.State (copied)
+    state: Any  # x3dpd.solver.state.State (copied)
     deck_key: str
     dt: float
     time: float
-    checkpoint: dict | None = None   # a step chosen by accuracy: its level (dt is DTMAX)
+    checkpoint: dict | None = None  # a step chosen by accuracy: its level (dt is DTMAX)
 
     def __repr__(self) -> str:
         return f"FinalState(time={self.time!r}, dt={self.dt!r}, step={self.state.step})"
@@ -108,12 +108,16 @@ class Recorder:
         r = self.node_ids.shape[0]
         times = np.concatenate(self._times) if self._times else np.zeros(0)
         data = np.concatenate(self._data) if self._data else np.zeros((0, r, 9))
-        return TraceData(times=times, node_ids=self.node_ids, data=np.ascontiguousarray(data),
-                         path="", meta=dict(meta))
+        return TraceData(
+            times=times,
+            node_ids=self.node_ids,
+            data=np.ascontiguousarray(data),
+            path="",
+            meta=dict(meta),
+        )
 
     def energy(self) -> EnergyData | None:
         if not self.keep:
             return None
-        rows = (np.concatenate(self._energy) if self._energy
-                else np.zeros((0, len(self.columns))))
+        rows = np.concatenate(self._energy) if self._energy else np.zeros((0, len(self.columns)))
         return EnergyData(self.columns, rows)

@@ -55,38 +55,51 @@ class RunPlan:
     """What the steps of one run share: the deck and its model, the output paths, and -- as the
     steps fill them in -- the step loop, its step counts and the open output files."""
 
-    deck: object                    # the Deck
+    deck: object  # the Deck
     deck_path: str
-    model: object                   # the Model (the deck's USRFRC card dropped when replaced)
-    usrfrc: tuple                   # the run's extra forces and motions (specs)
+    model: object  # the Model (the deck's USRFRC card dropped when replaced)
+    usrfrc: tuple  # the run's extra forces and motions (specs)
     motion: tuple
-    replaced: list                  # the deck's USRFRC specs the run's replaced
-    tmax: float                     # [s]
-    writes: bool                    # a trace path was given
-    resume: bool                    # continue from the restart dump
+    replaced: list  # the deck's USRFRC specs the run's replaced
+    tmax: float  # [s]
+    writes: bool  # a trace path was given
+    resume: bool  # continue from the restart dump
     trace_path: str | None
     energy_path: str | None
     dump_path: str | None
     stats: Stats
-    sim: object = None              # the step loop (make_step_loop)
-    auto: bool = False              # its step is chosen by accuracy
-    dt: float = 0.0                 # [s] (auto: DTMAX), as the run started
+    sim: object = None  # the step loop (make_step_loop)
+    auto: bool = False  # its step is chosen by accuracy
+    dt: float = 0.0  # [s] (auto: DTMAX), as the run started
     itrac: int = 1
-    t0: float = 0.0                 # the deck's start time [s]
-    n_end: int = 0                  # steps of dt from t0 to TMAX
-    trest_steps: int = 0            # steps between restart dumps (0: none)
-    key: str = ""                   # the deck's identity (x3dpd.api.outputs.deck_key)
-    applied: list = dataclasses.field(default_factory=list)   # forces applied (specs)
-    options: dict = dataclasses.field(default_factory=dict)   # recorded in restart dumps
+    t0: float = 0.0  # the deck's start time [s]
+    n_end: int = 0  # steps of dt from t0 to TMAX
+    trest_steps: int = 0  # steps between restart dumps (0: none)
+    key: str = ""  # the deck's identity (x3dpd.api.outputs.deck_key)
+    applied: list = dataclasses.field(default_factory=list)  # forces applied (specs)
+    options: dict = dataclasses.field(default_factory=dict)  # recorded in restart dumps
     deck_sha: str | None = None
-    meta: dict | None = None        # the restart dump resumed from
-    writer: object = None           # trace and energy writers (open_files)
+    meta: dict | None = None  # the restart dump resumed from
+    writer: object = None  # trace and energy writers (open_files)
     ewriter: object = None
-    steps_before: int = 0           # variable step: steps taken before this run
+    steps_before: int = 0  # variable step: steps taken before this run
 
 
-def prepare(deck, stats: Stats, *, tmax, usrfrc, usrfrc_mode, motion, trace, energy, restart,
-            initial_state, penetration_limit, energy_tolerance) -> RunPlan:
+def prepare(
+    deck,
+    stats: Stats,
+    *,
+    tmax,
+    usrfrc,
+    usrfrc_mode,
+    motion,
+    trace,
+    energy,
+    restart,
+    initial_state,
+    penetration_limit,
+    energy_tolerance,
+) -> RunPlan:
     """Step 1: check the arguments, read the deck (a path or a Deck), build its model (the
     deck's USRFRC card dropped when ``usrfrc`` replaces it), choose the output paths and refuse
     existing ones that cannot be written, and -- on a fresh start -- refuse particles that
@@ -96,8 +109,10 @@ def prepare(deck, stats: Stats, *, tmax, usrfrc, usrfrc_mode, motion, trace, ene
     from x3dpd.model.build import build_model
 
     if not energy_tolerance > 0.0:
-        raise InputError(f"energy_tolerance must be a positive fraction of the energy scale, "
-                         f"got {energy_tolerance!r}")
+        raise InputError(
+            f"energy_tolerance must be a positive fraction of the energy scale, "
+            f"got {energy_tolerance!r}"
+        )
     if usrfrc_mode not in ("replace", "add"):
         raise InputError(f"usrfrc_mode must be 'replace' or 'add', got {usrfrc_mode!r}")
     if isinstance(deck, Deck):
@@ -120,7 +135,8 @@ def prepare(deck, stats: Stats, *, tmax, usrfrc, usrfrc_mode, motion, trace, ene
     trace_path = energy_path = dump_path = None
     if writes:
         trace_path, energy_path, dump_path = default_paths(
-            deck_path, os.fspath(trace), os.fspath(energy) if energy is not None else None)
+            deck_path, os.fspath(trace), os.fspath(energy) if energy is not None else None
+        )
         for path, what in ((trace_path, "trace file"), (energy_path, "energy file")):
             check_writable(path, what)
     resume = writes and (restart or model.irest == 1)
@@ -131,23 +147,54 @@ def prepare(deck, stats: Stats, *, tmax, usrfrc, usrfrc_mode, motion, trace, ene
         err = initial_penetration_error(model, penetration_limit, deck_path)
         if err is not None:
             raise err
-    return RunPlan(deck=deck_obj, deck_path=deck_path, model=model, usrfrc=usrfrc,
-                   motion=motion, replaced=replaced, tmax=tmax, writes=writes, resume=resume,
-                   trace_path=trace_path, energy_path=energy_path, dump_path=dump_path,
-                   stats=stats)
+    return RunPlan(
+        deck=deck_obj,
+        deck_path=deck_path,
+        model=model,
+        usrfrc=usrfrc,
+        motion=motion,
+        replaced=replaced,
+        tmax=tmax,
+        writes=writes,
+        resume=resume,
+        trace_path=trace_path,
+        energy_path=energy_path,
+        dump_path=dump_path,
+        stats=stats,
+    )
 
 
-def make_step_loop(plan: RunPlan, *, dt, itrac, friction, penetration_limit, usrfrc_python,
-                   energy_tolerance, trace_nodes, on_compile, initial_state,
-                   threads=1) -> None:
+def make_step_loop(
+    plan: RunPlan,
+    *,
+    dt,
+    itrac,
+    friction,
+    penetration_limit,
+    usrfrc_python,
+    energy_tolerance,
+    trace_nodes,
+    on_compile,
+    initial_state,
+    threads=1,
+) -> None:
     """Step 2: the step loop (fixed ``dt`` or chosen by accuracy, x3dpd.api.stepping), the nodes
     it records, ``on_compile`` told when it must be compiled; the steps to TMAX and between
     restart dumps (TREST); continued from ``initial_state`` when given."""
     model = plan.model
-    sim = make_stepper(model, dt=dt, parameters=plan.deck.parameters, itrac=itrac,
-                       usrfrc=plan.usrfrc, motion=plan.motion, friction=friction,
-                       penetration_limit=penetration_limit, allow_python_usrfrc=usrfrc_python,
-                       energy_tolerance=float(energy_tolerance), threads=threads)
+    sim = make_stepper(
+        model,
+        dt=dt,
+        parameters=plan.deck.parameters,
+        itrac=itrac,
+        usrfrc=plan.usrfrc,
+        motion=plan.motion,
+        friction=friction,
+        penetration_limit=penetration_limit,
+        allow_python_usrfrc=usrfrc_python,
+        energy_tolerance=float(energy_tolerance),
+        threads=threads,
+    )
     plan.sim, plan.auto = sim, is_auto(sim)
     if trace_nodes is not None:
         sim.trace_nodes = _node_indices(model, trace_nodes)
@@ -159,8 +206,9 @@ def make_step_loop(plan: RunPlan, *, dt, itrac, friction, penetration_limit, usr
     plan.n_end = step_count((tmax - t0) / plan.dt, f"TMAX {tmax:g} s from the start time {t0:g} s")
     if plan.n_end < 0:
         raise InputError(f"TMAX {tmax:g} s is before the start time {t0:g} s")
-    plan.trest_steps = (step_count(model.trest / plan.dt, f"TREST {model.trest:g} s")
-                        if model.trest > 0 else 0)
+    plan.trest_steps = (
+        step_count(model.trest / plan.dt, f"TREST {model.trest:g} s") if model.trest > 0 else 0
+    )
     plan.key = deck_key(plan.deck)
     if initial_state is not None:
         _continue_from(sim, initial_state, plan.key, model)
@@ -170,11 +218,16 @@ def record_options(plan: RunPlan, *, friction, usrfrc_python) -> None:
     """The forces applied (the deck's card, () when replaced, then the run's) and the options
     a restart dump records, so that a resumed run can be refused if they differ."""
     plan.applied = list(plan.model.usrfrc) + list(plan.usrfrc)
-    plan.options = {"usrfrc": list(plan.usrfrc), "motion": list(plan.motion),
-                    "friction": friction, "tmax": plan.tmax, "usrfrc_python": usrfrc_python,
-                    "usrfrc_files": user_file_hashes(plan.applied),
-                    "usrfrc_mode": "replace" if plan.replaced else "add",
-                    "step": "auto" if plan.auto else "fixed"}
+    plan.options = {
+        "usrfrc": list(plan.usrfrc),
+        "motion": list(plan.motion),
+        "friction": friction,
+        "tmax": plan.tmax,
+        "usrfrc_python": usrfrc_python,
+        "usrfrc_files": user_file_hashes(plan.applied),
+        "usrfrc_mode": "replace" if plan.replaced else "add",
+        "step": "auto" if plan.auto else "fixed",
+    }
 
 
 def open_files(plan: RunPlan, *, friction, restart, overwrite, command) -> None:
@@ -188,11 +241,20 @@ def open_files(plan: RunPlan, *, friction, restart, overwrite, command) -> None:
     sim, model, tmax = plan.sim, plan.model, plan.tmax
     plan.deck_sha = sha256_file(plan.deck_path) if os.path.isfile(plan.deck_path) else None
     sidecar = {
-        "deck_path": plan.deck_path, "deck_sha256": plan.deck_sha, "dt": plan.dt,
-        "itrac": plan.itrac, "effects": sorted(sim.effects), "title": model.title,
-        "t0": plan.t0, "tmax": tmax, "usrfrc": plan.applied, "motion": list(plan.motion),
-        "friction": friction, "energy_file": plan.energy_path,
-        "restart_file": plan.dump_path, "command": command,
+        "deck_path": plan.deck_path,
+        "deck_sha256": plan.deck_sha,
+        "dt": plan.dt,
+        "itrac": plan.itrac,
+        "effects": sorted(sim.effects),
+        "title": model.title,
+        "t0": plan.t0,
+        "tmax": tmax,
+        "usrfrc": plan.applied,
+        "motion": list(plan.motion),
+        "friction": friction,
+        "energy_file": plan.energy_path,
+        "restart_file": plan.dump_path,
+        "command": command,
     }
     if plan.auto:
         sidecar["dt"] = "auto"
@@ -204,17 +266,27 @@ def open_files(plan: RunPlan, *, friction, restart, overwrite, command) -> None:
         sidecar["units"] = dict(units) if isinstance(units, dict) else units
     if plan.resume:
         asked = "--restart" if restart else "the deck's IREST = 1"
-        plan.meta = meta = load_dump(plan.dump_path, asked_by=asked, sim=sim, key=plan.key,
-                                     options=plan.options, model=model)
+        plan.meta = meta = load_dump(
+            plan.dump_path, asked_by=asked, sim=sim, key=plan.key, options=plan.options, model=model
+        )
         sidecar["resumed_at"] = meta["time"]
         if plan.auto:
             sidecar["step"] = sim.step_record()
         if meta["step"] >= plan.n_end:
-            raise InputError(f"{plan.dump_path}: the restart dump is at t = "
-                             f"{meta['time']:.9g} s, not before TMAX {tmax:.9g} s: nothing to "
-                             "run (give a larger --tmax)")
-    plan.writer, plan.ewriter = open_outputs(plan.trace_path, plan.energy_path, sim, sidecar,
-                                             plan.meta, sim.energy_columns, overwrite=overwrite)
+            raise InputError(
+                f"{plan.dump_path}: the restart dump is at t = "
+                f"{meta['time']:.9g} s, not before TMAX {tmax:.9g} s: nothing to "
+                "run (give a larger --tmax)"
+            )
+    plan.writer, plan.ewriter = open_outputs(
+        plan.trace_path,
+        plan.energy_path,
+        sim,
+        sidecar,
+        plan.meta,
+        sim.energy_columns,
+        overwrite=overwrite,
+    )
     if not plan.resume:
         try:  # a stale dump of an earlier run must not be resumed against this trace
             os.unlink(plan.dump_path)
@@ -235,18 +307,37 @@ def dump(plan: RunPlan, reason: str) -> None:
     from x3dpd.io.restart import save_restart
 
     extra = {"variable_step": sim.checkpoint()} if plan.auto else {}
-    save_restart(plan.dump_path, sim.state.to_arrays(), {**extra,
-        "reason": reason, "x3dpd_version": __version__,
-        "deck_path": plan.deck_path, "deck_abspath": os.path.abspath(plan.deck_path),
-        "deck_sha256": plan.deck_sha, "deck_key": plan.key, "dt": plan.dt,
-        "itrac": plan.itrac, "t0": plan.t0, "step": int(sim.clock), "time": sim.time,
-        "trace": {"path": plan.trace_path, "bytes": writer.tell(),
-                  "blocks": writer.blocks_written},
-        "energy": {"path": plan.energy_path, "bytes": ewriter.tell(),
-                   "rows": ewriter.rows_written},
-        "options": plan.options, "energy_scale": sim.state.scale,
-        "effects": sorted(sim.effects),
-    })
+    save_restart(
+        plan.dump_path,
+        sim.state.to_arrays(),
+        {
+            **extra,
+            "reason": reason,
+            "x3dpd_version": __version__,
+            "deck_path": plan.deck_path,
+            "deck_abspath": os.path.abspath(plan.deck_path),
+            "deck_sha256": plan.deck_sha,
+            "deck_key": plan.key,
+            "dt": plan.dt,
+            "itrac": plan.itrac,
+            "t0": plan.t0,
+            "step": int(sim.clock),
+            "time": sim.time,
+            "trace": {
+                "path": plan.trace_path,
+                "bytes": writer.tell(),
+                "blocks": writer.blocks_written,
+            },
+            "energy": {
+                "path": plan.energy_path,
+                "bytes": ewriter.tell(),
+                "rows": ewriter.rows_written,
+            },
+            "options": plan.options,
+            "energy_scale": sim.state.scale,
+            "effects": sorted(sim.effects),
+        },
+    )
     plan.stats.dumps += 1
 
 
@@ -275,8 +366,19 @@ def step(plan: RunPlan, sink, ids, *, progress, stop, stop_every, handle_signals
     at the end; ``stop`` or a signal (``handle_signals``) ends the run early. Returns the status
     ("complete", "stopped", "interrupted") and the signal handler (its ``exit_status``)."""
     with sink, Interrupts(handle_signals) as intr:
-        stopped = step_loop(plan.sim, sink, plan.n_end, plan.trest_steps, plan.stats, progress,
-                            lambda reason: dump(plan, reason), intr, stop, ids, stop_every)
+        stopped = step_loop(
+            plan.sim,
+            sink,
+            plan.n_end,
+            plan.trest_steps,
+            plan.stats,
+            progress,
+            lambda reason: dump(plan, reason),
+            intr,
+            stop,
+            ids,
+            stop_every,
+        )
         if intr.signum:
             dump(plan, "interrupted")
             status = "interrupted"
@@ -291,39 +393,70 @@ def summarise(plan: RunPlan, recorder, status: str) -> RunResult:
     """Step 6: the :class:`RunResult` of the run as it stands: its trace and energy ledger (when
     kept), the summary ``x3dpd run`` prints, and the final state a chained run continues from."""
     sim = plan.sim
-    summary = _summary(sim, plan.stats, status, plan.applied, plan.replaced, plan.trace_path,
-                       plan.energy_path, plan.dump_path if plan.writes else None,
-                       sim.energy_columns)
+    summary = _summary(
+        sim,
+        plan.stats,
+        status,
+        plan.applied,
+        plan.replaced,
+        plan.trace_path,
+        plan.energy_path,
+        plan.dump_path if plan.writes else None,
+        sim.energy_columns,
+    )
     if plan.auto:
         auto_summary(summary, sim, plan.steps_before)
-    final = FinalState(state=sim.state.copy(), deck_key=plan.key, dt=plan.dt, time=sim.time,
-                       checkpoint=sim.checkpoint() if plan.auto else None)
-    return RunResult(trace=recorder.trace({"status": status, "dt": plan.dt, "itrac": plan.itrac}),
-                     energy=recorder.energy(), summary=summary, final_state=final,
-                     model=plan.model)
+    final = FinalState(
+        state=sim.state.copy(),
+        deck_key=plan.key,
+        dt=plan.dt,
+        time=sim.time,
+        checkpoint=sim.checkpoint() if plan.auto else None,
+    )
+    return RunResult(
+        trace=recorder.trace({"status": status, "dt": plan.dt, "itrac": plan.itrac}),
+        energy=recorder.energy(),
+        summary=summary,
+        final_state=final,
+        model=plan.model,
+    )
 
 
-def _summary(sim, stats, status, applied, replaced, trace_path, energy_path, dump_path,
-             columns) -> dict:
+def _summary(
+    sim, stats, status, applied, replaced, trace_path, energy_path, dump_path, columns
+) -> dict:
     wall = time.perf_counter() - stats.wall_start
     compile_s = float(sim.compile_seconds) + float(getattr(sim, "_load_seconds", 0.0))
     if getattr(sim, "compiled_here", False) and not getattr(sim, "compile_logged", False):
-        record_compile_seconds(compile_s)   # the estimate of the next first run's progress line
+        record_compile_seconds(compile_s)  # the estimate of the next first run's progress line
         sim.compile_logged = True
     rate = stats.timed_steps / stats.timed_seconds if stats.timed_seconds > 0 else float("nan")
     e = stats.last_energy
     return {
-        "status": status, "t_start": stats.t_start, "t_end": sim.time, "steps": stats.steps,
-        "dt": sim.dt, "itrac": sim.itrac, "wall_s": wall, "step_wall_s": stats.timed_seconds,
-        "compile_s": compile_s, "steps_per_s": rate, "effects": sorted(sim.effects),
-        "energy_scale": float(sim.state.scale), "residual": relative_residual(stats, sim),
+        "status": status,
+        "t_start": stats.t_start,
+        "t_end": sim.time,
+        "steps": stats.steps,
+        "dt": sim.dt,
+        "itrac": sim.itrac,
+        "wall_s": wall,
+        "step_wall_s": stats.timed_seconds,
+        "compile_s": compile_s,
+        "steps_per_s": rate,
+        "effects": sorted(sim.effects),
+        "energy_scale": float(sim.state.scale),
+        "residual": relative_residual(stats, sim),
         "relative_residual": relative_residual(stats, sim),
         "residual_energy": float(e[11]) if e is not None else 0.0,
         "energy_tolerance": float(sim.energy_tolerance),
         "last_energy": dict(zip(columns, map(float, e))) if e is not None else None,
-        "usrfrc": list(applied), "usrfrc_replaced": list(replaced), "trace_file": trace_path,
+        "usrfrc": list(applied),
+        "usrfrc_replaced": list(replaced),
+        "trace_file": trace_path,
         "code_files": [spec for spec in applied if is_user_file(spec)],
-        "energy_file": energy_path, "restart_file": dump_path, "dumps": stats.dumps,
+        "energy_file": energy_path,
+        "restart_file": dump_path,
+        "dumps": stats.dumps,
         "units": list(getattr(sim.model, "units", ("in", "lbf", "s"))),
     }
 
@@ -332,15 +465,21 @@ def _continue_from(sim, initial: FinalState, key: str, model) -> None:
     if not isinstance(initial, FinalState):
         raise InputError("initial_state must be the final_state of an earlier x3dpd.run result")
     if initial.deck_key != key:
-        raise InputError("initial_state belongs to another deck (its cards differ; only TMAX, "
-                         "TREST and IREST may change)")
+        raise InputError(
+            "initial_state belongs to another deck (its cards differ; only TMAX, "
+            "TREST and IREST may change)"
+        )
     auto = is_auto(sim)
     if initial.dt != sim.dt or (initial.checkpoint is not None) != auto:
+
         def what(a, d):
             return f"a step chosen by accuracy up to {d!r} s" if a else f"dt {d!r} s"
-        raise InputError(f"initial_state was computed at "
-                         f"{what(initial.checkpoint is not None, initial.dt)}; continue it at "
-                         f"the same step (this run's is {what(auto, sim.dt)})")
+
+        raise InputError(
+            f"initial_state was computed at "
+            f"{what(initial.checkpoint is not None, initial.dt)}; continue it at "
+            f"the same step (this run's is {what(auto, sim.dt)})"
+        )
     state = initial.state.copy()
     n_motion = motion_count(sim.motion)
     if state.motion_prev.shape[0] != n_motion:
@@ -372,9 +511,11 @@ class CompileNotice(str):
     @classmethod
     def now(cls) -> CompileNotice:
         expected = expected_compile_seconds()
-        notice = cls("compiling the step loop for this scene's effects: the first run of a "
-                     f"scene after installing or changing x3dpd, about {expected:.0f} s here; "
-                     "later runs load it from the cache in about a second")
+        notice = cls(
+            "compiling the step loop for this scene's effects: the first run of a "
+            f"scene after installing or changing x3dpd, about {expected:.0f} s here; "
+            "later runs load it from the cache in about a second"
+        )
         notice.expected_s = expected
         return notice
 

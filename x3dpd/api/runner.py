@@ -41,18 +41,34 @@ from x3dpd.solver.threads import thread_count
 ENERGY_TOLERANCE = 0.05
 
 
-def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
-        usrfrc: Sequence[str] = (), usrfrc_mode: str = "replace", motion: Sequence[str] = (),
-        friction: str | None = None, trace: str | os.PathLike | None = None,
-        energy: str | os.PathLike | None = None, overwrite: bool = False, restart: bool = False,
-        itrac: int | None = None, trace_nodes: Sequence[int] | None = None,
-        keep_trace: bool = True, initial_state: FinalState | None = None,
-        stop: Callable[[Chunk], bool] | None = None, stop_every: int = STOP_CHECK_ROWS,
-        progress: Callable[[float, float, float, float, float], None] | None = None,
-        on_compile: Callable[[str], None] | None = None,
-        usrfrc_python: bool = False, penetration_limit: float = 0.25,
-        energy_tolerance: float = ENERGY_TOLERANCE, threads: int | str = 1,
-        handle_signals: bool = False, command: str | None = None) -> RunResult:
+def run(
+    deck,
+    *,
+    tmax: float | None = None,
+    dt: float | str | None = None,
+    usrfrc: Sequence[str] = (),
+    usrfrc_mode: str = "replace",
+    motion: Sequence[str] = (),
+    friction: str | None = None,
+    trace: str | os.PathLike | None = None,
+    energy: str | os.PathLike | None = None,
+    overwrite: bool = False,
+    restart: bool = False,
+    itrac: int | None = None,
+    trace_nodes: Sequence[int] | None = None,
+    keep_trace: bool = True,
+    initial_state: FinalState | None = None,
+    stop: Callable[[Chunk], bool] | None = None,
+    stop_every: int = STOP_CHECK_ROWS,
+    progress: Callable[[float, float, float, float, float], None] | None = None,
+    on_compile: Callable[[str], None] | None = None,
+    usrfrc_python: bool = False,
+    penetration_limit: float = 0.25,
+    energy_tolerance: float = ENERGY_TOLERANCE,
+    threads: int | str = 1,
+    handle_signals: bool = False,
+    command: str | None = None,
+) -> RunResult:
     """Run a deck; return its trace, energy ledger, summary and final state.
 
     Parameters
@@ -132,26 +148,53 @@ def run(deck, *, tmax: float | None = None, dt: float | str | None = None,
     """
     threads = thread_count(threads)
     stats = Stats()
-    plan = prepare(deck, stats, tmax=tmax, usrfrc=usrfrc, usrfrc_mode=usrfrc_mode,
-                   motion=motion, trace=trace, energy=energy, restart=restart,
-                   initial_state=initial_state, penetration_limit=penetration_limit,
-                   energy_tolerance=energy_tolerance)
+    plan = prepare(
+        deck,
+        stats,
+        tmax=tmax,
+        usrfrc=usrfrc,
+        usrfrc_mode=usrfrc_mode,
+        motion=motion,
+        trace=trace,
+        energy=energy,
+        restart=restart,
+        initial_state=initial_state,
+        penetration_limit=penetration_limit,
+        energy_tolerance=energy_tolerance,
+    )
     # the run's tangential law: the option, else the deck's FRICTION card's (x3dpd.physics)
     friction = friction or plan.model.friction_law or "regularized"
-    make_step_loop(plan, dt=dt, itrac=itrac, friction=friction,
-                   penetration_limit=penetration_limit, usrfrc_python=usrfrc_python,
-                   energy_tolerance=energy_tolerance, trace_nodes=trace_nodes,
-                   on_compile=on_compile, initial_state=initial_state, threads=threads)
+    make_step_loop(
+        plan,
+        dt=dt,
+        itrac=itrac,
+        friction=friction,
+        penetration_limit=penetration_limit,
+        usrfrc_python=usrfrc_python,
+        energy_tolerance=energy_tolerance,
+        trace_nodes=trace_nodes,
+        on_compile=on_compile,
+        initial_state=initial_state,
+        threads=threads,
+    )
     record_options(plan, friction=friction, usrfrc_python=usrfrc_python)
     open_files(plan, friction=friction, restart=restart, overwrite=overwrite, command=command)
     if initial_state is not None and plan.sim.clock >= plan.n_end:
-        raise InputError(f"the initial state is at t = {plan.sim.time:.9g} s, not before TMAX "
-                         f"{plan.tmax:.9g} s: nothing to run (give a larger tmax)")
-    ids, recorder, sink = start_recording(plan, keep_trace=keep_trace,
-                                          fresh=initial_state is None)
+        raise InputError(
+            f"the initial state is at t = {plan.sim.time:.9g} s, not before TMAX "
+            f"{plan.tmax:.9g} s: nothing to run (give a larger tmax)"
+        )
+    ids, recorder, sink = start_recording(plan, keep_trace=keep_trace, fresh=initial_state is None)
     try:
-        status, intr = step(plan, sink, ids, progress=progress, stop=stop,
-                            stop_every=stop_every, handle_signals=handle_signals)
+        status, intr = step(
+            plan,
+            sink,
+            ids,
+            progress=progress,
+            stop=stop,
+            stop_every=stop_every,
+            handle_signals=handle_signals,
+        )
     except UnstableRunError as exc:
         exc.result = summarise(plan, recorder, "unstable")
         raise

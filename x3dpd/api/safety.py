@@ -32,17 +32,24 @@ def initial_penetration_error(model, limit: float, deck_path: str) -> InputError
     found.sort(key=lambda f: (-f[0], f[2]))
     rel, depth, nid, tri, behind_by = found[0]
     nodes = " ".join(str(int(model.node_ids[i])) for i in model.tri_nodes[tri])
-    where = (f"; its centre is {behind_by:.6g} behind the wall, on the outside of the cavity"
-             if behind_by is not None else "")
+    where = (
+        f"; its centre is {behind_by:.6g} behind the wall, on the outside of the cavity"
+        if behind_by is not None
+        else ""
+    )
     n = len({f[2] for f in found})
-    others = (f" ({n} of the {model.n_particles} particles start inside a wall or behind it)"
-              if n > 1 else "")
+    others = (
+        f" ({n} of the {model.n_particles} particles start inside a wall or behind it)"
+        if n > 1
+        else ""
+    )
     return InputError(
         f"{deck_path}: particle node {nid} starts {depth:.6g} ({rel:.3g} R) deep in wall "
         f"triangle {tri + 1} (nodes {nodes}){where}, beyond the penetration limit "
         f"{limit:g} R{others}. The run would blow up at its first step: see "
         f"`x3dpd check {deck_path}`; decks/appendix_a_cube.inp is the repaired geometry of "
-        f"the report's Appendix A deck.")
+        f"the report's Appendix A deck."
+    )
 
 
 def _analytic_wall_error(model, limit: float, deck_path: str) -> InputError | None:
@@ -51,14 +58,17 @@ def _analytic_wall_error(model, limit: float, deck_path: str) -> InputError | No
     from x3dpd.model.check_shapes import describe_shape, shape_clearances
 
     r = model.radius
-    bad = [f for f in shape_clearances(model)
-           if not f.inside or -f.gap > limit * r[f.particle]]
+    bad = [f for f in shape_clearances(model) if not f.inside or -f.gap > limit * r[f.particle]]
     if not bad:
         return None
     f = min(bad, key=lambda f: (f.inside, f.gap))
-    where = ("its centre lies outside it" if not f.inside else
-             f"{-f.gap:.6g} ({-f.gap / r[f.particle]:.3g} R) deep in its wall")
+    where = (
+        "its centre lies outside it"
+        if not f.inside
+        else f"{-f.gap:.6g} ({-f.gap / r[f.particle]:.3g} R) deep in its wall"
+    )
     return InputError(
         f"{deck_path}: particle node {f.node_id} starts in {describe_shape(model, f.shape)}"
         f" wrongly: {where}, beyond the penetration limit {limit:g} R. The run would blow up "
-        f"at its first step: see `x3dpd check {deck_path}`.")
+        f"at its first step: see `x3dpd check {deck_path}`."
+    )

@@ -17,8 +17,14 @@ from x3dpd.physics.motion import apply_motion
 from x3dpd.solver.simulation import Simulation
 
 
-def stepper(model, *, dt: float | None = None, usrfrc: Sequence[str] = (),
-            motion: Sequence[str] = (), state=None) -> Simulation:
+def stepper(
+    model,
+    *,
+    dt: float | None = None,
+    usrfrc: Sequence[str] = (),
+    motion: Sequence[str] = (),
+    state=None,
+) -> Simulation:
     """The step loop of ``model`` (a built model, :func:`x3dpd.api.build`) at the fixed step
     ``dt`` [s] (default the deck's DTMAX) with extra forces ``usrfrc`` and prescribed
     ``motion`` (specs as :func:`x3dpd.api.run`'s). Started: at t0 (forces, contacts and the

@@ -35,9 +35,14 @@ def make_stepper(model, *, dt, parameters, itrac, **sim_options):
     dtmax = float(model.dt)
     floor = auto_floor(parameters.dtmin if parameters is not None else 0.0, dtmax)
     limit = recommended_time_step(model).dt_structure
-    return VariableStep(model, dtmin=floor, dtmax=dtmax, itrac=itrac,
-                        dt_structure=limit if math.isfinite(limit) and limit > 0 else math.inf,
-                        **sim_options)
+    return VariableStep(
+        model,
+        dtmin=floor,
+        dtmax=dtmax,
+        itrac=itrac,
+        dt_structure=limit if math.isfinite(limit) and limit > 0 else math.inf,
+        **sim_options,
+    )
 
 
 def is_auto(sim) -> bool:

@@ -17,5 +17,14 @@ from x3dpd.io.trace_stream import TraceInfo, iter_blocks, trace_info
 from x3dpd.io.tracediff import compare_traces
 from x3dpd.solver.simulation import ENERGY_COLUMNS
 
-__all__ = ["ENERGY_COLUMNS", "TraceInfo", "TraceWarning", "compare_traces", "iter_blocks",
-           "read_energy", "read_trace", "sha256_file", "trace_info"]
+__all__ = [
+    "ENERGY_COLUMNS",
+    "TraceInfo",
+    "TraceWarning",
+    "compare_traces",
+    "iter_blocks",
+    "read_energy",
+    "read_trace",
+    "sha256_file",
+    "trace_info",
+]

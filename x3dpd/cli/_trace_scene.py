@@ -29,12 +29,18 @@ def find_deck(info: TraceInfo, deck: str | None) -> str:
     if recorded:
         here = os.path.dirname(os.path.abspath(info.path))
         abspath = info.meta.get("deck_abspath")
-        for cand in (recorded, abspath, os.path.join(here, recorded),
-                     os.path.join(here, os.path.basename(recorded))):
+        for cand in (
+            recorded,
+            abspath,
+            os.path.join(here, recorded),
+            os.path.join(here, os.path.basename(recorded)),
+        ):
             if cand and os.path.isfile(cand):
                 return cand
-    raise InputError(f"{info.path}: the sidecar records deck {recorded or '(none)'!r}, which is "
-                     f"not found here or beside the trace; pass --deck DECK")
+    raise InputError(
+        f"{info.path}: the sidecar records deck {recorded or '(none)'!r}, which is "
+        f"not found here or beside the trace; pass --deck DECK"
+    )
 
 
 def load_scene(trace: str, deck: str | None) -> tuple[TraceInfo, object, Scene]:
@@ -44,13 +50,19 @@ def load_scene(trace: str, deck: str | None) -> tuple[TraceInfo, object, Scene]:
     info = trace_info(trace)
     path = find_deck(info, deck)
     if info.deck_sha256 and sha256_file(path) != info.deck_sha256:
-        click.echo(f"x3dpd: warning: {path} differs from the deck that made {trace} (SHA-256); "
-                   f"drawing its geometry anyway", err=True)
+        click.echo(
+            f"x3dpd: warning: {path} differs from the deck that made {trace} (SHA-256); "
+            f"drawing its geometry anyway",
+            err=True,
+        )
     model = build_model(read_deck(path))
     units = labels_for(getattr(model, "units", None))
     scene = scene_from_model(model, info.node_ids, units)
     if scene.unplaced:
-        click.echo(f"x3dpd: warning: {scene.unplaced} wall vertices can move but neither they "
-                   f"nor their rigid master node are traced; they are drawn at their deck "
-                   f"coordinates (add the master node to the deck's TRACE card)", err=True)
+        click.echo(
+            f"x3dpd: warning: {scene.unplaced} wall vertices can move but neither they "
+            f"nor their rigid master node are traced; they are drawn at their deck "
+            f"coordinates (add the master node to the deck's TRACE card)",
+            err=True,
+        )
     return info, model, scene

@@ -28,16 +28,33 @@ def _read_deck(path: str):
 
 
 @click.command("check")
-@click.argument("decks", nargs=-1, required=True, type=click.Path(dir_okay=False),
-                metavar="DECK...")
-@click.option("--usrfrc", "usrfrc", multiple=True, metavar="SPEC",
-              help="External force spec, as for `x3dpd run` (repeatable).")
-@click.option("--motion", "motion", multiple=True, metavar="SPEC",
-              help="Prescribed motion spec, as for `x3dpd run` (repeatable).")
-@click.option("--steps-per-contact", type=click.IntRange(min=1), default=STEPS_PER_CONTACT,
-              show_default=True, help="Time steps the shortest contact should span.")
-def check(decks: tuple[str, ...], usrfrc: tuple[str, ...], motion: tuple[str, ...],
-          steps_per_contact: int) -> None:
+@click.argument(
+    "decks", nargs=-1, required=True, type=click.Path(dir_okay=False), metavar="DECK..."
+)
+@click.option(
+    "--usrfrc",
+    "usrfrc",
+    multiple=True,
+    metavar="SPEC",
+    help="External force spec, as for `x3dpd run` (repeatable).",
+)
+@click.option(
+    "--motion",
+    "motion",
+    multiple=True,
+    metavar="SPEC",
+    help="Prescribed motion spec, as for `x3dpd run` (repeatable).",
+)
+@click.option(
+    "--steps-per-contact",
+    type=click.IntRange(min=1),
+    default=STEPS_PER_CONTACT,
+    show_default=True,
+    help="Time steps the shortest contact should span.",
+)
+def check(
+    decks: tuple[str, ...], usrfrc: tuple[str, ...], motion: tuple[str, ...], steps_per_contact: int
+) -> None:
     """Check each DECK: model summary, recommended time step and geometry warnings.
 
     Several decks are checked one after the other, each report separated by a blank line; an
@@ -83,8 +100,11 @@ def _in_units(text: str, units: dict) -> str:
 
 def _report_lines(report: CheckReport, units: dict) -> list[str]:
     n_w, n_e = len(report.warnings), len(report.errors)
-    verdict = ("clean" if not (n_w or n_e) else
-               ", ".join(p for p in (_plural(n_e, "error"), _plural(n_w, "warning")) if p))
+    verdict = (
+        "clean"
+        if not (n_w or n_e)
+        else ", ".join(p for p in (_plural(n_e, "error"), _plural(n_w, "warning")) if p)
+    )
     note = _step_note(report)
     if note and not (n_e or n_w):
         verdict += ", 1 note"
@@ -97,56 +117,95 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
         lines.append(f"note: {note}")
     lines += ["", "summary"]
     n_p = report.n_particles
-    lines.append(_row("nodes", f"{report.n_nodes} ({report.n_nodes - n_p} structural, "
-                               f"{n_p} particles)"))
+    lines.append(
+        _row("nodes", f"{report.n_nodes} ({report.n_nodes - n_p} structural, {n_p} particles)")
+    )
     for g in report.groups:
-        lines.append(_row(f"particle group {g.group + 1}",
-                          f"{g.count} (nodes {g.nodes}), radius {g.radius:g} "
-                          f"{units['length']}, mass {g.mass:.6g} {units['mass']} each"))
+        lines.append(
+            _row(
+                f"particle group {g.group + 1}",
+                f"{g.count} (nodes {g.nodes}), radius {g.radius:g} "
+                f"{units['length']}, mass {g.mass:.6g} {units['mass']} each",
+            )
+        )
     lines.append(_row("particle mass", f"{report.particle_mass:.6g} {units['mass']}"))
-    lines.append(_row("structure mass", f"{report.structure_mass:.6g} {units['mass']} (rigid "
-                                        f"bodies included)"))
+    lines.append(
+        _row(
+            "structure mass", f"{report.structure_mass:.6g} {units['mass']} (rigid bodies included)"
+        )
+    )
     for c in report.cavities:
         box = ", ".join(f"{a} {lo:g} .. {hi:g}" for a, lo, hi in zip("xyz", c.lo, c.hi))
         box += " (extent " + " x ".join(f"{hi - lo:g}" for lo, hi in zip(c.lo, c.hi)) + ")"
         walls = f"{c.n_triangles} triangles in {c.n_faces} faces; " if c.n_triangles else ""
-        lines.append(_row(f"cavity set {c.set_id}",
-                          f"{box}; {walls}{c.n_particles} particles"))
+        lines.append(_row(f"cavity set {c.set_id}", f"{box}; {walls}{c.n_particles} particles"))
         lines += [_row("", text) for text in c.analytic_walls]
         if c.wall_material is not None:
             lines.append(_row("", _wall_text(c.wall_material, units["pressure"])))
         if c.volume is not None and c.closed:
-            fill = (f"fill ratio {c.fill_ratio:.3g} (particle volume {c.particle_volume:.6g})"
-                    if c.fill_ratio is not None else "")
+            fill = (
+                f"fill ratio {c.fill_ratio:.3g} (particle volume {c.particle_volume:.6g})"
+                if c.fill_ratio is not None
+                else ""
+            )
             lines.append(_row("", f"closed, interior volume {c.volume:.6g}; {fill}"))
         else:
             lines.append(_row("", "open: the faces do not close, so no volume or fill ratio"))
     for k, text in enumerate(report.modes):
         lines.append(_row("modal structure" if k == 0 else "", text))
     lines.append(_row("effects", ", ".join(sorted(report.effects)) or "none"))
-    lines.append(_row("units", f"{units['system']} (declare with a UNITS card; mass "
-                               f"{units['mass']}, energy {units['energy']})"))
+    lines.append(
+        _row(
+            "units",
+            f"{units['system']} (declare with a UNITS card; mass "
+            f"{units['mass']}, energy {units['energy']})",
+        )
+    )
     ts = report.time_step
     if ts.binding == "none":
-        lines.append(_row("time step", f"DTMAX {ts.dt_deck:.3g} s; no limit (no contacts and no "
-                                       f"loaded structural DOFs)"))
+        lines.append(
+            _row(
+                "time step",
+                f"DTMAX {ts.dt_deck:.3g} s; no limit (no contacts and no loaded structural DOFs)",
+            )
+        )
     else:
-        lines.append(_row("time step", f"DTMAX {ts.dt_deck:.3g} s; recommended <= "
-                                       f"{ts.dt_recommended:.3g} s (binding: {ts.binding})"))
+        lines.append(
+            _row(
+                "time step",
+                f"DTMAX {ts.dt_deck:.3g} s; recommended <= "
+                f"{ts.dt_recommended:.3g} s (binding: {ts.binding})",
+            )
+        )
     if ts.contact_kind != "none":
-        lines.append(_row("", f"contact: {ts.contact_law} {ts.contact_kind} impact at "
-                              f"{ts.impact_speed:.3g} length/s lasts {ts.t_contact:.3g} s; "
-                              f"/ {ts.steps_per_contact} = {ts.dt_contact:.3g} s (DTMAX gives "
-                              f"{ts.deck_steps_per_contact:.3g} steps per contact"
-                              f"{_peak_force(ts)})"))
+        lines.append(
+            _row(
+                "",
+                f"contact: {ts.contact_law} {ts.contact_kind} impact at "
+                f"{ts.impact_speed:.3g} length/s lasts {ts.t_contact:.3g} s; "
+                f"/ {ts.steps_per_contact} = {ts.dt_contact:.3g} s (DTMAX gives "
+                f"{ts.deck_steps_per_contact:.3g} steps per contact"
+                f"{_peak_force(ts)})",
+            )
+        )
     if ts.omega_node:
-        lines.append(_row("", f"structure: omega <= {ts.omega_max:.4g} rad/s (node "
-                              f"{ts.omega_node} {ts.omega_dof}); 0.2 x critical step = "
-                              f"{ts.dt_structure:.3g} s"))
+        lines.append(
+            _row(
+                "",
+                f"structure: omega <= {ts.omega_max:.4g} rad/s (node "
+                f"{ts.omega_node} {ts.omega_dof}); 0.2 x critical step = "
+                f"{ts.dt_structure:.3g} s",
+            )
+        )
     for path in report.code_files:
-        lines.append(_row("code run", f"{path}: a USRFRC Python file -- running this deck "
-                                      "executes it with your permissions; read it first if the "
-                                      "deck came from someone else (docs/usrfrc.md)"))
+        lines.append(
+            _row(
+                "code run",
+                f"{path}: a USRFRC Python file -- running this deck "
+                "executes it with your permissions; read it first if the "
+                "deck came from someone else (docs/usrfrc.md)",
+            )
+        )
     if report.rules:
         lines += ["", "rules of thumb (the report's design guidance; notes only)"]
         lines += [_row(rule.code, f"{rule.text} [{rule.section}]") for rule in report.rules]
@@ -158,8 +217,10 @@ def _wall_text(w, pressure: str) -> str:
     if math.isinf(w.e):
         return "rigid walls (no WALLMAT record)"
     mixed = ", ".join(f"group {g + 1} {e:.6g} {pressure}" for g, e in w.e_star) or "-"
-    return (f"wall material (WALLMAT): E {w.e:.6g} {pressure}, NU {w.nu:g}, MU {w.mu:g}; "
-            f"contact E* {mixed}")
+    return (
+        f"wall material (WALLMAT): E {w.e:.6g} {pressure}, NU {w.nu:g}, MU {w.mu:g}; "
+        f"contact E* {mixed}"
+    )
 
 
 def _step_note(report: CheckReport) -> str | None:
@@ -168,11 +229,15 @@ def _step_note(report: CheckReport) -> str | None:
     ts = report.time_step
     if ts.binding == "none" or not ts.dt_recommended or ts.dt_deck <= 1.5 * ts.dt_recommended:
         return None
-    text = (f"DTMAX {ts.dt_deck:.3g} s is {ts.dt_deck / ts.dt_recommended:.1f}x the recommended "
-            f"{ts.dt_recommended:.3g} s")
+    text = (
+        f"DTMAX {ts.dt_deck:.3g} s is {ts.dt_deck / ts.dt_recommended:.1f}x the recommended "
+        f"{ts.dt_recommended:.3g} s"
+    )
     if ts.contact_kind != "none":
-        text += (f": it resolves the fastest contact in {ts.deck_steps_per_contact:.3g} steps "
-                 f"(stable{_peak_force(ts, ';')})")
+        text += (
+            f": it resolves the fastest contact in {ts.deck_steps_per_contact:.3g} steps "
+            f"(stable{_peak_force(ts, ';')})"
+        )
     return text + "; `x3dpd study DECK` measures what the step costs in accuracy and time"
 
 

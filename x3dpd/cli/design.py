@@ -13,12 +13,19 @@ from x3dpd.errors import InputError
 @click.command("design", context_settings={"help_option_names": ["-h", "--help"]})
 @click.argument("spec", type=click.Path(exists=True, dir_okay=False))
 @click.option("--out", "out", required=True, metavar="DIR", help="Output folder.")
-@click.option("--workers", type=int, metavar="K",
-              help="Local worker processes [default: all cores]; 1 = serial in this process.")
+@click.option(
+    "--workers",
+    type=int,
+    metavar="K",
+    help="Local worker processes [default: all cores]; 1 = serial in this process.",
+)
 @click.option("--scheduler", metavar="ADDRESS", help="Run on an existing Dask cluster.")
-@click.option("--overwrite", is_flag=True,
-              help="Recompute configurations whose deck or settings changed since DIR was "
-                   "written (the others are kept).")
+@click.option(
+    "--overwrite",
+    is_flag=True,
+    help="Recompute configurations whose deck or settings changed since DIR was "
+    "written (the others are kept).",
+)
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
 def design(spec, out, workers, scheduler, overwrite, quiet):
     """Evaluate every configuration of a design file (DIR/design.csv, DIR/design_*.png)."""
@@ -26,5 +33,11 @@ def design(spec, out, workers, scheduler, overwrite, quiet):
 
     if workers is not None and workers < 1:
         raise InputError(f"--workers {workers}: expected 1 or more")
-    run_design(spec, out, workers=workers, scheduler=scheduler, overwrite=overwrite,
-               echo=(lambda s: None) if quiet else click.echo)
+    run_design(
+        spec,
+        out,
+        workers=workers,
+        scheduler=scheduler,
+        overwrite=overwrite,
+        echo=(lambda s: None) if quiet else click.echo,
+    )

@@ -15,12 +15,27 @@ from x3dpd.errors import InputError
 
 @click.command("export")
 @click.argument("trace", type=click.Path(dir_okay=False))
-@click.option("--vtk", "vtk_dir", default=None, metavar="DIR",
-              help="Write DIR/run.pvd with particles_*.vtu and cavity_*.vtu (ParaView).")
-@click.option("--lammps", "lammps", default=None, metavar="FILE",
-              help="Write a LAMMPS-style text dump of the particles (OVITO).")
-@click.option("--every", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Export every N-th output time.")
+@click.option(
+    "--vtk",
+    "vtk_dir",
+    default=None,
+    metavar="DIR",
+    help="Write DIR/run.pvd with particles_*.vtu and cavity_*.vtu (ParaView).",
+)
+@click.option(
+    "--lammps",
+    "lammps",
+    default=None,
+    metavar="FILE",
+    help="Write a LAMMPS-style text dump of the particles (OVITO).",
+)
+@click.option(
+    "--every",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Export every N-th output time.",
+)
 @click.option("--from", "t_from", type=float, default=None, metavar="T", help="Start time [s].")
 @click.option("--to", "t_to", type=float, default=None, metavar="T", help="End time [s].")
 @click.option("--deck", default=None, metavar="DECK", help=DECK_HELP)
@@ -44,8 +59,10 @@ def export(trace, vtk_dir, lammps, every, t_from, t_to, deck, overwrite) -> None
 
     if vtk_dir:
         n = write_vtk_series(vtk_dir, scene, blocks())
-        click.echo(f"x3dpd: {trace} -> {os.path.join(vtk_dir, 'run.pvd')} ({n} output times, "
-                   f"{scene.particle_rows.shape[0]} particles, {scene.tri.shape[0]} triangles)")
+        click.echo(
+            f"x3dpd: {trace} -> {os.path.join(vtk_dir, 'run.pvd')} ({n} output times, "
+            f"{scene.particle_rows.shape[0]} particles, {scene.tri.shape[0]} triangles)"
+        )
     if lammps:
         n = write_lammps_dump(lammps, scene, blocks())
         click.echo(f"x3dpd: {trace} -> {lammps} ({n} output times, LAMMPS dump)")

@@ -16,37 +16,88 @@ from x3dpd.errors import InputError
 
 @click.command("fill")
 @click.argument("template", type=click.Path(exists=True, dir_okay=False))
-@click.option("--n", "n", type=click.IntRange(min=1), default=None,
-              help="Number of particles (default: as many as fit).")
-@click.option("--radius", type=click.FloatRange(min=0.0, min_open=True), default=None,
-              help="Particle radius [length] (default: the template's PDMP RZERO).")
+@click.option(
+    "--n",
+    "n",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Number of particles (default: as many as fit).",
+)
+@click.option(
+    "--radius",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=None,
+    help="Particle radius [length] (default: the template's PDMP RZERO).",
+)
 @click.option("--packing", type=click.Choice(PACKINGS), default="cubic", show_default=True)
-@click.option("--gap", type=click.FloatRange(min=0.0), default=0.0, show_default=True,
-              help="Clearance to the walls and between lattice neighbours [length].")
+@click.option(
+    "--gap",
+    type=click.FloatRange(min=0.0),
+    default=0.0,
+    show_default=True,
+    help="Clearance to the walls and between lattice neighbours [length].",
+)
 @click.option("--seed", type=int, default=None, help="Seed of the random packing / jitter.")
-@click.option("--jitter", type=click.FloatRange(0.0, 1.0), default=0.0, show_default=True,
-              help="Box + cubic: move coordinates by up to JITTER x gap / 2.")
-@click.option("--material", default=None, metavar="NAME",
-              help="Particle material from the library (`x3dpd materials`): sets the PDMP "
-              "card's density, Poisson's ratio, E0, E1, T1 and friction (default: the "
-              "template's).")
-@click.option("--dt", type=click.FloatRange(min=0.0, min_open=True), default=None,
-              metavar="DT", help="Time step DTMAX [s] (default: the step `x3dpd check` "
-              "recommends for the new particles).")
+@click.option(
+    "--jitter",
+    type=click.FloatRange(0.0, 1.0),
+    default=0.0,
+    show_default=True,
+    help="Box + cubic: move coordinates by up to JITTER x gap / 2.",
+)
+@click.option(
+    "--material",
+    default=None,
+    metavar="NAME",
+    help="Particle material from the library (`x3dpd materials`): sets the PDMP "
+    "card's density, Poisson's ratio, E0, E1, T1 and friction (default: the "
+    "template's).",
+)
+@click.option(
+    "--dt",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=None,
+    metavar="DT",
+    help="Time step DTMAX [s] (default: the step `x3dpd check` recommends for the new particles).",
+)
 @click.option("--keep-dt", is_flag=True, help="Keep the template's DTMAX and ITRAC.")
-@click.option("--set", "set_id", type=int, default=None,
-              help="CONTACT set to fill (default: the first).")
-@click.option("--settle", type=click.FloatRange(min=0.0, min_open=True), default=None,
-              metavar="T", help="Let the particles fall for T seconds under the deck's BODY "
-              "gravity (a run of the filled deck without its USRFRC drive) and write where "
-              "they come to rest.")
-@click.option("--cards", is_flag=True,
-              help="Write only the PDMP, TRACE, NODE COORDINATES (the particles) and CONTACT "
-              "cards, to paste into a deck, instead of the whole deck.")
+@click.option(
+    "--set", "set_id", type=int, default=None, help="CONTACT set to fill (default: the first)."
+)
+@click.option(
+    "--settle",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=None,
+    metavar="T",
+    help="Let the particles fall for T seconds under the deck's BODY "
+    "gravity (a run of the filled deck without its USRFRC drive) and write where "
+    "they come to rest.",
+)
+@click.option(
+    "--cards",
+    is_flag=True,
+    help="Write only the PDMP, TRACE, NODE COORDINATES (the particles) and CONTACT "
+    "cards, to paste into a deck, instead of the whole deck.",
+)
 @click.option("-o", "--output", required=True, metavar="OUT.inp", help="The deck to write.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing OUT.inp.")
-def fill(template, n, radius, packing, gap, seed, jitter, material, dt, keep_dt, set_id, settle,
-         cards, output, overwrite) -> None:
+def fill(
+    template,
+    n,
+    radius,
+    packing,
+    gap,
+    seed,
+    jitter,
+    material,
+    dt,
+    keep_dt,
+    set_id,
+    settle,
+    cards,
+    output,
+    overwrite,
+) -> None:
     """Fill TEMPLATE's cavity with particles and write the deck OUT.inp."""
     from x3dpd.api import fit_time_step
     from x3dpd.api.decks import format_deck, read_deck, write_deck
@@ -58,12 +109,15 @@ def fill(template, n, radius, packing, gap, seed, jitter, material, dt, keep_dt,
     if material is not None:
         material = library_material(material)
     deck = read_deck(template)
-    result = fill_positions(deck, n=n, radius=radius, packing=packing, gap=gap, seed=seed,
-                            jitter=jitter, set_id=set_id)
+    result = fill_positions(
+        deck, n=n, radius=radius, packing=packing, gap=gap, seed=seed, jitter=jitter, set_id=set_id
+    )
     m = result.positions.shape[0]
     if m == 0:
-        raise InputError(f"{template}: no particle of radius {result.radius:g} fits in the "
-                         f"cavity with gap {gap:g}")
+        raise InputError(
+            f"{template}: no particle of radius {result.radius:g} fits in the "
+            f"cavity with gap {gap:g}"
+        )
     out = filled_deck(deck, result, set_id, material=material)
     step = None if keep_dt else fit_time_step(out, dt=dt)
     if step is not None:
@@ -74,19 +128,29 @@ def fill(template, n, radius, packing, gap, seed, jitter, material, dt, keep_dt,
         from x3dpd.api.decks import Deck
 
         nodlim = out.pdmp[0].nodlim
-        out = Deck(path=out.path, pdmp=out.pdmp, trace=out.trace, contacts=out.contacts,
-                   nodes=tuple(nd for nd in out.nodes if nd.nid > nodlim))
+        out = Deck(
+            path=out.path,
+            pdmp=out.pdmp,
+            trace=out.trace,
+            contacts=out.contacts,
+            nodes=tuple(nd for nd in out.nodes if nd.nid > nodlim),
+        )
     format_deck(out)  # raises before anything is written if the deck cannot be written
     write_deck(out, output)
     short = f" (asked for {n}: only {m} fit)" if n is not None and m < n else ""
-    click.echo(f"x3dpd: {template} -> {output}: {m} particles of radius {result.radius:g}, "
-               f"{packing} packing{short}; fill ratio {result.fill_ratio:.3f} of the cavity "
-               f"volume {result.volume:.6g}"
-               + (f"; material {material.name}" if material is not None else "")
-               + (f"; settled for {settle:g} s" if settle else ""))
+    click.echo(
+        f"x3dpd: {template} -> {output}: {m} particles of radius {result.radius:g}, "
+        f"{packing} packing{short}; fill ratio {result.fill_ratio:.3f} of the cavity "
+        f"volume {result.volume:.6g}"
+        + (f"; material {material.name}" if material is not None else "")
+        + (f"; settled for {settle:g} s" if settle else "")
+    )
     if step is not None:
-        click.echo(f"x3dpd: {output}: " + ("time step for the cards' particles: " if cards
-                                           else "") + step.describe())
+        click.echo(
+            f"x3dpd: {output}: "
+            + ("time step for the cards' particles: " if cards else "")
+            + step.describe()
+        )
 
 
 def _settled(deck, seconds: float):
@@ -102,13 +166,14 @@ def _settled(deck, seconds: float):
     model = build_model(replace(deck, usrfrc=()))
     sim = stepper(model)
     end = int(round(seconds / sim.dt))
-    while sim.state.step < end:      # one output row at a time: memory stays small
+    while sim.state.step < end:  # one output row at a time: memory stays small
         sim.advance(end - sim.state.step, max_rows=1)
     x = sim.state.x
     walls = np.unique(model.tri_nodes)
     shift = (x[walls] - model.x0[walls]).mean(axis=0) if walls.size else np.zeros(3)
     p0 = model.particle_start
     where = {int(model.node_ids[i]): x[i] - shift for i in range(p0, model.n_nodes)}
-    nodes = tuple(Node(nd.nid, *map(float, where[nd.nid])) if nd.nid in where else nd
-                  for nd in deck.nodes)
+    nodes = tuple(
+        Node(nd.nid, *map(float, where[nd.nid])) if nd.nid in where else nd for nd in deck.nodes
+    )
     return replace(deck, nodes=nodes)

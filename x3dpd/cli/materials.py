@@ -11,9 +11,17 @@ from x3dpd.units import labels_for
 
 def _si_rows(mats) -> tuple[list[str], list[list[str]]]:
     head = ["name", "E [GPa]", "Maxwell E_k [GPa] / tau_k [s]", "nu", "rho [kg/m^3]", "mu"]
-    rows = [[m.name, f"{m.E / 1e9:.4g}",
-             ", ".join(f"{e / 1e9:.4g} / {t:.3g}" for e, t in m.maxwell) or "-",
-             f"{m.nu:.3g}", f"{m.rho:.5g}", f"{m.mu:.2f}"] for m in mats]
+    rows = [
+        [
+            m.name,
+            f"{m.E / 1e9:.4g}",
+            ", ".join(f"{e / 1e9:.4g} / {t:.3g}" for e, t in m.maxwell) or "-",
+            f"{m.nu:.3g}",
+            f"{m.rho:.5g}",
+            f"{m.mu:.2f}",
+        ]
+        for m in mats
+    ]
     return head, rows
 
 
@@ -24,9 +32,16 @@ def _deck_rows(mats, units) -> tuple[list[str], list[list[str]]]:
     rows = []
     for m in mats:
         d = in_units(m, units)
-        rows.append([m.name, f"{d.E:.6g}",
-                     ", ".join(f"{e:.6g} / {t:.3g}" for e, t in d.maxwell) or "-",
-                     f"{d.nu:.3g}", f"{d.rho:.6g}", f"{d.mu:.2f}"])
+        rows.append(
+            [
+                m.name,
+                f"{d.E:.6g}",
+                ", ".join(f"{e:.6g} / {t:.3g}" for e, t in d.maxwell) or "-",
+                f"{d.nu:.3g}",
+                f"{d.rho:.6g}",
+                f"{d.mu:.2f}",
+            ]
+        )
     return head, rows
 
 
@@ -41,9 +56,14 @@ def _table(head, rows) -> str:
 
 @click.command("materials")
 @click.argument("names", nargs=-1, metavar="[NAME]...")
-@click.option("--units", nargs=3, default=None, metavar="LENGTH FORCE TIME",
-              help="Show the values in a deck's unit system, e.g. `--units in lbf s` (the "
-              "report's decks: psi, lbf s^2/in^4) or `--units mm N s` (default: GPa, kg/m^3).")
+@click.option(
+    "--units",
+    nargs=3,
+    default=None,
+    metavar="LENGTH FORCE TIME",
+    help="Show the values in a deck's unit system, e.g. `--units in lbf s` (the "
+    "report's decks: psi, lbf s^2/in^4) or `--units mm N s` (default: GPa, kg/m^3).",
+)
 def materials_command(names: tuple[str, ...], units) -> None:
     """The particle materials x3dpd knows by name (for `x3dpd fill --material NAME`).
 
@@ -52,7 +72,7 @@ def materials_command(names: tuple[str, ...], units) -> None:
     """
     mats = [material(n) for n in names] if names else materials()
     if units is not None:
-        in_units(mats[0], units)        # an unknown unit: a clear error before anything prints
+        in_units(mats[0], units)  # an unknown unit: a clear error before anything prints
     head, rows = _deck_rows(mats, units) if units else _si_rows(mats)
     if not names:
         click.echo(_table(head, rows))

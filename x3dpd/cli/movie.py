@@ -12,18 +12,44 @@ from x3dpd.cli.outputs import refuse_existing
 
 @click.command("movie")
 @click.argument("trace", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, metavar="FILE",
-              help="FILE.mp4 (H.264), FILE.gif, or FILE.png (one still, see --at).")
-@click.option("--every", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Draw every N-th output time.")
-@click.option("--fps", type=click.FloatRange(min=0.1), default=25.0, show_default=True,
-              help="Frames per second of the movie.")
-@click.option("--view", type=click.Choice(sorted(VIEWS)), default="xy", show_default=True,
-              help="Projection plane (xy: looking along -z).")
+@click.option(
+    "-o",
+    "--output",
+    required=True,
+    metavar="FILE",
+    help="FILE.mp4 (H.264), FILE.gif, or FILE.png (one still, see --at).",
+)
+@click.option(
+    "--every",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Draw every N-th output time.",
+)
+@click.option(
+    "--fps",
+    type=click.FloatRange(min=0.1),
+    default=25.0,
+    show_default=True,
+    help="Frames per second of the movie.",
+)
+@click.option(
+    "--view",
+    type=click.Choice(sorted(VIEWS)),
+    default="xy",
+    show_default=True,
+    help="Projection plane (xy: looking along -z).",
+)
 @click.option("--from", "t_from", type=float, default=None, metavar="T", help="Start time [s].")
 @click.option("--to", "t_to", type=float, default=None, metavar="T", help="End time [s].")
-@click.option("--at", "t_at", type=float, default=None, metavar="T",
-              help="For a .png still: the first output time >= T [s] (default: the first).")
+@click.option(
+    "--at",
+    "t_at",
+    type=float,
+    default=None,
+    metavar="T",
+    help="For a .png still: the first output time >= T [s] (default: the first).",
+)
 @click.option("--deck", default=None, metavar="DECK", help=DECK_HELP)
 @click.option("--overwrite", is_flag=True, help="Replace an existing output file.")
 def movie(trace, output, every, fps, view, t_from, t_to, t_at, deck, overwrite) -> None:

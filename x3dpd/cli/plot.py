@@ -26,16 +26,42 @@ def _dof(text: str) -> int:
 @click.command("plot")
 @click.argument("trace", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, metavar="PNG", help="Output image.")
-@click.option("--node", "nodes", multiple=True, type=int, metavar="ID",
-              help="Traced node to plot (repeatable; default the first traced node).")
-@click.option("--dof", "dofs", multiple=True, metavar="DOF",
-              help="DOF of each node: 1..6 or x, y, z, rx, ry, rz (repeatable; default x).")
-@click.option("--quantity", "quantities", multiple=True, type=click.Choice(QUANTITIES),
-              help="Quantity to plot (repeatable; default displacement).")
-@click.option("--energy", "energy_path", default=None, metavar="CSV",
-              help="The run's energy file (default: the one the sidecar records).")
-@click.option("--every", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Use every N-th output time.")
+@click.option(
+    "--node",
+    "nodes",
+    multiple=True,
+    type=int,
+    metavar="ID",
+    help="Traced node to plot (repeatable; default the first traced node).",
+)
+@click.option(
+    "--dof",
+    "dofs",
+    multiple=True,
+    metavar="DOF",
+    help="DOF of each node: 1..6 or x, y, z, rx, ry, rz (repeatable; default x).",
+)
+@click.option(
+    "--quantity",
+    "quantities",
+    multiple=True,
+    type=click.Choice(QUANTITIES),
+    help="Quantity to plot (repeatable; default displacement).",
+)
+@click.option(
+    "--energy",
+    "energy_path",
+    default=None,
+    metavar="CSV",
+    help="The run's energy file (default: the one the sidecar records).",
+)
+@click.option(
+    "--every",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Use every N-th output time.",
+)
 @click.option("--deck", default=None, metavar="DECK", help=DECK_HELP)
 @click.option("--overwrite", is_flag=True, help="Replace an existing PNG.")
 def plot(trace, output, nodes, dofs, quantities, energy_path, every, deck, overwrite) -> None:
@@ -50,19 +76,23 @@ def plot(trace, output, nodes, dofs, quantities, energy_path, every, deck, overw
     if len(nodes) == 1 and len(dof_idx) > 1:
         nodes *= len(dof_idx)
     if len(dof_idx) != len(nodes):
-        raise InputError(f"give one --dof, or one per --node ({len(nodes)} nodes, "
-                         f"{len(dof_idx)} dofs)")
+        raise InputError(
+            f"give one --dof, or one per --node ({len(nodes)} nodes, {len(dof_idx)} dofs)"
+        )
     picks, labels = [], []
     for nid, d in zip(nodes, dof_idx):
         if nid not in ids:
-            raise InputError(f"node {nid} is not traced in {trace} (traced: "
-                             f"{', '.join(map(str, ids[:8]))}{', ...' if len(ids) > 8 else ''})")
+            raise InputError(
+                f"node {nid} is not traced in {trace} (traced: "
+                f"{', '.join(map(str, ids[:8]))}{', ...' if len(ids) > 8 else ''})"
+            )
         picks.append((ids.index(nid), d))
         labels.append(f"node {nid} {DOF_NAMES[d]}")
     quantities = list(quantities) or ["displacement"]
     if "displacement" in quantities and any(d >= 3 for _, d in picks):
-        raise InputError("a trace keeps no rotation angles: plot rotational DOFs as velocity or "
-                         "acceleration")
+        raise InputError(
+            "a trace keeps no rotation angles: plot rotational DOFs as velocity or acceleration"
+        )
     energy = None
     path = energy_path or info.meta.get("energy_file")
     if path and not os.path.isfile(path):
@@ -74,5 +104,7 @@ def plot(trace, output, nodes, dofs, quantities, energy_path, every, deck, overw
         energy = read_energy(path)
     hist = collect(iter_blocks(trace, len(ids), every=every), scene, picks)
     plot_trace(output, hist, labels, quantities, scene.units, energy, scene.title)
-    click.echo(f"x3dpd: {trace} -> {output} ({hist.times.shape[0]} output times"
-               f"{', energy ledger ' + path if path else ''})")
+    click.echo(
+        f"x3dpd: {trace} -> {output} ({hist.times.shape[0]} output times"
+        f"{', energy ledger ' + path if path else ''})"
+    )

@@ -51,8 +51,10 @@ class Progress:
         self.last = now
         pct = 100.0 * t / self.tmax if self.tmax > 0 else 100.0
         speed = f"{_fmt_rate(rate)} steps/s" if rate > 0 else "(warming up)"
-        line = (f"t = {t:.6g} / {self.tmax:.6g} s ({pct:5.1f} %)  {speed}  "
-                f"ETA {_fmt_duration(eta)}  energy residual {residual:+.2e} of scale")
+        line = (
+            f"t = {t:.6g} / {self.tmax:.6g} s ({pct:5.1f} %)  {speed}  "
+            f"ETA {_fmt_duration(eta)}  energy residual {residual:+.2e} of scale"
+        )
         if self.tty:
             pad = max(0, self.width - len(line))
             self.stream.write("\r" + line + " " * pad)

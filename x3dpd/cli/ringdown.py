@@ -10,33 +10,92 @@ import click
 
 @click.command("ringdown", context_settings={"help_option_names": ["-h", "--help"]})
 @click.argument("source", type=click.Path(exists=True, dir_okay=False))
-@click.option("--node", type=int, help="Node whose ring-down is analysed [deck input: default "
-                                       "the USRFRC drive node, else the first cavity's master; "
-                                       "required for a trace].")
+@click.option(
+    "--node",
+    type=int,
+    help="Node whose ring-down is analysed [deck input: default "
+    "the USRFRC drive node, else the first cavity's master; "
+    "required for a trace].",
+)
 @click.option("--dof", type=int, default=1, show_default=True, help="Direction, 1-3.")
 @click.option("--out", "out", required=True, metavar="DIR", help="Output folder.")
-@click.option("--baseline", "baseline", metavar="TRACE",
-              help="A trace of the baseline (no particles) to overlay (trace input).")
-@click.option("--from", "t_from", type=float, metavar="T",
-              help="Analyse a trace from time T on (after the drive stopped) [s].")
-@click.option("--drive-until", type=float, default=1.0, show_default=True, metavar="T",
-              help="Deck input: drive with the deck's USRFRC until T, then release [s].")
-@click.option("--ring", type=float, default=2.0, show_default=True, metavar="T",
-              help="Deck input: free ring-down recorded for T seconds.")
+@click.option(
+    "--baseline",
+    "baseline",
+    metavar="TRACE",
+    help="A trace of the baseline (no particles) to overlay (trace input).",
+)
+@click.option(
+    "--from",
+    "t_from",
+    type=float,
+    metavar="T",
+    help="Analyse a trace from time T on (after the drive stopped) [s].",
+)
+@click.option(
+    "--drive-until",
+    type=float,
+    default=1.0,
+    show_default=True,
+    metavar="T",
+    help="Deck input: drive with the deck's USRFRC until T, then release [s].",
+)
+@click.option(
+    "--ring",
+    type=float,
+    default=2.0,
+    show_default=True,
+    metavar="T",
+    help="Deck input: free ring-down recorded for T seconds.",
+)
 @click.option("--no-baseline", is_flag=True, help="Deck input: skip the particle-free run.")
-@click.option("--g", "g", type=float, default=386.1, show_default=True,
-              help="Gravity in the deck's units (dB re 1 g).")
-@click.option("--measured", multiple=True, metavar="FILE",
-              help="A measured ring-down to overlay: CSV (time, displacement|acceleration) or UFF "
-                   "dataset 58 (repeatable).")
+@click.option(
+    "--g",
+    "g",
+    type=float,
+    default=386.1,
+    show_default=True,
+    help="Gravity in the deck's units (dB re 1 g).",
+)
+@click.option(
+    "--measured",
+    multiple=True,
+    metavar="FILE",
+    help="A measured ring-down to overlay: CSV (time, displacement|acceleration) or UFF "
+    "dataset 58 (repeatable).",
+)
 @click.option("--overwrite", is_flag=True, help="Replace DIR/ringdown.csv and .png.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
-def ringdown(source, node, dof, out, baseline, t_from, drive_until, ring, no_baseline, g,
-             measured, overwrite, quiet):
+def ringdown(
+    source,
+    node,
+    dof,
+    out,
+    baseline,
+    t_from,
+    drive_until,
+    ring,
+    no_baseline,
+    g,
+    measured,
+    overwrite,
+    quiet,
+):
     """Damping (% zeta) versus amplitude (dB re 1 g) of a ring-down (DIR/ringdown.csv, .png)."""
     from x3dpd.design.ringdown import ringdown_command
 
-    ringdown_command(source, node=node, dof=dof, out=out, baseline=baseline, t_from=t_from,
-                     drive_until=drive_until, ring=ring, no_baseline=no_baseline, g=g,
-                     overwrite=overwrite, measured=measured,
-                     echo=(lambda s: None) if quiet else click.echo)
+    ringdown_command(
+        source,
+        node=node,
+        dof=dof,
+        out=out,
+        baseline=baseline,
+        t_from=t_from,
+        drive_until=drive_until,
+        ring=ring,
+        no_baseline=no_baseline,
+        g=g,
+        overwrite=overwrite,
+        measured=measured,
+        echo=(lambda s: None) if quiet else click.echo,
+    )

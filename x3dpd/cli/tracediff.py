@@ -17,14 +17,24 @@ from x3dpd.api.traces import TraceWarning, compare_traces, read_trace
 @click.command("tracediff")
 @click.argument("a", metavar="A", type=click.Path(dir_okay=False))
 @click.argument("b", metavar="B", type=click.Path(dir_okay=False))
-@click.option("--rtol", type=click.FloatRange(min=0.0), default=1e-9, show_default=True,
-              help="Relative tolerance: values differ when |a-b| > atol + rtol*|b|.")
-@click.option("--atol", type=click.FloatRange(min=0.0), default=0.0, show_default=True,
-              help="Absolute tolerance [trace units].")
-@click.option("--until", type=float, default=None, metavar="T",
-              help="Compare output times t <= T [s] only.")
-def tracediff(a: str, b: str, rtol: float, atol: float,
-              until: float | None) -> None:
+@click.option(
+    "--rtol",
+    type=click.FloatRange(min=0.0),
+    default=1e-9,
+    show_default=True,
+    help="Relative tolerance: values differ when |a-b| > atol + rtol*|b|.",
+)
+@click.option(
+    "--atol",
+    type=click.FloatRange(min=0.0),
+    default=0.0,
+    show_default=True,
+    help="Absolute tolerance [trace units].",
+)
+@click.option(
+    "--until", type=float, default=None, metavar="T", help="Compare output times t <= T [s] only."
+)
+def tracediff(a: str, b: str, rtol: float, atol: float, until: float | None) -> None:
     """Compare trace A against reference trace B, value by value.
 
     Prints the largest absolute and relative error of each column and the first place

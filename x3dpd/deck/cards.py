@@ -283,7 +283,7 @@ class AnalyticWall:
     nodes: tuple[int, ...]
     params: tuple[float, ...]
     pos: Pos = NOWHERE
-    positions: tuple[Pos, ...] = ()   # where each node id stands (for messages)
+    positions: tuple[Pos, ...] = ()  # where each node id stands (for messages)
 
 
 @dataclass(frozen=True)
@@ -319,10 +319,10 @@ class Deck:
     contacts: tuple[Contact, ...] = ()
     initials: tuple[Initial, ...] = ()
     usrfrc: tuple[Usrfrc, ...] = field(default_factory=tuple)
-    hooke: tuple[Hooke, ...] | None = None   # None: no HOOKE card
-    wallmat: tuple[WallMat, ...] | None = None   # None: no WALLMAT card (rigid walls)
-    friction: tuple[Friction, ...] | None = None   # None: no FRICTION card
+    hooke: tuple[Hooke, ...] | None = None  # None: no HOOKE card
+    wallmat: tuple[WallMat, ...] | None = None  # None: no WALLMAT card (rigid walls)
+    friction: tuple[Friction, ...] | None = None  # None: no FRICTION card
     #: records of the analytic wall cards in file order (None: no such card)
     analytic_walls: tuple[AnalyticWall, ...] | None = None
     units: Units | None = None
-    modal: Modal | None = None   # MODAL card (x3dpd.deck.modal_card); None: no modal structure
+    modal: Modal | None = None  # MODAL card (x3dpd.deck.modal_card); None: no modal structure

@@ -73,8 +73,10 @@ def cavity_master(deck: Deck, set_id: int | None = None) -> int:
     body = {k: rb.master for rb in deck.rbels for k in (rb.master, *rb.slaves)}
     owners = {body.get(k) for k in _wall_nodes(deck, sid)}
     if len(owners) != 1 or None in owners:
-        raise InputError(f"{deck.path}: cavity set {sid}: its wall nodes are not all in one "
-                         "rigid body (RBEL) -- several cavities need the cavity on a master node")
+        raise InputError(
+            f"{deck.path}: cavity set {sid}: its wall nodes are not all in one "
+            "rigid body (RBEL) -- several cavities need the cavity on a master node"
+        )
     return owners.pop()
 
 
@@ -83,8 +85,7 @@ def cavity_extent(deck: Deck, set_id: int | None = None) -> np.ndarray:
     analytic wall's axis widened by its radius on every side (a capsule's caps included)."""
     sid = cavity_set(deck, set_id)
     xyz = {n.nid: np.array([n.x, n.y, n.z]) for n in deck.nodes}
-    pts = [xyz[k] for c in deck.contacts for t in c.triangles if t.set_id == sid
-           for k in t.nodes]
+    pts = [xyz[k] for c in deck.contacts for t in c.triangles if t.set_id == sid for k in t.nodes]
     for w in deck.analytic_walls or ():
         if w.set_id == sid:
             radius = float(w.params[0])
@@ -99,8 +100,9 @@ def default_spacing(deck: Deck, set_id: int | None, drive_axis: int) -> tuple[fl
     gravity = None
     if deck.body is not None and any((deck.body.ax, deck.body.ay, deck.body.az)):
         gravity = int(np.argmax(np.abs([deck.body.ax, deck.body.ay, deck.body.az])))
-    free = [k for k in range(3) if k not in (drive_axis, gravity)] or \
-        [k for k in range(3) if k != drive_axis]
+    free = [k for k in range(3) if k not in (drive_axis, gravity)] or [
+        k for k in range(3) if k != drive_axis
+    ]
     out = np.zeros(3)
     out[free[0]] = cavity_extent(deck, set_id)[free[0]] * (1.0 + SPACING_GAP)
     return tuple(float(v) for v in out)
@@ -115,9 +117,14 @@ def _fixed_dofs(deck: Deck) -> dict[int, set[int]]:
     return out
 
 
-def with_cavities(deck: Deck, count: int, *, set_id: int | None = None,
-                  masters: tuple[int, ...] | None = None,
-                  spacing: tuple[float, float, float] = (0.0, 0.0, 1.0)) -> Deck:
+def with_cavities(
+    deck: Deck,
+    count: int,
+    *,
+    set_id: int | None = None,
+    masters: tuple[int, ...] | None = None,
+    spacing: tuple[float, float, float] = (0.0, 0.0, 1.0),
+) -> Deck:
     """``deck`` with ``count`` identical cavities (module doc): cavity 0 is the deck's own (set
     ``set_id``), cavity k >= 1 a copy on master ``masters[k]`` (default: all on the original's
     master), each holding the original's particles moved alike. Raises InputError when the
@@ -128,30 +135,41 @@ def with_cavities(deck: Deck, count: int, *, set_id: int | None = None,
     if count == 1:
         return deck
     if len(deck.pdmp) != 1:
-        raise InputError(f"{deck.path}: several cavities need one PDMP card (the deck has "
-                         f"{len(deck.pdmp)})")
+        raise InputError(
+            f"{deck.path}: several cavities need one PDMP card (the deck has {len(deck.pdmp)})"
+        )
     sid = cavity_set(deck, set_id)
     master0 = cavity_master(deck, sid)
     masters = tuple(masters) if masters else (master0,) * count
     if len(masters) < count:
-        raise InputError(f"cavities = {count}: masters lists {len(masters)} master nodes; "
-                         "give one per cavity")
+        raise InputError(
+            f"cavities = {count}: masters lists {len(masters)} master nodes; give one per cavity"
+        )
     if masters[0] != master0:
-        raise InputError(f"masters: the first is the deck's own cavity's master node "
-                         f"{master0}, got {masters[0]}")
+        raise InputError(
+            f"masters: the first is the deck's own cavity's master node {master0}, got {masters[0]}"
+        )
     nodlim = deck.pdmp[0].nodlim
-    named = [int(k) for card in deck.usrfrc for spec in card.specs
-             for k in re.findall(r"\bnode=(\d+)", spec)]
+    named = [
+        int(k)
+        for card in deck.usrfrc
+        for spec in card.specs
+        for k in re.findall(r"\bnode=(\d+)", spec)
+    ]
     if any(k > nodlim for k in named):
-        raise InputError(f"{deck.path}: USRFRC names particle node {max(named)}; the particles "
-                         "are renumbered when the cavity is copied")
+        raise InputError(
+            f"{deck.path}: USRFRC names particle node {max(named)}; the particles "
+            "are renumbered when the cavity is copied"
+        )
     xyz = {n.nid: np.array([n.x, n.y, n.z]) for n in deck.nodes}
     structural = {k for k in xyz if k <= nodlim}
     in_body = {k: rb.master for rb in deck.rbels for k in (rb.master, *rb.slaves)}
     for m in set(masters):
         if m not in structural or in_body.get(m, m) != m:
-            raise InputError(f"masters: node {m} is not a structural node (<= NODLIM {nodlim}) "
-                             "that may be a rigid body's master")
+            raise InputError(
+                f"masters: node {m} is not a structural node (<= NODLIM {nodlim}) "
+                "that may be a rigid body's master"
+            )
     walls = _wall_nodes(deck, sid)
     slaves0 = {s for rb in deck.rbels if rb.master == master0 for s in rb.slaves}
     fixed = _fixed_dofs(deck)
@@ -160,9 +178,14 @@ def with_cavities(deck: Deck, count: int, *, set_id: int | None = None,
     particles = [k for s in own for k in s.nodes]
     if not particles:
         raise InputError(f"{deck.path}: cavity set {sid} holds no particles to copy")
-    next_set = max([t.set_id for c in deck.contacts for t in c.triangles]
-                   + [w.set_id for w in deck.analytic_walls or ()]
-                   + [s.set_id for c in deck.contacts for s in c.slaves]) + 1
+    next_set = (
+        max(
+            [t.set_id for c in deck.contacts for t in c.triangles]
+            + [w.set_id for w in deck.analytic_walls or ()]
+            + [s.set_id for c in deck.contacts for s in c.slaves]
+        )
+        + 1
+    )
     new_nodlim = nodlim + (count - 1) * len(walls)
     # particles renumbered: the deck's own first (in id order), then each copy's
     old_particles = sorted(k for k in xyz if k > nodlim)
@@ -173,8 +196,11 @@ def with_cavities(deck: Deck, count: int, *, set_id: int | None = None,
     rbels = {rb.master: rb for rb in deck.rbels}
     masses, bounds, analytic = list(deck.masses), list(deck.boundaries), []
     wallmat = list(deck.wallmat or ())
-    slave_sets = [SlaveSet(s.set_id, tuple(pid.get(k, k) for k in s.nodes))
-                  for c in deck.contacts for s in c.slaves]
+    slave_sets = [
+        SlaveSet(s.set_id, tuple(pid.get(k, k) for k in s.nodes))
+        for c in deck.contacts
+        for s in c.slaves
+    ]
     initial_of = {i.nid: i for i in deck.initials}
     initials = [replace(i, nid=pid.get(i.nid, i.nid)) for i in deck.initials]
     next_node, next_particle = nodlim + 1, new_nodlim + 1 + len(old_particles)
@@ -189,36 +215,51 @@ def with_cavities(deck: Deck, count: int, *, set_id: int | None = None,
         next_node += len(walls)
         nodes += [Node(new[w], *map(float, xyz[w] + offset)) for w in walls]
         rb = rbels.get(m, Rbel(m, (1, 2, 3, 4, 5, 6), ()))
-        rbels[m] = replace(rb, slaves=rb.slaves + tuple(new[w] for w in walls),
-                           slave_positions=())
-        masses += [replace(mass_of[w], nid=new[w]) for w in walls
-                   if w in mass_of and w in slaves0]
+        rbels[m] = replace(rb, slaves=rb.slaves + tuple(new[w] for w in walls), slave_positions=())
+        masses += [replace(mass_of[w], nid=new[w]) for w in walls if w in mass_of and w in slaves0]
         bounds += _ranges([(new[w], tuple(sorted(fixed[w]))) for w in walls if fixed.get(w)])
         sid_k = next_set + k - 1
-        triangles += [Triangle(sid_k, tuple(new[n] for n in t.nodes)) for c in deck.contacts
-                      for t in c.triangles if t.set_id == sid]
-        analytic += [replace(w, set_id=sid_k, nodes=tuple(new[n] for n in w.nodes),
-                             positions=()) for w in deck.analytic_walls or ()
-                     if w.set_id == sid]
+        triangles += [
+            Triangle(sid_k, tuple(new[n] for n in t.nodes))
+            for c in deck.contacts
+            for t in c.triangles
+            if t.set_id == sid
+        ]
+        analytic += [
+            replace(w, set_id=sid_k, nodes=tuple(new[n] for n in w.nodes), positions=())
+            for w in deck.analytic_walls or ()
+            if w.set_id == sid
+        ]
         wallmat += [replace(w, set_id=sid_k) for w in deck.wallmat or () if w.set_id == sid]
         ids = list(range(next_particle, next_particle + len(particles)))
         next_particle += len(particles)
         nodes += [Node(i, *map(float, xyz[p] + offset)) for i, p in zip(ids, particles)]
-        initials += [replace(initial_of[p], nid=i) for i, p in zip(ids, particles)
-                     if p in initial_of]
+        initials += [
+            replace(initial_of[p], nid=i) for i, p in zip(ids, particles) if p in initial_of
+        ]
         slave_sets.append(SlaveSet(sid_k, tuple(ids)))
     pd = replace(deck.pdmp[0], nodlim=new_nodlim)
     traced = [k for k in (deck.trace.nodes if deck.trace else ()) if k <= nodlim]
     contacts = (Contact(tuple(triangles), tuple(slave_sets)),)
     return replace(
-        deck, nodes=tuple(nodes), pdmp=(pd,), rbels=tuple(rbels.values()),
-        masses=tuple(masses), boundaries=tuple(bounds), contacts=contacts,
-        initials=tuple(initials), analytic_walls=(tuple(deck.analytic_walls) + tuple(analytic)
-                                                  if deck.analytic_walls is not None else None),
+        deck,
+        nodes=tuple(nodes),
+        pdmp=(pd,),
+        rbels=tuple(rbels.values()),
+        masses=tuple(masses),
+        boundaries=tuple(bounds),
+        contacts=contacts,
+        initials=tuple(initials),
+        analytic_walls=(
+            tuple(deck.analytic_walls) + tuple(analytic)
+            if deck.analytic_walls is not None
+            else None
+        ),
         wallmat=tuple(wallmat) if deck.wallmat is not None else None,
         trace=Trace(tuple(traced + list(range(new_nodlim + 1, next_particle)))),
         hooke=_regrouped(deck.hooke, nodlim, new_nodlim),
-        friction=_regrouped(deck.friction, nodlim, new_nodlim))
+        friction=_regrouped(deck.friction, nodlim, new_nodlim),
+    )
 
 
 def _ranges(rows: list[tuple[int, tuple[int, ...]]]) -> list[Boundary]:

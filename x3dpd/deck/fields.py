@@ -46,8 +46,19 @@ class CardSpec:
         return name if name == f"field {index + 1}" else f"{name} (field {index + 1})"
 
 
-PARAMETER_FIELDS = ("TIME", "TMAX", "TREST", "DTMIN", "DTMAX", "INCR", "INCMAX", "IREST",
-                    "NINTPL", "ISTAT", "ITRAC")
+PARAMETER_FIELDS = (
+    "TIME",
+    "TMAX",
+    "TREST",
+    "DTMIN",
+    "DTMAX",
+    "INCR",
+    "INCMAX",
+    "IREST",
+    "NINTPL",
+    "ISTAT",
+    "ITRAC",
+)
 MATID_FIELDS = ("MID", "TYPE", "MASS", "SCALE", "KX", "KY", "KZ", "C")
 PDMP_FIELDS = ("NODLIM", "RZERO", "PRHO", "PPOI", "E0", "E1", "T1", "PCOF", "VX0", "VY0", "VZ0")
 
@@ -71,7 +82,7 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("FRICTION", "FRIC", ("NODLIM", "LAW", "MUS", "MUK", "ROLL", "MUR")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
     CardSpec("MODAL", "MODA", ("RECORD",)),
-) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)   # CYLINDER, CAPSULE ...
+) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)  # CYLINDER, CAPSULE ...
 
 #: Card spec by canonical name.
 BY_NAME: dict[str, CardSpec] = {c.name: c for c in CARDS}

@@ -46,13 +46,15 @@ class Fill:
     @property
     def fill_ratio(self) -> float:
         n = self.positions.shape[0]
-        return n * 4.0 / 3.0 * math.pi * self.radius ** 3 / self.volume if self.volume else 0.0
+        return n * 4.0 / 3.0 * math.pi * self.radius**3 / self.volume if self.volume else 0.0
 
 
 def _first_pdmp(deck: Deck):
     if not deck.pdmp:
-        raise InputError(f"{deck.path}: the template has no PDMP card: it must give the "
-                         "particles' material (RZERO, PRHO, PPOI, E0, E1, T1, PCOF)")
+        raise InputError(
+            f"{deck.path}: the template has no PDMP card: it must give the "
+            "particles' material (RZERO, PRHO, PPOI, E0, E1, T1, PCOF)"
+        )
     return deck.pdmp[0]
 
 
@@ -71,8 +73,9 @@ def cavity_triangles(deck: Deck, set_id: int | None = None) -> tuple[np.ndarray,
     try:
         return np.array([[xyz[k] for k in t.nodes] for t in mine], dtype=float), sid
     except KeyError as exc:
-        raise InputError(f"{deck.path}: CONTACT triangle node {exc.args[0]} has no "
-                         "coordinates") from None
+        raise InputError(
+            f"{deck.path}: CONTACT triangle node {exc.args[0]} has no coordinates"
+        ) from None
 
 
 def cavity_box(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
@@ -81,8 +84,10 @@ def cavity_box(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     tol = 1e-9 * float(np.max(hi - lo) or 1.0)
     for t in tri:
-        on = [np.all(np.abs(t[:, k] - lo[k]) <= tol) or np.all(np.abs(t[:, k] - hi[k]) <= tol)
-              for k in range(3)]
+        on = [
+            np.all(np.abs(t[:, k] - lo[k]) <= tol) or np.all(np.abs(t[:, k] - hi[k]) <= tol)
+            for k in range(3)
+        ]
         if not any(on):
             return None
     return lo, hi
@@ -100,9 +105,17 @@ def _stacking(deck: Deck) -> tuple[int, bool]:
     return k, bool(g[k] < 0)
 
 
-def fill_positions(deck: Deck, *, n: int | None, radius: float | None = None,
-                   packing: str = "cubic", gap: float = 0.0, seed: int | None = None,
-                   jitter: float = 0.0, set_id: int | None = None) -> Fill:
+def fill_positions(
+    deck: Deck,
+    *,
+    n: int | None,
+    radius: float | None = None,
+    packing: str = "cubic",
+    gap: float = 0.0,
+    seed: int | None = None,
+    jitter: float = 0.0,
+    set_id: int | None = None,
+) -> Fill:
     """Place up to ``n`` spheres (None: as many as fit) in the template's cavity.
 
     ``radius`` defaults to the template's PDMP RZERO; ``gap`` is kept to the walls and between
@@ -119,8 +132,9 @@ def fill_positions(deck: Deck, *, n: int | None, radius: float | None = None,
     pts = tri.reshape(-1, 3)
     closed, _ = surface_edges(merge_vertices(pts, geometry_size(pts)).reshape(-1, 3), signs)
     if not closed:
-        raise InputError(f"{deck.path}: CONTACT set {sid} is not a closed surface: there is no "
-                         f"cavity to fill")
+        raise InputError(
+            f"{deck.path}: CONTACT set {sid} is not a closed surface: there is no cavity to fill"
+        )
     volume = abs(enclosed_volume(tri[:, 0], tri[:, 1], tri[:, 2], signs))
     axis, upward = _stacking(deck)
     box = cavity_box(tri)
@@ -131,11 +145,15 @@ def fill_positions(deck: Deck, *, n: int | None, radius: float | None = None,
         counts = np.floor((size - 2.0 * gap - 2.0 * r) / pitch + 1e-9).astype(int) + 1
         fit = int(np.prod(counts)) if np.all(size >= 2.0 * (r + gap)) else 0
         m = fit if n is None else min(n, fit)
-        pos = (lattice_fill(size, r, m, gap=gap, seed=seed, jitter=jitter, origin=tuple(lo),
-                            stack_axis=axis) if m else np.zeros((0, 3)))
+        pos = (
+            lattice_fill(
+                size, r, m, gap=gap, seed=seed, jitter=jitter, origin=tuple(lo), stack_axis=axis
+            )
+            if m
+            else np.zeros((0, 3))
+        )
     else:
-        pos = pack(tri, r, n, packing=packing, gap=gap, stack_axis=axis, upward=upward,
-                   seed=seed)
+        pos = pack(tri, r, n, packing=packing, gap=gap, stack_axis=axis, upward=upward, seed=seed)
     return Fill(pos, r, volume, box is not None, n)
 
 
@@ -146,8 +164,7 @@ def with_material(pd: Pdmp, material, units=None) -> Pdmp:
     return replace(pd, **fields)
 
 
-def filled_deck(template: Deck, fill: Fill, set_id: int | None = None,
-                material=None) -> Deck:
+def filled_deck(template: Deck, fill: Fill, set_id: int | None = None, material=None) -> Deck:
     """The template with its particles replaced by ``fill``'s (see the module docstring), of
     ``material`` (library name or Material; None: the template's PDMP material)."""
     pd = _first_pdmp(template)
@@ -172,6 +189,10 @@ def filled_deck(template: Deck, fill: Fill, set_id: int | None = None,
         contacts.append(Contact(c.triangles, tuple(slaves)))
     traced = [k for k in (template.trace.nodes if template.trace else ()) if k <= nodlim]
     return replace(
-        template, nodes=nodes, pdmp=(replace(pd, rzero=fill.radius),) + tuple(template.pdmp[1:]),
-        contacts=tuple(contacts), trace=Trace(tuple(traced + ids)),
-        initials=tuple(i for i in template.initials if i.nid <= nodlim))
+        template,
+        nodes=nodes,
+        pdmp=(replace(pd, rzero=fill.radius),) + tuple(template.pdmp[1:]),
+        contacts=tuple(contacts),
+        trace=Trace(tuple(traced + ids)),
+        initials=tuple(i for i in template.initials if i.nid <= nodlim),
+    )

@@ -16,21 +16,48 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from x3dpd.deck.cards import (AnalyticWall, Body, Boundary, Contact, Deck, Element, Initial, Mass,
-                              Material, Node, Parameters, Pdmp, Rbel, SlaveSet, Title, Trace,
-                              Triangle, Usrfrc)
+from x3dpd.deck.cards import (
+    AnalyticWall,
+    Body,
+    Boundary,
+    Contact,
+    Deck,
+    Element,
+    Initial,
+    Mass,
+    Material,
+    Node,
+    Parameters,
+    Pdmp,
+    Rbel,
+    SlaveSet,
+    Title,
+    Trace,
+    Triangle,
+    Usrfrc,
+)
 from x3dpd.geometry.shapes import BY_SHAPE_NAME
 from x3dpd.materials import in_units
 
 #: Corner order of the box (unit cube) and its 12 triangles, two per face.
-_CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
-                     [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
-_TRIANGLES = ((1, 2, 3), (1, 3, 4),   # z = 0
-              (5, 7, 6), (5, 8, 7),   # z = 1
-              (1, 6, 2), (1, 5, 6),   # y = 0
-              (4, 3, 7), (4, 7, 8),   # y = 1
-              (1, 4, 8), (1, 8, 5),   # x = 0
-              (2, 6, 7), (2, 7, 3))   # x = 1
+_CORNERS = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+    dtype=float,
+)
+_TRIANGLES = (
+    (1, 2, 3),
+    (1, 3, 4),  # z = 0
+    (5, 7, 6),
+    (5, 8, 7),  # z = 1
+    (1, 6, 2),
+    (1, 5, 6),  # y = 0
+    (4, 3, 7),
+    (4, 7, 8),  # y = 1
+    (1, 4, 8),
+    (1, 8, 5),  # x = 0
+    (2, 6, 7),
+    (2, 7, 3),
+)  # x = 1
 MASTER = 9
 FIRST_PARTICLE = 10
 
@@ -60,8 +87,17 @@ def _material3(material) -> Material3:
     return material if isinstance(material, Material3) else Material3.named(material)
 
 
-def lattice_fill(size, radius: float, n: int, *, gap: float = 0.0, seed: int | None = None,
-                 jitter: float = 0.0, origin=(0.0, 0.0, 0.0), stack_axis: int = 1) -> np.ndarray:
+def lattice_fill(
+    size,
+    radius: float,
+    n: int,
+    *,
+    gap: float = 0.0,
+    seed: int | None = None,
+    jitter: float = 0.0,
+    origin=(0.0, 0.0, 0.0),
+    stack_axis: int = 1,
+) -> np.ndarray:
     """Centres of ``n`` spheres stacked on a simple cubic lattice inside a box.
 
     Layers fill the box's cross-section first, lowest layer first along ``stack_axis`` (gravity's
@@ -77,7 +113,8 @@ def lattice_fill(size, radius: float, n: int, *, gap: float = 0.0, seed: int | N
     if np.any(size < 2.0 * (radius + gap)) or np.prod(counts) < n:
         raise ValueError(
             f"a {size[0]:g} x {size[1]:g} x {size[2]:g} box holds at most {int(np.prod(counts))} "
-            f"spheres of radius {radius:g} on a cubic lattice with gap {gap:g}; asked for {n}")
+            f"spheres of radius {radius:g} on a cubic lattice with gap {gap:g}; asked for {n}"
+        )
     axes = [a for a in (0, 2, 1) if a != stack_axis] + [stack_axis]
     per_layer = counts[axes[0]] * counts[axes[1]]
     layers = math.ceil(n / per_layer)
@@ -103,12 +140,26 @@ def lattice_fill(size, radius: float, n: int, *, gap: float = 0.0, seed: int | N
     return pos
 
 
-def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material,
-                    structure_mass: float, stiffness: float, damping: float,
-                    gravity=(0.0, -386.1, 0.0), dt: float = 5e-7, tmax: float = 15.0,
-                    itrac: int = 2000, trest: float = 0.0, title: str = "",
-                    origin=(0.0, 0.0, 0.0), usrfrc=(), free_dofs=(1,),
-                    transverse_stiffness: float = 1.0e12) -> Deck:
+def box_cavity_deck(
+    *,
+    size,
+    particles: np.ndarray,
+    radius: float,
+    material,
+    structure_mass: float,
+    stiffness: float,
+    damping: float,
+    gravity=(0.0, -386.1, 0.0),
+    dt: float = 5e-7,
+    tmax: float = 15.0,
+    itrac: int = 2000,
+    trest: float = 0.0,
+    title: str = "",
+    origin=(0.0, 0.0, 0.0),
+    usrfrc=(),
+    free_dofs=(1,),
+    transverse_stiffness: float = 1.0e12,
+) -> Deck:
     """A deck for a box cavity of interior ``size`` at ``origin`` holding ``particles`` of
     ``material`` (a :class:`Material3`, or a library name such as ``"tungsten carbide"``:
     x3dpd.materials, converted to the deck's inch-lbf-s).
@@ -133,17 +184,56 @@ def box_cavity_deck(*, size, particles: np.ndarray, radius: float, material,
     ids = list(range(FIRST_PARTICLE, FIRST_PARTICLE + len(particles)))
     nodes += [Node(nid, *map(float, p)) for nid, p in zip(ids, particles)]
     return _spring_mounted_deck(
-        master=MASTER, nodlim=MASTER, nodes=nodes, ids=ids, slaves=tuple(range(1, 9)),
-        triangles=tuple(Triangle(1, t) for t in _TRIANGLES), material=material, radius=radius,
-        structure_mass=structure_mass, rotary_inertia=1.0e20, stiffness=stiffness,
-        damping=damping, transverse_stiffness=transverse_stiffness, gravity=gravity, dt=dt,
-        tmax=tmax, itrac=itrac, trest=trest, title=title, usrfrc=usrfrc, free_dofs=free_dofs)
+        master=MASTER,
+        nodlim=MASTER,
+        nodes=nodes,
+        ids=ids,
+        slaves=tuple(range(1, 9)),
+        triangles=tuple(Triangle(1, t) for t in _TRIANGLES),
+        material=material,
+        radius=radius,
+        structure_mass=structure_mass,
+        rotary_inertia=1.0e20,
+        stiffness=stiffness,
+        damping=damping,
+        transverse_stiffness=transverse_stiffness,
+        gravity=gravity,
+        dt=dt,
+        tmax=tmax,
+        itrac=itrac,
+        trest=trest,
+        title=title,
+        usrfrc=usrfrc,
+        free_dofs=free_dofs,
+    )
 
 
-def _spring_mounted_deck(*, master, nodlim, nodes, ids, slaves, triangles, material, radius,
-                         structure_mass, rotary_inertia, stiffness, damping,
-                         transverse_stiffness, gravity, dt, tmax, itrac, trest, title, usrfrc,
-                         free_dofs, initials=(), analytic_walls=None) -> Deck:
+def _spring_mounted_deck(
+    *,
+    master,
+    nodlim,
+    nodes,
+    ids,
+    slaves,
+    triangles,
+    material,
+    radius,
+    structure_mass,
+    rotary_inertia,
+    stiffness,
+    damping,
+    transverse_stiffness,
+    gravity,
+    dt,
+    tmax,
+    itrac,
+    trest,
+    title,
+    usrfrc,
+    free_dofs,
+    initials=(),
+    analytic_walls=None,
+) -> Deck:
     """What the generated decks share: a master node with the structure's mass, rotary
     inertias, a spring and damper to ground (``transverse_stiffness`` along y, z), free only in
     ``free_dofs``, rigidly linked to the cavity's ``slaves``; one PDMP group after ``nodlim``,
@@ -154,13 +244,34 @@ def _spring_mounted_deck(*, master, nodlim, nodes, ids, slaves, triangles, mater
     return Deck(
         path="<generated>",
         title=Title(title) if title else None,
-        parameters=Parameters(0.0, float(tmax), float(trest), float(dt), float(dt), 0, 1.0e9, 0,
-                              5, 0, int(itrac)),
-        materials=(Material(2, 1, 1.0e-12, 1.0, float(stiffness), transverse_stiffness,
-                            transverse_stiffness, float(damping)),),
-        pdmp=(Pdmp(nodlim, float(radius), float(m.density), float(m.nu), float(m.e0),
-                   float(m.e1), float(m.tau1), float(m.mu),
-                   extra_terms=tuple(m.extra_terms)),),
+        parameters=Parameters(
+            0.0, float(tmax), float(trest), float(dt), float(dt), 0, 1.0e9, 0, 5, 0, int(itrac)
+        ),
+        materials=(
+            Material(
+                2,
+                1,
+                1.0e-12,
+                1.0,
+                float(stiffness),
+                transverse_stiffness,
+                transverse_stiffness,
+                float(damping),
+            ),
+        ),
+        pdmp=(
+            Pdmp(
+                nodlim,
+                float(radius),
+                float(m.density),
+                float(m.nu),
+                float(m.e0),
+                float(m.e1),
+                float(m.tau1),
+                float(m.mu),
+                extra_terms=tuple(m.extra_terms),
+            ),
+        ),
         body=Body(*map(float, gravity)),
         trace=Trace(tuple([master] + ids)),
         nodes=tuple(nodes),
@@ -179,14 +290,30 @@ def _spring_mounted_deck(*, master, nodlim, nodes, ids, slaves, triangles, mater
 CYL_MASTER, CYL_A, CYL_B = 1, 2, 3
 
 
-def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.ndarray,
-                         radius: float, material, structure_mass: float,
-                         stiffness: float, damping: float, facets: int | None = None,
-                         gravity=(0.0, -386.1, 0.0), dt: float = 5e-7, tmax: float = 15.0,
-                         itrac: int = 2000, trest: float = 0.0, title: str = "", usrfrc=(),
-                         free_dofs=(1,), transverse_stiffness: float = 1.0e12,
-                         rotary_inertia: float = 1.0e20,
-                         velocities: np.ndarray | None = None, shape: str = "cylinder") -> Deck:
+def cylinder_cavity_deck(
+    *,
+    length: float,
+    cavity_radius: float,
+    particles: np.ndarray,
+    radius: float,
+    material,
+    structure_mass: float,
+    stiffness: float,
+    damping: float,
+    facets: int | None = None,
+    gravity=(0.0, -386.1, 0.0),
+    dt: float = 5e-7,
+    tmax: float = 15.0,
+    itrac: int = 2000,
+    trest: float = 0.0,
+    title: str = "",
+    usrfrc=(),
+    free_dofs=(1,),
+    transverse_stiffness: float = 1.0e12,
+    rotary_inertia: float = 1.0e20,
+    velocities: np.ndarray | None = None,
+    shape: str = "cylinder",
+) -> Deck:
     """A deck for a cylindrical cavity along x: axis from A = (0, 0, 0) to B = (``length``, 0,
     0), inner radius ``cavity_radius``, holding ``particles`` (their initial ``velocities``
     (P, 3), if given, as INITIAL records). ``shape`` is any registered analytic wall whose
@@ -204,14 +331,19 @@ def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.n
     b = np.array([float(length), 0.0, 0.0])
     particles = np.asarray(particles, float).reshape(-1, 3)
     kind = BY_SHAPE_NAME[shape]
-    gap, inside = kind.clearance(particles, np.full(len(particles), radius), np.stack([a, b]),
-                                 (float(cavity_radius),))
+    gap, inside = kind.clearance(
+        particles, np.full(len(particles), radius), np.stack([a, b]), (float(cavity_radius),)
+    )
     if not (inside.all() and np.all(gap >= -1e-12)):
         bad = int(np.argmin(gap))
-        raise ValueError(f"particle {bad + 1} at {particles[bad].tolist()} is not inside the "
-                         f"{shape}")
-    nodes = [Node(CYL_MASTER, 0.0, 0.0, 0.0), Node(CYL_A, *map(float, a)),
-             Node(CYL_B, *map(float, b))]
+        raise ValueError(
+            f"particle {bad + 1} at {particles[bad].tolist()} is not inside the {shape}"
+        )
+    nodes = [
+        Node(CYL_MASTER, 0.0, 0.0, 0.0),
+        Node(CYL_A, *map(float, a)),
+        Node(CYL_B, *map(float, b)),
+    ]
     contact_tris: tuple = ()
     walls: tuple = (AnalyticWall(shape, 1, (CYL_A, CYL_B), (float(cavity_radius),)),)
     if facets is not None:
@@ -230,12 +362,32 @@ def cylinder_cavity_deck(*, length: float, cavity_radius: float, particles: np.n
     nodes += [Node(nid, *map(float, p)) for nid, p in zip(ids, particles)]
     initials = ()
     if velocities is not None:
-        initials = tuple(Initial(nid, tuple(map(float, v)))
-                         for nid, v in zip(ids, np.asarray(velocities, float).reshape(-1, 3)))
+        initials = tuple(
+            Initial(nid, tuple(map(float, v)))
+            for nid, v in zip(ids, np.asarray(velocities, float).reshape(-1, 3))
+        )
     return _spring_mounted_deck(
-        master=CYL_MASTER, nodlim=last, nodes=nodes, ids=ids, slaves=range(CYL_A, last + 1),
-        triangles=contact_tris, material=material, radius=radius,
-        structure_mass=structure_mass, rotary_inertia=rotary_inertia, stiffness=stiffness,
-        damping=damping, transverse_stiffness=transverse_stiffness, gravity=gravity, dt=dt,
-        tmax=tmax, itrac=itrac, trest=trest, title=title, usrfrc=usrfrc, free_dofs=free_dofs,
-        initials=initials, analytic_walls=walls)
+        master=CYL_MASTER,
+        nodlim=last,
+        nodes=nodes,
+        ids=ids,
+        slaves=range(CYL_A, last + 1),
+        triangles=contact_tris,
+        material=material,
+        radius=radius,
+        structure_mass=structure_mass,
+        rotary_inertia=rotary_inertia,
+        stiffness=stiffness,
+        damping=damping,
+        transverse_stiffness=transverse_stiffness,
+        gravity=gravity,
+        dt=dt,
+        tmax=tmax,
+        itrac=itrac,
+        trest=trest,
+        title=title,
+        usrfrc=usrfrc,
+        free_dofs=free_dofs,
+        initials=initials,
+        analytic_walls=walls,
+    )

@@ -99,7 +99,7 @@ class Modal:
     housing: str = "added"
     housing_pos: Pos = NOWHERE
     pos: Pos = NOWHERE
-    lines: tuple[str, ...] = ()   # the records as written (the writer prints them back)
+    lines: tuple[str, ...] = ()  # the records as written (the writer prints them back)
 
 
 def _err(message: str, pos: Pos) -> DeckError:
@@ -109,8 +109,10 @@ def _err(message: str, pos: Pos) -> DeckError:
 def _words(text: str, line: int, column: int, commas: bool) -> list[tuple[str, Pos]]:
     """Words of a line with their positions: separated by blanks and commas, or (``commas``
     False: a FILE record, whose option values hold commas) by blanks only."""
-    return [(m.group(0), Pos(line, column + m.start()))
-            for m in re.finditer(r"[^ \t,]+" if commas else r"[^ \t]+", text)]
+    return [
+        (m.group(0), Pos(line, column + m.start()))
+        for m in re.finditer(r"[^ \t,]+" if commas else r"[^ \t]+", text)
+    ]
 
 
 def _number(word: str, pos: Pos, what: str) -> float:
@@ -147,8 +149,7 @@ def parse_modal(keyword_pos: Pos, lines: list[tuple[str, int, int]]) -> Modal:
         rest = words[1:]
         if key == "MODE":
             if len(rest) not in (3, 4):
-                raise _err(f"MODE takes 3 or 4 values, K FREQ ZETA [MASS]; got {len(rest)}",
-                           kpos)
+                raise _err(f"MODE takes 3 or 4 values, K FREQ ZETA [MASS]; got {len(rest)}", kpos)
             number = _integer(*rest[0], "MODE K (mode number)")
             freq = _number(*rest[1], "MODE FREQ (natural frequency)")
             zeta = _number(*rest[2], "MODE ZETA (damping ratio)")
@@ -170,11 +171,11 @@ def parse_modal(keyword_pos: Pos, lines: list[tuple[str, int, int]]) -> Modal:
             node = _integer(*rest[0], "SHAPE NODE")
             dof = _integer(*rest[1], "SHAPE DOF")
             if dof > 6:
-                raise _err(f"SHAPE DOF {dof} is not one of 1..6 (x, y, z, rx, ry, rz)",
-                           rest[1][1])
+                raise _err(f"SHAPE DOF {dof} is not one of 1..6 (x, y, z, rx, ry, rz)", rest[1][1])
             values = tuple(_number(w, p, "SHAPE value") for w, p in rest[2:])
-            shapes.append(ModalShape(node, dof, values, kpos, tuple(p for _, p in rest[2:]),
-                                     rest[0][1]))
+            shapes.append(
+                ModalShape(node, dof, values, kpos, tuple(p for _, p in rest[2:]), rest[0][1])
+            )
         elif key == "FILE":
             if not rest:
                 raise _err("FILE takes the path of a mode file, then OPTION=VALUE words", kpos)
@@ -185,8 +186,10 @@ def parse_modal(keyword_pos: Pos, lines: list[tuple[str, int, int]]) -> Modal:
                 if not eq or not value:
                     raise _err(f"FILE option {word!r}: expected OPTION=VALUE", pos)
                 if name not in FILE_OPTIONS:
-                    raise _err(f"unknown FILE option {name!r}; expected one of "
-                               f"{', '.join(FILE_OPTIONS)}", pos)
+                    raise _err(
+                        f"unknown FILE option {name!r}; expected one of {', '.join(FILE_OPTIONS)}",
+                        pos,
+                    )
                 if any(o[0] == name for o in options):
                     raise _err(f"FILE option {name!r} is given twice", pos)
                 vpos = Pos(pos.line, pos.column + len(name) + 1)
@@ -194,35 +197,45 @@ def parse_modal(keyword_pos: Pos, lines: list[tuple[str, int, int]]) -> Modal:
             files.append(ModalFile(path, tuple(options), kpos))
         elif key == "HOUSING":
             if len(rest) != 1 or rest[0][0].lower() not in HOUSINGS:
-                raise _err("HOUSING takes one word: added (the deck's mass on modal nodes is "
-                           "added to the modes) or included (the modes already contain it)",
-                           rest[0][1] if rest else kpos)
+                raise _err(
+                    "HOUSING takes one word: added (the deck's mass on modal nodes is "
+                    "added to the modes) or included (the modes already contain it)",
+                    rest[0][1] if rest else kpos,
+                )
             housing, housing_pos = rest[0][0].lower(), kpos
         else:
-            raise _err(f"unknown MODAL record {words[0][0]!r}; expected MODE, SHAPE, FILE or "
-                       "HOUSING", kpos)
+            raise _err(
+                f"unknown MODAL record {words[0][0]!r}; expected MODE, SHAPE, FILE or HOUSING", kpos
+            )
     if files and (modes or shapes):
-        raise _err("give the modes either as MODE and SHAPE records or from a FILE, not both",
-                   files[0].pos)
+        raise _err(
+            "give the modes either as MODE and SHAPE records or from a FILE, not both", files[0].pos
+        )
     if len(files) > 1:
         raise _err("one FILE record per MODAL card (one structure)", files[1].pos)
     if not files and not modes:
         raise _err("no modes: give MODE and SHAPE records or a FILE record", keyword_pos)
     for s in shapes:
         if len(s.values) != len(modes):
-            raise _err(f"SHAPE of node {s.node} DOF {s.dof} has {len(s.values)} values; expected "
-                       f"one per MODE record ({len(modes)})",
-                       s.value_pos[0] if s.value_pos else s.pos)
+            raise _err(
+                f"SHAPE of node {s.node} DOF {s.dof} has {len(s.values)} values; expected "
+                f"one per MODE record ({len(modes)})",
+                s.value_pos[0] if s.value_pos else s.pos,
+            )
     seen: dict[tuple[int, int], Pos] = {}
     for s in shapes:
         if (s.node, s.dof) in seen:
-            raise _err(f"node {s.node} DOF {s.dof} has shape values twice (first at line "
-                       f"{seen[(s.node, s.dof)].line})", s.pos)
+            raise _err(
+                f"node {s.node} DOF {s.dof} has shape values twice (first at line "
+                f"{seen[(s.node, s.dof)].line})",
+                s.pos,
+            )
         seen[(s.node, s.dof)] = s.pos
     if modes and not shapes:
         raise _err("MODE records without SHAPE records: no node moves", modes[0].pos)
-    return Modal(tuple(modes), tuple(shapes), tuple(files), housing, housing_pos, keyword_pos,
-                 tuple(kept))
+    return Modal(
+        tuple(modes), tuple(shapes), tuple(files), housing, housing_pos, keyword_pos, tuple(kept)
+    )
 
 
 def _option_value(name: str, value: str, vpos: Pos) -> Any:
@@ -250,7 +263,7 @@ def _option_value(name: str, value: str, vpos: Pos) -> Any:
             return parse_units(value.replace(",", " ").split())
         except ValueError as exc:
             raise _err(f"FILE units: {exc}", vpos) from None
-    if value.lower() != "mass":   # normalize
+    if value.lower() != "mass":  # normalize
         raise _err(f"FILE normalize {value!r}: the only choice is 'mass'", vpos)
     return "mass"
 
@@ -313,7 +326,8 @@ def load_mode_files(deck, base_dir: str):
         try:
             modes = read_modes(path, fmt[0] if fmt else None)
         except InputError as exc:
-            raise DeckError(f"mode file {rec.path}: {exc}", deck.path, rec.pos.line,
-                            rec.pos.column, CARD) from None
+            raise DeckError(
+                f"mode file {rec.path}: {exc}", deck.path, rec.pos.line, rec.pos.column, CARD
+            ) from None
         files.append(replace(rec, mode_set=modes))
     return replace(deck, modal=replace(modal, files=tuple(files)))

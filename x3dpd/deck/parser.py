@@ -51,10 +51,14 @@ _CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f]")
 _NUM = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eEdD][+-]?\d+)?(?![A-Za-z0-9_.])"
 _VALUE_LINE = rf"[ \t,]*+(?:{_NUM}[ \t,]*+)*+(?:&[ \t]*+)?"
 _VALUE_LINES = re.compile(rf"(?:{_VALUE_LINE}(?:\$[^\n]*+)?\n)*+")
-_LAST_VALUE_LINE = re.compile(rf"{_VALUE_LINE}(?:(END)(?![A-Za-z0-9_])[ \t]*+)?(?:\$.*+)?\n?",
-                              re.IGNORECASE)
-_KEYWORD_LINE = re.compile(r"[ \t]*+([A-Za-z]{4})[A-Za-z]*+"
-                           r"(?:[ \t]++(?!END(?![A-Za-z0-9_]))[A-Za-z]++)*+", re.IGNORECASE)
+_LAST_VALUE_LINE = re.compile(
+    rf"{_VALUE_LINE}(?:(END)(?![A-Za-z0-9_])[ \t]*+)?(?:\$.*+)?\n?", re.IGNORECASE
+)
+_KEYWORD_LINE = re.compile(
+    r"[ \t]*+([A-Za-z]{4})[A-Za-z]*+"
+    r"(?:[ \t]++(?!END(?![A-Za-z0-9_]))[A-Za-z]++)*+",
+    re.IGNORECASE,
+)
 _WORD_AT = re.compile(r"[^\s,$&]*")
 
 
@@ -64,17 +68,24 @@ def grammar() -> str:
     text = (Path(__file__).with_name("x3d.lark")).read_text()
     terminals = [s.card for s in SHAPES]
     keywords = "\n".join(f"{s.card}: /{s.key}/i _MORE" for s in SHAPES)
-    return (text.replace("%SHAPE_TERMINALS%", " | ".join(terminals))
-            .replace("%SHAPE_KEYWORDS%", keywords))
+    return text.replace("%SHAPE_TERMINALS%", " | ".join(terminals)).replace(
+        "%SHAPE_KEYWORDS%", keywords
+    )
 
 
 @cache
 def _parser() -> Lark:
-    return Lark(grammar(), parser="lalr", lexer="contextual", transformer=DeckTransformer(),
-                maybe_placeholders=False)
+    return Lark(
+        grammar(),
+        parser="lalr",
+        lexer="contextual",
+        transformer=DeckTransformer(),
+        maybe_placeholders=False,
+    )
 
 
 # -- stage 1: lines -----------------------------------------------------------------------------
+
 
 def _checked(text: str, first_line: int, path: str) -> str:
     """Whole lines of deck text with '\n' line ends; control characters are refused."""
@@ -86,7 +97,8 @@ def _checked(text: str, first_line: int, path: str) -> str:
         line = first_line + text.count("\n", 0, bad.start())
         col = bad.start() - text.rfind("\n", 0, bad.start())
         what = {"\0": "NUL byte", "\r": "carriage return without newline"}.get(
-            bad.group(), f"control character U+{ord(bad.group()):04X}")
+            bad.group(), f"control character U+{ord(bad.group()):04X}"
+        )
         raise DeckError(f"{what}: a deck is plain text (is this a binary file?)", path, line, col)
     return text
 
@@ -96,11 +108,15 @@ def _decode(block: bytes, line: int, path: str) -> str:
     try:
         text = block.decode("utf-8")
     except UnicodeDecodeError as e:
-        _checked(block[:e.start].decode("utf-8"), line, path)  # an earlier fault comes first
+        _checked(block[: e.start].decode("utf-8"), line, path)  # an earlier fault comes first
         col = e.start - block.rfind(b"\n", 0, e.start)
-        raise DeckError(f"byte 0x{block[e.start]:02x} is not UTF-8 text: this looks like a binary "
-                        "file, not a deck", path, line + block.count(b"\n", 0, e.start),
-                        col) from None
+        raise DeckError(
+            f"byte 0x{block[e.start]:02x} is not UTF-8 text: this looks like a binary "
+            "file, not a deck",
+            path,
+            line + block.count(b"\n", 0, e.start),
+            col,
+        ) from None
     if line == 1:
         text = text.removeprefix("\ufeff")
     return _checked(text, line, path)
@@ -113,8 +129,13 @@ def _file_blocks(f: io.BufferedReader, path: str) -> Iterator[str]:
         data = carry + data
         cut = data.rfind(b"\n") + 1
         if cut == 0 and len(data) > MAX_LINE:
-            raise DeckError(f"line longer than {MAX_LINE} bytes: this is not a deck (long lists "
-                            "continue on the next line after '&')", path, line, 1)
+            raise DeckError(
+                f"line longer than {MAX_LINE} bytes: this is not a deck (long lists "
+                "continue on the next line after '&')",
+                path,
+                line,
+                1,
+            )
         block, carry = data[:cut], data[cut:]
         if block:
             yield _decode(block, line, path)
@@ -133,7 +154,7 @@ class _Gate:
 
     def __init__(self) -> None:
         self.text = False  # inside TITLE, USRFRC or UNITS
-        self.ends = 0      # ENDs still needed by the open value card (0: between cards)
+        self.ends = 0  # ENDs still needed by the open value card (0: between cards)
 
     def scan(self, text: str) -> int:
         """End offset of the first bad line of ``text`` (whole lines), or -1 if none."""
@@ -166,7 +187,7 @@ class _Gate:
             self.text = True
             return True
         self.ends = 2 if key == "CONT" else 1
-        return self._values(line[m.end():])
+        return self._values(line[m.end() :])
 
     def _values(self, line: str) -> bool:
         m = _LAST_VALUE_LINE.fullmatch(line)
@@ -198,12 +219,14 @@ def _load(blocks: Iterator[str], path: str) -> Deck:
         break
     deck = _parse("".join(kept), path)
     if deck == Deck(path):
-        raise DeckError(f"the deck is empty: expected cards ({_CARD_LIST}), each ending with END",
-                        path, 1, 1)
+        raise DeckError(
+            f"the deck is empty: expected cards ({_CARD_LIST}), each ending with END", path, 1, 1
+        )
     return deck
 
 
 # -- stage 2: grammar ---------------------------------------------------------------------------
+
 
 def _parse(text: str, path: str) -> Deck:
     if text and not text.endswith("\n"):
@@ -219,6 +242,7 @@ def _parse(text: str, path: str) -> Deck:
 
 # -- stage 3: errors ----------------------------------------------------------------------------
 
+
 def _open_card(e: UnexpectedInput) -> tuple[Token | None, list]:
     """The keyword token of the card being parsed at the error, and the stack above it."""
     ip = getattr(e, "interactive_parser", None)
@@ -226,7 +250,7 @@ def _open_card(e: UnexpectedInput) -> tuple[Token | None, list]:
     for i in range(len(stack) - 1, -1, -1):
         item = stack[i]
         if isinstance(item, Token) and item.type in KEYWORD_TERMINALS:
-            return item, stack[i + 1:]
+            return item, stack[i + 1 :]
     return None, []
 
 
@@ -268,42 +292,72 @@ def _syntax_error(e: UnexpectedInput, text: str, path: str) -> DeckError:
     else:
         line, col = e.line, e.column
         start = e.pos_in_stream if token is None else token.start_pos
-        word = _WORD_AT.match(text, start).group() or text[start:start + 1]
+        word = _WORD_AT.match(text, start).group() or text[start : start + 1]
     kw, above = _open_card(e)
     shown = repr(word[:40] + ("..." if len(word) > 40 else ""))
     if kw is None:
         if card_for_word(word) is None and word.isalpha() and word.upper() != "END":
             return DeckError(f"unknown card keyword {shown}{_suggest(word)}", path, line, col)
         if word.upper() == "END":
-            return DeckError("END with no card open (a card keyword must come first)", path,
-                             line, col)
-        return DeckError(f"expected a card keyword at the start of a line ({_CARD_LIST}); got "
-                         f"{shown}", path, line, col)
+            return DeckError(
+                "END with no card open (a card keyword must come first)", path, line, col
+            )
+        return DeckError(
+            f"expected a card keyword at the start of a line ({_CARD_LIST}); got {shown}",
+            path,
+            line,
+            col,
+        )
     name = KEYWORD_TERMINALS[kw.type]
     spec: CardSpec = BY_NAME[name]
     ends = [t for t in _flat(above) if t.type == "END"]  # CONTACT: is the first block done?
     if above and isinstance(above[-1], Token) and above[-1].type == "END":
-        return DeckError(f"END must end its line; got {shown} after it (a card keyword starts a "
-                         "new line)", path, line, col, name)
+        return DeckError(
+            f"END must end its line; got {shown} after it (a card keyword starts a new line)",
+            path,
+            line,
+            col,
+            name,
+        )
     opened, no_end = f"{name} (opened at line {kw.line})", "has no END"
     if name == "CONTACT":
-        no_end = ("has no second END (a CONTACT card is: master triangles, END, slave sets, END)"
-                  if ends else "has no END after its master triangles")
+        no_end = (
+            "has no second END (a CONTACT card is: master triangles, END, slave sets, END)"
+            if ends
+            else "has no END after its master triangles"
+        )
         spec = CONTACT_SLAVES if ends else spec
     if at_eof:
-        return DeckError(f"{opened} {no_end}: the file ends inside it; expected END after its "
-                         "last line", path, line, col, name)
+        return DeckError(
+            f"{opened} {no_end}: the file ends inside it; expected END after its last line",
+            path,
+            line,
+            col,
+            name,
+        )
     if word.isalpha() and card_for_word(word) is not None:
-        return DeckError(f"{opened} {no_end} before the next card {word.upper()}; expected END "
-                         "on a line of its own before it", path, line, col, name)
+        return DeckError(
+            f"{opened} {no_end} before the next card {word.upper()}; expected END "
+            "on a line of its own before it",
+            path,
+            line,
+            col,
+            name,
+        )
     if word == "&":
-        return DeckError("'&' continues a record only at the end of a line", path, line, col,
-                         name)
-    return DeckError(f"{spec.label(_values_so_far(above))} must be a number; got {shown} (or END "
-                     "to close the card)", path, line, col, name)
+        return DeckError("'&' continues a record only at the end of a line", path, line, col, name)
+    return DeckError(
+        f"{spec.label(_values_so_far(above))} must be a number; got {shown} (or END "
+        "to close the card)",
+        path,
+        line,
+        col,
+        name,
+    )
 
 
 # -- API ----------------------------------------------------------------------------------------
+
 
 def parse_deck(text: str, path: str = "<deck>") -> Deck:
     """Parse deck text.

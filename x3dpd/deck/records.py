@@ -105,8 +105,12 @@ def _floats(spec: CardSpec, record: Record, values: list[str], start: int = 0) -
     out = [to_float(x) for x in values[start:]]
     if not all(map(isfinite, out)):
         i = start + next(k for k, x in enumerate(out) if not isfinite(x))
-        raise _fail(spec, record, i, f"{spec.label(i)} is beyond the range of a double "
-                                     f"(|x| < 1.8e308); got {values[i]}")
+        raise _fail(
+            spec,
+            record,
+            i,
+            f"{spec.label(i)} is beyond the range of a double (|x| < 1.8e308); got {values[i]}",
+        )
     return out
 
 
@@ -129,16 +133,18 @@ def _int(spec: CardSpec, record: Record, values: list[str], i: int, least: int |
     return value
 
 
-def _count(spec: CardSpec, record: Record, values: list[str], low: int, high: int | None,
-           expected: str) -> None:
+def _count(
+    spec: CardSpec, record: Record, values: list[str], low: int, high: int | None, expected: str
+) -> None:
     """Check the number of values of a record; the message names the fields expected."""
     n = len(values)
     if n < low or (high is not None and n > high):  # point at the record, or the first extra
         raise _fail(spec, record, 0 if n < low else high, f"{spec.name} needs {expected}; got {n}")
 
 
-def _counted(spec: CardSpec, items: list[Any], low: int, high: int | None,
-             expected: str) -> Iterator[tuple[Record, list[str]]]:
+def _counted(
+    spec: CardSpec, items: list[Any], low: int, high: int | None, expected: str
+) -> Iterator[tuple[Record, list[str]]]:
     """Each record of a card's ``items`` with its values, checked by :func:`_count`."""
     for rec in _records(items):
         values = _split(rec)
@@ -150,8 +156,12 @@ def _dof(spec: CardSpec, record: Record, values: list[str], i: int, seen: list[i
     """Field ``i`` as a DOF number 1..6 (x y z rx ry rz), not already in ``seen``."""
     dof = _int(spec, record, values, i, None)
     if not 1 <= dof <= 6:
-        raise _fail(spec, record, i, f"{spec.label(i)} must be a DOF number 1..6 "
-                                     f"(x y z rx ry rz); got {values[i]}")
+        raise _fail(
+            spec,
+            record,
+            i,
+            f"{spec.label(i)} must be a DOF number 1..6 (x y z rx ry rz); got {values[i]}",
+        )
     if dof in seen:
         raise _fail(spec, record, i, f"{spec.label(i)}: DOF {dof} is listed twice")
     seen.append(dof)
@@ -162,16 +172,27 @@ def _dof_code(spec: CardSpec, record: Record, values: list[str], i: int) -> tupl
     """Field ``i`` as a DOF code: distinct digits 1..6, e.g. 123456 -> (1, 2, 3, 4, 5, 6)."""
     digits = [int(d) for d in str(_int(spec, record, values, i))]
     if any(d < 1 or d > 6 for d in digits) or len(set(digits)) != len(digits):
-        raise _fail(spec, record, i, f"{spec.label(i)} must be a code of distinct DOF digits "
-                                     f"1..6 (x y z rx ry rz, e.g. 123456); got {values[i]}")
+        raise _fail(
+            spec,
+            record,
+            i,
+            f"{spec.label(i)} must be a code of distinct DOF digits "
+            f"1..6 (x y z rx ry rz, e.g. 123456); got {values[i]}",
+        )
     return tuple(digits)
 
 
 def _one_record(spec: CardSpec, kw: Token, records: list[Record], expected: str) -> Record:
     if not records:
-        raise DeckError(f"{spec.name} needs {expected}; got none", "<deck>", kw.line, kw.column,
-                        spec.name)
+        raise DeckError(
+            f"{spec.name} needs {expected}; got none", "<deck>", kw.line, kw.column, spec.name
+        )
     if len(records) > 1:
-        raise _fail(spec, records[1], 0, f"{spec.name} takes one record ({expected}); a second "
-                                         f"record starts here (end a line with '&' to continue)")
+        raise _fail(
+            spec,
+            records[1],
+            0,
+            f"{spec.name} takes one record ({expected}); a second "
+            f"record starts here (end a line with '&' to continue)",
+        )
     return records[0]

@@ -120,8 +120,9 @@ class DeckTransformer(Transformer):
             raise _fail(spec, rec, 1, f"TMAX must be >= TIME ({v[0]}); got {v[1]}")
         if itrac < 1:
             raise _fail(spec, rec, 10, f"ITRAC (trace every ITRAC steps) must be >= 1; got {v[10]}")
-        card = Parameters(f[0], f[1], f[2], f[3], f[4], incr, f[6], irest, nintpl, istat, itrac,
-                          _first(rec))
+        card = Parameters(
+            f[0], f[1], f[2], f[3], f[4], incr, f[6], irest, nintpl, istat, itrac, _first(rec)
+        )
         return "PARAMETERS", c[0], card
 
     def matid(self, c: list[Any]) -> _Card:
@@ -142,8 +143,10 @@ class DeckTransformer(Transformer):
         out = []
         for rec, v in _counted(spec, c[1:-1], 8, None, expected):
             if len(v) > 11 and (len(v) - 11) % 2:
-                message = (f"PDMP extra Maxwell terms come in pairs E2 T2 E3 T3 ... after VZ0; "
-                           f"got {len(v)} values")
+                message = (
+                    f"PDMP extra Maxwell terms come in pairs E2 T2 E3 T3 ... after VZ0; "
+                    f"got {len(v)} values"
+                )
                 raise _fail(spec, rec, len(v) - 1, message)
             nodlim = _int(spec, rec, v, 0, 0)
             f = _floats(spec, rec, v, 1) + [0.0] * max(0, 11 - len(v))
@@ -171,8 +174,13 @@ class DeckTransformer(Transformer):
             nodes.extend(_int(spec, rec, v, i) for i in range(len(v)))
             where.extend(_positions(rec, 0))
         if not nodes:
-            raise DeckError("TRACE needs at least one node id; got none", "<deck>", c[0].line,
-                            c[0].column, spec.name)
+            raise DeckError(
+                "TRACE needs at least one node id; got none",
+                "<deck>",
+                c[0].line,
+                c[0].column,
+                spec.name,
+            )
         return "TRACE", c[0], Trace(tuple(nodes), tuple(where), _pos(c[0]))
 
     def node(self, c: list[Any]) -> _Card:
@@ -221,7 +229,7 @@ class DeckTransformer(Transformer):
         out = []
         for rec, v in _counted(spec, c[1:-1], 2, 5, "2 to 5 values: NODE MASS [IXX IYY IZZ]"):
             f = _floats(spec, rec, v, 1) + [0.0] * (5 - len(v))
-            for i, x in enumerate(f[:len(v) - 1], start=1):
+            for i, x in enumerate(f[: len(v) - 1], start=1):
                 if x < 0:
                     raise _fail(spec, rec, i, f"{spec.label(i)} must be >= 0; got {v[i]}")
             out.append(Mass(_int(spec, rec, v, 0), *f, _first(rec)))
@@ -230,14 +238,16 @@ class DeckTransformer(Transformer):
     def rbel(self, c: list[Any]) -> _Card:
         spec = BY_NAME["RBEL"]
         out = []
-        for rec, v in _counted(spec, c[1:-1], 4, None,
-                               "MASTER DOFS COUNT and COUNT slave node ids"):
+        for rec, v in _counted(
+            spec, c[1:-1], 4, None, "MASTER DOFS COUNT and COUNT slave node ids"
+        ):
             master = _int(spec, rec, v, 0)
             dofs = _dof_code(spec, rec, v, 1)
             count = _int(spec, rec, v, 2)
             if count != len(v) - 3:
-                raise _fail(spec, rec, 2, f"RBEL declares COUNT={count} slave nodes but lists "
-                                          f"{len(v) - 3}")
+                raise _fail(
+                    spec, rec, 2, f"RBEL declares COUNT={count} slave nodes but lists {len(v) - 3}"
+                )
             slaves = tuple(_int(spec, rec, v, i) for i in range(3, len(v)))
             out.append(Rbel(master, dofs, slaves, _positions(rec, 3), _first(rec)))
         return "RBEL", c[0], out
@@ -245,8 +255,9 @@ class DeckTransformer(Transformer):
     def boundary(self, c: list[Any]) -> _Card:
         spec = BY_NAME["BOUNDARY CONDITIONS"]
         out = []
-        for rec, v in _counted(spec, c[1:-1], 4, None,
-                               "FIRST LAST INC and at least one DOF (1..6)"):
+        for rec, v in _counted(
+            spec, c[1:-1], 4, None, "FIRST LAST INC and at least one DOF (1..6)"
+        ):
             first, last, inc = (_int(spec, rec, v, i) for i in range(3))
             if last < first:
                 raise _fail(spec, rec, 1, f"LAST must be >= FIRST ({first}); got {last}")
@@ -276,8 +287,9 @@ class DeckTransformer(Transformer):
             if not kn > 0.0:
                 raise _fail(spec, rec, 1, f"KN (normal stiffness) must be > 0; got {v[1]}")
             if not 0.0 < e <= 1.0:
-                raise _fail(spec, rec, 2, f"E (coefficient of restitution) must be in (0, 1]; "
-                                          f"got {v[2]}")
+                raise _fail(
+                    spec, rec, 2, f"E (coefficient of restitution) must be in (0, 1]; got {v[2]}"
+                )
             out.append(Hooke(nodlim, kn, e, _first(rec)))
         return "HOOKE", c[0], out
 
@@ -291,11 +303,16 @@ class DeckTransformer(Transformer):
             if not e > 0.0:
                 raise _fail(spec, rec, 1, f"E (the wall's Young's modulus) must be > 0; got {v[1]}")
             if not -1.0 < nu < 0.5:
-                raise _fail(spec, rec, 2, f"NU (the wall's Poisson's ratio) must lie in "
-                                          f"(-1, 0.5); got {v[2]}")
+                raise _fail(
+                    spec,
+                    rec,
+                    2,
+                    f"NU (the wall's Poisson's ratio) must lie in (-1, 0.5); got {v[2]}",
+                )
             if not mu >= 0.0:
-                raise _fail(spec, rec, 3, f"MU (the wall's friction coefficient) must be >= 0; "
-                                          f"got {v[3]}")
+                raise _fail(
+                    spec, rec, 3, f"MU (the wall's friction coefficient) must be >= 0; got {v[3]}"
+                )
             out.append(WallMat(set_id, e, nu, mu, _first(rec)))
         return "WALLMAT", c[0], out
 
@@ -312,24 +329,32 @@ class DeckTransformer(Transformer):
             nodlim = _int(spec, rec, v, 0, None)
             law = v[1].lower()
             if law not in FRICTION_LAWS:
-                raise _fail(spec, rec, 1, f"LAW must be one of {', '.join(FRICTION_LAWS)}; "
-                                          f"got {v[1]}")
+                raise _fail(
+                    spec, rec, 1, f"LAW must be one of {', '.join(FRICTION_LAWS)}; got {v[1]}"
+                )
             mu_s, mu_k = _floats(spec, rec, v[:4], 2)
             for k, (name, mu) in enumerate((("MUS", mu_s), ("MUK", mu_k)), start=2):
                 if not mu >= 0.0:
                     raise _fail(spec, rec, k, f"{name} must be >= 0; got {v[k]}")
             if mu_k > mu_s:
-                raise _fail(spec, rec, 3, f"MUK (kinetic) must not exceed MUS (static) {v[2]}; "
-                                          f"got {v[3]}")
+                raise _fail(
+                    spec, rec, 3, f"MUK (kinetic) must not exceed MUS (static) {v[2]}; got {v[3]}"
+                )
             if law != "mindlin" and mu_k != mu_s:
-                raise _fail(spec, rec, 3, f"the {law} law has one friction coefficient: MUK "
-                                          f"must equal MUS ({v[2]}); got {v[3]}")
+                raise _fail(
+                    spec,
+                    rec,
+                    3,
+                    f"the {law} law has one friction coefficient: MUK "
+                    f"must equal MUS ({v[2]}); got {v[3]}",
+                )
             roll, mu_r = "none", 0.0
             if len(v) == 6:
                 roll = v[4].lower()
                 if roll not in ROLLING_LAWS:
-                    raise _fail(spec, rec, 4, f"ROLL must be one of {', '.join(ROLLING_LAWS)}; "
-                                              f"got {v[4]}")
+                    raise _fail(
+                        spec, rec, 4, f"ROLL must be one of {', '.join(ROLLING_LAWS)}; got {v[4]}"
+                    )
                 (mu_r,) = _floats(spec, rec, v, 5)
                 if not mu_r >= 0.0:
                     raise _fail(spec, rec, 5, f"MUR must be >= 0; got {v[5]}")
@@ -339,7 +364,7 @@ class DeckTransformer(Transformer):
     def shape(self, c: list[Any]) -> _Card:
         """A card of an analytic wall shape (x3dpd.geometry.shapes): SET, the node ids (two of
         them must differ), the lengths (each > 0)."""
-        shape = BY_SHAPE_CARD[c[0].type]   # the grammar's terminal is the card's name
+        shape = BY_SHAPE_CARD[c[0].type]  # the grammar's terminal is the card's name
         spec = BY_NAME[shape.card]
         n_nodes, n = len(shape.node_fields), len(shape.fields)
         out = []
@@ -348,28 +373,47 @@ class DeckTransformer(Transformer):
             params = _floats(spec, rec, v, 1 + n_nodes)
             for k, value in enumerate(params):
                 if not value > 0.0:
-                    raise _fail(spec, rec, 1 + n_nodes + k,
-                                f"{shape.param_fields[k]} must be > 0; got {v[1 + n_nodes + k]}")
+                    raise _fail(
+                        spec,
+                        rec,
+                        1 + n_nodes + k,
+                        f"{shape.param_fields[k]} must be > 0; got {v[1 + n_nodes + k]}",
+                    )
             if n_nodes == 2 and ids[1] == ids[2]:
-                raise _fail(spec, rec, 2, f"{shape.node_fields[1]} must differ from "
-                                          f"{shape.node_fields[0]} ({ids[1]}): the axis runs "
-                                          "from one to the other")
-            out.append(AnalyticWall(shape.name, ids[0], tuple(ids[1:]), tuple(params),
-                                    _first(rec), _positions(rec, 1)[:n_nodes]))
+                raise _fail(
+                    spec,
+                    rec,
+                    2,
+                    f"{shape.node_fields[1]} must differ from "
+                    f"{shape.node_fields[0]} ({ids[1]}): the axis runs "
+                    "from one to the other",
+                )
+            out.append(
+                AnalyticWall(
+                    shape.name,
+                    ids[0],
+                    tuple(ids[1:]),
+                    tuple(params),
+                    _first(rec),
+                    _positions(rec, 1)[:n_nodes],
+                )
+            )
         return "ANALYTIC", c[0], out
 
     def contact(self, c: list[Any]) -> _Card:
         spec = BY_NAME["CONTACT"]
         split = next(i for i, x in enumerate(c) if isinstance(x, Token) and x.type == "END")
         triangles = []
-        for rec, v in _counted(spec, c[1:split], 4, 4,
-                               "4 values per master triangle: SET N1 N2 N3"):
+        for rec, v in _counted(
+            spec, c[1:split], 4, 4, "4 values per master triangle: SET N1 N2 N3"
+        ):
             ids = [_int(spec, rec, v, i) for i in range(4)]
             triangles.append(Triangle(ids[0], (ids[1], ids[2], ids[3]), _first(rec)))
         slaves = []
         sspec = CONTACT_SLAVES
-        for rec, v in _counted(sspec, c[split + 1:-1], 2, None,
-                               "SET and at least one slave node id per slave record"):
+        for rec, v in _counted(
+            sspec, c[split + 1 : -1], 2, None, "SET and at least one slave node id per slave record"
+        ):
             ids = tuple(_int(sspec, rec, v, i) for i in range(len(v)))
             slaves.append(SlaveSet(ids[0], ids[1:], _positions(rec, 1), _first(rec)))
         return "CONTACT", c[0], Contact(tuple(triangles), tuple(slaves), _pos(c[0]))
@@ -382,8 +426,14 @@ class DeckTransformer(Transformer):
         for name, kw, value in cards:
             if name in SINGLE_CARDS:
                 if name in single:
-                    raise DeckError(f"{name} may appear only once; it was already given at line "
-                                    f"{seen[name].line}", "<deck>", kw.line, kw.column, name)
+                    raise DeckError(
+                        f"{name} may appear only once; it was already given at line "
+                        f"{seen[name].line}",
+                        "<deck>",
+                        kw.line,
+                        kw.column,
+                        name,
+                    )
                 single[name], seen[name] = value, kw
             elif isinstance(value, list):
                 lists.setdefault(name, []).extend(value)
@@ -393,13 +443,25 @@ class DeckTransformer(Transformer):
         def many(name: str) -> tuple[Any, ...]:
             return tuple(lists.get(name, ()))
 
-        return Deck(title=single.get("TITLE"), parameters=single.get("PARAMETERS"),
-                    materials=many("MATID"), pdmp=many("PDMP"), body=single.get("BODY"),
-                    trace=single.get("TRACE"), nodes=many("NODE COORDINATES"),
-                    elements=many("ELEMENTS"), masses=many("MASS"), rbels=many("RBEL"),
-                    boundaries=many("BOUNDARY CONDITIONS"), contacts=many("CONTACT"),
-                    initials=many("INITIAL"), usrfrc=many("USRFRC"),
-                    units=single.get("UNITS"), hooke=many("HOOKE") or None,
-                    wallmat=many("WALLMAT") or None,
-                    friction=many("FRICTION") or None,
-                    analytic_walls=many("ANALYTIC") or None, modal=single.get("MODAL"))
+        return Deck(
+            title=single.get("TITLE"),
+            parameters=single.get("PARAMETERS"),
+            materials=many("MATID"),
+            pdmp=many("PDMP"),
+            body=single.get("BODY"),
+            trace=single.get("TRACE"),
+            nodes=many("NODE COORDINATES"),
+            elements=many("ELEMENTS"),
+            masses=many("MASS"),
+            rbels=many("RBEL"),
+            boundaries=many("BOUNDARY CONDITIONS"),
+            contacts=many("CONTACT"),
+            initials=many("INITIAL"),
+            usrfrc=many("USRFRC"),
+            units=single.get("UNITS"),
+            hooke=many("HOOKE") or None,
+            wallmat=many("WALLMAT") or None,
+            friction=many("FRICTION") or None,
+            analytic_walls=many("ANALYTIC") or None,
+            modal=single.get("MODAL"),
+        )

@@ -46,7 +46,7 @@ def _i(x: int) -> str:
 def _record(values: list[str], out: list[str], per_line: int = PER_FIELD_LINE) -> None:
     """Append one record, ``per_line`` values a line, continued with ``&``."""
     for start in range(0, len(values), per_line):
-        chunk = " ".join(values[start:start + per_line])
+        chunk = " ".join(values[start : start + per_line])
         more = start + per_line < len(values)
         out.append(f"{_INDENT}{chunk} &" if more else f"{_INDENT}{chunk}")
 
@@ -57,8 +57,9 @@ def _text_line(line: str, what: str) -> str:
         raise ValueError(f"{what} {line!r} cannot hold '$' or control characters")
     # a line of blanks and commas alone reads back as a blank line (the free format's separators)
     if not line.strip(" \t,") or line != line.rstrip() or line.strip().upper() == "END":
-        raise ValueError(f"{what} {line!r} must be non-blank (not only commas), not END, without "
-                         "trailing blanks")
+        raise ValueError(
+            f"{what} {line!r} must be non-blank (not only commas), not END, without trailing blanks"
+        )
     return line
 
 
@@ -102,19 +103,47 @@ def format_deck(deck: Deck) -> str:
     if deck.parameters is not None:
         p = deck.parameters
         _card(out, "PARAMETERS", PARAMETER_FIELDS)
-        _record([_f(p.time), _f(p.tmax), _f(p.trest), _f(p.dtmin), _f(p.dtmax), _i(p.incr),
-                 _f(p.incmax), _i(p.irest), _i(p.nintpl), _i(p.istat), _i(p.itrac)], out)
+        _record(
+            [
+                _f(p.time),
+                _f(p.tmax),
+                _f(p.trest),
+                _f(p.dtmin),
+                _f(p.dtmax),
+                _i(p.incr),
+                _f(p.incmax),
+                _i(p.irest),
+                _i(p.nintpl),
+                _i(p.istat),
+                _i(p.itrac),
+            ],
+            out,
+        )
         out.append("END")
     if deck.materials:
         _card(out, "MATID", (*MATID_FIELDS, "EXTRA..."))
         for m in deck.materials:
-            _record([_i(m.mid), _i(m.mtype), _f(m.mass), _f(m.scale), _f(m.kx), _f(m.ky),
-                     _f(m.kz), _f(m.c), *map(_f, m.extra)], out)
+            _record(
+                [
+                    _i(m.mid),
+                    _i(m.mtype),
+                    _f(m.mass),
+                    _f(m.scale),
+                    _f(m.kx),
+                    _f(m.ky),
+                    _f(m.kz),
+                    _f(m.c),
+                    *map(_f, m.extra),
+                ],
+                out,
+            )
         out.append("END")
     for g in deck.pdmp:
         _card(out, "PDMP", (*PDMP_FIELDS, "[E2 T2 ...]"))
-        values = [_i(g.nodlim), *map(_f, (g.rzero, g.prho, g.ppoi, g.e0, g.e1, g.t1, g.pcof,
-                                          g.vx0, g.vy0, g.vz0))]
+        values = [
+            _i(g.nodlim),
+            *map(_f, (g.rzero, g.prho, g.ppoi, g.e0, g.e1, g.t1, g.pcof, g.vx0, g.vy0, g.vz0)),
+        ]
         for e, t in g.extra_terms:
             values += [_f(e), _f(t)]
         _record(values, out)
@@ -147,8 +176,9 @@ def format_deck(deck: Deck) -> str:
     if deck.rbels:
         _card(out, "RBEL", ("MASTER", "DOFS", "COUNT", "SLAVE..."))
         for r in deck.rbels:
-            _record([_i(r.master), _dofs(r.dofs), str(len(r.slaves)), *map(_i, r.slaves)], out,
-                    PER_LINE)
+            _record(
+                [_i(r.master), _dofs(r.dofs), str(len(r.slaves)), *map(_i, r.slaves)], out, PER_LINE
+            )
         out.append("END")
     if deck.boundaries:
         _card(out, "BOUNDARY CONDITIONS", ("FIRST", "LAST", "INC", "DOF..."))
@@ -192,13 +222,12 @@ def format_deck(deck: Deck) -> str:
             rolling = [r.roll, _f(r.mu_r)] if r.roll != "none" or r.mu_r != 0.0 else []
             _record([_i(r.nodlim), r.law, _f(r.mu_s), _f(r.mu_k), *rolling], out)
         out.append("END")
-    for shape in SHAPES:   # analytic wall cards (CYLINDER, CAPSULE ...), one per shape used
+    for shape in SHAPES:  # analytic wall cards (CYLINDER, CAPSULE ...), one per shape used
         mine = [w for w in deck.analytic_walls or () if w.shape == shape.name]
         if mine:
             _card(out, shape.card, shape.fields)
             for w in mine:
-                _record([_i(w.set_id)] + [_i(n) for n in w.nodes] + [_f(v) for v in w.params],
-                        out)
+                _record([_i(w.set_id)] + [_i(n) for n in w.nodes] + [_f(v) for v in w.params], out)
             out.append("END")
     if deck.units is not None:
         out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]

@@ -65,8 +65,7 @@ class BaseSdof:
     def transmissibility(self, omega: float) -> complex:
         """T = X / U, the body's complex absolute amplitude per base amplitude at ``omega``."""
         k, c = self.k_base + self.k_ground, self.c_base + self.c_ground
-        return complex(self.k_base, self.c_base * omega) / complex(k - self.m * omega ** 2,
-                                                                   c * omega)
+        return complex(self.k_base, self.c_base * omega) / complex(k - self.m * omega**2, c * omega)
 
     def response(self, base_amplitude: float, omega: float) -> tuple[float, float]:
         """Steady-state amplitude X [length] and phase [rad] against the base's sin(omega t)
@@ -78,8 +77,11 @@ class BaseSdof:
         """Energy the dashpots take per cycle, pi w (c_b |X - U|^2 + c_g |X|^2) [force length]
         (= the base's work per cycle in the steady state)."""
         x = base_amplitude * self.transmissibility(omega)
-        return math.pi * omega * (self.c_base * abs(x - base_amplitude) ** 2
-                                  + self.c_ground * abs(x) ** 2)
+        return (
+            math.pi
+            * omega
+            * (self.c_base * abs(x - base_amplitude) ** 2 + self.c_ground * abs(x) ** 2)
+        )
 
 
 def base_sdof(model: Model, base: int, dof: int) -> BaseSdof | None:
@@ -104,8 +106,11 @@ def base_sdof(model: Model, base: int, dof: int) -> BaseSdof | None:
     base_side, _, master = rigid_body(model, i)
     if master != i:
         return None
-    partners = {int(b if a in base_side else a) for a, b in model.spring_nodes
-                if (a in base_side) != (b in base_side) and a >= 0 and b >= 0}
+    partners = {
+        int(b if a in base_side else a)
+        for a, b in model.spring_nodes
+        if (a in base_side) != (b in base_side) and a >= 0 and b >= 0
+    }
     if not partners:
         return None
     body, mass, body_master = rigid_body(model, partners.pop())
@@ -119,8 +124,10 @@ def base_sdof(model: Model, base: int, dof: int) -> BaseSdof | None:
         return None
     k_b = c_b = k_g = c_g = 0.0
     for (a, b), ks, cs in zip(model.spring_nodes, model.spring_k, model.spring_c):
-        ends = {("body" if n in body else "base" if n in base_side else "ground" if n < 0
-                 else "other") for n in (int(a), int(b))}
+        ends = {
+            ("body" if n in body else "base" if n in base_side else "ground" if n < 0 else "other")
+            for n in (int(a), int(b))
+        }
         if ends == {"body", "base"}:
             k_b += float(ks[d])
             c_b += float(cs[d])
@@ -134,8 +141,7 @@ def base_sdof(model: Model, base: int, dof: int) -> BaseSdof | None:
     return BaseSdof(mass, k_b, c_b, k_g, c_g, int(model.node_ids[body_master]))
 
 
-def base_structure(model: Model, base: int, dof: int, response: tuple[int, int]
-                   ) -> BaseSdof | None:
+def base_structure(model: Model, base: int, dof: int, response: tuple[int, int]) -> BaseSdof | None:
     """The :class:`BaseSdof` measured at ``response`` (node, dof): its body along the drive,
     else None (simulated)."""
     sdof = base_sdof(model, base, dof)
@@ -187,7 +193,7 @@ def linear_structure(model: Model, node: int, dof: int, response: tuple[int, int
 
 def particle_mass(model: Model) -> float:
     """Total mass of the particles of a built model [mass]."""
-    return float(np.sum(model.mass[model.particle_start:]))
+    return float(np.sum(model.mass[model.particle_start :]))
 
 
 def without_particles(deck: Deck) -> Deck:
@@ -200,9 +206,14 @@ def without_particles(deck: Deck) -> Deck:
     if trace is not None:
         nodes = tuple(n for n in trace.nodes if n in keep)
         trace = replace(trace, nodes=nodes, positions=()) if nodes else None
-    return replace(deck, pdmp=(), contacts=(), trace=trace,
-                   nodes=tuple(n for n in deck.nodes if n.nid in keep),
-                   initials=tuple(i for i in deck.initials if i.nid in keep))
+    return replace(
+        deck,
+        pdmp=(),
+        contacts=(),
+        trace=trace,
+        nodes=tuple(n for n in deck.nodes if n.nid in keep),
+        initials=tuple(i for i in deck.initials if i.nid in keep),
+    )
 
 
 def with_added_mass(deck: Deck, node: int, mass: float) -> Deck:
@@ -211,8 +222,10 @@ def with_added_mass(deck: Deck, node: int, mass: float) -> Deck:
     deck's mass on modal nodes is taken as already in the modes, so there is no such baseline).
     """
     if deck.modal is not None and deck.modal.housing == "included":
-        raise InputError("the added-mass baseline needs the deck's mass to be added to the modes "
-                         "(MODAL HOUSING added); this deck's modes include its housing")
+        raise InputError(
+            "the added-mass baseline needs the deck's mass to be added to the modes "
+            "(MODAL HOUSING added); this deck's modes include its housing"
+        )
     bare = without_particles(deck)
     masses = list(bare.masses)
     for i, rec in enumerate(masses):
@@ -229,15 +242,19 @@ def baseline_decks(deck: Deck, names, node: int | None) -> dict[str, Deck]:
     mass in the added-mass one (the driven node; a base drive's :func:`base_mass_node`)."""
     unknown = [n for n in names if n not in BASELINES]
     if unknown:
-        raise InputError(f"--baseline: unknown baseline {unknown[0]!r}; expected a comma list "
-                         f"of {', '.join(BASELINES)}")
+        raise InputError(
+            f"--baseline: unknown baseline {unknown[0]!r}; expected a comma list "
+            f"of {', '.join(BASELINES)}"
+        )
     out = {}
     if "undamped" in names:
         out["undamped"] = without_particles(deck)
     if "added-mass" in names:
         if node is None:
-            raise InputError("--baseline added-mass: with --drive base the particles' mass goes "
-                             "to the body spring-mounted on the base, or to the first cavity's "
-                             "master; this deck has neither")
+            raise InputError(
+                "--baseline added-mass: with --drive base the particles' mass goes "
+                "to the body spring-mounted on the base, or to the first cavity's "
+                "master; this deck has neither"
+            )
         out["added-mass"] = with_added_mass(deck, node, particle_mass(build_model(deck)))
     return out

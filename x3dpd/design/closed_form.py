@@ -31,16 +31,16 @@ def force_structure(model, node: int, dof: int, response: tuple[int, int] | None
     """The closed-form structure of a particle-free model under a force on ``node`` along
     ``dof``, measured at ``response`` (default the driven DOF): an Sdof or ModalLinear
     (x3dpd.design.baselines.linear_structure), else a LinearSystem, else None (simulated)."""
-    return (linear_structure(model, node, dof, response)
-            or linear_system(model, node, dof, response))
+    return linear_structure(model, node, dof, response) or linear_system(model, node, dof, response)
 
 
 def base_response_structure(model, base: int, dof: int, response: tuple[int, int]):
     """The closed-form structure of a particle-free model whose ``base`` node is moved along
     ``dof``, measured at ``response``: a BaseSdof (x3dpd.design.baselines.base_structure), else
     a LinearSystem, else None (simulated)."""
-    return (base_structure(model, base, dof, response)
-            or linear_system(model, base, dof, response, base=True))
+    return base_structure(model, base, dof, response) or linear_system(
+        model, base, dof, response, base=True
+    )
 
 
 def base_closed_form_rows(config: str, spec: SweepSpec, structures) -> list[dict]:
@@ -56,24 +56,62 @@ def base_closed_form_rows(config: str, spec: SweepSpec, structures) -> list[dict
             measured = []
             for (node, dof), sdof in zip(spec.responses, structures):
                 a, p = sdof.response(u, w)
-                measured.append({"response_node": node, "response_dof": dof, "amplitude": a,
-                                 "phase": math.degrees(p), "velocity": w * a,
-                                 "acceleration": w * w * a, "accelerance": math.nan,
-                                 "transmissibility": a / u, "peak": a, "mean": math.nan,
-                                 "spread": 0.0, "measured_amplitude": a, "change": 0.0,
-                                 "converged": True})
+                measured.append(
+                    {
+                        "response_node": node,
+                        "response_dof": dof,
+                        "amplitude": a,
+                        "phase": math.degrees(p),
+                        "velocity": w * a,
+                        "acceleration": w * w * a,
+                        "accelerance": math.nan,
+                        "transmissibility": a / u,
+                        "peak": a,
+                        "mean": math.nan,
+                        "spread": 0.0,
+                        "measured_amplitude": a,
+                        "change": 0.0,
+                        "converged": True,
+                    }
+                )
             work = structures[0].dissipated_per_cycle(u, w)
-            rows.append({
-                "config": config, "frequency_hz": f, "drive": drive,
-                "drive_quantity": spec.quantity, "direction": "", "amplitude": u,
-                "phase": 0.0, "velocity": w * u, "acceleration": w * w * u,
-                "accelerance": math.nan, "transmissibility": 1.0, "peak": u, "mean": math.nan,
-                "spread": 0.0, "dissipated_per_cycle": work,
-                "dissipated_particles_per_cycle": 0.0, "input_work_per_cycle": work,
-                "cycles": 0, "converged": True, "extrapolated": False, "irregular": False,
-                "measured_amplitude": u, "change": 0.0, "method": "closed-form", "start": "",
-                "t_start": 0.0, "t_end": 0.0, "steps": 0, "compile_s": 0.0, "wall_s": 0.0,
-                "response_node": spec.node, "response_dof": spec.dof, "responses": measured})
+            rows.append(
+                {
+                    "config": config,
+                    "frequency_hz": f,
+                    "drive": drive,
+                    "drive_quantity": spec.quantity,
+                    "direction": "",
+                    "amplitude": u,
+                    "phase": 0.0,
+                    "velocity": w * u,
+                    "acceleration": w * w * u,
+                    "accelerance": math.nan,
+                    "transmissibility": 1.0,
+                    "peak": u,
+                    "mean": math.nan,
+                    "spread": 0.0,
+                    "dissipated_per_cycle": work,
+                    "dissipated_particles_per_cycle": 0.0,
+                    "input_work_per_cycle": work,
+                    "cycles": 0,
+                    "converged": True,
+                    "extrapolated": False,
+                    "irregular": False,
+                    "measured_amplitude": u,
+                    "change": 0.0,
+                    "method": "closed-form",
+                    "start": "",
+                    "t_start": 0.0,
+                    "t_end": 0.0,
+                    "steps": 0,
+                    "compile_s": 0.0,
+                    "wall_s": 0.0,
+                    "response_node": spec.node,
+                    "response_dof": spec.dof,
+                    "responses": measured,
+                }
+            )
     return rows
 
 
@@ -88,32 +126,67 @@ def closed_form_rows(config: str, sdof, spec: SweepSpec, responses=()) -> list[d
             measured = []
             for (node, dof), structure in zip(spec.responses, responses):
                 a, p = structure.response(drive, w)
-                measured.append({"response_node": node, "response_dof": dof, "amplitude": a,
-                                 "phase": math.degrees(p), "velocity": w * a,
-                                 "acceleration": w * w * a,
-                                 "accelerance": w * w * a / abs(drive),
-                                 "transmissibility": math.nan, "peak": a,
-                                 "mean": math.nan, "spread": 0.0, "measured_amplitude": a,
-                                 "change": 0.0, "converged": True})
-            rows.append({
-                "config": config, "frequency_hz": f, "drive": drive, "drive_quantity": "force",
-                "direction": "", "amplitude": amp, "phase": math.degrees(phi),
-                "velocity": w * amp, "acceleration": w * w * amp,
-                "accelerance": w * w * amp / abs(drive), "transmissibility": math.nan,
-                "peak": amp, "mean": math.nan, "spread": 0.0,
-                "dissipated_per_cycle": sdof.dissipated_per_cycle(amp, w),
-                "dissipated_particles_per_cycle": 0.0,
-                "input_work_per_cycle": sdof.dissipated_per_cycle(amp, w), "cycles": 0,
-                "converged": True,
-                "extrapolated": False, "irregular": False, "measured_amplitude": amp,
-                "change": 0.0, "method": "closed-form", "start": "", "t_start": 0.0, "t_end": 0.0,
-                "steps": 0, "compile_s": 0.0, "wall_s": 0.0, "response_node": spec.node,
-                "response_dof": spec.dof, **({"responses": measured} if measured else {})})
+                measured.append(
+                    {
+                        "response_node": node,
+                        "response_dof": dof,
+                        "amplitude": a,
+                        "phase": math.degrees(p),
+                        "velocity": w * a,
+                        "acceleration": w * w * a,
+                        "accelerance": w * w * a / abs(drive),
+                        "transmissibility": math.nan,
+                        "peak": a,
+                        "mean": math.nan,
+                        "spread": 0.0,
+                        "measured_amplitude": a,
+                        "change": 0.0,
+                        "converged": True,
+                    }
+                )
+            rows.append(
+                {
+                    "config": config,
+                    "frequency_hz": f,
+                    "drive": drive,
+                    "drive_quantity": "force",
+                    "direction": "",
+                    "amplitude": amp,
+                    "phase": math.degrees(phi),
+                    "velocity": w * amp,
+                    "acceleration": w * w * amp,
+                    "accelerance": w * w * amp / abs(drive),
+                    "transmissibility": math.nan,
+                    "peak": amp,
+                    "mean": math.nan,
+                    "spread": 0.0,
+                    "dissipated_per_cycle": sdof.dissipated_per_cycle(amp, w),
+                    "dissipated_particles_per_cycle": 0.0,
+                    "input_work_per_cycle": sdof.dissipated_per_cycle(amp, w),
+                    "cycles": 0,
+                    "converged": True,
+                    "extrapolated": False,
+                    "irregular": False,
+                    "measured_amplitude": amp,
+                    "change": 0.0,
+                    "method": "closed-form",
+                    "start": "",
+                    "t_start": 0.0,
+                    "t_end": 0.0,
+                    "steps": 0,
+                    "compile_s": 0.0,
+                    "wall_s": 0.0,
+                    "response_node": spec.node,
+                    "response_dof": spec.dof,
+                    **({"responses": measured} if measured else {}),
+                }
+            )
     return rows
 
 
-def baseline_curves(spec: SweepSpec, n: int = 2001, response: tuple[int, int] | None = None
-                    ) -> dict:
+def baseline_curves(
+    spec: SweepSpec, n: int = 2001, response: tuple[int, int] | None = None
+) -> dict:
     """Closed-form baseline curves on a fine grid over the swept band: {(config, drive): (f, X)}
     at the driven DOF, or at ``response`` (node, dof). A base drive's are at its responses
     only, X the displacement amplitude (the transmissibility is X / U(f))."""
@@ -121,18 +194,25 @@ def baseline_curves(spec: SweepSpec, n: int = 2001, response: tuple[int, int] | 
     f = np.linspace(min(spec.frequencies), max(spec.frequencies), n)
     for config, deck in baseline_decks(spec.deck, spec.baselines, mass_node(spec)).items():
         if spec.base:
-            sdof = (base_response_structure(build_model(deck), spec.node, spec.dof, response)
-                    if response is not None else None)
-            for drive in ([] if sdof is None else spec.drives):
+            sdof = (
+                base_response_structure(build_model(deck), spec.node, spec.dof, response)
+                if response is not None
+                else None
+            )
+            for drive in [] if sdof is None else spec.drives:
                 w = 2 * math.pi * f
                 u = np.array([displacement_amplitude(drive, spec.quantity, x) for x in w])
-                out[(config, drive)] = (f, np.abs(u * np.array([sdof.transmissibility(x)
-                                                                  for x in w])))
+                out[(config, drive)] = (
+                    f,
+                    np.abs(u * np.array([sdof.transmissibility(x) for x in w])),
+                )
             continue
         sdof = force_structure(build_model(deck), spec.node, spec.dof, response)
         if sdof is None:
             continue
         for drive in spec.drives:
-            out[(config, drive)] = (f, np.array([sdof.response(drive, 2 * math.pi * x)[0]
-                                                 for x in f]))
+            out[(config, drive)] = (
+                f,
+                np.array([sdof.response(drive, 2 * math.pi * x)[0] for x in f]),
+            )
     return out

@@ -15,8 +15,14 @@ import numpy as np
 from x3dpd.api.figures import attenuations, plot_responses, plot_sweep
 from x3dpd.api.decks import read_deck
 from x3dpd.design.drive import displacement_amplitude, parse_amplitudes
-from x3dpd.design.spec import (SweepSpec, check_base, check_node, default_drive_point,
-                               parse_frequencies, parse_responses)
+from x3dpd.design.spec import (
+    SweepSpec,
+    check_base,
+    check_node,
+    default_drive_point,
+    parse_frequencies,
+    parse_responses,
+)
 from x3dpd.design.steady_state import Criterion
 from x3dpd.design.sweep import baseline_curves, deck_hash, run_sweep
 from x3dpd.design.sweep_measured import measured_curves, read_measured
@@ -24,15 +30,32 @@ from x3dpd.errors import InputError
 from x3dpd.units import labels_for, standard_gravity
 
 
-def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int | None = None,
-                  dof: int | None = None, direction: str | None = None,
-                  baselines: Sequence[str] = (), out: str, workers: int | None = None,
-                  scheduler: str | None = None, dt: float | None = None, tol: float = 0.01,
-                  window: int = 5, max_cycles: int = 400, samples_per_cycle: int = 200,
-                  extrapolate: bool = True, predict: bool = True, overwrite: bool = False,
-                  responses: Sequence[str] = (), drive: str = "force",
-                  measured_files: Sequence[str] = (), measured_scale: float = 1.0,
-                  echo: Callable[[str], None] = print) -> list[dict]:
+def sweep_command(
+    deck_path: str,
+    *,
+    freq: str,
+    amps: Sequence[str],
+    node: int | None = None,
+    dof: int | None = None,
+    direction: str | None = None,
+    baselines: Sequence[str] = (),
+    out: str,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    dt: float | None = None,
+    tol: float = 0.01,
+    window: int = 5,
+    max_cycles: int = 400,
+    samples_per_cycle: int = 200,
+    extrapolate: bool = True,
+    predict: bool = True,
+    overwrite: bool = False,
+    responses: Sequence[str] = (),
+    drive: str = "force",
+    measured_files: Sequence[str] = (),
+    measured_scale: float = 1.0,
+    echo: Callable[[str], None] = print,
+) -> list[dict]:
     """Run a sweep into ``out`` (sweep.csv, sweep.png, points/; with ``responses``
     (``NODE:DOF`` texts) also sweep_responses.png); returns its rows. ``drive`` "force" (a
     sine force on the node) or "base" (the node moved, x3dpd.design.drive; sweep.png then
@@ -54,23 +77,47 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
         raise InputError(f"--dof {dof}: the sweep measures a translation, dof 1, 2 or 3")
     points = list(measured) + ([] if quantity != "force" else [(node, dof)])
     frfs = read_measured(measured_files, points, measured_scale)
-    spec = SweepSpec(deck=deck, deck_text_hash=deck_hash(deck_path), frequencies=frequencies,
-                     drives=drives, node=node, dof=dof, direction=direction,
-                     baselines=tuple(baselines), dt=dt, responses=measured, quantity=quantity,
-                     criterion=Criterion(tol=tol, window=window, max_cycles=max_cycles,
-                                         samples_per_cycle=samples_per_cycle,
-                                         extrapolate=extrapolate, predict=predict))
+    spec = SweepSpec(
+        deck=deck,
+        deck_text_hash=deck_hash(deck_path),
+        frequencies=frequencies,
+        drives=drives,
+        node=node,
+        dof=dof,
+        direction=direction,
+        baselines=tuple(baselines),
+        dt=dt,
+        responses=measured,
+        quantity=quantity,
+        criterion=Criterion(
+            tol=tol,
+            window=window,
+            max_cycles=max_cycles,
+            samples_per_cycle=samples_per_cycle,
+            extrapolate=extrapolate,
+            predict=predict,
+        ),
+    )
     lab = labels_for(system)
-    unit = {"force": lab["force"], "displacement": lab["length"],
-            "velocity": lab["velocity"], "acceleration": lab["acceleration"]}[quantity]
+    unit = {
+        "force": lab["force"],
+        "displacement": lab["length"],
+        "velocity": lab["velocity"],
+        "acceleration": lab["acceleration"],
+    }[quantity]
     start = time.perf_counter()
-    what = (f"node {node} dof {dof}" if not spec.base else
-            f"base node {node} dof {dof} moved at {quantity} amplitude, measured at "
-            + ", ".join(f"{n}:{d}" for n, d in measured))
-    echo(f"sweep {deck_path}: {what}, {len(frequencies)} frequencies "
-         f"{frequencies[0]:g}-{frequencies[-1]:g} Hz, drive {', '.join(f'{d:g}' for d in drives)}"
-         f" {unit}, {direction or 'each point from rest'}"
-         + (f", baselines {','.join(baselines)}" if baselines else ""))
+    what = (
+        f"node {node} dof {dof}"
+        if not spec.base
+        else f"base node {node} dof {dof} moved at {quantity} amplitude, measured at "
+        + ", ".join(f"{n}:{d}" for n, d in measured)
+    )
+    echo(
+        f"sweep {deck_path}: {what}, {len(frequencies)} frequencies "
+        f"{frequencies[0]:g}-{frequencies[-1]:g} Hz, drive {', '.join(f'{d:g}' for d in drives)}"
+        f" {unit}, {direction or 'each point from rest'}"
+        + (f", baselines {','.join(baselines)}" if baselines else "")
+    )
 
     def on_point(row: dict) -> None:
         flag = "" if row["converged"] else "  NOT CONVERGED (cap)"
@@ -80,19 +127,28 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
             value = f"T={first['transmissibility']:.5e}"
         else:
             value = f"X={row['amplitude']:.5e}"
-        echo(f"  {row['config']:<10} {'F' if not spec.base else quantity[0].upper()}="
-             f"{row['drive']:<10.5g} {row['direction'] or '-':<4} "
-             f"{row['frequency_hz']:8.4f} Hz  {value}  "
-             f"{row['cycles']:4d} cycles  {row['wall_s']:6.1f} s{flag}")
+        echo(
+            f"  {row['config']:<10} {'F' if not spec.base else quantity[0].upper()}="
+            f"{row['drive']:<10.5g} {row['direction'] or '-':<4} "
+            f"{row['frequency_hz']:8.4f} Hz  {value}  "
+            f"{row['cycles']:4d} cycles  {row['wall_s']:6.1f} s{flag}"
+        )
 
     done = []
     try:
-        rows = run_sweep(spec, out, workers=workers, scheduler=scheduler,
-                         overwrite=overwrite, on_point=lambda row: (done.append(row),
-                                                                    on_point(row)))
+        rows = run_sweep(
+            spec,
+            out,
+            workers=workers,
+            scheduler=scheduler,
+            overwrite=overwrite,
+            on_point=lambda row: (done.append(row), on_point(row)),
+        )
     except KeyboardInterrupt:
-        echo(f"interrupted: {len(done)} point(s) finished in this call are kept in {out}; "
-             "the same command resumes the sweep")
+        echo(
+            f"interrupted: {len(done)} point(s) finished in this call are kept in {out}; "
+            "the same command resumes the sweep"
+        )
         raise
     length, force, unit_t = deck.units.system if deck.units is not None else ("in", "lbf", "s")
 
@@ -102,54 +158,96 @@ def sweep_command(deck_path: str, *, freq: str, amps: Sequence[str], node: int |
     if spec.base:
         return _base_outputs(spec, rows, out, deck_path, length, echo, start, overlays)
     curves = baseline_curves(spec)
-    plot_sweep(Path(out) / "sweep.png", rows, {**curves, **overlays((node, dof))},
-               title=Path(deck_path).name, units=length)
+    plot_sweep(
+        Path(out) / "sweep.png",
+        rows,
+        {**curves, **overlays((node, dof))},
+        title=Path(deck_path).name,
+        units=length,
+    )
     if measured:
-        plot_responses(Path(out) / "sweep_responses.png", rows, measured,
-                       {r: {**baseline_curves(spec, response=r), **overlays(r)}
-                        for r in measured},
-                       title=Path(deck_path).name, units=length, force=force, time=unit_t)
+        plot_responses(
+            Path(out) / "sweep_responses.png",
+            rows,
+            measured,
+            {r: {**baseline_curves(spec, response=r), **overlays(r)} for r in measured},
+            title=Path(deck_path).name,
+            units=length,
+            force=force,
+            time=unit_t,
+        )
     for a in attenuations(rows, curves):
-        echo(f"peak attenuation at drive {a['drive']:g}: {a['attenuation_db']:.2f} dB vs "
-             f"{a['baseline']} (peak {a['baseline_peak']:.4e} -> {a['deck_peak']:.4e})")
-    echo(f"wrote {Path(out) / 'sweep.csv'} and {Path(out) / 'sweep.png'}"
-         + (f" and {Path(out) / 'sweep_responses.png'}" if measured else "") + " "
-         f"({len(rows)} points, {time.perf_counter() - start:.1f} s)")
+        echo(
+            f"peak attenuation at drive {a['drive']:g}: {a['attenuation_db']:.2f} dB vs "
+            f"{a['baseline']} (peak {a['baseline_peak']:.4e} -> {a['deck_peak']:.4e})"
+        )
+    echo(
+        f"wrote {Path(out) / 'sweep.csv'} and {Path(out) / 'sweep.png'}"
+        + (f" and {Path(out) / 'sweep_responses.png'}" if measured else "")
+        + " "
+        f"({len(rows)} points, {time.perf_counter() - start:.1f} s)"
+    )
     return rows
 
 
-def _base_outputs(spec: SweepSpec, rows: list[dict], out, deck_path: str, length: str,
-                  echo: Callable[[str], None], start: float, overlays) -> list[dict]:
+def _base_outputs(
+    spec: SweepSpec,
+    rows: list[dict],
+    out,
+    deck_path: str,
+    length: str,
+    echo: Callable[[str], None],
+    start: float,
+    overlays,
+) -> list[dict]:
     """A base drive's sweep.png (the transmissibility at each response, baselines overlaid) and
     its peak attenuation (the first response's transmissibility against each baseline's)."""
+
     def base(f, drive):
         w = 2.0 * np.pi * np.asarray(f, float)
-        return np.array([displacement_amplitude(drive, spec.quantity, x)
-                         for x in np.atleast_1d(w)]).reshape(np.shape(w))
+        return np.array(
+            [displacement_amplitude(drive, spec.quantity, x) for x in np.atleast_1d(w)]
+        ).reshape(np.shape(w))
 
     curves = {r: baseline_curves(spec, response=r) for r in spec.responses}
     system = spec.deck.units.system if spec.deck.units is not None else None
     lab, g = labels_for(system), standard_gravity(system)
-    unit = {"displacement": lab["length"], "velocity": lab["velocity"],
-            "acceleration": lab["acceleration"]}[spec.quantity]
+    unit = {
+        "displacement": lab["length"],
+        "velocity": lab["velocity"],
+        "acceleration": lab["acceleration"],
+    }[spec.quantity]
 
     def drive_label(drive: float) -> str:
         extra = f" ({drive / g:.4g} g)" if spec.quantity == "acceleration" else ""
         return f"{drive:.5g} {unit}{extra}"
 
-    plot_responses(Path(out) / "sweep.png", rows, spec.responses,
-                   {r: {**c, **overlays(r)} for r, c in curves.items()},
-                   title=Path(deck_path).name, units=length, base=base,
-                   drive_label=drive_label)
+    plot_responses(
+        Path(out) / "sweep.png",
+        rows,
+        spec.responses,
+        {r: {**c, **overlays(r)} for r, c in curves.items()},
+        title=Path(deck_path).name,
+        units=length,
+        base=base,
+        drive_label=drive_label,
+    )
     first = spec.responses[0]
-    at_first = [{**r, **m, "amplitude": m["transmissibility"]} for r in rows
-                for m in r.get("responses", ())
-                if (m["response_node"], m["response_dof"]) == first]
+    at_first = [
+        {**r, **m, "amplitude": m["transmissibility"]}
+        for r in rows
+        for m in r.get("responses", ())
+        if (m["response_node"], m["response_dof"]) == first
+    ]
     t_curves = {key: (f, x / base(f, key[1])) for key, (f, x) in curves[first].items()}
     for a in attenuations(at_first, t_curves):
-        echo(f"peak attenuation at drive {a['drive']:g}: {a['attenuation_db']:.2f} dB vs "
-             f"{a['baseline']} (peak transmissibility at {first[0]}:{first[1]} "
-             f"{a['baseline_peak']:.4g} -> {a['deck_peak']:.4g})")
-    echo(f"wrote {Path(out) / 'sweep.csv'} and {Path(out) / 'sweep.png'} "
-         f"({len(rows)} points, {time.perf_counter() - start:.1f} s)")
+        echo(
+            f"peak attenuation at drive {a['drive']:g}: {a['attenuation_db']:.2f} dB vs "
+            f"{a['baseline']} (peak transmissibility at {first[0]}:{first[1]} "
+            f"{a['baseline_peak']:.4g} -> {a['deck_peak']:.4g})"
+        )
+    echo(
+        f"wrote {Path(out) / 'sweep.csv'} and {Path(out) / 'sweep.png'} "
+        f"({len(rows)} points, {time.perf_counter() - start:.1f} s)"
+    )
     return rows

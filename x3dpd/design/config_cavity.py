@@ -49,8 +49,9 @@ def with_clearance(design, config, deck: Deck, axis: int) -> Deck:
     wall = analytic_wall(deck, design.cavity_set)
     if wall is not None:
         if wall.shape != "cylinder":
-            config_error(design, config,
-                         f"clearance: a {wall.shape} cavity has no flat ends to set it")
+            config_error(
+                design, config, f"clearance: a {wall.shape} cavity has no flat ends to set it"
+            )
         a, b = xyz[wall.nodes[0]], xyz[wall.nodes[1]]
         u = (b - a) / np.linalg.norm(b - a)
         moved = {wall.nodes[1]}
@@ -60,8 +61,14 @@ def with_clearance(design, config, deck: Deck, axis: int) -> Deck:
             config_error(design, config, "clearance needs a box or cylinder cavity")
         lo, hi = cavity_box(tri)
         a, u = lo, np.eye(3)[axis]
-        moved = {k for cn in deck.contacts for t in cn.triangles if t.set_id == sid
-                 for k in t.nodes if abs(xyz[k][axis] - hi[axis]) <= 1e-12 * (1 + abs(hi[axis]))}
+        moved = {
+            k
+            for cn in deck.contacts
+            for t in cn.triangles
+            if t.set_id == sid
+            for k in t.nodes
+            if abs(xyz[k][axis] - hi[axis]) <= 1e-12 * (1 + abs(hi[axis]))
+        }
     along = {k: float((p - a) @ u) for k, p in xyz.items() if k > nodlim}
     bed = max(along.values()) - min(along.values()) + 2.0 * radius
     length = bed + c
@@ -103,17 +110,24 @@ def resized(design, config, deck: Deck, axis: int) -> Deck:
         config_error(design, config, f"cannot resize the cavity: {exc}")
     box = cavity_box(tri)
     if box is None:
-        config_error(design, config, "cavity_length / cavity_size need an axis-aligned box cavity "
-                     f"(CONTACT set {sid} is not one)")
+        config_error(
+            design,
+            config,
+            "cavity_length / cavity_size need an axis-aligned box cavity "
+            f"(CONTACT set {sid} is not one)",
+        )
     lo, hi = box
     size = hi - lo
     new = np.array(config.values.get("cavity_size", size), float)
     if "cavity_length" in config.values:
         new[axis] = config.values["cavity_length"]
     ids = {k for c in deck.contacts for t in c.triangles if t.set_id == sid for k in t.nodes}
-    nodes = tuple(Node(nd.nid, *map(float, lo + (np.array([nd.x, nd.y, nd.z]) - lo)
-                                    * new / size)) if nd.nid in ids else nd
-                  for nd in deck.nodes)
+    nodes = tuple(
+        Node(nd.nid, *map(float, lo + (np.array([nd.x, nd.y, nd.z]) - lo) * new / size))
+        if nd.nid in ids
+        else nd
+        for nd in deck.nodes
+    )
     return replace(deck, nodes=nodes)
 
 
@@ -122,15 +136,20 @@ def _resized_wall(design, config, deck: Deck, wall) -> Deck:
     set to ``cavity_radius``."""
     v = config.values
     if "cavity_size" in v:
-        config_error(design, config, f"cavity_size is a box's; this cavity is a {wall.shape} "
-                     "(give cavity_length, cavity_radius)")
+        config_error(
+            design,
+            config,
+            f"cavity_size is a box's; this cavity is a {wall.shape} "
+            "(give cavity_length, cavity_radius)",
+        )
     xyz = {nd.nid: np.array([nd.x, nd.y, nd.z]) for nd in deck.nodes}
     a, b = (xyz[k] for k in wall.nodes[:2])
     nodes = deck.nodes
     if "cavity_length" in v:
         moved = a + (b - a) / np.linalg.norm(b - a) * v["cavity_length"]
-        nodes = tuple(Node(nd.nid, *map(float, moved)) if nd.nid == wall.nodes[1] else nd
-                      for nd in nodes)
+        nodes = tuple(
+            Node(nd.nid, *map(float, moved)) if nd.nid == wall.nodes[1] else nd for nd in nodes
+        )
     params = wall.params
     if "cavity_radius" in v:
         params = (float(v["cavity_radius"]),) + tuple(params[1:])
@@ -163,18 +182,24 @@ def refilled(design, config, deck: Deck) -> Deck:
     if wall is None:
         return _refilled_mesh(design, config, deck, wall_set=None)
     meshed, mesh = _meshed(deck, wall)
-    out = _refilled_mesh(design, config, meshed, wall_set=wall.set_id,
-                         volume=wall_volume(deck, wall))
+    out = _refilled_mesh(
+        design, config, meshed, wall_set=wall.set_id, volume=wall_volume(deck, wall)
+    )
     drop = set(mesh)
-    return replace(out, contacts=tuple(replace(c, triangles=tuple(
-        t for t in c.triangles if t not in drop)) for c in out.contacts))
+    return replace(
+        out,
+        contacts=tuple(
+            replace(c, triangles=tuple(t for t in c.triangles if t not in drop))
+            for c in out.contacts
+        ),
+    )
 
 
 def wall_volume(deck: Deck, wall) -> float:
     """Interior volume of a cylinder (pi R^2 L) or capsule (pi R^2 L + 4/3 pi R^3) [length^3]."""
     length, radius = wall_length(deck, wall), float(wall.params[0])
-    extra = 4.0 / 3.0 * math.pi * radius ** 3 if wall.shape == "capsule" else 0.0
-    return math.pi * radius ** 2 * length + extra
+    extra = 4.0 / 3.0 * math.pi * radius**3 if wall.shape == "capsule" else 0.0
+    return math.pi * radius**2 * length + extra
 
 
 def wall_length(deck: Deck, wall) -> float:
@@ -183,19 +208,25 @@ def wall_length(deck: Deck, wall) -> float:
     return float(np.linalg.norm(xyz[wall.nodes[1]] - xyz[wall.nodes[0]]))
 
 
-def _refilled_mesh(design, config, deck: Deck, wall_set: int | None,
-                   volume: float | None = None) -> Deck:
+def _refilled_mesh(
+    design, config, deck: Deck, wall_set: int | None, volume: float | None = None
+) -> Deck:
     """The cavity refilled with the configuration's particles (x3dpd.deck.fill)."""
     v = config.values
     pd = deck.pdmp[0]
     radius = float(v.get("radius", pd.rzero))
     gap = float(v.get("gap", v.get("gap_fraction", 0.0) * radius))
-    opts = {"radius": radius, "packing": v.get("packing", "cubic"), "gap": gap,
-            "seed": v.get("seed"), "jitter": float(v.get("jitter", 0.0)),
-            "set_id": design.cavity_set}
+    opts = {
+        "radius": radius,
+        "packing": v.get("packing", "cubic"),
+        "gap": gap,
+        "seed": v.get("seed"),
+        "jitter": float(v.get("jitter", 0.0)),
+        "set_id": design.cavity_set,
+    }
     try:
         volume = volume or fill_positions(deck, n=1, **opts).volume
-        one = 4.0 / 3.0 * math.pi * radius ** 3
+        one = 4.0 / 3.0 * math.pi * radius**3
         if "count" in v:
             n = int(v["count"])
         elif "fill_ratio" in v:
@@ -211,7 +242,11 @@ def _refilled_mesh(design, config, deck: Deck, wall_set: int | None,
         config_error(design, config, str(exc))
     got = fill.positions.shape[0]
     if got < n:
-        config_error(design, config, f"only {got} of {n} spheres of radius {radius:g} fit in the "
-                     f"cavity ({opts['packing']} packing, gap {gap:g}, cavity volume "
-                     f"{volume:.6g}); a fill that cannot fit")
+        config_error(
+            design,
+            config,
+            f"only {got} of {n} spheres of radius {radius:g} fit in the "
+            f"cavity ({opts['packing']} packing, gap {gap:g}, cavity volume "
+            f"{volume:.6g}); a fill that cannot fit",
+        )
     return filled_deck(deck, fill, opts["set_id"])

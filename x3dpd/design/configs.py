@@ -64,9 +64,20 @@ from x3dpd.design.design_file import Configuration, DesignFile
 from x3dpd.errors import InputError
 
 #: Keys that make a configuration refill its cavity.
-REFILL = ("radius", "count", "fill_ratio", "particle_mass", "cavity_length", "cavity_size",
-          "cavity_radius",
-          "packing", "gap", "gap_fraction", "jitter", "seed")
+REFILL = (
+    "radius",
+    "count",
+    "fill_ratio",
+    "particle_mass",
+    "cavity_length",
+    "cavity_size",
+    "cavity_radius",
+    "packing",
+    "gap",
+    "gap_fraction",
+    "jitter",
+    "seed",
+)
 
 
 @dataclass(frozen=True)
@@ -95,7 +106,8 @@ def make_configurations(design: DesignFile) -> list[Made]:
         raise InputError(
             f"{design.where('structure')}: structure: {design.structure.name} names the code "
             f"file {code[0]} (USRFRC), which every configuration would run; a design runs a "
-            "deck's code only with usrfrc_code = true")
+            "deck's code only with usrfrc_code = true"
+        )
     return [_make(design, template, c) for c in design.configurations]
 
 
@@ -104,11 +116,14 @@ def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
     deck = template
     pd = deck.pdmp[0] if deck.pdmp else None
     if pd is None and any(k in v for k in REFILL + ("material",)) and v.get("count") != 0:
-        config_error(design, config, f"{design.structure.name} has no PDMP card to give the "
-                     "particles a material; start from a deck with particles")
+        config_error(
+            design,
+            config,
+            f"{design.structure.name} has no PDMP card to give the "
+            "particles a material; start from a deck with particles",
+        )
     if "material" in v:
-        deck = replace(deck, pdmp=(with_material(pd, v["material"], deck.units),)
-                       + deck.pdmp[1:])
+        deck = replace(deck, pdmp=(with_material(pd, v["material"], deck.units),) + deck.pdmp[1:])
         pd = deck.pdmp[0]
     axis = _drive_axis(design, template)
     if any(k in v for k in ("cavity_length", "cavity_size", "cavity_radius")):
@@ -129,12 +144,15 @@ def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
         message = getattr(first, "headline", None) or getattr(first, "message", first)
         config_error(design, config, f"the deck made does not check clean: {message}")
     values = _resolved(deck, axis, v, design.cavity_set)
-    values["mass_ratio"] = (values["added_mass"] / report.structure_mass
-                            if report.structure_mass > 0 else math.nan)
+    values["mass_ratio"] = (
+        values["added_mass"] / report.structure_mass if report.structure_mass > 0 else math.nan
+    )
     values["notes"] = tuple(f"{n.text} ({n.section})" for n in _rules(design, deck))
-    head = [f"{config.name}.inp: configuration {config.name} of the design {design.path.name}",
-            f"Made by `x3dpd design` from {design.structure.name}; do not edit (rerun the design).",
-            *(f"  {k} = {val!r}" for k, val in v.items())]
+    head = [
+        f"{config.name}.inp: configuration {config.name} of the design {design.path.name}",
+        f"Made by `x3dpd design` from {design.structure.name}; do not edit (rerun the design).",
+        *(f"  {k} = {val!r}" for k, val in v.items()),
+    ]
     text = "".join(f"$ {line}".rstrip() + "\n" for line in head) + "$\n" + format_deck(deck)
     return Made(config, Path(), deck, values, text)
 
@@ -156,8 +174,11 @@ def _rules(design: DesignFile, deck: Deck) -> list:
             return []
         node, dof = (d_node if node is None else node), (d_dof if dof is None else dof)
     amp, lo, hi = max(ev.drives), min(ev.frequencies), max(ev.frequencies)
-    spec = (f"sine:node={node},dof={dof},amp={amp!r},hz={lo!r}" if lo == hi else
-            f"sweep:node={node},dof={dof},amp={amp!r},f0={lo!r},f1={hi!r},rate=1")
+    spec = (
+        f"sine:node={node},dof={dof},amp={amp!r},hz={lo!r}"
+        if lo == hi
+        else f"sweep:node={node},dof={dof},amp={amp!r},f0={lo!r},f1={hi!r},rate=1"
+    )
     return rules_of_thumb(replace(deck, usrfrc=()), usrfrc=(spec,))
 
 
@@ -181,8 +202,13 @@ def _with_cavities(design, config, deck: Deck, axis: int) -> Deck:
     drive and gravity)."""
     try:
         spacing = design.cavity_spacing or default_spacing(deck, design.cavity_set, axis)
-        return with_cavities(deck, int(config.values["cavities"]), set_id=design.cavity_set,
-                             masters=design.cavity_masters, spacing=spacing)
+        return with_cavities(
+            deck,
+            int(config.values["cavities"]),
+            set_id=design.cavity_set,
+            masters=design.cavity_masters,
+            spacing=spacing,
+        )
     except InputError as exc:
         config_error(design, config, f"cavities: {exc}")
 
@@ -193,11 +219,15 @@ def _with_step(design, config, deck: Deck) -> Deck:
     ``stiffness_scale`` f scales the particles' moduli by f and that step by f^(-2/5)."""
     scale = config.values.get("stiffness_scale", 1.0)
     try:
-        if scale == 1.0 or not deck.pdmp:   # no particles: nothing to soften
+        if scale == 1.0 or not deck.pdmp:  # no particles: nothing to soften
             return fit_time_step(deck, dt=config.values.get("dt")).deck
         if deck.hooke is not None:
-            config_error(design, config, "stiffness_scale scales the particles' Hertz moduli "
-                         "(PDMP E0, E1 ...); this deck's contacts follow its HOOKE card")
+            config_error(
+                design,
+                config,
+                "stiffness_scale scales the particles' Hertz moduli "
+                "(PDMP E0, E1 ...); this deck's contacts follow its HOOKE card",
+            )
         dt = config.values.get("dt") or fit_time_step(deck).dt
         return fit_time_step(softened(deck, scale), dt=soft_step(dt, scale)).deck
     except InputError as exc:
@@ -215,21 +245,27 @@ def _resolved(deck: Deck, axis: int, values: dict, set_id: int | None) -> dict:
     model = build(deck)
     n = int(model.n_particles)
     pd = deck.pdmp[0] if deck.pdmp else None
-    out = {"material": values.get("material", "deck" if n else ""),
-           "radius": float(pd.rzero) if (pd and n) else 0.0, "count": n,
-           "cavities": int(values.get("cavities", 1)) if n else 0,
-           "added_mass": particle_mass(model), "dt": float(deck.parameters.dtmax),
-           "stiffness_scale": float(values.get("stiffness_scale", 1.0)) if n else 1.0,
-           "fill_ratio": math.nan, "cavity_length": math.nan, "clearance": math.nan}
+    out = {
+        "material": values.get("material", "deck" if n else ""),
+        "radius": float(pd.rzero) if (pd and n) else 0.0,
+        "count": n,
+        "cavities": int(values.get("cavities", 1)) if n else 0,
+        "added_mass": particle_mass(model),
+        "dt": float(deck.parameters.dtmax),
+        "stiffness_scale": float(values.get("stiffness_scale", 1.0)) if n else 1.0,
+        "fill_ratio": math.nan,
+        "cavity_length": math.nan,
+        "clearance": math.nan,
+    }
     try:
         sid = cavity_set(deck, set_id)
     except InputError:
         return out
-    x = model.x0[model.particle_start:]
+    x = model.x0[model.particle_start :]
     if n:
         x = x[model.particle_cavity == list(model.cavity_set_ids).index(sid)]
     wall = analytic_wall(deck, sid)
-    if wall is not None:   # along the cylinder's or capsule's axis
+    if wall is not None:  # along the cylinder's or capsule's axis
         xyz = {nd.nid: np.array([nd.x, nd.y, nd.z]) for nd in deck.nodes}
         a, b = xyz[wall.nodes[0]], xyz[wall.nodes[1]]
         direction = (b - a) / max(np.linalg.norm(b - a), 1e-300)
@@ -243,7 +279,7 @@ def _resolved(deck: Deck, axis: int, values: dict, set_id: int | None) -> dict:
         out["cavity_length"] = float(np.ptp(pts[:, axis]))
         try:
             volume = fill_positions(deck, n=1, radius=out["radius"] or 1.0, set_id=sid).volume
-        except InputError:   # not a closed cavity (a wall): no volume to fill
+        except InputError:  # not a closed cavity (a wall): no volume to fill
             volume = math.nan
         along = x[:, axis]
     if n:
@@ -266,7 +302,7 @@ def write_configurations(made: list[Made], out: Path, design: DesignFile) -> lis
             tmp.write_text(m.text, encoding="utf-8")
             os.replace(tmp, path)
         for code in code_files(m.deck):
-            src = (template_dir / code)
+            src = template_dir / code
             if src.is_file() and not (folder / code).exists():
                 (folder / code).parent.mkdir(parents=True, exist_ok=True)
                 shutil.copyfile(src, folder / code)

@@ -22,21 +22,61 @@ from x3dpd.design.steady_state import Criterion
 from x3dpd.errors import InputError
 
 #: Keys of a configuration: fixed in [fill], varied in [vary], or set per [[configuration]].
-CONFIG_KEYS = ("material", "radius", "count", "fill_ratio", "particle_mass", "cavities",
-               "cavity_length", "cavity_size", "cavity_radius", "clearance", "packing", "gap",
-               "gap_fraction", "jitter", "seed", "dt", "stiffness_scale")
+CONFIG_KEYS = (
+    "material",
+    "radius",
+    "count",
+    "fill_ratio",
+    "particle_mass",
+    "cavities",
+    "cavity_length",
+    "cavity_size",
+    "cavity_radius",
+    "clearance",
+    "packing",
+    "gap",
+    "gap_fraction",
+    "jitter",
+    "seed",
+    "dt",
+    "stiffness_scale",
+)
 #: How many particles: at most one of these per configuration (none: the deck's count).
 AMOUNT_KEYS = ("count", "fill_ratio", "particle_mass")
-TOP_KEYS = ("title", "structure", "usrfrc_code", "mass_budget", "cavity", "fill", "vary",
-            "configuration", "evaluate")
+TOP_KEYS = (
+    "title",
+    "structure",
+    "usrfrc_code",
+    "mass_budget",
+    "cavity",
+    "fill",
+    "vary",
+    "configuration",
+    "evaluate",
+)
 CAVITY_KEYS = ("set", "masters", "spacing")
 EVALUATIONS = ("sweep", "dwell", "ringdown")
 EVALUATE_KEYS = {
     "common": ("kind", "node", "dof", "drives", "baselines"),
-    "sweep": ("frequencies", "direction", "tol", "window", "max_cycles", "samples_per_cycle",
-              "extrapolate", "predict"),
-    "dwell": ("frequency", "tol", "window", "max_cycles", "samples_per_cycle", "extrapolate",
-              "predict"),
+    "sweep": (
+        "frequencies",
+        "direction",
+        "tol",
+        "window",
+        "max_cycles",
+        "samples_per_cycle",
+        "extrapolate",
+        "predict",
+    ),
+    "dwell": (
+        "frequency",
+        "tol",
+        "window",
+        "max_cycles",
+        "samples_per_cycle",
+        "extrapolate",
+        "predict",
+    ),
     "ringdown": ("drive_frequency", "drive_until", "ring"),
 }
 
@@ -115,12 +155,14 @@ def read_design(path: str | Path) -> DesignFile:
         r.fail(("structure",), "expected the path of a deck")
     structure = (path.parent / data["structure"]).resolve()
     if not structure.is_file():
-        r.fail(("structure",), f"deck {data['structure']!r} does not exist (looked for "
-               f"{structure})")
+        r.fail(
+            ("structure",), f"deck {data['structure']!r} does not exist (looked for {structure})"
+        )
     cavity = _table(r, data, "cavity")
     r.known(cavity, CAVITY_KEYS, ("cavity",))
-    cavity_set = (r.number(cavity["set"], ("cavity", "set"), integer=True)
-                  if "set" in cavity else None)
+    cavity_set = (
+        r.number(cavity["set"], ("cavity", "set"), integer=True) if "set" in cavity else None
+    )
     masters = spacing = None
     if "masters" in cavity:
         masters = cavity["masters"]
@@ -131,8 +173,7 @@ def read_design(path: str | Path) -> DesignFile:
         spacing = cavity["spacing"]
         if not isinstance(spacing, list) or len(spacing) != 3:
             r.fail(("cavity", "spacing"), f"expected [dx, dy, dz], got {spacing!r}")
-        spacing = tuple(float(r.number(v, ("cavity", "spacing"), positive=False))
-                        for v in spacing)
+        spacing = tuple(float(r.number(v, ("cavity", "spacing"), positive=False)) for v in spacing)
     budget = data.get("mass_budget")
     if budget is not None:
         budget = r.number(budget, ("mass_budget",))
@@ -140,12 +181,20 @@ def read_design(path: str | Path) -> DesignFile:
     if not isinstance(usrfrc_code, bool):
         r.fail(("usrfrc_code",), "expected true or false")
     configs, varied = _configurations(r, data)
-    return DesignFile(path=path, title=str(data.get("title", path.stem)), structure=structure,
-                      usrfrc_code=usrfrc_code, mass_budget=budget, cavity_set=cavity_set,
-                      cavity_masters=masters, cavity_spacing=spacing,
-                      configurations=configs, varied=varied,
-                      evaluation=_evaluation(r, _table(r, data, "evaluate", required=True)),
-                      text=text)
+    return DesignFile(
+        path=path,
+        title=str(data.get("title", path.stem)),
+        structure=structure,
+        usrfrc_code=usrfrc_code,
+        mass_budget=budget,
+        cavity_set=cavity_set,
+        cavity_masters=masters,
+        cavity_spacing=spacing,
+        configurations=configs,
+        varied=varied,
+        evaluation=_evaluation(r, _table(r, data, "evaluate", required=True)),
+        text=text,
+    )
 
 
 def _table(r: Reader, data: dict, name: str, required: bool = False) -> dict:
@@ -189,8 +238,10 @@ def _configurations(r: Reader, data: dict) -> tuple[tuple[Configuration, ...], t
             values = {**fixed, **own, **dict(zip(lists, combo))}
             amounts = [k for k in AMOUNT_KEYS if k in values]
             if len(amounts) > 1:
-                r.fail(keys if own else ("vary",), f"give one of {', '.join(AMOUNT_KEYS)}, "
-                       f"not {' and '.join(amounts)}")
+                r.fail(
+                    keys if own else ("vary",),
+                    f"give one of {', '.join(AMOUNT_KEYS)}, not {' and '.join(amounts)}",
+                )
             if "gap" in values and "gap_fraction" in values:
                 r.fail(keys if own else ("vary",), "give gap or gap_fraction, not both")
             if "clearance" in values and "cavity_length" in values:
@@ -200,23 +251,38 @@ def _configurations(r: Reader, data: dict) -> tuple[tuple[Configuration, ...], t
                 label = "_".join(_label(k, v) for k, v in zip(lists, combo))
                 name = "_".join(x for x in (entry.get("name"), label) if x) or f"config_{i + 1}"
             if not re.fullmatch(r"[\w.+-]+", str(name)):
-                r.fail(keys + ("name",), f"name {name!r}: use letters, digits, . _ + - only "
-                       "(it names a folder)")
+                r.fail(
+                    keys + ("name",),
+                    f"name {name!r}: use letters, digits, . _ + - only (it names a folder)",
+                )
             if name in names:
                 r.fail(keys + ("name",), f"configuration name {name!r} given twice")
             names[name] = True
             configs.append(Configuration(str(name), values, r.lines.get(keys, 0)))
-    varied = [k for k in CONFIG_KEYS
-              if len({repr(c.values.get(k)) for c in configs}) > 1]
+    varied = [k for k in CONFIG_KEYS if len({repr(c.values.get(k)) for c in configs}) > 1]
     return tuple(configs), tuple(varied)
 
 
 def _label(key: str, value) -> str:
-    short = {"material": "", "radius": "r", "count": "n", "fill_ratio": "fill",
-             "particle_mass": "m", "cavities": "cav", "cavity_length": "L", "cavity_size": "box",
-             "cavity_radius": "Rc", "clearance": "c", "packing": "",
-             "gap": "gap", "gap_fraction": "gapf", "jitter": "jit", "seed": "seed", "dt": "dt",
-             "stiffness_scale": "Ex"}
+    short = {
+        "material": "",
+        "radius": "r",
+        "count": "n",
+        "fill_ratio": "fill",
+        "particle_mass": "m",
+        "cavities": "cav",
+        "cavity_length": "L",
+        "cavity_size": "box",
+        "cavity_radius": "Rc",
+        "clearance": "c",
+        "packing": "",
+        "gap": "gap",
+        "gap_fraction": "gapf",
+        "jitter": "jit",
+        "seed": "seed",
+        "dt": "dt",
+        "stiffness_scale": "Ex",
+    }
     if isinstance(value, tuple):
         value = "x".join(f"{v:g}" for v in value)
     elif isinstance(value, float):
@@ -228,8 +294,7 @@ def _evaluation(r: Reader, ev: dict) -> Evaluation:
     keys = ("evaluate",)
     kind = ev.get("kind")
     if kind not in EVALUATIONS:
-        r.fail(keys + ("kind",), f"expected kind = one of {', '.join(EVALUATIONS)}, got "
-               f"{kind!r}")
+        r.fail(keys + ("kind",), f"expected kind = one of {', '.join(EVALUATIONS)}, got {kind!r}")
     r.known(ev, EVALUATE_KEYS["common"] + EVALUATE_KEYS[kind], keys)
     drives = ev.get("drives")
     if drives is None and kind != "ringdown":
@@ -259,18 +324,35 @@ def _evaluation(r: Reader, ev: dict) -> Evaluation:
                 r.fail(keys + (k,), "expected true or false")
             crit[k] = ev[k]
     criterion = Criterion(**crit)
-    if (criterion.window < 2 or criterion.max_cycles < 3 * criterion.window
-            or criterion.samples_per_cycle < 20):
-        r.fail(keys, "steady-state settings: expected window >= 2, max_cycles >= 3 x window, "
-               "samples_per_cycle >= 20")
-    out = {"kind": kind, "drives": drives or (), "node": node, "dof": dof,
-               "baselines": tuple(baselines), "criterion": criterion}
+    if (
+        criterion.window < 2
+        or criterion.max_cycles < 3 * criterion.window
+        or criterion.samples_per_cycle < 20
+    ):
+        r.fail(
+            keys,
+            "steady-state settings: expected window >= 2, max_cycles >= 3 x window, "
+            "samples_per_cycle >= 20",
+        )
+    out = {
+        "kind": kind,
+        "drives": drives or (),
+        "node": node,
+        "dof": dof,
+        "baselines": tuple(baselines),
+        "criterion": criterion,
+    }
     if kind == "sweep":
         freq = ev.get("frequencies")
         if freq is None:
-            r.fail(keys, "missing: frequencies = \"START:STOP:STEP\" or a list [Hz]")
-        text = freq if isinstance(freq, str) else ",".join(map(repr, freq)) \
-            if isinstance(freq, list) else repr(freq)
+            r.fail(keys, 'missing: frequencies = "START:STOP:STEP" or a list [Hz]')
+        text = (
+            freq
+            if isinstance(freq, str)
+            else ",".join(map(repr, freq))
+            if isinstance(freq, list)
+            else repr(freq)
+        )
         try:
             out["frequencies"] = parse_frequencies(text)
         except InputError as exc:
@@ -288,6 +370,7 @@ def _evaluation(r: Reader, ev: dict) -> Evaluation:
             if k in ev:
                 out[k] = float(r.number(ev[k], keys + (k,)))
         if "drive_frequency" in ev:
-            out["frequencies"] = (float(r.number(ev["drive_frequency"],
-                                                 keys + ("drive_frequency",))),)
+            out["frequencies"] = (
+                float(r.number(ev["drive_frequency"], keys + ("drive_frequency",))),
+            )
     return Evaluation(**out)

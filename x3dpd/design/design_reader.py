@@ -47,7 +47,7 @@ class Reader:
 
     def fail(self, keys: tuple, message: str):
         line = 0
-        for k in range(len(keys), 0, -1):   # the key, else its table
+        for k in range(len(keys), 0, -1):  # the key, else its table
             line = self.lines.get(tuple(keys[:k]), 0)
             if line:
                 break
@@ -57,14 +57,12 @@ class Reader:
     def known(self, table: dict, allowed, keys: tuple) -> None:
         for k in table:
             if k not in allowed:
-                self.fail(keys + (k,), f"unknown key {k!r}; expected one of "
-                          f"{', '.join(allowed)}")
+                self.fail(keys + (k,), f"unknown key {k!r}; expected one of {', '.join(allowed)}")
 
     def number(self, value, keys, positive=True, integer=False, minimum=None):
         kind = int if integer else _NUMBER
         if isinstance(value, bool) or not isinstance(value, kind) or not math.isfinite(value):
-            self.fail(keys, f"expected {'an integer' if integer else 'a number'}, got "
-                      f"{value!r}")
+            self.fail(keys, f"expected {'an integer' if integer else 'a number'}, got {value!r}")
         if positive and not value > 0:
             self.fail(keys, f"expected a value > 0, got {value!r}")
         if minimum is not None and value < minimum:
@@ -85,7 +83,7 @@ class Reader:
                 self.fail(keys, f"expected one of {', '.join(PACKINGS)}, got {value!r}")
             return value
         if key == "cavity_size":
-            if (not isinstance(value, list) or len(value) != 3):
+            if not isinstance(value, list) or len(value) != 3:
                 self.fail(keys, f"expected [x, y, z] interior dimensions, got {value!r}")
             return tuple(float(self.number(v, keys)) for v in value)
         if key in ("count", "seed"):
@@ -105,8 +103,10 @@ class Reader:
         if key == "fill_ratio":
             value = self.number(value, keys)
             if value >= 0.7405:
-                self.fail(keys, f"fill ratio {value!r}: no packing of spheres exceeds "
-                          "pi/sqrt(18) = 0.7405")
+                self.fail(
+                    keys,
+                    f"fill ratio {value!r}: no packing of spheres exceeds pi/sqrt(18) = 0.7405",
+                )
             return value
         return self.number(value, keys)
 

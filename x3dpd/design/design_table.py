@@ -27,15 +27,49 @@ from x3dpd.api.figures import attenuations
 from x3dpd.design.closed_form import baseline_curves
 
 #: design.csv columns, in order.
-COLUMNS = ("config", "material", "radius", "count", "cavities", "fill_ratio", "cavity_length",
-           "clearance", "dt", "stiffness_scale", "added_mass", "mass_ratio", "evaluation", "drive",
-           "frequency_hz", "direction", "amplitude", "phase", "acceleration", "amplitude_db",
-           "zeta_percent", "baseline_zeta_percent", "baseline_undamped", "baseline_added_mass",
-           "attenuation_undamped_db", "attenuation_added_mass_db", "peak_amplitude",
-           "peak_attenuation_undamped_db", "peak_attenuation_added_mass_db",
-           "dissipated_viscoelastic_per_cycle", "dissipated_friction_per_cycle",
-           "dissipated_dampers_per_cycle", "input_work_per_cycle", "cycles", "converged",
-           "extrapolated", "irregular", "within_budget", "score", "best", "notes")
+COLUMNS = (
+    "config",
+    "material",
+    "radius",
+    "count",
+    "cavities",
+    "fill_ratio",
+    "cavity_length",
+    "clearance",
+    "dt",
+    "stiffness_scale",
+    "added_mass",
+    "mass_ratio",
+    "evaluation",
+    "drive",
+    "frequency_hz",
+    "direction",
+    "amplitude",
+    "phase",
+    "acceleration",
+    "amplitude_db",
+    "zeta_percent",
+    "baseline_zeta_percent",
+    "baseline_undamped",
+    "baseline_added_mass",
+    "attenuation_undamped_db",
+    "attenuation_added_mass_db",
+    "peak_amplitude",
+    "peak_attenuation_undamped_db",
+    "peak_attenuation_added_mass_db",
+    "dissipated_viscoelastic_per_cycle",
+    "dissipated_friction_per_cycle",
+    "dissipated_dampers_per_cycle",
+    "input_work_per_cycle",
+    "cycles",
+    "converged",
+    "extrapolated",
+    "irregular",
+    "within_budget",
+    "score",
+    "best",
+    "notes",
+)
 #: Rows per ring-down (amplitudes evenly spread in dB over its range).
 RINGDOWN_POINTS = 25
 SPLIT = ("dissipated_viscoelastic", "dissipated_friction", "dissipated_dampers")
@@ -47,10 +81,26 @@ def _db(reference: float, value: float) -> float:
 
 def _config_columns(c) -> dict:
     v = c.made.values
-    return {"config": c.made.config.name, **{k: v[k] for k in (
-        "material", "radius", "count", "cavities", "fill_ratio", "cavity_length", "clearance",
-        "dt", "stiffness_scale", "added_mass")}, "mass_ratio": v.get("mass_ratio", math.nan),
-        "notes": " | ".join(v.get("notes", ()))}
+    return {
+        "config": c.made.config.name,
+        **{
+            k: v[k]
+            for k in (
+                "material",
+                "radius",
+                "count",
+                "cavities",
+                "fill_ratio",
+                "cavity_length",
+                "clearance",
+                "dt",
+                "stiffness_scale",
+                "added_mass",
+            )
+        },
+        "mass_ratio": v.get("mass_ratio", math.nan),
+        "notes": " | ".join(v.get("notes", ())),
+    }
 
 
 def design_rows(design, configs) -> list[dict]:
@@ -68,23 +118,37 @@ def design_rows(design, configs) -> list[dict]:
 def _sweep_rows(c) -> list[dict]:
     by = {(r["config"], r["drive"], r["frequency_hz"], r["direction"]): r for r in c.rows}
     curves = baseline_curves(c.spec)
-    peaks = {(a["drive"], a["baseline"]): a["attenuation_db"]
-             for a in attenuations(c.rows, curves)}
+    peaks = {(a["drive"], a["baseline"]): a["attenuation_db"] for a in attenuations(c.rows, curves)}
     out = []
     for r in c.rows:
         if r["config"] != "deck":
             continue
-        cells = {k: r[k] for k in ("drive", "frequency_hz", "direction", "amplitude", "phase",
-                                   "acceleration", "input_work_per_cycle", "cycles",
-                                   "converged", "extrapolated", "irregular")}
-        cells["peak_amplitude"] = max(x["amplitude"] for x in c.rows
-                                      if x["config"] == "deck" and x["drive"] == r["drive"])
+        cells = {
+            k: r[k]
+            for k in (
+                "drive",
+                "frequency_hz",
+                "direction",
+                "amplitude",
+                "phase",
+                "acceleration",
+                "input_work_per_cycle",
+                "cycles",
+                "converged",
+                "extrapolated",
+                "irregular",
+            )
+        }
+        cells["peak_amplitude"] = max(
+            x["amplitude"] for x in c.rows if x["config"] == "deck" and x["drive"] == r["drive"]
+        )
         for name in SPLIT:
             cells[f"{name}_per_cycle"] = r.get(f"{name}_per_cycle", math.nan)
         for config in ("undamped", "added-mass"):
             col = config.replace("-", "_")
             ref = by.get((config, r["drive"], r["frequency_hz"], "")) or by.get(
-                (config, r["drive"], r["frequency_hz"], r["direction"]))
+                (config, r["drive"], r["frequency_hz"], r["direction"])
+            )
             cells[f"baseline_{col}"] = ref["amplitude"] if ref else math.nan
             cells[f"attenuation_{col}_db"] = _db(cells[f"baseline_{col}"], r["amplitude"])
             cells[f"peak_attenuation_{col}_db"] = peaks.get((r["drive"], config), math.nan)
@@ -98,7 +162,7 @@ def _ringdown_rows(c) -> list[dict]:
 
     zeta0 = math.nan
     sdof = linear_structure(build(without_particles(c.made.deck)), c.node, c.dof)
-    if sdof is not None and hasattr(sdof, "k"):   # an SDOF: zeta = c / (2 sqrt(k m))
+    if sdof is not None and hasattr(sdof, "k"):  # an SDOF: zeta = c / (2 sqrt(k m))
         zeta0 = 100.0 * sdof.c / (2.0 * math.sqrt(sdof.k * sdof.m))
     out = []
     for level, cols in sorted(c.ringdowns.items(), key=lambda kv: str(kv[0])):
@@ -111,8 +175,15 @@ def _ringdown_rows(c) -> list[dict]:
         z = np.interp(grid, db[order], zeta[order])
         g = np.interp(grid, db[order], np.asarray(cols["amplitude_g"])[order])
         for x, y, a in zip(grid, z, g):
-            out.append({"drive": level, "amplitude_db": float(x), "zeta_percent": float(y),
-                        "acceleration": float(a), "converged": True})
+            out.append(
+                {
+                    "drive": level,
+                    "amplitude_db": float(x),
+                    "zeta_percent": float(y),
+                    "acceleration": float(a),
+                    "converged": True,
+                }
+            )
     for r in out:
         r["baseline_zeta_percent"] = zeta0
     return out
@@ -156,8 +227,12 @@ def _cell(v) -> str:
 def write_design_csv(path: str | os.PathLike, rows: list[dict]) -> None:
     """design.csv (columns :data:`COLUMNS`, full-precision floats), written atomically."""
     path = Path(path)
-    text = "\n".join([",".join(COLUMNS)] + [",".join(_cell(r.get(c, "")) for c in COLUMNS)
-                                            for r in rows]) + "\n"
+    text = (
+        "\n".join(
+            [",".join(COLUMNS)] + [",".join(_cell(r.get(c, "")) for c in COLUMNS) for r in rows]
+        )
+        + "\n"
+    )
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text(text)
     os.replace(tmp, path)

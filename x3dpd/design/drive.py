@@ -31,16 +31,14 @@ from x3dpd.errors import InputError
 DRIVES = ("force", "base")
 #: What an amplitude is, by its ``--amp`` suffix (a plain number: displacement for a base
 #: drive, force for a force drive).
-SUFFIXES = {"disp": "displacement", "vel": "velocity", "acc": "acceleration",
-            "g": "acceleration"}
+SUFFIXES = {"disp": "displacement", "vel": "velocity", "acc": "acceleration", "g": "acceleration"}
 #: Quantities of a base drive, and the letter of each in a point's file name.
 BASE_QUANTITIES = {"displacement": "D", "velocity": "V", "acceleration": "A"}
 
 _AMP = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?)\s*([A-Za-z]*)\s*$")
 
 
-def parse_amplitudes(texts: Sequence[str], drive: str, g: float
-                     ) -> tuple[str, tuple[float, ...]]:
+def parse_amplitudes(texts: Sequence[str], drive: str, g: float) -> tuple[str, tuple[float, ...]]:
     """``--amp`` values (repeatable, each a number or a comma list) -> (quantity, values).
 
     ``drive`` "force": plain numbers, quantity "force". ``drive`` "base": a number with an
@@ -54,17 +52,23 @@ def parse_amplitudes(texts: Sequence[str], drive: str, g: float
         for part in str(text).split(","):
             match = _AMP.match(part)
             if match is None:
-                raise InputError(f"--amp {text!r}: expected a drive amplitude (force), or a "
-                                 "comma list of them; a base drive's may end in disp, vel, acc "
-                                 "or g (e.g. 2g)")
+                raise InputError(
+                    f"--amp {text!r}: expected a drive amplitude (force), or a "
+                    "comma list of them; a base drive's may end in disp, vel, acc "
+                    "or g (e.g. 2g)"
+                )
             number, suffix = match.group(1), match.group(2).lower()
             if suffix and suffix not in SUFFIXES:
-                raise InputError(f"--amp {text!r}: unknown unit suffix {match.group(2)!r}; "
-                                 f"expected {', '.join(SUFFIXES)} (e.g. 2g, 0.5acc, 0.1vel, "
-                                 "0.001disp) or none")
+                raise InputError(
+                    f"--amp {text!r}: unknown unit suffix {match.group(2)!r}; "
+                    f"expected {', '.join(SUFFIXES)} (e.g. 2g, 0.5acc, 0.1vel, "
+                    "0.001disp) or none"
+                )
             if suffix and drive == "force":
-                raise InputError(f"--amp {text!r}: a force drive's amplitude is a force "
-                                 "(a plain number); unit suffixes are for --drive base")
+                raise InputError(
+                    f"--amp {text!r}: a force drive's amplitude is a force "
+                    "(a plain number); unit suffixes are for --drive base"
+                )
             v = float(number.replace("d", "e").replace("D", "e"))
             if not (math.isfinite(v) and v != 0):
                 raise InputError(f"--amp {text!r}: a drive amplitude must be finite and not 0")
@@ -72,14 +76,15 @@ def parse_amplitudes(texts: Sequence[str], drive: str, g: float
                 raise InputError(f"--amp {text!r}: a base motion's amplitude must be > 0")
             if suffix == "g":
                 v *= g
-            quantities.append("force" if drive == "force"
-                              else SUFFIXES.get(suffix, "displacement"))
+            quantities.append("force" if drive == "force" else SUFFIXES.get(suffix, "displacement"))
             values.append(v)
     if not values:
         raise InputError("--amp: give at least one drive amplitude")
     if len(set(quantities)) > 1:
-        raise InputError(f"--amp: give every amplitude of a base drive as one quantity (got "
-                         f"{', '.join(sorted(set(quantities)))})")
+        raise InputError(
+            f"--amp: give every amplitude of a base drive as one quantity (got "
+            f"{', '.join(sorted(set(quantities)))})"
+        )
     return quantities[0], tuple(dict.fromkeys(values))
 
 

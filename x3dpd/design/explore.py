@@ -67,8 +67,14 @@ def run_ringdown(task: RingdownTask, previous=None) -> tuple[dict, None]:
     """A ring-down's columns (x3dpd.analysis.ringdown.Ringdown.columns) as lists."""
     from x3dpd.design.ringdown import ringdown_of_deck
 
-    rd = ringdown_of_deck(task.deck, task.node, task.dof, drive_until=task.drive_until,
-                          ring=task.ring, drive=task.drive)
+    rd = ringdown_of_deck(
+        task.deck,
+        task.node,
+        task.dof,
+        drive_until=task.drive_until,
+        ring=task.ring,
+        drive=task.drive,
+    )
     return {k: [float(x) for x in v] for k, v in rd.columns().items()}, None
 
 
@@ -88,14 +94,20 @@ class Config:
     dof: int = 0
 
 
-def run_design(path: str | os.PathLike, out: str | os.PathLike, *, workers: int | None = None,
-               scheduler: str | None = None, overwrite: bool = False,
-               echo: Callable[[str], None] = print) -> list[dict]:
+def run_design(
+    path: str | os.PathLike,
+    out: str | os.PathLike,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    overwrite: bool = False,
+    echo: Callable[[str], None] = print,
+) -> list[dict]:
     """Run (or resume) a design into ``out``; returns design.csv's rows (module doc)."""
     from x3dpd.design.design_table import design_rows, write_design_csv
 
     design = read_design(path)
-    made = make_configurations(design)          # every error before anything is written
+    made = make_configurations(design)  # every error before anything is written
     out = Path(out)
     configs = [Config(m, out / "configs" / m.config.name) for m in made]
     ev = design.evaluation
@@ -104,15 +116,22 @@ def run_design(path: str | os.PathLike, out: str | os.PathLike, *, workers: int 
             c.spec = _sweep_spec(design, c.made)
     for c in configs:
         if c.spec is not None:
-            plan(c.spec)                          # a bad baseline or drive point: before writing
-    for c, m in zip(configs, made):   # before any deck is written: stored points kept
-        if c.spec is not None and _changed(c.folder, replace(
-                c.spec, deck_text_hash=hashlib.sha256(m.text.encode("utf-8")).hexdigest())) \
-                and not overwrite:
-            raise InputError(f"{c.folder / 'sweep'}: holds points of another deck or other "
-                             f"settings for configuration {m.config.name} (the design file "
-                             "changed); give another --out, or --overwrite to recompute the "
-                             "configurations that changed")
+            plan(c.spec)  # a bad baseline or drive point: before writing
+    for c, m in zip(configs, made):  # before any deck is written: stored points kept
+        if (
+            c.spec is not None
+            and _changed(
+                c.folder,
+                replace(c.spec, deck_text_hash=hashlib.sha256(m.text.encode("utf-8")).hexdigest()),
+            )
+            and not overwrite
+        ):
+            raise InputError(
+                f"{c.folder / 'sweep'}: holds points of another deck or other "
+                f"settings for configuration {m.config.name} (the design file "
+                "changed); give another --out, or --overwrite to recompute the "
+                "configurations that changed"
+            )
     made = write_configurations(made, out, design)
     _write_settings(out, design)
     todo = []
@@ -123,19 +142,25 @@ def run_design(path: str | os.PathLike, out: str | os.PathLike, *, workers: int 
         todo.extend((c, entry) for entry in mine)
     total = sum(c.total for c in configs)
     left = sum(c.left for c in configs)
-    echo(f"design {design.path}: {len(configs)} configurations, {ev.kind}, {total} points "
-         f"({total - left} stored before), into {out}")
+    echo(
+        f"design {design.path}: {len(configs)} configurations, {ev.kind}, {total} points "
+        f"({total - left} stored before), into {out}"
+    )
     progress = _Progress(configs, total, total - left, echo)
     # the costliest configurations first (particles per step x steps per second): their
     # chains set the critical path; the order does not change any number
     todo.sort(key=lambda item: -item[0].made.values["count"] / item[0].made.values["dt"])
-    todo = [(fn, chain, previous, progress.wrap(c, finished))
-            for c, (fn, chain, previous, finished) in todo]
+    todo = [
+        (fn, chain, previous, progress.wrap(c, finished))
+        for c, (fn, chain, previous, finished) in todo
+    ]
     try:
         run_chains(todo, workers, scheduler)
     except KeyboardInterrupt:
-        echo(f"interrupted: {progress.computed} point(s) finished in this call are kept in "
-             f"{out}; the same command resumes the design")
+        echo(
+            f"interrupted: {progress.computed} point(s) finished in this call are kept in "
+            f"{out}; the same command resumes the design"
+        )
         raise
     for c in configs:
         if c.spec is not None:
@@ -148,11 +173,16 @@ def run_design(path: str | os.PathLike, out: str | os.PathLike, *, workers: int 
     best = [r for r in rows if r["best"]]
     if best:
         b = best[0]
-        echo(f"best configuration{' within the mass budget' if design.mass_budget else ''}: "
-             f"{b['config']} (added mass {b['added_mass']:.4g}, {_score_text(b, ev.kind)})")
-    echo(f"wrote {out / 'design.csv'} and " + ", ".join(str(f) for f in figures)
-         + f" ({len(rows)} rows, {progress.computed} points computed in "
-         f"{_duration(time.perf_counter() - progress.start)})")
+        echo(
+            f"best configuration{' within the mass budget' if design.mass_budget else ''}: "
+            f"{b['config']} (added mass {b['added_mass']:.4g}, {_score_text(b, ev.kind)})"
+        )
+    echo(
+        f"wrote {out / 'design.csv'} and "
+        + ", ".join(str(f) for f in figures)
+        + f" ({len(rows)} rows, {progress.computed} points computed in "
+        f"{_duration(time.perf_counter() - progress.start)})"
+    )
     return rows
 
 
@@ -170,23 +200,33 @@ def _figures(out: Path, design: DesignFile, rows: list[dict], configs: list[Conf
         return []
     title = design.title
     if design.evaluation.kind == "ringdown":
-        return [plot_damping_families(out / "design_damping.png", rows, design.mass_budget,
-                                      title)]
-    figures = [plot_attenuation_vs_mass(out / "design_attenuation.png", rows,
-                                        design.mass_budget, title)]
+        return [plot_damping_families(out / "design_damping.png", rows, design.mass_budget, title)]
+    figures = [
+        plot_attenuation_vs_mass(out / "design_attenuation.png", rows, design.mass_budget, title)
+    ]
     if design.evaluation.kind == "sweep":
         curves = baseline_curves(configs[0].spec)
         for k, drive in enumerate(design.evaluation.drives, 1):
-            series = {c.made.config.name: [r for r in c.rows if r["config"] == "deck"
-                                           and r["drive"] == drive] for c in configs}
+            series = {
+                c.made.config.name: [
+                    r for r in c.rows if r["config"] == "deck" and r["drive"] == drive
+                ]
+                for c in configs
+            }
             base = {}
             if ("undamped", drive) in curves:
                 base["undamped (closed form)"] = curves[("undamped", drive)]
             same_mass = len({c.made.values["added_mass"] for c in configs}) == 1
-            if same_mass and ("added-mass", drive) in curves:   # e.g. an equal-mass study
+            if same_mass and ("added-mass", drive) in curves:  # e.g. an equal-mass study
                 base["added mass (closed form)"] = curves[("added-mass", drive)]
-            figures.append(plot_configurations(out / f"design_response_{k}.png", series, base,
-                                               title=f"{title}, drive {drive:.5g}"))
+            figures.append(
+                plot_configurations(
+                    out / f"design_response_{k}.png",
+                    series,
+                    base,
+                    title=f"{title}, drive {drive:.5g}",
+                )
+            )
     return figures
 
 
@@ -203,18 +243,29 @@ def _sweep_spec(design: DesignFile, made: Made) -> SweepSpec:
         d_node, d_dof = default_drive_point(made.deck)
         node, dof = (d_node if node is None else node), (d_dof if dof is None else dof)
     if node not in {n.nid for n in made.deck.nodes}:
-        raise InputError(f"{design.where('evaluate', 'node')}: evaluate.node: node {node} is "
-                         f"not a node of {design.structure.name}")
-    return SweepSpec(deck=made.deck, deck_text_hash="", frequencies=ev.frequencies,
-                     drives=ev.drives, node=node, dof=dof, direction=ev.direction,
-                     baselines=ev.baselines, criterion=ev.criterion)
+        raise InputError(
+            f"{design.where('evaluate', 'node')}: evaluate.node: node {node} is "
+            f"not a node of {design.structure.name}"
+        )
+    return SweepSpec(
+        deck=made.deck,
+        deck_text_hash="",
+        frequencies=ev.frequencies,
+        drives=ev.drives,
+        node=node,
+        dof=dof,
+        direction=ev.direction,
+        baselines=ev.baselines,
+        criterion=ev.criterion,
+    )
 
 
 def _changed(folder: Path, spec: SweepSpec) -> bool:
     """Whether ``folder``/sweep holds points computed with other settings or another deck."""
     stored = folder / "sweep" / "sweep.json"
     return stored.exists() and json.loads(stored.read_text()) != json.loads(
-        json.dumps(spec.settings()))
+        json.dumps(spec.settings())
+    )
 
 
 def _write_settings(out: Path, design: DesignFile) -> None:
@@ -256,11 +307,24 @@ def _pending_ringdowns(design: DesignFile, c: Config) -> list:
     if ev.drives and ev.frequencies:
         for level in ev.drives:
             spec = f"sine:node={node},dof={dof},amp={level!r},hz={ev.frequencies[0]!r}"
-            tasks.append(RingdownTask(c.made.deck, node, dof, (spec,), level, ev.drive_until,
-                                      ev.ring, key=f"F{level:.6e}_{digest}"))
+            tasks.append(
+                RingdownTask(
+                    c.made.deck,
+                    node,
+                    dof,
+                    (spec,),
+                    level,
+                    ev.drive_until,
+                    ev.ring,
+                    key=f"F{level:.6e}_{digest}",
+                )
+            )
     else:
-        tasks.append(RingdownTask(c.made.deck, node, dof, (), math.nan, ev.drive_until, ev.ring,
-                                  key=f"deck_{digest}"))
+        tasks.append(
+            RingdownTask(
+                c.made.deck, node, dof, (), math.nan, ev.drive_until, ev.ring, key=f"deck_{digest}"
+            )
+        )
     c.total = len(tasks)
     todo = []
     for task in tasks:
@@ -292,6 +356,7 @@ class _Progress:
         def call(point, chain_len: int, result) -> None:
             finished(point, chain_len, result)
             self.tick(c, _label(point, result[0]))
+
         return call
 
     def tick(self, c: Config, label: str) -> None:
@@ -301,17 +366,21 @@ class _Progress:
         elapsed = time.perf_counter() - self.start
         eta = elapsed / self.computed * (self.total - self.done)
         configs_done = sum(1 for k in self.configs if k.left <= 0)
-        self.echo(f"  [{self.done}/{self.total} points, {configs_done}/{len(self.configs)} "
-                  f"configurations, ETA {_duration(eta)}] {c.made.config.name}: {label}")
+        self.echo(
+            f"  [{self.done}/{self.total} points, {configs_done}/{len(self.configs)} "
+            f"configurations, ETA {_duration(eta)}] {c.made.config.name}: {label}"
+        )
 
 
 def _label(point, row: dict) -> str:
     if isinstance(point, RingdownTask):
         return f"ring-down, zeta up to {max(row['zeta_percent'], default=math.nan):.3g} %"
     flag = "" if row["converged"] else "  NOT CONVERGED (cap)"
-    return (f"{row['config']} F={row['drive']:.5g} {row['direction'] or '-'} "
-            f"{row['frequency_hz']:.4f} Hz X={row['amplitude']:.5e} {row['cycles']} cycles"
-            f"{flag}")
+    return (
+        f"{row['config']} F={row['drive']:.5g} {row['direction'] or '-'} "
+        f"{row['frequency_hz']:.4f} Hz X={row['amplitude']:.5e} {row['cycles']} cycles"
+        f"{flag}"
+    )
 
 
 def _duration(seconds: float) -> str:

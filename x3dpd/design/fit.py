@@ -25,8 +25,9 @@ from x3dpd.errors import InputError
 _AXES = "XYZ"
 
 
-def modal_records(fit: SdofFit, values: dict[str, float], *, node: int, dof: int,
-                  drive: str) -> list[str]:
+def modal_records(
+    fit: SdofFit, values: dict[str, float], *, node: int, dof: int, drive: str
+) -> list[str]:
     """The fit as a MODAL card (docs/deck-reference.md): one mode of frequency fn and damping
     zeta whose mass-normalised shape value at the point is phi = 1/sqrt(m) (its receptance
     there phi^2 / (wn^2 - w^2 + 2 i zeta wn w) is the fitted SDOF's), HOUSING included (the
@@ -48,8 +49,17 @@ def modal_records(fit: SdofFit, values: dict[str, float], *, node: int, dof: int
     ]
 
 
-def fit_text(source: MeasuredFrf, fit: SdofFit, values: dict[str, float], *, node: int,
-             dof: int, quantity: str, mid: int = 2, records: str = "sdof") -> str:
+def fit_text(
+    source: MeasuredFrf,
+    fit: SdofFit,
+    values: dict[str, float],
+    *,
+    node: int,
+    dof: int,
+    quantity: str,
+    mid: int = 2,
+    records: str = "sdof",
+) -> str:
     """The fit's description and deck records (``$`` comment lines, then MATID, ELEMENTS, MASS
     in the beam decks' layout: decks/beam_64.inp; or with ``records`` "modal" a MODAL card,
     :func:`modal_records`)."""
@@ -71,11 +81,9 @@ def fit_text(source: MeasuredFrf, fit: SdofFit, values: dict[str, float], *, nod
         f"$   m = {values['mass']:.8g}, k = m wn^2 = {values['stiffness']:.8g}, "
         f"c = 2 zeta m wn = {values['damping']:.8g}",
     ]
-    drive = (f"USRFRC sine:node={node},dof={dof},amp={values['force_scale']:.8g},"
-             f"hz={fit.fn:.6g}")
+    drive = f"USRFRC sine:node={node},dof={dof},amp={values['force_scale']:.8g},hz={fit.fn:.6g}"
     if records == "modal":
-        return "\n".join(lines + modal_records(fit, values, node=node, dof=dof,
-                                                drive=drive)) + "\n"
+        return "\n".join(lines + modal_records(fit, values, node=node, dof=dof, drive=drive)) + "\n"
     lines += [
         f"$ The structure as the beam decks model it: node {node} with mass m on a spring k and "
         f"damper c to ground along {_AXES[dof - 1].lower()};",
@@ -97,11 +105,21 @@ def fit_text(source: MeasuredFrf, fit: SdofFit, values: dict[str, float], *, nod
     return "\n".join(lines) + "\n"
 
 
-def fit_command(measured: str, *, out: str, band: str | None = None,
-                quantity: str | None = None, dataset: int = 1, node: int = 9, dof: int = 1,
-                mass: float | None = None, force_scale: float | None = None,
-                records: str = "sdof", overwrite: bool = False,
-                echo: Callable[[str], None] = print) -> SdofFit:
+def fit_command(
+    measured: str,
+    *,
+    out: str,
+    band: str | None = None,
+    quantity: str | None = None,
+    dataset: int = 1,
+    node: int = 9,
+    dof: int = 1,
+    mass: float | None = None,
+    force_scale: float | None = None,
+    records: str = "sdof",
+    overwrite: bool = False,
+    echo: Callable[[str], None] = print,
+) -> SdofFit:
     """Fit the FRF of ``measured`` (a CSV, or the ``dataset``-th FRF of a UFF file) over
     ``band`` (default the whole file); write DIR/fit.txt and DIR/fit.png. ``records``: "sdof"
     (MATID, ELEMENTS, MASS) or "modal" (a MODAL card)."""
@@ -119,15 +137,20 @@ def fit_command(measured: str, *, out: str, band: str | None = None,
     source = frfs[dataset - 1]
     q = quantity or source.quantity
     if q is None:
-        raise InputError(f"{measured}: the file does not say what the response is; give "
-                         "--quantity displacement|velocity|acceleration")
+        raise InputError(
+            f"{measured}: the file does not say what the response is; give "
+            "--quantity displacement|velocity|acceleration"
+        )
     if q not in QUANTITY_ORDER:
         raise InputError(f"--quantity {q!r}: expected one of {', '.join(QUANTITY_ORDER)}")
-    if band_hz is not None and (band_hz[1] > source.frequency[-1] or
-                                band_hz[0] < source.frequency[0]):
-        raise InputError(f"--band {band_hz[0]:g}:{band_hz[1]:g} Hz reaches outside the measured "
-                         f"data ({source.frequency[0]:g} .. {source.frequency[-1]:g} Hz) of "
-                         f"{measured}")
+    if band_hz is not None and (
+        band_hz[1] > source.frequency[-1] or band_hz[0] < source.frequency[0]
+    ):
+        raise InputError(
+            f"--band {band_hz[0]:g}:{band_hz[1]:g} Hz reaches outside the measured "
+            f"data ({source.frequency[0]:g} .. {source.frequency[-1]:g} Hz) of "
+            f"{measured}"
+        )
     fit = fit_sdof(source.frequency, source.h, order=QUANTITY_ORDER[q], band=band_hz)
     values = fit.deck_values(mass=mass, force_scale=force_scale)
     text = fit_text(source, fit, values, node=node, dof=dof, quantity=q, records=records)
@@ -138,18 +161,25 @@ def fit_command(measured: str, *, out: str, band: str | None = None,
     paths[0].parent.mkdir(parents=True, exist_ok=True)
     tmp = paths[1].with_name("." + paths[1].name + ".tmp.png")
     try:
-        plot_fit(str(tmp), f[view], source.h[view], fit.model(f[view]),
-                 ylabel=source.unit or f"{q} unit",
-                 band=fit.band, title=f"{Path(measured).name}: fn {fit.fn:.5g} Hz, zeta "
-                                      f"{100 * fit.zeta:.4g} %")
+        plot_fit(
+            str(tmp),
+            f[view],
+            source.h[view],
+            fit.model(f[view]),
+            ylabel=source.unit or f"{q} unit",
+            band=fit.band,
+            title=f"{Path(measured).name}: fn {fit.fn:.5g} Hz, zeta {100 * fit.zeta:.4g} %",
+        )
         write_atomically(paths[0], lambda fh: fh.write(text.encode()))
         tmp.replace(paths[1])
     finally:
         if tmp.exists():
             tmp.unlink()
-    echo(f"fit {measured}: fn {fit.fn:.6g} Hz, zeta {fit.zeta:.5g}, m {values['mass']:.6g}, "
-         f"k {values['stiffness']:.6g}, c {values['damping']:.6g} (force scale "
-         f"{values['force_scale']:g}); residual {fit.residual:.3g}")
+    echo(
+        f"fit {measured}: fn {fit.fn:.6g} Hz, zeta {fit.zeta:.5g}, m {values['mass']:.6g}, "
+        f"k {values['stiffness']:.6g}, c {values['damping']:.6g} (force scale "
+        f"{values['force_scale']:g}); residual {fit.residual:.3g}"
+    )
     if not math.isfinite(fit.fn_se) or fit.residual > 0.2:
         echo("note: the residual is large: is the band around one mode only (--band LO:HI)?")
     echo(f"wrote {paths[0]} and {paths[1]}")

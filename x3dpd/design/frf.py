@@ -75,14 +75,17 @@ def _in_band(f: np.ndarray, band: tuple[float, float] | None, df: float) -> np.n
         return np.ones(f.size, bool)
     sel = (f >= band[0]) & (f <= band[1])
     if not sel.any():
-        raise InputError(f"--band {band[0]:g}:{band[1]:g} Hz holds no frequency line (lines "
-                         f"every {df:.4g} Hz); widen it or use longer segments")
+        raise InputError(
+            f"--band {band[0]:g}:{band[1]:g} Hz holds no frequency line (lines "
+            f"every {df:.4g} Hz); widen it or use longer segments"
+        )
     return sel
 
 
 def run_labels(paths: Sequence[str]) -> list[str]:
     """One label per trace: its name without ``.trace.txt``, with its folder when two names
     clash, and a number when even those do."""
+
     def stem(path: Path) -> str:
         return path.name.removesuffix(".txt").removesuffix(".trace")
 
@@ -97,8 +100,9 @@ def run_labels(paths: Sequence[str]) -> list[str]:
     return out
 
 
-def measured_curves(files: Sequence[str], quantity: str, scale: float,
-                     band: tuple[float, float] | None) -> list[Curve]:
+def measured_curves(
+    files: Sequence[str], quantity: str, scale: float, band: tuple[float, float] | None
+) -> list[Curve]:
     """Measured FRFs in the plotted quantity: times (i w)^(q - q_measured) when the file says
     what it measured, and times ``scale`` (a unit conversion)."""
     curves = []
@@ -106,19 +110,36 @@ def measured_curves(files: Sequence[str], quantity: str, scale: float,
         for m in read_measured_frf(path):
             h = m.h * scale
             if m.quantity is not None:
-                h = h * (2j * np.pi * m.frequency) ** (QUANTITY_ORDER[quantity]
-                                                       - QUANTITY_ORDER[m.quantity])
-            keep = np.ones(m.frequency.size, bool) if band is None else (
-                (m.frequency >= band[0]) & (m.frequency <= band[1]))
+                h = h * (2j * np.pi * m.frequency) ** (
+                    QUANTITY_ORDER[quantity] - QUANTITY_ORDER[m.quantity]
+                )
+            keep = (
+                np.ones(m.frequency.size, bool)
+                if band is None
+                else ((m.frequency >= band[0]) & (m.frequency <= band[1]))
+            )
             label = f"measured {m.label}" if not m.label.startswith("measured") else m.label
-            curves.append(Curve(label, m.frequency[keep], h[keep],
-                                coherence=None if m.coherence is None else m.coherence[keep],
-                                measured=True))
+            curves.append(
+                Curve(
+                    label,
+                    m.frequency[keep],
+                    h[keep],
+                    coherence=None if m.coherence is None else m.coherence[keep],
+                    measured=True,
+                )
+            )
     return curves
 
 
-def _baseline_curves(first, deck: str | None, names: Sequence[str], drive: tuple[int, int],
-                     points, quantity: str, rows: list[dict]) -> list[Curve]:
+def _baseline_curves(
+    first,
+    deck: str | None,
+    names: Sequence[str],
+    drive: tuple[int, int],
+    points,
+    quantity: str,
+    rows: list[dict],
+) -> list[Curve]:
     """The baselines' closed-form FRFs (x3dpd.design.frf_baselines) on a fine grid over the
     first run's lines, drawn dash-dotted; their values at those lines appended to ``rows``
     (DIR/baselines.csv)."""
@@ -127,32 +148,59 @@ def _baseline_curves(first, deck: str | None, names: Sequence[str], drive: tuple
     trace, path, kind, lines = first
     lines = lines[lines > 0]
     if lines.size < 2:
-        raise InputError("--baseline: the band holds fewer than two frequency lines above 0 Hz; "
-                         "widen --band or use longer segments")
+        raise InputError(
+            "--baseline: the band holds fewer than two frequency lines above 0 Hz; "
+            "widen --band or use longer segments"
+        )
     structure = run_deck(trace, path, deck)
     fine = np.linspace(lines[0], lines[-1], 2001)
-    args = dict(base=kind != "force", node=drive[0], dof=drive[1], responses=points,
-                quantity=quantity)
+    args = dict(
+        base=kind != "force", node=drive[0], dof=drive[1], responses=points, quantity=quantity
+    )
     curves = []
     at_lines = baseline_frfs(structure, names, frequency=lines, **args)
     for (name, (node, dof), h), (_, _, h_fine) in zip(
-            at_lines, baseline_frfs(structure, names, frequency=fine, **args)):
+        at_lines, baseline_frfs(structure, names, frequency=fine, **args)
+    ):
         run = f"{name} (closed form)"
-        curves.append(Curve(run if len(points) == 1 else f"{run} {node}:{dof}", fine, h_fine,
-                            baseline=True))
-        rows += [{"baseline": name, "response": f"{node}:{dof}", "frequency_hz": x,
-                  "re": v.real, "im": v.imag, "mag": abs(v),
-                  "phase_deg": math.degrees(np.angle(v))} for x, v in zip(lines, h)]
+        curves.append(
+            Curve(run if len(points) == 1 else f"{run} {node}:{dof}", fine, h_fine, baseline=True)
+        )
+        rows += [
+            {
+                "baseline": name,
+                "response": f"{node}:{dof}",
+                "frequency_hz": x,
+                "re": v.real,
+                "im": v.imag,
+                "mag": abs(v),
+                "phase_deg": math.degrees(np.angle(v)),
+            }
+            for x, v in zip(lines, h)
+        ]
     return curves
 
 
-def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], out: str,
-                quantity: str = "acceleration", window: str = "hann",
-                segment: float | None = None, nperseg: int | None = None, overlap: float = 0.5,
-                band: str | None = None, t_from: float | None = None,
-                measured: Sequence[str] = (), measured_scale: float = 1.0,
-                baselines: Sequence[str] = (), deck: str | None = None,
-                overwrite: bool = False, echo: Callable[[str], None] = print) -> list[dict]:
+def frf_command(
+    traces: Sequence[str],
+    *,
+    drive: str,
+    responses: Sequence[str],
+    out: str,
+    quantity: str = "acceleration",
+    window: str = "hann",
+    segment: float | None = None,
+    nperseg: int | None = None,
+    overlap: float = 0.5,
+    band: str | None = None,
+    t_from: float | None = None,
+    measured: Sequence[str] = (),
+    measured_scale: float = 1.0,
+    baselines: Sequence[str] = (),
+    deck: str | None = None,
+    overwrite: bool = False,
+    echo: Callable[[str], None] = print,
+) -> list[dict]:
     """``x3dpd frf``: H1, H2 and coherence of every response of every trace against the drive;
     DIR/frf.csv (one row per run, response and frequency) and DIR/frf.png. Returns the rows.
     ``baselines`` (undamped, added-mass): their closed-form FRFs for the first trace's deck (or
@@ -167,8 +215,9 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
     band_hz = parse_band(band)
     if quantity not in QUANTITY_ORDER:
         raise InputError(f"--quantity {quantity!r}: expected one of {', '.join(QUANTITY_ORDER)}")
-    paths = _outputs(out, ("frf.csv", "frf.png") + (("baselines.csv",) if baselines else ()),
-                     overwrite)
+    paths = _outputs(
+        out, ("frf.csv", "frf.png") + (("baselines.csv",) if baselines else ()), overwrite
+    )
     curves, rows, units = [], [], set()
     labels = run_labels(traces)
     first = None
@@ -185,14 +234,18 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
             y, diff = response_history(trace, node, dof, quantity, path)
             signals.append(y[keep])
             differenced.append(diff)
-        nps, nov = welch_options(fs, int(np.count_nonzero(keep)), segment=segment,
-                                 nperseg=nperseg, overlap=overlap)
-        est = estimate_frf(source.values[keep], np.array(signals), fs, nperseg=nps,
-                           noverlap=nov, window=window)
-        echo(f"{path}: drive {source.kind} on node {d_node} dof {d_dof} "
-             f"({'; '.join(source.specs)}), {fs:.6g} samples/s, {est.n_segments} segments of "
-             f"{nps} ({nps / fs:.4g} s, resolution {fs / nps:.4g} Hz), {window} window, "
-             f"{nov} overlap, {est.n_effective:.1f} equivalent averages")
+        nps, nov = welch_options(
+            fs, int(np.count_nonzero(keep)), segment=segment, nperseg=nperseg, overlap=overlap
+        )
+        est = estimate_frf(
+            source.values[keep], np.array(signals), fs, nperseg=nps, noverlap=nov, window=window
+        )
+        echo(
+            f"{path}: drive {source.kind} on node {d_node} dof {d_dof} "
+            f"({'; '.join(source.specs)}), {fs:.6g} samples/s, {est.n_segments} segments of "
+            f"{nps} ({nps / fs:.4g} s, resolution {fs / nps:.4g} Hz), {window} window, "
+            f"{nov} overlap, {est.n_effective:.1f} equivalent averages"
+        )
         f = est.frequency
         sel = _in_band(f, band_hz, fs / nps)
         first = first or (trace, path, source.kind, f[sel])
@@ -203,47 +256,88 @@ def frf_command(traces: Sequence[str], *, drive: str, responses: Sequence[str], 
             unit = f"({response_unit(trace, quantity, dof)})/({source.unit})"
             units.add(unit)
             name = f"{node}:{dof}"
-            label = (f"{run} {name}" if len(traces) > 1 or baselines
-                     else f"node {node} dof {dof}")
-            curves.append(Curve(label, f[sel], h1[sel], h2[sel], coh[sel],
-                                r95[sel] if len(traces) * len(points) == 1 else None))
+            label = f"{run} {name}" if len(traces) > 1 or baselines else f"node {node} dof {dof}"
+            curves.append(
+                Curve(
+                    label,
+                    f[sel],
+                    h1[sel],
+                    h2[sel],
+                    coh[sel],
+                    r95[sel] if len(traces) * len(points) == 1 else None,
+                )
+            )
             for j in np.flatnonzero(sel):
-                rows.append({"run": run, "response": name, "frequency_hz": f[j],
-                             "h1_re": h1[j].real, "h1_im": h1[j].imag, "h1_mag": abs(h1[j]),
-                             "h1_phase_deg": math.degrees(np.angle(h1[j])),
-                             "h2_re": h2[j].real, "h2_im": h2[j].imag, "coherence": coh[j],
-                             "h1_r95": r95[j]})
+                rows.append(
+                    {
+                        "run": run,
+                        "response": name,
+                        "frequency_hz": f[j],
+                        "h1_re": h1[j].real,
+                        "h1_im": h1[j].imag,
+                        "h1_mag": abs(h1[j]),
+                        "h1_phase_deg": math.degrees(np.angle(h1[j])),
+                        "h2_re": h2[j].real,
+                        "h2_im": h2[j].imag,
+                        "coherence": coh[j],
+                        "h1_r95": r95[j],
+                    }
+                )
     base_rows: list[dict] = []
     if baselines:
-        curves += _baseline_curves(first, deck, baselines, (d_node, d_dof), points, quantity,
-                                   base_rows)
+        curves += _baseline_curves(
+            first, deck, baselines, (d_node, d_dof), points, quantity, base_rows
+        )
     curves += measured_curves(measured, quantity, measured_scale, band_hz)
     unit = units.pop() if len(units) == 1 else "unit"
-    head = [f"# quantity: {quantity}", f"# unit: {unit}",
-            f"# drive: node {d_node} dof {d_dof}"]
+    head = [f"# quantity: {quantity}", f"# unit: {unit}", f"# drive: node {d_node} dof {d_dof}"]
     names = list(rows[0]) if rows else []
     lines = head + [",".join(names)]
-    lines += [",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values())
-              for r in rows]
+    lines += [
+        ",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values()) for r in rows
+    ]
     title = ", ".join(Path(p).name for p in traces)
-    _write(paths[:2], "\n".join(lines) + "\n",
-           lambda png: plot_frf(png, curves, ylabel=unit, band=band_hz, title=title))
+    _write(
+        paths[:2],
+        "\n".join(lines) + "\n",
+        lambda png: plot_frf(png, curves, ylabel=unit, band=band_hz, title=title),
+    )
     if base_rows:
         from x3dpd._files import write_atomically
 
-        text = "\n".join(head[:2] + [",".join(base_rows[0])] + [
-            ",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values())
-            for r in base_rows]) + "\n"
+        text = (
+            "\n".join(
+                head[:2]
+                + [",".join(base_rows[0])]
+                + [
+                    ",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values())
+                    for r in base_rows
+                ]
+            )
+            + "\n"
+        )
         write_atomically(paths[2], lambda fh: fh.write(text.encode()))
     echo(f"wrote {', '.join(map(str, paths))}")
     return rows
 
 
-def spectrum_command(traces: Sequence[str], *, node: int, dof: int, out: str,
-                     quantity: str = "acceleration", method: str = "fft", window: str = "hann",
-                     segment: float | None = None, nperseg: int | None = None,
-                     overlap: float = 0.5, band: str | None = None, t_from: float | None = None,
-                     overwrite: bool = False, echo: Callable[[str], None] = print) -> list[dict]:
+def spectrum_command(
+    traces: Sequence[str],
+    *,
+    node: int,
+    dof: int,
+    out: str,
+    quantity: str = "acceleration",
+    method: str = "fft",
+    window: str = "hann",
+    segment: float | None = None,
+    nperseg: int | None = None,
+    overlap: float = 0.5,
+    band: str | None = None,
+    t_from: float | None = None,
+    overwrite: bool = False,
+    echo: Callable[[str], None] = print,
+) -> list[dict]:
     """``x3dpd spectrum``: the amplitude spectrum (one FFT of the record, ``fft``) or the PSD
     (Welch, ``welch``) of a node's response; DIR/spectrum.csv and DIR/spectrum.png."""
     if method not in ("fft", "welch"):
@@ -264,26 +358,37 @@ def spectrum_command(traces: Sequence[str], *, node: int, dof: int, out: str,
             f, v = amplitude_spectrum(y, fs, window=window)
             v = v / difference_gain(f, fs) if diff else v
         else:
-            nps, nov = welch_options(fs, y.size, segment=segment, nperseg=nperseg,
-                                     overlap=overlap)
+            nps, nov = welch_options(fs, y.size, segment=segment, nperseg=nperseg, overlap=overlap)
             f, v = power_spectrum(y, fs, nperseg=nps, noverlap=nov, window=window)
             v = v / difference_gain(f, fs) ** 2 if diff else v
         unit = response_unit(trace, quantity, dof)
         sel = _in_band(f, band_hz, f[1] - f[0])
-        curves.append((run, f[sel][1:] if f[sel][0] == 0 else f[sel],
-                       v[sel][1:] if f[sel][0] == 0 else v[sel]))
+        curves.append(
+            (
+                run,
+                f[sel][1:] if f[sel][0] == 0 else f[sel],
+                v[sel][1:] if f[sel][0] == 0 else v[sel],
+            )
+        )
         column = "amplitude" if method == "fft" else "psd"
         rows += [{"run": run, "frequency_hz": f[j], column: v[j]} for j in np.flatnonzero(sel)]
-        echo(f"{path}: node {node} dof {dof} {quantity}, {y.size} samples at {fs:.6g}/s, "
-             f"{method}")
-    ylabel = (f"amplitude [{unit}]" if method == "fft" else f"PSD [({unit})^2/Hz]")
+        echo(f"{path}: node {node} dof {dof} {quantity}, {y.size} samples at {fs:.6g}/s, {method}")
+    ylabel = f"amplitude [{unit}]" if method == "fft" else f"PSD [({unit})^2/Hz]"
     names = list(rows[0])
-    lines = [f"# quantity: {quantity}", f"# unit: {unit}" if method == "fft"
-             else f"# unit: ({unit})^2/Hz", ",".join(names)]
-    lines += [",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values())
-              for r in rows]
-    _write(paths, "\n".join(lines) + "\n",
-           lambda png: plot_spectrum(png, curves, ylabel=ylabel, band=band_hz,
-                                     title=f"node {node} dof {dof}"))
+    lines = [
+        f"# quantity: {quantity}",
+        f"# unit: {unit}" if method == "fft" else f"# unit: ({unit})^2/Hz",
+        ",".join(names),
+    ]
+    lines += [
+        ",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values()) for r in rows
+    ]
+    _write(
+        paths,
+        "\n".join(lines) + "\n",
+        lambda png: plot_spectrum(
+            png, curves, ylabel=ylabel, band=band_hz, title=f"node {node} dof {dof}"
+        ),
+    )
     echo(f"wrote {paths[0]} and {paths[1]}")
     return rows

@@ -33,23 +33,37 @@ def run_deck(trace: TraceData, trace_path: str, deck: str | None):
         return read_deck(deck)
     recorded = trace.meta.get("deck_path")
     if not recorded:
-        raise InputError(f"{trace_path}: the sidecar names no deck (a run from the Python API "
-                         "with a Deck object); give --deck DECK for the baselines")
+        raise InputError(
+            f"{trace_path}: the sidecar names no deck (a run from the Python API "
+            "with a Deck object); give --deck DECK for the baselines"
+        )
     candidates = [Path(recorded), Path(trace_path).parent / Path(recorded).name]
     found = next((p for p in candidates if p.is_file()), None)
     if found is None:
-        raise InputError(f"{trace_path}: the run's deck {recorded} is not found; give --deck "
-                         "DECK for the baselines")
+        raise InputError(
+            f"{trace_path}: the run's deck {recorded} is not found; give --deck "
+            "DECK for the baselines"
+        )
     sha = trace.meta.get("deck_sha256")
     if sha and hashlib.sha256(found.read_bytes()).hexdigest() != sha:
-        raise InputError(f"{trace_path}: {found} has changed since the run (its SHA-256 is not "
-                         "the sidecar's); give --deck DECK for the baselines")
+        raise InputError(
+            f"{trace_path}: {found} has changed since the run (its SHA-256 is not "
+            "the sidecar's); give --deck DECK for the baselines"
+        )
     return read_deck(found)
 
 
-def baseline_frfs(deck, names: Sequence[str], *, base: bool, node: int, dof: int,
-                  responses: Sequence[tuple[int, int]], quantity: str,
-                  frequency: np.ndarray) -> list[tuple[str, tuple[int, int], np.ndarray]]:
+def baseline_frfs(
+    deck,
+    names: Sequence[str],
+    *,
+    base: bool,
+    node: int,
+    dof: int,
+    responses: Sequence[tuple[int, int]],
+    quantity: str,
+    frequency: np.ndarray,
+) -> list[tuple[str, tuple[int, int], np.ndarray]]:
     """[(baseline name, response, FRF at ``frequency`` [Hz])] for every baseline and response
     (module doc); an InputError when one is not in closed form."""
     if dof not in (1, 2, 3) or any(d not in (1, 2, 3) for _, d in responses):
@@ -64,14 +78,18 @@ def baseline_frfs(deck, names: Sequence[str], *, base: bool, node: int, dof: int
     for name, bare in decks.items():
         model = build_model(bare)
         for response in responses:
-            structure = (base_response_structure(model, node, dof, response) if base
-                         else force_structure(model, node, dof, response))
+            structure = (
+                base_response_structure(model, node, dof, response)
+                if base
+                else force_structure(model, node, dof, response)
+            )
             if structure is None:
                 raise InputError(
                     f"--baseline {name}: the {name} structure of {deck.path} driven at {node}:"
                     f"{dof} and measured at {response[0]}:{response[1]} is not linear in closed "
                     "form (particles, axial or rotational springs, a turning body; "
-                    "docs/design-guide.md); run that deck and give its trace instead")
+                    "docs/design-guide.md); run that deck and give its trace instead"
+                )
             frf = structure.transmissibility if base else structure.receptance
             h = np.array([frf(x) for x in w]) * (1j * w) ** q
             out.append((name, tuple(response), h))

@@ -82,8 +82,9 @@ class LinearSystem:
 
     def measured_at(self, out_row: np.ndarray) -> LinearSystem:
         """The same structure and drive measured at another row."""
-        return LinearSystem(self.stiffness, self.damping, self.mass, self.drive_row, out_row,
-                            self.base)
+        return LinearSystem(
+            self.stiffness, self.damping, self.mass, self.drive_row, out_row, self.base
+        )
 
     def response(self, drive: float, omega: float) -> tuple[float, float]:
         """Steady-state amplitude X [length] and phase [rad] against the drive's sin(omega t)
@@ -112,7 +113,7 @@ def _bodies(model: Model) -> dict[int, int]:
     out = {}
     for b, master in enumerate(model.rigid_master):
         out[int(master)] = int(master)
-        for s in model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]:
+        for s in model.rigid_slaves[model.rigid_ptr[b] : model.rigid_ptr[b + 1]]:
             out[int(s)] = int(master)
     return out
 
@@ -147,8 +148,8 @@ class _Rows:
             out = {("q", r): float(v) for r, v in enumerate(ms.shape[k, d])}
             if i != master:
                 offset = model.x0[i] - model.x0[master]
-                rot = ms.shape[k, 3:6]                                # (3, M)
-                arm = np.cross(rot.T, offset).T                        # (3, M): phi_rot x r0
+                rot = ms.shape[k, 3:6]  # (3, M)
+                arm = np.cross(rot.T, offset).T  # (3, M): phi_rot x r0
                 out = {key: v + float(arm[d, key[1]]) for key, v in out.items()}
             return out
         if self.base is not None and master == self.base[0] and d == self.base[1]:
@@ -171,8 +172,14 @@ class _Rows:
         return out
 
 
-def linear_system(model: Model, node: int, dof: int, response: tuple[int, int] | None = None,
-                  *, base: bool = False) -> LinearSystem | None:
+def linear_system(
+    model: Model,
+    node: int,
+    dof: int,
+    response: tuple[int, int] | None = None,
+    *,
+    base: bool = False,
+) -> LinearSystem | None:
     """The :class:`LinearSystem` of a particle-free ``model`` driven at ``node`` along ``dof``
     (1-3) by a force, or with ``base`` by moving that node, measured at ``response`` (node, dof;
     default the driven DOF), or None when it is not in this form (module doc)."""
@@ -208,7 +215,7 @@ def linear_system(model: Model, node: int, dof: int, response: tuple[int, int] |
     ms = model.modal
     if ms is not None:
         m = rows.n_modes
-        stiffness[:m, :m] = np.diag(ms.omega ** 2)
+        stiffness[:m, :m] = np.diag(ms.omega**2)
         damping[:m, :m] = np.diag(2.0 * ms.zeta * ms.omega)
         if ms.coupling.size:
             damping[:m, :m] += ms.coupling

@@ -85,8 +85,9 @@ def deck_model(deck):
     return _cached(deck, ("model",), lambda: build(deck))
 
 
-def added_mass_response(deck, node: int, dof: int, drive: float, omega: float,
-                        model=None) -> complex | None:
+def added_mass_response(
+    deck, node: int, dof: int, drive: float, omega: float, model=None
+) -> complex | None:
     """Complex steady-state amplitude X of the added-mass structure under drive sin(omega t)
     [length], or None when it is not a linear SDOF. ``model``: the deck's built model, if at
     hand."""
@@ -105,11 +106,11 @@ def added_mass_structure(deck, node: int, dof: int, model=None):
     def make():
         mass = particle_mass(deck_model(deck) if model is None else model)
         return linear_structure(build(with_added_mass(deck, node, mass)), node, dof)
+
     return _cached(deck, ("added-mass", node, dof), make)
 
 
-def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
-                    motion: tuple = ()):
+def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple, motion: tuple = ()):
     """The state to start ``point`` from (``previous`` = (row, FinalState) of the point before
     in a chain, or None), with the structure on its predicted steady-state motion; None when the
     structure cannot be predicted (the caller then starts as before). ``usrfrc`` and ``motion``
@@ -119,8 +120,9 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
     model = deck_model(point.deck)
 
     def response(drive: float, hz: float) -> complex | None:
-        return added_mass_response(point.deck, point.node, point.dof, drive,
-                                   2.0 * math.pi * hz, model)
+        return added_mass_response(
+            point.deck, point.node, point.dof, drive, 2.0 * math.pi * hz, model
+        )
 
     omega = 2.0 * math.pi * point.frequency_hz
     target = response(point.drive, point.frequency_hz)
@@ -133,8 +135,12 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
         if not (cmath.isfinite(rho) and RHO_RANGE[0] <= abs(rho) <= RHO_RANGE[1]):
             return None
         target *= rho
-    sim = stepper(model, usrfrc=usrfrc, dt=dt,
-                  state=previous[1].state.copy() if previous is not None else None)
+    sim = stepper(
+        model,
+        usrfrc=usrfrc,
+        dt=dt,
+        state=previous[1].state.copy() if previous is not None else None,
+    )
     state = sim.state
     if model.modal is not None:
         structure = added_mass_structure(point.deck, point.node, point.dof, model)
@@ -153,14 +159,13 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple,
     moving = ~np.asarray(model.fixed[:, d])
     state.x[moving, d] += dx
     state.vel[moving, d] += dv
-    sim.restore(state)   # wall planes follow the moved nodes
+    sim.restore(state)  # wall planes follow the moved nodes
     sim.compute_forces(t_start)
     state.e_ref += total_energy(sim) - e_before
     return FinalState(state=state, deck_key=deck_key(point.deck), dt=dt, time=t_start)
 
 
-def _modal_start(sim, model, modes: np.ndarray, omega: float, t_start: float, deck,
-                 dt: float):
+def _modal_start(sim, model, modes: np.ndarray, omega: float, t_start: float, deck, dt: float):
     """The predicted start of a modal structure: modal coordinates q = Im Q, p = omega Re Q
     (the coupled modes' steady state, ``modes`` = Q), modal nodes and their rigid bodies placed
     from them, and the particles carried along rigidly with the body that holds their cavity's
@@ -169,8 +174,10 @@ def _modal_start(sim, model, modes: np.ndarray, omega: float, t_start: float, de
     reference energy."""
     state, k = sim.state, sim.setup
     e_before = total_energy(sim)
-    before = {b: (state.x[m].copy(), state.vel[m].copy(), state.rot[b].copy())
-              for b, m in enumerate(k.rig_master)}
+    before = {
+        b: (state.x[m].copy(), state.vel[m].copy(), state.rot[b].copy())
+        for b, m in enumerate(k.rig_master)
+    }
     state.mq[:] = modes.imag
     state.mp[:] = omega * modes.real
     b = sim._bundles()
@@ -187,12 +194,22 @@ def _modal_start(sim, model, modes: np.ndarray, omega: float, t_start: float, de
         rel_v = state.vel[mine, :3] - v_m[:3] - np.cross(v_m[3:], rel)
         new_rel = rel @ turn.T
         state.x[mine] = state.x[m] + new_rel
-        state.vel[mine, :3] = (state.vel[m, :3] + np.cross(state.vel[m, 3:], new_rel)
-                               + rel_v @ turn.T)
+        state.vel[mine, :3] = (
+            state.vel[m, :3] + np.cross(state.vel[m, 3:], new_rel) + rel_v @ turn.T
+        )
     if k.rig_master.shape[0]:
-        sim.kernels._update_slaves(state.x, state.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
-                                   k.rig_r0, state.rot, True, True)
-    sim.restore(state)   # wall planes follow the moved nodes
+        sim.kernels._update_slaves(
+            state.x,
+            state.vel,
+            k.rig_master,
+            k.rig_ptr,
+            k.rig_slaves,
+            k.rig_r0,
+            state.rot,
+            True,
+            True,
+        )
+    sim.restore(state)  # wall planes follow the moved nodes
     sim.compute_forces(t_start)
     sim.project_modal_forces()
     state.e_ref += total_energy(sim) - e_before
@@ -203,7 +220,7 @@ def _cavity_bodies(model) -> dict[int, int]:
     """Cavity index -> the rigid body whose slaves carry its walls (-1: none)."""
     owner = np.full(model.n_nodes, -1)
     for b in range(model.rigid_master.shape[0]):
-        owner[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = b
+        owner[model.rigid_slaves[model.rigid_ptr[b] : model.rigid_ptr[b + 1]]] = b
         owner[model.rigid_master[b]] = b
     out = {}
     tri_cavity = model.face_cavity[model.tri_face] if model.tri_face.shape[0] else []
@@ -218,12 +235,14 @@ def added_mass_base(deck, node: int, dof: int, model=None):
     """The base-driven added-mass structure (a BaseSdof: the particles' mass on the body the
     base carries) of a deck whose ``node`` is moved along ``dof``, or None (built once per deck
     object, node and DOF)."""
+
     def make():
         bare = base_sdof(build(without_particles(deck)), node, dof)
         if bare is None:
             return None
         mass = particle_mass(deck_model(deck) if model is None else model)
         return base_sdof(build(with_added_mass(deck, bare.body, mass)), node, dof)
+
     return _cached(deck, ("added-mass base", node, dof), make)
 
 
@@ -242,12 +261,16 @@ def _base_start(point, previous, dt: float, t_start: float, motion: tuple):
     target = response(point.drive, point.frequency_hz)
     if previous is not None:
         row = previous[0]
-        seen = [m for m in row.get("responses", ())
-                if (m["response_node"], m["response_dof"]) == (structure.body, point.dof)]
+        seen = [
+            m
+            for m in row.get("responses", ())
+            if (m["response_node"], m["response_dof"]) == (structure.body, point.dof)
+        ]
         if not seen:
             return None
-        rho = (cmath.rect(seen[0]["amplitude"], math.radians(seen[0]["phase"]))
-               / response(row["drive"], row["frequency_hz"]))
+        rho = cmath.rect(seen[0]["amplitude"], math.radians(seen[0]["phase"])) / response(
+            row["drive"], row["frequency_hz"]
+        )
         if not (cmath.isfinite(rho) and RHO_RANGE[0] <= abs(rho) <= RHO_RANGE[1]):
             return None
         target *= rho
@@ -289,8 +312,17 @@ def _base_sim(model, motion: tuple, dt: float, t_start: float, previous):
     k, state = sim.setup, sim.state
     apply_motion(t_start, sim.motion, k.x0, state.x, state.vel)
     if k.rig_master.shape[0]:
-        sim.kernels._update_slaves(state.x, state.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
-                                   k.rig_r0, state.rot, True, True)
+        sim.kernels._update_slaves(
+            state.x,
+            state.vel,
+            k.rig_master,
+            k.rig_ptr,
+            k.rig_slaves,
+            k.rig_r0,
+            state.rot,
+            True,
+            True,
+        )
     return sim, e_before
 
 
@@ -298,10 +330,10 @@ def _booked(sim, model, t_start: float, e_before: float, deck, dt: float) -> Fin
     """Forces at the moved state, the actuator's force of the motion's first step, and the
     energy change booked in the reference energy."""
     state = sim.state
-    sim.restore(state)   # wall planes follow the moved nodes
+    sim.restore(state)  # wall planes follow the moved nodes
     sim.compute_forces(t_start)
-    knots = np.flatnonzero(sim.motion[:, 0] < 0.0)   # a random motion's knots follow its rows
-    rows = sim.motion[:knots[0] if knots.size else len(sim.motion), :2].astype(np.int64)
+    knots = np.flatnonzero(sim.motion[:, 0] < 0.0)  # a random motion's knots follow its rows
+    rows = sim.motion[: knots[0] if knots.size else len(sim.motion), :2].astype(np.int64)
     state.motion_prev[:] = state.force[rows[:, 0], rows[:, 1]]
     state.e_ref += total_energy(sim) - e_before
     return FinalState(state=state, deck_key=deck_key(deck), dt=dt, time=t_start)

@@ -31,56 +31,81 @@ from x3dpd.errors import InputError
 SAMPLES_PER_CYCLE = 100
 
 
-def signal_of(time: np.ndarray, position: np.ndarray, dof: int, g: float,
-              **options) -> Ringdown:
+def signal_of(time: np.ndarray, position: np.ndarray, dof: int, g: float, **options) -> Ringdown:
     """Ring-down analysis of one node's coordinate along ``dof`` about its rest position."""
     x = position[:, dof - 1]
     return damping_vs_amplitude(time, x - rest_offset(x), g=g, **options)
 
 
-def ringdown_of_trace(path: str | os.PathLike, node: int, dof: int, *,
-                      t_from: float | None = None, g: float = G_IN_S2, **options) -> Ringdown:
+def ringdown_of_trace(
+    path: str | os.PathLike,
+    node: int,
+    dof: int,
+    *,
+    t_from: float | None = None,
+    g: float = G_IN_S2,
+    **options,
+) -> Ringdown:
     """The ring-down of ``node`` along ``dof`` in a trace file, from time ``t_from`` on."""
     if dof not in (1, 2, 3):
         raise InputError(f"--dof {dof}: the ring-down reads a coordinate, dof 1, 2 or 3")
     trace = read_trace(path)
     hit = np.flatnonzero(trace.node_ids == node)
     if hit.size == 0:
-        raise InputError(f"{path}: node {node} is not in the trace (it holds nodes "
-                         f"{', '.join(map(str, trace.node_ids[:12]))}"
-                         f"{' ...' if trace.node_ids.size > 12 else ''})")
+        raise InputError(
+            f"{path}: node {node} is not in the trace (it holds nodes "
+            f"{', '.join(map(str, trace.node_ids[:12]))}"
+            f"{' ...' if trace.node_ids.size > 12 else ''})"
+        )
     keep = trace.time >= (t_from if t_from is not None else -math.inf)
     return signal_of(trace.time[keep], trace.position[keep, hit[0]], dof, g, **options)
 
 
-def ringdown_of_deck(deck: Deck, node: int, dof: int, *, drive_until: float, ring: float,
-                     drive: tuple[str, ...] = (), dt: float | None = None,
-                     g: float = G_IN_S2, **options) -> Ringdown:
+def ringdown_of_deck(
+    deck: Deck,
+    node: int,
+    dof: int,
+    *,
+    drive_until: float,
+    ring: float,
+    drive: tuple[str, ...] = (),
+    dt: float | None = None,
+    g: float = G_IN_S2,
+    **options,
+) -> Ringdown:
     """Drive a deck (its USRFRC card, or ``drive`` specs) until ``drive_until``, release it and
     record ``ring`` seconds of free ring-down of ``node`` along ``dof``; analyse that."""
     if dof not in (1, 2, 3):
         raise InputError(f"--dof {dof}: the ring-down reads a coordinate, dof 1, 2 or 3")
-    forced = run(deck, tmax=drive_until, dt=dt, usrfrc=drive, keep_trace=False,
-                 trace_nodes=(node,))
+    forced = run(deck, tmax=drive_until, dt=dt, usrfrc=drive, keep_trace=False, trace_nodes=(node,))
     period = _period(forced.model, node, dof)
     step = forced.summary["dt"]
     itrac = max(1, int(period / (SAMPLES_PER_CYCLE * step)))
-    free = run(deck, tmax=forced.summary["t_end"] + ring, dt=dt,
-               usrfrc=(f"constant:node={node},dof={dof},amp=0",), usrfrc_mode="replace",
-               initial_state=forced.final_state, itrac=itrac, trace_nodes=(node,))
+    free = run(
+        deck,
+        tmax=forced.summary["t_end"] + ring,
+        dt=dt,
+        usrfrc=(f"constant:node={node},dof={dof},amp=0",),
+        usrfrc_mode="replace",
+        initial_state=forced.final_state,
+        itrac=itrac,
+        trace_nodes=(node,),
+    )
     return signal_of(free.trace.time, free.trace.position[:, 0], dof, g, **options)
 
 
-def ringdown_of_measured(path: str | os.PathLike, *, t_from: float | None = None,
-                         g: float = G_IN_S2, **options) -> tuple[str, Ringdown]:
+def ringdown_of_measured(
+    path: str | os.PathLike, *, t_from: float | None = None, g: float = G_IN_S2, **options
+) -> tuple[str, Ringdown]:
     """The ring-down of a measured time history (CSV or UFF, x3dpd.io.measured), from time
     ``t_from`` on: ``(label, analysis)``. A displacement is taken about its rest offset, an
     acceleration as it is (its amplitude is already in g)."""
     m = read_measured_history(path)
     keep = m.time >= (t_from if t_from is not None else -math.inf)
     x = m.signal[keep]
-    return m.label, damping_vs_amplitude(m.time[keep], x - rest_offset(x), kind=m.kind, g=g,
-                                         **options)
+    return m.label, damping_vs_amplitude(
+        m.time[keep], x - rest_offset(x), kind=m.kind, g=g, **options
+    )
 
 
 def _period(model, node: int, dof: int) -> float:
@@ -95,8 +120,9 @@ def _period(model, node: int, dof: int) -> float:
     return 2.0 * math.pi * math.sqrt(m / k) if k > 0 and m > 0 else 0.01
 
 
-def write_outputs(out: str | os.PathLike, series: dict[str, Ringdown], overwrite: bool,
-                  title: str = "") -> tuple[Path, Path]:
+def write_outputs(
+    out: str | os.PathLike, series: dict[str, Ringdown], overwrite: bool, title: str = ""
+) -> tuple[Path, Path]:
     """DIR/ringdown.csv (one row per evaluation point, ``config`` first) and DIR/ringdown.png."""
     out = Path(out)
     csv, png = out / "ringdown.csv", out / "ringdown.png"
@@ -117,11 +143,22 @@ def write_outputs(out: str | os.PathLike, series: dict[str, Ringdown], overwrite
     return csv, png
 
 
-def ringdown_command(source: str, *, node: int | None, dof: int, out: str,
-                     baseline: str | None = None, t_from: float | None = None,
-                     drive_until: float = 1.0, ring: float = 2.0,
-                     no_baseline: bool = False, g: float = G_IN_S2, overwrite: bool = False,
-                     measured: tuple[str, ...] = (), echo=print) -> dict[str, Ringdown]:
+def ringdown_command(
+    source: str,
+    *,
+    node: int | None,
+    dof: int,
+    out: str,
+    baseline: str | None = None,
+    t_from: float | None = None,
+    drive_until: float = 1.0,
+    ring: float = 2.0,
+    no_baseline: bool = False,
+    g: float = G_IN_S2,
+    overwrite: bool = False,
+    measured: tuple[str, ...] = (),
+    echo=print,
+) -> dict[str, Ringdown]:
     """``x3dpd ringdown``: a trace file, or a deck (driven, released, with its baseline);
     ``measured`` ring-downs (CSV or UFF files) are analysed the same way and overlaid."""
     from x3dpd.api import load_deck
@@ -144,15 +181,19 @@ def ringdown_command(source: str, *, node: int | None, dof: int, out: str,
         if node is None:
             node = default_drive_point(deck)[0]
         echo(f"ringdown {src}: driven to t = {drive_until:g} s, then {ring:g} s free")
-        series["damper"] = ringdown_of_deck(deck, node, dof, drive_until=drive_until, ring=ring,
-                                            g=g)
+        series["damper"] = ringdown_of_deck(
+            deck, node, dof, drive_until=drive_until, ring=ring, g=g
+        )
         if not no_baseline:
             series["baseline (no particles)"] = ringdown_of_deck(
-                without_particles(deck), node, dof, drive_until=drive_until, ring=ring, g=g)
+                without_particles(deck), node, dof, drive_until=drive_until, ring=ring, g=g
+            )
     series.update(measured_series)
     csv, png = write_outputs(out, series, overwrite, title=src.name)
     for name, rd in series.items():
-        echo(f"  {name}: zeta {100 * rd.zeta.min():.3g}-{100 * rd.zeta.max():.3g} % over "
-             f"{rd.amplitude_db.min():.1f} to {rd.amplitude_db.max():.1f} dB re 1 g")
+        echo(
+            f"  {name}: zeta {100 * rd.zeta.min():.3g}-{100 * rd.zeta.max():.3g} % over "
+            f"{rd.amplitude_db.min():.1f} to {rd.amplitude_db.max():.1f} dB re 1 g"
+        )
     echo(f"wrote {csv} and {png}")
     return series

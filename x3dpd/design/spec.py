@@ -50,8 +50,13 @@ class SweepSpec:
 
     def settings(self) -> dict:
         """What makes two sweeps' points interchangeable (stored in DIR/sweep.json)."""
-        out = {"deck_sha256": self.deck_text_hash, "node": self.node, "dof": self.dof,
-               "dt": self.dt, "criterion": asdict(self.criterion)}
+        out = {
+            "deck_sha256": self.deck_text_hash,
+            "node": self.node,
+            "dof": self.dof,
+            "dt": self.dt,
+            "criterion": asdict(self.criterion),
+        }
         if self.responses:
             out["responses"] = [list(r) for r in self.responses]
         if self.base:
@@ -72,8 +77,10 @@ def parse_frequencies(text: str) -> tuple[float, ...]:
         else:
             values = [float(x) for x in text.split(",") if x.strip()]
     except ValueError:
-        raise InputError(f"--freq {text!r}: expected START:STOP:STEP (STEP > 0, STOP >= START)"
-                         " or a comma list of frequencies in Hz") from None
+        raise InputError(
+            f"--freq {text!r}: expected START:STOP:STEP (STEP > 0, STOP >= START)"
+            " or a comma list of frequencies in Hz"
+        ) from None
     if not values or any(not (v > 0 and math.isfinite(v)) for v in values):
         raise InputError(f"--freq {text!r}: frequencies must be finite and > 0 Hz")
     return tuple(sorted(set(values)))
@@ -95,11 +102,11 @@ def parse_responses(texts: Sequence[str], deck: Deck) -> tuple[tuple[int, int], 
         except ValueError:
             raise InputError(f"--response {text!r}: expected NODE:DOF, e.g. 9:1") from None
         if not colon or pair[1] not in (1, 2, 3):
-            raise InputError(f"--response {text!r}: expected NODE:DOF with DOF 1, 2 or 3 "
-                             "(a translation)")
+            raise InputError(
+                f"--response {text!r}: expected NODE:DOF with DOF 1, 2 or 3 (a translation)"
+            )
         if pair[0] not in nodes:
-            raise InputError(f"--response {text!r}: node {pair[0]} is not a node of "
-                             f"{deck.path}")
+            raise InputError(f"--response {text!r}: node {pair[0]} is not a node of {deck.path}")
         out.append(pair)
     return tuple(dict.fromkeys(out))
 
@@ -115,40 +122,46 @@ def default_drive_point(deck: Deck) -> tuple[int, int]:
     master = cavity_master(deck)
     if master is not None:
         return master, 1
-    raise InputError(f"{deck.path}: no USRFRC drive and no cavity master node to drive; "
-                     "give --node N --dof D")
+    raise InputError(
+        f"{deck.path}: no USRFRC drive and no cavity master node to drive; give --node N --dof D"
+    )
 
 
-def check_base(deck: Deck, node: int | None, dof: int | None,
-               responses: tuple[tuple[int, int], ...]) -> tuple[int, int,
-                                                              tuple[tuple[int, int], ...]]:
+def check_base(
+    deck: Deck, node: int | None, dof: int | None, responses: tuple[tuple[int, int], ...]
+) -> tuple[int, int, tuple[tuple[int, int], ...]]:
     """(node, dof, responses) of a base drive (``--drive base``), checked: the base a node of
     the deck that is neither a particle nor a rigid body's slave (its master moves it), a
     translation (DOF 1-3; default 1); without ``responses``, the first cavity's master along
     ``dof``. Raises InputError saying what is wrong."""
     if node is None:
-        raise InputError("--drive base: give --node N, the base node the shaker moves "
-                         "(and --dof D, default 1)")
+        raise InputError(
+            "--drive base: give --node N, the base node the shaker moves (and --dof D, default 1)"
+        )
     dof = 1 if dof is None else dof
     if dof not in (1, 2, 3):
-        raise InputError(f"--drive base --dof {dof}: a base drive moves a translation, dof 1, "
-                         "2 or 3")
+        raise InputError(
+            f"--drive base --dof {dof}: a base drive moves a translation, dof 1, 2 or 3"
+        )
     nodes = {n.nid for n in deck.nodes}
     if node not in nodes:
-        raise InputError(f"--drive base --node {node}: node {node} is not a node of "
-                         f"{deck.path}")
+        raise InputError(f"--drive base --node {node}: node {node} is not a node of {deck.path}")
     if deck.pdmp and node > min(p.nodlim for p in deck.pdmp):
-        raise InputError(f"--drive base --node {node}: node {node} is a particle; the base "
-                         "is a structure node")
+        raise InputError(
+            f"--drive base --node {node}: node {node} is a particle; the base is a structure node"
+        )
     for rb in deck.rbels:
         if node in rb.slaves:
-            raise InputError(f"--drive base --node {node}: node {node} is a slave of rigid "
-                             f"body master {rb.master}, which moves it; move the master")
+            raise InputError(
+                f"--drive base --node {node}: node {node} is a slave of rigid "
+                f"body master {rb.master}, which moves it; move the master"
+            )
     if not responses:
         master = cavity_master(deck)
         if master is None or master == node:
-            raise InputError("--drive base: give --response NODE:DOF, where to measure the "
-                             "transmissibility")
+            raise InputError(
+                "--drive base: give --response NODE:DOF, where to measure the transmissibility"
+            )
         responses = ((master, dof),)
     return node, dof, responses
 
@@ -157,4 +170,3 @@ def check_node(deck: Deck, node: int, option: str = "--node") -> None:
     """InputError unless ``node`` is a node of the deck."""
     if node not in {n.nid for n in deck.nodes}:
         raise InputError(f"{option} {node}: node {node} is not a node of {deck.path}")
-

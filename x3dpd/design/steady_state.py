@@ -73,8 +73,10 @@ class SweepPoint:
     def key(self) -> str:
         """A file-name-safe identity, stable across runs (resuming)."""
         letter = BASE_QUANTITIES.get(self.quantity, "F")
-        return (f"{self.config}_{letter}{self.drive:.6e}_{self.direction or 'rest'}"
-                f"_{self.frequency_hz:.6f}Hz")
+        return (
+            f"{self.config}_{letter}{self.drive:.6e}_{self.direction or 'rest'}"
+            f"_{self.frequency_hz:.6f}Hz"
+        )
 
     @property
     def base(self) -> bool:
@@ -83,8 +85,7 @@ class SweepPoint:
 
     def base_amplitude(self) -> float:
         """A base drive's displacement amplitude U at this frequency [length]."""
-        return displacement_amplitude(self.drive, self.quantity,
-                                      2.0 * math.pi * self.frequency_hz)
+        return displacement_amplitude(self.drive, self.quantity, 2.0 * math.pi * self.frequency_hz)
 
 
 def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
@@ -103,10 +104,18 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     omega = 2.0 * math.pi * point.frequency_hz
     period = 1.0 / point.frequency_hz
     itrac = max(1, int(period / (crit.samples_per_cycle * dt)))
+
     def new_monitor():
-        return SteadyStateMonitor(omega, t0=t_start, t_start=t_start, window=crit.window,
-                                  tol=crit.tol, min_windows=crit.min_windows,
-                                  max_cycles=crit.max_cycles, extrapolate=crit.extrapolate)
+        return SteadyStateMonitor(
+            omega,
+            t0=t_start,
+            t_start=t_start,
+            window=crit.window,
+            tol=crit.tol,
+            min_windows=crit.min_windows,
+            max_cycles=crit.max_cycles,
+            extrapolate=crit.extrapolate,
+        )
 
     monitor = new_monitor()
     measured = [(point.node, point.dof)] + list(point.responses)
@@ -122,16 +131,28 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         ledger = {name: block.energy[:, j] for name, j in zip(fed, cols)}
         done = True
         for k, (watch, (_, dof)) in enumerate(zip(watchers, measured)):
-            done &= watch.feed(block.time, block.position[:, k, dof - 1],
-                               block.velocity[:, k, dof - 1], ledger if k == lead else None)
+            done &= watch.feed(
+                block.time,
+                block.position[:, k, dof - 1],
+                block.velocity[:, k, dof - 1],
+                ledger if k == lead else None,
+            )
         return done
 
     if point.base:
-        usrfrc, motion = (), (base_motion_spec(point.node, point.dof, point.base_amplitude(),
-                                               point.frequency_hz, t_start),)
+        usrfrc, motion = (
+            (),
+            (
+                base_motion_spec(
+                    point.node, point.dof, point.base_amplitude(), point.frequency_hz, t_start
+                ),
+            ),
+        )
     else:
-        usrfrc = (f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
-                  f"hz={point.frequency_hz!r},t0={t_start!r}",)
+        usrfrc = (
+            f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
+            f"hz={point.frequency_hz!r},t0={t_start!r}",
+        )
         motion = ()
     wall = _time.perf_counter()
     start = "previous" if previous is not None else "deck"
@@ -142,58 +163,87 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     if point.base and start == "previous":
         # the base leaves the previous point's motion for this one's (energy booked)
         state = continued_base_start(point, previous, dt, t_start, motion)
-    result = run_deck(point.deck, tmax=t_start + (crit.max_cycles + 1) * period, dt=dt,
-                      usrfrc=usrfrc, usrfrc_mode="replace", motion=motion, itrac=itrac,
-                      trace_nodes=tuple(n for n, _ in measured), keep_trace=False,
-                      initial_state=state,
-                      stop=stop, stop_every=crit.samples_per_cycle)
+    result = run_deck(
+        point.deck,
+        tmax=t_start + (crit.max_cycles + 1) * period,
+        dt=dt,
+        usrfrc=usrfrc,
+        usrfrc_mode="replace",
+        motion=motion,
+        itrac=itrac,
+        trace_nodes=tuple(n for n, _ in measured),
+        keep_trace=False,
+        initial_state=state,
+        stop=stop,
+        stop_every=crit.samples_per_cycle,
+    )
     wall = _time.perf_counter() - wall
     ss = monitor.result()
     whole = watchers[lead].result()
     summary = result.summary
     loss = whole.dissipated_per_cycle
-    if point.base:   # the base's work per cycle, from the ledger
+    if point.base:  # the base's work per cycle, from the ledger
         work = loss.get(BASE_WORK, math.nan)
-    else:   # steady state: the drive's work per cycle, pi F X sin(-phi), equals the dissipation
+    else:  # steady state: the drive's work per cycle, pi F X sin(-phi), equals the dissipation
         work = math.pi * point.drive * ss.amplitude * math.sin(-math.radians(ss.phase_deg))
     row = {
-        "config": point.config, "frequency_hz": point.frequency_hz, "drive": point.drive,
-        "drive_quantity": point.quantity, "direction": point.direction,
+        "config": point.config,
+        "frequency_hz": point.frequency_hz,
+        "drive": point.drive,
+        "drive_quantity": point.quantity,
+        "direction": point.direction,
         **response_columns(ss, point),
         "dissipated_per_cycle": sum(loss.get(name, math.nan) for name in ALL_LOSSES),
-        "dissipated_particles_per_cycle": sum(loss.get(name, math.nan)
-                                              for name in PARTICLE_LOSSES),
+        "dissipated_particles_per_cycle": sum(loss.get(name, math.nan) for name in PARTICLE_LOSSES),
         # the ledger's split (x3dpd design's columns; sweep.csv keeps the two sums)
         **{f"{name}_per_cycle": loss.get(name, math.nan) for name in ALL_LOSSES},
         "input_work_per_cycle": work,
-        "cycles": whole.cycles, "extrapolated": whole.extrapolated,
-        "irregular": whole.irregular, "method": "simulated", "start": start,
-        "t_start": t_start, "t_end": float(summary["t_end"]), "steps": int(summary["steps"]),
-        "compile_s": float(summary.get("compile_s", 0.0)), "wall_s": wall,
-        "response_node": point.node, "response_dof": point.dof,
+        "cycles": whole.cycles,
+        "extrapolated": whole.extrapolated,
+        "irregular": whole.irregular,
+        "method": "simulated",
+        "start": start,
+        "t_start": t_start,
+        "t_end": float(summary["t_end"]),
+        "steps": int(summary["steps"]),
+        "compile_s": float(summary.get("compile_s", 0.0)),
+        "wall_s": wall,
+        "response_node": point.node,
+        "response_dof": point.dof,
     }
     if point.responses:
-        row["responses"] = [response_columns(w.result(), point, node, dof)
-                            for w, (node, dof) in zip(watchers[1:], point.responses)]
-    if point.base:   # the base's own row says whether the point (every node) converged
+        row["responses"] = [
+            response_columns(w.result(), point, node, dof)
+            for w, (node, dof) in zip(watchers[1:], point.responses)
+        ]
+    if point.base:  # the base's own row says whether the point (every node) converged
         row["converged"] = all(w.converged for w in watchers)
     return row, result.final_state
 
 
-def response_columns(ss, point: SweepPoint, node: int | None = None,
-                     dof: int | None = None) -> dict:
+def response_columns(
+    ss, point: SweepPoint, node: int | None = None, dof: int | None = None
+) -> dict:
     """The columns of a node measured at ``point`` (its driven node, or a ``--response``):
     accelerance = acceleration / |F| for a force drive, transmissibility = acceleration /
     the base's (w^2 U) for a base drive (the other of the two nan)."""
     w = 2.0 * math.pi * point.frequency_hz
-    out = {"amplitude": ss.amplitude, "phase": ss.phase_deg, "velocity": ss.velocity,
-           "acceleration": ss.acceleration,
-           "accelerance": math.nan if point.base else ss.acceleration / abs(point.drive),
-           "transmissibility": (ss.acceleration / (w * w * point.base_amplitude())
-                                if point.base else math.nan),
-           "peak": ss.peak, "mean": ss.mean, "spread": ss.spread,
-           "measured_amplitude": ss.measured_amplitude, "change": ss.change,
-           "converged": ss.converged}
+    out = {
+        "amplitude": ss.amplitude,
+        "phase": ss.phase_deg,
+        "velocity": ss.velocity,
+        "acceleration": ss.acceleration,
+        "accelerance": math.nan if point.base else ss.acceleration / abs(point.drive),
+        "transmissibility": (
+            ss.acceleration / (w * w * point.base_amplitude()) if point.base else math.nan
+        ),
+        "peak": ss.peak,
+        "mean": ss.mean,
+        "spread": ss.spread,
+        "measured_amplitude": ss.measured_amplitude,
+        "change": ss.change,
+        "converged": ss.converged,
+    }
     if node is not None:
         out = {"response_node": node, "response_dof": dof, **out}
     return out

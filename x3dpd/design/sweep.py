@@ -41,24 +41,71 @@ import numpy as np
 
 from x3dpd.api.decks import build_model
 from x3dpd.design.baselines import baseline_decks
-from x3dpd.design.closed_form import (base_closed_form_rows, base_response_structure,
-                                      baseline_curves, closed_form_rows,  # noqa: F401
-                                      force_structure, mass_node)
+from x3dpd.design.closed_form import (
+    base_closed_form_rows,
+    base_response_structure,
+    baseline_curves,
+    closed_form_rows,  # noqa: F401
+    force_structure,
+    mass_node,
+)
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import SweepPoint, run_point
 from x3dpd.errors import InputError
 
 #: sweep.csv columns, in order.
-COLUMNS = ("config", "frequency_hz", "drive", "drive_quantity", "direction", "amplitude",
-           "phase", "velocity", "acceleration", "accelerance", "transmissibility", "peak", "mean",
-           "spread", "dissipated_per_cycle", "dissipated_particles_per_cycle",
-           "input_work_per_cycle", "cycles", "converged", "extrapolated", "irregular",
-           "branch", "measured_amplitude", "change", "method", "start", "t_start", "t_end", "steps",
-           "compile_s", "wall_s", "response_node", "response_dof")
+COLUMNS = (
+    "config",
+    "frequency_hz",
+    "drive",
+    "drive_quantity",
+    "direction",
+    "amplitude",
+    "phase",
+    "velocity",
+    "acceleration",
+    "accelerance",
+    "transmissibility",
+    "peak",
+    "mean",
+    "spread",
+    "dissipated_per_cycle",
+    "dissipated_particles_per_cycle",
+    "input_work_per_cycle",
+    "cycles",
+    "converged",
+    "extrapolated",
+    "irregular",
+    "branch",
+    "measured_amplitude",
+    "change",
+    "method",
+    "start",
+    "t_start",
+    "t_end",
+    "steps",
+    "compile_s",
+    "wall_s",
+    "response_node",
+    "response_dof",
+)
 #: Columns a measured response (``--response``) has of its own; the rest are its point's.
-RESPONSE_COLUMNS = ("response_node", "response_dof", "amplitude", "phase", "velocity",
-                    "acceleration", "accelerance", "transmissibility", "peak", "mean", "spread",
-                    "measured_amplitude", "change", "converged")
+RESPONSE_COLUMNS = (
+    "response_node",
+    "response_dof",
+    "amplitude",
+    "phase",
+    "velocity",
+    "acceleration",
+    "accelerance",
+    "transmissibility",
+    "peak",
+    "mean",
+    "spread",
+    "measured_amplitude",
+    "change",
+    "converged",
+)
 DIRECTIONS = ("up", "down", "both")
 
 
@@ -69,9 +116,8 @@ def deck_hash(path: str | os.PathLike) -> str:
 
 def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
     """The chains to simulate and the closed-form rows, for the deck and its baselines."""
-    configs = {"deck": spec.deck, **baseline_decks(spec.deck, spec.baselines,
-                                                   mass_node(spec))}
-    if spec.base:   # the base's motion drives it: no USRFRC force besides
+    configs = {"deck": spec.deck, **baseline_decks(spec.deck, spec.baselines, mass_node(spec))}
+    if spec.base:  # the base's motion drives it: no USRFRC force besides
         configs = {name: replace(deck, usrfrc=()) for name, deck in configs.items()}
     chains: list[list[SweepPoint]] = []
     closed: list[dict] = []
@@ -79,27 +125,38 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
         sdof = structures = None
         if config != "deck" and spec.base:
             model = build_model(deck)
-            structures = [base_response_structure(model, spec.node, spec.dof, r)
-                          for r in spec.responses]
+            structures = [
+                base_response_structure(model, spec.node, spec.dof, r) for r in spec.responses
+            ]
             if structures and all(s is not None for s in structures):
                 closed.extend(base_closed_form_rows(config, spec, structures))
                 continue
         elif config != "deck":
             model = build_model(deck)
             sdof = force_structure(model, spec.node, spec.dof)
-            structures = [force_structure(model, spec.node, spec.dof, r)
-                          for r in spec.responses]
+            structures = [force_structure(model, spec.node, spec.dof, r) for r in spec.responses]
         if sdof is not None and all(s is not None for s in structures):
             closed.extend(closed_form_rows(config, sdof, spec, structures))
             continue
         for drive in spec.drives:
             # called only within this iteration; the defaults bind this iteration's values
-            def point(f: float, direction: str = "", *, config=config, deck=deck,
-                      drive=drive) -> SweepPoint:
-                return SweepPoint(config=config, deck=deck, frequency_hz=f, drive=drive,
-                                  node=spec.node, dof=spec.dof, direction=direction,
-                                  dt=spec.dt, criterion=spec.criterion,
-                                  responses=spec.responses, quantity=spec.quantity)
+            def point(
+                f: float, direction: str = "", *, config=config, deck=deck, drive=drive
+            ) -> SweepPoint:
+                return SweepPoint(
+                    config=config,
+                    deck=deck,
+                    frequency_hz=f,
+                    drive=drive,
+                    node=spec.node,
+                    dof=spec.dof,
+                    direction=direction,
+                    dt=spec.dt,
+                    criterion=spec.criterion,
+                    responses=spec.responses,
+                    quantity=spec.quantity,
+                )
+
             freqs = sorted(spec.frequencies)
             if spec.direction is None:
                 chains.extend([point(f)] for f in freqs)
@@ -121,8 +178,10 @@ class SweepDir:
         if stored.exists() and not overwrite:
             old = json.loads(stored.read_text())
             if old != json.loads(json.dumps(settings)):
-                raise InputError(f"{self.out}: holds a sweep with other settings ({stored}); "
-                                 f"give another --out, or --overwrite to discard it")
+                raise InputError(
+                    f"{self.out}: holds a sweep with other settings ({stored}); "
+                    f"give another --out, or --overwrite to discard it"
+                )
         elif overwrite and self.points.exists():
             for p in self.points.iterdir():
                 p.unlink()
@@ -156,16 +215,22 @@ def _write_atomic(path: Path, data: bytes) -> None:
     os.replace(tmp, path)
 
 
-def run_sweep(spec: SweepSpec, out: str | os.PathLike, *, workers: int | None = None,
-              scheduler: str | None = None, overwrite: bool = False,
-              on_point: Callable[[dict], None] | None = None) -> list[dict]:
+def run_sweep(
+    spec: SweepSpec,
+    out: str | os.PathLike,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    overwrite: bool = False,
+    on_point: Callable[[dict], None] | None = None,
+) -> list[dict]:
     """Run (or resume) a sweep into ``out``; returns all rows, sorted, and writes sweep.csv.
 
     ``workers``: local worker processes (default: all cores; 1 = serial in this process);
     ``scheduler``: address of an existing Dask scheduler (overrides ``workers``);
     ``on_point(row)`` is called as each point finishes (progress).
     """
-    chains, rows = plan(spec)   # first: a bad baseline or structure writes nothing
+    chains, rows = plan(spec)  # first: a bad baseline or structure writes nothing
     store = SweepDir(out, spec, overwrite)
     done, todo = pending(chains, store)
     rows.extend(done)
@@ -177,16 +242,18 @@ def run_sweep(spec: SweepSpec, out: str | os.PathLike, *, workers: int | None = 
         if on_point:
             on_point(row)
 
-    run_chains([(run_point, chain, previous, finished) for chain, previous in todo],
-               workers, scheduler)
+    run_chains(
+        [(run_point, chain, previous, finished) for chain, previous in todo], workers, scheduler
+    )
     rows = sort_rows(rows)
     label_branches(rows)
     write_csv(Path(out) / "sweep.csv", rows)
     return rows
 
 
-def pending(chains: list[list[SweepPoint]], store: SweepDir
-            ) -> tuple[list[dict], list[tuple[list[SweepPoint], object]]]:
+def pending(
+    chains: list[list[SweepPoint]], store: SweepDir
+) -> tuple[list[dict], list[tuple[list[SweepPoint], object]]]:
     """(rows of the points already in ``store``, [(rest of a chain, the (row, state) its first
     point continues from, or None)]): what is left to compute."""
     rows, todo = [], []
@@ -196,12 +263,13 @@ def pending(chains: list[list[SweepPoint]], store: SweepDir
         for k, point in enumerate(chain):
             done = store.load(point, need_state=keep_state and k < len(chain) - 1)
             if done is None:
-                later = [p for p in chain[k + 1:] if store.load(p, need_state=False)]
+                later = [p for p in chain[k + 1 :] if store.load(p, need_state=False)]
                 if later:
                     raise InputError(
                         f"{store.out}: a point inserted before {later[0].frequency_hz:g} Hz in "
                         f"the {point.direction} chain would change the history of points "
-                        "already computed; give another --out, or --overwrite to recompute")
+                        "already computed; give another --out, or --overwrite to recompute"
+                    )
                 todo.append((chain[k:], previous))
                 break
             rows.append(done[0])
@@ -237,8 +305,9 @@ def _run_dask(todo, workers: int, scheduler: str | None) -> None:
         main = threading.current_thread() is threading.main_thread()
         old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
         try:
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0")
+            cluster = LocalCluster(
+                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0"
+            )
         finally:
             if main:
                 signal.signal(signal.SIGINT, old)
@@ -268,8 +337,16 @@ def _run_dask(todo, workers: int, scheduler: str | None) -> None:
 def sort_rows(rows: Sequence[dict]) -> list[dict]:
     """Rows ordered by config (deck first), drive, direction, frequency."""
     order = {"deck": 0, "undamped": 1, "added-mass": 2}
-    return sorted(rows, key=lambda r: (order.get(r["config"], 9), r["config"], r["drive"],
-                                       r["direction"], r["frequency_hz"]))
+    return sorted(
+        rows,
+        key=lambda r: (
+            order.get(r["config"], 9),
+            r["config"],
+            r["drive"],
+            r["direction"],
+            r["frequency_hz"],
+        ),
+    )
 
 
 def label_branches(rows: list[dict]) -> None:
@@ -290,8 +367,9 @@ def label_branches(rows: list[dict]) -> None:
             r["branch"] = "single"
         if up and down:
             tol = 3.0 * max(abs(up["change"]), abs(down["change"]), 0.01)
-            if abs(up["amplitude"] - down["amplitude"]) > tol * max(up["amplitude"],
-                                                                       down["amplitude"]):
+            if abs(up["amplitude"] - down["amplitude"]) > tol * max(
+                up["amplitude"], down["amplitude"]
+            ):
                 hi, lo = (up, down) if up["amplitude"] > down["amplitude"] else (down, up)
                 hi["branch"], lo["branch"] = "high", "low"
         for r in group.values():

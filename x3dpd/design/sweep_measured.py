@@ -29,8 +29,9 @@ from x3dpd.design.trace_signals import parse_point
 from x3dpd.errors import InputError
 
 
-def read_measured(texts: Sequence[str], points: Sequence[tuple[int, int]],
-                  scale: float = 1.0) -> list[tuple[tuple[int, int], MeasuredFrf]]:
+def read_measured(
+    texts: Sequence[str], points: Sequence[tuple[int, int]], scale: float = 1.0
+) -> list[tuple[tuple[int, int], MeasuredFrf]]:
     """``--measured FILE[@NODE:DOF]`` values -> [(point, FRF)], every file read and checked
     now (before the sweep writes anything). ``points``: the points the sweep measures, the
     default first."""
@@ -41,16 +42,17 @@ def read_measured(texts: Sequence[str], points: Sequence[tuple[int, int]],
         path, at, where = str(text).rpartition("@") if "@" in str(text) else (text, "", "")
         point = parse_point(where, f"--measured {text!r}:") if at else points[0]
         if point not in points:
-            raise InputError(f"--measured {text!r}: the sweep does not measure node {point[0]} "
-                             f"dof {point[1]} (it measures "
-                             f"{', '.join(f'{n}:{d}' for n, d in points)})")
+            raise InputError(
+                f"--measured {text!r}: the sweep does not measure node {point[0]} "
+                f"dof {point[1]} (it measures "
+                f"{', '.join(f'{n}:{d}' for n, d in points)})"
+            )
         for frf in read_measured_frf(path):
             out.append((point, frf))
     return out
 
 
-def measured_curves(measured, spec: SweepSpec, point: tuple[int, int], scale: float = 1.0
-                    ) -> dict:
+def measured_curves(measured, spec: SweepSpec, point: tuple[int, int], scale: float = 1.0) -> dict:
     """{("measured LABEL", drive): (f, X)} of the measured FRFs at ``point`` (module doc),
     within the swept band."""
     lo, hi = min(spec.frequencies), max(spec.frequencies)
@@ -69,6 +71,6 @@ def measured_curves(measured, spec: SweepSpec, point: tuple[int, int], scale: fl
                 u = np.array([displacement_amplitude(drive, spec.quantity, x) for x in w])
                 x = np.abs(t) * u
             else:
-                x = np.abs(frf.h[keep] * scale) * abs(drive) / w ** q
+                x = np.abs(frf.h[keep] * scale) * abs(drive) / w**q
             out[(label, drive)] = (f, x)
     return out

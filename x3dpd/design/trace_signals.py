@@ -31,8 +31,11 @@ from x3dpd.api.measurements import (
 from x3dpd.errors import InputError
 
 #: Quantities a response can be read as, and their unit in terms of the trace's length unit.
-RESPONSE_UNITS = {"displacement": "{length}", "velocity": "{length}/s",
-                  "acceleration": "{length}/s^2"}
+RESPONSE_UNITS = {
+    "displacement": "{length}",
+    "velocity": "{length}/s",
+    "acceleration": "{length}/s^2",
+}
 _NODE = re.compile(r"node\s*=\s*(\d+)", re.IGNORECASE)
 
 
@@ -92,22 +95,25 @@ def sampling_rate(trace: TraceData, path: str) -> float:
     """Samples per second of a trace with uniformly spaced output times."""
     t = trace.time
     if t.size < 16:
-        raise InputError(f"{path}: {t.size} output times; a spectrum needs many more (at least "
-                         "16)")
+        raise InputError(f"{path}: {t.size} output times; a spectrum needs many more (at least 16)")
     step = np.diff(t)
     mean = (t[-1] - t[0]) / (t.size - 1)
     if np.max(np.abs(step - mean)) > 1e-6 * mean:
-        raise InputError(f"{path}: the output times are not uniformly spaced (steps "
-                         f"{step.min():.6g} .. {step.max():.6g} s)")
+        raise InputError(
+            f"{path}: the output times are not uniformly spaced (steps "
+            f"{step.min():.6g} .. {step.max():.6g} s)"
+        )
     return 1.0 / mean
 
 
 def check_band(band: tuple[float, float] | None, fs: float, path: str) -> None:
     """A band must lie below the trace's Nyquist frequency fs / 2."""
     if band is not None and band[1] > 0.5 * fs:
-        raise InputError(f"--band {band[0]:g}:{band[1]:g} Hz reaches above the Nyquist frequency "
-                         f"{0.5 * fs:.6g} Hz of {path} (one output every {1 / fs:.6g} s); record "
-                         "the trace more often (ITRAC) or lower the band")
+        raise InputError(
+            f"--band {band[0]:g}:{band[1]:g} Hz reaches above the Nyquist frequency "
+            f"{0.5 * fs:.6g} Hz of {path} (one output every {1 / fs:.6g} s); record "
+            "the trace more often (ITRAC) or lower the band"
+        )
 
 
 def _node_ids(specs, extra: int) -> np.ndarray:
@@ -122,8 +128,10 @@ def drive_history(trace: TraceData, node: int, dof: int, path: str) -> DriveSign
     prescribed motion's acceleration, else the sum of the built-in force laws on that DOF."""
     meta = trace.meta
     if not meta:
-        raise InputError(f"{path}: no sidecar ({path}.json): the drive is recomputed from the "
-                         "run's force and motion specs, which the sidecar records")
+        raise InputError(
+            f"{path}: no sidecar ({path}.json): the drive is recomputed from the "
+            "run's force and motion specs, which the sidecar records"
+        )
     motions = [str(s) for s in meta.get("motion") or []]
     builtin, files = split_specs([str(s) for s in meta.get("usrfrc") or []])
     ids = _node_ids(list(builtin) + motions, node)
@@ -133,30 +141,41 @@ def drive_history(trace: TraceData, node: int, dof: int, path: str) -> DriveSign
     if motions:
         table = motion_table(motions, ids)
         rows = motion_rows(table)
-        hit = [k for k, r in enumerate(rows)
-               if ids[int(r[0])] == node and int(r[1]) == dof - 1]
+        hit = [k for k, r in enumerate(rows) if ids[int(r[0])] == node and int(r[1]) == dof - 1]
         if hit:
             acc = motion_history(times, table)[2][:, hit[0]]
             unit = f"{length}/s^2" if dof <= 3 else "rad/s^2"
             return DriveSignal(acc, "base acceleration", unit, (motions[hit[0]],))
     if builtin:
         table = force_table(builtin, ids)
-        hit = [k for k in range(law_count(table))
-               if ids[int(table[k, 1])] == node and int(table[k, 2]) == dof - 1]
+        hit = [
+            k
+            for k in range(law_count(table))
+            if ids[int(table[k, 1])] == node and int(table[k, 2]) == dof - 1
+        ]
         if hit:
             values = force_values(times, table)[:, hit].sum(axis=1)
-            notes = ((f"the run also applied user force file(s) {', '.join(files)}, whose "
-                      "force is not part of this drive",) if files else ())
+            notes = (
+                (
+                    f"the run also applied user force file(s) {', '.join(files)}, whose "
+                    "force is not part of this drive",
+                )
+                if files
+                else ()
+            )
             unit = force if dof <= 3 else f"{force} {length}"
             return DriveSignal(values, "force", unit, tuple(builtin[k] for k in hit), notes)
     applied = [*builtin, *files, *(f"motion {m}" for m in motions)]
-    raise InputError(f"{path}: no built-in force law or prescribed motion of the run drives node "
-                     f"{node} dof {dof} (the run applied: {'; '.join(applied) or 'nothing'})"
-                     + ("; a user force file's force cannot be recomputed" if files else ""))
+    raise InputError(
+        f"{path}: no built-in force law or prescribed motion of the run drives node "
+        f"{node} dof {dof} (the run applied: {'; '.join(applied) or 'nothing'})"
+        + ("; a user force file's force cannot be recomputed" if files else "")
+    )
 
 
-def response_history(trace: TraceData, node: int, dof: int, quantity: str,
-                     path: str) -> tuple[np.ndarray, bool]:
+def response_history(
+    trace: TraceData, node: int, dof: int, quantity: str, path: str
+) -> tuple[np.ndarray, bool]:
     """A node's response along ``dof`` at the trace's output times, and whether it is a central
     difference (whose spectra are then divided by :func:`x3dpd.analysis.frf.difference_gain`):
     the displacement from the first output, the traced velocity, or the acceleration as the
@@ -166,16 +185,20 @@ def response_history(trace: TraceData, node: int, dof: int, quantity: str,
     hit = np.flatnonzero(trace.node_ids == node)
     if hit.size == 0:
         ids = trace.node_ids.tolist()
-        raise InputError(f"{path}: node {node} is not in the trace (it holds node(s) "
-                         f"{', '.join(map(str, ids[:12]))}{' ...' if len(ids) > 12 else ''})")
+        raise InputError(
+            f"{path}: node {node} is not in the trace (it holds node(s) "
+            f"{', '.join(map(str, ids[:12]))}{' ...' if len(ids) > 12 else ''})"
+        )
     i = int(hit[0])
     if quantity == "displacement":
         if dof > 3:
-            raise InputError(f"node {node} dof {dof}: the trace holds no rotation angles; read a "
-                             "rotational DOF as velocity or acceleration")
+            raise InputError(
+                f"node {node} dof {dof}: the trace holds no rotation angles; read a "
+                "rotational DOF as velocity or acceleration"
+            )
         x = trace.position[:, i, dof - 1]
         return x - x[0], False
-    v = trace.data[:, i, 3 + dof - 1].copy()        # vx vy vz wx wy wz
+    v = trace.data[:, i, 3 + dof - 1].copy()  # vx vy vz wx wy wz
     if quantity == "velocity":
         return v, False
     return central_difference(v, sampling_rate(trace, path)), True
@@ -187,8 +210,9 @@ def response_unit(trace: TraceData, quantity: str, dof: int) -> str:
     return RESPONSE_UNITS[quantity].format(length=trace.units.get("length", "in"))
 
 
-def welch_options(fs: float, n: int, *, segment: float | None, nperseg: int | None,
-                  overlap: float) -> tuple[int, int]:
+def welch_options(
+    fs: float, n: int, *, segment: float | None, nperseg: int | None, overlap: float
+) -> tuple[int, int]:
     """``(nperseg, noverlap)`` from ``--segment`` [s] or ``--nperseg`` [samples] (default: the
     length that gives 8 averages at the overlap) and ``--overlap`` (a fraction 0 <= o < 1)."""
     if segment is not None and nperseg is not None:
@@ -202,6 +226,8 @@ def welch_options(fs: float, n: int, *, segment: float | None, nperseg: int | No
     elif nperseg is None:
         nperseg = int(n / (1.0 + 7.0 * (1.0 - overlap)))
     if nperseg > n:
-        raise InputError(f"a segment of {nperseg} samples ({nperseg / fs:.4g} s) is longer than "
-                         f"the record ({n} samples, {n / fs:.4g} s)")
+        raise InputError(
+            f"a segment of {nperseg} samples ({nperseg / fs:.4g} s) is longer than "
+            f"the record ({n} samples, {n / fs:.4g} s)"
+        )
     return nperseg, min(int(round(overlap * nperseg)), nperseg - 1)

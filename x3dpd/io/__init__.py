@@ -17,8 +17,21 @@ from x3dpd.io.trace import (
 from x3dpd.io.tracediff import Difference, DiffReport, compare_traces
 
 __all__ = [
-    "COLUMNS", "DATA_COLUMNS", "DEFAULT_UNITS", "RESTART_FORMAT", "TRACE_FORMAT",
-    "DiffReport", "Difference", "TraceData", "TraceWarning", "TraceWriter",
-    "compare_traces", "load_restart", "read_trace", "save_restart", "sha256_file",
-    "sidecar_path", "write_atomically",
+    "COLUMNS",
+    "DATA_COLUMNS",
+    "DEFAULT_UNITS",
+    "RESTART_FORMAT",
+    "TRACE_FORMAT",
+    "DiffReport",
+    "Difference",
+    "TraceData",
+    "TraceWarning",
+    "TraceWriter",
+    "compare_traces",
+    "load_restart",
+    "read_trace",
+    "save_restart",
+    "sha256_file",
+    "sidecar_path",
+    "write_atomically",
 ]

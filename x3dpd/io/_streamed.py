@@ -15,8 +15,15 @@ from collections.abc import Callable, Iterable
 from typing import BinaryIO
 
 
-def create_new(path: str, *, overwrite: bool, error: type[Exception], what: str, option: str,
-               companions: Iterable[tuple[str, str]] = ()) -> BinaryIO:
+def create_new(
+    path: str,
+    *,
+    overwrite: bool,
+    error: type[Exception],
+    what: str,
+    option: str,
+    companions: Iterable[tuple[str, str]] = (),
+) -> BinaryIO:
     """Create ``path`` for binary writing.
 
     An existing ``path`` raises ``error`` unless ``overwrite``; then it is moved to
@@ -26,8 +33,10 @@ def create_new(path: str, *, overwrite: bool, error: type[Exception], what: str,
     """
     if os.path.lexists(path):
         if not overwrite:
-            raise error(f"{what} {path} already exists; pass --overwrite to replace it (the old "
-                        f"one is kept as {path}.bak) or choose another {option} path")
+            raise error(
+                f"{what} {path} already exists; pass --overwrite to replace it (the old "
+                f"one is kept as {path}.bak) or choose another {option} path"
+            )
         if os.path.isdir(path):
             raise error(f"{what} path {path} is a directory")
         try:
@@ -45,8 +54,9 @@ def create_new(path: str, *, overwrite: bool, error: type[Exception], what: str,
         raise error(f"cannot create {what} {path}: {exc.strerror or exc}") from None
 
 
-def reopen_at(path: str, nbytes: int, *, error: type[Exception], what: str,
-              check: Callable[[BinaryIO], None]) -> BinaryIO:
+def reopen_at(
+    path: str, nbytes: int, *, error: type[Exception], what: str, check: Callable[[BinaryIO], None]
+) -> BinaryIO:
     """Open ``path`` to continue writing at byte ``nbytes``.
 
     ``check(f)`` validates the file's first ``nbytes`` (raising ``error`` if they are not what

@@ -62,8 +62,14 @@ class EnergyWriter:
         match ``append_at``.
     """
 
-    def __init__(self, path: str | os.PathLike, columns: Sequence[str], *,
-                 overwrite: bool = False, append_at: tuple[int, int] | None = None):
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        columns: Sequence[str],
+        *,
+        overwrite: bool = False,
+        append_at: tuple[int, int] | None = None,
+    ):
         self.path = os.fspath(path)
         self.columns = tuple(columns)
         self._header = (",".join(self.columns) + "\n").encode("ascii")
@@ -74,8 +80,9 @@ class EnergyWriter:
             self._open_new(overwrite)
 
     def _open_new(self, overwrite: bool) -> None:
-        self._f = create_new(self.path, overwrite=overwrite, error=InputError, what="energy file",
-                             option="--energy")
+        self._f = create_new(
+            self.path, overwrite=overwrite, error=InputError, what="energy file", option="--energy"
+        )
         self._f.write(self._header)
         self._offset = len(self._header)
         self._rows = 0
@@ -83,16 +90,24 @@ class EnergyWriter:
     def _open_append(self, nbytes: int, nrows: int) -> None:
         path, nbytes, nrows = self.path, int(nbytes), int(nrows)
         if not os.path.isfile(path):
-            raise InputError(f"cannot resume energy file {path}: it does not exist (the restart "
-                             f"dump expects {nrows} rows in it)")
+            raise InputError(
+                f"cannot resume energy file {path}: it does not exist (the restart "
+                f"dump expects {nrows} rows in it)"
+            )
 
         def check(f) -> None:
             head = f.read(nbytes)
-            if (len(head) != nbytes or not head.startswith(self._header)
-                    or not head.endswith(b"\n") or head.count(b"\n") != nrows + 1):
-                raise InputError(f"cannot resume energy file {path}: its first {nbytes} bytes "
-                                 f"do not hold the header and {nrows} rows (is it the energy "
-                                 "file of this restart dump?)")
+            if (
+                len(head) != nbytes
+                or not head.startswith(self._header)
+                or not head.endswith(b"\n")
+                or head.count(b"\n") != nrows + 1
+            ):
+                raise InputError(
+                    f"cannot resume energy file {path}: its first {nbytes} bytes "
+                    f"do not hold the header and {nrows} rows (is it the energy "
+                    "file of this restart dump?)"
+                )
 
         self._f = reopen_at(path, nbytes, error=InputError, what="energy file", check=check)
         self._offset = nbytes
@@ -144,8 +159,11 @@ class EnergyWriter:
 
 
 def _row(values: list[float]) -> str:
-    return (TIME_FORMAT.format(values[0]) + "".join("," + VALUE_FORMAT.format(v)
-                                                      for v in values[1:]) + "\n")
+    return (
+        TIME_FORMAT.format(values[0])
+        + "".join("," + VALUE_FORMAT.format(v) for v in values[1:])
+        + "\n"
+    )
 
 
 @dataclass(frozen=True)

@@ -74,8 +74,10 @@ def is_uff(path: str | os.PathLike) -> bool:
 # CSV
 # ---------------------------------------------------------------------------------------------
 
-def _read_csv(path: str, what: str, required: str
-              ) -> tuple[dict[str, list[tuple[int, int, str]]], dict, int]:
+
+def _read_csv(
+    path: str, what: str, required: str
+) -> tuple[dict[str, list[tuple[int, int, str]]], dict, int]:
     """Raw cells by lower-case column name (each ``(line, column, text)``), the ``# key:
     value`` comments, and the header's line number."""
     try:
@@ -97,20 +99,21 @@ def _read_csv(path: str, what: str, required: str
         if names is None:
             names, header_line = [c.strip().lower() for c in cells], number
             if len(set(names)) != len(names):
-                raise InputError(f"{path}:{number}:1: a column name is repeated "
-                                 f"({', '.join(names)})")
+                raise InputError(
+                    f"{path}:{number}:1: a column name is repeated ({', '.join(names)})"
+                )
             cols = {n: [] for n in names}
             continue
         if len(cells) != len(names):
-            raise InputError(f"{path}:{number}:1: {len(cells)} values, the header has "
-                             f"{len(names)} columns")
+            raise InputError(
+                f"{path}:{number}:1: {len(cells)} values, the header has {len(names)} columns"
+            )
         col = 1
         for name, cell in zip(names, cells):
             cols[name].append((number, col, cell))
             col += len(cell) + 1
     if names is None:
-        raise InputError(f"{path}: no header row; a {what} CSV starts with the columns "
-                         f"{required}")
+        raise InputError(f"{path}: no header row; a {what} CSV starts with the columns {required}")
     return cols, meta, header_line
 
 
@@ -159,12 +162,17 @@ def read_frf_csv(path: str | os.PathLike) -> MeasuredFrf:
     if "re" not in cols and "mag" not in cols and {"h1_re", "h1_im"} <= cols.keys():
         _one_curve(path, cols, line)
         cols["re"], cols["im"] = cols["h1_re"], cols["h1_im"]
-    if "frequency_hz" not in cols or not ({"re", "im"} <= cols.keys()
-                                          or {"mag", "phase_deg"} <= cols.keys()):
-        raise InputError(f"{path}:{line}:1: a measured FRF needs the columns {need}; found "
-                         f"{_names(cols)}")
-    num = {n: _numbers(path, cols[n]) for n in ("frequency_hz", "re", "im", "mag", "phase_deg",
-                                                 "coherence") if n in cols}
+    if "frequency_hz" not in cols or not (
+        {"re", "im"} <= cols.keys() or {"mag", "phase_deg"} <= cols.keys()
+    ):
+        raise InputError(
+            f"{path}:{line}:1: a measured FRF needs the columns {need}; found {_names(cols)}"
+        )
+    num = {
+        n: _numbers(path, cols[n])
+        for n in ("frequency_hz", "re", "im", "mag", "phase_deg", "coherence")
+        if n in cols
+    }
     f = num["frequency_hz"]
     _check_axis(path, "frequency_hz", f, cols["frequency_hz"])
     if f[0] < 0:
@@ -173,8 +181,15 @@ def read_frf_csv(path: str | os.PathLike) -> MeasuredFrf:
         h = num["re"] + 1j * num["im"]
     else:
         h = num["mag"] * np.exp(1j * np.radians(num["phase_deg"]))
-    return MeasuredFrf(f, h, num.get("coherence"), _quantity(path, meta.get("quantity")),
-                       meta.get("label", os.path.basename(path)), path, meta.get("unit"))
+    return MeasuredFrf(
+        f,
+        h,
+        num.get("coherence"),
+        _quantity(path, meta.get("quantity")),
+        meta.get("label", os.path.basename(path)),
+        path,
+        meta.get("unit"),
+    )
 
 
 def _one_curve(path: str, cols: dict, line: int) -> None:
@@ -182,9 +197,11 @@ def _one_curve(path: str, cols: dict, line: int) -> None:
     for key in ("run", "response"):
         values = sorted({text.strip() for _, _, text in cols.get(key, [])})
         if len(values) > 1:
-            raise InputError(f"{path}:{line}:1: the file holds the FRFs of {len(values)} "
-                             f"{key}s ({', '.join(values[:6])}); write one per file (x3dpd frf "
-                             "with one TRACE and one --response)")
+            raise InputError(
+                f"{path}:{line}:1: the file holds the FRFs of {len(values)} "
+                f"{key}s ({', '.join(values[:6])}); write one per file (x3dpd frf "
+                "with one TRACE and one --response)"
+            )
 
 
 def read_history_csv(path: str | os.PathLike) -> MeasuredHistory:
@@ -194,25 +211,31 @@ def read_history_csv(path: str | os.PathLike) -> MeasuredHistory:
     cols, meta, line = _read_csv(path, "measured ring-down", need)
     kinds = [k for k in ("displacement", "acceleration") if k in cols]
     if "time" not in cols or len(kinds) != 1:
-        raise InputError(f"{path}:{line}:1: a measured ring-down needs the columns {need} (one of "
-                         f"the two); found {_names(cols)}")
+        raise InputError(
+            f"{path}:{line}:1: a measured ring-down needs the columns {need} (one of "
+            f"the two); found {_names(cols)}"
+        )
     t = _numbers(path, cols["time"])
     _check_axis(path, "time", t, cols["time"])
     _check_uniform(path, t)
-    return MeasuredHistory(t, _numbers(path, cols[kinds[0]]), kinds[0],
-                           meta.get("label", os.path.basename(path)), path)
+    return MeasuredHistory(
+        t, _numbers(path, cols[kinds[0]]), kinds[0], meta.get("label", os.path.basename(path)), path
+    )
 
 
 def _check_uniform(path: str, t: np.ndarray) -> None:
     step = np.diff(t)
     if np.max(np.abs(step - step.mean())) > 1e-6 * step.mean():
-        raise InputError(f"{path}: the time column is not uniformly spaced (steps "
-                         f"{step.min():.6g} .. {step.max():.6g} s)")
+        raise InputError(
+            f"{path}: the time column is not uniformly spaced (steps "
+            f"{step.min():.6g} .. {step.max():.6g} s)"
+        )
 
 
 # ---------------------------------------------------------------------------------------------
 # UFF dataset 58
 # ---------------------------------------------------------------------------------------------
+
 
 def _uff_sets(path: str) -> list[dict]:
     """Every dataset 58 of a UFF file (an error naming the types found when there is none)."""
@@ -227,8 +250,10 @@ def _uff_sets(path: str) -> list[dict]:
         raise InputError(f"{path}: not a readable UFF file ({exc})") from None
     if 58 not in types:
         found = ", ".join(str(t) for t in sorted(set(types))) or "none"
-        raise InputError(f"{path}: holds UFF dataset type(s) {found}, not 58 (function at a "
-                         "nodal DOF), which measured FRFs and time histories use")
+        raise InputError(
+            f"{path}: holds UFF dataset type(s) {found}, not 58 (function at a "
+            "nodal DOF), which measured FRFs and time histories use"
+        )
     try:
         sets = [uff.read_sets(k) for k, t in enumerate(types) if t == 58]
     except Exception as exc:
@@ -237,8 +262,9 @@ def _uff_sets(path: str) -> list[dict]:
 
 
 def _uff_label(s: dict) -> str:
-    return (f"rsp {s.get('rsp_node')}:{s.get('rsp_dir')} / ref {s.get('ref_node')}:"
-            f"{s.get('ref_dir')}")
+    return (
+        f"rsp {s.get('rsp_node')}:{s.get('rsp_dir')} / ref {s.get('ref_node')}:{s.get('ref_dir')}"
+    )
 
 
 def read_frf_uff(path: str | os.PathLike) -> list[MeasuredFrf]:
@@ -253,14 +279,15 @@ def read_frf_uff(path: str | os.PathLike) -> list[MeasuredFrf]:
         h = np.asarray(s["data"]).astype(complex)
         _check_axis(path, "the abscissa (frequency)", f)
         quantity = UFF_QUANTITY.get(int(s.get("ordinate_spec_data_type", 0)))
-        num, den = (str(s.get(f"{a}_axis_units_lab", "")).strip() for a in ("ordinate",
-                                                                              "orddenom"))
+        num, den = (str(s.get(f"{a}_axis_units_lab", "")).strip() for a in ("ordinate", "orddenom"))
         unit = f"({num})/({den})" if num and den and num != "NONE" else None
         out.append(MeasuredFrf(f, h, None, quantity, _uff_label(s), path, unit))
     if not out:
         found = ", ".join(sorted({str(int(s.get("func_type", 0))) for s in sets}))
-        raise InputError(f"{path}: its datasets 58 hold function type(s) {found}; an FRF is "
-                         "type 4 (FRF) or 5 (transmissibility)")
+        raise InputError(
+            f"{path}: its datasets 58 hold function type(s) {found}; an FRF is "
+            "type 4 (FRF) or 5 (transmissibility)"
+        )
     return out
 
 
@@ -272,22 +299,28 @@ def read_history_uff(path: str | os.PathLike) -> MeasuredHistory:
         if int(s.get("func_type", 0)) in UFF_TIME_TYPES:
             kind = UFF_QUANTITY.get(int(s.get("ordinate_spec_data_type", 0)))
             if kind not in ("displacement", "acceleration"):
-                raise InputError(f"{path}: the time response is not a displacement (8) or an "
-                                 "acceleration (12) (ordinate specific data type "
-                                 f"{s.get('ordinate_spec_data_type')})")
+                raise InputError(
+                    f"{path}: the time response is not a displacement (8) or an "
+                    "acceleration (12) (ordinate specific data type "
+                    f"{s.get('ordinate_spec_data_type')})"
+                )
             t = np.asarray(s["x"], dtype=float)
             _check_axis(path, "the abscissa (time)", t)
             _check_uniform(path, t)
-            return MeasuredHistory(t, np.real(np.asarray(s["data"])).astype(float), kind,
-                                   _uff_label(s), path)
+            return MeasuredHistory(
+                t, np.real(np.asarray(s["data"])).astype(float), kind, _uff_label(s), path
+            )
     found = ", ".join(sorted({str(int(s.get("func_type", 0))) for s in sets}))
-    raise InputError(f"{path}: its datasets 58 hold function type(s) {found}; a ring-down is "
-                     "type 1 (time response)")
+    raise InputError(
+        f"{path}: its datasets 58 hold function type(s) {found}; a ring-down is "
+        "type 1 (time response)"
+    )
 
 
 # ---------------------------------------------------------------------------------------------
 # Either
 # ---------------------------------------------------------------------------------------------
+
 
 def read_measured_frf(path: str | os.PathLike) -> list[MeasuredFrf]:
     """The measured FRF(s) of a CSV (one) or UFF file (each FRF dataset 58)."""
@@ -305,9 +338,16 @@ def read_measured_history(path: str | os.PathLike) -> MeasuredHistory:
     return read_history_uff(path) if is_uff(path) else read_history_csv(path)
 
 
-def write_frf_csv(path: str | os.PathLike, frequency, h, *, coherence=None,
-                  quantity: str | None = None, label: str | None = None,
-                  unit: str | None = None) -> None:
+def write_frf_csv(
+    path: str | os.PathLike,
+    frequency,
+    h,
+    *,
+    coherence=None,
+    quantity: str | None = None,
+    label: str | None = None,
+    unit: str | None = None,
+) -> None:
     """Write an FRF in the CSV format :func:`read_frf_csv` reads (``repr`` of every float: the
     values read back exactly), atomically."""
     from x3dpd._files import write_atomically

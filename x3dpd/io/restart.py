@@ -47,8 +47,9 @@ def to_jsonable(obj: Any) -> Any:
     raise TypeError(f"{type(obj).__name__} object is not JSON serializable")
 
 
-def save_restart(path: str | os.PathLike, arrays: Mapping[str, np.ndarray],
-                 meta: Mapping[str, Any]) -> None:
+def save_restart(
+    path: str | os.PathLike, arrays: Mapping[str, np.ndarray], meta: Mapping[str, Any]
+) -> None:
     """Write a restart dump atomically; the previous dump at ``path`` survives until then.
 
     Parameters
@@ -80,8 +81,10 @@ def save_restart(path: str | os.PathLike, arrays: Mapping[str, np.ndarray],
     for name in names:
         arr = np.asanyarray(arrays[name])
         if arr.dtype.hasobject:
-            raise ValueError(f"restart array {name!r} has dtype {arr.dtype}; object arrays "
-                             "cannot be stored (they would need pickle)")
+            raise ValueError(
+                f"restart array {name!r} has dtype {arr.dtype}; object arrays "
+                "cannot be stored (they would need pickle)"
+            )
         prepared[name] = np.asarray(arr)
     header = {
         "format": RESTART_FORMAT,
@@ -123,21 +126,26 @@ def load_restart(path: str | os.PathLike) -> tuple[dict[str, np.ndarray], dict[s
     except FileNotFoundError:
         raise InputError(f"restart dump {spath} does not exist") from None
     except (zipfile.BadZipFile, OSError, EOFError, ValueError) as exc:
-        raise InputError(f"{spath} is not a readable x3dpd restart dump (truncated or corrupt: "
-                         f"{exc})") from None
+        raise InputError(
+            f"{spath} is not a readable x3dpd restart dump (truncated or corrupt: {exc})"
+        ) from None
     with zf:
         members = set(zf.namelist())
         if META_MEMBER not in members:
-            raise InputError(f"{spath} is not an x3dpd restart dump (no {META_MEMBER} entry; "
-                             "was it written by another program?)")
+            raise InputError(
+                f"{spath} is not an x3dpd restart dump (no {META_MEMBER} entry; "
+                "was it written by another program?)"
+            )
         try:
             header = json.loads(zf.read(META_MEMBER).decode("utf-8"))
         except (zipfile.BadZipFile, OSError, EOFError, ValueError) as exc:
             raise InputError(f"{spath}: restart dump header is corrupt ({exc})") from None
         fmt = header.get("format") if isinstance(header, dict) else None
         if fmt != RESTART_FORMAT:
-            raise InputError(f"{spath} has format {fmt!r}; this x3dpd ({__version__}) reads "
-                             f"{RESTART_FORMAT!r} restart dumps only")
+            raise InputError(
+                f"{spath} has format {fmt!r}; this x3dpd ({__version__}) reads "
+                f"{RESTART_FORMAT!r} restart dumps only"
+            )
         names = header.get("arrays")
         meta = header.get("meta")
         if not isinstance(names, list) or not isinstance(meta, dict):
@@ -146,14 +154,17 @@ def load_restart(path: str | os.PathLike) -> tuple[dict[str, np.ndarray], dict[s
         if members != expected:
             missing = sorted(expected - members)
             extra = sorted(members - expected)
-            raise InputError(f"{spath}: restart dump is corrupt (missing members {missing}, "
-                             f"unexpected members {extra})")
+            raise InputError(
+                f"{spath}: restart dump is corrupt (missing members {missing}, "
+                f"unexpected members {extra})"
+            )
         arrays: dict[str, np.ndarray] = {}
         for name in names:
             try:
                 raw = zf.read(name + ".npy")  # verifies the CRC-32
                 arrays[name] = np.lib.format.read_array(io.BytesIO(raw), allow_pickle=False)
             except (zipfile.BadZipFile, OSError, EOFError, ValueError) as exc:
-                raise InputError(f"{spath}: array {name!r} of the restart dump is corrupt "
-                                 f"({exc})") from None
+                raise InputError(
+                    f"{spath}: array {name!r} of the restart dump is corrupt ({exc})"
+                ) from None
     return arrays, meta

@@ -33,9 +33,22 @@ from x3dpd.io.trace_format import (
 from x3dpd.io.trace_writer import TraceWriter
 
 #: Reading lives here; the format's names and the writer are re-exported from their modules.
-__all__ = ["COLUMNS", "DATA_COLUMNS", "DEFAULT_UNITS", "NUMBER_FORMAT", "ROW_FORMAT", "STATUSES",
-           "TRACE_FORMAT", "TraceAxes", "TraceData", "TraceWarning", "TraceWriter", "read_trace",
-           "sha256_file", "sidecar_path"]
+__all__ = [
+    "COLUMNS",
+    "DATA_COLUMNS",
+    "DEFAULT_UNITS",
+    "NUMBER_FORMAT",
+    "ROW_FORMAT",
+    "STATUSES",
+    "TRACE_FORMAT",
+    "TraceAxes",
+    "TraceData",
+    "TraceWarning",
+    "TraceWriter",
+    "read_trace",
+    "sha256_file",
+    "sidecar_path",
+]
 
 
 # --------------------------------------------------------------------------------------------
@@ -114,8 +127,10 @@ class TraceData(TraceAxes):
         """Row position of node ``nid`` (its first occurrence); KeyError if not traced."""
         hits = np.flatnonzero(self.node_ids == nid)
         if hits.size == 0:
-            raise KeyError(f"node {nid} is not in trace {self.path or '<trace>'} (traced: "
-                           f"{_abbrev(self.node_ids.tolist())})")
+            raise KeyError(
+                f"node {nid} is not in trace {self.path or '<trace>'} (traced: "
+                f"{_abbrev(self.node_ids.tolist())})"
+            )
         return int(hits[0])
 
     def node(self, nid: int) -> np.ndarray:
@@ -164,19 +179,24 @@ def _locate_error(path: str, ncols: int = len(COLUMNS)) -> TraceError:
                 continue
             fields = line.rstrip("\r\n").split(";")
             if len(fields) != ncols:
-                return TraceError(f"{path}:{lineno}: expected {ncols} ';'-separated numbers "
-                                  f"({'; '.join(COLUMNS)}), found {len(fields)}")
+                return TraceError(
+                    f"{path}:{lineno}: expected {ncols} ';'-separated numbers "
+                    f"({'; '.join(COLUMNS)}), found {len(fields)}"
+                )
             for col, text in enumerate(fields):
                 try:
                     float(text)
                 except ValueError:
-                    return TraceError(f"{path}:{lineno}: column {col + 1} ({COLUMNS[col]}): "
-                                      f"{text.strip()!r} is not a number")
+                    return TraceError(
+                        f"{path}:{lineno}: column {col + 1} ({COLUMNS[col]}): "
+                        f"{text.strip()!r} is not a number"
+                    )
     return TraceError(f"{path}: not a trace file")
 
 
-def read_trace(path: str | os.PathLike, *, node_ids: Iterable[int] | None = None,
-               strict: bool = False) -> TraceData:
+def read_trace(
+    path: str | os.PathLike, *, node_ids: Iterable[int] | None = None, strict: bool = False
+) -> TraceData:
     """Read a trace file (with its sidecar ``path + ".json"`` when there is one).
 
     The number R of rows per output time comes from, in this order: ``node_ids``, the
@@ -210,8 +230,7 @@ def read_trace(path: str | os.PathLike, *, node_ids: Iterable[int] | None = None
             lines = _Lines(f)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", UserWarning)  # "input contained no data"
-                rows = np.loadtxt(lines, delimiter=";", comments=None, ndmin=2,
-                                  dtype=np.float64)
+                rows = np.loadtxt(lines, delimiter=";", comments=None, ndmin=2, dtype=np.float64)
     except ValueError:
         raise _locate_error(spath) from None
     except OSError as exc:
@@ -225,8 +244,10 @@ def read_trace(path: str | os.PathLike, *, node_ids: Iterable[int] | None = None
     if ids is None:
         known = False
         if rows.shape[0] == 0:
-            raise TraceError(f"{spath}: the trace is empty and has no sidecar; cannot tell how "
-                             "many nodes it traces")
+            raise TraceError(
+                f"{spath}: the trace is empty and has no sidecar; cannot tell how "
+                "many nodes it traces"
+            )
         R = int(np.argmax(rows[:, 0] != rows[0, 0])) or rows.shape[0]
         ids = np.arange(1, R + 1, dtype=np.int64)
     R = int(ids.size)
@@ -238,10 +259,12 @@ def read_trace(path: str | os.PathLike, *, node_ids: Iterable[int] | None = None
     k = n // R
     if dropped or cut:
         total = dropped + (1 if cut else 0)
-        where = (f"t = {rows[k * R, 0]:.9e}" if dropped else "the last output time")
-        msg = (f"{spath}: the last output time ({where}) is incomplete ({dropped} of {R} rows"
-               f"{' and a line cut short' if cut else ''}); the run was probably interrupted "
-               "while writing")
+        where = f"t = {rows[k * R, 0]:.9e}" if dropped else "the last output time"
+        msg = (
+            f"{spath}: the last output time ({where}) is incomplete ({dropped} of {R} rows"
+            f"{' and a line cut short' if cut else ''}); the run was probably interrupted "
+            "while writing"
+        )
         if strict:
             raise TraceError(msg)
         warnings.warn(msg + f"; dropped {total} row(s)", TraceWarning, stacklevel=2)
@@ -251,20 +274,36 @@ def read_trace(path: str | os.PathLike, *, node_ids: Iterable[int] | None = None
     same = blocks[:, :, 0] == times[:, None]
     if not same.all():
         b, r = np.argwhere(~same)[0]
-        src = "the sidecar" if meta and node_ids is None else (
-            "node_ids" if node_ids is not None else "the first output time")
-        raise TraceError(f"{spath}:{b * R + r + 1}: time {blocks[b, r, 0]:.9e} differs from "
-                         f"{times[b]:.9e} on line {b * R + 1}; each output time should have "
-                         f"{R} rows (from {src})")
+        src = (
+            "the sidecar"
+            if meta and node_ids is None
+            else ("node_ids" if node_ids is not None else "the first output time")
+        )
+        raise TraceError(
+            f"{spath}:{b * R + r + 1}: time {blocks[b, r, 0]:.9e} differs from "
+            f"{times[b]:.9e} on line {b * R + 1}; each output time should have "
+            f"{R} rows (from {src})"
+        )
     if k > 1:
         bad = np.flatnonzero(~(np.diff(times) > 0))
         if bad.size:
             b = int(bad[0]) + 1
-            raise TraceError(f"{spath}:{b * R + 1}: time {times[b]:.9e} does not come after "
-                             f"{times[b - 1]:.9e}")
+            raise TraceError(
+                f"{spath}:{b * R + 1}: time {times[b]:.9e} does not come after {times[b - 1]:.9e}"
+            )
     if meta.get("status") == "complete" and meta.get("blocks") not in (None, k):
-        warnings.warn(f"{spath}: the sidecar records a complete run of {meta['blocks']} output "
-                      f"times but the file holds {k}", TraceWarning, stacklevel=2)
-    return TraceData(times=times, node_ids=ids, data=np.ascontiguousarray(blocks[:, :, 1:]),
-                     path=spath, meta=meta, node_ids_known=known,
-                     dropped_rows=dropped + (1 if cut else 0))
+        warnings.warn(
+            f"{spath}: the sidecar records a complete run of {meta['blocks']} output "
+            f"times but the file holds {k}",
+            TraceWarning,
+            stacklevel=2,
+        )
+    return TraceData(
+        times=times,
+        node_ids=ids,
+        data=np.ascontiguousarray(blocks[:, :, 1:]),
+        path=spath,
+        meta=meta,
+        node_ids_known=known,
+        dropped_rows=dropped + (1 if cut else 0),
+    )

@@ -44,7 +44,6 @@ DEFAULT_UNITS = {"time": "s", "length": "in", "velocity": "in/s", "angular_veloc
 STATUSES = ("running", "complete", "interrupted", "unstable")
 
 
-
 class TraceWarning(UserWarning):
     """A trace was readable but not whole (its last output time was cut off)."""
 
@@ -75,8 +74,9 @@ def sha256_file(path: str | os.PathLike) -> str:
 
 def _write_json(path: str, obj: Mapping[str, Any]) -> None:
     """Write ``obj`` atomically, one top-level key per line (lists stay on their line)."""
-    body = ",\n".join(f"  {json.dumps(str(k))}: {json.dumps(v, default=to_jsonable)}"
-                      for k, v in obj.items())
+    body = ",\n".join(
+        f"  {json.dumps(str(k))}: {json.dumps(v, default=to_jsonable)}" for k, v in obj.items()
+    )
     data = ("{\n" + body + "\n}\n").encode("utf-8")
     write_atomically(path, lambda f: f.write(data), sync_dir=False)
 
@@ -90,15 +90,18 @@ def _read_sidecar(path: str) -> dict[str, Any] | None:
     except FileNotFoundError:
         return None
     except (OSError, ValueError) as exc:
-        raise TraceError(f"{spath}: trace sidecar is not readable JSON ({exc}); move it away "
-                         "to read the trace without it") from None
+        raise TraceError(
+            f"{spath}: trace sidecar is not readable JSON ({exc}); move it away "
+            "to read the trace without it"
+        ) from None
     if not isinstance(meta, dict) or meta.get("format") != TRACE_FORMAT:
         fmt = meta.get("format") if isinstance(meta, dict) else None
         raise TraceError(f"{spath}: sidecar format is {fmt!r}, expected {TRACE_FORMAT!r}")
     ids = meta.get("node_ids")
-    if (not isinstance(ids, list) or not ids
-            or not all(isinstance(i, int) and not isinstance(i, bool) for i in ids)):
+    if (
+        not isinstance(ids, list)
+        or not ids
+        or not all(isinstance(i, int) and not isinstance(i, bool) for i in ids)
+    ):
         raise TraceError(f"{spath}: sidecar has no valid 'node_ids' list")
     return meta
-
-

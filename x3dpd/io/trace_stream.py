@@ -37,14 +37,28 @@ def trace_info(path: str | os.PathLike) -> TraceInfo:
         raise TraceError(f"{path}: no such trace file")
     meta = _read_sidecar(path)
     if meta is None:
-        raise TraceError(f"{path}: no sidecar {path}.json; this command needs the traced node "
-                         f"ids and the deck it records")
-    return TraceInfo(path, np.asarray(meta["node_ids"], dtype=np.int64), meta.get("deck_path"),
-                     meta.get("deck_sha256"), dict(meta.get("units") or DEFAULT_UNITS), meta)
+        raise TraceError(
+            f"{path}: no sidecar {path}.json; this command needs the traced node "
+            f"ids and the deck it records"
+        )
+    return TraceInfo(
+        path,
+        np.asarray(meta["node_ids"], dtype=np.int64),
+        meta.get("deck_path"),
+        meta.get("deck_sha256"),
+        dict(meta.get("units") or DEFAULT_UNITS),
+        meta,
+    )
 
 
-def iter_blocks(path: str | os.PathLike, n_rows: int, *, every: int = 1, t_from: float = -np.inf,
-                t_to: float = np.inf) -> Iterator[tuple[float, np.ndarray]]:
+def iter_blocks(
+    path: str | os.PathLike,
+    n_rows: int,
+    *,
+    every: int = 1,
+    t_from: float = -np.inf,
+    t_to: float = np.inf,
+) -> Iterator[tuple[float, np.ndarray]]:
     """Yield ``(time, data)`` for every ``every``-th block with ``t_from <= time <= t_to``.
 
     ``data`` is ``(n_rows, 9)``: ``x y z vx vy vz wx wy wz`` per traced node. A cut-off last
@@ -75,8 +89,10 @@ def iter_blocks(path: str | os.PathLike, n_rows: int, *, every: int = 1, t_from:
                     except ValueError:
                         rows = None
                     if rows is None or rows.shape != (n_rows, ncols):
-                        raise TraceError(f"{path}:{line_no - n_rows + 1}: expected {n_rows} rows "
-                                         f"of {ncols} ';'-separated numbers in this block")
+                        raise TraceError(
+                            f"{path}:{line_no - n_rows + 1}: expected {n_rows} rows "
+                            f"of {ncols} ';'-separated numbers in this block"
+                        )
                     yield float(rows[0, 0]), rows[:, 1:]
             k += 1
 

@@ -67,10 +67,16 @@ class TraceWriter:
         cannot be resumed at ``append_at``.
     """
 
-    def __init__(self, path: str | os.PathLike, node_ids: Iterable[int],
-                 sidecar: Mapping[str, Any] | None = None, *, overwrite: bool = False,
-                 append_at: tuple[int, int] | None = None,
-                 units: Mapping[str, str] | None = None):
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        node_ids: Iterable[int],
+        sidecar: Mapping[str, Any] | None = None,
+        *,
+        overwrite: bool = False,
+        append_at: tuple[int, int] | None = None,
+        units: Mapping[str, str] | None = None,
+    ):
         self.path = os.fspath(path)
         ids = np.asarray(list(node_ids) if not isinstance(node_ids, np.ndarray) else node_ids)
         if ids.ndim != 1 or ids.size == 0 or not np.issubdtype(ids.dtype, np.integer):
@@ -86,18 +92,24 @@ class TraceWriter:
         self._fmt_cache: dict[int, str] = {}
 
         self._meta: dict[str, Any] = {
-            "deck_path": None, "deck_sha256": None, "dt": None, "itrac": None, "effects": [],
+            "deck_path": None,
+            "deck_sha256": None,
+            "dt": None,
+            "itrac": None,
+            "effects": [],
         }
         self._meta.update(dict(sidecar or {}))
         if isinstance(self._meta.get("effects"), (set, frozenset, tuple)):
             self._meta["effects"] = sorted(self._meta["effects"])
-        self._meta.update({
-            "format": TRACE_FORMAT,
-            "columns": list(COLUMNS),
-            "units": _units(units),
-            "node_ids": self.node_ids.tolist(),
-            "x3dpd_version": __version__,
-        })
+        self._meta.update(
+            {
+                "format": TRACE_FORMAT,
+                "columns": list(COLUMNS),
+                "units": _units(units),
+                "node_ids": self.node_ids.tolist(),
+                "x3dpd_version": __version__,
+            }
+        )
 
         if append_at is not None:
             self._open_append(append_at, overwrite)
@@ -113,31 +125,44 @@ class TraceWriter:
 
     def _open_new(self, overwrite: bool) -> None:
         path = self.path
-        self._f = create_new(path, overwrite=overwrite, error=TraceError, what="trace file",
-                             option="--trace",
-                             companions=[(sidecar_path(path), path + ".bak.json")])
+        self._f = create_new(
+            path,
+            overwrite=overwrite,
+            error=TraceError,
+            what="trace file",
+            option="--trace",
+            companions=[(sidecar_path(path), path + ".bak.json")],
+        )
 
     def _open_append(self, append_at: tuple[int, int], overwrite: bool) -> None:
         path = self.path
         nbytes, nblocks = (int(v) for v in append_at)
         if not os.path.isfile(path):
-            raise TraceError(f"cannot resume trace {path}: the file does not exist (the restart "
-                             f"dump expects {nblocks} output times in it)")
+            raise TraceError(
+                f"cannot resume trace {path}: the file does not exist (the restart "
+                f"dump expects {nblocks} output times in it)"
+            )
         old = _read_sidecar(path)
         if old is not None and old["node_ids"] != self.node_ids.tolist():
-            raise TraceError(f"cannot resume trace {path}: it traces nodes {old['node_ids']}, "
-                             f"this run traces {self.node_ids.tolist()}")
+            raise TraceError(
+                f"cannot resume trace {path}: it traces nodes {old['node_ids']}, "
+                f"this run traces {self.node_ids.tolist()}"
+            )
         size = os.path.getsize(path)
         # a complete trace is only cut back with overwrite; appending to its end (a finished
         # run extended from its end-of-run dump) loses nothing
         backup = old is not None and old.get("status") == "complete" and nbytes < size
         if backup and not overwrite:
-            raise TraceError(f"trace {path} is complete; resuming would cut it at byte "
-                             f"{nbytes}. Pass --overwrite to keep a copy in {path}.bak, or "
-                             "choose another --trace path")
+            raise TraceError(
+                f"trace {path} is complete; resuming would cut it at byte "
+                f"{nbytes}. Pass --overwrite to keep a copy in {path}.bak, or "
+                "choose another --trace path"
+            )
         if nbytes < 0 or nblocks < 0 or nbytes > size:
-            raise TraceError(f"cannot resume trace {path} at byte {nbytes}: the file has only "
-                             f"{size} bytes (is it the trace of this restart dump?)")
+            raise TraceError(
+                f"cannot resume trace {path} at byte {nbytes}: the file has only "
+                f"{size} bytes (is it the trace of this restart dump?)"
+            )
 
         def check(f) -> None:
             lines, last = _count_lines(f, nbytes)
@@ -145,13 +170,15 @@ class TraceWriter:
                 raise TraceError(
                     f"cannot resume trace {path}: its first {nbytes} bytes hold {lines} complete "
                     f"rows, the restart dump expects {nblocks} x {self.n_nodes} = "
-                    f"{nblocks * self.n_nodes} (is it the trace of this restart dump?)")
+                    f"{nblocks * self.n_nodes} (is it the trace of this restart dump?)"
+                )
             if last is not None:
                 try:
                     self._last_time = float(last.split(b";", 1)[0])
                 except ValueError:
-                    raise TraceError(f"cannot resume trace {path}: row {lines} is not a trace "
-                                     "row") from None
+                    raise TraceError(
+                        f"cannot resume trace {path}: row {lines} is not a trace row"
+                    ) from None
             if backup:
                 try:
                     shutil.copy2(path, path + ".bak")
@@ -200,20 +227,22 @@ class TraceWriter:
             t, d = t[None], d[None]
         k, R = t.shape[0], self.n_nodes
         if t.ndim != 1 or d.shape != (k, R, 9):
-            raise ValueError(f"write_block expects times (k,) and data (k, {R}, 9); got "
-                             f"{t.shape} and {d.shape}")
+            raise ValueError(
+                f"write_block expects times (k,) and data (k, {R}, 9); got {t.shape} and {d.shape}"
+            )
         if k == 0:
             return
         if not (t[0] > self._last_time and np.all(np.diff(t) > 0)):
-            raise ValueError(f"trace times must increase: got {t.tolist()[:4]}... after "
-                             f"{self._last_time}")
+            raise ValueError(
+                f"trace times must increase: got {t.tolist()[:4]}... after {self._last_time}"
+            )
         rows = np.empty((k * R, 10), dtype=np.float64)
         rows[:, 0] = np.repeat(t, R)
         rows[:, 1:] = d.reshape(k * R, 9)
         per = max(1, _ROWS_PER_CHUNK // R)  # whole blocks per formatting pass
         for start in range(0, k, per):
-            part = rows[start * R:(start + per) * R]
-            text = (self._row_format(part.shape[0]) % tuple(part.ravel().tolist()))
+            part = rows[start * R : (start + per) * R]
+            text = self._row_format(part.shape[0]) % tuple(part.ravel().tolist())
             chunk = text.encode("ascii")
             self._f.write(chunk)
             self._offset += len(chunk)
@@ -237,8 +266,9 @@ class TraceWriter:
         try:
             _write_json(sidecar_path(self.path), self._sidecar())
         except OSError as exc:
-            raise TraceError(f"cannot write trace sidecar {sidecar_path(self.path)}: "
-                             f"{exc}") from None
+            raise TraceError(
+                f"cannot write trace sidecar {sidecar_path(self.path)}: {exc}"
+            ) from None
 
     def describe(self, **fields: Any) -> None:
         """Add or update run-description fields of the sidecar (written at the next flush or
@@ -287,8 +317,11 @@ class TraceWriter:
             try:
                 self.close(status)
             except (OSError, TraceError) as err:  # do not mask the original error
-                warnings.warn(f"{self.path}: could not close the trace cleanly: {err}",
-                              TraceWarning, stacklevel=2)
+                warnings.warn(
+                    f"{self.path}: could not close the trace cleanly: {err}",
+                    TraceWarning,
+                    stacklevel=2,
+                )
 
 
 def _count_lines(f, nbytes: int) -> tuple[int, bytes | None]:
@@ -297,8 +330,10 @@ def _count_lines(f, nbytes: int) -> tuple[int, bytes | None]:
         return 0, None
     f.seek(nbytes - 1)
     if f.read(1) != b"\n":
-        raise TraceError(f"cannot resume trace {f.name} at byte {nbytes}: that is not the end "
-                         "of a row (is it the trace of this restart dump?)")
+        raise TraceError(
+            f"cannot resume trace {f.name} at byte {nbytes}: that is not the end "
+            "of a row (is it the trace of this restart dump?)"
+        )
     f.seek(0)
     count, left, tail = 0, nbytes, b""
     while left:
@@ -310,5 +345,3 @@ def _count_lines(f, nbytes: int) -> tuple[int, bytes | None]:
         tail = (tail + chunk)[-4096:]
     last = tail[:-1].rsplit(b"\n", 1)[-1]
     return count, last
-
-

@@ -99,8 +99,9 @@ class DiffReport:
 
     def format(self, name_a: str = "A", name_b: str = "B") -> str:
         """The human-readable report ``x3dpd tracediff`` prints."""
-        out = [(f"{'column':<7} {'max |a-b|':>16}  {'at t':>16} {'node':>8}  "
-                f"{'max |a-b|/|b|':>16}")]
+        out = [
+            (f"{'column':<7} {'max |a-b|':>16}  {'at t':>16} {'node':>8}  {'max |a-b|/|b|':>16}")
+        ]
         for j, col in enumerate(self.columns):
             has = self.max_abs_node[j] >= 0
             t = f"{self.max_abs_time[j]: .9e}" if has else f"{'-':>16}"
@@ -114,9 +115,11 @@ class DiffReport:
         if self.first is not None:
             d = self.first
             lim = self.atol + self.rtol * abs(d.b)
-            out.append(f"first difference: t={d.time:.9e} node {d.node_id} column {d.column}: "
-                       f"{name_a}={d.a:.9e} {name_b}={d.b:.9e} |a-b|={d.abs_error:.3e} > "
-                       f"atol+rtol*|b|={lim:.3e}")
+            out.append(
+                f"first difference: t={d.time:.9e} node {d.node_id} column {d.column}: "
+                f"{name_a}={d.a:.9e} {name_b}={d.b:.9e} |a-b|={d.abs_error:.3e} > "
+                f"atol+rtol*|b|={lim:.3e}"
+            )
             out.append(f"{self.n_differ} value(s) differ within {tol} up to {upto}")
         elif self.time_mismatch is None:
             out.append(f"traces agree within {tol} up to {upto}")
@@ -131,8 +134,9 @@ def _upto(tr: TraceData, until: float | None, tol: float) -> int:
     return int(np.searchsorted(tr.times, until + tol, side="right"))
 
 
-def compare_traces(a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float = 0.0,
-                   until: float | None = None) -> DiffReport:
+def compare_traces(
+    a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float = 0.0, until: float | None = None
+) -> DiffReport:
     """Compare trace ``a`` against reference ``b``.
 
     Parameters
@@ -160,17 +164,22 @@ def compare_traces(a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float =
     ida, idb = a.node_ids.tolist(), b.node_ids.tolist()
     if a.node_ids_known and b.node_ids_known:
         if ida != idb:
-            raise TraceError(f"the traces follow different nodes: {a.path or 'A'} traces "
-                             f"{len(ida)} nodes ({_abbrev(ida)}), {b.path or 'B'} traces "
-                             f"{len(idb)} ({_abbrev(idb)})")
+            raise TraceError(
+                f"the traces follow different nodes: {a.path or 'A'} traces "
+                f"{len(ida)} nodes ({_abbrev(ida)}), {b.path or 'B'} traces "
+                f"{len(idb)} ({_abbrev(idb)})"
+            )
     elif len(ida) != len(idb):
-        raise TraceError(f"the traces follow different numbers of nodes: {a.path or 'A'} has "
-                         f"{len(ida)} rows per output time, {b.path or 'B'} has {len(idb)}")
+        raise TraceError(
+            f"the traces follow different numbers of nodes: {a.path or 'A'} has "
+            f"{len(ida)} rows per output time, {b.path or 'B'} has {len(idb)}"
+        )
     node_ids = a.node_ids if a.node_ids_known or not b.node_ids_known else b.node_ids
     notes = []
     if not (a.node_ids_known and b.node_ids_known):
-        notes.append("(node ids unknown for a trace without sidecar: nodes numbered by row "
-                     "position)")
+        notes.append(
+            "(node ids unknown for a trace without sidecar: nodes numbered by row position)"
+        )
 
     # output interval -> tolerance for "same output time"
     spacing = [np.min(np.diff(t)) for t in (a.times, b.times) if t.shape[0] > 1]
@@ -182,20 +191,26 @@ def compare_traces(a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float =
         raise TraceError(f"--until {until:g} is before the first output time ({first_t})")
     ia, ib = _common_times(a.times[:ka], b.times[:kb], ttol)
     if ia.size == 0:
-        raise TraceError(f"the traces have no output time in common (A: {_span(a.times[:ka])}; "
-                         f"B: {_span(b.times[:kb])})")
+        raise TraceError(
+            f"the traces have no output time in common (A: {_span(a.times[:ka])}; "
+            f"B: {_span(b.times[:kb])})"
+        )
     k = int(ia.size)
     mismatch = None
     if not (ka == kb == k):
-        notes.append(f"time grids differ: A has {ka} output times ({_span(a.times[:ka])}), B "
-                     f"{kb} ({_span(b.times[:kb])}); compared the {k} common ones")
+        notes.append(
+            f"time grids differ: A has {ka} output times ({_span(a.times[:ka])}), B "
+            f"{kb} ({_span(b.times[:kb])}); compared the {k} common ones"
+        )
     if abs(a.times[ka - 1] - b.times[kb - 1]) > ttol:
         longer, shorter = ("A", "B") if a.times[ka - 1] > b.times[kb - 1] else ("B", "A")
         tt = a.times[:ka] if longer == "A" else b.times[:kb]
         other = b.times[kb - 1] if longer == "A" else a.times[ka - 1]
-        mismatch = (f"{longer} has {ka if longer == 'A' else kb} output times (to "
-                    f"t={tt[-1]:.9e}), {shorter} ends at t={other:.9e}; compare the common "
-                    f"part with --until")
+        mismatch = (
+            f"{longer} has {ka if longer == 'A' else kb} output times (to "
+            f"t={tt[-1]:.9e}), {shorter} ends at t={other:.9e}; compare the common "
+            f"part with --until"
+        )
 
     R, C = len(ida), len(a.columns)
     max_abs = np.zeros(C)
@@ -229,24 +244,44 @@ def compare_traces(a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float =
                 pos = int(np.argmax(differ.ravel()))
                 ti, rest = divmod(pos, R * C)
                 ni, ci = divmod(rest, C)
-                first = Difference(time=float(a.times[ia[s + ti]]), node_id=int(node_ids[ni]),
-                                   column=a.columns[ci], a=float(xa[ti, ni, ci]),
-                                   b=float(xb[ti, ni, ci]), time_index=int(ia[s + ti]),
-                                   node_index=ni)
+                first = Difference(
+                    time=float(a.times[ia[s + ti]]),
+                    node_id=int(node_ids[ni]),
+                    column=a.columns[ci],
+                    a=float(xa[ti, ni, ci]),
+                    b=float(xb[ti, ni, ci]),
+                    time_index=int(ia[s + ti]),
+                    node_index=ni,
+                )
             n_differ += cnt
-    return DiffReport(rtol=rtol, atol=atol, until=until, n_times=k,
-                      t_end=float(a.times[ia[-1]]), node_ids=node_ids,
-                      columns=tuple(a.columns), max_abs=max_abs, max_rel=max_rel,
-                      max_abs_time=max_abs_time, max_abs_node=max_abs_node, first=first,
-                      n_differ=n_differ, time_mismatch=mismatch, notes=tuple(notes))
+    return DiffReport(
+        rtol=rtol,
+        atol=atol,
+        until=until,
+        n_times=k,
+        t_end=float(a.times[ia[-1]]),
+        node_ids=node_ids,
+        columns=tuple(a.columns),
+        max_abs=max_abs,
+        max_rel=max_rel,
+        max_abs_time=max_abs_time,
+        max_abs_node=max_abs_node,
+        first=first,
+        n_differ=n_differ,
+        time_mismatch=mismatch,
+        notes=tuple(notes),
+    )
 
 
 def _common_times(ta: np.ndarray, tb: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
     """Indices ``(ia, ib)`` of the output times the two (increasing) grids share within ``tol``."""
     if ta.size == 0 or tb.size == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    j = np.clip(np.searchsorted(tb, ta), 1, tb.size - 1) if tb.size > 1 else np.zeros(
-        ta.size, np.int64)
+    j = (
+        np.clip(np.searchsorted(tb, ta), 1, tb.size - 1)
+        if tb.size > 1
+        else np.zeros(ta.size, np.int64)
+    )
     if tb.size > 1:
         j = np.where(np.abs(tb[j - 1] - ta) <= np.abs(tb[j] - ta), j - 1, j)
     hit = np.abs(tb[j] - ta) <= tol

@@ -8,9 +8,23 @@ The library is ``library.toml`` beside this module (docs/materials.md). This pac
 bottom of x3dpd's layers: it imports nothing of x3dpd but ``errors`` and ``units``.
 """
 
-from x3dpd.materials.library import (LIBRARY, Material, MaterialError, material, materials,
-                                     read_library)
+from x3dpd.materials.library import (
+    LIBRARY,
+    Material,
+    MaterialError,
+    material,
+    materials,
+    read_library,
+)
 from x3dpd.materials.units import DeckMaterial, in_units
 
-__all__ = ["LIBRARY", "DeckMaterial", "Material", "MaterialError", "in_units", "material",
-           "materials", "read_library"]
+__all__ = [
+    "LIBRARY",
+    "DeckMaterial",
+    "Material",
+    "MaterialError",
+    "in_units",
+    "material",
+    "materials",
+    "read_library",
+]

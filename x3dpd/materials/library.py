@@ -25,13 +25,23 @@ from x3dpd.errors import InputError
 LIBRARY = Path(__file__).with_name("library.toml")
 
 #: Units a library file may give a modulus in [Pa per unit].
-PRESSURE_UNITS = {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9,
-                  "psi": 4.4482216152605 / 0.0254 ** 2, "ksi": 1e3 * 4.4482216152605 / 0.0254 ** 2,
-                  "Msi": 1e6 * 4.4482216152605 / 0.0254 ** 2}
+PRESSURE_UNITS = {
+    "Pa": 1.0,
+    "kPa": 1e3,
+    "MPa": 1e6,
+    "GPa": 1e9,
+    "psi": 4.4482216152605 / 0.0254**2,
+    "ksi": 1e3 * 4.4482216152605 / 0.0254**2,
+    "Msi": 1e6 * 4.4482216152605 / 0.0254**2,
+}
 #: Units a library file may give a density in [kg/m^3 per unit]; ``lb/in^3`` is pound-mass
 #: (0.45359237 kg) per cubic inch, ``lbf s^2/in^4`` the mass density of an inch-lbf-s deck.
-DENSITY_UNITS = {"kg/m^3": 1.0, "g/cm^3": 1e3, "lb/in^3": 0.45359237 / 0.0254 ** 3,
-                 "lbf s^2/in^4": 4.4482216152605 / 0.0254 ** 4}
+DENSITY_UNITS = {
+    "kg/m^3": 1.0,
+    "g/cm^3": 1e3,
+    "lb/in^3": 0.45359237 / 0.0254**3,
+    "lbf s^2/in^4": 4.4482216152605 / 0.0254**4,
+}
 #: Fields every material must give, and the optional ones.
 REQUIRED = ("E", "nu", "rho", "mu")
 OPTIONAL = ("maxwell", "restitution", "description", "aliases")
@@ -95,8 +105,10 @@ def _si(where: str, name: str, entry, units: dict | None) -> tuple[float, str]:
         raise MaterialError(f"{where}: {name} must be a table {{ value = ..., source = ... }}")
     unknown = set(entry) - {"value", "unit", "source"}
     if unknown:
-        raise MaterialError(f"{where}: {name}: unknown key(s) {', '.join(sorted(unknown))}; "
-                            "expected value, unit, source")
+        raise MaterialError(
+            f"{where}: {name}: unknown key(s) {', '.join(sorted(unknown))}; "
+            "expected value, unit, source"
+        )
     source = entry.get("source")
     if not isinstance(source, str) or not source.strip():
         raise MaterialError(f"{where}: {name} has no source")
@@ -107,8 +119,7 @@ def _si(where: str, name: str, entry, units: dict | None) -> tuple[float, str]:
         return value, source
     unit = entry.get("unit")
     if unit not in units:
-        raise MaterialError(f"{where}: {name} unit {unit!r}: expected one of "
-                            f"{', '.join(units)}")
+        raise MaterialError(f"{where}: {name} unit {unit!r}: expected one of {', '.join(units)}")
     return value * units[unit], source
 
 
@@ -118,11 +129,15 @@ def _maxwell(where: str, raw) -> tuple[tuple[tuple[float, float], ...], str]:
     arms, sources = [], []
     for k, arm in enumerate(raw, 1):
         if not isinstance(arm, dict) or set(arm) != {"E", "unit", "tau", "source"}:
-            raise MaterialError(f"{where}: maxwell arm {k} must give exactly E, unit, tau "
-                                "[s], source")
-        e, src = _si(where, f"maxwell arm {k} E",
-                     {"value": arm["E"], "unit": arm["unit"], "source": arm["source"]},
-                     PRESSURE_UNITS)
+            raise MaterialError(
+                f"{where}: maxwell arm {k} must give exactly E, unit, tau [s], source"
+            )
+        e, src = _si(
+            where,
+            f"maxwell arm {k} E",
+            {"value": arm["E"], "unit": arm["unit"], "source": arm["source"]},
+            PRESSURE_UNITS,
+        )
         tau = _number(where, f"maxwell arm {k} tau", arm["tau"])
         if not (e > 0 and tau > 0):
             raise MaterialError(f"{where}: maxwell arm {k}: E and tau must be positive")
@@ -136,8 +151,10 @@ def _material(where: str, key: str, table) -> Material:
         raise MaterialError(f"{where}: must be a table of fields")
     unknown = set(table) - set(REQUIRED) - set(OPTIONAL)
     if unknown:
-        raise MaterialError(f"{where}: unknown field(s) {', '.join(sorted(unknown))}; expected "
-                            f"{', '.join(REQUIRED + OPTIONAL)}")
+        raise MaterialError(
+            f"{where}: unknown field(s) {', '.join(sorted(unknown))}; expected "
+            f"{', '.join(REQUIRED + OPTIONAL)}"
+        )
     missing = [f for f in REQUIRED if f not in table]
     if missing:
         raise MaterialError(f"{where}: missing {', '.join(missing)}")
@@ -151,14 +168,22 @@ def _material(where: str, key: str, table) -> Material:
         arms, sources["maxwell"] = _maxwell(where, table["maxwell"])
     restitution = None
     if "restitution" in table:
-        restitution, sources["restitution"] = _si(where, "restitution", table["restitution"],
-                                                  None)
+        restitution, sources["restitution"] = _si(where, "restitution", table["restitution"], None)
     aliases = table.get("aliases", [])
     if not (isinstance(aliases, list) and all(isinstance(a, str) for a in aliases)):
         raise MaterialError(f"{where}: aliases must be a list of names")
-    return Material(name=key, E=e, nu=nu, rho=rho, mu=mu, maxwell=arms,
-                    restitution=restitution, sources=sources, aliases=tuple(aliases),
-                    description=str(table.get("description", "")))
+    return Material(
+        name=key,
+        E=e,
+        nu=nu,
+        rho=rho,
+        mu=mu,
+        maxwell=arms,
+        restitution=restitution,
+        sources=sources,
+        aliases=tuple(aliases),
+        description=str(table.get("description", "")),
+    )
 
 
 def read_library(path=LIBRARY) -> tuple[Material, ...]:
@@ -180,8 +205,10 @@ def read_library(path=LIBRARY) -> tuple[Material, ...]:
         for name in (m.name, *m.aliases):
             other = seen.setdefault(_key(name), m.name)
             if other != m.name:
-                raise MaterialError(f"{path}: the name {name!r} of material {m.name!r} is "
-                                    f"already material {other!r}'s")
+                raise MaterialError(
+                    f"{path}: the name {name!r} of material {m.name!r} is "
+                    f"already material {other!r}'s"
+                )
     return tuple(out)
 
 
@@ -211,6 +238,9 @@ def material(name, library=None) -> Material:
         return hit
     close = difflib.get_close_matches(_key(name), list(names), n=5, cutoff=0.5)
     suggest = sorted({names[c].name for c in close})
-    hint = (f"did you mean {', '.join(suggest)}?" if suggest
-            else f"known: {', '.join(m.name for m in every)}")
+    hint = (
+        f"did you mean {', '.join(suggest)}?"
+        if suggest
+        else f"known: {', '.join(m.name for m in every)}"
+    )
     raise MaterialError(f"unknown material {name!r}: {hint} (`x3dpd materials` lists them)")

@@ -51,8 +51,15 @@ class DeckMaterial:
         our further Maxwell pairs. An elastic material has E1 = 0 and T1 = 1 (Appendix B: "T1
         is set to any nonzero number")."""
         e1, t1 = self.maxwell[0] if self.maxwell else (0.0, 1.0)
-        return {"prho": self.rho, "ppoi": self.nu, "e0": self.E, "e1": e1, "t1": t1,
-                "pcof": self.mu, "extra_terms": tuple(self.maxwell[1:])}
+        return {
+            "prho": self.rho,
+            "ppoi": self.nu,
+            "e0": self.E,
+            "e1": e1,
+            "t1": t1,
+            "pcof": self.mu,
+            "extra_terms": tuple(self.maxwell[1:]),
+        }
 
 
 def in_units(mat, units=None) -> DeckMaterial:
@@ -62,10 +69,14 @@ def in_units(mat, units=None) -> DeckMaterial:
     mat: Material = material(mat)
     system = _system(units)
     metres, newtons, seconds = si_size(system)
-    pressure = metres ** 2 / newtons                       # per Pa
-    density = metres ** 4 / (newtons * seconds ** 2)       # per kg/m^3
+    pressure = metres**2 / newtons  # per Pa
+    density = metres**4 / (newtons * seconds**2)  # per kg/m^3
     return DeckMaterial(
-        name=mat.name, E=_round(mat.E * pressure), nu=mat.nu, rho=_round(mat.rho * density),
-        mu=mat.mu, maxwell=tuple((_round(e * pressure), _round(tau / seconds))
-                                 for e, tau in mat.maxwell),
-        units=system)
+        name=mat.name,
+        E=_round(mat.E * pressure),
+        nu=mat.nu,
+        rho=_round(mat.rho * density),
+        mu=mat.mu,
+        maxwell=tuple((_round(e * pressure), _round(tau / seconds)) for e, tau in mat.maxwell),
+        units=system,
+    )

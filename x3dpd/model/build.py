@@ -67,8 +67,8 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
         n = self.ids.shape[0]
         self.mass = np.zeros(n)
         self.inertia = np.zeros((n, 3))
-        self.mass[self.pstart:] = self.p_mass
-        self.inertia[self.pstart:] = (0.4 * self.p_mass * self.radius**2)[:, None]
+        self.mass[self.pstart :] = self.p_mass
+        self.inertia[self.pstart :] = (0.4 * self.p_mass * self.radius**2)[:, None]
         self._masses()
         self._springs()
         self.fixed = self._boundaries()
@@ -78,42 +78,68 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
         v0 = self._initial_velocities()
         trace = self._trace()
         self._zero_mass_check()
-        body = np.zeros(3) if deck.body is None else np.array(
-            [deck.body.ax, deck.body.ay, deck.body.az], dtype=np.float64)
+        body = (
+            np.zeros(3)
+            if deck.body is None
+            else np.array([deck.body.ax, deck.body.ay, deck.body.az], dtype=np.float64)
+        )
         return Model(
-            node_ids=_ro(self.ids, np.int64), x0=_ro(self.x0), mass=_ro(self.mass),
-            inertia=_ro(self.inertia), fixed=_ro(self.fixed, bool), v0=_ro(v0),
+            node_ids=_ro(self.ids, np.int64),
+            x0=_ro(self.x0),
+            mass=_ro(self.mass),
+            inertia=_ro(self.inertia),
+            fixed=_ro(self.fixed, bool),
+            v0=_ro(v0),
             body_accel=_ro(body),
-            particle_start=int(self.pstart), radius=_ro(self.radius),
-            density=_ro(self.density), poisson=_ro(self.poisson), mu=_ro(self.mu),
-            moduli=_ro(self.moduli), taus=_ro(self.taus),
+            particle_start=int(self.pstart),
+            radius=_ro(self.radius),
+            density=_ro(self.density),
+            poisson=_ro(self.poisson),
+            mu=_ro(self.mu),
+            moduli=_ro(self.moduli),
+            taus=_ro(self.taus),
             particle_group=_ro(self.group, np.int64),
             particle_cavity=_ro(self.particle_cavity, np.int64),
             spring_nodes=_ro(self.spring_nodes.reshape(-1, 2), np.int64),
             spring_k=_ro(self.spring_k.reshape(-1, 3)),
             spring_c=_ro(self.spring_c.reshape(-1, 3)),
-            axial_nodes=_ro(self.axial_nodes, np.int64), axial_k=_ro(self.axial_k),
-            axial_c=_ro(self.axial_c), axial_length=_ro(self.axial_length),
+            axial_nodes=_ro(self.axial_nodes, np.int64),
+            axial_k=_ro(self.axial_k),
+            axial_c=_ro(self.axial_c),
+            axial_length=_ro(self.axial_length),
             rotational_nodes=_ro(self.rotational_nodes, np.int64),
-            rotational_k=_ro(self.rotational_k), rotational_c=_ro(self.rotational_c),
-            rigid_master=_ro(self.rigid_master, np.int64), rigid_ptr=_ro(self.rigid_ptr, np.int64),
-            rigid_slaves=_ro(self.rigid_slaves, np.int64), rigid_mass=_ro(self.rigid_mass),
+            rotational_k=_ro(self.rotational_k),
+            rotational_c=_ro(self.rotational_c),
+            rigid_master=_ro(self.rigid_master, np.int64),
+            rigid_ptr=_ro(self.rigid_ptr, np.int64),
+            rigid_slaves=_ro(self.rigid_slaves, np.int64),
+            rigid_mass=_ro(self.rigid_mass),
             rigid_inertia=_ro(self.rigid_inertia.reshape(-1, 3, 3)),
-            tri_nodes=_ro(self.tri_nodes.reshape(-1, 3), np.int64), tri_sign=_ro(self.tri_sign),
-            tri_face=_ro(self.tri_face, np.int64), face_cavity=_ro(self.face_cavity, np.int64),
+            tri_nodes=_ro(self.tri_nodes.reshape(-1, 3), np.int64),
+            tri_sign=_ro(self.tri_sign),
+            tri_face=_ro(self.tri_face, np.int64),
+            face_cavity=_ro(self.face_cavity, np.int64),
             cavity_set_ids=_ro(self.cavity_set_ids, np.int64),
             shape_kind=_ro(self.shape_kind, np.int64),
             shape_nodes=_ro(self.shape_nodes.reshape(-1, 2), np.int64),
             shape_params=_ro(self.shape_params),
             shape_cavity=_ro(self.shape_cavity, np.int64),
             trace_nodes=_ro(trace, np.int64),
-            t0=float(par.time), tmax=float(par.tmax), dt=float(par.dtmax), trest=float(par.trest),
-            itrac=int(par.itrac), irest=int(par.irest), incmax=float(par.incmax),
+            t0=float(par.time),
+            tmax=float(par.tmax),
+            dt=float(par.dtmax),
+            trest=float(par.trest),
+            itrac=int(par.itrac),
+            irest=int(par.irest),
+            incmax=float(par.incmax),
             effects=self._effects(body),
             usrfrc=self._deck_usrfrc(),
             title=deck.title.text if deck.title is not None else "",
-            units=(deck.units.system if getattr(deck, "units", None) is not None
-                   else ("in", "lbf", "s")),
+            units=(
+                deck.units.system
+                if getattr(deck, "units", None) is not None
+                else ("in", "lbf", "s")
+            ),
             path=deck.path,
             modal=self.modal,
             **self._normal_law(),
@@ -124,25 +150,37 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
     def _parameters(self):
         par = self.deck.parameters
         if par is None:
-            raise self.error("no PARAMETERS card: the deck must give TIME TMAX TREST DTMIN DTMAX "
-                             "INCR INCMAX IREST NINTPL ISTAT ITRAC", NOWHERE, "PARAMETERS")
+            raise self.error(
+                "no PARAMETERS card: the deck must give TIME TMAX TREST DTMIN DTMAX "
+                "INCR INCMAX IREST NINTPL ISTAT ITRAC",
+                NOWHERE,
+                "PARAMETERS",
+            )
         if not par.dtmax > 0.0:
-            raise self.error(f"DTMAX must be > 0 (it is the time step), got {par.dtmax:g}",
-                             par.pos, "PARAMETERS")
+            raise self.error(
+                f"DTMAX must be > 0 (it is the time step), got {par.dtmax:g}", par.pos, "PARAMETERS"
+            )
         if par.dtmin > par.dtmax:
-            raise self.error(f"DTMIN {par.dtmin:g} is larger than DTMAX {par.dtmax:g}",
-                             par.pos, "PARAMETERS")
+            raise self.error(
+                f"DTMIN {par.dtmin:g} is larger than DTMAX {par.dtmax:g}", par.pos, "PARAMETERS"
+            )
         if par.tmax < par.time:
-            raise self.error(f"TMAX {par.tmax:g} is before the start time TIME {par.time:g}",
-                             par.pos, "PARAMETERS")
+            raise self.error(
+                f"TMAX {par.tmax:g} is before the start time TIME {par.time:g}",
+                par.pos,
+                "PARAMETERS",
+            )
         return par
 
     def _nodes(self) -> None:
         first: dict[int, Pos] = {}
         for nd in self.deck.nodes:
             if nd.nid in first:
-                raise self.error(f"node {nd.nid} is defined twice (first at line "
-                                 f"{first[nd.nid].line})", nd.pos, "NODE COORDINATES")
+                raise self.error(
+                    f"node {nd.nid} is defined twice (first at line {first[nd.nid].line})",
+                    nd.pos,
+                    "NODE COORDINATES",
+                )
             first[nd.nid] = nd.pos
         nodes = sorted(self.deck.nodes, key=lambda nd: nd.nid)
         self.node_pos = first
@@ -150,13 +188,17 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
         self.x0 = np.array([(nd.x, nd.y, nd.z) for nd in nodes], dtype=np.float64).reshape(-1, 3)
         self.index = {int(nid): i for i, nid in enumerate(self.ids)}
 
-
     def _trace(self) -> np.ndarray:
         tr = self.deck.trace
         if tr is None:
             return np.arange(self.ids.shape[0], dtype=np.int64)
-        return np.array([self.node(nid, _pos_at(tr.positions, k, tr.pos), "TRACE", "node")
-                         for k, nid in enumerate(tr.nodes)], dtype=np.int64)
+        return np.array(
+            [
+                self.node(nid, _pos_at(tr.positions, k, tr.pos), "TRACE", "node")
+                for k, nid in enumerate(tr.nodes)
+            ],
+            dtype=np.int64,
+        )
 
     def _effects(self, body: np.ndarray) -> frozenset:
         eff = set()
@@ -188,7 +230,7 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
         pc = self.particle_cavity
         if self.tri_nodes.shape[0] and np.any(pc >= 0):
             eff.add("wall_contact")
-        for kind, shape in enumerate(SHAPES):   # analytic walls: "cylinder_contact" ...
+        for kind, shape in enumerate(SHAPES):  # analytic walls: "cylinder_contact" ...
             if np.any(np.isin(pc, self.shape_cavity[self.shape_kind == kind])):
                 eff.add(shape.effect)
         counts = np.bincount(pc[pc >= 0], minlength=1)

@@ -49,7 +49,9 @@ class BuilderBase:
             raise self.error(
                 f"{what} {nid} is a particle node (PDMP NODLIM {self.nodlim}: nodes above it are "
                 f"particles, which must not be connected to elements, masses or rigid links)",
-                pos, card)
+                pos,
+                card,
+            )
         return i
 
 

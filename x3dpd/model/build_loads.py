@@ -19,37 +19,42 @@ class LoadSteps(BuilderBase):
     def _zero_mass_check(self) -> None:
         """A free, loaded translational DOF needs mass (explicit time integration divides by it)."""
         loads: dict[tuple[int, int], str] = {}
-        for el, nodes, k, c in zip(self.spring_elements, self.spring_nodes, self.spring_k,
-                                   self.spring_c):
+        for el, nodes, k, c in zip(
+            self.spring_elements, self.spring_nodes, self.spring_k, self.spring_c
+        ):
             for i in nodes[nodes >= 0]:
                 for a in range(3):
                     if k[a] != 0.0 or c[a] != 0.0:
                         loads.setdefault((int(i), a), f"element {el.eid} (line {el.pos.line})")
-        for el, nodes, k, c in zip(self.axial_elements, self.axial_nodes, self.axial_k,
-                                   self.axial_c):
-            if k != 0.0 or c != 0.0:   # along its line, which may turn to any direction
+        for el, nodes, k, c in zip(
+            self.axial_elements, self.axial_nodes, self.axial_k, self.axial_c
+        ):
+            if k != 0.0 or c != 0.0:  # along its line, which may turn to any direction
                 for i in nodes:
                     for a in range(3):
                         loads.setdefault((int(i), a), f"element {el.eid} (line {el.pos.line})")
         for t, nodes in zip(self.triangles, self.tri_nodes):
             for i in nodes:
                 for a in range(3):
-                    loads.setdefault((int(i), a), f"the wall contact of the CONTACT triangle at "
-                                                  f"line {t.pos.line}")
+                    loads.setdefault(
+                        (int(i), a),
+                        f"the wall contact of the CONTACT triangle at line {t.pos.line}",
+                    )
         for spec, (i, a) in self._external_loads():
             if a < 3:
                 loads.setdefault((i, a), f"the USRFRC force {spec!r}")
         prescribed = np.zeros((len(self.ids), 6), dtype=bool)
         if self.motion:
-            prescribed = prescribed_mask(motion_table(self.motion, self.ids, self.x0),
-                                         len(self.ids))
+            prescribed = prescribed_mask(
+                motion_table(self.motion, self.ids, self.x0), len(self.ids)
+            )
         for (i, a), what in sorted(loads.items()):
             if i >= self.pstart or prescribed[i, a]:
                 continue
             body = self.slave_of.get(i, self.body_of_master.get(i))
             master = i if body is None else int(self.rigid_master[body])
             if master in self.modal_nodes:
-                continue   # moved by the modes, whose mass is in them
+                continue  # moved by the modes, whose mass is in them
             if body is None:
                 if self.fixed[i, a] or self.mass[i] > 0.0:
                     continue
@@ -57,8 +62,10 @@ class LoadSteps(BuilderBase):
                 raise self.error(
                     f"node {nid} has no mass but its free {_AXES[a]} DOF is loaded by {what}; add "
                     f"a MASS record for node {nid}, fix DOF {a + 1} in BOUNDARY CONDITIONS, or "
-                    f"make the node a slave of a rigid body (RBEL)", self.node_pos[nid],
-                    "NODE COORDINATES")
+                    f"make the node a slave of a rigid body (RBEL)",
+                    self.node_pos[nid],
+                    "NODE COORDINATES",
+                )
             m = int(self.rigid_master[body])
             if self.fixed[m, a] or self.rigid_mass[body] > 0.0:
                 continue
@@ -66,15 +73,18 @@ class LoadSteps(BuilderBase):
             raise self.error(
                 f"the rigid body of master {mid} has no mass but its free {_AXES[a]} DOF is "
                 f"loaded by {what} (on node {nid}); add a MASS record for node {mid} or fix "
-                f"DOF {a + 1} of node {mid} in BOUNDARY CONDITIONS", self.node_pos[mid],
-                "NODE COORDINATES")
+                f"DOF {a + 1} of node {mid} in BOUNDARY CONDITIONS",
+                self.node_pos[mid],
+                "NODE COORDINATES",
+            )
         self._zero_inertia_check()
 
     def _zero_inertia_check(self) -> None:
         """A free rotational DOF loaded by a rotational spring-damper (MATID type 3) needs a
         rotary inertia: without one its moment would be dropped."""
-        for el, nodes, k, c in zip(self.rotational_elements, self.rotational_nodes,
-                                   self.rotational_k, self.rotational_c):
+        for el, nodes, k, c in zip(
+            self.rotational_elements, self.rotational_nodes, self.rotational_k, self.rotational_c
+        ):
             for i in nodes[nodes >= 0]:
                 for a in range(3):
                     if k[a] == 0.0 and c[a] == 0.0:
@@ -82,9 +92,8 @@ class LoadSteps(BuilderBase):
                     body = self.slave_of.get(int(i), self.body_of_master.get(int(i)))
                     m = int(i) if body is None else int(self.rigid_master[body])
                     if m in self.modal_nodes:
-                        continue   # turned by the modes, whose inertia is in them
-                    inertia = (self.inertia[m, a] if body is None
-                               else self.rigid_inertia[body, a, a])
+                        continue  # turned by the modes, whose inertia is in them
+                    inertia = self.inertia[m, a] if body is None else self.rigid_inertia[body, a, a]
                     if self.fixed[m, 3 + a] or inertia > 0.0:
                         continue
                     nid = int(self.ids[m])
@@ -93,8 +102,10 @@ class LoadSteps(BuilderBase):
                         f"{owner} has no rotary inertia about {_AXES[a]} but its free r{_AXES[a]} "
                         f"DOF is loaded by the rotational spring-damper element {el.eid} (line "
                         f"{el.pos.line}); give node {nid} an inertia I{_AXES[a] * 2} in MASS or "
-                        f"fix DOF {a + 4} in BOUNDARY CONDITIONS", self.node_pos[nid],
-                        "NODE COORDINATES")
+                        f"fix DOF {a + 4} in BOUNDARY CONDITIONS",
+                        self.node_pos[nid],
+                        "NODE COORDINATES",
+                    )
 
     def _all_usrfrc(self) -> tuple[str, ...]:
         return self._deck_usrfrc() + self.usrfrc
@@ -117,8 +128,11 @@ class LoadSteps(BuilderBase):
                     if folder is not None and not path.is_absolute():
                         path = folder / path
                     if not path.is_file():
-                        raise self.error(f"user force file {spec.strip()!r} not found "
-                                         f"(looked for {path})", card.pos, "USRFRC")
+                        raise self.error(
+                            f"user force file {spec.strip()!r} not found (looked for {path})",
+                            card.pos,
+                            "USRFRC",
+                        )
                     spec = str(path)
                 out.append(spec)
         return tuple(out)

@@ -64,22 +64,37 @@ class ModalSteps(BuilderBase):
             phi[j, fixed, :] = 0.0
             if i in self.slave_of:
                 master = int(self.ids[self.rigid_master[self.slave_of[i]]])
-                raise self.error(f"node {int(self.ids[i])} has shape values but is a slave of the "
-                                 f"rigid body of master {master}; give the shape values at the "
-                                 "master" + (" (with map=, only the mapped file nodes are used)"
-                                             if card.files else ""), where[i], CARD)
+                raise self.error(
+                    f"node {int(self.ids[i])} has shape values but is a slave of the "
+                    f"rigid body of master {master}; give the shape values at the "
+                    "master"
+                    + (" (with map=, only the mapped file nodes are used)" if card.files else ""),
+                    where[i],
+                    CARD,
+                )
         node_idx = np.array(nodes, dtype=np.int64)
-        added = self._added_mass(node_idx) if card.housing == "added" else np.zeros(
-            (len(nodes), 6, 6))
+        added = (
+            self._added_mass(node_idx) if card.housing == "added" else np.zeros((len(nodes), 6, 6))
+        )
         omega0 = 2.0 * math.pi * np.asarray(freq, dtype=np.float64)
-        omega, zeta_c, shape_c, coupling = couple_added_mass(omega0, np.asarray(zeta), phi,
-                                                             added)
+        omega, zeta_c, shape_c, coupling = couple_added_mass(omega0, np.asarray(zeta), phi, added)
         body = np.array([self.body_of_master.get(int(i), -1) for i in node_idx], dtype=np.int64)
         self.modal = ModalStructure(
-            nodes=node_idx, shape=shape_c, omega=omega, zeta=zeta_c, coupling=coupling,
-            body=body, held=held, added_mass=added, given_numbers=np.asarray(numbers, np.int64),
-            given_freq=np.asarray(freq, dtype=np.float64), given_zeta=np.asarray(zeta, float),
-            given_shape=phi, housing=card.housing, source=source)
+            nodes=node_idx,
+            shape=shape_c,
+            omega=omega,
+            zeta=zeta_c,
+            coupling=coupling,
+            body=body,
+            held=held,
+            added_mass=added,
+            given_numbers=np.asarray(numbers, np.int64),
+            given_freq=np.asarray(freq, dtype=np.float64),
+            given_zeta=np.asarray(zeta, float),
+            given_shape=phi,
+            housing=card.housing,
+            source=source,
+        )
         self.modal_nodes = {int(i) for i in node_idx}
 
     # -- inline records -------------------------------------------------------------------------
@@ -88,24 +103,36 @@ class ModalSteps(BuilderBase):
         order = [card.modes.index(m) for m in modes]
         for m in modes:
             if m.mass is not None and abs(m.mass - 1.0) > UNIT_MASS_TOLERANCE:
-                raise self.error(f"mode {m.number} has generalized mass {m.mass:g}: the shapes are "
-                                 f"not mass-normalised (divide them by sqrt({m.mass:g}) and give "
-                                 f"MASS 1, or leave MASS off)", m.pos, CARD)
+                raise self.error(
+                    f"mode {m.number} has generalized mass {m.mass:g}: the shapes are "
+                    f"not mass-normalised (divide them by sqrt({m.mass:g}) and give "
+                    f"MASS 1, or leave MASS off)",
+                    m.pos,
+                    CARD,
+                )
         shapes: dict[int, np.ndarray] = {}
         for s in card.shapes:
             pos = s.node_pos if s.node_pos.line else s.pos
             i = self.structural(s.node, pos, CARD, "SHAPE node")
             row = shapes.setdefault(i, np.full((6, len(modes)), np.nan))
             row[s.dof - 1] = [s.values[k] for k in order]
-        return ([m.number for m in modes], [m.freq for m in modes], [m.zeta for m in modes],
-                shapes, "MODE/SHAPE records")
+        return (
+            [m.number for m in modes],
+            [m.freq for m in modes],
+            [m.zeta for m in modes],
+            shapes,
+            "MODE/SHAPE records",
+        )
 
     # -- a mode file ----------------------------------------------------------------------------
     def _modes_from_file(self, rec):
         ms = rec.mode_set
         if ms is None:
-            raise self.error(f"mode file {rec.path} was not read (parse the deck with "
-                             "x3dpd.deck.read_deck)", rec.pos, CARD)
+            raise self.error(
+                f"mode file {rec.path} was not read (parse the deck with x3dpd.deck.read_deck)",
+                rec.pos,
+                CARD,
+            )
         opt = rec.option
         numbers = np.asarray(ms.mode_numbers, dtype=np.int64)
         keep = np.ones(numbers.shape[0], dtype=bool)
@@ -113,8 +140,12 @@ class ModalSteps(BuilderBase):
             want, pos = opt("modes")
             missing = sorted(set(want) - set(numbers.tolist()))
             if missing:
-                raise self.error(f"mode file {rec.path} has no mode {missing[0]} (it holds modes "
-                                 f"{_ranges(numbers)})", pos, CARD)
+                raise self.error(
+                    f"mode file {rec.path} has no mode {missing[0]} (it holds modes "
+                    f"{_ranges(numbers)})",
+                    pos,
+                    CARD,
+                )
             keep &= np.isin(numbers, want)
         # units: the file's own, or the record's units=, converted to the deck's
         deck_units = self._deck_units()
@@ -123,9 +154,12 @@ class ModalSteps(BuilderBase):
             stated, pos = opt("units")
             stated = tuple(stated)
             if file_units is not None and stated != file_units:
-                raise self.error(f"FILE units={','.join(stated)} contradicts mode file "
-                                 f"{rec.path}, which says it is in {' '.join(file_units)}",
-                                 pos, CARD)
+                raise self.error(
+                    f"FILE units={','.join(stated)} contradicts mode file "
+                    f"{rec.path}, which says it is in {' '.join(file_units)}",
+                    pos,
+                    CARD,
+                )
             file_units = stated
         f_time, f_shape_t, f_shape_r = unit_factors(file_units or deck_units, deck_units)
         freq = np.asarray(ms.freq_hz, dtype=np.float64) * f_time
@@ -133,12 +167,17 @@ class ModalSteps(BuilderBase):
             (lo, hi), pos = opt("band")
             keep &= (freq >= lo) & (freq <= hi)
         if not keep.any():
-            raise self.error(f"no mode of mode file {rec.path} is kept (it holds modes "
-                             f"{_ranges(numbers)} at {_freqs(freq)})", rec.pos, CARD)
+            raise self.error(
+                f"no mode of mode file {rec.path} is kept (it holds modes "
+                f"{_ranges(numbers)} at {_freqs(freq)})",
+                rec.pos,
+                CARD,
+            )
         if np.any(freq[keep] < 0.0) or not np.all(np.isfinite(freq[keep])):
-            raise self.error(f"mode file {rec.path} has a negative or non-finite frequency",
-                             rec.pos, CARD)
-        shapes_all = np.asarray(ms.shapes, dtype=np.float64)[keep]       # (M, N, 6)
+            raise self.error(
+                f"mode file {rec.path} has a negative or non-finite frequency", rec.pos, CARD
+            )
+        shapes_all = np.asarray(ms.shapes, dtype=np.float64)[keep]  # (M, N, 6)
         shapes_all = shapes_all.copy()
         shapes_all[..., :3] *= f_shape_t
         shapes_all[..., 3:] *= f_shape_r
@@ -149,48 +188,73 @@ class ModalSteps(BuilderBase):
                 shapes_all /= np.sqrt(mass)[:, None, None]
             elif bad.any():
                 k = int(np.argmax(bad))
-                raise self.error(f"mode file {rec.path}: mode {int(numbers[keep][k])} has "
-                                 f"generalized mass {mass[k]:g}: the shapes are not "
-                                 f"mass-normalised (add normalize=mass to rescale them)",
-                                 rec.pos, CARD)
+                raise self.error(
+                    f"mode file {rec.path}: mode {int(numbers[keep][k])} has "
+                    f"generalized mass {mass[k]:g}: the shapes are not "
+                    f"mass-normalised (add normalize=mass to rescale them)",
+                    rec.pos,
+                    CARD,
+                )
         # damping
         if opt("zeta"):
             parts, pos = opt("zeta")
             if len(parts) not in (1, int(keep.sum())):
-                raise self.error(f"FILE zeta gives {len(parts)} values for {int(keep.sum())} "
-                                 f"kept modes; give one for all or one per mode", pos, CARD)
+                raise self.error(
+                    f"FILE zeta gives {len(parts)} values for {int(keep.sum())} "
+                    f"kept modes; give one for all or one per mode",
+                    pos,
+                    CARD,
+                )
             zeta = np.broadcast_to(np.asarray(parts), (int(keep.sum()),)).copy()
         elif ms.damping is not None:
             zeta = np.asarray(ms.damping, dtype=np.float64)[keep]
         else:
-            raise self.error(f"mode file {rec.path} gives no damping: add zeta=RATIO (one for "
-                             "all modes, or one per kept mode)", rec.pos, CARD)
+            raise self.error(
+                f"mode file {rec.path} gives no damping: add zeta=RATIO (one for "
+                "all modes, or one per kept mode)",
+                rec.pos,
+                CARD,
+            )
         # nodes
         mapping = opt("map")[0] if opt("map") else {}
         shapes: dict[int, np.ndarray] = {}
         for n, fid in enumerate(np.asarray(ms.node_ids, dtype=np.int64)):
             if mapping and int(fid) not in mapping:
-                continue        # with map=, the mapped nodes only
+                continue  # with map=, the mapped nodes only
             did = mapping.get(int(fid), int(fid))
             i = self.index.get(did)
             if i is None:
                 if int(fid) in mapping:
                     pos = opt("map")[1]
-                    raise self.error(f"FILE map sends file node {int(fid)} to node {did}, which "
-                                     "is not defined in NODE COORDINATES", pos, CARD)
-                continue        # a node of the FE model the deck does not use
+                    raise self.error(
+                        f"FILE map sends file node {int(fid)} to node {did}, which "
+                        "is not defined in NODE COORDINATES",
+                        pos,
+                        CARD,
+                    )
+                continue  # a node of the FE model the deck does not use
             if i >= self.pstart:
-                raise self.error(f"mode file node {int(fid)} is deck node {did}, a particle node "
-                                 f"(PDMP NODLIM {self.nodlim})", rec.pos, CARD)
-            shapes[i] = shapes_all[:, n, :].T.copy()      # (6, M)
+                raise self.error(
+                    f"mode file node {int(fid)} is deck node {did}, a particle node "
+                    f"(PDMP NODLIM {self.nodlim})",
+                    rec.pos,
+                    CARD,
+                )
+            shapes[i] = shapes_all[:, n, :].T.copy()  # (6, M)
         for fid in mapping:
             if fid not in set(np.asarray(ms.node_ids).tolist()):
                 pos = opt("map")[1]
-                raise self.error(f"FILE map names file node {fid}, which mode file {rec.path} "
-                                 "does not hold", pos, CARD)
+                raise self.error(
+                    f"FILE map names file node {fid}, which mode file {rec.path} does not hold",
+                    pos,
+                    CARD,
+                )
         if not shapes:
-            raise self.error(f"no node of mode file {rec.path} is a node of the deck (give "
-                             "map=FILE:DECK pairs)", rec.pos, CARD)
+            raise self.error(
+                f"no node of mode file {rec.path} is a node of the deck (give map=FILE:DECK pairs)",
+                rec.pos,
+                CARD,
+            )
         return numbers[keep].tolist(), freq[keep].tolist(), zeta.tolist(), shapes, rec.path
 
     def _deck_units(self) -> tuple[str, str, str]:
@@ -208,7 +272,7 @@ class ModalSteps(BuilderBase):
             if b is None:
                 out[j] = np.diag([self.mass[i]] * 3 + list(self.inertia[i]))
                 continue
-            sl = self.rigid_slaves[self.rigid_ptr[b]:self.rigid_ptr[b + 1]]
+            sl = self.rigid_slaves[self.rigid_ptr[b] : self.rigid_ptr[b + 1]]
             first = (self.mass[sl, None] * (self.x0[sl] - self.x0[i])).sum(axis=0)
             out[j, :3, :3] = self.rigid_mass[b] * np.eye(3)
             out[j, :3, 3:] = -_cross_matrix(first)
@@ -217,22 +281,21 @@ class ModalSteps(BuilderBase):
         return out
 
 
-def couple_added_mass(omega: np.ndarray, zeta: np.ndarray, phi: np.ndarray,
-                      added: np.ndarray):
+def couple_added_mass(omega: np.ndarray, zeta: np.ndarray, phi: np.ndarray, added: np.ndarray):
     """The modes of the structure with ``added`` (N, 6, 6) mass on its nodes: (omega, zeta,
     shape (N, 6, M), coupling (M, M) or (0, 0)); see the module docstring."""
     m_count = omega.shape[0]
-    flat = phi.reshape(-1, m_count)                       # (N*6, M)
+    flat = phi.reshape(-1, m_count)  # (N*6, M)
     big = np.zeros((flat.shape[0], flat.shape[0]))
     for j in range(added.shape[0]):
-        big[6 * j:6 * j + 6, 6 * j:6 * j + 6] = added[j]
+        big[6 * j : 6 * j + 6, 6 * j : 6 * j + 6] = added[j]
     m_red = np.eye(m_count) + flat.T @ big @ flat
     if np.allclose(m_red, np.eye(m_count), rtol=0.0, atol=1e-14):
         return omega.copy(), zeta.copy(), phi.copy(), np.zeros((0, 0))
     from scipy.linalg import eigh  # here: scipy.linalg costs every run half a second of import
 
     lam, psi = eigh(np.diag(omega**2), 0.5 * (m_red + m_red.T))
-    for k in range(m_count):           # a sign that does not depend on the solver: largest > 0
+    for k in range(m_count):  # a sign that does not depend on the solver: largest > 0
         if psi[np.argmax(np.abs(psi[:, k])), k] < 0.0:
             psi[:, k] = -psi[:, k]
     omega_c = np.sqrt(np.maximum(lam, 0.0))

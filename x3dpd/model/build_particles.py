@@ -19,9 +19,13 @@ class ParticleSteps(BuilderBase):
         cards = self.deck.pdmp
         for prev, card in zip(cards, cards[1:]):
             if card.nodlim <= prev.nodlim:
-                raise self.error(f"NODLIM {card.nodlim} must be larger than the previous PDMP "
-                                 f"card's NODLIM {prev.nodlim} (line {prev.pos.line}): each card "
-                                 f"starts a new group of particles", card.pos, "PDMP")
+                raise self.error(
+                    f"NODLIM {card.nodlim} must be larger than the previous PDMP "
+                    f"card's NODLIM {prev.nodlim} (line {prev.pos.line}): each card "
+                    f"starts a new group of particles",
+                    card.pos,
+                    "PDMP",
+                )
         for card in cards:
             self._check_pdmp(card)
         if cards:
@@ -30,7 +34,7 @@ class ParticleSteps(BuilderBase):
         else:
             self.nodlim = None
             self.pstart = self.ids.shape[0]
-        pid = self.ids[self.pstart:]
+        pid = self.ids[self.pstart :]
         limits = np.array([c.nodlim for c in cards], dtype=np.int64)
         self.group = (np.searchsorted(limits, pid, side="left") - 1).astype(np.int64)
         g = [cards[k] for k in self.group]
@@ -66,22 +70,32 @@ class ParticleSteps(BuilderBase):
         params = np.full((len(cards), 2), np.nan)
         for r in records:
             if r.nodlim not in by_nodlim:
-                raise self.error(f"NODLIM {r.nodlim} names no PDMP group (PDMP NODLIMs: "
-                                 f"{', '.join(str(c.nodlim) for c in cards) or 'none'})",
-                                 r.pos, "HOOKE")
+                raise self.error(
+                    f"NODLIM {r.nodlim} names no PDMP group (PDMP NODLIMs: "
+                    f"{', '.join(str(c.nodlim) for c in cards) or 'none'})",
+                    r.pos,
+                    "HOOKE",
+                )
             k = by_nodlim[r.nodlim]
             if not np.isnan(params[k, 0]):
                 raise self.error(f"PDMP group NODLIM {r.nodlim} is given twice", r.pos, "HOOKE")
             if cards[k].e1 != 0.0 or cards[k].extra_terms:
-                raise self.error(f"PDMP group NODLIM {r.nodlim} has Maxwell terms (E1 = "
-                                 f"{cards[k].e1:g}): the HOOKE law replaces the viscoelastic "
-                                 f"law; set E1 to 0", r.pos, "HOOKE")
+                raise self.error(
+                    f"PDMP group NODLIM {r.nodlim} has Maxwell terms (E1 = "
+                    f"{cards[k].e1:g}): the HOOKE law replaces the viscoelastic "
+                    f"law; set E1 to 0",
+                    r.pos,
+                    "HOOKE",
+                )
             params[k] = r.kn, r.e
         missing = [c.nodlim for c, p in zip(cards, params) if np.isnan(p[0])]
         if missing:
-            raise self.error(f"a scene runs one normal law: give every PDMP group a HOOKE record "
-                             f"(missing NODLIM {', '.join(map(str, missing))})", records[0].pos,
-                             "HOOKE")
+            raise self.error(
+                f"a scene runs one normal law: give every PDMP group a HOOKE record "
+                f"(missing NODLIM {', '.join(map(str, missing))})",
+                records[0].pos,
+                "HOOKE",
+            )
         return {"normal_law": "hooke", "hooke": _ro(params[self.group].reshape(-1, 2))}
 
     def _friction_card(self) -> None:
@@ -105,21 +119,30 @@ class ParticleSteps(BuilderBase):
         seen = set()
         for r in records:
             if r.nodlim not in by_nodlim:
-                raise self.error(f"NODLIM {r.nodlim} names no PDMP group (PDMP NODLIMs: "
-                                 f"{', '.join(str(c.nodlim) for c in cards) or 'none'})",
-                                 r.pos, "FRICTION")
+                raise self.error(
+                    f"NODLIM {r.nodlim} names no PDMP group (PDMP NODLIMs: "
+                    f"{', '.join(str(c.nodlim) for c in cards) or 'none'})",
+                    r.pos,
+                    "FRICTION",
+                )
             if r.nodlim in seen:
-                raise self.error(f"PDMP group NODLIM {r.nodlim} is given twice", r.pos,
-                                 "FRICTION")
+                raise self.error(f"PDMP group NODLIM {r.nodlim} is given twice", r.pos, "FRICTION")
             seen.add(r.nodlim)
             if r.law != records[0].law:
-                raise self.error(f"a scene runs one tangential law: LAW {r.law} here, "
-                                 f"{records[0].law} on line {records[0].pos.line}", r.pos,
-                                 "FRICTION")
+                raise self.error(
+                    f"a scene runs one tangential law: LAW {r.law} here, "
+                    f"{records[0].law} on line {records[0].pos.line}",
+                    r.pos,
+                    "FRICTION",
+                )
             if r.roll != "none":
                 if self.rolling_law not in ("none", r.roll):
-                    raise self.error(f"a scene runs one rolling law: ROLL {r.roll} here, "
-                                     f"{self.rolling_law} above", r.pos, "FRICTION")
+                    raise self.error(
+                        f"a scene runs one rolling law: ROLL {r.roll} here, "
+                        f"{self.rolling_law} above",
+                        r.pos,
+                        "FRICTION",
+                    )
                 self.rolling_law = r.roll
             k = by_nodlim[r.nodlim]
             mu_s[k], mu_k[k], mu_r[k] = r.mu_s, r.mu_k, r.mu_r
@@ -132,8 +155,12 @@ class ParticleSteps(BuilderBase):
         """The Model fields of the FRICTION card (none without one)."""
         if self.friction_law is None:
             return {}
-        return {"friction_law": self.friction_law, "mu_kinetic": _ro(self.mu_kinetic),
-                "rolling_law": self.rolling_law, "mu_roll": _ro(self.mu_roll)}
+        return {
+            "friction_law": self.friction_law,
+            "mu_kinetic": _ro(self.mu_kinetic),
+            "rolling_law": self.rolling_law,
+            "mu_roll": _ro(self.mu_roll),
+        }
 
     def _check_pdmp(self, c) -> None:
         def bad(message: str) -> DeckError:
@@ -155,7 +182,6 @@ class ParticleSteps(BuilderBase):
             if e != 0.0 and not tau > 0.0:
                 raise bad(f"relaxation time T{m} must be > 0 when E{m} is not zero, got {tau:g}")
 
-
     def _initial_velocities(self) -> np.ndarray:
         v0 = np.zeros((self.ids.shape[0], 6))
         for k, card in enumerate(self.deck.pdmp):
@@ -163,9 +189,12 @@ class ParticleSteps(BuilderBase):
         for rec in self.deck.initials:
             i = self.node(rec.nid, rec.pos, "INITIAL", "node")
             if len(rec.velocity) not in (3, 6):
-                raise self.error(f"node {rec.nid}: give 3 (vx vy vz) or 6 (and wx wy wz) "
-                                 f"velocity components, got {len(rec.velocity)}", rec.pos,
-                                 "INITIAL")
-            v0[i, :len(rec.velocity)] = rec.velocity
+                raise self.error(
+                    f"node {rec.nid}: give 3 (vx vy vz) or 6 (and wx wy wz) "
+                    f"velocity components, got {len(rec.velocity)}",
+                    rec.pos,
+                    "INITIAL",
+                )
+            v0[i, : len(rec.velocity)] = rec.velocity
         v0[self.fixed] = 0.0  # report Appendix B note 5: initial velocities obey BOUNDARY
         return v0

@@ -23,11 +23,16 @@ class StructureSteps(BuilderBase):
     def _masses(self) -> None:
         for rec in self.deck.masses:
             i = self.structural(rec.nid, rec.pos, "MASS", "node")
-            for name, value in (("mass", rec.mass), ("Ixx", rec.ixx), ("Iyy", rec.iyy),
-                                ("Izz", rec.izz)):
+            for name, value in (
+                ("mass", rec.mass),
+                ("Ixx", rec.ixx),
+                ("Iyy", rec.iyy),
+                ("Izz", rec.izz),
+            ):
                 if value < 0.0:
-                    raise self.error(f"negative {name} {value:g} for node {rec.nid}", rec.pos,
-                                     "MASS")
+                    raise self.error(
+                        f"negative {name} {value:g} for node {rec.nid}", rec.pos, "MASS"
+                    )
             self.mass[i] += rec.mass
             self.inertia[i] += (rec.ixx, rec.iyy, rec.izz)
 
@@ -37,38 +42,62 @@ class StructureSteps(BuilderBase):
         materials: dict[int, object] = {}
         for mat in self.deck.materials:
             if mat.mid in materials:
-                raise self.error(f"material {mat.mid} is defined twice (first at line "
-                                 f"{materials[mat.mid].pos.line})", mat.pos, "MATID")
+                raise self.error(
+                    f"material {mat.mid} is defined twice (first at line "
+                    f"{materials[mat.mid].pos.line})",
+                    mat.pos,
+                    "MATID",
+                )
             if mat.mtype not in MATERIAL_TYPES:
                 kinds = "; ".join(f"{t} = {what}" for t, what in MATERIAL_TYPES.items())
-                raise self.error(f"material {mat.mid} has type {mat.mtype}; the types are "
-                                 f"{kinds}", mat.pos, "MATID")
+                raise self.error(
+                    f"material {mat.mid} has type {mat.mtype}; the types are {kinds}",
+                    mat.pos,
+                    "MATID",
+                )
             if mat.mass < 0.0:
-                raise self.error(f"negative element mass {mat.mass:g} in material {mat.mid}",
-                                 mat.pos, "MATID")
+                raise self.error(
+                    f"negative element mass {mat.mass:g} in material {mat.mid}", mat.pos, "MATID"
+                )
             if mat.mtype == AXIAL and (mat.ky != 0.0 or mat.kz != 0.0):
-                raise self.error(f"material {mat.mid} is of type 2 (a spring along the line "
-                                 f"between two nodes), whose stiffness is KX alone; KY and KZ "
-                                 f"must be 0, got {mat.ky:g} and {mat.kz:g}", mat.pos, "MATID")
+                raise self.error(
+                    f"material {mat.mid} is of type 2 (a spring along the line "
+                    f"between two nodes), whose stiffness is KX alone; KY and KZ "
+                    f"must be 0, got {mat.ky:g} and {mat.kz:g}",
+                    mat.pos,
+                    "MATID",
+                )
             materials[mat.mid] = mat
         seen: dict[int, Pos] = {}
-        axis = ([], [], [], [])          # type 1: elements, nodes, k (3), c (3)
-        axial = ([], [], [], [], [])     # type 2: elements, nodes, k, c, rest length
-        rotational = ([], [], [], [])    # type 3: elements, nodes, k (3), c (3)
+        axis = ([], [], [], [])  # type 1: elements, nodes, k (3), c (3)
+        axial = ([], [], [], [], [])  # type 2: elements, nodes, k, c, rest length
+        rotational = ([], [], [], [])  # type 3: elements, nodes, k (3), c (3)
         for el in self.deck.elements:
             if el.eid in seen:
-                raise self.error(f"element {el.eid} is defined twice (first at line "
-                                 f"{seen[el.eid].line})", el.pos, "ELEMENTS")
+                raise self.error(
+                    f"element {el.eid} is defined twice (first at line {seen[el.eid].line})",
+                    el.pos,
+                    "ELEMENTS",
+                )
             seen[el.eid] = el.pos
             mat = materials.get(el.mid)
             if mat is None:
-                raise self.error(f"element {el.eid} uses material {el.mid}, which no MATID "
-                                 f"record defines", el.pos, "ELEMENTS")
+                raise self.error(
+                    f"element {el.eid} uses material {el.mid}, which no MATID record defines",
+                    el.pos,
+                    "ELEMENTS",
+                )
             if len(el.nodes) not in (1, 2) or len(set(el.nodes)) != len(el.nodes):
-                raise self.error(f"element {el.eid} must join one node to ground or two "
-                                 f"distinct nodes, got {list(el.nodes)}", el.pos, "ELEMENTS")
-            idx = [self.structural(nid, el.pos, "ELEMENTS", f"element {el.eid} node")
-                   for nid in el.nodes]
+                raise self.error(
+                    f"element {el.eid} must join one node to ground or two "
+                    f"distinct nodes, got {list(el.nodes)}",
+                    el.pos,
+                    "ELEMENTS",
+                )
+            idx = [
+                self.structural(nid, el.pos, "ELEMENTS", f"element {el.eid} node")
+                for nid in el.nodes
+            ]
             for i in idx:  # lumped equally on both ends; a ground end's share is dropped
                 self.mass[i] += 0.5 * mat.mass
             pair = idx + [-1] * (2 - len(idx))
@@ -101,20 +130,26 @@ class StructureSteps(BuilderBase):
     def _rest_length(self, el, mat, idx: list[int]) -> float:
         """L0 of a type 2 element: the distance of its two nodes in the deck (> 0)."""
         if len(idx) != 2:
-            raise self.error(f"element {el.eid} uses material {mat.mid} of type 2, a spring "
-                             f"along the line between two nodes, but has one node (a spring "
-                             f"to ground has no line); give NODE2, or use a type 1 material "
-                             f"for a spring to ground along the global axes", el.pos,
-                             "ELEMENTS")
+            raise self.error(
+                f"element {el.eid} uses material {mat.mid} of type 2, a spring "
+                f"along the line between two nodes, but has one node (a spring "
+                f"to ground has no line); give NODE2, or use a type 1 material "
+                f"for a spring to ground along the global axes",
+                el.pos,
+                "ELEMENTS",
+            )
         length = float(np.linalg.norm(self.x0[idx[1]] - self.x0[idx[0]]))
         if not length > 0.0:
             a, b = el.nodes
-            raise self.error(f"element {el.eid} uses material {mat.mid} of type 2, a spring "
-                             f"along the line between its nodes, but nodes {a} and {b} have "
-                             f"the same coordinates (lines {self.node_pos[a].line} and "
-                             f"{self.node_pos[b].line}): the line is undefined; move one "
-                             f"node, or use a type 1 material (axis-aligned)", el.pos,
-                             "ELEMENTS")
+            raise self.error(
+                f"element {el.eid} uses material {mat.mid} of type 2, a spring "
+                f"along the line between its nodes, but nodes {a} and {b} have "
+                f"the same coordinates (lines {self.node_pos[a].line} and "
+                f"{self.node_pos[b].line}): the line is undefined; move one "
+                f"node, or use a type 1 material (axis-aligned)",
+                el.pos,
+                "ELEMENTS",
+            )
         return length
 
     def _boundaries(self) -> np.ndarray:
@@ -124,13 +159,17 @@ class StructureSteps(BuilderBase):
             self.node(rec.first, rec.pos, card, "first node")
             self.node(rec.last, rec.pos, card, "last node")
             if rec.inc <= 0 or rec.last < rec.first:
-                raise self.error(f"node range {rec.first}..{rec.last} step {rec.inc} is empty; "
-                                 f"the increment must be > 0 and the last node >= the first",
-                                 rec.pos, card)
+                raise self.error(
+                    f"node range {rec.first}..{rec.last} step {rec.inc} is empty; "
+                    f"the increment must be > 0 and the last node >= the first",
+                    rec.pos,
+                    card,
+                )
             bad = [d for d in rec.dofs if d not in _ALL_DOFS]
             if bad:
-                raise self.error(f"DOF {bad[0]} is not one of 1..6 (x, y, z, rx, ry, rz)",
-                                 rec.pos, card)
+                raise self.error(
+                    f"DOF {bad[0]} is not one of 1..6 (x, y, z, rx, ry, rz)", rec.pos, card
+                )
             cols = [d - 1 for d in rec.dofs]
             for nid in range(rec.first, rec.last + 1, rec.inc):
                 i = self.index.get(nid)
@@ -144,22 +183,33 @@ class StructureSteps(BuilderBase):
         for rb in self.deck.rbels:
             if sorted(rb.dofs) != list(_ALL_DOFS):
                 code = "".join(str(d) for d in rb.dofs)
-                raise self.error(f"DOF code {code}: only 123456 (all six DOFs rigidly linked) is "
-                                 f"supported", rb.pos, "RBEL")
+                raise self.error(
+                    f"DOF code {code}: only 123456 (all six DOFs rigidly linked) is supported",
+                    rb.pos,
+                    "RBEL",
+                )
             m = self.structural(rb.master, rb.pos, "RBEL", "master node")
             if m in owner:
-                raise self.error(f"master node {rb.master} already belongs to the rigid body of "
-                                 f"master {owner[m][0]} (line {owner[m][1].line}); a node may "
-                                 f"be in one rigid body only", rb.pos, "RBEL")
+                raise self.error(
+                    f"master node {rb.master} already belongs to the rigid body of "
+                    f"master {owner[m][0]} (line {owner[m][1].line}); a node may "
+                    f"be in one rigid body only",
+                    rb.pos,
+                    "RBEL",
+                )
             owner[m] = (rb.master, rb.pos)
             body = []
             for k, nid in enumerate(rb.slaves):
                 pos = _pos_at(rb.slave_positions, k, rb.pos)
                 s = self.structural(nid, pos, "RBEL", "slave node")
                 if s in owner:
-                    raise self.error(f"slave node {nid} already belongs to the rigid body of "
-                                     f"master {owner[s][0]} (line {owner[s][1].line}); a node "
-                                     f"may be in one rigid body only", pos, "RBEL")
+                    raise self.error(
+                        f"slave node {nid} already belongs to the rigid body of "
+                        f"master {owner[s][0]} (line {owner[s][1].line}); a node "
+                        f"may be in one rigid body only",
+                        pos,
+                        "RBEL",
+                    )
                 owner[s] = (rb.master, rb.pos)
                 body.append(s)
             masters.append(m)
@@ -172,7 +222,7 @@ class StructureSteps(BuilderBase):
         self.rigid_mass = np.zeros(b)
         self.rigid_inertia = np.zeros((b, 3, 3))
         for k, m in enumerate(masters):
-            sl = self.rigid_slaves[ptr[k]:ptr[k + 1]]
+            sl = self.rigid_slaves[ptr[k] : ptr[k + 1]]
             r = self.x0[sl] - self.x0[m]
             ms = self.mass[sl]
             self.rigid_mass[k] = self.mass[m] + ms.sum()
@@ -182,5 +232,5 @@ class StructureSteps(BuilderBase):
             j += np.einsum("s,s->", ms, np.einsum("sk,sk->s", r, r)) * np.eye(3)
             j -= np.einsum("s,si,sj->ij", ms, r, r)
             self.rigid_inertia[k] = j
-        self.slave_of = {int(s): k for k in range(b) for s in slaves[ptr[k]:ptr[k + 1]]}
+        self.slave_of = {int(s): k for k in range(b) for s in slaves[ptr[k] : ptr[k + 1]]}
         self.body_of_master = {int(m): k for k, m in enumerate(masters)}

@@ -22,38 +22,67 @@ class WallSteps(BuilderBase):
     def _walls(self) -> None:
         tris = [t for c in self.deck.contacts for t in c.triangles]
         sets = [s for c in self.deck.contacts for s in c.slaves]
-        idx = np.array([[self.structural(nid, t.pos, "CONTACT", "triangle node")
-                         for nid in t.nodes] for t in tris], dtype=np.int64).reshape(-1, 3)
+        idx = np.array(
+            [
+                [self.structural(nid, t.pos, "CONTACT", "triangle node") for nid in t.nodes]
+                for t in tris
+            ],
+            dtype=np.int64,
+        ).reshape(-1, 3)
         p0, p1, p2 = (self.x0[idx[:, k]] for k in range(3))
         area = triangle_areas(p0, p1, p2)
-        longest = np.max(np.stack([np.linalg.norm(p1 - p0, axis=1),
-                                   np.linalg.norm(p2 - p1, axis=1),
-                                   np.linalg.norm(p0 - p2, axis=1)]), axis=0, initial=0.0)
+        longest = np.max(
+            np.stack(
+                [
+                    np.linalg.norm(p1 - p0, axis=1),
+                    np.linalg.norm(p2 - p1, axis=1),
+                    np.linalg.norm(p0 - p2, axis=1),
+                ]
+            ),
+            axis=0,
+            initial=0.0,
+        )
         for k, t in enumerate(tris):
             if not area[k] > PLANE_TOL * longest[k] ** 2:
-                raise self.error(f"triangle {k + 1} (nodes {' '.join(map(str, t.nodes))}) is "
-                                 f"degenerate: area {area[k]:.6g}", t.pos, "CONTACT")
-        set_ids = sorted({t.set_id for t in tris}
-                         | {w.set_id for w in self.deck.analytic_walls or ()})
+                raise self.error(
+                    f"triangle {k + 1} (nodes {' '.join(map(str, t.nodes))}) is "
+                    f"degenerate: area {area[k]:.6g}",
+                    t.pos,
+                    "CONTACT",
+                )
+        set_ids = sorted(
+            {t.set_id for t in tris} | {w.set_id for w in self.deck.analytic_walls or ()}
+        )
         cav_of_set = {s: c for c, s in enumerate(set_ids)}
         pcav = np.full(self.ids.shape[0] - self.pstart, -1, dtype=np.int64)
         where: dict[int, Pos] = {}
         for ss in sets:
             if ss.set_id not in cav_of_set:
-                raise self.error(f"slave set {ss.set_id} has no master triangles and no "
-                                 f"{' or '.join(s.card for s in SHAPES)} (the CONTACT triangles "
-                                 f"and analytic walls use set ids "
-                                 f"{', '.join(map(str, set_ids)) or 'none'})", ss.pos, "CONTACT")
+                raise self.error(
+                    f"slave set {ss.set_id} has no master triangles and no "
+                    f"{' or '.join(s.card for s in SHAPES)} (the CONTACT triangles "
+                    f"and analytic walls use set ids "
+                    f"{', '.join(map(str, set_ids)) or 'none'})",
+                    ss.pos,
+                    "CONTACT",
+                )
             for k, nid in enumerate(ss.nodes):
                 pos = _pos_at(ss.positions, k, ss.pos)
                 i = self.node(nid, pos, "CONTACT", "slave node")
                 if i < self.pstart:
-                    raise self.error(f"slave node {nid} is not a particle (particles are the "
-                                     f"nodes above PDMP NODLIM {self.nodlim})", pos, "CONTACT")
+                    raise self.error(
+                        f"slave node {nid} is not a particle (particles are the "
+                        f"nodes above PDMP NODLIM {self.nodlim})",
+                        pos,
+                        "CONTACT",
+                    )
                 if i in where:
-                    raise self.error(f"particle {nid} is already a slave of another set (line "
-                                     f"{where[i].line}); a particle belongs to one cavity",
-                                     pos, "CONTACT")
+                    raise self.error(
+                        f"particle {nid} is already a slave of another set (line "
+                        f"{where[i].line}); a particle belongs to one cavity",
+                        pos,
+                        "CONTACT",
+                    )
                 where[i] = pos
                 pcav[i - self.pstart] = cav_of_set[ss.set_id]
         sign = np.zeros(len(tris))
@@ -62,7 +91,7 @@ class WallSteps(BuilderBase):
         n_hat = unit_normals(p0, p1, p2)
         for c, sid in enumerate(set_ids):
             mine = np.array([k for k, t in enumerate(tris) if t.set_id == sid], dtype=np.int64)
-            if mine.size == 0:   # a cavity of analytic walls only
+            if mine.size == 0:  # a cavity of analytic walls only
                 continue
             corners = np.unique(idx[mine].reshape(-1))
             s = inward_signs(p0[mine], p1[mine], p2[mine], self.x0[corners].mean(axis=0))
@@ -77,10 +106,11 @@ class WallSteps(BuilderBase):
                     f"cannot tell the inside of triangle {k + 1} (nodes "
                     f"{' '.join(map(str, tris[k].nodes))}): the centroid of cavity {sid}'s "
                     f"triangle nodes and of its particles lie in the triangle's plane",
-                    tris[k].pos, "CONTACT")
+                    tris[k].pos,
+                    "CONTACT",
+                )
             sign[mine] = s
-            local = group_faces(s[:, None] * n_hat[mine], p0[mine],
-                                geometry_size(self.x0[corners]))
+            local = group_faces(s[:, None] * n_hat[mine], p0[mine], geometry_size(self.x0[corners]))
             face[mine] = len(face_cavity) + local
             face_cavity.extend([c] * (int(local.max()) + 1))
         self.triangles = tris
@@ -100,21 +130,30 @@ class WallSteps(BuilderBase):
         if not records:
             return None
         if self.deck.hooke:
-            raise self.error("the HOOKE law gives its wall stiffness KN directly, so a wall "
-                             "material has nothing to act on; remove WALLMAT or the HOOKE "
-                             "card (WALLMAT applies to the Hertz law of PDMP)", records[0].pos,
-                             "WALLMAT")
+            raise self.error(
+                "the HOOKE law gives its wall stiffness KN directly, so a wall "
+                "material has nothing to act on; remove WALLMAT or the HOOKE "
+                "card (WALLMAT applies to the Hertz law of PDMP)",
+                records[0].pos,
+                "WALLMAT",
+            )
         table = np.tile([np.inf, 0.0, np.nan], (len(self.cav_of_set), 1))
         given: dict[int, Pos] = {}
         for r in records:
             if r.set_id not in self.cav_of_set:
-                raise self.error(f"set {r.set_id} has no walls (the CONTACT triangles and "
-                                 f"analytic walls use set ids "
-                                 f"{', '.join(map(str, sorted(self.cav_of_set))) or 'none'})",
-                                 r.pos, "WALLMAT")
+                raise self.error(
+                    f"set {r.set_id} has no walls (the CONTACT triangles and "
+                    f"analytic walls use set ids "
+                    f"{', '.join(map(str, sorted(self.cav_of_set))) or 'none'})",
+                    r.pos,
+                    "WALLMAT",
+                )
             if r.set_id in given:
-                raise self.error(f"set {r.set_id} is given twice (first at line "
-                                 f"{given[r.set_id].line})", r.pos, "WALLMAT")
+                raise self.error(
+                    f"set {r.set_id} is given twice (first at line {given[r.set_id].line})",
+                    r.pos,
+                    "WALLMAT",
+                )
             given[r.set_id] = r.pos
             table[self.cav_of_set[r.set_id]] = r.e, r.nu, r.mu
         table.flags.writeable = False
@@ -128,15 +167,21 @@ class WallSteps(BuilderBase):
         for w in self.deck.analytic_walls or ():
             kind = kind_of(w.shape)
             shape = SHAPES[kind]
-            ends = [self.structural(nid, _pos_at(w.positions, k, w.pos), shape.card, what)
-                    for k, (nid, what) in enumerate(zip(w.nodes, shape.node_words))]
+            ends = [
+                self.structural(nid, _pos_at(w.positions, k, w.pos), shape.card, what)
+                for k, (nid, what) in enumerate(zip(w.nodes, shape.node_words))
+            ]
             ids = " and ".join(map(str, w.nodes))
             bodies = [self.slave_of.get(i, self.body_of_master.get(i)) for i in ends]
             fixed = all(self.fixed[i].all() for i in ends)
             if len(ends) > 1 and not fixed and (bodies[0] is None or len(set(bodies)) > 1):
-                raise self.error(f"{shape.nodes_word} {ids} must move as one rigid cavity: "
-                                 f"make them RBEL slaves (or the master) of one rigid body, or "
-                                 f"fix all their DOFs", w.pos, shape.card)
+                raise self.error(
+                    f"{shape.nodes_word} {ids} must move as one rigid cavity: "
+                    f"make them RBEL slaves (or the master) of one rigid body, or "
+                    f"fix all their DOFs",
+                    w.pos,
+                    shape.card,
+                )
             problem = shape.problem(self.x0[ends], np.asarray(w.params, float))
             if problem is not None:
                 raise self.error(f"{shape.nodes_word} {ids} {problem}", w.pos, shape.card)

@@ -17,8 +17,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.geometry.cavity import cavity_extents, enclosed_volume
-from x3dpd.model.check_shapes import (describe_shape, shape_clearances, shape_extent,
-                                      shape_volume, shape_warnings, smallest_clearance)
+from x3dpd.model.check_shapes import (
+    describe_shape,
+    shape_clearances,
+    shape_extent,
+    shape_volume,
+    shape_warnings,
+    smallest_clearance,
+)
 from x3dpd.model.check_geometry import (  # noqa: F401  (WallPenetration re-exported)
     REL_TOL,
     OutsideParticle,
@@ -80,7 +86,7 @@ class CavitySummary:
     n_particles: int
     particle_volume: float
     analytic_walls: tuple[str, ...] = ()  # each analytic wall, with its smallest clearance
-    wall_material: WallSummary | None = None   # WALLMAT (None: a deck without the card)
+    wall_material: WallSummary | None = None  # WALLMAT (None: a deck without the card)
 
     @property
     def fill_ratio(self) -> float | None:
@@ -121,7 +127,7 @@ class CheckReport:
     time_step: TimeStepAdvice
     warnings: tuple[Finding, ...]
     errors: tuple[Finding, ...] = ()
-    modes: tuple[str, ...] = ()   # the modal structure's table (x3dpd.model.check_modal)
+    modes: tuple[str, ...] = ()  # the modal structure's table (x3dpd.model.check_modal)
     #: the report's rules of thumb (x3dpd.model.rules_of_thumb): notes, never warnings
     rules: tuple[RuleNote, ...] = ()
     #: the Python files a run of this deck executes (USRFRC user force files, deck and option)
@@ -136,8 +142,9 @@ class CheckReport:
         return 2 if self.errors else (1 if self.warnings else 0)
 
 
-def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT, *,
-                usrfrc=()) -> CheckReport:
+def check_model(
+    model: Model, steps_per_contact: int = STEPS_PER_CONTACT, *, usrfrc=()
+) -> CheckReport:
     """Summarise a model and list what is likely wrong with it before a run.
 
     Warnings, in this order: walls that cut through the particle cloud (one headline per
@@ -156,78 +163,127 @@ def check_model(model: Model, steps_per_contact: int = STEPS_PER_CONTACT, *,
     outside = particles_outside(model)
     warnings = _cloud_findings(model, faces_in_particle_cloud(model), outside)
     if outside:
-        warnings.append(Finding(
-            "particles-outside",
-            f"{len(outside)} of the {model.n_particles} particles start outside the cavity they "
-            f"bound: their centres lie behind a wall or outside the box of the cavity's nodes, "
-            f"so those walls would push them from the wrong side",
-            _listed([f"particle node {o.node_id}: " + (
-                f"{o.distance:.6g} behind {_tri(model, o.triangle)}" if o.triangle >= 0 else
-                f"{o.distance:.6g} outside the bounding box of cavity set "
-                f"{model.cavity_set_ids[model.particle_cavity[o.particle]]}") for o in outside])))
+        warnings.append(
+            Finding(
+                "particles-outside",
+                f"{len(outside)} of the {model.n_particles} particles start outside the cavity they "
+                f"bound: their centres lie behind a wall or outside the box of the cavity's nodes, "
+                f"so those walls would push them from the wrong side",
+                _listed(
+                    [
+                        f"particle node {o.node_id}: "
+                        + (
+                            f"{o.distance:.6g} behind {_tri(model, o.triangle)}"
+                            if o.triangle >= 0
+                            else f"{o.distance:.6g} outside the bounding box of cavity set "
+                            f"{model.cavity_set_ids[model.particle_cavity[o.particle]]}"
+                        )
+                        for o in outside
+                    ]
+                ),
+            )
+        )
     behind = {o.particle for o in outside}
-    pen = sorted((p for p in particle_wall_penetrations(model) if p.particle not in behind),
-                 key=lambda p: -p.depth)
+    pen = sorted(
+        (p for p in particle_wall_penetrations(model) if p.particle not in behind),
+        key=lambda p: -p.depth,
+    )
     if pen:
         r = model.radius
-        warnings.append(Finding(
-            "wall-penetration",
-            f"{len({p.particle for p in pen})} particles "
-            + ("inside their cavity " if behind else "")
-            + f"start penetrating a wall (deepest: "
-            f"particle node {pen[0].node_id}, {pen[0].depth:.6g} = "
-            f"{pen[0].depth / r[pen[0].particle]:.3g} R into {_tri(model, pen[0].triangle)})",
-            _listed([f"particle node {p.node_id}: {p.depth:.6g} ({p.depth / r[p.particle]:.3g} R) "
-                     f"into {_tri(model, p.triangle)}" for p in pen])))
-    warnings += [Finding(code, head, _listed(lines))
-                 for code, head, lines in shape_warnings(model, REL_TOL)]
-    warnings += [Finding(code, head, _listed(lines))
-                 for code, head, lines in modal_warnings(model)]
+        warnings.append(
+            Finding(
+                "wall-penetration",
+                f"{len({p.particle for p in pen})} particles "
+                + ("inside their cavity " if behind else "")
+                + f"start penetrating a wall (deepest: "
+                f"particle node {pen[0].node_id}, {pen[0].depth:.6g} = "
+                f"{pen[0].depth / r[pen[0].particle]:.3g} R into {_tri(model, pen[0].triangle)})",
+                _listed(
+                    [
+                        f"particle node {p.node_id}: {p.depth:.6g} ({p.depth / r[p.particle]:.3g} R) "
+                        f"into {_tri(model, p.triangle)}"
+                        for p in pen
+                    ]
+                ),
+            )
+        )
+    warnings += [
+        Finding(code, head, _listed(lines)) for code, head, lines in shape_warnings(model, REL_TOL)
+    ]
+    warnings += [Finding(code, head, _listed(lines)) for code, head, lines in modal_warnings(model)]
     pairs, depth = particle_overlaps(model)
     if pairs.shape[0]:
         rad = dict(zip(model.node_ids[ps:].tolist(), model.radius.tolist()))
         order = np.argsort(-depth, kind="stable")
-        warnings.append(Finding(
-            "particle-overlap",
-            f"{pairs.shape[0]} particle pairs start overlapping (deepest: nodes "
-            f"{pairs[order[0], 0]} and {pairs[order[0], 1]}, {depth[order[0]]:.6g})",
-            _listed([f"particle nodes {a} and {b}: overlap {d:.6g} "
-                     f"({d / min(rad[a], rad[b]):.3g} R)"
-                     for (a, b), d in zip(pairs[order].tolist(), depth[order])])))
+        warnings.append(
+            Finding(
+                "particle-overlap",
+                f"{pairs.shape[0]} particle pairs start overlapping (deepest: nodes "
+                f"{pairs[order[0], 0]} and {pairs[order[0], 1]}, {depth[order[0]]:.6g})",
+                _listed(
+                    [
+                        f"particle nodes {a} and {b}: overlap {d:.6g} "
+                        f"({d / min(rad[a], rad[b]):.3g} R)"
+                        for (a, b), d in zip(pairs[order].tolist(), depth[order])
+                    ]
+                ),
+            )
+        )
     for cav in cavities:
         if cav.closed and (not cav.consistent or not cav.volume or cav.volume < 0):
-            warnings.append(Finding(
-                "cavity-orientation",
-                f"cavity set {cav.set_id} is closed, but the inward sides taken from the centroid "
-                f"of its nodes do not agree along shared edges: the cavity is probably not "
-                f"convex, and some walls may push particles outward"))
+            warnings.append(
+                Finding(
+                    "cavity-orientation",
+                    f"cavity set {cav.set_id} is closed, but the inward sides taken from the centroid "
+                    f"of its nodes do not agree along shared edges: the cavity is probably not "
+                    f"convex, and some walls may push particles outward",
+                )
+            )
         if cav.n_particles == 0:
-            warnings.append(Finding("empty-cavity",
-                                    f"cavity set {cav.set_id} has no slave particles"))
+            warnings.append(
+                Finding("empty-cavity", f"cavity set {cav.set_id} has no slave particles")
+            )
     loose = model.node_ids[ps:][model.particle_cavity < 0]
     if loose.size and (model.tri_nodes.shape[0] or model.shape_kind.shape[0]):
-        warnings.append(Finding(
-            "no-cavity",
-            f"{loose.size} particles are in no CONTACT slave set and will pass through every "
-            f"wall: nodes {_ranges(loose)}"))
+        warnings.append(
+            Finding(
+                "no-cavity",
+                f"{loose.size} particles are in no CONTACT slave set and will pass through every "
+                f"wall: nodes {_ranges(loose)}",
+            )
+        )
     ts = recommended_time_step(model, steps_per_contact)
     if time_step_is_a_problem(ts):
         warnings.append(Finding("time-step", time_step_warning(ts, model)))
     groups = []
     for g in np.unique(model.particle_group).tolist():
         mine = np.flatnonzero(model.particle_group == g)
-        groups.append(GroupSummary(int(g), int(mine.size), _ranges(model.node_ids[ps + mine]),
-                                   float(model.radius[mine[0]]), float(model.mass[ps + mine[0]])))
+        groups.append(
+            GroupSummary(
+                int(g),
+                int(mine.size),
+                _ranges(model.node_ids[ps + mine]),
+                float(model.radius[mine[0]]),
+                float(model.mass[ps + mine[0]]),
+            )
+        )
     return CheckReport(
-        path=model.path, n_nodes=model.n_nodes, groups=tuple(groups),
-        particle_mass=float(model.mass[ps:].sum()), structure_mass=float(model.mass[:ps].sum()),
-        cavities=tuple(cavities), effects=model.effects, time_step=ts,
+        path=model.path,
+        n_nodes=model.n_nodes,
+        groups=tuple(groups),
+        particle_mass=float(model.mass[ps:].sum()),
+        structure_mass=float(model.mass[:ps].sum()),
+        cavities=tuple(cavities),
+        effects=model.effects,
+        time_step=ts,
         warnings=tuple(warnings),
         errors=tuple(Finding("extreme-value", text) for text in magnitude_errors(model)),
         modes=tuple(modal_table(model)),
         rules=tuple(rules_of_thumb(model, usrfrc=usrfrc)),
-        code_files=tuple(dict.fromkeys(spec for spec in (*model.usrfrc, *usrfrc)
-                                       if is_user_file(spec))))
+        code_files=tuple(
+            dict.fromkeys(spec for spec in (*model.usrfrc, *usrfrc) if is_user_file(spec))
+        ),
+    )
 
 
 def _cavity_summaries(model: Model) -> list[CavitySummary]:
@@ -239,7 +295,7 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
         mine = np.flatnonzero(tri_cav == c)
         walls = np.flatnonzero(model.shape_cavity == c)
         inside = model.particle_cavity == c
-        if mine.size == 0:   # a cavity of analytic walls (CYLINDER, CAPSULE ... cards)
+        if mine.size == 0:  # a cavity of analytic walls (CYLINDER, CAPSULE ... cards)
             ends = np.concatenate([np.stack(shape_extent(model, k)) for k in walls])
             lo, hi = cavity_extents(ends)
             closed = consistent = True
@@ -248,18 +304,34 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
             corners = model.x0[model.tri_nodes[mine]]  # (T, 3 corners, 3)
             lo, hi = cavity_extents(corners.reshape(-1, 3))
             closed, consistent = _closed(model, c)
-            volume = enclosed_volume(corners[:, 0], corners[:, 1], corners[:, 2],
-                                     model.tri_sign[mine]) if closed else None
+            volume = (
+                enclosed_volume(corners[:, 0], corners[:, 1], corners[:, 2], model.tri_sign[mine])
+                if closed
+                else None
+            )
         analytic = []
         for k in walls:
             gap = smallest_clearance(model, k, found)
-            analytic.append(describe_shape(model, k) + (
-                "" if gap is None else f"; smallest particle clearance {gap:.6g}"))
-        out.append(CavitySummary(
-            int(sid), tuple(lo.tolist()), tuple(hi.tolist()), int(mine.size),
-            int(np.unique(model.tri_face[mine]).size), closed, consistent, volume,
-            int(inside.sum()), float(pvol[inside].sum()), tuple(analytic),
-            _wall_material(model, c)))
+            analytic.append(
+                describe_shape(model, k)
+                + ("" if gap is None else f"; smallest particle clearance {gap:.6g}")
+            )
+        out.append(
+            CavitySummary(
+                int(sid),
+                tuple(lo.tolist()),
+                tuple(hi.tolist()),
+                int(mine.size),
+                int(np.unique(model.tri_face[mine]).size),
+                closed,
+                consistent,
+                volume,
+                int(inside.sum()),
+                float(pvol[inside].sum()),
+                tuple(analytic),
+                _wall_material(model, c),
+            )
+        )
     return out
 
 
@@ -280,8 +352,9 @@ def _wall_material(model: Model, c: int) -> WallSummary | None:
     return WallSummary(e, nu, mu, tuple(mixed))
 
 
-def _cloud_findings(model: Model, faces: list[int], outside: list[OutsideParticle]
-                    ) -> list[Finding]:
+def _cloud_findings(
+    model: Model, faces: list[int], outside: list[OutsideParticle]
+) -> list[Finding]:
     """One headline per cavity whose wall planes cut through its particles."""
     out = []
     tri_cav = model.face_cavity[model.tri_face]
@@ -292,22 +365,33 @@ def _cloud_findings(model: Model, faces: list[int], outside: list[OutsideParticl
             continue
         tris = np.flatnonzero(np.isin(model.tri_face, mine))
         total = int(np.sum(tri_cav == c))
-        who = (f"the {_count(total)} contact triangles" if tris.size == total else
-               f"{_count(int(tris.size))} of the {_count(total)} contact triangles")
+        who = (
+            f"the {_count(total)} contact triangles"
+            if tris.size == total
+            else f"{_count(int(tris.size))} of the {_count(total)} contact triangles"
+        )
         first = [int(np.flatnonzero(model.tri_face == f)[0]) for f in mine]
         planes = _planes_text(n_in[first], p0[first])
-        centres = model.x0[model.particle_start:][model.particle_cavity == c]
+        centres = model.x0[model.particle_start :][model.particle_cavity == c]
         n_out = sum(1 for o in outside if model.particle_cavity[o.particle] == c)
-        text = (f"cavity set {sid}: {who} lie in the plane{'s' if len(mine) > 1 else ''} "
-                f"{planes}, inside the particle cloud (particle centres span "
-                f"{_span_text(centres)}), so "
-                + ("no closed cavity holds the particles" if tris.size == total else
-                   "these walls cut through the particles"))
+        text = (
+            f"cavity set {sid}: {who} lie in the plane{'s' if len(mine) > 1 else ''} "
+            f"{planes}, inside the particle cloud (particle centres span "
+            f"{_span_text(centres)}), so "
+            + (
+                "no closed cavity holds the particles"
+                if tris.size == total
+                else "these walls cut through the particles"
+            )
+        )
         if n_out:
-            text += (f"; {n_out} of the {centres.shape[0]} particles start outside the cavity "
-                     f"they bound")
-        text += (". The report's Appendix A deck prints its cavity this way; "
-                 "decks/appendix_a_cube.inp moves the cavity nodes onto the faces of the box the "
-                 "particles fill.")
+            text += (
+                f"; {n_out} of the {centres.shape[0]} particles start outside the cavity they bound"
+            )
+        text += (
+            ". The report's Appendix A deck prints its cavity this way; "
+            "decks/appendix_a_cube.inp moves the cavity nodes onto the faces of the box the "
+            "particles fill."
+        )
         out.append(Finding("faces-in-particle-cloud", text))
     return out

@@ -47,8 +47,9 @@ def _walls(model: Model):
 
 def _over_walls(model: Model, edge_tol: np.ndarray):
     (p0, p1, p2), n_in, tri_cav = _walls(model)
-    return sphere_triangle_pairs(model.x0[model.particle_start:], model.particle_cavity, p0, p1,
-                                 p2, n_in, tri_cav, edge_tol)
+    return sphere_triangle_pairs(
+        model.x0[model.particle_start :], model.particle_cavity, p0, p1, p2, n_in, tri_cav, edge_tol
+    )
 
 
 def _deepest_per_face(model: Model, s, t, value, keep) -> list[tuple[int, int, float]]:
@@ -65,8 +66,9 @@ def _deepest_per_face(model: Model, s, t, value, keep) -> list[tuple[int, int, f
     return list(zip(s[first].tolist(), t[first].tolist(), value[first].tolist()))
 
 
-def particle_wall_penetrations(model: Model, min_depth_fraction: float = 0.0
-                               ) -> list[WallPenetration]:
+def particle_wall_penetrations(
+    model: Model, min_depth_fraction: float = 0.0
+) -> list[WallPenetration]:
     r"""Particles that start penetrating a wall of their cavity.
 
     Penetration of particle :math:`i` into triangle :math:`t`: its centre is on the inner side
@@ -79,8 +81,10 @@ def particle_wall_penetrations(model: Model, min_depth_fraction: float = 0.0
     s, t, d = _over_walls(model, r)
     depth = r[s] - d
     keep = (d >= -REL_TOL * r[s]) & (depth > np.maximum(REL_TOL, min_depth_fraction) * r[s])
-    return [WallPenetration(i, int(model.node_ids[model.particle_start + i]), k, v)
-            for i, k, v in _deepest_per_face(model, s, t, depth, keep)]
+    return [
+        WallPenetration(i, int(model.node_ids[model.particle_start + i]), k, v)
+        for i, k, v in _deepest_per_face(model, s, t, depth, keep)
+    ]
 
 
 def particles_outside(model: Model) -> list[OutsideParticle]:
@@ -100,23 +104,25 @@ def particles_outside(model: Model) -> list[OutsideParticle]:
             worst[i] = (v, k)
     for c in range(model.cavity_set_ids.shape[0]):
         if not np.any(model.face_cavity[model.tri_face] == c) or not _closed(model, c)[0]:
-            continue   # (an analytic wall's own test: x3dpd.model.check_shapes)
-        lo, hi = cavity_extents(model.x0[model.tri_nodes[model.face_cavity[model.tri_face] == c]
-                                         .reshape(-1)])
+            continue  # (an analytic wall's own test: x3dpd.model.check_shapes)
+        lo, hi = cavity_extents(
+            model.x0[model.tri_nodes[model.face_cavity[model.tri_face] == c].reshape(-1)]
+        )
         tol = REL_TOL * geometry_size(np.stack([lo, hi]))
         mine = np.flatnonzero(model.particle_cavity == c)
         x = model.x0[p0 + mine]
         gap = np.max(np.maximum(lo - x, x - hi), axis=1)
         for i, g in zip(mine[gap > tol].tolist(), gap[gap > tol].tolist()):
             worst.setdefault(i, (g, -1))
-    return [OutsideParticle(i, int(model.node_ids[p0 + i]), k, v)
-            for i, (v, k) in sorted(worst.items())]
+    return [
+        OutsideParticle(i, int(model.node_ids[p0 + i]), k, v) for i, (v, k) in sorted(worst.items())
+    ]
 
 
 def particle_overlaps(model: Model) -> tuple[np.ndarray, np.ndarray]:
     """Overlapping particle pairs as ``(node id pairs (M, 2), overlap depths (M,))``."""
-    pairs, depth = overlapping_pairs(model.x0[model.particle_start:], model.radius, REL_TOL)
-    return model.node_ids[model.particle_start:][pairs].reshape(-1, 2), depth
+    pairs, depth = overlapping_pairs(model.x0[model.particle_start :], model.radius, REL_TOL)
+    return model.node_ids[model.particle_start :][pairs].reshape(-1, 2), depth
 
 
 def faces_in_particle_cloud(model: Model) -> list[int]:
@@ -130,8 +136,11 @@ def faces_in_particle_cloud(model: Model) -> list[int]:
     s, t, d = _over_walls(model, model.radius)
     tol = REL_TOL * model.radius[s]
     face = model.tri_face[t]
-    return [int(f) for f in np.unique(face)
-            if np.any(d[face == f] <= tol[face == f]) and np.any(d[face == f] > tol[face == f])]
+    return [
+        int(f)
+        for f in np.unique(face)
+        if np.any(d[face == f] <= tol[face == f]) and np.any(d[face == f] > tol[face == f])
+    ]
 
 
 def _closed(model: Model, c: int) -> tuple[bool, bool]:

@@ -16,17 +16,16 @@ class ShapeClearance(NamedTuple):
     """One particle of an analytic wall's cavity at t0: its gap to the nearest wall part
     (negative: overlap) and whether its centre is inside."""
 
-    particle: int   # 0-based particle number
+    particle: int  # 0-based particle number
     node_id: int
-    shape: int      # 0-based analytic wall, in file order
-    gap: float      # [length]
+    shape: int  # 0-based analytic wall, in file order
+    gap: float  # [length]
     inside: bool
 
 
 def _wall(model: Model, w: int):
     """(shape, node positions at t0, lengths) of analytic wall ``w``."""
-    return analytic_wall(model.shape_kind[w], model.shape_nodes[w], model.shape_params[w],
-                         model.x0)
+    return analytic_wall(model.shape_kind[w], model.shape_nodes[w], model.shape_params[w], model.x0)
 
 
 def shape_clearances(model: Model) -> list[ShapeClearance]:
@@ -39,16 +38,19 @@ def shape_clearances(model: Model) -> list[ShapeClearance]:
             continue
         shape, ends, lengths = _wall(model, w)
         gap, inside = shape.clearance(model.x0[p0 + mine], model.radius[mine], ends, lengths)
-        out += [ShapeClearance(int(i), int(model.node_ids[p0 + i]), w, float(g), bool(ok))
-                for i, g, ok in zip(mine, gap, inside)]
+        out += [
+            ShapeClearance(int(i), int(model.node_ids[p0 + i]), w, float(g), bool(ok))
+            for i, g, ok in zip(mine, gap, inside)
+        ]
     return out
 
 
 def describe_shape(model: Model, w: int) -> str:
     """'the cylinder on axis nodes 2, 3 (radius 0.2, length 0.263)'."""
     shape, ends, lengths = _wall(model, w)
-    ids = ", ".join(str(int(model.node_ids[i]))
-                    for i in model.shape_nodes[w][:len(shape.node_fields)])
+    ids = ", ".join(
+        str(int(model.node_ids[i])) for i in model.shape_nodes[w][: len(shape.node_fields)]
+    )
     return f"the {shape.name} on {shape.nodes_word} {ids} ({shape.describe(ends, lengths)})"
 
 
@@ -72,29 +74,43 @@ def shape_warnings(model: Model, rel_tol: float) -> list[tuple[str, str, list[st
     outside = [f for f in found if not f.inside]
     names = " or ".join(sorted({_wall(model, f.shape)[0].name for f in found})) or "shape"
     if outside:
-        out.append(("particles-outside",
-                    f"{len(outside)} of the {model.n_particles} particles start outside the "
-                    f"{names} they belong to, so its walls would push them from the wrong side",
-                    [f"particle node {f.node_id}: centre outside "
-                     f"{describe_shape(model, f.shape)}" for f in outside]))
+        out.append(
+            (
+                "particles-outside",
+                f"{len(outside)} of the {model.n_particles} particles start outside the "
+                f"{names} they belong to, so its walls would push them from the wrong side",
+                [
+                    f"particle node {f.node_id}: centre outside {describe_shape(model, f.shape)}"
+                    for f in outside
+                ],
+            )
+        )
     r = model.radius
-    deep = sorted((f for f in found if f.inside and f.gap < -rel_tol * r[f.particle]),
-                  key=lambda f: f.gap)
+    deep = sorted(
+        (f for f in found if f.inside and f.gap < -rel_tol * r[f.particle]), key=lambda f: f.gap
+    )
     if deep:
         worst = deep[0]
-        out.append(("wall-penetration",
-                    f"{len(deep)} particles start penetrating a {names} wall (deepest: particle "
-                    f"node {worst.node_id}, {-worst.gap:.6g} = {-worst.gap / r[worst.particle]:.3g}"
-                    f" R into {describe_shape(model, worst.shape)})",
-                    [f"particle node {f.node_id}: {-f.gap:.6g} ({-f.gap / r[f.particle]:.3g} R) "
-                     f"into {describe_shape(model, f.shape)}" for f in deep]))
+        out.append(
+            (
+                "wall-penetration",
+                f"{len(deep)} particles start penetrating a {names} wall (deepest: particle "
+                f"node {worst.node_id}, {-worst.gap:.6g} = {-worst.gap / r[worst.particle]:.3g}"
+                f" R into {describe_shape(model, worst.shape)})",
+                [
+                    f"particle node {f.node_id}: {-f.gap:.6g} ({-f.gap / r[f.particle]:.3g} R) "
+                    f"into {describe_shape(model, f.shape)}"
+                    for f in deep
+                ],
+            )
+        )
     return out
 
 
-def smallest_clearance(model: Model, w: int,
-                       found: list[ShapeClearance] | None = None) -> float | None:
+def smallest_clearance(
+    model: Model, w: int, found: list[ShapeClearance] | None = None
+) -> float | None:
     """The smallest gap of any particle to analytic wall ``w`` at t0 (None: no particles);
     ``found``: :func:`shape_clearances`, when the caller has them already."""
-    gaps = [f.gap for f in (shape_clearances(model) if found is None else found)
-            if f.shape == w]
+    gaps = [f.gap for f in (shape_clearances(model) if found is None else found) if f.shape == w]
     return min(gaps) if gaps else None

@@ -49,8 +49,9 @@ def _span_text(centres: np.ndarray) -> str:
     groups: list[tuple[list[str], float, float]] = []
     for k in range(3):
         for g in groups:
-            if math.isclose(g[1], lo[k], abs_tol=1e-12) and math.isclose(g[2], hi[k],
-                                                                         abs_tol=1e-12):
+            if math.isclose(g[1], lo[k], abs_tol=1e-12) and math.isclose(
+                g[2], hi[k], abs_tol=1e-12
+            ):
                 g[0].append(_AXES[k])
                 break
         else:
@@ -81,8 +82,10 @@ def _ranges(ids: np.ndarray) -> str:
     return ", ".join(out)
 
 
-_WORDS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen "
-          "fourteen fifteen sixteen seventeen eighteen nineteen twenty").split()
+_WORDS = (
+    "zero one two three four five six seven eight nine ten eleven twelve thirteen "
+    "fourteen fifteen sixteen seventeen eighteen nineteen twenty"
+).split()
 
 
 def _count(n: int) -> str:

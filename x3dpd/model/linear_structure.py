@@ -32,16 +32,16 @@ class Sdof:
 
     def receptance(self, omega: float) -> complex:
         """X/F = 1 / (k - m w^2 + i c w) [length/force]."""
-        return 1.0 / complex(self.k - self.m * omega ** 2, self.c * omega)
+        return 1.0 / complex(self.k - self.m * omega**2, self.c * omega)
 
     def response(self, drive: float, omega: float) -> tuple[float, float]:
         """Steady-state amplitude X [length] and phase phi [rad] under drive sin(omega t)."""
-        re, im = self.k - self.m * omega ** 2, self.c * omega
+        re, im = self.k - self.m * omega**2, self.c * omega
         return drive / math.hypot(re, im), -math.atan2(im, re)
 
     def dissipated_per_cycle(self, amplitude: float, omega: float) -> float:
         """Energy the dashpot takes per cycle, pi c w X^2 [force length]."""
-        return math.pi * self.c * omega * amplitude ** 2
+        return math.pi * self.c * omega * amplitude**2
 
 
 @dataclass(frozen=True)
@@ -59,8 +59,11 @@ class ModalLinear:
     def receptance(self, omega: float, at_drive: bool = False) -> complex:
         """X/F [length/force] at the measured DOF (``at_drive``: at the driven one)."""
         out = self.phi if (at_drive or self.phi_out is None) else self.phi_out
-        return complex(receptance(omega / (2.0 * math.pi), self.omega, self.zeta, out,
-                                  self.phi, self.coupling)[0])
+        return complex(
+            receptance(
+                omega / (2.0 * math.pi), self.omega, self.zeta, out, self.phi, self.coupling
+            )[0]
+        )
 
     def measured_at(self, phi_out: np.ndarray) -> ModalLinear:
         """The same structure measured where the shape values are ``phi_out``."""
@@ -75,7 +78,7 @@ class ModalLinear:
         """Energy the modal damping takes per cycle = the drive's work, pi F X sin(-phi) =
         pi X^2 (-Im H) / |H|^2 [force length]."""
         h = self.receptance(omega, at_drive=True)
-        return math.pi * amplitude ** 2 * (-h.imag) / abs(h) ** 2
+        return math.pi * amplitude**2 * (-h.imag) / abs(h) ** 2
 
     def modal_amplitudes(self, drive: float, omega: float) -> np.ndarray:
         """(M,) complex modal amplitudes Q under drive sin(omega t) (u = Im(phi.Q e^{i omega
@@ -83,7 +86,7 @@ class ModalLinear:
         damping = np.diag(2.0 * self.zeta * self.omega)
         if self.coupling.size:
             damping = damping + self.coupling
-        dyn = np.diag(self.omega ** 2 - omega * omega).astype(complex) + 1j * omega * damping
+        dyn = np.diag(self.omega**2 - omega * omega).astype(complex) + 1j * omega * damping
         return np.linalg.solve(dyn, drive * self.phi.astype(complex))
 
 
@@ -91,7 +94,7 @@ def rigid_body(model: Model, i: int) -> tuple[set[int], float, int]:
     """(node indices, mass, master index) of the body node index ``i`` belongs to: the rigid
     body it is master or slave of, else the node alone."""
     for b, master in enumerate(model.rigid_master):
-        slaves = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
+        slaves = model.rigid_slaves[model.rigid_ptr[b] : model.rigid_ptr[b + 1]]
         if master == i or i in slaves:
             return {int(master)} | set(slaves.tolist()), float(model.rigid_mass[b]), int(master)
     return {i}, float(model.mass[i]), i
@@ -108,8 +111,9 @@ def _axis_springs_node(model: Model, node: int) -> int | None:
         return None
 
 
-def linear_modal(model: Model, node: int, dof: int, *, ignore_particles: bool = False
-                 ) -> ModalLinear | None:
+def linear_modal(
+    model: Model, node: int, dof: int, *, ignore_particles: bool = False
+) -> ModalLinear | None:
     """The modal structure of a particle-free model whose ``node`` (a modal node) is driven
     along ``dof`` (1-6), or None: no modal structure, particles (unless ``ignore_particles``:
     then the structure without them), or springs and dashpots (they are not in the modes)."""
@@ -124,8 +128,9 @@ def linear_modal(model: Model, node: int, dof: int, *, ignore_particles: bool = 
     return ModalLinear(ms.omega, ms.zeta, ms.coupling, ms.shape_at(i, dof - 1))
 
 
-def linear_sdof(model: Model, node: int, dof: int, *, ignore_particles: bool = False
-                ) -> Sdof | None:
+def linear_sdof(
+    model: Model, node: int, dof: int, *, ignore_particles: bool = False
+) -> Sdof | None:
     """The closed-form SDOF of a particle-free model driven at ``node`` along ``dof``, or None.
 
     None unless: no particles; ``dof`` is a translation (1-3); the driven node's body (the node,
@@ -145,9 +150,9 @@ def linear_sdof(model: Model, node: int, dof: int, *, ignore_particles: bool = F
     mass = float(model.mass[i])
     for b, master in enumerate(model.rigid_master):
         if master == i:
-            body |= set(model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]].tolist())
+            body |= set(model.rigid_slaves[model.rigid_ptr[b] : model.rigid_ptr[b + 1]].tolist())
             mass = float(model.rigid_mass[b])
-        elif i in model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]:
+        elif i in model.rigid_slaves[model.rigid_ptr[b] : model.rigid_ptr[b + 1]]:
             return None
     free = ~model.fixed[i]
     if not free[d] or np.count_nonzero(free) != 1:

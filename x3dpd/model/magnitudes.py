@@ -35,9 +35,11 @@ def magnitude_errors(model: Model) -> list[str]:
     bad = np.flatnonzero(~(np.isfinite(pm) & (pm > 0.0)))
     if bad.size:
         i = int(bad[0])
-        out.append(f"{bad.size} particles have a mass of {pm[i]:.4g} (first: node "
-                   f"{ids[ps + i]}): PDMP PRHO * 4/3 pi RZERO^3 is not a positive finite "
-                   f"number, so their accelerations would be infinite")
+        out.append(
+            f"{bad.size} particles have a mass of {pm[i]:.4g} (first: node "
+            f"{ids[ps + i]}): PDMP PRHO * 4/3 pi RZERO^3 is not a positive finite "
+            f"number, so their accelerations would be infinite"
+        )
     speed = safe_norms(model.v0[:, :3])
     mass = np.where(np.isfinite(model.mass), model.mass, np.inf)
     with np.errstate(over="ignore", invalid="ignore"):
@@ -45,15 +47,19 @@ def magnitude_errors(model: Model) -> list[str]:
     bad = np.flatnonzero(~(ke <= LARGEST) & (speed > 0.0))
     if bad.size:
         i = int(bad[np.argmax(speed[bad])])
-        out.append(f"node {ids[i]} starts at a speed of {speed[i]:.4g} length/s: its kinetic "
-                   f"energy (1/2 m v^2 = {ke[i]:.4g}) overflows double precision (PDMP "
-                   f"VX0..VZ0 or INITIAL)")
+        out.append(
+            f"node {ids[i]} starts at a speed of {speed[i]:.4g} length/s: its kinetic "
+            f"energy (1/2 m v^2 = {ke[i]:.4g}) overflows double precision (PDMP "
+            f"VX0..VZ0 or INITIAL)"
+        )
     g = math.hypot(*model.body_accel)
     with np.errstate(over="ignore", invalid="ignore"):
         weight = mass * g
     if g > 0.0 and not np.all(weight <= LARGEST):
-        out.append(f"BODY acceleration {g:.4g} length/s^2 gives weights m|g| up to "
-                   f"{float(np.max(weight)):.4g}, beyond double precision")
+        out.append(
+            f"BODY acceleration {g:.4g} length/s^2 gives weights m|g| up to "
+            f"{float(np.max(weight)):.4g}, beyond double precision"
+        )
     return out
 
 

@@ -17,21 +17,21 @@ from x3dpd.model.modal_structure import ModalStructure
 
 # Names of the effects a scene can call for. The solver compiles exactly these.
 EFFECTS = (
-    "gravity",           # BODY card with a non-zero vector
-    "springs",           # ELEMENTS with non-zero stiffness
-    "dampers",           # ELEMENTS with non-zero damping
-    "axial_springs",     # MATID type 2 elements (spring-damper along the line of two nodes)
+    "gravity",  # BODY card with a non-zero vector
+    "springs",  # ELEMENTS with non-zero stiffness
+    "dampers",  # ELEMENTS with non-zero damping
+    "axial_springs",  # MATID type 2 elements (spring-damper along the line of two nodes)
     "rotational_springs",  # MATID type 3 elements (rotational spring-damper)
-    "rigid_links",       # RBEL cards
-    "rigid_rotation",    # a rigid body whose master has a free rotational DOF
-    "wall_contact",      # CONTACT triangles with slave particles
+    "rigid_links",  # RBEL cards
+    "rigid_rotation",  # a rigid body whose master has a free rotational DOF
+    "wall_contact",  # CONTACT triangles with slave particles
     "cylinder_contact",  # CYLINDER cavities with slave particles
-    "pair_contact",      # two or more particles sharing a cavity
-    "viscoelastic",      # some particle with E1 != 0 (Maxwell terms)
-    "friction",          # some particle with PCOF > 0
-    "external_force",    # USRFRC forces (deck card or --usrfrc)
-    "prescribed_motion", # --motion
-    "modal_structure",   # MODAL card (x3dpd.physics.modal)
+    "pair_contact",  # two or more particles sharing a cavity
+    "viscoelastic",  # some particle with E1 != 0 (Maxwell terms)
+    "friction",  # some particle with PCOF > 0
+    "external_force",  # USRFRC forces (deck card or --usrfrc)
+    "prescribed_motion",  # --motion
+    "modal_structure",  # MODAL card (x3dpd.physics.modal)
 )
 
 

@@ -39,15 +39,25 @@ import numpy as np
 
 from x3dpd.errors import X3dpdError
 from x3dpd.model.check_shapes import shape_extent
-from x3dpd.model.linear_structure import (ModalLinear, Sdof, linear_modal, linear_sdof,
-                                          rigid_body)
+from x3dpd.model.linear_structure import ModalLinear, Sdof, linear_modal, linear_sdof, rigid_body
 from x3dpd.model.model import Model
-from x3dpd.physics.usrfrc import (KIND_RANDOM, KIND_SINE, KIND_SWEEP_LINEAR, KIND_SWEEP_LOG,
-                                  force_table, law_count, split_specs)
+from x3dpd.physics.usrfrc import (
+    KIND_RANDOM,
+    KIND_SINE,
+    KIND_SWEEP_LINEAR,
+    KIND_SWEEP_LOG,
+    force_table,
+    law_count,
+    split_specs,
+)
 from x3dpd.units import labels_for, standard_gravity
 
-SECTIONS = {"turn-on": "report Sections 7.2.4, 5.2", "clearance": "report Sections 10, 11.2",
-            "mass-ratio": "report Section 7.5", "mode-separation": "report Section 7.5 step 2"}
+SECTIONS = {
+    "turn-on": "report Sections 7.2.4, 5.2",
+    "clearance": "report Sections 10, 11.2",
+    "mass-ratio": "report Section 7.5",
+    "mode-separation": "report Section 7.5 step 2",
+}
 _AXES = "xyz"
 
 
@@ -94,8 +104,9 @@ def _band_max(func, lo: float, hi: float, extra=()) -> tuple[float, float]:
     if b > a:
         from scipy.optimize import minimize_scalar  # here: a second of import for every run
 
-        res = minimize_scalar(lambda w: -func(w), bounds=(a, b), method="bounded",
-                              options={"xatol": 1e-10 * b})
+        res = minimize_scalar(
+            lambda w: -func(w), bounds=(a, b), method="bounded", options={"xatol": 1e-10 * b}
+        )
         if -res.fun > vals[k]:
             return float(-res.fun), float(res.x)
     return float(vals[k]), float(grid[k])
@@ -103,7 +114,7 @@ def _band_max(func, lo: float, hi: float, extra=()) -> tuple[float, float]:
 
 def _receptance(structure, omega: float) -> float:
     if isinstance(structure, Sdof):
-        return 1.0 / math.hypot(structure.k - structure.m * omega ** 2, structure.c * omega)
+        return 1.0 / math.hypot(structure.k - structure.m * omega**2, structure.c * omega)
     return abs(structure.receptance(omega))
 
 
@@ -125,7 +136,7 @@ def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
         table = force_table(laws, model.node_ids)
     except X3dpdError as exc:
         return f"the drive cannot be read ({exc})"
-    rows = table[:law_count(table)]
+    rows = table[: law_count(table)]
     if np.any(rows[:, 0] == KIND_RANDOM):
         return "a random drive"
     waves = rows[np.isin(rows[:, 0], (KIND_SINE, KIND_SWEEP_LINEAR, KIND_SWEEP_LOG))]
@@ -135,11 +146,14 @@ def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
         return f"{waves.shape[0]} sine or sweep drive laws (only a single one is estimated)"
     kind, index, dof_index, amp = waves[0, :4]
     node, dof = int(model.node_ids[int(index)]), int(dof_index) + 1
-    structure = (linear_sdof(model, node, dof, ignore_particles=True)
-                 or linear_modal(model, node, dof, ignore_particles=True))
+    structure = linear_sdof(model, node, dof, ignore_particles=True) or linear_modal(
+        model, node, dof, ignore_particles=True
+    )
     if structure is None:
-        return (f"the structure driven at node {node} dof {dof} is neither a spring-mounted "
-                "body nor a modal structure")
+        return (
+            f"the structure driven at node {node} dof {dof} is neither a spring-mounted "
+            "body nor a modal structure"
+        )
     amp = abs(float(amp))
     force = labels_for(model.units)["force"]
     if kind == KIND_SINE:
@@ -155,8 +169,9 @@ def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
     mode = None
     if isinstance(structure, ModalLinear):
         mode = int(np.argmin(np.abs(structure.omega - w_x)))
-    return DriveEstimate(node, dof, x, a, w_x / (2 * math.pi),
-                         f"{what} at node {node} {_AXES[dof - 1]}", mode)
+    return DriveEstimate(
+        node, dof, x, a, w_x / (2 * math.pi), f"{what} at node {node} {_AXES[dof - 1]}", mode
+    )
 
 
 def _turn_on(model: Model, drive, g0: float, acc: str) -> RuleNote:
@@ -165,29 +180,47 @@ def _turn_on(model: Model, drive, g0: float, acc: str) -> RuleNote:
     mus = sorted(set(np.round(model.mu, 12).tolist()))
     mu_text = "mu " + (f"{mus[0]:.3g}" if len(mus) == 1 else f"{mus[0]:.3g}-{mus[-1]:.3g}")
     if g == 0.0:
-        return RuleNote("turn-on", 0.0, "no BODY gravity holds the particles: any vibration "
-                        "moves them", SECTIONS["turn-on"])
+        return RuleNote(
+            "turn-on",
+            0.0,
+            "no BODY gravity holds the particles: any vibration moves them",
+            SECTIONS["turn-on"],
+        )
     if isinstance(drive, str):
-        return RuleNote("turn-on", math.nan, (
-            f"the particles lift when the cavity's acceleration along gravity exceeds g = "
-            f"{g:.4g} {acc} ({g / g0:.3g} g) and slide when it exceeds {mu_text} x g across "
-            f"it; the drive's acceleration is not estimated ({drive})"), SECTIONS["turn-on"])
+        return RuleNote(
+            "turn-on",
+            math.nan,
+            (
+                f"the particles lift when the cavity's acceleration along gravity exceeds g = "
+                f"{g:.4g} {acc} ({g / g0:.3g} g) and slide when it exceeds {mu_text} x g across "
+                f"it; the drive's acceleration is not estimated ({drive})"
+            ),
+            SECTIONS["turn-on"],
+        )
     cos = abs(g_vec[drive.dof - 1]) / g
     sin = math.sqrt(max(0.0, 1.0 - cos * cos))
     lift = g / cos if cos > 1e-12 else math.inf
     slide = max(mus) * g / sin if sin > 1e-12 else math.inf
-    how = (f"lift them (gravity {math.degrees(math.acos(min(cos, 1.0))):.3g} deg from the "
-           "drive)" if lift <= slide else f"slide them ({mu_text} x g, the drive "
-           f"{math.degrees(math.asin(min(sin, 1.0))):.3g} deg across gravity)")
+    how = (
+        f"lift them (gravity {math.degrees(math.acos(min(cos, 1.0))):.3g} deg from the drive)"
+        if lift <= slide
+        else f"slide them ({mu_text} x g, the drive "
+        f"{math.degrees(math.asin(min(sin, 1.0))):.3g} deg across gravity)"
+    )
     level = min(lift, slide)
     ratio = drive.peak_acceleration / level if level > 0 else math.inf
-    return RuleNote("turn-on", ratio, (
-        f"the cavity needs {level:.3g} {acc} ({level / g0:.3g} g) to {how}; the drive "
-        f"({drive.description}, on the structure without particles) gives up to "
-        f"{drive.peak_acceleration:.3g} {acc} ({drive.peak_acceleration / g0:.3g} g): "
-        f"{ratio:.3g} x the turn-on level"
-        + ("" if ratio >= 1 else ": the particles will not move (they act as added mass)")),
-        SECTIONS["turn-on"])
+    return RuleNote(
+        "turn-on",
+        ratio,
+        (
+            f"the cavity needs {level:.3g} {acc} ({level / g0:.3g} g) to {how}; the drive "
+            f"({drive.description}, on the structure without particles) gives up to "
+            f"{drive.peak_acceleration:.3g} {acc} ({drive.peak_acceleration / g0:.3g} g): "
+            f"{ratio:.3g} x the turn-on level"
+            + ("" if ratio >= 1 else ": the particles will not move (they act as added mass)")
+        ),
+        SECTIONS["turn-on"],
+    )
 
 
 def _cavity_span(model: Model, c: int, d: int) -> tuple[float, float]:
@@ -215,12 +248,20 @@ def _clearances(model: Model, drive: DriveEstimate, length: str) -> list[RuleNot
         free = (hi - lo) - bed
         twice = 2.0 * drive.peak_displacement
         ratio = free / twice if twice > 0 else math.inf
-        out.append(RuleNote("clearance", ratio, (
-            f"cavity set {sid}: the particles' free length along {_AXES[d]} is {free:.3g} "
-            f"{length} (cavity {hi - lo:.4g} less the bed {bed:.4g} as they start); twice the "
-            f"structure's predicted peak displacement ({drive.description}) is {twice:.3g} "
-            f"{length}: free length = {ratio:.3g} x that (the report's dampers work best near "
-            "1)"), SECTIONS["clearance"]))
+        out.append(
+            RuleNote(
+                "clearance",
+                ratio,
+                (
+                    f"cavity set {sid}: the particles' free length along {_AXES[d]} is {free:.3g} "
+                    f"{length} (cavity {hi - lo:.4g} less the bed {bed:.4g} as they start); twice the "
+                    f"structure's predicted peak displacement ({drive.description}) is {twice:.3g} "
+                    f"{length}: free length = {ratio:.3g} x that (the report's dampers work best near "
+                    "1)"
+                ),
+                SECTIONS["clearance"],
+            )
+        )
     return out
 
 
@@ -236,8 +277,8 @@ def _cavity_dof(model: Model, mode: int) -> tuple[int, int] | None:
 
 
 def _mass_ratio(model: Model, drive, modal_mode: int | None, mass: str) -> RuleNote | None:
-    mp = float(np.sum(model.mass[model.particle_start:]))
-    ms, what, hz = float(np.sum(model.mass[:model.particle_start])), "total structure mass", None
+    mp = float(np.sum(model.mass[model.particle_start :]))
+    ms, what, hz = float(np.sum(model.mass[: model.particle_start])), "total structure mass", None
     where = None if isinstance(drive, str) else (drive.node, drive.dof)
     if where is not None:
         sdof = linear_sdof(model, drive.node, drive.dof, ignore_particles=True)
@@ -250,18 +291,21 @@ def _mass_ratio(model: Model, drive, modal_mode: int | None, mass: str) -> RuleN
         if where is not None and where[0] in model.node_ids:
             phi = model.modal.shape_at(model.index_of(where[0]), where[1] - 1)[modal_mode]
             if phi != 0.0:
-                ms = 1.0 / phi ** 2
-                what = (f"mode {modal_mode + 1}'s effective mass at node {where[0]} "
-                        f"{_AXES[where[1] - 1]}")
+                ms = 1.0 / phi**2
+                what = (
+                    f"mode {modal_mode + 1}'s effective mass at node {where[0]} "
+                    f"{_AXES[where[1] - 1]}"
+                )
                 hz = float(model.modal.omega[modal_mode]) / (2 * math.pi)
     if not ms > 0:
         return None
     ratio = mp / ms
-    text = (f"particles {mp:.4g} {mass} / {what} {ms:.4g} {mass} = {ratio:.3g} "
-            f"({100 * ratio:.3g} %)")
+    text = f"particles {mp:.4g} {mass} / {what} {ms:.4g} {mass} = {ratio:.3g} ({100 * ratio:.3g} %)"
     if hz is not None:
-        text += (f"; were they stuck to the cavity, the mode would move from {hz:.4g} Hz to "
-                 f"{hz / math.sqrt(1 + ratio):.4g} Hz")
+        text += (
+            f"; were they stuck to the cavity, the mode would move from {hz:.4g} Hz to "
+            f"{hz / math.sqrt(1 + ratio):.4g} Hz"
+        )
     return RuleNote("mass-ratio", ratio, text, SECTIONS["mass-ratio"])
 
 
@@ -269,21 +313,31 @@ def _separation(model: Model, mode: int) -> RuleNote:
     ms = model.modal
     f = ms.omega / (2 * math.pi)
     if f.size < 2:
-        return RuleNote("mode-separation", math.inf, f"mode {mode + 1} at {f[mode]:.4g} Hz is "
-                        "the structure's only mode", SECTIONS["mode-separation"])
+        return RuleNote(
+            "mode-separation",
+            math.inf,
+            f"mode {mode + 1} at {f[mode]:.4g} Hz is the structure's only mode",
+            SECTIONS["mode-separation"],
+        )
     others = [j for j in range(f.size) if j != mode]
     j = min(others, key=lambda k: abs(f[k] - f[mode]))
     band = 2.0 * ms.zeta[mode] * f[mode]
     bandwidths = abs(f[j] - f[mode]) / band if band > 0 else math.inf
-    return RuleNote("mode-separation", float(f[j] / f[mode]), (
-        f"the damped mode {mode + 1} ({f[mode]:.4g} Hz) has its nearest neighbour, mode "
-        f"{j + 1}, at {f[j]:.4g} Hz: {f[j] / f[mode]:.3g} x its frequency, {bandwidths:.3g} "
-        "half-power bandwidths away (particle dampers suit well-separated modes)"),
-        SECTIONS["mode-separation"])
+    return RuleNote(
+        "mode-separation",
+        float(f[j] / f[mode]),
+        (
+            f"the damped mode {mode + 1} ({f[mode]:.4g} Hz) has its nearest neighbour, mode "
+            f"{j + 1}, at {f[j]:.4g} Hz: {f[j] / f[mode]:.3g} x its frequency, {bandwidths:.3g} "
+            "half-power bandwidths away (particle dampers suit well-separated modes)"
+        ),
+        SECTIONS["mode-separation"],
+    )
 
 
-def rules_of_thumb(model: Model, *, usrfrc=(), drive: DriveEstimate | None = None
-                   ) -> list[RuleNote]:
+def rules_of_thumb(
+    model: Model, *, usrfrc=(), drive: DriveEstimate | None = None
+) -> list[RuleNote]:
     """The rules of thumb of a model (module docstring): turn-on, clearance per cavity, mass
     ratio, and for a modal structure the damped mode's separation. ``drive`` replaces the
     estimate of the deck's USRFRC drive (or of ``usrfrc`` specs, which replace the deck's).
@@ -296,12 +350,16 @@ def rules_of_thumb(model: Model, *, usrfrc=(), drive: DriveEstimate | None = Non
             estimate = "the drive's response overflows"
         mode = None
         if model.modal is not None:
-            mode = (estimate.mode if not isinstance(estimate, str) and estimate.mode is not None
-                    else 0)
+            mode = (
+                estimate.mode if not isinstance(estimate, str) and estimate.mode is not None else 0
+            )
         out = []
         if model.n_particles:
-            out.append(_guarded(_turn_on, model, estimate, standard_gravity(model.units),
-                                units["acceleration"]))
+            out.append(
+                _guarded(
+                    _turn_on, model, estimate, standard_gravity(model.units), units["acceleration"]
+                )
+            )
             if not isinstance(estimate, str):
                 out += _guarded(_clearances, model, estimate, units["length"]) or []
             out.append(_guarded(_mass_ratio, model, estimate, mode, units["mass"]))

@@ -105,11 +105,12 @@ def characteristic_speed(model: Model) -> float:
     :math:`L` is the extent of the particle cloud plus a diameter.
     """
     pts = model.x0[model.tri_nodes.reshape(-1)]
-    if model.shape_kind.shape[0]:   # analytic walls: their bounding boxes
-        pts = np.concatenate([pts] + [np.stack(shape_extent(model, w))
-                                      for w in range(model.shape_kind.shape[0])])
+    if model.shape_kind.shape[0]:  # analytic walls: their bounding boxes
+        pts = np.concatenate(
+            [pts] + [np.stack(shape_extent(model, w)) for w in range(model.shape_kind.shape[0])]
+        )
     if pts.shape[0] == 0 and model.n_particles:
-        pts = model.x0[model.particle_start:]
+        pts = model.x0[model.particle_start :]
         extra = 2.0 * float(model.radius.max())
     else:
         extra = 0.0
@@ -129,8 +130,9 @@ def _contact_limit(model: Model) -> tuple[float, float, str]:
         return best
     law = NORMAL_LAWS[model.normal_law]
     # a tangential law with a spring (the FRICTION card's) has a period of its own
-    spring = getattr(TANGENTIAL_LAWS[model.friction_law or "regularized"].module,
-                     "contact_time", None)
+    spring = getattr(
+        TANGENTIAL_LAWS[model.friction_law or "regularized"].module, "contact_time", None
+    )
     bodies = scene_bodies(model)
     # a concave analytic wall (cylinder, capsule) is softer than a flat one (a larger relative
     # radius): the flat wall's contact time bounds its contacts from below
@@ -139,8 +141,9 @@ def _contact_limit(model: Model) -> tuple[float, float, str]:
             if np.any((model.particle_group == g) & (model.particle_cavity >= 0)):
                 best = min(best, (law.contact_time(body, None, v), v, "particle-wall"))
                 if spring is not None:
-                    best = min(best, (spring(law, body, None, v), v,
-                                      "particle-wall tangential spring"))
+                    best = min(
+                        best, (spring(law, body, None, v), v, "particle-wall tangential spring")
+                    )
     if "pair_contact" in model.effects:
         for g, bi in bodies.items():
             for h, bj in bodies.items():
@@ -148,8 +151,9 @@ def _contact_limit(model: Model) -> tuple[float, float, str]:
                     continue
                 best = min(best, (law.contact_time(bi, bj, v), v, "particle-particle"))
                 if spring is not None:
-                    best = min(best, (spring(law, bi, bj, v), v,
-                                      "particle-particle tangential spring"))
+                    best = min(
+                        best, (spring(law, bi, bj, v), v, "particle-particle tangential spring")
+                    )
     return best
 
 
@@ -203,22 +207,25 @@ def _structure_limit(model: Model) -> tuple[float, float, int, str]:
     n = model.n_nodes
     rep = np.arange(n)
     for b, mnode in enumerate(model.rigid_master):
-        rep[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = mnode
+        rep[model.rigid_slaves[model.rigid_ptr[b] : model.rigid_ptr[b + 1]]] = mnode
     mass = model.mass.copy()
     mass[model.rigid_master] = model.rigid_mass
     sp_nodes, sp_k, sp_c = _translational_springs(model)
     ksum, csum = _gershgorin_rows(sp_nodes, sp_k, sp_c, rep, model.fixed[:, :3])
-    rsum, rcsum = _gershgorin_rows(model.rotational_nodes, model.rotational_k,
-                                   model.rotational_c, rep, model.fixed[:, 3:])
+    rsum, rcsum = _gershgorin_rows(
+        model.rotational_nodes, model.rotational_k, model.rotational_c, rep, model.fixed[:, 3:]
+    )
     best = (math.inf, 0.0, 0, "")
     structural = np.arange(model.particle_start)
     masters = set(model.rigid_master.tolist())
     for i in structural[(rep[structural] == structural)]:
         # (DOF 0..5, mass or inertia, row sums of K and C, name)
         dofs = [(ax, mass[i], ksum[i, ax], csum[i, ax], _AXES[ax]) for ax in range(3)]
-        if i not in masters:   # a rigid body's rotation: below
-            dofs += [(3 + ax, model.inertia[i, ax], rsum[i, ax], rcsum[i, ax], "r" + _AXES[ax])
-                     for ax in range(3)]
+        if i not in masters:  # a rigid body's rotation: below
+            dofs += [
+                (3 + ax, model.inertia[i, ax], rsum[i, ax], rcsum[i, ax], "r" + _AXES[ax])
+                for ax in range(3)
+            ]
         for dof, m, kk, cc, name in dofs:
             if model.fixed[i, dof] or m <= 0.0 or (kk == 0 and cc == 0):
                 continue
@@ -241,8 +248,9 @@ def _structure_limit(model: Model) -> tuple[float, float, int, str]:
     return best
 
 
-def recommended_time_step(model: Model, steps_per_contact: int = STEPS_PER_CONTACT
-                          ) -> TimeStepAdvice:
+def recommended_time_step(
+    model: Model, steps_per_contact: int = STEPS_PER_CONTACT
+) -> TimeStepAdvice:
     r"""Largest time step that resolves the contacts and keeps the structure stable.
 
     (a) Contact: :math:`\Delta t \le t_c/n` with :math:`t_c` the scene's normal law's
@@ -271,11 +279,24 @@ def recommended_time_step(model: Model, steps_per_contact: int = STEPS_PER_CONTA
     dt_contact = t_c / steps_per_contact
     dt_structure = STRUCTURE_SAFETY * crit
     dt = min(dt_contact, dt_structure)
-    binding = "none" if math.isinf(dt) else ("contact" if dt_contact <= dt_structure
-                                              else "structure")
-    return TimeStepAdvice(float(model.dt), float(dt), binding, float(t_c), float(v_c), kind,
-                          int(steps_per_contact), float(dt_contact), float(omega), int(node), dof,
-                          float(dt_structure), NORMAL_LAWS[model.normal_law].CONTACT_NAME)
+    binding = (
+        "none" if math.isinf(dt) else ("contact" if dt_contact <= dt_structure else "structure")
+    )
+    return TimeStepAdvice(
+        float(model.dt),
+        float(dt),
+        binding,
+        float(t_c),
+        float(v_c),
+        kind,
+        int(steps_per_contact),
+        float(dt_contact),
+        float(omega),
+        int(node),
+        dof,
+        float(dt_structure),
+        NORMAL_LAWS[model.normal_law].CONTACT_NAME,
+    )
 
 
 def time_step_is_a_problem(ts: TimeStepAdvice) -> bool:
@@ -292,27 +313,40 @@ def time_step_is_a_problem(ts: TimeStepAdvice) -> bool:
 
 def time_step_warning(ts: TimeStepAdvice, model: Model) -> str:
     ratio = ts.dt_deck / ts.dt_recommended if ts.dt_recommended > 0.0 else math.inf
-    text = (f"time step: DTMAX {ts.dt_deck:.3g} s is {ratio:.3g} times the recommended "
-            f"{ts.dt_recommended:.3g} s. ")
+    text = (
+        f"time step: DTMAX {ts.dt_deck:.3g} s is {ratio:.3g} times the recommended "
+        f"{ts.dt_recommended:.3g} s. "
+    )
     if ts.binding == "contact":
         n = ts.deck_steps_per_contact
-        text += (f"A {ts.contact_law} {ts.contact_kind} impact at {ts.impact_speed:.3g} "
-                 f"length/s lasts {ts.t_contact:.3g} s, so the deck resolves it in {n:.3g} steps: ")
+        text += (
+            f"A {ts.contact_law} {ts.contact_kind} impact at {ts.impact_speed:.3g} "
+            f"length/s lasts {ts.t_contact:.3g} s, so the deck resolves it in {n:.3g} steps: "
+        )
         if n < 6:
-            text += ("too few to follow a contact (at least 6-10 are needed); expect missed or "
-                     "exploding impacts. ")
+            text += (
+                "too few to follow a contact (at least 6-10 are needed); expect missed or "
+                "exploding impacts. "
+            )
         elif not ts.knows_peak_force_error:
             text += f"fewer than the recommended {ts.steps_per_contact} follow it coarsely. "
         else:
-            text += (f"expect peak contact forces off by up to about {peak_force_error(n):.2g} % "
-                     f"(about {peak_force_error(ts.steps_per_contact):.2g} % at "
-                     f"{ts.steps_per_contact} steps). ")
+            text += (
+                f"expect peak contact forces off by up to about {peak_force_error(n):.2g} % "
+                f"(about {peak_force_error(ts.steps_per_contact):.2g} % at "
+                f"{ts.steps_per_contact} steps). "
+            )
     else:
         crit = ts.dt_structure / STRUCTURE_SAFETY
-        text += (f"The stiffest structural DOF (node {ts.omega_node} {ts.omega_dof}) has "
-                 f"omega <= {ts.omega_max:.4g} rad/s; explicit integration is unstable above "
-                 f"{crit:.3g} s")
-        text += (", so this run will blow up. " if ts.dt_deck > crit else
-                 f", so the run is stable but its periods err by about "
-                 f"{(ts.omega_max * ts.dt_deck) ** 2 / 24 * 100:.2g} %. ")
+        text += (
+            f"The stiffest structural DOF (node {ts.omega_node} {ts.omega_dof}) has "
+            f"omega <= {ts.omega_max:.4g} rad/s; explicit integration is unstable above "
+            f"{crit:.3g} s"
+        )
+        text += (
+            ", so this run will blow up. "
+            if ts.dt_deck > crit
+            else f", so the run is stable but its periods err by about "
+            f"{(ts.omega_max * ts.dt_deck) ** 2 / 24 * 100:.2g} %. "
+        )
     return text + f"Set DTMAX <= {ts.dt_recommended:.3g}."

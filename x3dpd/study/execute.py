@@ -20,11 +20,11 @@ from x3dpd.study.settings import Setting, deck_for
 class Job:
     """Everything one run needs (picklable, for Dask workers)."""
 
-    deck: object          # x3dpd.deck.Deck
+    deck: object  # x3dpd.deck.Deck
     setting: Setting
     tmax: float | None
     usrfrc: tuple
-    out_interval: float   # output interval [s]: every step of the ladder divides it
+    out_interval: float  # output interval [s]: every step of the ladder divides it
     scene: Scene
 
 
@@ -49,8 +49,12 @@ def run_job(job: Job) -> dict:
         par = deck.parameters
         dtmin = par.dtmin if par.dtmin < par.dtmax else 0.0
         deck = replace(deck, parameters=replace(par, dtmin=dtmin, dtmax=s.dt))
-    kw = dict(dt="auto" if s.auto else s.dt, friction=s.friction, usrfrc=job.usrfrc,
-              trace_nodes=_nodes(job.deck, job.scene))
+    kw = dict(
+        dt="auto" if s.auto else s.dt,
+        friction=s.friction,
+        usrfrc=job.usrfrc,
+        trace_nodes=_nodes(job.deck, job.scene),
+    )
     try:
         # compile (or load) the step loop outside the CPU time: two steps of the same scene
         x3dpd.run(deck, tmax=deck.parameters.time + 2.0 * s.dt, itrac=1, **kw)
@@ -69,8 +73,11 @@ def run_job(job: Job) -> dict:
     row.update(measure(res, job.scene))
     if s.auto:
         st = sm["step"]
-        row["message"] = (f"steps {st['min']:.3g} .. {st['max']:.3g} s, mean {st['mean']:.3g} s"
-                          if st["steps"] else "")
+        row["message"] = (
+            f"steps {st['min']:.3g} .. {st['max']:.3g} s, mean {st['mean']:.3g} s"
+            if st["steps"]
+            else ""
+        )
         if job.scene.kind == "impact":
             row["peak_force"] = math.nan
     return row
@@ -108,8 +115,9 @@ def run_jobs(jobs, *, workers: int = 1, scheduler: str | None = None, done=None)
 
     cluster = None
     if scheduler is None:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+        cluster = LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+        )
     client = Client(scheduler if scheduler is not None else cluster)
     try:
         futures = [client.submit(run_job, job, pure=False) for job in jobs]

@@ -27,9 +27,11 @@ from dataclasses import dataclass
 import numpy as np
 
 MAIN = {"impact": "peak_force", "driven": "amplitude", "free": "dissipated"}
-QUANTITIES = {"impact": ("peak_force", "restitution", "contact_time"),
-              "driven": ("amplitude", "power_per_cycle"),
-              "free": ("dissipated",)}
+QUANTITIES = {
+    "impact": ("peak_force", "restitution", "contact_time"),
+    "driven": ("amplitude", "power_per_cycle"),
+    "free": ("dissipated",),
+}
 _DISSIPATED = ("dissipated_viscoelastic", "dissipated_friction", "dissipated_dampers")
 
 
@@ -61,7 +63,7 @@ def classify(model, usrfrc=()) -> Scene:
     driven = bool(specs) or "external_force" in effects
     gravity = bool(np.any(model.body_accel != 0.0))
     n = int(model.n_particles)
-    moving = n and bool(np.any(model.v0[model.particle_start:, :3] != 0.0))
+    moving = n and bool(np.any(model.v0[model.particle_start :, :3] != 0.0))
     kind = "driven" if driven else ("impact" if moving and not gravity else "free")
     node = int(model.node_ids[model.trace_nodes[0]]) if len(model.trace_nodes) else 0
     hz = 0.0
@@ -75,9 +77,16 @@ def classify(model, usrfrc=()) -> Scene:
         if m and f:
             node = int(m.group(1))
             break
-    return Scene(kind, n > 1 and (driven or gravity), node, hz,
-                 "viscoelastic" in effects, "friction" in effects, n,
-                 getattr(model, "friction_law", None) or "regularized")
+    return Scene(
+        kind,
+        n > 1 and (driven or gravity),
+        node,
+        hz,
+        "viscoelastic" in effects,
+        "friction" in effects,
+        n,
+        getattr(model, "friction_law", None) or "regularized",
+    )
 
 
 def measure(result, scene: Scene) -> dict:
@@ -94,17 +103,19 @@ def measure(result, scene: Scene) -> dict:
         model = result.model
         p0 = model.particle_start
         mass = np.array([model.mass[p0 + i] for i in range(model.n_particles)])
-        pid = [ids.index(int(model.node_ids[p0 + i])) for i in range(model.n_particles)
-               if int(model.node_ids[p0 + i]) in ids]
+        pid = [
+            ids.index(int(model.node_ids[p0 + i]))
+            for i in range(model.n_particles)
+            if int(model.node_ids[p0 + i]) in ids
+        ]
         v = tr.velocity[:, pid, :]
         dt = np.diff(t)[:, None]
         dv = np.linalg.norm(np.diff(v, axis=0), axis=2) / dt if len(t) > 1 else np.zeros((1, 1))
-        out["peak_force"] = float(np.max(dv * mass[None, :len(pid)])) if dv.size else 0.0
+        out["peak_force"] = float(np.max(dv * mass[None, : len(pid)])) if dv.size else 0.0
         ke = en["kinetic_translation"] + en["kinetic_rotation"]
         out["restitution"] = math.sqrt(ke[-1] / ke[0]) if ke[0] > 0 else math.nan
         touching = en["contact_energy"] > 0.0
-        out["contact_time"] = float(np.sum(touching) * np.median(np.diff(t))) if len(t) > 1 \
-            else 0.0
+        out["contact_time"] = float(np.sum(touching) * np.median(np.diff(t))) if len(t) > 1 else 0.0
     elif scene.kind == "driven":
         third = t >= t[0] + (t[-1] - t[0]) * 2.0 / 3.0
         out["amplitude"] = float(np.ptp(x[third]) / 2.0) if third.any() else math.nan

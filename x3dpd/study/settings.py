@@ -61,9 +61,17 @@ class Setting:
         return " ".join(parts)
 
 
-def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
-           chaotic: bool, stiffness=(), friction_law: str = "regularized",
-           walls=()) -> list[Setting]:
+def ladder(
+    dt_deck: float,
+    *,
+    dts=None,
+    viscoelastic: bool,
+    friction: bool,
+    chaotic: bool,
+    stiffness=(),
+    friction_law: str = "regularized",
+    walls=(),
+) -> list[Setting]:
     """The settings to run: every step of ``dts`` (default DTMAX x :data:`LADDER`) with the
     deck's physics, the fidelity choices at the deck's step, and perturbed repeats of the
     deck's setting for a chaotic scene, and the softer contacts of ``stiffness`` (scales of
@@ -73,11 +81,13 @@ def ladder(dt_deck: float, *, dts=None, viscoelastic: bool, friction: bool,
     and the deck's walls but the wall choices ``walls`` (each "rigid" or a library material,
     at the deck's step and law).
     (The step chosen by accuracy is added by :func:`x3dpd.study.run_study`.)"""
-    steps = sorted({float(d) for d in (dts if dts else [dt_deck * f for f in LADDER])}
-                   | {float(dt_deck)})
+    steps = sorted(
+        {float(d) for d in (dts if dts else [dt_deck * f for f in LADDER])} | {float(dt_deck)}
+    )
     law = friction_law
-    out = [Setting(d, own=np.isclose(d, dt_deck, rtol=1e-12, atol=0.0), friction=law)
-           for d in steps]
+    out = [
+        Setting(d, own=np.isclose(d, dt_deck, rtol=1e-12, atol=0.0), friction=law) for d in steps
+    ]
     if viscoelastic:
         out.append(Setting(dt_deck, contact="elastic", friction=law))
     if friction:
@@ -131,10 +141,14 @@ def wall_records(deck, walls: str):
         raise InputError(f"--walls: {exc}") from None
     mus = {p.pcof for p in deck.pdmp}
     if len(mus) != 1:
-        raise InputError(f"--walls {walls}: the particle groups have different friction "
-                         f"coefficients ({', '.join(map(str, sorted(mus)))}); a study's wall "
-                         f"material keeps one PCOF (write the deck's WALLMAT card instead)")
-    sets = sorted({t.set_id for c in deck.contacts for t in c.triangles}
-                  | {w.set_id for w in deck.analytic_walls or ()})
+        raise InputError(
+            f"--walls {walls}: the particle groups have different friction "
+            f"coefficients ({', '.join(map(str, sorted(mus)))}); a study's wall "
+            f"material keeps one PCOF (write the deck's WALLMAT card instead)"
+        )
+    sets = sorted(
+        {t.set_id for c in deck.contacts for t in c.triangles}
+        | {w.set_id for w in deck.analytic_walls or ()}
+    )
     mu = mus.pop()
     return tuple(WallMat(k, mat.E, mat.nu, mu) for k in sets) or None

@@ -17,9 +17,14 @@ from x3dpd.study.settings import Setting, ladder
 #: Fewest output rows a study's window gets (its output interval shrinks to give them).
 MIN_ROWS = 100
 
-_NAMES = {"peak_force": "peak force", "restitution": "restitution",
-          "contact_time": "contact time", "amplitude": "amplitude",
-          "power_per_cycle": "power dissipated per cycle", "dissipated": "energy dissipated"}
+_NAMES = {
+    "peak_force": "peak force",
+    "restitution": "restitution",
+    "contact_time": "contact time",
+    "amplitude": "amplitude",
+    "power_per_cycle": "power dissipated per cycle",
+    "dissipated": "energy dissipated",
+}
 
 
 @dataclass
@@ -36,9 +41,22 @@ class StudyResult:
     files: tuple = ()
 
 
-def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None, dts=None,
-              usrfrc=(), overwrite=False, progress=None, fidelity=True,
-              stiffness=(), walls=()) -> StudyResult:
+def run_study(
+    deck,
+    out=None,
+    *,
+    tmax=None,
+    tol=0.01,
+    workers=1,
+    scheduler=None,
+    dts=None,
+    usrfrc=(),
+    overwrite=False,
+    progress=None,
+    fidelity=True,
+    stiffness=(),
+    walls=(),
+) -> StudyResult:
     """Run the study of ``deck`` (a path) and write ``out/study.csv`` and ``out/study.png``.
 
     ``tmax`` ends every run (default the deck's TMAX); ``tol`` is the accepted relative error of
@@ -70,8 +88,10 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     if any(not 0.0 < f <= 1.0 for f in stiffness):
         raise InputError(f"--stiffness-scale: expected scales in (0, 1], got {stiffness}")
     if stiffness and cards.hooke is not None:
-        raise InputError("--stiffness-scale: scales the particles' Hertz moduli (PDMP E0, E1 "
-                         "...); this deck's contacts follow its HOOKE card")
+        raise InputError(
+            "--stiffness-scale: scales the particles' Hertz moduli (PDMP E0, E1 "
+            "...); this deck's contacts follow its HOOKE card"
+        )
     scene = classify(model, usrfrc)
     walls = _wall_choices(cards, walls)
     dt_deck = float(model.dt)
@@ -79,12 +99,24 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     own_auto = cards.parameters.dtmin < cards.parameters.dtmax
     auto = "auto" in dts or own_auto
     dts = [d for d in dts if d != "auto"] or None
-    settings = ladder(dt_deck, dts=dts, viscoelastic=fidelity and scene.viscoelastic,
-                      friction=fidelity and scene.friction, chaotic=scene.chaotic,
-                      stiffness=stiffness, friction_law=scene.friction_law, walls=walls)
+    settings = ladder(
+        dt_deck,
+        dts=dts,
+        viscoelastic=fidelity and scene.viscoelastic,
+        friction=fidelity and scene.friction,
+        chaotic=scene.chaotic,
+        stiffness=stiffness,
+        friction_law=scene.friction_law,
+        walls=walls,
+    )
     if auto:  # the deck's own DTMIN ... DTMAX, else up to the coarsest step of the ladder
-        settings.append(Setting(dt_deck if own_auto else max(s.dt for s in settings),
-                                auto=True, friction=scene.friction_law))
+        settings.append(
+            Setting(
+                dt_deck if own_auto else max(s.dt for s in settings),
+                auto=True,
+                friction=scene.friction_law,
+            )
+        )
     steps = sorted({s.dt for s in settings if not s.auto})
     if scene.kind == "impact":
         interval = steps[0]
@@ -98,8 +130,9 @@ def run_study(deck, out=None, *, tmax=None, tol=0.01, workers=1, scheduler=None,
     rows = run_jobs(jobs, workers=workers, scheduler=scheduler, done=progress)
     ref = rows[0]
     if ref["status"] != "complete":
-        raise UnstableRunError(f"the finest run ({ref['setting'].label}) went unstable: "
-                               f"{ref.get('message', '')}")
+        raise UnstableRunError(
+            f"the finest run ({ref['setting'].label}) went unstable: {ref.get('message', '')}"
+        )
     spread = _judge(rows, ref, scene)
     verdict = make_verdict(rows, scene, tol, spread)
     result = StudyResult(rows, scene, verdict, ref, spread, tuple(str(f) for f in files))
@@ -119,10 +152,12 @@ def _wall_choices(cards, walls) -> tuple:
 
     walls = tuple(dict.fromkeys(w.strip().lower() for w in walls if w.strip()))
     if any(w != "rigid" for w in walls) and cards.hooke is not None:
-        raise InputError("--walls: this deck's contacts follow its HOOKE card, whose wall "
-                         "stiffness KN is given directly; wall materials apply to the Hertz law")
+        raise InputError(
+            "--walls: this deck's contacts follow its HOOKE card, whose wall "
+            "stiffness KN is given directly; wall materials apply to the Hertz law"
+        )
     for w in walls:
-        wall_records(cards, w)   # an unknown material is refused before any run
+        wall_records(cards, w)  # an unknown material is refused before any run
     return tuple(w for w in walls if not (w == "rigid" and not cards.wallmat))
 
 
@@ -138,16 +173,22 @@ def _judge(rows, ref, scene: Scene) -> float:
             r[f"{q}_error"] = abs(r[q] - base) / abs(base) if base else math.nan
         r["error"] = r[f"{scene.main}_error"]
         r["stiffness_scale"] = r["setting"].stiffness
-        r["trace_norm"] = (trace_norm(r["signal"], ref["signal"])
-                           if scene.kind != "impact" else math.nan)
+        r["trace_norm"] = (
+            trace_norm(r["signal"], ref["signal"]) if scene.kind != "impact" else math.nan
+        )
     spread = 0.0
     if scene.chaotic:
-        same = [r[scene.main] for r in rows if r["status"] == "complete"
-                and (r["setting"].own or r["setting"].repeat)]
+        same = [
+            r[scene.main]
+            for r in rows
+            if r["status"] == "complete" and (r["setting"].own or r["setting"].repeat)
+        ]
         if len(same) > 1:
             spread = float(np.std(same, ddof=1) / abs(np.mean(same)))
-    ok = sorted((r for r in rows if r["status"] == "complete" and not r["setting"].repeat),
-                key=lambda r: (r["wall_s_per_sim_s"], r["error"]))
+    ok = sorted(
+        (r for r in rows if r["status"] == "complete" and not r["setting"].repeat),
+        key=lambda r: (r["wall_s_per_sim_s"], r["error"]),
+    )
     best = math.inf
     for r in rows:
         r["pareto"] = False
@@ -167,29 +208,41 @@ def make_verdict(rows, scene: Scene, tol: float, spread: float) -> str:
     own = next(r for r in rows if r["setting"].own)
     within = [r for r in pool if r["error"] <= accept]
     if not within:  # the reference's quantity is zero or undefined: nothing to compare
-        return (f"the {name} of the finest run is {pool[0].get(scene.main, math.nan):.4g}: "
-                f"nothing to compare in this window; use a longer --tmax")
+        return (
+            f"the {name} of the finest run is {pool[0].get(scene.main, math.nan):.4g}: "
+            f"nothing to compare in this window; use a longer --tmax"
+        )
     prefix = ""
     if scene.chaotic:
-        prefix = (f"chaotic scene (trajectories part ways; compared as statistics): the "
-                  f"{name} varies by {spread:.2%} between perturbed repeats; ")
+        prefix = (
+            f"chaotic scene (trajectories part ways; compared as statistics): the "
+            f"{name} varies by {spread:.2%} between perturbed repeats; "
+        )
     if own["status"] != "complete":
         cheap = min(within, key=lambda r: r["wall_s_per_sim_s"])
-        return (prefix + f"the deck's setting ({own['setting'].label}) goes unstable; "
-                f"{cheap['setting'].label} gives the {name} within {cheap['error']:.2%} at "
-                f"{cheap['wall_s_per_sim_s']:.3g} s per simulated second")
+        return (
+            prefix + f"the deck's setting ({own['setting'].label}) goes unstable; "
+            f"{cheap['setting'].label} gives the {name} within {cheap['error']:.2%} at "
+            f"{cheap['wall_s_per_sim_s']:.3g} s per simulated second"
+        )
     cheap = min(within, key=lambda r: r["wall_s_per_sim_s"])
     c_own, c_cheap = own["wall_s_per_sim_s"], cheap["wall_s_per_sim_s"]
     if cheap is own:
         ref = pool[0]
-        return (prefix + f"the deck's setting ({own['setting'].label}) is the cheapest within "
-                f"{accept:.2%}: its {name} is within {own['error']:.2%} of the finest run "
-                f"({ref['setting'].label}), which takes {ref['wall_s_per_sim_s'] / c_own:.2g}x "
-                f"the time")
+        return (
+            prefix + f"the deck's setting ({own['setting'].label}) is the cheapest within "
+            f"{accept:.2%}: its {name} is within {own['error']:.2%} of the finest run "
+            f"({ref['setting'].label}), which takes {ref['wall_s_per_sim_s'] / c_own:.2g}x "
+            f"the time"
+        )
     if c_cheap < c_own:
-        return (prefix + f"{cheap['setting'].label} gives the same {name} within "
-                f"{cheap['error']:.2%} at {c_own / c_cheap:.2g}x less time than the deck's "
-                f"setting ({own['setting'].label}, {own['error']:.2%})")
-    return (prefix + f"the deck's setting ({own['setting'].label}) errs by {own['error']:.2%} "
-            f"in the {name}; {cheap['setting'].label} is the cheapest within {accept:.2%} "
-            f"({cheap['error']:.2%}) at {c_cheap / c_own:.2g}x the time")
+        return (
+            prefix + f"{cheap['setting'].label} gives the same {name} within "
+            f"{cheap['error']:.2%} at {c_own / c_cheap:.2g}x less time than the deck's "
+            f"setting ({own['setting'].label}, {own['error']:.2%})"
+        )
+    return (
+        prefix + f"the deck's setting ({own['setting'].label}) errs by {own['error']:.2%} "
+        f"in the {name}; {cheap['setting'].label} is the cheapest within {accept:.2%} "
+        f"({cheap['error']:.2%}) at {c_cheap / c_own:.2g}x the time"
+    )

@@ -21,8 +21,12 @@ from x3dpd.deck.modes.op2_format import read_modes_op2
 from x3dpd.deck.modes.uff_format import ModeFileWarning, read_modes_uff
 
 #: fmt -> reader
-READERS = {"op2": read_modes_op2, "uff": read_modes_uff, "csv": read_modes_csv,
-           "npz": read_modes_npz}
+READERS = {
+    "op2": read_modes_op2,
+    "uff": read_modes_uff,
+    "csv": read_modes_csv,
+    "npz": read_modes_npz,
+}
 #: file suffix (lower case) -> fmt
 SUFFIXES = {".op2": "op2", ".uff": "uff", ".unv": "uff", ".csv": "csv", ".npz": "npz"}
 
@@ -45,14 +49,18 @@ def read_modes(path, fmt: str | None = None) -> ModeSet:
     if fmt is None:
         suffix = os.path.splitext(name)[1].lower()
         if suffix not in SUFFIXES:
-            raise ModeFileError(name, f"cannot tell the format from the suffix {suffix!r}; "
-                                      "expected .op2, .uff, .unv, .csv or .npz (or give the "
-                                      "format)")
+            raise ModeFileError(
+                name,
+                f"cannot tell the format from the suffix {suffix!r}; "
+                "expected .op2, .uff, .unv, .csv or .npz (or give the "
+                "format)",
+            )
         fmt = SUFFIXES[suffix]
     key = str(fmt).lower()
     if key not in READERS:
-        raise ModeFileError(name, f"unknown mode-file format {fmt!r}; expected one of "
-                                  f"{', '.join(READERS)}")
+        raise ModeFileError(
+            name, f"unknown mode-file format {fmt!r}; expected one of {', '.join(READERS)}"
+        )
     if os.path.isdir(name):
         raise ModeFileError(name, "is a directory; expected a file of modes")
     if not os.path.exists(name):
@@ -64,7 +72,19 @@ def read_modes(path, fmt: str | None = None) -> ModeSet:
 
 
 __all__ = [
-    "DOF_NAMES", "READERS", "SUFFIXES", "ModeFileError", "ModeFileWarning", "ModeSet",
-    "modes_from_matrices", "parse_dof", "read_modes", "read_modes_csv", "read_modes_npz",
-    "read_modes_op2", "read_modes_uff", "write_modes_csv", "write_modes_npz",
+    "DOF_NAMES",
+    "READERS",
+    "SUFFIXES",
+    "ModeFileError",
+    "ModeFileWarning",
+    "ModeSet",
+    "modes_from_matrices",
+    "parse_dof",
+    "read_modes",
+    "read_modes_csv",
+    "read_modes_npz",
+    "read_modes_op2",
+    "read_modes_uff",
+    "write_modes_csv",
+    "write_modes_npz",
 ]

@@ -7,8 +7,17 @@ import numpy as np
 from x3dpd.deck.modes.modeset import ModeSet, parse_dof, sorted_mode_set
 
 
-def modes_from_matrices(K, M, node_ids, dofs, *, n_modes: int | None = None, damping=None,
-                        units=None, name: str = "<matrices>") -> ModeSet:
+def modes_from_matrices(
+    K,
+    M,
+    node_ids,
+    dofs,
+    *,
+    n_modes: int | None = None,
+    damping=None,
+    units=None,
+    name: str = "<matrices>",
+) -> ModeSet:
     """The lowest modes of K phi = omega^2 M phi, mass-normalised, as a :class:`ModeSet`.
 
     Solves the symmetric-definite problem with :func:`scipy.linalg.eigh`, whose eigenvectors
@@ -45,8 +54,10 @@ def modes_from_matrices(K, M, node_ids, dofs, *, n_modes: int | None = None, dam
     node_ids = np.asarray(node_ids).reshape(-1)
     dofs = [parse_dof(d) for d in np.asarray(dofs).reshape(-1)]
     if len(node_ids) != n or len(dofs) != n:
-        raise ValueError(f"{len(node_ids)} node ids and {len(dofs)} DOFs for matrices of size "
-                         f"{n}; expected one (node id, DOF) per row")
+        raise ValueError(
+            f"{len(node_ids)} node ids and {len(dofs)} DOFs for matrices of size "
+            f"{n}; expected one (node id, DOF) per row"
+        )
     rows = list(zip(node_ids.tolist(), dofs))
     if len(set(rows)) != n:
         dup = next(r for r in rows if rows.count(r) > 1)
@@ -67,8 +78,10 @@ def modes_from_matrices(K, M, node_ids, dofs, *, n_modes: int | None = None, dam
     # eps * the largest eigenvalue (about eps * ||K|| / min(M's eigenvalues)).
     scale = np.abs(scipy.linalg.eigvalsh(K, M, subset_by_index=[n - 1, n - 1]))[0]
     if (lam < -1e-9 * scale).any():
-        raise ValueError(f"K is not positive semi-definite (eigenvalue {lam.min():g}); "
-                         "expected K phi = omega^2 M phi to have omega^2 >= 0")
+        raise ValueError(
+            f"K is not positive semi-definite (eigenvalue {lam.min():g}); "
+            "expected K phi = omega^2 M phi to have omega^2 >= 0"
+        )
     freq = np.sqrt(np.clip(lam, 0.0, None)) / (2.0 * np.pi)
     big = np.argmax(np.abs(phi), axis=0)
     phi = phi * np.sign(phi[big, np.arange(n_modes)])
@@ -78,5 +91,6 @@ def modes_from_matrices(K, M, node_ids, dofs, *, n_modes: int | None = None, dam
     shapes[:, col, np.array(dofs) - 1] = phi.T
     if damping is not None:
         damping = np.broadcast_to(np.asarray(damping, dtype=np.float64), (n_modes,))
-    return sorted_mode_set(name, np.arange(1, n_modes + 1), freq, nodes, shapes,
-                           damping=damping, units=units)
+    return sorted_mode_set(
+        name, np.arange(1, n_modes + 1), freq, nodes, shapes, damping=damping, units=units
+    )

@@ -22,9 +22,13 @@ from x3dpd.units import parse_units
 
 #: Component names in shape order (DOF codes 1-6).
 DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
-_DOF_BY_NAME = {**{n: i + 1 for i, n in enumerate(DOF_NAMES)},
-                **{str(i + 1): i + 1 for i in range(6)},
-                "tx": 1, "ty": 2, "tz": 3}
+_DOF_BY_NAME = {
+    **{n: i + 1 for i, n in enumerate(DOF_NAMES)},
+    **{str(i + 1): i + 1 for i in range(6)},
+    "tx": 1,
+    "ty": 2,
+    "tz": 3,
+}
 
 
 def parse_dof(text) -> int:
@@ -34,8 +38,9 @@ def parse_dof(text) -> int:
     if key.endswith(".0") and key[:-2].isdigit():  # spreadsheets write 3 as 3.0
         key = key[:-2]
     if key not in _DOF_BY_NAME:
-        raise ValueError(f"DOF {str(text).strip()!r}: expected 1-6 or one of "
-                         f"{', '.join(DOF_NAMES)}")
+        raise ValueError(
+            f"DOF {str(text).strip()!r}: expected 1-6 or one of {', '.join(DOF_NAMES)}"
+        )
     return _DOF_BY_NAME[key]
 
 
@@ -116,26 +121,34 @@ class ModeSet:
         if modes is not None:
             wanted = np.atleast_1d(np.asarray(modes)).reshape(-1)
             if wanted.size == 0 or not np.issubdtype(wanted.dtype, np.integer):
-                raise ModeFileError(self.path, f"modes to select must be mode numbers (integers); "
-                                               f"got {modes!r}")
+                raise ModeFileError(
+                    self.path, f"modes to select must be mode numbers (integers); got {modes!r}"
+                )
             missing = sorted(set(wanted.tolist()) - set(self.mode_numbers.tolist()))
             if missing:
-                raise ModeFileError(self.path, f"no mode {', '.join(map(str, missing))} in the "
-                                               f"file; it has modes {_ranges(self.mode_numbers)}")
+                raise ModeFileError(
+                    self.path,
+                    f"no mode {', '.join(map(str, missing))} in the "
+                    f"file; it has modes {_ranges(self.mode_numbers)}",
+                )
             keep &= np.isin(self.mode_numbers, wanted)
         if band is not None:
             try:
                 lo, hi = (float(b) for b in band)
             except (TypeError, ValueError):
-                raise ModeFileError(self.path,
-                                    f"band must be (lo, hi) in Hz; got {band!r}") from None
+                raise ModeFileError(
+                    self.path, f"band must be (lo, hi) in Hz; got {band!r}"
+                ) from None
             if np.isnan(lo) or np.isnan(hi) or lo > hi:
                 raise ModeFileError(self.path, f"band ({lo:g}, {hi:g}) Hz: expected lo <= hi")
             among = keep.copy()
             keep &= (self.freq_hz >= lo) & (self.freq_hz <= hi)
             if not keep.any():
-                raise ModeFileError(self.path, f"no mode between {lo:g} and {hi:g} Hz; the "
-                                               f"modes are at {_freqs(self.freq_hz[among])} Hz")
+                raise ModeFileError(
+                    self.path,
+                    f"no mode between {lo:g} and {hi:g} Hz; the "
+                    f"modes are at {_freqs(self.freq_hz[among])} Hz",
+                )
         return self._subset(keep)
 
     def mass_normalised(self) -> ModeSet:
@@ -144,23 +157,42 @@ class ModeSet:
         if self.modal_mass is None:
             return self
         scale = 1.0 / np.sqrt(self.modal_mass)
-        return ModeSet(self.path, self.mode_numbers, self.freq_hz, self.node_ids,
-                       self.shapes * scale[:, None, None], self.damping,
-                       np.ones_like(self.modal_mass), self.units)
+        return ModeSet(
+            self.path,
+            self.mode_numbers,
+            self.freq_hz,
+            self.node_ids,
+            self.shapes * scale[:, None, None],
+            self.damping,
+            np.ones_like(self.modal_mass),
+            self.units,
+        )
 
     def _subset(self, keep) -> ModeSet:
         def pick(a):
             return None if a is None else a[keep]
-        return ModeSet(self.path, self.mode_numbers[keep], self.freq_hz[keep], self.node_ids,
-                       self.shapes[keep], pick(self.damping), pick(self.modal_mass), self.units)
+
+        return ModeSet(
+            self.path,
+            self.mode_numbers[keep],
+            self.freq_hz[keep],
+            self.node_ids,
+            self.shapes[keep],
+            pick(self.damping),
+            pick(self.modal_mass),
+            self.units,
+        )
 
     def __repr__(self) -> str:
-        return (f"ModeSet({self.path!r}, {self.n_modes} modes {_ranges(self.mode_numbers)} at "
-                f"{_freqs(self.freq_hz)} Hz, {self.n_nodes} nodes)")
+        return (
+            f"ModeSet({self.path!r}, {self.n_modes} modes {_ranges(self.mode_numbers)} at "
+            f"{_freqs(self.freq_hz)} Hz, {self.n_nodes} nodes)"
+        )
 
 
-def sorted_mode_set(path, mode_numbers, freq_hz, node_ids, shapes, damping=None,
-                    modal_mass=None, units=None) -> ModeSet:
+def sorted_mode_set(
+    path, mode_numbers, freq_hz, node_ids, shapes, damping=None, modal_mass=None, units=None
+) -> ModeSet:
     """A ModeSet with modes in increasing mode number and nodes in increasing id (the order
     every reader returns), after checking that neither repeats."""
     mode_numbers = _ints_or_error(path, mode_numbers, "mode numbers")
@@ -170,13 +202,24 @@ def sorted_mode_set(path, mode_numbers, freq_hz, node_ids, shapes, damping=None,
     om, on = np.argsort(mode_numbers, kind="stable"), np.argsort(node_ids, kind="stable")
     shapes = np.asarray(shapes, dtype=np.float64)
     if shapes.shape != (len(mode_numbers), len(node_ids), 6):
-        raise ModeFileError(path, f"shapes have shape {shapes.shape}; expected "
-                                  f"({len(mode_numbers)}, {len(node_ids)}, 6)")
+        raise ModeFileError(
+            path,
+            f"shapes have shape {shapes.shape}; expected ({len(mode_numbers)}, {len(node_ids)}, 6)",
+        )
 
     def by_mode(a):
         return None if a is None else np.asarray(a, dtype=np.float64).reshape(-1)[om]
-    return ModeSet(path, mode_numbers[om], by_mode(freq_hz), node_ids[on], shapes[om][:, on],
-                   by_mode(damping), by_mode(modal_mass), units)
+
+    return ModeSet(
+        path,
+        mode_numbers[om],
+        by_mode(freq_hz),
+        node_ids[on],
+        shapes[om][:, on],
+        by_mode(damping),
+        by_mode(modal_mass),
+        units,
+    )
 
 
 def _ints_or_error(path, values, what) -> np.ndarray:
@@ -196,8 +239,11 @@ def _unique(path, values: np.ndarray, what: str) -> None:
     uniq, counts = np.unique(values, return_counts=True)
     if (counts > 1).any():
         dup = uniq[counts > 1]
-        raise ModeFileError(path, f"{what} {', '.join(map(str, dup[:5].tolist()))} appears more "
-                                  f"than once; expected each {what} once")
+        raise ModeFileError(
+            path,
+            f"{what} {', '.join(map(str, dup[:5].tolist()))} appears more "
+            f"than once; expected each {what} once",
+        )
 
 
 def _check(ms: ModeSet) -> None:
@@ -213,35 +259,47 @@ def _check(ms: ModeSet) -> None:
         bad = ms.mode_numbers[ms.mode_numbers < 1][0]
         raise ModeFileError(p, f"mode number {bad}: expected mode numbers >= 1")
     if ms.shapes.shape != (m, n, 6):
-        raise ModeFileError(p, f"shapes have shape {ms.shapes.shape}; expected ({m}, {n}, 6) "
-                               "(modes, nodes, components x y z rx ry rz)")
+        raise ModeFileError(
+            p,
+            f"shapes have shape {ms.shapes.shape}; expected ({m}, {n}, 6) "
+            "(modes, nodes, components x y z rx ry rz)",
+        )
     _per_mode(ms, ms.freq_hz, "frequency", "Hz", lambda f: f >= 0, ">= 0")
     if ms.damping is not None:
-        _per_mode(ms, ms.damping, "damping ratio", "", lambda z: (z >= 0) & (z < 1),
-                  "in [0, 1)")
+        _per_mode(ms, ms.damping, "damping ratio", "", lambda z: (z >= 0) & (z < 1), "in [0, 1)")
     if ms.modal_mass is not None:
         _per_mode(ms, ms.modal_mass, "modal mass", "", lambda mm: mm > 0, "> 0")
     if np.isinf(ms.shapes).any():
         r, i, c = np.argwhere(np.isinf(ms.shapes))[0]
-        raise ModeFileError(p, f"mode {ms.mode_numbers[r]} has an infinite value at node "
-                               f"{ms.node_ids[i]} {DOF_NAMES[c]}; expected finite numbers")
+        raise ModeFileError(
+            p,
+            f"mode {ms.mode_numbers[r]} has an infinite value at node "
+            f"{ms.node_ids[i]} {DOF_NAMES[c]}; expected finite numbers",
+        )
     empty = np.isnan(ms.shapes).all(axis=(1, 2))
     if empty.any():
-        raise ModeFileError(p, f"mode {ms.mode_numbers[empty][0]} has no shape values; expected "
-                               "a value at one node and component at least")
+        raise ModeFileError(
+            p,
+            f"mode {ms.mode_numbers[empty][0]} has no shape values; expected "
+            "a value at one node and component at least",
+        )
 
 
 def _per_mode(ms: ModeSet, values, what, unit, ok, expected) -> None:
     if values.shape != ms.mode_numbers.shape:
-        raise ModeFileError(ms.path, f"{len(values)} {what} values for {ms.n_modes} modes; "
-                                     "expected one per mode")
+        raise ModeFileError(
+            ms.path, f"{len(values)} {what} values for {ms.n_modes} modes; expected one per mode"
+        )
     with np.errstate(invalid="ignore"):
         bad = ~np.isfinite(values) | ~ok(values)
     if bad.any():
         r = int(np.argmax(bad))
-        raise ModeFileError(ms.path, f"mode {ms.mode_numbers[r]} has {what} {values[r]:g}"
-                                     f"{' ' + unit if unit else ''}; expected a finite number "
-                                     f"{expected}")
+        raise ModeFileError(
+            ms.path,
+            f"mode {ms.mode_numbers[r]} has {what} {values[r]:g}"
+            f"{' ' + unit if unit else ''}; expected a finite number "
+            f"{expected}",
+        )
 
 
 def _ranges(numbers) -> str:

@@ -28,8 +28,10 @@ from x3dpd.errors import ModeFileError
 from x3dpd.deck.modes.modeset import ModeSet, sorted_mode_set
 
 #: How to get the optional OP2 reader (say it in errors).
-INSTALL_HINT = ("pip install cpylog && pip install --no-deps pyNastran==1.4.1 "
-                "(pyNastran's numpy<2 pin is not needed for reading OP2 files)")
+INSTALL_HINT = (
+    "pip install cpylog && pip install --no-deps pyNastran==1.4.1 "
+    "(pyNastran's numpy<2 pin is not needed for reading OP2 files)"
+)
 
 #: pyNastran grid types with one value (scalar, extra and modal points).
 _SCALAR_POINTS = (2, 3, 4)
@@ -63,8 +65,9 @@ def read_modes_op2(path) -> ModeSet:
         OP2 = pynastran_op2()
         from cpylog import SimpleLogger
     except ImportError as e:
-        raise ModeFileError(path, f"reading OP2 files needs pyNastran ({e}); install it with: "
-                                  f"{INSTALL_HINT}") from None
+        raise ModeFileError(
+            path, f"reading OP2 files needs pyNastran ({e}); install it with: {INSTALL_HINT}"
+        ) from None
     model = OP2(log=SimpleLogger(level="critical"), debug=None)
     model.set_results(["eigenvectors", "eigenvalues"])
     try:
@@ -74,19 +77,29 @@ def read_modes_op2(path) -> ModeSet:
             warnings.simplefilter("ignore")
             model.read_op2(str(path), build_dataframe=False, skip_undefined_matrices=True)
     except struct.error:
-        raise ModeFileError(path, "the file ends inside an OP2 record (cut short?); expected a "
-                                  "whole Nastran OP2 file") from None
+        raise ModeFileError(
+            path,
+            "the file ends inside an OP2 record (cut short?); expected a whole Nastran OP2 file",
+        ) from None
     except Exception as e:  # noqa: BLE001 -- pyNastran raises AssertionError, ValueError, ...
-        raise ModeFileError(path, f"pyNastran cannot read it as an OP2 file ({_short(e)}); "
-                                  "expected a Nastran OP2 written with PARAM,POST,-1") from None
+        raise ModeFileError(
+            path,
+            f"pyNastran cannot read it as an OP2 file ({_short(e)}); "
+            "expected a Nastran OP2 written with PARAM,POST,-1",
+        ) from None
     tables = dict(model.eigenvectors)
     if not tables:
-        raise ModeFileError(path, "no real eigenvectors (SOL 103 OUGV1, table code 7) in the "
-                                  f"file; it holds {_result_names(model)}. Expected a SOL 103 "
-                                  "run with DISPLACEMENT(PLOT)=ALL")
+        raise ModeFileError(
+            path,
+            "no real eigenvectors (SOL 103 OUGV1, table code 7) in the "
+            f"file; it holds {_result_names(model)}. Expected a SOL 103 "
+            "run with DISPLACEMENT(PLOT)=ALL",
+        )
     if len(tables) > 1:
-        raise ModeFileError(path, f"eigenvectors of {len(tables)} subcases "
-                                  f"({', '.join(map(str, tables))}); expected one")
+        raise ModeFileError(
+            path,
+            f"eigenvectors of {len(tables)} subcases ({', '.join(map(str, tables))}); expected one",
+        )
     (vectors,) = tables.values()
     if getattr(vectors, "is_complex", False) or np.iscomplexobj(vectors.data):
         raise ModeFileError(path, "complex eigenvectors; expected real normal modes (SOL 103)")
@@ -114,8 +127,11 @@ def _frequencies(path, model, vectors, modes):
             return freq, mass
     eigns = np.asarray(vectors.eigns, dtype=np.float64)
     if eigns.shape != modes.shape:
-        raise ModeFileError(path, "the eigenvector table gives no eigenvalue per mode and there "
-                                  "is no LAMA table; expected one of them")
+        raise ModeFileError(
+            path,
+            "the eigenvector table gives no eigenvalue per mode and there "
+            "is no LAMA table; expected one of them",
+        )
     return np.sqrt(np.abs(eigns)) / (2.0 * np.pi), None
 
 
@@ -128,13 +144,18 @@ def _check_looks_like_op2(path) -> None:
         raise ModeFileError(path, f"{len(head)} bytes long; expected a Nastran OP2 file")
     if head not in (b"\x04\0\0\0", b"\0\0\0\x04", b"\x08\0\0\0", b"\0\0\0\x08"):
         text = head.decode("ascii", errors="replace")
-        raise ModeFileError(path, f"does not start as an OP2 file does (it starts {text!r}); "
-                                  "expected a binary Nastran OP2 (PARAM,POST,-1)")
+        raise ModeFileError(
+            path,
+            f"does not start as an OP2 file does (it starts {text!r}); "
+            "expected a binary Nastran OP2 (PARAM,POST,-1)",
+        )
 
 
 def _result_names(model) -> str:
-    names = [n.decode("latin-1") if isinstance(n, bytes) else str(n)
-             for n in getattr(model, "table_names", [])]
+    names = [
+        n.decode("latin-1") if isinstance(n, bytes) else str(n)
+        for n in getattr(model, "table_names", [])
+    ]
     return "the tables " + ", ".join(names) if names else "no tables"
 
 
