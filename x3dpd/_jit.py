@@ -99,6 +99,16 @@ def vector_kernel(fn=None, **overrides):
     return kernel(fn, inline="never", _nrt=False, _noalias=True, **overrides)
 
 
+def threaded_kernel(fn=None, **overrides):
+    """Compile a loop whose ``numba.prange`` iterations numba runs on several threads
+    (``parallel=True``, its threading layer; as many as ``numba.set_num_threads`` allows the
+    calling thread): its own function, never inlined, without NRT like the step loop. Only the
+    threaded step-loop variants (``Variant.threaded``) call one, so the single-thread loops
+    compile none of numba's parallel machinery. Its iterations must be independent: a thread
+    count must never change a result (docs/engine.md, "Threads")."""
+    return kernel(fn, inline="never", _nrt=False, parallel=True, **overrides)
+
+
 def kernel(fn=None, **overrides):
     """Compile ``fn`` with the project's flags: ``@kernel`` or ``@kernel(cache=False)``."""
     flags = {**JIT_FLAGS, **overrides}

@@ -56,7 +56,7 @@ def bed_stats(
     if from_start:
         from bench_solver import settled_simulation
 
-        sim, sc = settled_simulation(512, 300_000, *BEDS[bed])
+        sim, sc = settled_simulation(*BEDS[bed][:1], 300_000, *BEDS[bed][1:])
         period = 1.0 / (sc["shake_freq_hz"] * sc["dt"])
     else:
         sim = bed_simulation(bed)

@@ -71,7 +71,7 @@ def response_asm(
     c = pl.columns
     cin = tuple(c[pairs.C_DX + k] for k in range(len(pairs.PAIR_INPUT_COLUMNS)))
     cout = tuple(c[k] for k in range(len(pairs.PAIR_OUTPUT_COLUMNS)))
-    fresh(0, pl.first_new, pl.first, pl.second, particles, pl.history, sim.dt, cin, cout, sim.dt)
+    fresh(0, 0, pl.first_new, pl.first, pl.second, particles, pl.history, sim.dt, cin, cout, sim.dt)
     return fresh.inspect_asm(fresh.signatures[0])
 
 

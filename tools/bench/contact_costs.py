@@ -5,7 +5,8 @@ of its friction code removed.
 
 Settles the benchmark bed (``bench_solver.py --settled``: 300,000 steps at rest), then calls the
 scene's compiled ``_pair_contacts`` (the variant's copy of
-``x3dpd/solver/_template_pairs.py``) ``--calls`` times on that frozen state (forces zeroed each
+``x3dpd/solver/_template_pair_passes.py``, running the passes of ``_template_pairs.py``)
+``--calls`` times on that frozen state (forces zeroed each
 call) and reports microseconds per call for the kernel as compiled and for copies of its source
 with one part cut out: the whole friction block, the torques of friction, and its slip-work
 bookkeeping. The cut copies compute wrong forces on purpose; they only measure what each part
@@ -51,13 +52,18 @@ CUTS = {
 }
 
 
-def time_pair_pass(module_path: Path, sim: Simulation, calls: int) -> float:
-    """Microseconds per ``_pair_contacts`` call of the module at ``module_path`` (a variant's
-    generated pair-contact part, x3dpd.solver.variants.part_module, or a cut copy of it)."""
-    spec = importlib.util.spec_from_file_location(f"cut_{abs(hash(module_path))}", module_path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    pair_pass = mod._pair_contacts
+def _load(name: str, path: Path, text: str):
+    """Write ``text`` to ``path`` and import it as module ``name``."""
+    path.write_text(text)
+    spec = importlib.util.spec_from_file_location(name, path)
+    sys.modules[name] = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]
+
+
+def time_pair_pass(pair_pass, sim: Simulation, calls: int) -> float:
+    """Microseconds per call of ``pair_pass``: a variant's ``_pair_contacts``
+    (x3dpd.solver.variants.part_module(..., "pair_passes")) or a cut copy's."""
     b = sim._bundles()
     busy = np.zeros(b["pairs"].first.shape[0], dtype=np.int64)
 
@@ -92,11 +98,13 @@ def main() -> int:
     sim.advance(300_000, max_rows=1)
     st = sim.state
     contacts = int(st.pl_on[: int(st.npl[0])].sum())
-    pairs_mod, contact_mod = (part_module(sim.kernels, p) for p in ("pairs", "contact"))
-    pairs_file = Path(pairs_mod.__file__)  # the variant's pair passes
-    source = pairs_file.read_text()
+    pairs_mod, contact_mod, passes_mod = (
+        part_module(sim.kernels, p) for p in ("pairs", "contact", "pair_passes")
+    )
+    source = Path(pairs_mod.__file__).read_text()  # the variant's pair passes
     contact_source = Path(contact_mod.__file__).read_text()  # friction lives there
-    full = time_pair_pass(pairs_file, sim, args.calls)
+    passes_source = Path(passes_mod.__file__).read_text()  # runs them
+    full = time_pair_pass(passes_mod._pair_contacts, sim, args.calls)
     print(
         f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
         f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)"
@@ -109,20 +117,27 @@ def main() -> int:
                 cut_pairs = source.replace(old, new)
             elif contact_source.count(old) == 1:
                 # a cut copy of the shared contact part, imported by a copy of the pair part
-                path = Path(tmp) / f"{stem}_contact.py"
-                path.write_text(contact_source.replace(old, new))
-                spec = importlib.util.spec_from_file_location(f"{stem}_contact", path)
-                sys.modules[spec.name] = importlib.util.module_from_spec(spec)
-                spec.loader.exec_module(sys.modules[spec.name])
+                _load(
+                    f"{stem}_contact",
+                    Path(tmp) / f"{stem}_contact.py",
+                    contact_source.replace(old, new),
+                )
                 cut_pairs = source.replace(
-                    f"from {contact_mod.__name__} import", f"from {spec.name} import"
+                    f"from {contact_mod.__name__} import", f"from {stem}_contact import"
                 )
             else:
                 print(f"  {name}: its code was not found in the kernel (changed?)")
                 continue
-            path = Path(tmp) / f"{stem}.py"
-            path.write_text(cut_pairs)
-            cut = time_pair_pass(path, sim, args.calls)
+            # the cut pair part, and a copy of the part that runs it importing it
+            _load(f"{stem}_pairs", Path(tmp) / f"{stem}_pairs.py", cut_pairs)
+            passes = _load(
+                f"{stem}_passes",
+                Path(tmp) / f"{stem}_passes.py",
+                passes_source.replace(
+                    f"from {pairs_mod.__name__} import", f"from {stem}_pairs import"
+                ),
+            )
+            cut = time_pair_pass(passes._pair_contacts, sim, args.calls)
             print(f"  {name:20s} costs {full - cut:6.2f} us/call")
     return 0
 

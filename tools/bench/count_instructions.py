@@ -14,7 +14,8 @@ SCENE is a shipped deck's stem (``beam_64``: its own drive, no trace output), ``
 (tools/bench/scene.py's falling window with N spheres), ``sdof`` (``bench_solver.py --sdof``'s
 structure) or one of the settled beds of ``regress.py``: ``settled_512`` (elastic, at rest),
 ``settled_visco_512`` (E1 = 5e6 psi, at rest), ``shaken_visco_512`` (the same bed in the free
-cavity shaken at 2 g, after two drive periods). The scene is set up and run 4010 steps (a
+cavity shaken at 2 g, after two drive periods), or the larger elastic beds at rest of
+``threads.py``, ``settled_4096`` and ``settled_16384``. The scene is set up and run 4010 steps (a
 restored bed 10) outside the count (compiling or loading the loop, building the lists); then
 callgrind counts only ``STEPS`` steps of one ``Simulation.advance`` call (instrumentation
 switched on and off around it with ``callgrind_control``). Compare two revisions on the same
@@ -54,11 +55,14 @@ def _instrument(on: bool) -> None:
     )
 
 
-#: settled beds: name -> bench_solver.settled_simulation arguments (accel_g, e1, shaken)
+#: settled beds: name -> bench_solver.settled_simulation arguments (n, accel_g, e1, shaken);
+#: the larger elastic beds at rest are tools/bench/threads.py's
 BEDS = {
-    "settled_512": (0.0, 0.0, False),
-    "settled_visco_512": (0.0, 5e6, False),
-    "shaken_visco_512": (2.0, 5e6, True),
+    "settled_512": (512, 0.0, 0.0, False),
+    "settled_visco_512": (512, 0.0, 5e6, False),
+    "shaken_visco_512": (512, 2.0, 5e6, True),
+    "settled_4096": (4096, 0.0, 0.0, False),
+    "settled_16384": (16384, 0.0, 0.0, False),
 }
 
 
@@ -70,8 +74,8 @@ def prepare_bed(scene: str) -> None:
     """Settle the bed natively (and shake it for two drive periods) and pickle its state."""
     from bench_solver import settled_simulation
 
-    accel_g, e1, shaken = BEDS[scene]
-    sim, sc = settled_simulation(512, 300_000, accel_g, e1, shaken)
+    n, accel_g, e1, shaken = BEDS[scene]
+    sim, sc = settled_simulation(n, 300_000, accel_g, e1, shaken)
     t0 = sim.time  # the drive's start
     if shaken:
         sim.advance(2 * round(1.0 / (sc["shake_freq_hz"] * sc["dt"])), max_rows=1)
@@ -83,9 +87,9 @@ def bed_simulation(scene: str) -> Simulation:
     """The prepared bed, restored into the simulation that shakes it (or not)."""
     from bench_solver import SHAKEN_CAVITY_MASS, G, scene_model
 
-    accel_g, e1, shaken = BEDS[scene]
+    n, accel_g, e1, shaken = BEDS[scene]
     state, t0 = pickle.loads(_bed_file(scene).read_bytes())
-    model, sc = scene_model(512, drive=False, e1=e1, free_cavity=shaken)
+    model, sc = scene_model(n, drive=False, e1=e1, free_cavity=shaken)
     usrfrc = ()
     if shaken:
         # the drive as bench_solver.settled_simulation started it (t0: the settling's end)

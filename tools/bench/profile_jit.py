@@ -34,6 +34,7 @@ import numba
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_solver import scene_model  # noqa: E402
+from count_instructions import BEDS  # noqa: E402
 
 from x3dpd.solver.simulation import Simulation  # noqa: E402
 
@@ -74,7 +75,7 @@ def main(argv=None) -> int:
     ap.add_argument("--settled", action="store_true", help="profile a settled bed (no drive)")
     ap.add_argument(
         "--bed",
-        choices=("settled_512", "settled_visco_512", "shaken_visco_512"),
+        choices=sorted(BEDS),
         help="a bed prepared by count_instructions.py --prepare (restored, not settled again)",
     )
     ap.add_argument("--top", type=int, default=12, help="hottest 128-byte blocks to list")

@@ -169,6 +169,7 @@ def make_step_loop(
     trace_nodes,
     on_compile,
     initial_state,
+    threads=1,
 ) -> None:
     """Step 2: the step loop (fixed ``dt`` or chosen by accuracy, x3dpd.api.stepping), the nodes
     it records, ``on_compile`` told when it must be compiled; the steps to TMAX and between
@@ -185,6 +186,7 @@ def make_step_loop(
         penetration_limit=penetration_limit,
         allow_python_usrfrc=usrfrc_python,
         energy_tolerance=float(energy_tolerance),
+        threads=threads,
     )
     plan.sim, plan.auto = sim, is_auto(sim)
     if trace_nodes is not None:

@@ -28,6 +28,7 @@ from x3dpd.api.results import Chunk, FinalState, RunResult
 from x3dpd.api.run_record import start_recording, step, summarise
 from x3dpd.api.run_steps import make_step_loop, open_files, prepare, record_options
 from x3dpd.errors import InputError, UnstableRunError
+from x3dpd.solver.threads import thread_count
 
 #: The energy audit's default tolerance, a fraction of the energy scale (run(energy_tolerance=)).
 ENERGY_TOLERANCE = 0.05
@@ -57,6 +58,7 @@ def run(
     usrfrc_python: bool = False,
     penetration_limit: float = 0.25,
     energy_tolerance: float = ENERGY_TOLERANCE,
+    threads: int | str = 1,
     handle_signals: bool = False,
     command: str | None = None,
 ) -> RunResult:
@@ -118,6 +120,11 @@ def run(
         the energy scale (plus the contact energy stored at that moment), or a dissipation
         column falls below minus that much: default 0.05 (docs/physics.md, "Stopping a run
         that goes unstable"); ``math.inf`` audits nothing. As ``x3dpd run --energy-tolerance``.
+    threads : int or "auto"
+        Threads of one run's pair contacts (docs/engine.md, "Threads"): 1 (default), up to the
+        cores numba sees (``NUMBA_NUM_THREADS``), or ``"auto"`` for all of them. The trace and
+        ledger are the same bytes whatever the count; more than 1 compiles a loop of its own.
+        As ``x3dpd run --threads``.
     handle_signals : bool
         Turn SIGINT/SIGTERM into a clean stop after the current chunk (restart dump written,
         status "interrupted"), as the CLI does.
@@ -132,6 +139,7 @@ def run(
         The run became unstable; what was computed before is written and ``exc.result`` holds
         it.
     """
+    threads = thread_count(threads)
     stats = Stats()
     plan = prepare(
         deck,
@@ -160,6 +168,7 @@ def run(
         trace_nodes=trace_nodes,
         on_compile=on_compile,
         initial_state=initial_state,
+        threads=threads,
     )
     record_options(plan, friction=friction, usrfrc_python=usrfrc_python)
     open_files(plan, friction=friction, restart=restart, overwrite=overwrite, command=command)

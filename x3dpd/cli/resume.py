@@ -34,4 +34,6 @@ def resume_command(opts: RunOptions) -> str:
         args += ["--friction", opts.friction]
     if opts.energy_tolerance != 0.05:
         args += ["--energy-tolerance", repr(opts.energy_tolerance)]
+    if opts.threads != 1:
+        args += ["--threads", str(opts.threads)]
     return shlex.join(args)

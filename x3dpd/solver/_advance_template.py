@@ -35,7 +35,7 @@ from x3dpd.physics.usrfrc import KIND_DATA, _force_value
 from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
                                             REALLOC_WALLS)
 from x3dpd.solver._template_energy import _energies, _ledger_row
-from x3dpd.solver._template_pairs import _pair_contacts
+from x3dpd.solver._template_pair_passes import _pair_contacts
 from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_EXTERNAL, HAS_MODAL,
                                             HAS_MOTION, HAS_PAIRS, HAS_PYTHON_FORCE, HAS_RIGID,
                                             HAS_RIGID_ROTATION, HAS_ROTATIONAL_SPRINGS,

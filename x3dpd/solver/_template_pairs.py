@@ -1,7 +1,8 @@
 """Step-loop template, part: particle-particle contacts in three passes (x3dpd.solver.variants).
 
 Filter (``_pair_filter``), vectorized response (``_pair_response``) and apply
-(``_pair_apply``), run by ``_pair_contacts``; docs/engine.md, "The pair contact passes".
+(``_pair_apply``), run by ``_pair_contacts`` (``_template_pair_passes``: in one thread, or the
+first two in chunks on several); docs/engine.md, "The pair contact passes" and "Threads".
 Generated per variant beside the loop, with the variant's constants (``_template_variant``).
 """
 
@@ -10,10 +11,8 @@ import math
 import numpy as np
 
 from x3dpd._jit import loop_kernel, step_kernel, vector_kernel
-from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, L_DFRIC, L_DROLL, L_WN,
-                                            OK,
-                                            _booked_from, _close_contact, _penetration,
-                                            _tangential)
+from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, _booked_from,
+                                            _close_contact, _penetration, _tangential)
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND, N_MAXWELL,
                                             N_TANGENTIAL, NORMAL_CLAMPED, NORMAL_PAIR_FORCE,
                                             NORMAL_USES_RATE, HAS_ROLLING, ROLLING_TORQUE,
@@ -48,13 +47,16 @@ GATHER_SPIN = HAS_FRICTION or HAS_ROLLING
 
 
 @loop_kernel(inline="never")
-def _pair_filter(x, vel, p0, radius, pl_i, pl_j, pl_on, ps, npairs, busy, c, hist):
-    """Pass 1 of the pair contacts: write into ``busy`` the candidates that touch now or had an
-    open contact, and gather, in list order, what the contact response reads into the columns
+def _pair_filter(lo, hi, q0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c, hist):
+    """Pass 1 of the pair contacts, over the candidates ``lo`` .. ``hi`` - 1 of the list: write
+    into ``busy`` (from position ``q0`` on) the candidates that touch now or had an open
+    contact, and gather, in list order, what the contact response reads into the columns
     of ``c`` (contact_lists.PAIR_INPUT_COLUMNS; column q for busy candidate q): x_j - x_i, the
     velocities and spins of both particles (when the scene's laws read them), the state row's
     approach, normal and friction force, and the laws' histories into ``hist`` (Maxwell terms,
-    then the tangential and rolling laws'; row q). Returns how many are busy.
+    then the tangential and rolling laws'; row q). Returns how many are busy. The step loop
+    filters the whole list from q0 = 0; a threaded loop filters chunks of it at once, each
+    from q0 = lo (``_template_pair_passes``).
 
     Gathered here, the response reads contiguous 1-D columns only, no index: LLVM vectorizes
     it without gathers. A function of its own, not inlined: inside the step loop's single
@@ -69,7 +71,7 @@ def _pair_filter(x, vel, p0, radius, pl_i, pl_j, pl_on, ps, npairs, busy, c, his
     """
     nbusy = 0
     tail = ps.shape[1] - CONTACT_TAIL
-    for s in range(npairs):
+    for s in range(lo, hi):
         pi = np.uint64(pl_i[s])
         pj = np.uint64(pl_j[s])
         i = np.uint64(p0 + pl_i[s])
@@ -79,7 +81,7 @@ def _pair_filter(x, vel, p0, radius, pl_i, pl_j, pl_on, ps, npairs, busy, c, his
         dz = x[j, 2] - x[i, 2]
         cut = radius[pi] + radius[pj]
         if dx * dx + dy * dy + dz * dz < cut * cut or pl_on[s] != 0:
-            q = np.uint64(nbusy)
+            q = np.uint64(q0 + nbusy)
             busy[q] = s
             s = np.uint64(s)
             c[C_DX, q] = dx
@@ -124,11 +126,12 @@ def _columns_out(c):
 
 
 @vector_kernel
-def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout, history_dt):
-    """Pass 2 of the pair contacts: the contact response of every busy candidate (report
-    Figure 41), from the columns the filter gathered (``cin``, I_* positions; column q for busy
-    candidate q) into the columns ``cout`` (O_* positions; contact_lists.PAIR_OUTPUT_COLUMNS)
-    for pass 3 to apply.
+def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, history_dt):
+    """Pass 2 of the pair contacts: the contact response of the busy candidates in columns
+    ``lo`` .. ``hi`` - 1 (report Figure 41), from the columns the filter gathered (``cin``, I_*
+    positions; column q for busy candidate q) into the columns ``cout`` (O_* positions;
+    contact_lists.PAIR_OUTPUT_COLUMNS) for pass 3 to apply. Each column's answer depends on
+    that column alone, so any split of the range (threads) gives the same bits.
 
     The normal law is the scene's (x3dpd.physics.normal_laws), with n = (x_j - x_i)/|x_j - x_i|
     and approach a = R_i + R_j - |x_j - x_i|; the tangential law with spin (``_tangential``, the
@@ -163,7 +166,11 @@ def _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, dt, cin, cout, hist
     k0 = np.uint64(pkind[0])
     m_t0, mu_s0, kappa0, mu_k0, eta0 = _friction_constants(particles, k0, k0)
     lever0, inertia0 = particles.tan_pair[k0, k0, 2], particles.tan_pair[k0, k0, 3]
-    for q in range(nbusy):
+    for qs in range(lo, hi):
+        # an unsigned index: numba then drops the wrap-around of negative indices from every
+        # column access (from an unknown ``lo`` LLVM cannot tell q >= 0, and the selects keep
+        # the loop scalar)
+        q = np.uint64(qs)
         if HAS_ONE_PARTICLE_KIND:
             # all particles alike (x3dpd.solver.variants): their constants are read once,
             # not gathered per contact
@@ -309,23 +316,23 @@ def _friction_constants(particles, ki, kj):
 
 
 @loop_kernel(inline="never")
-def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, c, hist):
-    """Pass 3 of the pair contacts, in list order: the contact states, the forces on both
-    particles and the ledger's sums from the columns ``c`` of ``_pair_response`` -- the same
-    sums in the same order as a single scalar loop. Returns (status, normal work, friction
-    loss, rolling loss). Its own function, like the filter: inlined into the step loop, the
-    column pointers were reloaded from the stack at every contact (measured with
+def _pair_apply(lo, hi, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, c, hist,
+                status, w_normal, w_fric, w_roll):
+    """Pass 3 of the pair contacts, in list order over the busy columns ``lo`` .. ``hi`` - 1:
+    the contact states, the forces on both particles and the ledger's sums from the columns
+    ``c`` of ``_pair_response`` -- the same sums in the same order as a single scalar loop.
+    Returns (status, normal work, friction loss, rolling loss), continued from the ones given
+    (OK and zeros for the whole list; a threaded loop chains them through its chunks in list
+    order). Its own function, like the filter: inlined into the step loop, the column
+    pointers were reloaded from the stack at every contact (measured with
     tools/bench/profile_jit.py)."""
-    status = OK
-    w_normal = 0.0
-    w_fric = 0.0
-    w_roll = 0.0
     rolled_ = c[C_ROLLED]
     fx_, fy_, fz_ = c[C_FX], c[C_FY], c[C_FZ]
     tix_, tiy_, tiz_, tjx_, tjy_, tjz_ = c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY], c[C_TJZ]
     a_, fn_, dw_, lost_, rmin_ = c[C_A], c[C_FN], c[C_DW], c[C_LOST], c[C_RMIN]
     ftx_, fty_, ftz_ = c[C_FTX], c[C_FTY], c[C_FTZ]
-    for q in range(nbusy):
+    for qs in range(lo, hi):
+        q = np.uint64(qs)   # unsigned: no wrap-around code (``_pair_response``)
         s = np.uint64(busy[q])
         a = a_[q]
         if a <= 0.0:
@@ -378,39 +385,3 @@ def _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, 
         force[i, 1] -= fy
         force[i, 2] -= fz
     return status, w_normal, w_fric, w_roll
-
-
-@step_kernel
-def _pair_contacts(nodes, particles, pairs, stepping, busy):
-    """Particle-particle contact forces (report Figure 41) in three passes: the candidates that
-    touch (``_pair_filter``), their contact response in columns (``_pair_response``,
-    vectorized), and the contact states, the forces on both particles and the ledger in list
-    order (``_pair_apply``). State column S_FT holds the friction force on particle j;
-    histories: N_MAXWELL terms of i, then N_MAXWELL terms of j, then the tangential law's
-    N_TANGENTIAL (the row's last columns). ``busy`` is an int scratch of
-    the list's capacity."""
-    x, vel = nodes.x, nodes.vel
-    p0, radius = particles.p0, particles.radius
-    pl_i, pl_j, ps, pl_on, npairs = (pairs.first, pairs.second, pairs.state, pairs.on,
-                                     pairs.count[0])
-    ledger = stepping.ledger
-    # pass 1, tight: the candidates that touch now or touched at the last step; most
-    # candidates are apart and cost about 2 ns each
-    c = pairs.columns
-    hist = pairs.history
-    nbusy = _pair_filter(x, vel, p0, radius, pl_i, pl_j, pl_on, ps, npairs, busy, c, hist)
-    if nbusy == 0:
-        # nothing touches (a falling or sparse scene): skip the calls and their arguments
-        return OK
-    # pass 2: the contact response, from columns into columns
-    _pair_response(nbusy, busy, pl_i, pl_j, particles, hist, stepping.dt, _columns_in(c),
-                   _columns_out(c), stepping.history_dt)
-    # pass 3: states, forces and the ledger
-    status, w_normal, w_fric, w_roll = _pair_apply(nbusy, busy, p0, pl_i, pl_j, ps, pl_on,
-                                                   nodes.force, stepping.pen_limit,
-                                                   stepping.diag, c, hist)
-    ledger[L_WN] += w_normal
-    ledger[L_DFRIC] += w_fric
-    if HAS_ROLLING:
-        ledger[L_DROLL] += w_roll
-    return status

@@ -38,6 +38,7 @@ from x3dpd.solver.contact_lists import kept_histories, restore_histories
 from x3dpd.solver.run_checks import AUDIT_STEPS, RunChecks
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
 from x3dpd.solver.compile_lock import variant_compile_lock
+from x3dpd.solver.threads import thread_count, use_threads
 from x3dpd.solver.variants import Variant, cache_dir, make_advance
 
 #: Columns of the energy ledger rows (see docs/energy.md).
@@ -88,13 +89,15 @@ class Simulation(RunChecks):
     energy_tolerance : stop when the ledger residual exceeds this fraction of the energy scale
     allow_python_usrfrc : accept user force files numba cannot compile (slow fallback)
     itrac : trace interval in steps; default the deck's ITRAC
+    threads : threads of the pair contacts (x3dpd.solver.threads; default 1, "auto" all)
     """
 
     def __init__(self, model: Model, *, usrfrc=(), motion=(), dt: float | None = None,
                  friction: str | None = None, penetration_limit: float = 0.25,
                  energy_tolerance: float = 0.05, allow_python_usrfrc: bool = False,
-                 itrac: int | None = None, skin: float | None = None):
+                 itrac: int | None = None, skin: float | None = None, threads=1):
         self.model = model
+        self.threads = thread_count(threads)
         friction = friction or model.friction_law or "regularized"
         self.friction = friction
         if "friction" not in model.effects and model.rolling_law in (None, "none"):
@@ -102,6 +105,8 @@ class Simulation(RunChecks):
             # default's setup and loop, so that a frictionless scene compiles one loop whatever
             # --friction says (none of the law's code or history would be used)
             friction = "regularized"
+        #: the tangential law the loop is built and compiled with (x3dpd.physics.tangential_laws)
+        self.kernel_friction = friction
         self.dt = float(dt if dt is not None else model.dt)
         if not (self.dt > 0 and math.isfinite(self.dt)):
             raise InputError(f"time step must be a positive number, got {self.dt!r}")
@@ -137,7 +142,8 @@ class Simulation(RunChecks):
                                                 self.setup, rows[:, 0].astype(np.int64)),
                                             normal_law=model.normal_law,
                                             rolling_law=model.rolling_law,
-                                            one_particle_kind=_one_particle_kind(self.setup))
+                                            one_particle_kind=_one_particle_kind(self.setup),
+                                            threaded=self.threads > 1)
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
         #: the columns of this scene's ledger rows (:func:`energy_columns`)
@@ -252,6 +258,8 @@ class Simulation(RunChecks):
         rows = 0
         audited = 0
         done = 0
+        if self.variant.threaded:
+            use_threads(self.threads)
         try:
             while done < nsteps and rows < max_rows:
                 chunk = min(nsteps - done, self.audit_steps - self.state.step % self.audit_steps)
@@ -330,8 +338,10 @@ class Simulation(RunChecks):
         advancing them here too added v_t dt twice). Contact lists are used as they are
         (``initialize`` builds them)."""
         t = self.time if t is None else float(t)
-        kept = kept_histories(self.state, n_history(self.friction),
+        kept = kept_histories(self.state, n_history(self.kernel_friction),
                               rolling_history(self.model.rolling_law))
+        if self.variant.threaded:
+            use_threads(self.threads)
         b = self._bundles(ledger=np.zeros_like(self.state.ledger), history_dt=0.0)
         status, _, _ = self.kernels.advance_packed(self.kernels.FORCES, 1, -1, t,
                                                    pack(b, self._no_output()))

@@ -37,7 +37,7 @@ from x3dpd.physics.tangential_laws import TANGENTIAL_LAW_API, TANGENTIAL_LAWS
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 #: The template's parts besides the loop, in import order (``_template_<part>.py``): each is
 #: generated per variant beside it, ``variant`` holding the variant's constants.
-PARTS = ("variant", "contact", "walls", "pairs", "energy")
+PARTS = ("variant", "contact", "walls", "pairs", "pair_passes", "energy")
 _PART_MODULE = "x3dpd.solver._template_"
 _BEGIN = "# --- VARIANT BEGIN ---"
 _END = "# --- VARIANT END ---"
@@ -77,12 +77,17 @@ class Variant:
     axial_springs: bool = False
     #: MATID type 3 elements: rotational spring-dampers (each integrates its own rotation)
     rotational_springs: bool = False
+    #: the pair contacts' filter and response run in chunks on numba's threads (the run option
+    #: ``threads`` > 1; ``_template_pair_passes``): a loop of its own, so that single-thread
+    #: runs compile none of numba's parallel code
+    threaded: bool = False
 
     @classmethod
     def from_effects(cls, effects, n_maxwell: int, friction_law: str = "regularized",
                      user_force: bool = False, python_force: bool = False,
                      walls_translate: bool = False, normal_law: str = "lee_radok",
-                     one_particle_kind: bool = False, rolling_law: str = "none") -> "Variant":
+                     one_particle_kind: bool = False, rolling_law: str = "none",
+                     threaded: bool = False) -> "Variant":
         e = set(effects)
         return cls(
             springs=bool({"springs", "dampers"} & e),
@@ -106,6 +111,7 @@ class Variant:
             modal="modal_structure" in e,
             axial_springs="axial_springs" in e,
             rotational_springs="rotational_springs" in e,
+            threaded=threaded and "pair_contact" in e,
         )
 
     def header(self) -> str:
