@@ -110,6 +110,7 @@ def pass_seconds(sim: Simulation, calls: int, whole: bool) -> float:
                     stepping.dt,
                     cin(c),
                     cout(c),
+                    stepping.history_dt,
                 )
 
     run = kernel(repeat, cache=False)
