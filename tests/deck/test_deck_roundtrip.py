@@ -173,7 +173,7 @@ def _same_bits(a, b) -> bool:
     return a == b
 
 
-@settings(max_examples=50, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(decks)
 def test_format_then_parse_gives_the_same_cards(deck):
     parsed = parse_deck(format_deck(deck))
@@ -238,7 +238,7 @@ def restyled(draw, text: str) -> str:
     return "\n".join(out)
 
 
-@settings(max_examples=50, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.data(), decks)
 def test_other_legal_forms_give_the_same_cards(data, deck):
     text = data.draw(restyled(format_deck(deck)))

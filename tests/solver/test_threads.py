@@ -55,7 +55,7 @@ def _run(tmp_path, name, threads):
 
 
 @needs_two
-def test_two_threads_give_the_same_bytes_as_one(tmp_path):
+def test_two_threads_give_the_same_bytes_as_one_through_the_api_and_the_cli(tmp_path):
     one, trace_1, energy_1 = _run(tmp_path, "one", 1)
     two, trace_2, energy_2 = _run(tmp_path, "two", 2)
     # the scene does what the test is about: lasting contacts, friction that works, Maxwell
@@ -70,32 +70,14 @@ def test_two_threads_give_the_same_bytes_as_one(tmp_path):
     assert one.energy["dissipated_viscoelastic"][-1] > 0.0
     assert trace_1 == trace_2
     assert energy_1 == energy_2
-
-
-@needs_two
-def test_the_cli_option_runs_the_threaded_loop_to_the_same_bytes(tmp_path):
+    # the CLI's option runs the same threaded loop to the same bytes
     deck = tmp_path / "block.inp"
     write_deck(_block_deck(), deck)
-    _, trace_api, energy_api = _run(tmp_path, "api", 1)
     out = tmp_path / "cli.trace.txt"
-    assert (
-        run_cli(
-            "run",
-            deck,
-            "--tmax",
-            repr(STEPS * DT),
-            "--friction",
-            "mindlin",
-            "--trace",
-            out,
-            "--threads",
-            "2",
-            "-q",
-        )
-        == 0
-    )
-    assert out.read_bytes() == trace_api
-    assert out.with_name("cli.energy.csv").read_bytes() == energy_api
+    args = ["--tmax", repr(STEPS * DT), "--friction", "mindlin", "--trace", out]
+    assert run_cli("run", deck, *args, "--threads", "2", "-q") == 0
+    assert out.read_bytes() == trace_1
+    assert out.with_name("cli.energy.csv").read_bytes() == energy_1
 
 
 @pytest.mark.parametrize("value", ["0", "-1", "two", "1.5", "100000"])
