@@ -197,7 +197,9 @@ def particle_mass(model: Model) -> float:
 
 
 def without_particles(deck: Deck) -> Deck:
-    """The deck with its particles, PDMP and CONTACT cards removed (the undamped structure)."""
+    """The deck with its particles removed (the undamped structure), and with them the cards
+    that describe them or their walls: PDMP, CONTACT, the analytic walls, HOOKE and FRICTION
+    (records per PDMP group) and WALLMAT (per CONTACT set)."""
     if not deck.pdmp:
         return deck
     first = min(p.nodlim for p in deck.pdmp)
@@ -210,6 +212,10 @@ def without_particles(deck: Deck) -> Deck:
         deck,
         pdmp=(),
         contacts=(),
+        analytic_walls=None,
+        hooke=None,
+        friction=None,
+        wallmat=None,
         trace=trace,
         nodes=tuple(n for n in deck.nodes if n.nid in keep),
         initials=tuple(i for i in deck.initials if i.nid in keep),

@@ -60,6 +60,7 @@ COLUMNS = (
     "dissipated_viscoelastic_per_cycle",
     "dissipated_friction_per_cycle",
     "dissipated_dampers_per_cycle",
+    "dissipated_rolling_per_cycle",
     "input_work_per_cycle",
     "cycles",
     "converged",
@@ -72,7 +73,12 @@ COLUMNS = (
 )
 #: Rows per ring-down (amplitudes evenly spread in dB over its range).
 RINGDOWN_POINTS = 25
-SPLIT = ("dissipated_viscoelastic", "dissipated_friction", "dissipated_dampers")
+SPLIT = (
+    "dissipated_viscoelastic",
+    "dissipated_friction",
+    "dissipated_dampers",
+    "dissipated_rolling",
+)
 
 
 def _db(reference: float, value: float) -> float:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from x3dpd.api import run as run_deck
 from x3dpd.api.decks import Deck
 from x3dpd.api.measurements import SteadyStateMonitor
-from x3dpd.api.traces import ENERGY_COLUMNS
+from x3dpd.api.traces import ENERGY_COLUMNS, ROLLING_COLUMN
 from x3dpd.design.drive import BASE_QUANTITIES, base_motion_spec, displacement_amplitude
 from x3dpd.design.predict import continued_base_start, predicted_start
 from x3dpd.errors import InputError
@@ -31,6 +31,16 @@ PARTICLE_LOSSES = ("dissipated_viscoelastic", "dissipated_friction")
 ALL_LOSSES = PARTICLE_LOSSES + ("dissipated_dampers",)
 #: The ledger column of the base's (actuator's) work, a base drive's input per cycle.
 BASE_WORK = "external_work"
+
+
+def _ledger_columns(width: int, base: bool) -> dict[str, int]:
+    """The ledger columns a point measures per cycle -> their positions in an energy row of
+    ``width`` values: the losses (and the rolling loss, ``ROLLING_COLUMN``, which a scene with a
+    rolling law adds after ``ENERGY_COLUMNS``), and for a base drive the base's work."""
+    names = ENERGY_COLUMNS + ((ROLLING_COLUMN,) if width > len(ENERGY_COLUMNS) else ())
+    fed = ALL_LOSSES + ((ROLLING_COLUMN,) if ROLLING_COLUMN in names else ())
+    fed += (BASE_WORK,) if base else ()
+    return {name: names.index(name) for name in fed}
 
 
 @dataclass(frozen=True)
@@ -120,15 +130,16 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     monitor = new_monitor()
     measured = [(point.node, point.dof)] + list(point.responses)
     watchers = [monitor] + [new_monitor() for _ in point.responses]
-    fed = ALL_LOSSES + ((BASE_WORK,) if point.base else ())
-    cols = [ENERGY_COLUMNS.index(name) for name in fed]
+    cols: dict[str, int] = {}  # the ledger columns measured, set by the first block
 
     # the monitor that measures the point's energies, cycles and how it ended: the driven
     # node's; a base drive's first response (the base itself is steady from its first cycle)
     lead = 1 if point.base and point.responses else 0
 
     def stop(block) -> bool:
-        ledger = {name: block.energy[:, j] for name, j in zip(fed, cols)}
+        if not cols:
+            cols.update(_ledger_columns(block.energy.shape[1], point.base))
+        ledger = {name: block.energy[:, j] for name, j in cols.items()}
         done = True
         for k, (watch, (_, dof)) in enumerate(zip(watchers, measured)):
             done &= watch.feed(
@@ -193,10 +204,15 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "drive_quantity": point.quantity,
         "direction": point.direction,
         **response_columns(ss, point),
-        "dissipated_per_cycle": sum(loss.get(name, math.nan) for name in ALL_LOSSES),
-        "dissipated_particles_per_cycle": sum(loss.get(name, math.nan) for name in PARTICLE_LOSSES),
+        # the rolling loss (a scene with a rolling law) is the particles' too
+        "dissipated_per_cycle": sum(loss.get(name, math.nan) for name in ALL_LOSSES)
+        + loss.get(ROLLING_COLUMN, 0.0),
+        "dissipated_particles_per_cycle": sum(loss.get(name, math.nan) for name in PARTICLE_LOSSES)
+        + loss.get(ROLLING_COLUMN, 0.0),
         # the ledger's split (x3dpd design's columns; sweep.csv keeps the two sums)
-        **{f"{name}_per_cycle": loss.get(name, math.nan) for name in ALL_LOSSES},
+        **{
+            f"{name}_per_cycle": loss.get(name, math.nan) for name in ALL_LOSSES + (ROLLING_COLUMN,)
+        },
         "input_work_per_cycle": work,
         "cycles": whole.cycles,
         "extrapolated": whole.extrapolated,
