@@ -68,20 +68,19 @@ def _rows(path):
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
+def _frf_11(trace, out, *options):
+    """``x3dpd frf TRACE --drive 1:1 --response 1:1 --out OUT OPTIONS`` (the SDOF's node 1, x)."""
+    return run_cli("frf", trace, "--drive", "1:1", "--response", "1:1", "--out", out, *options)
+
+
 def test_frf_writes_h1_h2_coherence_and_overlays_measured(runs, tmp_path):
     f = np.linspace(5.0, 200.0, 391)
     write_frf_csv(tmp_path / "receptance.csv", f, receptance(f), quantity="displacement")
     write_uff58(tmp_path / "accelerance.uff", f, -((2 * np.pi * f) ** 2) * receptance(f), binary=1)
     out = tmp_path / "frf"
     assert (
-        run_cli(
-            "frf",
+        _frf_11(
             runs["random"],
-            "--drive",
-            "1:1",
-            "--response",
-            "1:1",
-            "--out",
             out,
             "--quantity",
             "displacement",
@@ -172,14 +171,8 @@ def test_periodic_random_gives_the_exact_frf_and_fit_recovers_the_deck(runs, tmp
     k -0.005 %, c -0.01 %)."""
     out = tmp_path / "frf"
     assert (
-        run_cli(
-            "frf",
+        _frf_11(
             runs["random"],
-            "--drive",
-            "1:1",
-            "--response",
-            "1:1",
-            "--out",
             out,
             "--quantity",
             "displacement",
@@ -482,14 +475,8 @@ def test_frf_overlays_the_baselines_in_closed_form(runs, tmp_path, capsys):
     at the run's lines to baselines.csv; frf.csv still reads back as one measured FRF."""
     out = tmp_path / "frf"
     assert (
-        run_cli(
-            "frf",
+        _frf_11(
             runs["random"],
-            "--drive",
-            "1:1",
-            "--response",
-            "1:1",
-            "--out",
             out,
             "--quantity",
             "displacement",
