@@ -20,7 +20,8 @@ from x3dpd.model.check import check_model
 from x3dpd.solver.simulation import Simulation
 
 DECK = DECKS / "cylinder_64.inp"
-STEEL = Material3(27.5e6, 0.0, 1.0, 0.3, 0.0, 7.32971e-4)
+# with friction: the kernel variant of the analytic-cylinder impact tests (test_cylinder_cavity)
+STEEL = Material3(27.5e6, 0.0, 1.0, 0.3, 0.3, 7.32971e-4)
 R, BIG_R, LENGTH = 0.03125, 0.2, 0.3
 
 

@@ -21,6 +21,7 @@ from factories import (
     G,
     STEEL_E,
     STEEL_NU,
+    SPECTATOR,
     STEEL_R,
     closed_box_deck,
     sphere_mass,
@@ -50,12 +51,13 @@ def stack_heights(n, e):
 
 
 def stack(seconds, n=3, dt=5e-7):
-    """n viscoelastic spheres with friction stacked at x = z = 0.5, starting just touching."""
+    """n viscoelastic spheres with Hertz-Mindlin friction stacked at x = z = 0.5, starting just
+    touching (Mindlin: the kernel variant tests/solver/test_threads.py also compiles)."""
     pos = [(0.5, R + 2 * R * k, 0.5) for k in range(n)]
     deck = closed_box_deck(
         pos, [(0.0, 0.0, 0.0)] * n, dt=dt, gravity=G, mu=0.3, itrac=int(round(1e-3 / dt)), **VISCO
     )
-    sim = Simulation(build_model(deck))
+    sim = Simulation(build_model(deck), friction="mindlin")
     return sim.advance(int(round(seconds / dt)))
 
 
@@ -123,7 +125,13 @@ def test_viscoelastic_unloading_clamps_the_force_at_zero():
     t_c = 7.5e-6
     dt = t_c / 400
     deck = closed_box_deck(
-        [(0.5, R + 1e-6, 0.5)], [(0.0, -v, 0.0)], dt=dt, e0=FIG30_E0, e1=2 * FIG30_E0, tau1=t_c
+        [(0.5, R + 1e-6, 0.5)],
+        [(0.0, -v, 0.0)],
+        dt=dt,
+        e0=FIG30_E0,
+        e1=2 * FIG30_E0,
+        tau1=t_c,
+        spectators=[SPECTATOR],  # the box scenes' kernel variant (walls + pairs)
     )
     block = Simulation(build_model(deck)).advance(int(3 * t_c / dt))
     y, vy = block.data[:, 0, 1], block.data[:, 0, 4]

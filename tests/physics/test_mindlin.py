@@ -193,7 +193,11 @@ def test_the_last_step_slip_work_is_booked(law):
     positions = [(0.0, 0.0, 0.0), (1.7321 * STEEL_R, STEEL_R, 0.0)]
     velocities = [(V, 0.0, 0.0), (0.0, 0.0, 0.0)]
     res, bare = (
-        x3dpd.run(pair_deck(positions, velocities, dt=DT, mu=mu), tmax=6e-5, friction=law)
+        x3dpd.run(
+            pair_deck(positions, velocities, dt=DT, mu=mu, far_floor=True),
+            tmax=6e-5,
+            friction=law,
+        )
         for mu in (MU, 0.0)
     )
     gap = res.energy["residual"][-1] - bare.energy["residual"][-1]
@@ -221,6 +225,7 @@ def test_a_pair_impact_never_creates_energy():
         [(V, 0.0, 0.0), (0.0, 0.0, 0.0)],
         dt=DT,
         mu=MU,
+        far_floor=True,
     )
     res = x3dpd.run(deck, tmax=6e-5, friction="mindlin")
     v, w = res.trace.velocity[-1], res.trace.spin[-1]
