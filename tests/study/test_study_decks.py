@@ -21,6 +21,8 @@ from x3dpd.cli import main
 DECKS = sorted((Path(__file__).resolve().parents[2] / "decks").glob("*.inp"))
 #: Drive for decks without a USRFRC card (Appendix C's, decks/README.md).
 APPENDIX_C = "sine:node=25,dof=1,amp=4.84040e-3,hz=37.21"
+#: The base-driven deck's shaker (as tests/api/test_api_run.py runs it: the same loop)
+DRIVES = {"shaker_fig9.inp": ("--motion", "node=4,dof=2,amp=0.02,hz=36.75")}
 
 
 def refused(deck: Path) -> bool:
@@ -68,7 +70,7 @@ def check_outputs(out: Path) -> list[dict]:
 
 @pytest.mark.parametrize("deck", DECKS, ids=lambda p: p.name)
 def test_every_shipped_deck_can_be_studied_in_a_tiny_window(tmp_path, deck, capsys):
-    code = study(deck, tmp_path / "s", 40)
+    code = study(deck, tmp_path / "s", 40, *DRIVES.get(deck.name, ()))
     text = capsys.readouterr()
     if refused(deck):
         assert code == 2 and "starts" in text.err and not (tmp_path / "s").exists()
@@ -85,7 +87,7 @@ def test_every_shipped_deck_can_be_studied_over_many_output_intervals(tmp_path, 
     d = x3dpd.load_deck(deck)
     par = d.parameters
     intervals = min(30, max(1, round((par.tmax - par.time) / (par.itrac * par.dtmax))))
-    extra = ("--usrfrc", APPENDIX_C) if "appendix_a" in deck.name else ()
+    extra = ("--usrfrc", APPENDIX_C) if "appendix_a" in deck.name else DRIVES.get(deck.name, ())
     code = study(deck, tmp_path / "s", intervals * par.itrac, *extra)
     text = capsys.readouterr()
     if refused(deck):

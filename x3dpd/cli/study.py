@@ -100,6 +100,13 @@ def _scales(text: str | None) -> tuple:
     help="Force spec replacing the deck's USRFRC card (repeatable).",
 )
 @click.option(
+    "--motion",
+    multiple=True,
+    metavar="SPEC",
+    help="Prescribed motion, as x3dpd run --motion (node=4,dof=2,amp=0.02,hz=36.75: "
+    "a base-driven deck's shaker; repeatable).",
+)
+@click.option(
     "--no-fidelity",
     "no_fidelity",
     is_flag=True,
@@ -132,6 +139,7 @@ def study(
     scheduler,
     dts,
     usrfrc,
+    motion,
     no_fidelity,
     stiffness,
     walls,
@@ -160,6 +168,7 @@ def study(
         scheduler=scheduler,
         dts=_steps(dts),
         usrfrc=usrfrc,
+        motion=motion,
         overwrite=overwrite,
         progress=done,
         fidelity=not no_fidelity,

@@ -26,6 +26,7 @@ class Job:
     usrfrc: tuple
     out_interval: float  # output interval [s]: every step of the ladder divides it
     scene: Scene
+    motion: tuple = ()  # prescribed motions (x3dpd run --motion)
 
 
 def run_job(job: Job) -> dict:
@@ -53,6 +54,7 @@ def run_job(job: Job) -> dict:
         dt="auto" if s.auto else s.dt,
         friction=s.friction,
         usrfrc=job.usrfrc,
+        motion=job.motion,
         trace_nodes=_nodes(job.deck, job.scene),
     )
     try:

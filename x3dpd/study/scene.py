@@ -10,10 +10,11 @@ compare). :func:`measure` reduces one run to the scene's quantities:
   Verlet's kick is the mean of two force samples) [force]; ``restitution`` = the particles'
   speed after / before, sqrt(KE_end / KE_0); ``contact_time`` = the time the ledger's contact
   energy is non-zero [s];
-* driven: ``amplitude`` = half the peak-to-peak x displacement of the drive node over the last
-  third of the window [length]; ``power_per_cycle`` = energy dissipated per drive cycle over that
-  third (viscoelastic + friction + dampers, from the ledger) [energy]; the node's displacement
-  history for the trace norm;
+* driven: ``amplitude`` = half the peak-to-peak displacement of the measured node along the
+  drive's direction (the USRFRC force's or prescribed motion's DOF; x when none says) over the
+  last third of the window [length]; ``power_per_cycle`` = energy dissipated per drive cycle
+  over that third (viscoelastic + friction + dampers, from the ledger) [energy]; the node's
+  displacement history for the trace norm;
 * free: ``dissipated`` = total energy dissipated by the end of the window [energy], and the first
   traced node's history.
 """
@@ -50,23 +51,28 @@ class Scene:
     n_particles: int
     #: the deck's tangential law (its FRICTION card's, else the default "regularized")
     friction_law: str = "regularized"
+    #: the direction measured (0, 1, 2: x, y, z): the drive's DOF
+    axis: int = 0
 
     @property
     def main(self) -> str:
         return MAIN[self.kind]
 
 
-def classify(model, usrfrc=()) -> Scene:
-    """The scene of a built model (``usrfrc``: the force specs the study applies)."""
+def classify(model, usrfrc=(), motion=()) -> Scene:
+    """The scene of a built model (``usrfrc``: the force specs the study applies; ``motion``:
+    its prescribed motions, which drive the scene at their frequency but are not what is
+    measured: a base-driven deck's response is its traced node, not the shaker's)."""
     effects = set(model.effects)
     specs = list(usrfrc) or list(model.usrfrc)
-    driven = bool(specs) or "external_force" in effects
+    driven = bool(specs) or bool(motion) or "external_force" in effects
     gravity = bool(np.any(model.body_accel != 0.0))
     n = int(model.n_particles)
     moving = n and bool(np.any(model.v0[model.particle_start :, :3] != 0.0))
     kind = "driven" if driven else ("impact" if moving and not gravity else "free")
     node = int(model.node_ids[model.trace_nodes[0]]) if len(model.trace_nodes) else 0
     hz = 0.0
+    axis = None
     for spec in specs:
         m = re.search(r"node=(\d+)", spec)
         f = re.search(r"hz=([0-9.eE+-]+)", spec)
@@ -76,7 +82,14 @@ def classify(model, usrfrc=()) -> Scene:
             hz = float(f.group(1))
         if m and f:
             node = int(m.group(1))
+            axis = _axis(spec)
             break
+    for spec in motion:
+        f = re.search(r"hz=([0-9.eE+-]+)", spec)
+        if f and not hz:
+            hz = float(f.group(1))
+        if axis is None:
+            axis = _axis(spec)
     return Scene(
         kind,
         n > 1 and (driven or gravity),
@@ -86,18 +99,26 @@ def classify(model, usrfrc=()) -> Scene:
         "friction" in effects,
         n,
         getattr(model, "friction_law", None) or "regularized",
+        axis or 0,
     )
+
+
+def _axis(spec: str) -> int | None:
+    """The translation a drive spec's ``dof=`` names (0, 1, 2), None for a rotation or none."""
+    d = re.search(r"dof=(\d+)", spec)
+    return int(d.group(1)) - 1 if d and 1 <= int(d.group(1)) <= 3 else None
 
 
 def measure(result, scene: Scene) -> dict:
     """The scene's quantities from one run's result (see the module docstring), plus
-    ``signal`` = (times, x of the measured node) for the trace norm."""
+    ``signal`` = (times, the measured node's displacement along ``scene.axis``) for the trace
+    norm."""
     tr, en = result.trace, result.energy
     t = tr.time
     out: dict = {}
     ids = tr.node_ids.tolist()
     k = ids.index(scene.node) if scene.node in ids else 0
-    x = tr.position[:, k, 0] - tr.position[0, k, 0]
+    x = tr.position[:, k, scene.axis] - tr.position[0, k, scene.axis]
     out["signal"] = (t.copy(), x.copy())
     if scene.kind == "impact":
         model = result.model

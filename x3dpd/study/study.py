@@ -51,6 +51,7 @@ def run_study(
     scheduler=None,
     dts=None,
     usrfrc=(),
+    motion=(),
     overwrite=False,
     progress=None,
     fidelity=True,
@@ -61,22 +62,23 @@ def run_study(
 
     ``tmax`` ends every run (default the deck's TMAX); ``tol`` is the accepted relative error of
     the main quantity; ``dts`` replaces the default ladder DTMAX x (1/4 ... 8) and may hold
-    ``"auto"``: the step chosen by accuracy, also run whenever the deck's DTMIN < DTMAX; ``usrfrc``
-    replaces the deck's USRFRC card (as ``x3dpd run --usrfrc``); ``fidelity=False`` runs the
-    step ladder only (no elastic or bare-Coulomb variants, each a kernel compile); ``stiffness``
-    adds softer contacts: each a scale of the particles' moduli (0.1, 0.01 ...), run at the
-    deck's step lengthened by scale^(-2/5) (:func:`x3dpd.api.soft_step`). Raises
-    InputError when ``out`` holds a study and ``overwrite`` is not set, when a stiffness scale
-    is not in (0, 1] or the deck's contacts are not Hertz (a HOOKE card), or when the finest run
-    goes unstable. ``walls`` adds wall choices at the deck's step: ``"rigid"`` (no WALLMAT) or
-    a material of x3dpd.materials on every cavity (:func:`x3dpd.study.settings.wall_records`);
-    the deck's own walls are not repeated (InputError on a HOOKE deck, whose walls cannot be
-    compliant, and on an unknown material).
+    ``"auto"``: the step chosen by accuracy, also run whenever the deck's DTMIN < DTMAX;
+    ``usrfrc`` replaces the deck's USRFRC card (as ``x3dpd run --usrfrc``); ``motion``
+    prescribes motions (as ``x3dpd run --motion``: a base-driven deck's shaker drives every
+    run); ``fidelity=False`` runs the step ladder only (no elastic or bare-Coulomb variants,
+    each a kernel compile); ``stiffness`` adds softer contacts: each a scale of the particles'
+    moduli (0.1, 0.01 ...), run at the deck's step lengthened by scale^(-2/5)
+    (:func:`x3dpd.api.soft_step`). Raises InputError when ``out`` holds a study and
+    ``overwrite`` is not set, when a stiffness scale is not in (0, 1] or the deck's contacts are
+    not Hertz (a HOOKE card), or when the finest run goes unstable. ``walls`` adds wall choices
+    at the deck's step: ``"rigid"`` (no WALLMAT) or a material of x3dpd.materials on every
+    cavity (:func:`x3dpd.study.settings.wall_records`); the deck's own walls are not repeated
+    (InputError on a HOOKE deck, whose walls cannot be compliant, and on an unknown material).
     """
     import x3dpd
 
     cards = x3dpd.load_deck(deck)
-    model = x3dpd.build(cards, usrfrc=usrfrc)
+    model = x3dpd.build(cards, usrfrc=usrfrc, motion=motion)
     files = ()
     if out is not None:
         out = Path(out)
@@ -92,7 +94,7 @@ def run_study(
             "--stiffness-scale: scales the particles' Hertz moduli (PDMP E0, E1 "
             "...); this deck's contacts follow its HOOKE card"
         )
-    scene = classify(model, usrfrc)
+    scene = classify(model, usrfrc, motion)
     walls = _wall_choices(cards, walls)
     dt_deck = float(model.dt)
     dts = list(dts or [])
@@ -126,7 +128,7 @@ def run_study(
         window = (tmax if tmax is not None else model.tmax) - model.t0
         base = min(model.itrac * dt_deck, window / MIN_ROWS)
         interval = steps[-1] * max(1, math.ceil(base / steps[-1] - 1e-9))
-    jobs = [Job(cards, s, tmax, tuple(usrfrc), interval, scene) for s in settings]
+    jobs = [Job(cards, s, tmax, tuple(usrfrc), interval, scene, tuple(motion)) for s in settings]
     rows = run_jobs(jobs, workers=workers, scheduler=scheduler, done=progress)
     ref = rows[0]
     if ref["status"] != "complete":
