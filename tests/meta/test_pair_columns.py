@@ -8,14 +8,10 @@ default suite checks the bench scene's viscoelastic variant and the law with the
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools" / "bench"))
-
-import check_vector  # noqa: E402
+import check_vector  # tools/bench: on pytest's pythonpath (pyproject.toml)
 
 DEFAULT = ("regularized_visco", "mindlin_rolling")
 

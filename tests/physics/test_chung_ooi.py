@@ -11,14 +11,12 @@ from __future__ import annotations
 
 import importlib.util
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tests"))  # tests/: shared helpers
 
 from contact_reference import hertz_mindlin_impact, hooke_oblique_beta  # noqa: E402
 

@@ -17,12 +17,9 @@ import dataclasses
 import importlib.util
 import math
 import pathlib
-import sys
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 from contact_reference import hooke_oblique_beta
 from factories import STEEL_NU, STEEL_R, floor_deck, sphere_mass

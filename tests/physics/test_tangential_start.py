@@ -19,13 +19,9 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))  # tests/: shared helpers
 
 from factories import STEEL_NU, STEEL_R, floor_deck, sphere_mass
 
