@@ -53,7 +53,8 @@ def _impact(law, degrees, *, mu=MU, t_end=8e-5, dt=DT, hooke_e=None, **kw):
     (k_n = KN) with that restitution instead of Hertz."""
     vn = V * math.cos(math.radians(degrees))
     vt = V * math.sin(math.radians(degrees))
-    deck = floor_deck(dt=dt, velocity=(vt, -vn, 0.0), mu=mu)
+    # on HOOKE without the spectator: the loop of the Chung & Ooi decks (one sphere, a plane)
+    deck = floor_deck(dt=dt, velocity=(vt, -vn, 0.0), mu=mu, spectator=hooke_e is None)
     if hooke_e is not None:
         from x3dpd.deck.cards import Hooke
 
