@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from x3dpd.deck.generate import cylinder_cavity_deck
 from x3dpd.deck.cards import (
     Body,
     Boundary,
@@ -324,4 +325,30 @@ def base_sdof_deck(
         masses=(Mass(1, float(mass), 1.0, 1.0, 1.0),),
         boundaries=(Boundary(1, 1, 1, fixed), Boundary(2, 2, 1, ALL_DOFS)),
         body=Body(*(float(gravity) if d == dof else 0.0 for d in (1, 2, 3))) if gravity else None,
+    )
+
+
+#: The analytic-cavity CLI tests' cylinder (tests/cli/test_cylinder_cli.py, test_capsule_cli.py)
+CAVITY_R, CAVITY_BIG_R, CAVITY_LENGTH = 0.03125, 0.2, 0.3
+
+
+def small_cylinder_deck(pos, vel=None, *, material, dt=5e-7, shape="cylinder"):
+    """A cylindrical (``shape="capsule"``: round-ended) cavity of radius 0.2 and length 0.3 on a
+    light spring-mounted body (mass 1e-3, k 10), no gravity, spheres of R 0.03125 at ``pos``
+    (velocities ``vel``) of ``material`` (x3dpd.deck.generate.Material3)."""
+    return cylinder_cavity_deck(
+        length=CAVITY_LENGTH,
+        cavity_radius=CAVITY_BIG_R,
+        particles=pos,
+        radius=CAVITY_R,
+        material=material,
+        structure_mass=1e-3,
+        stiffness=10.0,
+        damping=0.0,
+        free_dofs=(),
+        gravity=(0.0, 0.0, 0.0),
+        dt=dt,
+        itrac=10,
+        velocities=vel,
+        shape=shape,
     )

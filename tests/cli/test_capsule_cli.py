@@ -12,11 +12,12 @@ import math
 import numpy as np
 import pytest
 from cli_helpers import first_record_line, run_cli, with_card
+from factories import CAVITY_BIG_R, CAVITY_LENGTH, CAVITY_R, small_cylinder_deck
 
 from x3dpd.api import safety as x3dpd_safety
 from x3dpd.deck import parse_deck
 from x3dpd.deck.cards import AnalyticWall, Contact, Initial, Node, Rbel, SlaveSet, Trace
-from x3dpd.deck.generate import Material3, cylinder_cavity_deck
+from x3dpd.deck.generate import Material3
 from x3dpd.deck.writer import format_deck
 from x3dpd.errors import DeckError
 from x3dpd.model.build import build_model
@@ -25,26 +26,11 @@ from x3dpd.model.check_shapes import shape_clearances
 from x3dpd.solver.simulation import Simulation
 
 STEEL = Material3(27.5e6, 0.0, 1.0, 0.3, 0.0, 7.32971e-4)
-R, BIG_R, LENGTH = 0.03125, 0.2, 0.3
+R, BIG_R, LENGTH = CAVITY_R, CAVITY_BIG_R, CAVITY_LENGTH
 
 
 def _deck(pos, vel=None, *, dt=5e-7, shape="capsule"):
-    return cylinder_cavity_deck(
-        length=LENGTH,
-        cavity_radius=BIG_R,
-        particles=pos,
-        radius=R,
-        material=STEEL,
-        structure_mass=1e-3,
-        stiffness=10.0,
-        damping=0.0,
-        free_dofs=(),
-        gravity=(0.0, 0.0, 0.0),
-        dt=dt,
-        itrac=10,
-        velocities=vel,
-        shape=shape,
-    )
+    return small_cylinder_deck(pos, vel, material=STEEL, dt=dt, shape=shape)
 
 
 def _text(pos, vel=None, *, dt=5e-7):

@@ -10,9 +10,10 @@ import shutil
 import numpy as np
 import pytest
 from cli_helpers import DECKS, first_record_line, run_cli, with_card
+from factories import CAVITY_BIG_R, CAVITY_LENGTH, CAVITY_R, small_cylinder_deck
 
 from x3dpd.deck import parse_deck
-from x3dpd.deck.generate import Material3, cylinder_cavity_deck
+from x3dpd.deck.generate import Material3
 from x3dpd.deck.writer import format_deck
 from x3dpd.errors import DeckError, UnstableRunError
 from x3dpd.model.build import build_model
@@ -22,26 +23,11 @@ from x3dpd.solver.simulation import Simulation
 DECK = DECKS / "cylinder_64.inp"
 # with friction: the kernel variant of the analytic-cylinder impact tests (test_cylinder_cavity)
 STEEL = Material3(27.5e6, 0.0, 1.0, 0.3, 0.3, 7.32971e-4)
-R, BIG_R, LENGTH = 0.03125, 0.2, 0.3
+R, BIG_R, LENGTH = CAVITY_R, CAVITY_BIG_R, CAVITY_LENGTH
 
 
 def _text(pos, vel=None, *, dt=5e-7):
-    deck = cylinder_cavity_deck(
-        length=LENGTH,
-        cavity_radius=BIG_R,
-        particles=pos,
-        radius=R,
-        material=STEEL,
-        structure_mass=1e-3,
-        stiffness=10.0,
-        damping=0.0,
-        free_dofs=(),
-        gravity=(0.0, 0.0, 0.0),
-        dt=dt,
-        itrac=10,
-        velocities=vel,
-    )
-    return format_deck(deck)
+    return format_deck(small_cylinder_deck(pos, vel, material=STEEL, dt=dt))
 
 
 @pytest.mark.parametrize(
