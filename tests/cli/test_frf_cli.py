@@ -190,20 +190,7 @@ def test_periodic_random_gives_the_exact_frf_and_fit_recovers_the_deck(runs, tmp
         )
         == 0
     )
-    assert (
-        run_cli(
-            "fit",
-            out / "frf.csv",
-            "--node",
-            1,
-            "--band",
-            "30:50",
-            "--out",
-            tmp_path / "fit",
-            "--quiet",
-        )
-        == 0
-    )
+    assert _fit_node_1(out / "frf.csv", tmp_path / "fit") == 0
     lines = (tmp_path / "fit" / "fit.txt").read_text().splitlines()
     record = {card: lines[lines.index(card) + 2].split() for card in ("MATID", "MASS")}
     mass = float(record["MASS"][1])  # NODE MASS IXX IYY IZZ
@@ -357,6 +344,11 @@ def test_ringdown_overlays_a_measured_ringdown(runs, tmp_path):
         assert zeta.size and np.all(np.abs(zeta / ZETA - 1) < 0.02), (config, zeta)
 
 
+def _fit_node_1(frf_csv, out) -> int:
+    """``x3dpd fit FRF_CSV --node 1 --band 30:50 --out OUT``: the SDOF's mode, 30-50 Hz."""
+    return run_cli("fit", frf_csv, "--node", 1, "--band", "30:50", "--out", out, "--quiet")
+
+
 def _fails(capsys, out, *args, message):
     assert run_cli(*args) == 2
     err = capsys.readouterr().err
@@ -500,20 +492,7 @@ def test_frf_overlays_the_baselines_in_closed_form(runs, tmp_path, capsys):
     freq = sorted({float(r["frequency_hz"]) for r in rows})
     assert freq == sorted(float(r["frequency_hz"]) for r in _rows(out / "frf.csv"))
     assert (out / "frf.png").stat().st_size > 10_000
-    assert (
-        run_cli(
-            "fit",
-            out / "frf.csv",
-            "--node",
-            1,
-            "--band",
-            "30:50",
-            "--out",
-            tmp_path / "fit",
-            "--quiet",
-        )
-        == 0
-    )
+    assert _fit_node_1(out / "frf.csv", tmp_path / "fit") == 0
     # bad input: nothing written
     bad = tmp_path / "bad"
     frf = ("frf", runs["random"], "--drive", "1:1", "--response", "1:1", "--out", bad)
