@@ -7,9 +7,17 @@ workers met the same deck's loop at about the same time: one compiled it while t
 on the compile lock (x3dpd.solver.compile_lock), a core idle for up to half a minute per deck.
 They now run first, deck by deck: one worker compiles each loop once and its next two tests
 reuse it in the same process, while the other worker starts on the rest of the suite.
+
+The suite also compiles every step loop strictly (``X3DPD_STRICT_STEP_LOOP=1``, inherited by
+the processes the tests start): a loop that does not type without SSA fails its test instead of
+falling back to numba's slower full pipeline (x3dpd._jit.StepLoopCompiler).
 """
 
 from __future__ import annotations
+
+import os
+
+os.environ.setdefault("X3DPD_STRICT_STEP_LOOP", "1")
 
 #: node-id prefixes of the tests parametrized over decks/*.inp, run deck by deck in this order
 BY_DECK = (

@@ -72,6 +72,7 @@ def loop_kernel(fn=None, **overrides):
         return lambda f: loop_kernel(f, **overrides)
     if overrides.get("inline") != "never":
         OPTIMIZED_ONCE.add(fn.__qualname__)
+        overrides = {"pipeline_class": StepLoopCompiler, **overrides}
     return kernel(fn, _nrt=False, **overrides)
 
 
@@ -227,3 +228,87 @@ def _memo_call_type(self, context, args, kws):
 if not JIT_DISABLED:
     _numba_codegen.CPUCodeLibrary._optimize_functions = _optimize_functions_once
     _numba_functions.BaseFunction.get_call_type = _memo_call_type
+
+
+# ---- compile time: the step loop through a shorter numba pipeline ---------------------------
+# Three of numba's passes over the one large inlined step loop do nothing for it but cost time
+# in proportion to its size (beam_64, ``tools/bench/compile_profile.py``): SSA reconstruction
+# (1.6 CPU-s; numba types a variable that is assigned several times from the union of its
+# assignments instead, as it did before SSA, so the loop's sources keep each variable to one
+# type), the typed rewrites (1.1 CPU-s: array expressions, constant arrays and string-literal
+# indices, none of which a step loop has -- it allocates nothing -- but each rewrite pass
+# re-derives every variable's lifetime), and the removal of SSA's phi nodes (0.4 CPU-s; the
+# legalization pass after it rebuilds what that pass refreshes). Private behaviour of numba 0.68
+# (pinned; tests/meta/test_kernel_flags.py checks the pass names). The machine code is that of
+# numba's full pipeline: goldens bit for bit.
+from numba.core import compiler as _numba_compiler  # noqa: E402
+from numba.core import compiler_machinery as _numba_machinery  # noqa: E402
+from numba.core import errors as _numba_errors  # noqa: E402
+from numba.core import typed_passes as _numba_typed_passes  # noqa: E402
+
+#: The passes the step loops skip.
+STEP_LOOP_SKIPPED_PASSES = (
+    _numba_typed_passes.NopythonRewrites,
+    _numba_typed_passes.PreLowerStripPhis,
+)
+
+
+class StepLoopCompiler(_numba_compiler.CompilerBase):
+    """numba's nopython pipeline for a step loop (:func:`loop_kernel`): without SSA
+    reconstruction and without :data:`STEP_LOOP_SKIPPED_PASSES`.
+
+    Typed without SSA, a name assigned values of two types (an int index and a float) does not
+    type; then the loop is compiled again with numba's full pipeline, and its name is added to
+    :data:`FULL_PIPELINE_FALLBACKS` -- or, with ``X3DPD_STRICT_STEP_LOOP=1`` (the test suite),
+    the typing error is raised, so that such a name in the step kernels fails the tests instead
+    of slowing a compile down."""
+
+    def define_pipelines(self):
+        self.state.flags = self.state.flags.copy()
+        self.state.flags.enable_ssa = False
+        full = _numba_compiler.DefaultPassBuilder.define_nopython_pipeline(self.state)
+        pm = _numba_machinery.PassManager("x3dpd_step_loop")
+        for pss, description in full.passes:
+            if pss not in STEP_LOOP_SKIPPED_PASSES:
+                pm.add_pass(pss, description)
+        pm.finalize()
+        return [pm]
+
+    def compile_extra(self, func):
+        try:
+            return super().compile_extra(func)
+        except _numba_errors.TypingError:
+            if os.environ.get("X3DPD_STRICT_STEP_LOOP", "0") == "1":
+                raise
+            FULL_PIPELINE_FALLBACKS.append(func.__qualname__)
+            s = self.state
+            return _numba_compiler.Compiler(
+                s.typingctx, s.targetctx, None, s.args, s.return_type, self._flags, s.locals
+            ).compile_extra(func)
+
+    def __init__(self, typingctx, targetctx, library, args, return_type, flags, locals):
+        self._flags = flags  # as given: the full pipeline's, should this one fail
+        super().__init__(typingctx, targetctx, library, args, return_type, flags, locals)
+
+
+#: Step loops that did not type without SSA and were compiled by numba's full pipeline.
+FULL_PIPELINE_FALLBACKS: list[str] = []
+
+
+# ---- compile time: numba's error messages without terminal colours -------------------------
+# numba formats an error message, in colour, for every typing template that does not fit a
+# call and for every global it cannot type, though it throws nearly all of them away: ~17,000
+# colour markups (colorama's stream wrappers, one per message part) per step loop. The plain
+# scheme numba uses in its own test suite (NUMBA_DISABLE_ERROR_MESSAGE_HIGHLIGHTING) costs
+# nothing; x3dpd reports its own errors, so the colours were never seen.
+
+
+def _plain_markup(self, msg, color=None, style=None):
+    """numba's coloured ``_markup``, the message as it is."""
+    return msg
+
+
+if not JIT_DISABLED and hasattr(_numba_errors, "HighlightColorScheme"):
+    # the class, not numba's instance of it: modules that took the instance at import
+    # (numba.core.typing.typeof ...) keep using it
+    _numba_errors.HighlightColorScheme._markup = _plain_markup

@@ -282,3 +282,86 @@ def test_numba_types_calls_through_the_memo():
             kernel(cache=False)(untypable.py_func)(a)
     finally:
         jit._resolve_call_type = real
+
+
+def test_step_loops_compile_through_the_shorter_pipeline():
+    """x3dpd._jit compiles step loops (``loop_kernel``) with numba's nopython pipeline less SSA
+    reconstruction, the typed rewrites and the phi stripping (``StepLoopCompiler``, private
+    numba 0.68 classes): the passes it leaves out must still exist under these names, and the
+    pipeline it builds must hold numba's others and not those."""
+    from numba.core import compiler, typed_passes, untyped_passes
+    from numba.core.compiler_machinery import PassManager  # noqa: F401 (the class it builds)
+
+    import x3dpd._jit as jit
+
+    assert jit.STEP_LOOP_SKIPPED_PASSES == (
+        typed_passes.NopythonRewrites,
+        typed_passes.PreLowerStripPhis,
+    )
+    built = []
+
+    class Probe(jit.StepLoopCompiler):
+        def define_pipelines(self):
+            pms = super().define_pipelines()
+            built.append(([p for p, _ in pms[0].passes], self.state.flags.enable_ssa))
+            return pms
+
+    def loop(a):
+        s = 0.0
+        for v in a:
+            s += v
+        return s
+
+    import numpy as np
+
+    jit.kernel(cache=False, _nrt=False, pipeline_class=Probe)(loop)(np.ones(3))
+    passes, ssa = built[0]
+    assert ssa is False
+    assert untyped_passes.ReconstructSSA not in passes
+    assert not set(jit.STEP_LOOP_SKIPPED_PASSES) & set(passes)
+    assert typed_passes.NopythonTypeInference in passes
+    assert typed_passes.IRLegalization in passes
+    assert typed_passes.NativeLowering in passes
+    assert "_compile_core" in compiler.CompilerBase.__dict__
+
+
+def test_a_step_loop_with_one_name_of_two_types_falls_back_or_fails_strictly(monkeypatch):
+    """Typed without SSA, a name given an int and, on one branch, a float does not type. A step loop
+    with one compiles through numba's full pipeline instead (the same values as Python, its
+    name in FULL_PIPELINE_FALLBACKS); under ``X3DPD_STRICT_STEP_LOOP=1``, as in this suite, the
+    typing error is raised."""
+    import numpy as np
+    import pytest
+    from numba.core import errors
+
+    import x3dpd._jit as jit
+
+    def two_types(a):
+        total = 0.0
+        for c in range(a.shape[0]):
+            total += a[c]
+        if total > 1.0:
+            c = 0.5 * total  # the int index's name, now a float, where the branches join
+        return c
+
+    monkeypatch.setenv("X3DPD_STRICT_STEP_LOOP", "1")
+    with pytest.raises(errors.TypingError):
+        jit.loop_kernel(cache=False)(two_types)(np.arange(4.0))
+    monkeypatch.setenv("X3DPD_STRICT_STEP_LOOP", "0")
+    before = len(jit.FULL_PIPELINE_FALLBACKS)
+    assert jit.loop_kernel(cache=False)(two_types)(np.arange(4.0)) == 3.0
+    assert jit.FULL_PIPELINE_FALLBACKS[before:] == [two_types.__qualname__]
+
+
+def test_numba_error_messages_are_built_without_colour():
+    """x3dpd._jit makes numba's coloured markup (``HighlightColorScheme._markup``, private)
+    return the message as it is: building a colour sequence per message part cost ~1 CPU-s
+    per step loop. The message text is unchanged."""
+    from numba.core import errors
+
+    import x3dpd._jit as jit
+
+    scheme = errors.termcolor()
+    assert scheme.errmsg("no match") == "no match"
+    if hasattr(errors, "HighlightColorScheme"):
+        assert errors.HighlightColorScheme._markup is jit._plain_markup

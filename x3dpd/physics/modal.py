@@ -206,9 +206,10 @@ def _rotation_matrix(rot, b, t0, t1, t2):
     """rot[b] = exp([theta]x) for the rotation vector theta (Rodrigues)."""
     th = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
     if th == 0.0:
-        for r in range(3):
-            for c in range(3):
-                rot[b, r, c] = 1.0 if r == c else 0.0
+        # (``row``/``col``, not ``c``: the step loop is typed without SSA, one type a name)
+        for row in range(3):
+            for col in range(3):
+                rot[b, row, col] = 1.0 if row == col else 0.0
         return
     kx = t0 / th
     ky = t1 / th

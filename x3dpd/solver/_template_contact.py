@@ -9,6 +9,7 @@ beside the loop, with the variant's constants (``_template_variant``).
 """
 
 import math
+import numpy as np
 
 from x3dpd._jit import step_kernel
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ROLLING, N_MAXWELL, N_ROLLING,
@@ -20,12 +21,14 @@ from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ROLLING, N_MAXWELL
 from x3dpd.solver.bundles import Status
 from x3dpd.solver.contact_lists import S_A, S_FN, S_FT, S_H
 
-# status bits returned by advance() and _forces() (x3dpd.solver.bundles.Status, as int constants)
-OK = int(Status.OK)
-PENETRATION = int(Status.PENETRATION)
-NONFINITE = int(Status.NONFINITE)
-REALLOC_PAIRS = int(Status.REALLOC_PAIRS)
-REALLOC_WALLS = int(Status.REALLOC_WALLS)
+# status bits returned by advance() and _forces() (x3dpd.solver.bundles.Status, as int64
+# constants: numba types a Python int global as a literal, and the step loop, typed without SSA
+# (x3dpd._jit.loop_kernel), cannot then widen ``status = OK`` to the int64 of ``status |= ...``)
+OK = np.int64(Status.OK)
+PENETRATION = np.int64(Status.PENETRATION)
+NONFINITE = np.int64(Status.NONFINITE)
+REALLOC_PAIRS = np.int64(Status.REALLOC_PAIRS)
+REALLOC_WALLS = np.int64(Status.REALLOC_WALLS)
 
 #: History columns at the end of a state row: the tangential law's, then the rolling law's.
 CONTACT_TAIL = N_TANGENTIAL + N_ROLLING

@@ -44,8 +44,11 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     w_roll = 0.0
     # pass 1, tight: candidates within reach of their face's plane now or at the last step
     nbusy = 0
-    for s in range(nw):
-        p = np.uint64(wl_p[s])   # unsigned indices: no negative-index wrap-around code
+    for s_list in range(nw):
+        # unsigned indices: no negative-index wrap-around code (and ``s`` one type throughout,
+        # as the loop is typed without SSA: x3dpd._jit.loop_kernel)
+        s = np.uint64(s_list)
+        p = np.uint64(wl_p[s])
         f = np.uint64(wl_f[s])
         i = np.uint64(p0 + wl_p[s])
         d = face_n[f, 0] * x[i, 0] + face_n[f, 1] * x[i, 1] + face_n[f, 2] * x[i, 2] - face_d[f]
