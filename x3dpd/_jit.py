@@ -72,8 +72,7 @@ def loop_kernel(fn=None, **overrides):
         return lambda f: loop_kernel(f, **overrides)
     if overrides.get("inline") != "never":
         OPTIMIZED_ONCE.add(fn.__qualname__)
-        overrides = {"pipeline_class": StepLoopCompiler, **overrides}
-    return kernel(fn, _nrt=False, **overrides)
+    return kernel(fn, _nrt=False, pipeline_class=StepLoopCompiler, **overrides)
 
 
 # numba has a compiler flag that marks every array argument ``noalias`` (its parallel backend
@@ -97,7 +96,9 @@ def vector_kernel(fn=None, **overrides):
     arrays, or distinct rows of one array). Results are bit for bit those of the scalar loop:
     ``fastmath`` stays off, so the packed instructions round exactly as the scalar ones do.
     """
-    return kernel(fn, inline="never", _nrt=False, _noalias=True, **overrides)
+    return kernel(
+        fn, inline="never", _nrt=False, _noalias=True, pipeline_class=StepLoopCompiler, **overrides
+    )
 
 
 def threaded_kernel(fn=None, **overrides):

@@ -71,7 +71,9 @@ def _pair_filter(lo, hi, q0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c,
     """
     nbusy = 0
     tail = ps.shape[1] - CONTACT_TAIL
-    for s in range(lo, hi):
+    for s_list in range(lo, hi):
+        # unsigned: no wrap-around code; ``s`` one type throughout (no SSA: _jit.loop_kernel)
+        s = np.uint64(s_list)
         pi = np.uint64(pl_i[s])
         pj = np.uint64(pl_j[s])
         i = np.uint64(p0 + pl_i[s])
@@ -82,8 +84,7 @@ def _pair_filter(lo, hi, q0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c,
         cut = radius[pi] + radius[pj]
         if dx * dx + dy * dy + dz * dz < cut * cut or pl_on[s] != 0:
             q = np.uint64(q0 + nbusy)
-            busy[q] = s
-            s = np.uint64(s)
+            busy[q] = s_list
             c[C_DX, q] = dx
             c[C_DY, q] = dy
             c[C_DZ, q] = dz
