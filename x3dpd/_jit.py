@@ -66,7 +66,9 @@ def loop_kernel(fn=None, **overrides):
     (which may allocate) remain allowed.
 
     A step loop (not ``inline="never"``: a loop's own pass, see ``_template_pairs``) is
-    optimized by LLVM once, after linking, instead of twice (:data:`OPTIMIZED_ONCE`).
+    optimized by LLVM once, after linking, instead of twice (:data:`OPTIMIZED_ONCE`). Every
+    loop kernel compiles through numba's pipeline less the passes that do nothing for it
+    (:class:`StepLoopCompiler`): a name in it keeps one type.
     """
     if fn is None:
         return lambda f: loop_kernel(f, **overrides)
@@ -240,8 +242,9 @@ if not JIT_DISABLED:
 # indices, none of which a step loop has -- it allocates nothing -- but each rewrite pass
 # re-derives every variable's lifetime), and the removal of SSA's phi nodes (0.4 CPU-s; the
 # legalization pass after it rebuilds what that pass refreshes). Private behaviour of numba 0.68
-# (pinned; tests/meta/test_kernel_flags.py checks the pass names). The machine code is that of
-# numba's full pipeline: goldens bit for bit.
+# (pinned; tests/meta/test_kernel_flags.py checks the pass names). The step loops and the pair
+# passes (``loop_kernel``, ``vector_kernel``) compile through it; their results are those of
+# numba's full pipeline, bit for bit (every golden and API = CLI byte test).
 from numba.core import compiler as _numba_compiler  # noqa: E402
 from numba.core import compiler_machinery as _numba_machinery  # noqa: E402
 from numba.core import errors as _numba_errors  # noqa: E402
