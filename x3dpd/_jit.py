@@ -267,6 +267,10 @@ class StepLoopCompiler(_numba_compiler.CompilerBase):
     the typing error is raised, so that such a name in the step kernels fails the tests instead
     of slowing a compile down."""
 
+    def __init__(self, typingctx, targetctx, library, args, return_type, flags, locals):
+        self._flags = flags  # as given: the full pipeline's, should this one fail
+        super().__init__(typingctx, targetctx, library, args, return_type, flags, locals)
+
     def define_pipelines(self):
         self.state.flags = self.state.flags.copy()
         self.state.flags.enable_ssa = False
@@ -289,10 +293,6 @@ class StepLoopCompiler(_numba_compiler.CompilerBase):
             return _numba_compiler.Compiler(
                 s.typingctx, s.targetctx, None, s.args, s.return_type, self._flags, s.locals
             ).compile_extra(func)
-
-    def __init__(self, typingctx, targetctx, library, args, return_type, flags, locals):
-        self._flags = flags  # as given: the full pipeline's, should this one fail
-        super().__init__(typingctx, targetctx, library, args, return_type, flags, locals)
 
 
 #: Step loops that did not type without SSA and were compiled by numba's full pipeline.

@@ -289,8 +289,8 @@ def test_step_loops_compile_through_the_shorter_pipeline():
     reconstruction, the typed rewrites and the phi stripping (``StepLoopCompiler``, private
     numba 0.68 classes): the passes it leaves out must still exist under these names, and the
     pipeline it builds must hold numba's others and not those."""
-    from numba.core import compiler, typed_passes, untyped_passes
-    from numba.core.compiler_machinery import PassManager  # noqa: F401 (the class it builds)
+    import numpy as np
+    from numba.core import typed_passes, untyped_passes
 
     import x3dpd._jit as jit
 
@@ -312,9 +312,7 @@ def test_step_loops_compile_through_the_shorter_pipeline():
             s += v
         return s
 
-    import numpy as np
-
-    jit.kernel(cache=False, _nrt=False, pipeline_class=Probe)(loop)(np.ones(3))
+    assert jit.kernel(cache=False, _nrt=False, pipeline_class=Probe)(loop)(np.ones(3)) == 3.0
     passes, ssa = built[0]
     assert ssa is False
     assert untyped_passes.ReconstructSSA not in passes
@@ -322,7 +320,6 @@ def test_step_loops_compile_through_the_shorter_pipeline():
     assert typed_passes.NopythonTypeInference in passes
     assert typed_passes.IRLegalization in passes
     assert typed_passes.NativeLowering in passes
-    assert "_compile_core" in compiler.CompilerBase.__dict__
 
 
 def test_a_step_loop_with_one_name_of_two_types_falls_back_or_fails_strictly(monkeypatch):

@@ -9,6 +9,7 @@ beside the loop, with the variant's constants (``_template_variant``).
 """
 
 import math
+
 import numpy as np
 
 from x3dpd._jit import step_kernel

@@ -53,7 +53,7 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
         i = np.uint64(p0 + wl_p[s])
         d = face_n[f, 0] * x[i, 0] + face_n[f, 1] * x[i, 1] + face_n[f, 2] * x[i, 2] - face_d[f]
         if d < radius[p] or wl_on[s] != 0:
-            busy[nbusy] = s
+            busy[nbusy] = s_list
             nbusy += 1
     # pass 2: the contact law on those
     for q in range(nbusy):
