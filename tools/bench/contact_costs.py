@@ -1,16 +1,28 @@
-"""Where a settled bed's step time goes: the pair-contact pass timed alone, whole and with parts
-of its friction code removed.
+"""Where a settled bed's step time goes: the whole step, the part outside the contact passes,
+and the contact passes timed alone on the frozen state, whole and with parts cut out.
 
-    python tools/bench/contact_costs.py [--n 512] [--calls 2000]
+    python tools/bench/contact_costs.py [--bed settled_512] [--n 512] [--calls 2000]
 
-Settles the benchmark bed (``bench_solver.py --settled``: 300,000 steps at rest), then calls the
-scene's compiled ``_pair_contacts`` (the variant's copy of
-``x3dpd/solver/_template_pair_passes.py``, running the passes of ``_template_pairs.py``)
-``--calls`` times on that frozen state (forces zeroed each
-call) and reports microseconds per call for the kernel as compiled and for copies of its source
-with one part cut out: the whole friction block, the torques of friction, and its slip-work
-bookkeeping. The cut copies compute wrong forces on purpose; they only measure what each part
-costs. The difference to the full kernel is that part's cost.
+Takes the benchmark bed at rest (``--bed``: a bed prepared by ``count_instructions.py
+--prepare``, restored; without it ``bench_solver.py --settled``'s bed of ``--n`` spheres,
+settled here for 300,000 steps) and reports microseconds, each the best of five windows:
+
+- the whole step (``Simulation.advance`` from the bed's state), and the step of a copy of the
+  scene's loop without its two contact passes (integration, the rigid cavity, the list check:
+  the particles then fall freely, which costs these parts no more);
+- the wall contacts' pass (``_template_walls.py``) and the pair contacts' passes
+  (``_template_pair_passes.py``), called ``--calls`` times on the frozen state; for the pairs
+  also copies of their source cut after the filter, before the apply pass, and without the
+  apply pass's force and moment updates (the list-order scatter): a part's cost is the
+  difference.
+
+The frozen state is the step's only where the contacts' histories do not drift from call to
+call: an elastic bed's (the default). A viscoelastic bed's Maxwell terms step on from each call's
+outputs when the apply pass stores them and stand still when it is cut, so there the parts need
+not add up. Cutting a contact pass out of the running step would not measure it either: without
+its forces the bed unloads within a contact time and the other pass's contacts open. The cut
+copies compute wrong forces on purpose; a cut whose code is no longer in the source stops the
+tool (exit 1) rather than report a wrong cost.
 """
 
 from __future__ import annotations
@@ -27,29 +39,76 @@ sys.path.insert(0, str(HERE))
 
 import numpy as np  # noqa: E402
 from bench_solver import scene_model  # noqa: E402
+from count_instructions import BEDS, bed_simulation  # noqa: E402
 
 from x3dpd._jit import kernel  # noqa: E402
 from x3dpd.solver.simulation import Simulation  # noqa: E402
 from x3dpd.solver.variants import part_module  # noqa: E402
 
-#: name -> (text in the kernel module, replacement)
-CUTS = {
-    "friction": (
-        "        if HAS_FRICTION:\n            wix = vel[i, 3]",
-        "        if HAS_FRICTION and nbusy < 0:\n            wix = vel[i, 3]",
+#: the step loop without its wall and pair contact passes: (text, replacement) in the loop's
+#: module (the variant's copy of ``_advance_template.py``)
+NO_CONTACTS = (
+    (
+        "        status |= _wall_contacts(nodes, particles, faces, walls, stepping,",
+        "        if t < 0.0:  # never: the cut\n"
+        "            status |= _wall_contacts(nodes, particles, faces, walls, stepping,",
     ),
-    "friction torques": (
-        "            tx = ny * ftz - nz * fty\n"
-        "            ty = nz * ftx - nx * ftz\n"
-        "            tz = nx * fty - ny * ftx\n",
-        "",
+    (
+        "        status |= _pair_contacts(nodes, particles, pairs, stepping, pairs.first_new)",
+        "        if t < 0.0:  # never: the cut\n"
+        "            status |= _pair_contacts(nodes, particles, pairs, stepping, pairs.first_new)",
     ),
-    "friction slip work": (
-        "    lost = -0.5 * ((ftx_old + ftx) * vtx + (fty_old + fty) * vty"
-        " + (ftz_old + ftz) * vtz) * dt",
-        "    lost = 0.0",
+)
+#: the pair apply pass without its force and moment updates: (text, replacement) in the pair
+#: part (``_template_pairs.py``); the forces and moments go into a sum the pass returns, so
+#: that the compiler keeps reading them
+NO_SCATTER = (
+    (
+        "            force[i, 3] -= tix_[q]\n"
+        "            force[i, 4] -= tiy_[q]\n"
+        "            force[i, 5] -= tiz_[q]\n"
+        "            force[j, 3] -= tjx_[q]\n"
+        "            force[j, 4] -= tjy_[q]\n"
+        "            force[j, 5] -= tjz_[q]\n",
+        "            w_roll += tix_[q] + tiy_[q] + tiz_[q] + tjx_[q] + tjy_[q] + tjz_[q]\n",
     ),
-}
+    (
+        "        force[j, 0] += fx\n"
+        "        force[j, 1] += fy\n"
+        "        force[j, 2] += fz\n"
+        "        force[i, 0] -= fx\n"
+        "        force[i, 1] -= fy\n"
+        "        force[i, 2] -= fz\n",
+        "        w_roll += fx + fy + fz + float(i + j)\n",
+    ),
+)
+
+
+#: the pair passes with the filter alone, and with the filter and the response: (text,
+#: replacement) in the part that runs them (``_template_pair_passes.py``)
+FILTER_ONLY = (
+    (
+        "    # pass 2: the contact response, from columns into columns\n",
+        "    if nbusy >= 0:  # the cut\n        return OK\n",
+    ),
+)
+NO_APPLY = (
+    (
+        "    # pass 3: states, forces and the ledger\n",
+        "    if nbusy >= 0:  # the cut\n        return OK\n",
+    ),
+)
+
+
+def _cut(source: str, cuts, what: str) -> str:
+    for old, new in cuts:
+        if source.count(old) != 1:
+            raise SystemExit(
+                f"contact_costs: the code the cut '{what}' removes was not found "
+                "(changed?); update the cut"
+            )
+        source = source.replace(old, new)
+    return source
 
 
 def _load(name: str, path: Path, text: str):
@@ -61,84 +120,152 @@ def _load(name: str, path: Path, text: str):
     return sys.modules[name]
 
 
-def time_pair_pass(pair_pass, sim: Simulation, calls: int) -> float:
-    """Microseconds per call of ``pair_pass``: a variant's ``_pair_contacts``
-    (x3dpd.solver.variants.part_module(..., "pair_passes")) or a cut copy's."""
-    b = sim._bundles()
-    busy = np.zeros(b["pairs"].first.shape[0], dtype=np.int64)
-
-    def repeat(k, nodes, particles, pairs, stepping, busy):
-        status = 0
-        for _ in range(k):
-            nodes.force[:, :] = 0.0
-            status |= pair_pass(nodes, particles, pairs, stepping, busy)
-        return status
-
-    run = kernel(repeat, cache=False)
-    args = (b["nodes"], b["particles"], b["pairs"], b["stepping"], busy)
-    state0, on0, force0 = b["pairs"].state.copy(), b["pairs"].on.copy(), b["nodes"].force.copy()
+def _best_per_call(run, calls: int, *args) -> float:
+    """Microseconds per call of ``run(k, *args)`` (k calls): the best of five windows."""
     run(1, *args)
     best = float("inf")
     for _ in range(5):
         t = time.perf_counter()
         run(calls, *args)
         best = min(best, (time.perf_counter() - t) / calls)
-    b["pairs"].state[:], b["pairs"].on[:], b["nodes"].force[:] = state0, on0, force0
     return best * 1e6
+
+
+def step_time(sim: Simulation, steps: int) -> float:
+    """Microseconds per step of ``sim`` from its state: the best of five windows, each from the
+    same state (put back afterwards)."""
+    state = sim.state.copy()
+    best = float("inf")
+    for _ in range(5):
+        sim.restore(state.copy())
+        t = time.perf_counter()
+        sim.advance(steps, max_rows=1)
+        best = min(best, (time.perf_counter() - t) / steps)
+    sim.restore(state)
+    return best * 1e6
+
+
+def cut_modules(sim: Simulation, tmp: Path, tag: str, cuts: dict) -> dict:
+    """Copies of the scene's kernel modules with ``cuts`` = {part: ((text, replacement), ...)}
+    applied to its parts ("pairs", "pair_passes") or to the loop itself ("loop"): each cut part
+    is loaded as a module of its own, and the parts that import it (up to the loop) as copies
+    importing the cut one. Returns {part: module} of the copies."""
+    chain = ("pairs", "pair_passes", "loop")
+    modules = {p: part_module(sim.kernels, p) for p in chain[:2]}
+    modules["loop"] = sim.kernels
+    renamed, out = {}, {}
+    for part in chain[min(chain.index(p) for p in cuts) :]:
+        source = Path(modules[part].__file__).read_text()
+        if part in cuts:
+            source = _cut(source, cuts[part], f"{tag}: {part}")
+        for old, new in renamed.items():
+            source = source.replace(f"from {old} import", f"from {new} import")
+        name = f"cut_{tag}_{part}"
+        renamed[modules[part].__name__] = name
+        out[part] = _load(name, tmp / f"{name}.py", source)
+    return out
+
+
+def frozen_times(sim: Simulation, pair_pass, wall_pass, calls: int) -> tuple[float, float]:
+    """Microseconds per call of a pair-contact pass ``pair_pass`` (a ``_pair_contacts``) and of
+    the wall pass ``wall_pass`` on the frozen state (contact states, open flags and forces put
+    back afterwards). Compiled like the loop: without reference counting."""
+    b = sim._bundles()
+    nodes, particles, pairs, walls, faces, stepping = (
+        b[k] for k in ("nodes", "particles", "pairs", "walls", "faces", "stepping")
+    )
+    busy = np.zeros(pairs.first.shape[0], dtype=np.int64)
+
+    def pair_calls(k, nodes, particles, pairs, stepping, busy):
+        status = 0
+        for _ in range(k):
+            status |= pair_pass(nodes, particles, pairs, stepping, busy)
+        return status
+
+    def wall_calls(k, nodes, particles, faces, walls, stepping):
+        status = 0
+        for _ in range(k):
+            status |= wall_pass(
+                nodes, particles, faces, walls, stepping, stepping.small[6:9], walls.first_new
+            )
+        return status
+
+    kept = [a.copy() for a in (pairs.state, pairs.on, walls.state, walls.on, nodes.force)]
+    pair_us = _best_per_call(
+        kernel(pair_calls, cache=False, _nrt=False), calls, nodes, particles, pairs, stepping, busy
+    )
+    wall_us = _best_per_call(
+        kernel(wall_calls, cache=False, _nrt=False), calls, nodes, particles, faces, walls, stepping
+    )
+    for a, keep in zip((pairs.state, pairs.on, walls.state, walls.on, nodes.force), kept):
+        a[...] = keep
+    return pair_us, wall_us
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=512)
-    ap.add_argument("--calls", type=int, default=2000)
+    ap.add_argument("--bed", choices=sorted(BEDS), help="a prepared bed (count_instructions.py)")
+    ap.add_argument("--calls", type=int, default=2000, help="pass calls per timed window")
+    ap.add_argument("--steps", type=int, default=4000, help="steps per timed window")
     args = ap.parse_args()
-    model, _ = scene_model(args.n, drive=False)
-    sim = Simulation(model, itrac=10**9)
-    sim.initialize()
-    sim.advance(300_000, max_rows=1)
+    if args.bed:
+        sim = bed_simulation(args.bed)
+        sim.advance(10, max_rows=1)
+    else:
+        model, _ = scene_model(args.n, drive=False)
+        sim = Simulation(model, itrac=10**9)
+        sim.initialize()
+        sim.advance(300_000, max_rows=1)
     st = sim.state
-    contacts = int(st.pl_on[: int(st.npl[0])].sum())
-    pairs_mod, contact_mod, passes_mod = (
-        part_module(sim.kernels, p) for p in ("pairs", "contact", "pair_passes")
+    pair_on = int(st.pl_on[: int(st.npl[0])].sum())
+    wall_on = int(st.wl_on[: int(st.nwl[0])].sum())
+    walls = part_module(sim.kernels, "walls")._wall_contacts
+    t = {"step": step_time(sim, args.steps)}
+    t["pairs"], t["walls"] = frozen_times(
+        sim, part_module(sim.kernels, "pair_passes")._pair_contacts, walls, args.calls
     )
-    source = Path(pairs_mod.__file__).read_text()  # the variant's pair passes
-    contact_source = Path(contact_mod.__file__).read_text()  # friction lives there
-    passes_source = Path(passes_mod.__file__).read_text()  # runs them
-    full = time_pair_pass(passes_mod._pair_contacts, sim, args.calls)
-    print(
-        f"settled bed of {args.n}: {contacts} pair contacts; pair-contact pass "
-        f"{full:.2f} us/call ({full * 1e3 / max(contacts, 1):.1f} ns per contact)"
-    )
+    cuts = {
+        "filter": {"pair_passes": FILTER_ONLY},
+        "no_apply": {"pair_passes": NO_APPLY},
+        "no_scatter": {"pairs": NO_SCATTER},
+    }
+    loop = sim.kernels
     with tempfile.TemporaryDirectory() as tmp:
-        for name, (old, new) in CUTS.items():
-            stem = f"cut_{name.replace(' ', '_')}"
-            cut_pairs = source
-            if source.count(old) == 1:
-                cut_pairs = source.replace(old, new)
-            elif contact_source.count(old) == 1:
-                # a cut copy of the shared contact part, imported by a copy of the pair part
-                _load(
-                    f"{stem}_contact",
-                    Path(tmp) / f"{stem}_contact.py",
-                    contact_source.replace(old, new),
-                )
-                cut_pairs = source.replace(
-                    f"from {contact_mod.__name__} import", f"from {stem}_contact import"
-                )
-            else:
-                print(f"  {name}: its code was not found in the kernel (changed?)")
-                continue
-            # the cut pair part, and a copy of the part that runs it importing it
-            _load(f"{stem}_pairs", Path(tmp) / f"{stem}_pairs.py", cut_pairs)
-            passes = _load(
-                f"{stem}_passes",
-                Path(tmp) / f"{stem}_passes.py",
-                passes_source.replace(
-                    f"from {pairs_mod.__name__} import", f"from {stem}_pairs import"
-                ),
-            )
-            cut = time_pair_pass(passes._pair_contacts, sim, args.calls)
-            print(f"  {name:20s} costs {full - cut:6.2f} us/call")
+        for tag, cut in cuts.items():
+            copies = cut_modules(sim, Path(tmp), tag, cut)
+            t[tag] = frozen_times(sim, copies["pair_passes"]._pair_contacts, walls, args.calls)[0]
+        sim.kernels = cut_modules(sim, Path(tmp), "no_contacts", {"loop": NO_CONTACTS})["loop"]
+        t["no_contacts"] = step_time(sim, args.steps)
+        sim.kernels = loop
+    # (name, microseconds, per what count, note)
+    rows = (
+        ("whole step", t["step"], 0, ""),
+        (
+            "  outside the contact passes",
+            t["no_contacts"],
+            0,
+            "integration, rigid cavity, list check",
+        ),
+        ("pair contacts, the three passes", t["pairs"], pair_on, f"{int(st.npl[0])} candidates"),
+        ("  filter", t["filter"], pair_on, "gathers the columns"),
+        ("  response", t["no_apply"] - t["filter"], pair_on, "vectorized"),
+        ("  apply", t["pairs"] - t["no_apply"], pair_on, "states, forces, ledger"),
+        (
+            "    of which the force scatter",
+            t["pairs"] - t["no_scatter"],
+            pair_on,
+            "12 read-modify-writes per contact",
+        ),
+        ("wall contacts", t["walls"], wall_on, ""),
+    )
+    print(
+        f"settled bed ({args.bed or f'n={args.n}'}): {pair_on} pair and {wall_on} wall "
+        "contacts; best of five windows"
+    )
+    for name, us, count, note in rows:
+        per = f"{us * 1e3 / count:6.1f} ns per contact" if count else ""
+        print(f"  {name:32s} {us:8.2f} us  {per:22s} {note}")
     return 0
 
 
