@@ -69,8 +69,12 @@ def response_asm(
     else:
         fresh = kernel(pairs._pair_response.py_func, cache=False, inline="never", _nrt=False)
     c = pl.columns
-    cin = tuple(c[pairs.C_DX + k] for k in range(len(pairs.PAIR_INPUT_COLUMNS)))
-    cout = tuple(c[k] for k in range(len(pairs.PAIR_OUTPUT_COLUMNS)))
+
+    def column(k):  # the first area's column k (x3dpd.solver.contact_lists.pair_columns)
+        return c[k * pairs.COLUMN_ROW : k * pairs.COLUMN_ROW + pairs.PAIR_BLOCK]
+
+    cin = tuple(column(pairs.C_DX + k) for k in range(len(pairs.PAIR_INPUT_COLUMNS)))
+    cout = tuple(column(k) for k in range(len(pairs.PAIR_OUTPUT_COLUMNS)))
     fresh(0, 0, pl.first_new, pl.first, pl.second, particles, pl.history, sim.dt, cin, cout, sim.dt)
     return fresh.inspect_asm(fresh.signatures[0])
 

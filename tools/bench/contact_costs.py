@@ -64,13 +64,14 @@ NO_CONTACTS = (
 #: that the compiler keeps reading them
 NO_SCATTER = (
     (
-        "            force[i, 3] -= tix_[q]\n"
-        "            force[i, 4] -= tiy_[q]\n"
-        "            force[i, 5] -= tiz_[q]\n"
-        "            force[j, 3] -= tjx_[q]\n"
-        "            force[j, 4] -= tjy_[q]\n"
-        "            force[j, 5] -= tjz_[q]\n",
-        "            w_roll += tix_[q] + tiy_[q] + tiz_[q] + tjx_[q] + tjy_[q] + tjz_[q]\n",
+        "            force[i, 3] -= c[_entry(C_TIX, e)]\n"
+        "            force[i, 4] -= c[_entry(C_TIY, e)]\n"
+        "            force[i, 5] -= c[_entry(C_TIZ, e)]\n"
+        "            force[j, 3] -= c[_entry(C_TJX, e)]\n"
+        "            force[j, 4] -= c[_entry(C_TJY, e)]\n"
+        "            force[j, 5] -= c[_entry(C_TJZ, e)]\n",
+        "            w_roll += c[_entry(C_TIX, e)] + c[_entry(C_TIY, e)] + c[_entry(C_TIZ, e)]\n"
+        "            w_roll += c[_entry(C_TJX, e)] + c[_entry(C_TJY, e)] + c[_entry(C_TJZ, e)]\n",
     ),
     (
         "        force[j, 0] += fx\n"
@@ -82,20 +83,18 @@ NO_SCATTER = (
         "        w_roll += fx + fy + fz + float(i + j)\n",
     ),
 )
-
-
 #: the pair passes with the filter alone, and with the filter and the response: (text,
 #: replacement) in the part that runs them (``_template_pair_passes.py``)
 FILTER_ONLY = (
     (
-        "    # pass 2: the contact response, from columns into columns\n",
-        "    if nbusy >= 0:  # the cut\n        return OK\n",
+        "        # pass 2: the contact response, from columns into columns\n",
+        "        continue  # the cut\n",
     ),
 )
 NO_APPLY = (
     (
-        "    # pass 3: states, forces and the ledger\n",
-        "    if nbusy >= 0:  # the cut\n        return OK\n",
+        "        # pass 3: states, forces and the ledger, the sums chained through the blocks\n",
+        "        continue  # the cut\n",
     ),
 )
 

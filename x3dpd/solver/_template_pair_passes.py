@@ -2,10 +2,12 @@
 (x3dpd.solver.variants), in one thread or -- threaded variants -- the first two on several.
 
 ``_pair_contacts`` runs the filter, the vectorized response and the apply pass of
-``_template_pairs``. A threaded variant (``Variant.threaded``, the run option ``threads``) runs
-the first two passes over chunks of the candidate list on numba's threads (``_pair_chunks``) and
-the third, which adds forces and ledger sums, in this thread in list order: the result does not
-depend on the thread count, bit for bit (docs/engine.md, "Threads"). Generated per variant beside
+``_template_pairs`` over the candidate list block by block (PAIR_BLOCK candidates), the
+ledger's sums chained through the blocks in list order. A threaded variant
+(``Variant.threaded``, the run option ``threads``) runs the first two passes over the blocks on
+numba's threads (``_pair_chunks``) and the third, which adds forces and ledger sums, in this
+thread in list order: the result does not depend on the thread count, bit for bit
+(docs/engine.md, "Threads"). Generated per variant beside
 the loop, with the variant's constants (``_template_variant``).
 """
 
@@ -13,36 +15,40 @@ import numba
 
 from x3dpd._jit import step_kernel, threaded_kernel
 from x3dpd.solver._template_contact import L_DFRIC, L_DROLL, L_WN, OK
-from x3dpd.solver._template_pairs import (_columns_in, _columns_out, _pair_apply, _pair_filter,
-                                          _pair_response)
+from x3dpd.solver._template_pairs import (AREA, _columns_in, _columns_out, _pair_apply,
+                                          _pair_filter, _pair_response)
 from x3dpd.solver._template_variant import HAS_ROLLING, HAS_THREADED
+from x3dpd.solver.contact_lists import PAIR_BLOCK
 
-#: candidates per chunk of a threaded pair pass: a chunk's filter and response run in one
-#: thread, its busy candidates in columns lo .. of the chunk's own range (lo = its first
-#: candidate), so chunks never share a column. A threaded variant runs the threaded pass when
-#: the list has more than one chunk and the last step had at least this many busy candidates
-#: (a falling or sparse scene would pay the threads' start and end every step for nothing)
-PAIR_CHUNK = 1024
+#: candidates per chunk of a threaded pair pass, the passes' blocks: a chunk's filter and
+#: response run in one thread, its busy candidates in busy positions and history rows lo .. of
+#: the chunk's own range (lo = its first candidate) and in a column area of its own, so chunks
+#: never share a column. A threaded variant runs the threaded pass when the list has more than
+#: one chunk and the last step had at least this many busy candidates (a falling or sparse
+#: scene would pay the threads' start and end every step for nothing)
+PAIR_CHUNK = PAIR_BLOCK
 
 
 @threaded_kernel
 def _pair_chunks(nchunks, npairs, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c, hist,
-                 counts, particles, dt, cin, cout, history_dt):
+                 counts, particles, dt, history_dt):
     """Passes 1 and 2 of the pair contacts over chunks of :data:`PAIR_CHUNK` candidates, the
     chunks spread over numba's threads: chunk k filters the candidates lo = k PAIR_CHUNK ..
-    lo + PAIR_CHUNK - 1 into the busy columns from lo on (``_pair_filter`` with q0 = lo: a
-    chunk has at most that many busy ones, so chunks write disjoint columns), writes how many
-    into ``counts[k]`` and evaluates their response (``_pair_response``). Nothing a chunk
-    writes is read by another, and no sum runs across chunks: the columns come out the same
-    whichever thread ran which chunk."""
+    lo + PAIR_CHUNK - 1 into busy positions from lo on and into column area k
+    (``_pair_filter`` with q0 = lo: a chunk has at most that many busy ones, so chunks write
+    disjoint entries), writes how many into ``counts[k]`` and evaluates their response
+    (``_pair_response``). Nothing a chunk writes is read by another, and no sum runs across
+    chunks: the columns come out the same whichever thread ran which chunk."""
     for k in numba.prange(nchunks):
         lo = k * PAIR_CHUNK
         hi = min(npairs, lo + PAIR_CHUNK)
-        nb = _pair_filter(lo, hi, lo, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c, hist)
+        area = k * AREA
+        nb = _pair_filter(lo, hi, lo, area, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c,
+                          hist)
         counts[k] = nb
         if nb > 0:
-            _pair_response(lo, lo + nb, busy, pl_i, pl_j, particles, hist, dt, cin, cout,
-                           history_dt)
+            _pair_response(lo, nb, busy, pl_i, pl_j, particles, hist, dt, _columns_in(c, area),
+                           _columns_out(c, area), history_dt)
 
 
 @step_kernel
@@ -65,21 +71,34 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
                                      pairs.count[0])
     c = pairs.columns
     hist = pairs.history
-    # pass 1, tight: the candidates that touch now or touched at the last step; most
-    # candidates are apart and cost about 2 ns each
-    nbusy = _pair_filter(0, npairs, 0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c, hist)
+    status = OK
+    w_normal = 0.0
+    w_fric = 0.0
+    w_roll = 0.0
+    nbusy = 0
+    # every block's busy candidates in busy positions and history rows 0 .., and in the
+    # scratch's first column area
+    cin = _columns_in(c, 0)
+    cout = _columns_out(c, 0)
+    for lo in range(0, npairs, PAIR_BLOCK):
+        hi = min(npairs, lo + PAIR_BLOCK)
+        # pass 1, tight: the candidates that touch now or touched at the last step; most
+        # candidates are apart and cost about 2 ns each
+        nb = _pair_filter(lo, hi, 0, 0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c, hist)
+        nbusy += nb
+        if nb == 0:
+            # nothing touches (a falling or sparse scene): skip the calls and their arguments
+            continue
+        # pass 2: the contact response, from columns into columns
+        _pair_response(0, nb, busy, pl_i, pl_j, particles, hist, stepping.dt, cin, cout,
+                       stepping.history_dt)
+        # pass 3: states, forces and the ledger, the sums chained through the blocks
+        status, w_normal, w_fric, w_roll = _pair_apply(0, nb, 0, busy, p0, pl_i, pl_j, ps, pl_on,
+                                                       nodes.force, stepping.pen_limit,
+                                                       stepping.diag, c, hist, status, w_normal,
+                                                       w_fric, w_roll)
     if HAS_THREADED:
         _note_busy(pairs, nbusy)
-    if nbusy == 0:
-        # nothing touches (a falling or sparse scene): skip the calls and their arguments
-        return OK
-    # pass 2: the contact response, from columns into columns
-    _pair_response(0, nbusy, busy, pl_i, pl_j, particles, hist, stepping.dt, _columns_in(c),
-                   _columns_out(c), stepping.history_dt)
-    # pass 3: states, forces and the ledger
-    status, w_normal, w_fric, w_roll = _pair_apply(0, nbusy, busy, p0, pl_i, pl_j, ps, pl_on,
-                                                   nodes.force, stepping.pen_limit,
-                                                   stepping.diag, c, hist, OK, 0.0, 0.0, 0.0)
     _book_pair_work(stepping.ledger, w_normal, w_fric, w_roll)
     return status
 
@@ -97,7 +116,7 @@ def _threaded_pair_contacts(nodes, particles, pairs, stepping, busy):
     counts = pairs.second_new
     _pair_chunks(nchunks, npairs, nodes.x, nodes.vel, particles.p0, particles.radius,
                  pairs.first, pairs.second, pairs.on, pairs.state, busy, c, hist, counts,
-                 particles, stepping.dt, _columns_in(c), _columns_out(c), stepping.history_dt)
+                 particles, stepping.dt, stepping.history_dt)
     status = OK
     w_normal = 0.0
     w_fric = 0.0
@@ -106,7 +125,7 @@ def _threaded_pair_contacts(nodes, particles, pairs, stepping, busy):
         lo = k * PAIR_CHUNK
         if counts[k] > 0:
             status, w_normal, w_fric, w_roll = _pair_apply(
-                lo, lo + counts[k], busy, particles.p0, pairs.first, pairs.second, pairs.state,
+                lo, counts[k], k * AREA, busy, particles.p0, pairs.first, pairs.second, pairs.state,
                 pairs.on, nodes.force, stepping.pen_limit, stepping.diag, c, hist, status,
                 w_normal, w_fric, w_roll)
     _book_pair_work(stepping.ledger, w_normal, w_fric, w_roll)

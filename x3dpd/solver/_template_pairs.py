@@ -17,8 +17,9 @@ from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND,
                                             N_TANGENTIAL, NORMAL_CLAMPED, NORMAL_PAIR_FORCE,
                                             NORMAL_USES_RATE, HAS_ROLLING, ROLLING_TORQUE,
                                             TANGENTIAL_STORES)
-from x3dpd.solver.contact_lists import (PAIR_COLUMNS, PAIR_INPUT_COLUMNS, PAIR_OUTPUT_COLUMNS,
-                                         S_A, S_FN, S_FT, S_H)
+from x3dpd.solver.contact_lists import (COLUMN_ROW, PAIR_BLOCK, PAIR_COLUMNS,
+                                         PAIR_INPUT_COLUMNS, PAIR_OUTPUT_COLUMNS, S_A, S_FN,
+                                         S_FT, S_H)
 
 # rows of the pair pass's column scratch (x3dpd.solver.contact_lists.PAIR_COLUMNS)
 C_FX, C_FY, C_FZ = (PAIR_COLUMNS.index(c) for c in ("fx", "fy", "fz"))
@@ -44,26 +45,39 @@ O_FX, O_FY, O_FZ, O_TIX, O_TIY, O_TIZ, O_TJX, O_TJY, O_TJZ, O_A, O_FN, O_FTX, O_
 #: the response reads the bodies' velocities (its normal law's rate, friction) and spins
 GATHER_VELOCITY = NORMAL_USES_RATE or HAS_FRICTION
 GATHER_SPIN = HAS_FRICTION or HAS_ROLLING
+#: entries of one column area of the scratch (contact_lists.pair_columns): a block's
+AREA = len(PAIR_COLUMNS) * COLUMN_ROW
+
+
+@step_kernel
+def _entry(column, e):
+    """Where column ``column`` keeps entry ``e`` (its area's base plus the busy candidate's
+    place in the block) in the flat scratch: a constant offset, COLUMN_ROW being a constant of
+    the compiled code (contact_lists.COLUMN_ROW)."""
+    return np.uint64(column * COLUMN_ROW) + e
 
 
 @loop_kernel(inline="never")
-def _pair_filter(lo, hi, q0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c, hist):
-    """Pass 1 of the pair contacts, over the candidates ``lo`` .. ``hi`` - 1 of the list: write
-    into ``busy`` (from position ``q0`` on) the candidates that touch now or had an open
-    contact, and gather, in list order, what the contact response reads into the columns
-    of ``c`` (contact_lists.PAIR_INPUT_COLUMNS; column q for busy candidate q): x_j - x_i, the
-    velocities and spins of both particles (when the scene's laws read them), the state row's
-    approach, normal and friction force, and the laws' histories into ``hist`` (Maxwell terms,
-    then the tangential and rolling laws'; row q). Returns how many are busy. The step loop
-    filters the whole list from q0 = 0; a threaded loop filters chunks of it at once, each
-    from q0 = lo (``_template_pair_passes``).
+def _pair_filter(lo, hi, q0, area, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c, hist):
+    """Pass 1 of the pair contacts, over the candidates ``lo`` .. ``hi`` - 1 of the list (at
+    most PAIR_BLOCK): write into ``busy`` (from position ``q0`` on) the candidates that touch
+    now or had an open contact, and gather, in list order, what the contact response reads
+    into the columns of ``c`` (contact_lists.PAIR_INPUT_COLUMNS; the area from entry ``area``
+    on, entry k for the k-th busy candidate, ``_entry``): x_j - x_i, the velocities and spins of
+    both particles (when the scene's laws read them), the state row's approach, normal and
+    friction force, and the laws' histories into ``hist`` (Maxwell terms, then the tangential
+    and rolling laws'; row q0 + k). Returns how many are busy. The step loop filters the list
+    block by block, each from q0 = 0 into the first area; a threaded loop filters its blocks at
+    once, each from q0 = lo into an area of its own (``_template_pair_passes``).
 
     Gathered here, the response reads contiguous 1-D columns only, no index: LLVM vectorizes
-    it without gathers. A function of its own, not inlined: inside the step loop's single
-    large function the filter's array pointers spill to the stack and are reloaded for every
-    candidate; here they stay in registers (measured: 0.85 -> 0.80 us/step at 50 particles,
-    8.1 -> 7.2 at 512). It is compiled without NRT like the loop, so the call passes its arrays
-    without reference counting.
+    it without gathers. Each column entry is addressed from the area's base by a constant
+    offset (``_entry``): one register for all columns, where a pointer per column spilled to
+    the stack and was reloaded at every store. A function of its own, not inlined: inside the
+    step loop's single large function the filter's array pointers spill to the stack and are
+    reloaded for every candidate; here they stay in registers (measured: 0.85 -> 0.80 us/step
+    at 50 particles, 8.1 -> 7.2 at 512). It is compiled without NRT like the loop, so the call
+    passes its arrays without reference counting.
 
     Indices are cast to unsigned: numba then omits the code that wraps negative indices around
     (four instructions per array access, most of this loop's instructions); list entries are
@@ -84,20 +98,21 @@ def _pair_filter(lo, hi, q0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c,
         cut = radius[pi] + radius[pj]
         if dx * dx + dy * dy + dz * dz < cut * cut or pl_on[s] != 0:
             q = np.uint64(q0 + nbusy)
+            e = np.uint64(area + nbusy)
             busy[q] = s_list
-            c[C_DX, q] = dx
-            c[C_DY, q] = dy
-            c[C_DZ, q] = dz
-            c[C_AOLD, q] = ps[s, S_A]
-            c[C_FNOLD, q] = ps[s, S_FN]
-            # velocities (0-2) and spins (3-5) of both: rows vix .. wiz and vjx .. wjz
+            c[_entry(C_DX, e)] = dx
+            c[_entry(C_DY, e)] = dy
+            c[_entry(C_DZ, e)] = dz
+            c[_entry(C_AOLD, e)] = ps[s, S_A]
+            c[_entry(C_FNOLD, e)] = ps[s, S_FN]
+            # velocities (0-2) and spins (3-5) of both: columns vix .. wiz and vjx .. wjz
             for k in range(0 if GATHER_VELOCITY else 3, 6 if GATHER_SPIN else 3):
-                c[C_VIX + k, q] = vel[i, k]
-                c[C_VJX + k, q] = vel[j, k]
+                c[_entry(C_VIX + k, e)] = vel[i, k]
+                c[_entry(C_VJX + k, e)] = vel[j, k]
             if HAS_FRICTION:
-                c[C_FTOX, q] = ps[s, S_FT]
-                c[C_FTOY, q] = ps[s, S_FT + 1]
-                c[C_FTOZ, q] = ps[s, S_FT + 2]
+                c[_entry(C_FTOX, e)] = ps[s, S_FT]
+                c[_entry(C_FTOY, e)] = ps[s, S_FT + 1]
+                c[_entry(C_FTOZ, e)] = ps[s, S_FT + 2]
             if N_MAXWELL > 0:
                 for k in range(2 * N_MAXWELL):
                     hist[q, k] = ps[s, S_H + k]
@@ -110,29 +125,43 @@ def _pair_filter(lo, hi, q0, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, busy, c,
 
 
 @step_kernel
-def _columns_in(c):
-    """The rows of ``c`` the contact response reads, as a tuple (I_* positions): separate
-    arguments to it, so that its ``noalias`` covers each (x3dpd._jit.vector_kernel)."""
-    return (c[C_DX], c[C_DY], c[C_DZ], c[C_VIX], c[C_VIY], c[C_VIZ], c[C_WIX], c[C_WIY],
-            c[C_WIZ], c[C_VJX], c[C_VJY], c[C_VJZ], c[C_WJX], c[C_WJY], c[C_WJZ], c[C_AOLD],
-            c[C_FNOLD], c[C_FTOX], c[C_FTOY], c[C_FTOZ])
+def _column(c, area, column):
+    """Column ``column`` of the area from entry ``area`` on, as a 1-D array of PAIR_BLOCK."""
+    start = area + column * COLUMN_ROW
+    return c[start:start + PAIR_BLOCK]
 
 
 @step_kernel
-def _columns_out(c):
-    """The rows of ``c`` the contact response writes, as a tuple (O_* positions)."""
-    return (c[C_FX], c[C_FY], c[C_FZ], c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY],
-            c[C_TJZ], c[C_A], c[C_FN], c[C_FTX], c[C_FTY], c[C_FTZ], c[C_DW], c[C_LOST],
-            c[C_ROLLED], c[C_RMIN])
+def _columns_in(c, area):
+    """The columns of an area the contact response reads, as a tuple (I_* positions):
+    separate arguments to it, so that its ``noalias`` covers each (x3dpd._jit.vector_kernel)."""
+    return (_column(c, area, C_DX), _column(c, area, C_DY), _column(c, area, C_DZ),
+            _column(c, area, C_VIX), _column(c, area, C_VIY), _column(c, area, C_VIZ),
+            _column(c, area, C_WIX), _column(c, area, C_WIY), _column(c, area, C_WIZ),
+            _column(c, area, C_VJX), _column(c, area, C_VJY), _column(c, area, C_VJZ),
+            _column(c, area, C_WJX), _column(c, area, C_WJY), _column(c, area, C_WJZ),
+            _column(c, area, C_AOLD), _column(c, area, C_FNOLD), _column(c, area, C_FTOX),
+            _column(c, area, C_FTOY), _column(c, area, C_FTOZ))
+
+
+@step_kernel
+def _columns_out(c, area):
+    """The columns of an area the contact response writes, as a tuple (O_* positions)."""
+    return (_column(c, area, C_FX), _column(c, area, C_FY), _column(c, area, C_FZ),
+            _column(c, area, C_TIX), _column(c, area, C_TIY), _column(c, area, C_TIZ),
+            _column(c, area, C_TJX), _column(c, area, C_TJY), _column(c, area, C_TJZ),
+            _column(c, area, C_A), _column(c, area, C_FN), _column(c, area, C_FTX),
+            _column(c, area, C_FTY), _column(c, area, C_FTZ), _column(c, area, C_DW),
+            _column(c, area, C_LOST), _column(c, area, C_ROLLED), _column(c, area, C_RMIN))
 
 
 @vector_kernel
-def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, history_dt):
-    """Pass 2 of the pair contacts: the contact response of the busy candidates in columns
-    ``lo`` .. ``hi`` - 1 (report Figure 41), from the columns the filter gathered (``cin``, I_*
-    positions; column q for busy candidate q) into the columns ``cout`` (O_* positions;
-    contact_lists.PAIR_OUTPUT_COLUMNS) for pass 3 to apply. Each column's answer depends on
-    that column alone, so any split of the range (threads) gives the same bits.
+def _pair_response(q0, n, busy, pl_i, pl_j, particles, hist, dt, cin, cout, history_dt):
+    """Pass 2 of the pair contacts: the contact response of a block's ``n`` busy candidates
+    (report Figure 41), from the columns the filter gathered (``cin``, I_* positions; entry k
+    for the k-th, busy candidate q0 + k) into the columns ``cout`` (O_* positions;
+    contact_lists.PAIR_OUTPUT_COLUMNS) for pass 3 to apply. Each entry's answer depends on
+    that entry alone, so any split of the list (threads) gives the same bits.
 
     The normal law is the scene's (x3dpd.physics.normal_laws), with n = (x_j - x_i)/|x_j - x_i|
     and approach a = R_i + R_j - |x_j - x_i|; the tangential law with spin (``_tangential``, the
@@ -143,7 +172,7 @@ def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, his
     writes contiguous 1-D columns only and LLVM vectorizes it (x3dpd._jit.vector_kernel):
     packed square roots, divisions and multiply-adds, no gathers (tests/solver/
     test_pair_columns.py checks the machine code). Histories (Maxwell terms, then the
-    tangential and rolling laws') are read and written in ``hist`` (row q, Fortran order: one
+    tangential and rolling laws') are read and written in ``hist`` (row q0 + k, Fortran order: one
     contiguous column per history value). Particles of several kinds gather their constants
     by ``busy``, ``pl_i``, ``pl_j``; one kind reads them once. ``history_dt``: the step the
     contacts slip over (``Stepping.history_dt``: dt, or 0 in a force evaluation at a state).
@@ -167,11 +196,12 @@ def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, his
     k0 = np.uint64(pkind[0])
     m_t0, mu_s0, kappa0, mu_k0, eta0 = _friction_constants(particles, k0, k0)
     lever0, inertia0 = particles.tan_pair[k0, k0, 2], particles.tan_pair[k0, k0, 3]
-    for qs in range(lo, hi):
-        # an unsigned index: numba then drops the wrap-around of negative indices from every
-        # column access (from an unknown ``lo`` LLVM cannot tell q >= 0, and the selects keep
-        # the loop scalar)
-        q = np.uint64(qs)
+    for nth in range(n):
+        # unsigned indices: numba then drops the wrap-around of negative indices from every
+        # access (from an unknown ``q0`` LLVM cannot tell q >= 0, and the selects keep the
+        # loop scalar); ``e`` the entry in the columns, ``q`` the busy candidate
+        e = np.uint64(nth)
+        q = np.uint64(q0 + nth)
         if HAS_ONE_PARTICLE_KIND:
             # all particles alike (x3dpd.solver.variants): their constants are read once,
             # not gathered per contact
@@ -182,15 +212,15 @@ def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, his
             s = np.uint64(busy[q])
             pi = np.uint64(pl_i[s])
             pj = np.uint64(pl_j[s])
-        dx = dx_[q]
-        dy = dy_[q]
-        dz = dz_[q]
+        dx = dx_[e]
+        dy = dy_[e]
+        dz = dz_[e]
         ri = radius[pi]
         rj = radius[pj]
         dist = math.sqrt(dx * dx + dy * dy + dz * dz)
         a = (ri + rj) - dist
-        a_old = a_old_[q]
-        fn_old = fn_old_[q]
+        a_old = a_old_[e]
+        fn_old = fn_old_[e]
         inv_dist = 1.0 / dist
         nx = dx * inv_dist
         ny = dy * inv_dist
@@ -205,8 +235,8 @@ def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, his
         # a^1.5) and the histories of its row in ``hist`` are never applied (pass 3 closes it)
         a_rate = 0.0
         if NORMAL_USES_RATE:
-            a_rate = -(nx * (vjx_[q] - vix_[q]) + ny * (vjy_[q] - viy_[q])
-                       + nz * (vjz_[q] - viz_[q]))
+            a_rate = -(nx * (vjx_[e] - vix_[e]) + ny * (vjy_[e] - viy_[e])
+                       + nz * (vjz_[e] - viz_[e]))
         # Maxwell histories in row q of ``hist``, columns 0 ..
         fn_law = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, hist, q, 0,
                                    N_MAXWELL)
@@ -230,19 +260,19 @@ def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, his
         ftz = 0.0
         lost = 0.0
         if HAS_FRICTION:
-            wix = wix_[q]
-            wiy = wiy_[q]
-            wiz = wiz_[q]
-            wjx = wjx_[q]
-            wjy = wjy_[q]
-            wjz = wjz_[q]
+            wix = wix_[e]
+            wiy = wiy_[e]
+            wiz = wiz_[e]
+            wjx = wjx_[e]
+            wjy = wjy_[e]
+            wjz = wjz_[e]
             # contact point velocities: i at +ri n, j at -rj n
-            vix = vix_[q] + ri * (wiy * nz - wiz * ny)
-            viy = viy_[q] + ri * (wiz * nx - wix * nz)
-            viz = viz_[q] + ri * (wix * ny - wiy * nx)
-            vjx = vjx_[q] - rj * (wjy * nz - wjz * ny)
-            vjy = vjy_[q] - rj * (wjz * nx - wjx * nz)
-            vjz = vjz_[q] - rj * (wjx * ny - wjy * nx)
+            vix = vix_[e] + ri * (wiy * nz - wiz * ny)
+            viy = viy_[e] + ri * (wiz * nx - wix * nz)
+            viz = viz_[e] + ri * (wix * ny - wiy * nx)
+            vjx = vjx_[e] - rj * (wjy * nz - wjz * ny)
+            vjy = vjy_[e] - rj * (wjz * nx - wjx * nz)
+            vjz = vjz_[e] - rj * (wjx * ny - wjy * nx)
             m_t, mu_s, kappa, mu_k, eta = m_t0, mu_s0, kappa0, mu_k0, eta0
             if not HAS_ONE_PARTICLE_KIND:
                 m_t, mu_s, kappa, mu_k, eta = _friction_constants(particles, ki, kj)
@@ -250,7 +280,7 @@ def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, his
             ftx, fty, ftz, lost, du = _tangential(vjx - vix, vjy - viy, vjz - viz, nx, ny, nz,
                                                   fn, a, m_t, mu_s, kappa, mu_k, eta,
                                                   history_dt, gamma,
-                                                  ftox_[q], ftoy_[q], ftoz_[q], hist, q,
+                                                  ftox_[e], ftoy_[e], ftoz_[e], hist, q,
                                                   2 * N_MAXWELL)
             if TANGENTIAL_STORES and touching:
                 # the spring's share of the slip work is stored, not lost (a candidate that
@@ -265,39 +295,39 @@ def _pair_response(lo, hi, busy, pl_i, pl_j, particles, hist, dt, cin, cout, his
             tx = ny * ftz - nz * fty
             ty = nz * ftx - nx * ftz
             tz = nx * fty - ny * ftx
-        fx_[q] = fx
-        fy_[q] = fy
-        fz_[q] = fz
-        tix_[q] = ri * tx
-        tiy_[q] = ri * ty
-        tiz_[q] = ri * tz
-        tjx_[q] = rj * tx
-        tjy_[q] = rj * ty
-        tjz_[q] = rj * tz
+        fx_[e] = fx
+        fy_[e] = fy
+        fz_[e] = fz
+        tix_[e] = ri * tx
+        tiy_[e] = ri * ty
+        tiz_[e] = ri * tz
+        tjx_[e] = rj * tx
+        tjy_[e] = rj * ty
+        tjz_[e] = rj * tz
         if HAS_ROLLING:
             # rolling resistance against the relative rolling w_i - w_j (x3dpd.physics.rolling):
             # M on i, -M on j (the columns are subtracted from the moments)
             lever, inertia = lever0, inertia0
             if not HAS_ONE_PARTICLE_KIND:
                 lever, inertia = particles.tan_pair[ki, kj, 2], particles.tan_pair[ki, kj, 3]
-            mx, my, mz, rolled = ROLLING_TORQUE(wix_[q] - wjx_[q], wiy_[q] - wjy_[q],
-                                                wiz_[q] - wjz_[q], fn, lever, inertia, dt, hist,
+            mx, my, mz, rolled = ROLLING_TORQUE(wix_[e] - wjx_[e], wiy_[e] - wjy_[e],
+                                                wiz_[e] - wjz_[e], fn, lever, inertia, dt, hist,
                                                 q, 2 * N_MAXWELL + N_TANGENTIAL)
-            tix_[q] -= mx
-            tiy_[q] -= my
-            tiz_[q] -= mz
-            tjx_[q] += mx
-            tjy_[q] += my
-            tjz_[q] += mz
-            rolled_[q] = rolled
-        a_[q] = a
-        fn_[q] = fn
-        ftx_[q] = ftx
-        fty_[q] = fty
-        ftz_[q] = ftz
-        dw_[q] = dw
-        lost_[q] = lost
-        rmin_[q] = ri if ri < rj else rj
+            tix_[e] -= mx
+            tiy_[e] -= my
+            tiz_[e] -= mz
+            tjx_[e] += mx
+            tjy_[e] += my
+            tjz_[e] += mz
+            rolled_[e] = rolled
+        a_[e] = a
+        fn_[e] = fn
+        ftx_[e] = ftx
+        fty_[e] = fty
+        ftz_[e] = ftz
+        dw_[e] = dw
+        lost_[e] = lost
+        rmin_[e] = ri if ri < rj else rj
 
 
 @step_kernel
@@ -317,42 +347,41 @@ def _friction_constants(particles, ki, kj):
 
 
 @loop_kernel(inline="never")
-def _pair_apply(lo, hi, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, c, hist,
+def _pair_apply(q0, n, area, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag, c, hist,
                 status, w_normal, w_fric, w_roll):
-    """Pass 3 of the pair contacts, in list order over the busy columns ``lo`` .. ``hi`` - 1:
-    the contact states, the forces on both particles and the ledger's sums from the columns
-    ``c`` of ``_pair_response`` -- the same sums in the same order as a single scalar loop.
+    """Pass 3 of the pair contacts, in list order over a block's ``n`` busy candidates q0 ..
+    q0 + n - 1: the contact states, the forces on both particles and the ledger's sums from the
+    columns ``c`` of ``_pair_response`` (the area from entry ``area`` on, ``_entry``) -- the
+    same sums in the same order as a single scalar loop.
     Returns (status, normal work, friction loss, rolling loss), continued from the ones given
     (OK and zeros for the whole list; a threaded loop chains them through its chunks in list
     order). Its own function, like the filter: inlined into the step loop, the column
     pointers were reloaded from the stack at every contact (measured with
-    tools/bench/profile_jit.py)."""
-    rolled_ = c[C_ROLLED]
-    fx_, fy_, fz_ = c[C_FX], c[C_FY], c[C_FZ]
-    tix_, tiy_, tiz_, tjx_, tjy_, tjz_ = c[C_TIX], c[C_TIY], c[C_TIZ], c[C_TJX], c[C_TJY], c[C_TJZ]
-    a_, fn_, dw_, lost_, rmin_ = c[C_A], c[C_FN], c[C_DW], c[C_LOST], c[C_RMIN]
-    ftx_, fty_, ftz_ = c[C_FTX], c[C_FTY], c[C_FTZ]
-    for qs in range(lo, hi):
-        q = np.uint64(qs)   # unsigned: no wrap-around code (``_pair_response``)
+    tools/bench/profile_jit.py); and like the filter's, its column entries are constant offsets
+    from the area's base, not a pointer per column."""
+    for nth in range(n):
+        # unsigned: no wrap-around code (``_pair_response``); ``e`` the entry in the columns
+        q = np.uint64(q0 + nth)
+        e = np.uint64(area + nth)
         s = np.uint64(busy[q])
-        a = a_[q]
+        a = c[_entry(C_A, e)]
         if a <= 0.0:
             if HAS_TORQUE and pl_on[s] != 0:
                 # the friction's and rolling's work of the step the contact ends on
-                w_fric += lost_[q]
+                w_fric += c[_entry(C_LOST, e)]
                 if HAS_ROLLING:
-                    w_roll += rolled_[q]
+                    w_roll += c[_entry(C_ROLLED, e)]
             dw, released = _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
             w_normal += dw
             if TANGENTIAL_STORES:
                 w_normal -= released
                 w_fric += released
             continue
-        rmin = rmin_[q]
+        rmin = c[_entry(C_RMIN, e)]
         if a > pen_limit * rmin:
             status |= _penetration(diag, pl_i[s], -1 - pl_j[s], a, rmin)
         ps[s, S_A] = a
-        ps[s, S_FN] = fn_[q]
+        ps[s, S_FN] = c[_entry(C_FN, e)]
         if N_MAXWELL > 0:
             for k in range(2 * N_MAXWELL):
                 ps[s, S_H + k] = hist[q, k]
@@ -360,25 +389,25 @@ def _pair_apply(lo, hi, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, diag,
             for k in range(CONTACT_TAIL):
                 ps[s, ps.shape[1] - CONTACT_TAIL + k] = hist[q, 2 * N_MAXWELL + k]
         pl_on[s] = 1
-        w_normal += dw_[q]
+        w_normal += c[_entry(C_DW, e)]
         i = np.uint64(p0 + pl_i[s])
         j = np.uint64(p0 + pl_j[s])
-        fx = fx_[q]
-        fy = fy_[q]
-        fz = fz_[q]
+        fx = c[_entry(C_FX, e)]
+        fy = c[_entry(C_FY, e)]
+        fz = c[_entry(C_FZ, e)]
         if HAS_TORQUE:
-            w_fric += lost_[q]
+            w_fric += c[_entry(C_LOST, e)]
             if HAS_ROLLING:
-                w_roll += rolled_[q]
-            ps[s, S_FT] = ftx_[q]
-            ps[s, S_FT + 1] = fty_[q]
-            ps[s, S_FT + 2] = ftz_[q]
-            force[i, 3] -= tix_[q]
-            force[i, 4] -= tiy_[q]
-            force[i, 5] -= tiz_[q]
-            force[j, 3] -= tjx_[q]
-            force[j, 4] -= tjy_[q]
-            force[j, 5] -= tjz_[q]
+                w_roll += c[_entry(C_ROLLED, e)]
+            ps[s, S_FT] = c[_entry(C_FTX, e)]
+            ps[s, S_FT + 1] = c[_entry(C_FTY, e)]
+            ps[s, S_FT + 2] = c[_entry(C_FTZ, e)]
+            force[i, 3] -= c[_entry(C_TIX, e)]
+            force[i, 4] -= c[_entry(C_TIY, e)]
+            force[i, 5] -= c[_entry(C_TIZ, e)]
+            force[j, 3] -= c[_entry(C_TJX, e)]
+            force[j, 4] -= c[_entry(C_TJY, e)]
+            force[j, 5] -= c[_entry(C_TJZ, e)]
         force[j, 0] += fx
         force[j, 1] += fy
         force[j, 2] += fz

@@ -145,8 +145,8 @@ class ContactList(NamedTuple):
     second_new: np.ndarray   # (L,) scratch of the rebuild
     state_new: np.ndarray    # (L, columns) scratch of the rebuild
     approach_new: np.ndarray  # (L,) scratch of the rebuild: approach of new candidates
-    # scratch of the pair pass (walls, answered one contact at a time, hold 1 x 1 placeholders):
-    columns: np.ndarray      # (C, L + pad) response columns (contact_lists.pair_columns)
+    # scratch of the pair pass (walls, answered one contact at a time, hold placeholders):
+    columns: np.ndarray      # flat: an area of C columns per list block (pair_columns)
     history: np.ndarray      # (L + pad, H) Fortran-order histories of busy candidates
 
 
@@ -264,7 +264,7 @@ def contact_scratch(state) -> dict:
             "ws2": np.zeros_like(s.ws), "wl_a": np.zeros(s.wl_p.shape[0]),
             "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
             "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
-            "wl_c": np.zeros((1, 1)), "pl_c": pair_columns(s.pl_i.shape[0]),
+            "wl_c": np.zeros(1), "pl_c": pair_columns(s.pl_i.shape[0]),
             "wl_h": np.zeros((1, 1), order="F"),
             "pl_h": history_columns(s.pl_i.shape[0], s.ps.shape[1] - S_H),
             "small": np.zeros(9), "located": np.zeros((MAX_SHAPE_PARTS, 9)),

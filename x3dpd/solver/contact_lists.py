@@ -15,7 +15,8 @@ import numpy as np
 from x3dpd._jit import kernel
 
 __all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "PAIR_INPUT_COLUMNS",
-           "PAIR_OUTPUT_COLUMNS", "pair_columns", "history_columns", "_active_flags",
+           "PAIR_OUTPUT_COLUMNS", "PAIR_BLOCK", "COLUMN_ROW", "column_areas", "pair_columns",
+           "history_columns", "_active_flags",
            "_merge_states", "_pair_approach", "kept_histories", "restore_histories"]
 
 # columns of a contact state row
@@ -45,16 +46,33 @@ PAIR_OUTPUT_COLUMNS = ("fx", "fy", "fz",           # force on particle j (minus 
                        "rmin")                     # the smaller radius (penetration limit)
 PAIR_COLUMNS = PAIR_OUTPUT_COLUMNS + PAIR_INPUT_COLUMNS
 
+#: Candidates per block of the pair passes: the passes run block after block of the list (a
+#: threaded loop, its blocks on several threads), each block's busy candidates in a column
+#: area of their own (``pair_columns``).
+PAIR_BLOCK = 1024
 #: Padding of each column row: a row stride that is a multiple of 4096 bytes (a list
 #: capacity of 512, 1024 ...) maps all the columns onto the same L1 cache sets, more than its
 #: ways, and the pair pass ran 1.5x slower (measured on a settled bed of 512).
 COLUMN_PAD = 24
+#: The stride of a column in the scratch [entries], a constant of the compiled passes: a
+#: column entry's address is then the area's base, the entry and a constant offset, with no
+#: pointer per column to keep in a register (the filter and apply passes reloaded 21 and 14 of
+#: them from the stack per contact; measured on the settled bed of 512: the pair passes 53-54
+#: -> 45 us, docs/engine.md, "The pair contact passes").
+COLUMN_ROW = PAIR_BLOCK + COLUMN_PAD
+
+
+def column_areas(capacity: int) -> int:
+    """Column areas of a pair list of ``capacity`` candidates: one per block of the list."""
+    return max(1, -(-capacity // PAIR_BLOCK))
 
 
 def pair_columns(capacity: int):
-    """The column scratch of a pair list of ``capacity`` candidates: one padded row per name in
-    :data:`PAIR_COLUMNS`."""
-    return np.zeros((len(PAIR_COLUMNS), capacity + COLUMN_PAD))
+    """The column scratch of a pair list of ``capacity`` candidates, flat: per block of
+    :data:`PAIR_BLOCK` candidates an area of one row of :data:`COLUMN_ROW` entries per name in
+    :data:`PAIR_COLUMNS` (the entry of column ``C`` for the block's ``k``-th busy candidate at
+    area * len(PAIR_COLUMNS) * COLUMN_ROW + C * COLUMN_ROW + k)."""
+    return np.zeros(column_areas(capacity) * len(PAIR_COLUMNS) * COLUMN_ROW)
 
 
 def history_columns(capacity: int, n_history: int):
