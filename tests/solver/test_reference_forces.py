@@ -212,3 +212,54 @@ def test_forces_match_reference(seed, rotated, mixed):
         f"worst relative mismatch {np.max(err / np.where(scale > 0, scale, 1)):.2e}"
     )
     print(f"worst relative mismatch {np.max(err / np.where(scale > 0, scale, 1)):.1e}")
+
+
+def test_a_list_of_several_blocks_matches_the_reference():
+    """A packed lattice of 512 spheres, every neighbour pressed in by 1-3 % of the radius:
+    more candidates than one block of the pair passes (contact_lists.PAIR_BLOCK), so the
+    filter, response and apply run block after block, each block's columns in the same
+    scratch area, their sums chained through the blocks. Forces as the reference gives them."""
+    from x3dpd.solver.contact_lists import PAIR_BLOCK
+
+    r = MAT_A["radius"]
+    rng = np.random.default_rng(7)
+    axis = 0.98 * r + np.arange(8) * 1.96 * r
+    lattice = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
+    pos = lattice + rng.uniform(-0.005, 0.005, lattice.shape) * r
+    vel = _velocities(rng, len(pos))
+    deck = closed_box_deck(pos, vel, dt=DT, gravity=G, **MAT_A)
+    model = build_model(deck)
+    sim = Simulation(model, penetration_limit=0.25)
+    sim.initialize()
+    assert sim.variant.one_particle_kind and sim.variant.friction_law == "regularized"
+    assert int(sim.state.npl[0]) > PAIR_BLOCK
+    assert sim.compute_forces(model.t0) == 0
+    force = sim.state.force
+
+    n = len(pos)
+    mass = np.full(n, sphere_mass(r, MAT_A["density"]))
+    box = np.array(
+        [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+        float,
+    )
+    want, scale, info = ref.contact_forces(
+        np.vstack([box, pos]),
+        np.vstack([np.zeros((8, 6)), vel]),
+        p0=8,
+        radius=np.full(n, r),
+        mass=mass,
+        e=np.full(n, MAT_A["e0"]),
+        nu=np.full(n, MAT_A["nu"]),
+        mu=np.full(n, MAT_A["mu"]),
+        faces=ref.box_faces(box),
+        gravity=(0.0, -G, 0.0),
+        dt=DT,
+        node_mass=np.r_[np.zeros(8), mass],
+    )
+    # every lattice neighbour touches (3 x 7 x 64 pairs), and so do the three low faces' layers
+    assert info["pair"] == 3 * 7 * 64 and info["wall"] == 3 * 64
+    assert info["stick"] >= 3 and info["slip"] >= 3
+    err = np.abs(force - want)
+    assert np.all(err <= 1e-12 * scale), (
+        f"worst relative mismatch {np.max(err / np.where(scale > 0, scale, 1)):.2e}"
+    )

@@ -87,14 +87,16 @@ NO_SCATTER = (
 #: replacement) in the part that runs them (``_template_pair_passes.py``)
 FILTER_ONLY = (
     (
-        "        # pass 2: the contact response, from columns into columns\n",
-        "        continue  # the cut\n",
+        "        # pass 2: the contact response, from columns into columns",
+        "        continue  # the cut\n"
+        "        # pass 2: the contact response, from columns into columns",
     ),
 )
 NO_APPLY = (
     (
-        "        # pass 3: states, forces and the ledger, the sums chained through the blocks\n",
-        "        continue  # the cut\n",
+        "        # pass 3: states, forces and the ledger, the sums chained through the blocks",
+        "        continue  # the cut\n"
+        "        # pass 3: states, forces and the ledger, the sums chained through the blocks",
     ),
 )
 
