@@ -68,13 +68,10 @@ def response_asm(
         fresh = vector_kernel(pairs._pair_response.py_func, cache=False)
     else:
         fresh = kernel(pairs._pair_response.py_func, cache=False, inline="never", _nrt=False)
-    c = pl.columns
-
-    def column(k):  # the first area's column k (x3dpd.solver.contact_lists.pair_columns)
-        return c[k * pairs.COLUMN_ROW : k * pairs.COLUMN_ROW + pairs.PAIR_BLOCK]
-
-    cin = tuple(column(pairs.C_DX + k) for k in range(len(pairs.PAIR_INPUT_COLUMNS)))
-    cout = tuple(column(k) for k in range(len(pairs.PAIR_OUTPUT_COLUMNS)))
+    # the first area's columns, as the loop hands them over (x3dpd.solver.contact_lists)
+    rows = pl.columns.reshape(-1, pairs.COLUMN_ROW)
+    cin = tuple(rows[pairs.C_DX + k] for k in range(len(pairs.PAIR_INPUT_COLUMNS)))
+    cout = tuple(rows[k] for k in range(len(pairs.PAIR_OUTPUT_COLUMNS)))
     fresh(0, 0, pl.first_new, pl.first, pl.second, particles, pl.history, sim.dt, cin, cout, sim.dt)
     return fresh.inspect_asm(fresh.signatures[0])
 

@@ -75,14 +75,7 @@ def pass_seconds(sim: Simulation, calls: int, whole: bool) -> float:
     passes (``_pair_contacts``). The first two write only scratch columns, the third the same
     states again and more force, so repeated calls do the same work."""
     mod = part_module(sim.kernels, "pair_passes")
-    pairs_mod = part_module(sim.kernels, "pairs")
-    chunks, contacts, cin, cout, size = (
-        mod._pair_chunks,
-        mod._pair_contacts,
-        pairs_mod._columns_in,
-        pairs_mod._columns_out,
-        mod.PAIR_CHUNK,
-    )
+    chunks, contacts, size = mod._pair_chunks, mod._pair_contacts, mod.PAIR_CHUNK
 
     def repeat(k, nodes, particles, pairs, stepping):
         npairs = pairs.count[0]
@@ -108,8 +101,6 @@ def pass_seconds(sim: Simulation, calls: int, whole: bool) -> float:
                     pairs.second_new,
                     particles,
                     stepping.dt,
-                    cin(c),
-                    cout(c),
                     stepping.history_dt,
                 )
 

@@ -15,10 +15,10 @@ import numba
 
 from x3dpd._jit import step_kernel, threaded_kernel
 from x3dpd.solver._template_contact import L_DFRIC, L_DROLL, L_WN, OK
-from x3dpd.solver._template_pairs import (AREA, _columns_in, _columns_out, _pair_apply,
-                                          _pair_filter, _pair_response)
+from x3dpd.solver._template_pairs import (AREA, _column_rows, _columns_in, _columns_out,
+                                          _pair_apply, _pair_filter, _pair_response)
 from x3dpd.solver._template_variant import HAS_ROLLING, HAS_THREADED
-from x3dpd.solver.contact_lists import PAIR_BLOCK
+from x3dpd.solver.contact_lists import PAIR_BLOCK, PAIR_COLUMNS
 
 #: candidates per chunk of a threaded pair pass, the passes' blocks: a chunk's filter and
 #: response run in one thread, its busy candidates in busy positions and history rows lo .. of
@@ -47,8 +47,10 @@ def _pair_chunks(nchunks, npairs, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, bus
                           hist)
         counts[k] = nb
         if nb > 0:
-            _pair_response(lo, nb, busy, pl_i, pl_j, particles, hist, dt, _columns_in(c, area),
-                           _columns_out(c, area), history_dt)
+            rows = _column_rows(c)
+            r0 = k * len(PAIR_COLUMNS)
+            _pair_response(lo, nb, busy, pl_i, pl_j, particles, hist, dt, _columns_in(rows, r0),
+                           _columns_out(rows, r0), history_dt)
 
 
 @step_kernel
@@ -87,10 +89,11 @@ def _pair_contacts(nodes, particles, pairs, stepping, busy):
         if nb == 0:
             # nothing touches (a falling or sparse scene): skip the calls and their arguments
             continue
-        # pass 2: the contact response, from columns into columns (the slices made here: a
+        # pass 2: the contact response, from columns into columns (their views made here: a
         # falling scene, its blocks mostly idle, would pay for 38 of them every step)
+        rows = _column_rows(c)
         _pair_response(0, nb, busy, pl_i, pl_j, particles, hist, stepping.dt,
-                       _columns_in(c, 0), _columns_out(c, 0), stepping.history_dt)
+                       _columns_in(rows, 0), _columns_out(rows, 0), stepping.history_dt)
         # pass 3: states, forces and the ledger, the sums chained through the blocks
         status, w_normal, w_fric, w_roll = _pair_apply(0, nb, 0, busy, p0, pl_i, pl_j, ps, pl_on,
                                                        nodes.force, stepping.pen_limit,

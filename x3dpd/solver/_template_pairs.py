@@ -17,9 +17,8 @@ from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND,
                                             N_TANGENTIAL, NORMAL_CLAMPED, NORMAL_PAIR_FORCE,
                                             NORMAL_USES_RATE, HAS_ROLLING, ROLLING_TORQUE,
                                             TANGENTIAL_STORES)
-from x3dpd.solver.contact_lists import (COLUMN_ROW, PAIR_BLOCK, PAIR_COLUMNS,
-                                         PAIR_INPUT_COLUMNS, PAIR_OUTPUT_COLUMNS, S_A, S_FN,
-                                         S_FT, S_H)
+from x3dpd.solver.contact_lists import (COLUMN_ROW, PAIR_COLUMNS, PAIR_INPUT_COLUMNS,
+                                         PAIR_OUTPUT_COLUMNS, S_A, S_FN, S_FT, S_H)
 
 # rows of the pair pass's column scratch (x3dpd.solver.contact_lists.PAIR_COLUMNS)
 C_FX, C_FY, C_FZ = (PAIR_COLUMNS.index(c) for c in ("fx", "fy", "fz"))
@@ -134,34 +133,32 @@ def _pair_filter(lo, hi, q0, area, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, bu
 
 
 @step_kernel
-def _column(c, area, column):
-    """Column ``column`` of the area from entry ``area`` on, as a 1-D array of PAIR_BLOCK."""
-    start = area + column * COLUMN_ROW
-    return c[start:start + PAIR_BLOCK]
+def _column_rows(c):
+    """The flat scratch as rows of COLUMN_ROW entries: row ``area // COLUMN_ROW + C`` is column
+    C of the area from entry ``area`` on (a view; one reshape, then a row is a plain index)."""
+    return c.reshape((c.shape[0] // COLUMN_ROW, COLUMN_ROW))
 
 
 @step_kernel
-def _columns_in(c, area):
-    """The columns of an area the contact response reads, as a tuple (I_* positions):
-    separate arguments to it, so that its ``noalias`` covers each (x3dpd._jit.vector_kernel)."""
-    return (_column(c, area, C_DX), _column(c, area, C_DY), _column(c, area, C_DZ),
-            _column(c, area, C_VIX), _column(c, area, C_VIY), _column(c, area, C_VIZ),
-            _column(c, area, C_WIX), _column(c, area, C_WIY), _column(c, area, C_WIZ),
-            _column(c, area, C_VJX), _column(c, area, C_VJY), _column(c, area, C_VJZ),
-            _column(c, area, C_WJX), _column(c, area, C_WJY), _column(c, area, C_WJZ),
-            _column(c, area, C_AOLD), _column(c, area, C_FNOLD), _column(c, area, C_FTOX),
-            _column(c, area, C_FTOY), _column(c, area, C_FTOZ))
+def _columns_in(rows, r0):
+    """The columns the contact response reads, rows ``r0`` + I_* of ``_column_rows``, as a
+    tuple (I_* positions): separate arguments to it, so that its ``noalias`` covers each
+    (x3dpd._jit.vector_kernel)."""
+    return (rows[r0 + C_DX], rows[r0 + C_DY], rows[r0 + C_DZ], rows[r0 + C_VIX],
+            rows[r0 + C_VIY], rows[r0 + C_VIZ], rows[r0 + C_WIX], rows[r0 + C_WIY],
+            rows[r0 + C_WIZ], rows[r0 + C_VJX], rows[r0 + C_VJY], rows[r0 + C_VJZ],
+            rows[r0 + C_WJX], rows[r0 + C_WJY], rows[r0 + C_WJZ], rows[r0 + C_AOLD],
+            rows[r0 + C_FNOLD], rows[r0 + C_FTOX], rows[r0 + C_FTOY], rows[r0 + C_FTOZ])
 
 
 @step_kernel
-def _columns_out(c, area):
-    """The columns of an area the contact response writes, as a tuple (O_* positions)."""
-    return (_column(c, area, C_FX), _column(c, area, C_FY), _column(c, area, C_FZ),
-            _column(c, area, C_TIX), _column(c, area, C_TIY), _column(c, area, C_TIZ),
-            _column(c, area, C_TJX), _column(c, area, C_TJY), _column(c, area, C_TJZ),
-            _column(c, area, C_A), _column(c, area, C_FN), _column(c, area, C_FTX),
-            _column(c, area, C_FTY), _column(c, area, C_FTZ), _column(c, area, C_DW),
-            _column(c, area, C_LOST), _column(c, area, C_ROLLED), _column(c, area, C_RMIN))
+def _columns_out(rows, r0):
+    """The columns the contact response writes, as a tuple (O_* positions)."""
+    return (rows[r0 + C_FX], rows[r0 + C_FY], rows[r0 + C_FZ], rows[r0 + C_TIX],
+            rows[r0 + C_TIY], rows[r0 + C_TIZ], rows[r0 + C_TJX], rows[r0 + C_TJY],
+            rows[r0 + C_TJZ], rows[r0 + C_A], rows[r0 + C_FN], rows[r0 + C_FTX],
+            rows[r0 + C_FTY], rows[r0 + C_FTZ], rows[r0 + C_DW], rows[r0 + C_LOST],
+            rows[r0 + C_ROLLED], rows[r0 + C_RMIN])
 
 
 @vector_kernel
