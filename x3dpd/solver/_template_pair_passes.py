@@ -18,7 +18,7 @@ from x3dpd.solver._template_contact import L_DFRIC, L_DROLL, L_WN, OK
 from x3dpd.solver._template_pairs import (AREA, _column_rows, _columns_in, _columns_out,
                                           _pair_apply, _pair_filter, _pair_response)
 from x3dpd.solver._template_variant import HAS_ROLLING, HAS_THREADED
-from x3dpd.solver.contact_lists import PAIR_BLOCK, PAIR_COLUMNS
+from x3dpd.solver.contact_lists import PAIR_BLOCK
 
 #: candidates per chunk of a threaded pair pass, the passes' blocks: a chunk's filter and
 #: response run in one thread, its busy candidates in busy positions and history rows lo .. of
@@ -48,9 +48,8 @@ def _pair_chunks(nchunks, npairs, x, vel, p0, radius, pl_i, pl_j, pl_on, ps, bus
         counts[k] = nb
         if nb > 0:
             rows = _column_rows(c)
-            r0 = k * len(PAIR_COLUMNS)
-            _pair_response(lo, nb, busy, pl_i, pl_j, particles, hist, dt, _columns_in(rows, r0),
-                           _columns_out(rows, r0), history_dt)
+            _pair_response(lo, nb, busy, pl_i, pl_j, particles, hist, dt,
+                           _columns_in(rows, area), _columns_out(rows, area), history_dt)
 
 
 @step_kernel

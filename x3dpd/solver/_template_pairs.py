@@ -44,7 +44,8 @@ O_FX, O_FY, O_FZ, O_TIX, O_TIY, O_TIZ, O_TJX, O_TJY, O_TJZ, O_A, O_FN, O_FTX, O_
 #: the response reads the bodies' velocities (its normal law's rate, friction) and spins
 GATHER_VELOCITY = NORMAL_USES_RATE or HAS_FRICTION
 GATHER_SPIN = HAS_FRICTION or HAS_ROLLING
-#: entries of one column area of the scratch (contact_lists.pair_columns): a block's
+#: entries of one column area of the scratch (contact_lists.pair_columns): the columns of one
+#: block of the list
 AREA = len(PAIR_COLUMNS) * COLUMN_ROW
 
 
@@ -140,10 +141,11 @@ def _column_rows(c):
 
 
 @step_kernel
-def _columns_in(rows, r0):
-    """The columns the contact response reads, rows ``r0`` + I_* of ``_column_rows``, as a
-    tuple (I_* positions): separate arguments to it, so that its ``noalias`` covers each
-    (x3dpd._jit.vector_kernel)."""
+def _columns_in(rows, area):
+    """The columns of the area from entry ``area`` on that the contact response reads, rows of
+    ``_column_rows``, as a tuple (I_* positions): separate arguments to it, so that its
+    ``noalias`` covers each (x3dpd._jit.vector_kernel)."""
+    r0 = area // COLUMN_ROW
     return (rows[r0 + C_DX], rows[r0 + C_DY], rows[r0 + C_DZ], rows[r0 + C_VIX],
             rows[r0 + C_VIY], rows[r0 + C_VIZ], rows[r0 + C_WIX], rows[r0 + C_WIY],
             rows[r0 + C_WIZ], rows[r0 + C_VJX], rows[r0 + C_VJY], rows[r0 + C_VJZ],
@@ -152,8 +154,10 @@ def _columns_in(rows, r0):
 
 
 @step_kernel
-def _columns_out(rows, r0):
-    """The columns the contact response writes, as a tuple (O_* positions)."""
+def _columns_out(rows, area):
+    """The columns of the area from entry ``area`` on that the contact response writes, as a
+    tuple (O_* positions)."""
+    r0 = area // COLUMN_ROW
     return (rows[r0 + C_FX], rows[r0 + C_FY], rows[r0 + C_FZ], rows[r0 + C_TIX],
             rows[r0 + C_TIY], rows[r0 + C_TIZ], rows[r0 + C_TJX], rows[r0 + C_TJY],
             rows[r0 + C_TJZ], rows[r0 + C_A], rows[r0 + C_FN], rows[r0 + C_FTX],
