@@ -1,22 +1,8 @@
 """Every shipped deck: generated as tools/make_decks.py says, checked, and replayed against a
 committed golden trace.
 
-Golden tolerances
------------------
-A run is deterministic on one machine type: the step loop is single-threaded, sums forces in a
-fixed order (contact lists are kept in a fixed order and restored as saved), and is compiled
-with ``fastmath`` off (x3dpd/_jit.py), so the same build on the same CPU reproduces a golden bit
-for bit; the 10-digit trace text then matches exactly. Across machines, libm's ``exp``, ``sin``,
-``pow`` and ``sqrt``-based Hertz terms may differ in the last bit, so the comparison allows
-``rtol = 1e-9`` (``|a - b| <= atol + rtol |b|``, the ``numpy.isclose`` rule) and ``atol = 1e-12``
-trace units (in, in/s, rad/s: far below anything physical, it only absorbs round-off noise
-around values that are zero in exact arithmetic, such as the z velocities of particles that
-never touched a z wall).
-
-Particle motion is chaotic: a last-bit difference grows roughly like ``exp(lambda t)`` through
-the contacts, so the goldens are short (0.01-0.02 s of simulated time for the beam decks, the
-full 1.2e-5 s impact of decks/impact_wall.inp, one at a time under ~10 s of wall time once the
-step loop is compiled). A long golden could only be compared statistically.
+How a replay is compared with its golden, on this machine and on another one:
+tests/golden_compare.py.
 
 When a change is *meant* to change results, regenerate with ``python tools/regen_goldens.py``
 (docs/running.md); tests/golden/PROVENANCE.json records version, commit, date and machine.
@@ -24,13 +10,12 @@ When a change is *meant* to change results, regenerate with ``python tools/regen
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 from pathlib import Path
 
-import numpy as np
 import pytest
+from golden_compare import ATOL, RTOL, agree_across_machines, regen, same_machine, tool
 
 from x3dpd.cli import main
 from x3dpd.api.outputs import deck_key
@@ -43,19 +28,8 @@ from x3dpd.model.check import check_model
 ROOT = Path(__file__).resolve().parents[1]
 DECKS = ROOT / "decks"
 GOLDEN = ROOT / "tests" / "golden"
-RTOL = 1e-9
-ATOL = 1e-12
-CROSS_CPU_TOL = 1e-6  # of each column's largest |value|; see _agree_across_cpus
 
 
-def _tool(name: str):
-    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-regen = _tool("regen_goldens")
 CASES = regen.load_cases()
 SHIPPED = sorted(p.name for p in DECKS.glob("*.inp"))
 
@@ -66,7 +40,7 @@ def test_every_shipped_deck_has_a_case():
 
 def test_generated_decks_are_up_to_date():
     """decks/beam_*.inp and decks/impact_wall.inp are exactly what tools/make_decks.py writes."""
-    make = _tool("make_decks")
+    make = tool("make_decks")
     for name, text in make.all_decks().items():
         assert (DECKS / name).read_text() == text, (
             f"decks/{name} differs from tools/make_decks.py; rerun it"
@@ -117,35 +91,6 @@ def _run(capsys, argv):
     return exc.value.code or 0, out, err
 
 
-def _agree_across_cpus(a, b, report) -> None:
-    """A golden made on another CPU: glibc's math (FMA variants of sin, exp ...) and LLVM's
-    code for another CPU round differently, and the chaos of many contacts amplifies that by
-    about 10x per simulated millisecond (beam_64: 1e-12 of a column's scale at 8 ms, 1e-3 at
-    20 ms). What does not depend on rounding: the structure's nodes over the whole window (they
-    integrate the particles' forces: 2e-8 of their scale between znver4 and znver5 builds) and
-    every node over the window's first quarter (below 1e-9). A physical change moves either by
-    far more than CROSS_CPU_TOL."""
-    scale = np.maximum(np.abs(b.data).max(axis=(0, 1)), 1e-300)
-    rel = np.abs(a.data - b.data) / scale
-    structure = ~np.isin(a.node_ids, _particle_ids(a))
-    quarter = a.times <= a.times[0] + 0.25 * (a.times[-1] - a.times[0])
-    worst_structure = rel[:, structure].max(initial=0.0)
-    worst_early = rel[quarter].max(initial=0.0)
-    assert worst_structure <= CROSS_CPU_TOL and worst_early <= CROSS_CPU_TOL, (
-        report.format() + f"\n(golden from another CPU) structure nodes differ by "
-        f"{worst_structure:.3g}, all nodes in the first quarter by {worst_early:.3g} of the "
-        f"column scale (tolerance {CROSS_CPU_TOL:g})"
-    )
-
-
-def _particle_ids(trace) -> np.ndarray:
-    deck = read_deck(ROOT / trace.meta["deck_path"]) if trace.meta.get("deck_path") else None
-    if deck is None:
-        return np.zeros(0, np.int64)
-    model = build_model(deck)
-    return model.node_ids[model.particle_start :]
-
-
 @pytest.mark.parametrize("case", CASES, ids=[c["deck"] for c in CASES])
 def test_replay_matches_golden(case, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(ROOT)
@@ -168,8 +113,9 @@ def test_replay_matches_golden(case, tmp_path, monkeypatch, capsys):
     a, b = read_trace(trace), read_trace(golden)
     assert a.times.size == b.times.size and a.status == "complete"
     report = compare_traces(a, b, rtol=RTOL, atol=ATOL)
-    if prov["machine"].get("llvm_cpu") == regen.llvm_cpu():
+    if same_machine(prov):
         assert report.agree, report.format()
     else:
-        _agree_across_cpus(a, b, report)
+        ok, text = agree_across_machines(a, b, prov)
+        assert ok, report.format() + "\n" + text
     assert os.path.getsize(trace.with_name(trace.name[: -len(".trace.txt")] + ".energy.csv")) > 0

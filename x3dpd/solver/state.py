@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from x3dpd.physics.hooke import hooke_tables
+from x3dpd.physics.maxwell import maxwell_step_factors
 from x3dpd.physics.wall_material import (particle_walls, plane_strain_moduli, wall_friction,
                                           wall_hertz_constants)
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
@@ -277,9 +278,12 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     decay = np.ones_like(moduli)
     half = np.ones_like(moduli)
     if k_terms > 1 and npart:
-        t = taus[:, 1:]
-        decay[:, 1:] = np.exp(-dt / t)
-        half[:, 1:] = np.exp(-0.5 * dt / t)
+        # one value at a time through libm's exp (maxwell_step_factors), not numpy's exp: that
+        # has an AVX-512 and an AVX2 implementation which differ in the last bit for some
+        # arguments, and a golden from one CPU then drifted on the other (tests/test_decks.py)
+        for p in range(npart):
+            for k in range(1, k_terms):
+                decay[p, k], half[p, k] = maxwell_step_factors(float(taus[p, k]), dt)
     pm = mass[p0:] if npart else np.zeros(0)
     pin = inertia[p0:, 0] if npart else np.zeros(0)
     inv_mt = 1.0 / pm + radius**2 / pin if npart else np.zeros(0)
