@@ -102,18 +102,27 @@ def test_without_extrapolation_it_waits_for_the_transient():
     assert res.t_end > 0.5 * math.log(1 / tol) / (zeta * math.sqrt(K / M))
 
 
-def test_an_irregular_response_is_flagged_with_its_spread():
-    hz = 37.0
+def test_an_irregular_response_is_flagged_with_its_spread_and_its_interval():
+    """10 % independent scatter per cycle: the point stops once the 95 % half-width of the mean
+    amplitude is within tol of it -- about (1.96 x 0.1 / tol)^2 = 96 cycles for tol = 2 % --
+    and its interval holds the true amplitude."""
+    hz, tol = 37.0, 0.02
     w = 2 * math.pi * hz
     rng = np.random.default_rng(1)
     t = np.arange(0, 10.0, 1.0 / (hz * 200))
     k = np.floor(t * hz).astype(int)
     jitter = 1.0 + 0.1 * rng.standard_normal(k.max() + 1)  # 10 % per-cycle amplitude scatter
     x = 0.01 * jitter[k] * np.sin(w * t)
-    mon = SteadyStateMonitor(w, t0=0.0, t_start=0.0, window=8, tol=0.005)
+    mon = SteadyStateMonitor(w, t0=0.0, t_start=0.0, window=8, tol=tol)
     res = feed_in_chunks(mon, t, x, x)
     assert res.converged and res.irregular and not res.extrapolated
+    assert res.method == "interval"
     assert 0.05 < res.spread < 0.15
+    assert res.amplitude_hw <= tol * res.amplitude
+    assert abs(res.amplitude - 0.01) <= res.amplitude_hw
+    # the interval is that of independent cycles: t s / sqrt(n), s = 0.1 x 0.01
+    assert res.amplitude_hw == pytest.approx(1.96 * 1e-3 / math.sqrt(res.kept), rel=0.2)
+    assert 60 < res.cycles < 200
 
 
 def test_a_growing_response_stops_at_the_cap_unconverged():

@@ -76,8 +76,11 @@ def plot_sweep(
     curves: Mapping | None = None,
     title: str = "",
     units: str = "in",
+    drive_label=None,
 ) -> str:
-    """Amplitude versus frequency, one panel per drive: baselines and the damper overlaid."""
+    """Amplitude versus frequency, one panel per drive: baselines and the damper overlaid, each
+    damper point with its 95 % interval. ``drive_label(drive)``: how a panel's title names its
+    drive, with its unit (default: the number)."""
     plt = _pyplot()
     curves = curves or {}
     drives = sorted({r["drive"] for r in rows})
@@ -97,7 +100,8 @@ def plot_sweep(
                 va="top",
                 fontsize=8,
             )
-        ax.set_title(f"drive {drive:.5g}", fontsize=9)
+        label = drive_label(drive) if drive_label is not None else f"{drive:.5g}"
+        ax.set_title(f"drive {label}", fontsize=9)
     return save_figure(plt, fig, png, title)
 
 
@@ -217,14 +221,32 @@ def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str, base
         pts.sort(key=lambda r: r["frequency_hz"])
         f = [r["frequency_hz"] for r in pts]
         a = [r["amplitude"] for r in pts]
+        color = "C3" if direction != "down" else "C0"
         ax.plot(
             f,
             y_of(f, a),
-            color="C3" if direction != "down" else "C0",
+            color=color,
             marker=marker,
             ms=5,
             label="damper" + (f" ({direction})" if direction else ""),
         )
+        # each point's 95 % interval (amplitude_ci), where it has a finite one
+        ci = np.array([r.get("amplitude_ci", 0.0) for r in pts], float)
+        shown = np.isfinite(ci) & (ci > 0)
+        if shown.any():
+            fa, aa, ca = (np.asarray(v, float)[shown] for v in (f, a, ci))
+            lo, hi = y_of(fa, aa - ca), y_of(fa, aa + ca)
+            mid = y_of(fa, aa)
+            ax.errorbar(
+                fa,
+                mid,
+                yerr=[mid - lo, hi - mid],
+                fmt="none",
+                ecolor=color,
+                elinewidth=1.0,
+                capsize=2.5,
+                label="95 % interval",
+            )
         bad = [(r["frequency_hz"], r["amplitude"]) for r in pts if not r["converged"]]
         if bad:
             bf, ba = zip(*bad)
@@ -233,7 +255,7 @@ def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str, base
     ax.set_xlabel("drive frequency [Hz]")
     ax.set_ylabel(ylabel)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="upper right")
+    ax.legend(fontsize=7, loc="best")
 
 
 def plot_ringdown(

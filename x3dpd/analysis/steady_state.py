@@ -1,4 +1,5 @@
-"""Steady-state amplitude and phase of a sine-driven response, measured over whole drive cycles.
+"""Steady-state amplitude and phase of a sine-driven response, measured over whole drive cycles,
+with their 95 % confidence intervals.
 
 The criterion (docs/design-guide.md, "Steady state"):
 
@@ -8,43 +9,36 @@ The criterion (docs/design-guide.md, "Steady state"):
   with th = w (t - t0) the drive's phase (the drive is F sin(th)). The cycle's phasor is
   P_k = b + i a = X e^{i phi}: x = m + X sin(th + phi), X the fundamental amplitude and phi the
   phase of the response relative to the force (negative: a lag). Velocity is treated the same
-  way. Harmonics drop out over a whole cycle; the sampling need not line up with the cycles.
-* **Windows.** Consecutive cycles are grouped in windows of W cycles; a window's phasor is the
-  mean of its cycles' phasors, its spread the standard deviation of their amplitudes divided by
-  their mean (cycle-to-cycle scatter: 0 for a periodic response, large for a chaotic one).
-* **Convergence.** With D_w = P_w - P_{w-1} the change between consecutive windows and
-  r = D_w / D_{w-1}, a transient that dies geometrically (a linear structure's free vibration
-  seen once per window, any beating included since r is complex) still has
-  ``tail = |D_w| |r| / |1 - r|`` to go. A regular response (spread <= ``tol``) has converged when
-  both |D_w| and the tail are within ``tol`` of |P_w| (when |r| >= 1 the tail is taken as
-  infinite). An irregular one (spread > ``tol``: chaotic impacts, several coexisting motions)
-  has converged, and is flagged irregular, when |D_w| and |D_{w-1}| are both within the
-  statistical scatter of two window means, 2 sqrt(2) s / sqrt(W) with s the cycle-to-cycle
-  standard deviation. Every window
-  before ``min_windows`` counts as transient and is discarded.
-* **Settled over the run** (both kinds, besides the window test). Neighbouring windows alone
-  accept a state still drifting toward its attractor: an impact damper's transient is neither
-  geometric nor quiet (a single sphere on the report's beam chatters for ~300 cycles before it
-  locks onto its periodic motion, and a few quiet windows in that chatter passed the test 11 %
-  from the periodic amplitude). So the run's last 3k whole windows (k = windows // 3) form three
-  blocks with mean phasors B1, B2, B3; with the allowance a = max(tol, 2 sqrt(2) s / sqrt(k W))
-  (s the last block's cycle-to-cycle scatter) the point has settled when |B3 - B2| <= a |B3|
-  and either |B2 - B1| <= a |B3| or the drift dies geometrically, rho = (B3 - B2) / (B2 - B1),
-  with the last block's remaining distance to the limit |B3 - B2| |rho| / |1 - rho| <= a |B3|.
-  A state must thus have held over the last two thirds of the run, whatever the start.
-* **Extrapolation** (``extrapolate=True``, the default). A linear structure's free vibration
-  e^{lambda t} seen once per drive cycle is a geometric sequence: the cycle phasors of a linear
-  response obey P_k = P_inf + u r^k + v conj(r)^k with r = e^{lambda T}, so their differences
-  satisfy D_{k+2} = a1 D_{k+1} - a2 D_k with real a1, a2 (Prony's method). Fitting a1, a2 by
-  least squares over the last two windows gives r and the limit P_inf long before the transient
-  has died (a lightly damped beam, zeta = 0.3 %, needs ~6.5 s to come within 1 % by itself). The
-  point has converged by extrapolation when the limits from the last two pairs of windows agree
-  within ``tol``, the recurrence fits (residual < 1 %) and both roots lie inside the unit circle;
-  the reported amplitude and phase are then |P_inf| and arg P_inf (``extrapolated`` is set, and
-  the last window's measured numbers are kept beside them). A response that is not linear enough
-  for the recurrence (particles that impact) fails the fit and falls back to the measured
-  criterion above, where the particles' own damping shortens the transient.
-* **Cap.** A point that has not converged after ``max_cycles`` stops there, flagged.
+  way, and the ledger's energies give each cycle's dissipation E_k. Harmonics drop out over a
+  whole cycle; the sampling need not line up with the cycles (x3dpd.analysis.cycle_phasors).
+* **A response with particles: stop when certain enough** (``x3dpd.analysis.confidence``).
+  At the end of every window of W cycles the cycle phasors' start-up transient is cut off
+  (MSER-5, doubled) and the mean phasor P of the cycles kept gets a 95 % interval from their
+  variance and integrated autocorrelation time (Geyer's initial monotone sequence; a run of at
+  least 50 autocorrelation times). The point has converged when the transient is out and the
+  amplitude's half-width is within ``tol`` of |P|; it reports |P|, arg P, the kept cycles'
+  mean dissipation per cycle, and the half-widths of all three. ``irregular`` says the cycles
+  scatter by more than ``tol`` (chaotic impacts: a statistical answer); a periodic response
+  has a zero half-width once its transient is out.
+* **Extrapolation** (``extrapolate=True``, the default, tried first). A linear structure's free
+  vibration e^{lambda t} seen once per drive cycle is a geometric sequence: the cycle phasors of
+  a linear response obey P_k = P_inf + u r^k + v conj(r)^k with r = e^{lambda T}, and Prony's
+  method fits a1, a2 of D_{k+2} = a1 D_{k+1} - a2 D_k over the last two windows to give r and
+  the limit P_inf long before the transient has died (a lightly damped beam, zeta = 0.3 %,
+  needs ~6.5 s to come within 1 % by itself). The point has converged by extrapolation when
+  the limits from the last two pairs of windows agree within ``tol``, the recurrence fits
+  (residual < 1 %) and both roots lie inside the unit circle; the reported amplitude and phase
+  are then |P_inf| and arg P_inf, with the two limits' difference as their half-width, and
+  the last window's measured numbers beside them. A response with impacting particles fails
+  the fit and goes by the intervals above.
+* **A response without particles** (``deterministic=True``) has no scatter to average: it is
+  never irregular, and converges by extrapolation or, without it, when the window-to-window
+  change D_w = P_w - P_{w-1} and its geometric tail |D_w| |r| / |1 - r| (r = D_w / D_{w-1})
+  are both within ``tol`` of |P_w| and the run has settled over its last two thirds (three
+  blocks of windows whose mean phasors agree within ``tol``, or approach a limit
+  geometrically). Its half-widths are that remaining change.
+* **Cap.** A point that has not converged after ``max_cycles`` stops there, flagged, with the
+  intervals its cycles give (infinite when too few).
 """
 
 from __future__ import annotations
@@ -54,24 +48,27 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from x3dpd.analysis.confidence import Assessment, assess, mean_interval
+from x3dpd.analysis.cycle_phasors import PRONY_RESIDUAL, ROUNDOFF, fit_cycle, prony_limit
 from x3dpd.errors import InputError
-
-
-#: Relative changes below this are the cycle fits' floating-point noise: no change at all.
-ROUNDOFF = 1e-9
 
 
 @dataclass(frozen=True)
 class SteadyState:
-    """The measured steady state of one drive point (the last window's numbers).
+    """The measured steady state of one drive point.
 
-    ``amplitude`` fundamental displacement amplitude X; ``phase_deg`` phi [deg] (x = m + X sin(th +
-    phi)); ``velocity`` fundamental velocity amplitude; ``acceleration`` = w^2 X; ``peak`` half the
-    peak-to-peak displacement (harmonics included); ``mean`` the mean position m; ``spread``
-    cycle-to-cycle scatter of the amplitude (std / mean); ``change`` |D_w| / |P_w|; ``tail`` the
-    estimated remaining relative change; ``cycles`` drive cycles run; ``converged`` met the
-    criterion before the cap; ``irregular`` converged only in the statistical sense;
-    ``dissipated_per_cycle`` ledger energy dissipated per cycle over the last window (when fed).
+    ``amplitude`` fundamental displacement amplitude X and ``amplitude_hw`` its 95 % half-width;
+    ``phase_deg`` phi [deg] (x = m + X sin(th + phi)) and ``phase_hw_deg``; ``velocity``
+    fundamental velocity amplitude; ``acceleration`` = w^2 X; ``peak`` half the peak-to-peak
+    displacement (harmonics included); ``mean`` the mean position m; ``spread`` cycle-to-cycle
+    scatter of the amplitude (std / mean); ``change`` |D_w| / |P_w| of the last two windows;
+    ``tail`` the estimated remaining relative change; ``cycles`` drive cycles run, of which
+    ``kept`` were averaged (the rest: the start-up transient); ``converged`` met the criterion
+    before the cap; ``irregular`` its cycles scatter by more than the tolerance (a statistical
+    answer); ``method`` how it converged ("interval", "extrapolated", "window", or "cap");
+    ``tau`` the cycles' integrated autocorrelation time [cycles]; ``dissipated_per_cycle``
+    ledger energy dissipated per cycle over the kept cycles (when fed) and ``cycle_energies``
+    the same per kept cycle (for the interval of a sum of them, :meth:`energy_interval`).
     """
 
     amplitude: float
@@ -91,66 +88,26 @@ class SteadyState:
     extrapolated: bool = False
     measured_amplitude: float = math.nan
     measured_phase_deg: float = math.nan
+    amplitude_hw: float = math.inf
+    phase_hw_deg: float = math.inf
+    kept: int = 0
+    method: str = "cap"
+    tau: float = math.nan
+    cycle_energies: dict = field(default_factory=dict, repr=False)
 
-
-#: Largest relative residual of the Prony recurrence for a response to count as linear.
-PRONY_RESIDUAL = 0.01
-
-
-def prony_limit(phasors) -> tuple[complex, float, float]:
-    """Limit of P_k = P_inf + u r^k + v conj(r)^k from its last terms (module docstring).
-
-    Returns (P_inf, relative residual of the recurrence fit, largest |root|); a sequence whose
-    differences are round-off returns its last term.
-    """
-    p = np.asarray(phasors, dtype=complex)
-    d = np.diff(p)
-    scale = abs(p[-1]) or 1.0
-    if np.max(np.abs(d)) < ROUNDOFF * scale:
-        return complex(p[-1]), 0.0, 0.0
-    a = np.column_stack([d[1:-1], -d[:-2]])
-    b = d[2:]
-    a_real = np.concatenate([a.real, a.imag])
-    b_real = np.concatenate([b.real, b.imag])
-    (a1, a2), *_ = np.linalg.lstsq(a_real, b_real, rcond=None)
-    residual = float(np.linalg.norm(a_real @ [a1, a2] - b_real) / (np.linalg.norm(b_real) or 1.0))
-    r1, r2 = np.roots([1.0, -a1, a2]).astype(complex)
-    rmax = float(max(abs(r1), abs(r2)))
-    if rmax >= 1.0 or abs(r1 - r2) < 1e-9:
-        return complex(p[-1]), residual, max(rmax, 1.0)
-    # D_a = u + v, D_b = u r1 + v r2 for the last two differences; the rest sums geometrically
-    d_a, d_b = d[-2], d[-1]
-    v = (d_b - r1 * d_a) / (r2 - r1)
-    u = d_a - v
-    rest = u * r1**2 / (1 - r1) + v * r2**2 / (1 - r2)
-    return complex(p[-1] + rest), residual, rmax
-
-
-#: Points per cycle of the uniform resampling the phasor is computed on.
-CYCLE_POINTS = 256
-
-
-def fit_cycle(
-    t: np.ndarray, x: np.ndarray, omega: float, t0: float, lo: float
-) -> tuple[complex, float]:
-    """Fundamental of ``x`` over the drive cycle [lo, lo + T): returns (b + i a, m).
-
-    ``x = m + a cos(w (t - t0)) + b sin(w (t - t0)) + harmonics``. The samples (which need not
-    fall on the cycle's ends, and must reach a little past both) are interpolated by a cubic
-    spline onto CYCLE_POINTS points spaced uniformly over exactly one period, and a, b, m are
-    their discrete Fourier coefficients. Every cycle is thus measured by the same operator --
-    which keeps a linear transient's cycle phasors exactly geometric (the extrapolation relies
-    on it) -- with an interpolation error of O((w h)^4) for a sample spacing h.
-    """
-    from scipy.interpolate import CubicSpline
-
-    period = 2.0 * math.pi / omega
-    tj = lo + period * np.arange(CYCLE_POINTS) / CYCLE_POINTS
-    xj = CubicSpline(t, x)(tj)
-    th = omega * (tj - t0)
-    a = 2.0 * float(np.mean(xj * np.cos(th)))
-    b = 2.0 * float(np.mean(xj * np.sin(th)))
-    return complex(b, a), float(np.mean(xj))
+    def energy_interval(self, names) -> tuple[float, float]:
+        """(mean, 95 % half-width) of the energy per cycle summed over the ledger columns
+        ``names`` (those fed; others count as 0): a statistical answer's interval from the kept
+        cycles, a deterministic one's from its remaining relative change."""
+        present = [self.cycle_energies[n] for n in names if n in self.cycle_energies]
+        if not present:
+            return math.nan, math.nan
+        total = np.sum(present, axis=0)
+        if self.method in ("interval", "cap"):
+            iv = mean_interval(total)
+            return iv.mean, iv.half_width
+        value = float(np.mean(total))
+        return value, abs(value) * max(self.change, self.tail, 0.0)
 
 
 class SteadyStateMonitor:
@@ -163,8 +120,10 @@ class SteadyStateMonitor:
     t_start : start of the first cycle measured [s] (the point's start time).
     window : W, cycles per window.
     tol : relative tolerance of the criterion (module docstring).
-    min_windows : windows discarded as transient at least (>= 3: two changes are compared).
+    min_windows : windows run at least before a point may converge (>= 3).
     max_cycles : the cap.
+    extrapolate : allow the Prony limit (module docstring).
+    deterministic : a response without particles: no statistical answer (module docstring).
     """
 
     def __init__(
@@ -178,6 +137,7 @@ class SteadyStateMonitor:
         min_windows: int = 3,
         max_cycles: int = 600,
         extrapolate: bool = True,
+        deterministic: bool = False,
     ):
         self.omega = float(omega)
         self.t0 = float(t0)
@@ -188,7 +148,12 @@ class SteadyStateMonitor:
         self.min_windows = max(3, int(min_windows))
         self.max_cycles = int(max_cycles)
         self.extrapolate = bool(extrapolate)
+        self.deterministic = bool(deterministic)
         self.limit: complex | None = None
+        #: the limits of the last two pairs of windows, when extrapolated
+        self.limits: tuple[complex, complex] | None = None
+        self.assessment: Assessment | None = None
+        self.method = "cap"
         self._t: list[np.ndarray] = []
         self._x: list[np.ndarray] = []
         self._v: list[np.ndarray] = []
@@ -202,7 +167,6 @@ class SteadyStateMonitor:
         self.peaks: list[float] = []
         self.done = False
         self.converged = False
-        self.irregular = False
 
     # -- feeding ----------------------------------------------------------------------------
     def feed(self, time, x, v=None, ledger: dict | None = None) -> bool:
@@ -267,15 +231,24 @@ class SteadyStateMonitor:
     def _judge(self) -> None:
         n = len(self.phasors)
         if n % self.window == 0 and self._windows() >= self.min_windows:
-            change, tail, noise, spread = self._change()
             if self.extrapolate and self._extrapolated():
                 self.done = self.converged = True
-            elif spread > self.tol:
-                if change <= noise and self._previous_change() <= noise and self._settled():
-                    self.done = self.converged = self.irregular = True
-            elif change <= self.tol and tail <= self.tol and self._settled():
-                self.done = self.converged = True
-        if n >= self.max_cycles:
+                self.method = "extrapolated"
+            else:
+                change, tail, _, spread = self._change()
+                if not self.deterministic:
+                    self.assessment = assess(self.phasors)
+                    if self.assessment.within(self.tol):
+                        self.done = self.converged = True
+                        self.method = "interval"
+                        return
+                # a regular response (no particles, or cycles that do not scatter beyond tol)
+                # may also settle as a deterministic sequence does
+                regular = self.deterministic or spread <= self.tol
+                if regular and change <= self.tol and tail <= self.tol and self._settled():
+                    self.done = self.converged = True
+                    self.method = "window"
+        if len(self.phasors) >= self.max_cycles:
             self.done = True
 
     def _extrapolated(self) -> bool:
@@ -290,6 +263,7 @@ class SteadyStateMonitor:
         )
         if ok:
             self.limit = now
+            self.limits = (now, before)
         return ok
 
     def _blocks(self, count: int) -> list[np.ndarray]:
@@ -332,11 +306,6 @@ class SteadyStateMonitor:
         rho = (b3 - b2) / (b2 - b1)
         return d2 * abs(rho) / abs(1.0 - rho) <= allowance
 
-    def _previous_change(self) -> float:
-        w = self._windows() - 2
-        p = [complex(np.mean(self._window(i, self.phasors))) for i in (w - 1, w)]
-        return abs(p[1] - p[0]) / (abs(p[1]) or 1.0)
-
     def _change(self) -> tuple[float, float, float]:
         w = self._windows() - 1
         p = [complex(np.mean(self._window(i, self.phasors))) for i in (w - 2, w - 1, w)]
@@ -354,31 +323,60 @@ class SteadyStateMonitor:
 
     # -- the answer ---------------------------------------------------------------------------
     def result(self) -> SteadyState:
-        """The last whole window's steady state (or the cycles so far, if fewer)."""
+        """The steady state: over the cycles kept after the transient for a statistical answer
+        (and a capped point with particles), else over the last whole window (module
+        docstring)."""
         n = len(self.phasors)
         if n == 0:
             raise ValueError("steady state: no whole drive cycle was computed")
         w = self._windows() - 1
         lo, hi = (w * self.window, (w + 1) * self.window) if w >= 0 else (0, n)
-        ph = np.asarray(self.phasors[lo:hi])
-        p = complex(np.mean(ph))
-        amps = np.abs(ph)
+        change = tail = math.inf
         if w >= 2:
             change, tail, _, _ = self._change()
+        statistical = not self.deterministic and self.method in ("interval", "cap")
+        interval = None
+        if statistical:
+            if self.assessment is None or self.method == "cap":
+                self.assessment = assess(self.phasors[:hi])
+            lo = self.assessment.truncation if self.method == "interval" else lo
+            interval = self.assessment.interval if self.method == "interval" else None
+            if (
+                self.method == "cap"
+                and self.assessment.settled
+                and self.assessment.interval.amplitude_hw < math.inf
+            ):
+                # capped, but long enough for an interval: the kept cycles' mean with it;
+                # otherwise the last window, the least biased by a transient
+                lo, interval = self.assessment.truncation, self.assessment.interval
+        ph = np.asarray(self.phasors[lo:hi])
+        measured = complex(np.mean(ph))
+        p = self.limit if self.limit is not None else measured
+        amp = abs(p)
+        if interval is not None:
+            amp_hw, phase_hw = interval.amplitude_hw, interval.phase_hw
+        elif self.limits is not None:
+            amp_hw = abs(self.limits[0] - self.limits[1])
+            phase_hw = amp_hw / amp if amp > 0 else math.inf
+        elif statistical:
+            amp_hw = phase_hw = math.inf
         else:
-            change = tail = math.inf
-        t_hi = self.t_start + hi * self.period
-        measured = p
-        if self.limit is not None:
-            p = self.limit
+            amp_hw = amp * max(change, tail)
+            phase_hw = max(change, tail)
+        amps = np.abs(ph)
+        names = self._ledger_names
+        energies = {
+            name: np.array([self._ledger_hi[k][j] - self._ledger_lo[k][j] for k in range(lo, hi)])
+            for j, name in enumerate(names)
+        }
         return SteadyState(
             extrapolated=self.limit is not None,
             measured_amplitude=abs(measured),
             measured_phase_deg=math.degrees(math.atan2(measured.imag, measured.real)),
-            amplitude=abs(p),
+            amplitude=amp,
             phase_deg=math.degrees(math.atan2(p.imag, p.real)),
             velocity=abs(complex(np.mean(self.vphasors[lo:hi]))),
-            acceleration=self.omega**2 * abs(p),
+            acceleration=self.omega**2 * amp,
             peak=float(np.mean(self.peaks[lo:hi])),
             mean=float(np.mean(self.means[lo:hi])),
             spread=float(np.std(amps) / np.mean(amps)) if np.mean(amps) > 0 else 0.0,
@@ -386,10 +384,15 @@ class SteadyStateMonitor:
             tail=tail,
             cycles=n,
             converged=self.converged,
-            irregular=self.irregular,
-            t_end=t_hi,
-            dissipated_per_cycle={
-                name: float(self._ledger_hi[hi - 1][j] - self._ledger_lo[lo][j]) / (hi - lo)
-                for j, name in enumerate(self._ledger_names)
-            },
+            irregular=self.converged
+            and self.method == "interval"
+            and float(np.std(amps) / np.mean(amps)) > self.tol,
+            t_end=self.t_start + hi * self.period,
+            dissipated_per_cycle={name: float(np.mean(e)) for name, e in energies.items()},
+            amplitude_hw=amp_hw,
+            phase_hw_deg=math.degrees(phase_hw),
+            kept=hi - lo,
+            method=self.method if self.converged else "cap",
+            tau=interval.tau if interval is not None else math.nan,
+            cycle_energies=energies,
         )

@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from x3dpd.physics.motion import apply_motion
-from x3dpd.solver.simulation import Simulation
+from x3dpd.solver.simulation import Simulation, process_compile_seconds
 
 
 def stepper(
@@ -45,4 +45,10 @@ def total_energy(sim: Simulation) -> float:
     return float(en[:5].sum() - en[5])
 
 
-__all__ = ["Simulation", "apply_motion", "stepper", "total_energy"]
+__all__ = [
+    "Simulation",
+    "apply_motion",
+    "process_compile_seconds",
+    "stepper",
+    "total_energy",
+]

@@ -20,6 +20,9 @@ from x3dpd.design.spec import SweepSpec
 #: The fields of a closed-form point: exact, so converged at once, with nothing stepped.
 _EXACT = {
     "cycles": 0,
+    "kept_cycles": 0,
+    "stopped_by": "closed-form",
+    "dissipated_per_cycle_ci": 0.0,
     "converged": True,
     "extrapolated": False,
     "irregular": False,
@@ -40,7 +43,9 @@ def _motion(a: float, phase_deg: float, w: float, accelerance: float, transmissi
     (NaN where the drive does not define one)."""
     return {
         "amplitude": a,
+        "amplitude_ci": 0.0,
         "phase": phase_deg,
+        "phase_ci": 0.0,
         "velocity": w * a,
         "acceleration": w * w * a,
         "accelerance": accelerance,

@@ -115,18 +115,26 @@ def sweep_command(
     echo(
         f"sweep {deck_path}: {what}, {len(frequencies)} frequencies "
         f"{frequencies[0]:g}-{frequencies[-1]:g} Hz, drive {', '.join(f'{d:g}' for d in drives)}"
-        f" {unit}, {direction or 'each point from rest'}"
+        f" {unit}, "
+        + (
+            f"chained {direction}"
+            if direction
+            else "each point from "
+            + ("its predicted steady state" if predict else "the deck's initial state")
+        )
         + (f", baselines {','.join(baselines)}" if baselines else "")
     )
 
     def on_point(row: dict) -> None:
         flag = "" if row["converged"] else "  NOT CONVERGED (cap)"
         flag += "  irregular" if row["irregular"] else ""
+        if row.get("compile_s", 0.0) >= 1.0:
+            flag += f"  (compiled its step loop: {row['compile_s']:.0f} s)"
         if spec.base:
             first = row["responses"][0]
             value = f"T={first['transmissibility']:.5e}"
         else:
-            value = f"X={row['amplitude']:.5e}"
+            value = f"X={row['amplitude']:.5e} +/- {row['amplitude_ci']:.2g}"
         echo(
             f"  {row['config']:<10} {'F' if not spec.base else quantity[0].upper()}="
             f"{row['drive']:<10.5g} {row['direction'] or '-':<4} "
@@ -164,6 +172,7 @@ def sweep_command(
         {**curves, **overlays((node, dof))},
         title=Path(deck_path).name,
         units=length,
+        drive_label=lambda drive: f"{drive:.5g} {force}",
     )
     if measured:
         plot_responses(

@@ -9,10 +9,19 @@ attenuations), the ledger's dissipation per cycle split into viscoelastic, frict
 dampers, and the convergence flags. A ring-down's rows are % zeta at amplitudes spread over the
 ring-down's range (``RINGDOWN_POINTS``), with the structure's own zeta where it is linear.
 
+Each point carries the 95 % half-widths of its amplitude, phase and dissipation per cycle
+(``amplitude_ci``, ``phase_ci``, ``dissipated_per_cycle_ci``: x3dpd.analysis.confidence), and
+each configuration's score the half-width ``score_ci`` that follows from its peak point's
+(dB: 20 / ln 10 x ci / X), at least the tolerance the points were computed to,
+20 log10(1 + tol) dB: a difference smaller than that is numerical noise, not a design's.
+
 The best configuration (``best`` = 1 on its rows) is the one whose worst peak attenuation over
 the drive levels (vs the undamped baseline, else vs added mass; without either, the smallest
 peak amplitude) is largest -- for a ring-down the largest mean % zeta -- among those whose
-added mass is within the design's ``mass_budget`` (``within_budget``).
+added mass is within the design's ``mass_budget`` (``within_budget``) and whose every point
+converged -- and only when its score's interval does not overlap the runner-up's. Otherwise
+no configuration is best, and the leader's rows say ``no significant difference`` from the
+runner-up (``verdict``).
 """
 
 from __future__ import annotations
@@ -45,7 +54,9 @@ COLUMNS = (
     "frequency_hz",
     "direction",
     "amplitude",
+    "amplitude_ci",
     "phase",
+    "phase_ci",
     "acceleration",
     "amplitude_db",
     "zeta_percent",
@@ -61,6 +72,8 @@ COLUMNS = (
     "dissipated_friction_per_cycle",
     "dissipated_dampers_per_cycle",
     "dissipated_rolling_per_cycle",
+    "dissipated_per_cycle",
+    "dissipated_per_cycle_ci",
     "input_work_per_cycle",
     "cycles",
     "converged",
@@ -68,7 +81,9 @@ COLUMNS = (
     "irregular",
     "within_budget",
     "score",
+    "score_ci",
     "best",
+    "verdict",
     "notes",
 )
 #: Rows per ring-down (amplitudes evenly spread in dB over its range).
@@ -117,8 +132,14 @@ def design_rows(design, configs) -> list[dict]:
         mine = _ringdown_rows(c) if kind == "ringdown" else _sweep_rows(c)
         base = {**_config_columns(c), "evaluation": kind}
         rows.extend({**base, **r} for r in mine)
-    _mark_best(rows, design.mass_budget, kind)
+    mark_best(rows, design.mass_budget, kind, noise_db(design.evaluation.criterion.tol))
     return rows
+
+
+def noise_db(tol: float) -> float:
+    """The smallest difference of scores a design resolves: 20 log10(1 + tol) dB for points
+    computed to the relative tolerance ``tol`` (module doc)."""
+    return 20.0 * math.log10(1.0 + tol)
 
 
 def _sweep_rows(c) -> list[dict]:
@@ -136,8 +157,12 @@ def _sweep_rows(c) -> list[dict]:
                 "frequency_hz",
                 "direction",
                 "amplitude",
+                "amplitude_ci",
                 "phase",
+                "phase_ci",
                 "acceleration",
+                "dissipated_per_cycle",
+                "dissipated_per_cycle_ci",
                 "input_work_per_cycle",
                 "cycles",
                 "converged",
@@ -195,31 +220,59 @@ def _ringdown_rows(c) -> list[dict]:
     return out
 
 
-def _mark_best(rows: list[dict], budget: float | None, kind: str) -> None:
-    """``within_budget``, ``score`` and ``best`` of every row (module doc)."""
-    scores: dict[str, float] = {}
+def _score(mine: list[dict], kind: str) -> tuple[float, float]:
+    """A configuration's score and its 95 % half-width (module doc): for a ring-down the mean
+    % zeta (half-width from its rows' ``zeta_ci``, when they have one), for a sweep the worst
+    peak attenuation over the drive levels, its half-width from that drive's peak point."""
+    if kind == "ringdown":
+        zeta = [r["zeta_percent"] for r in mine]
+        ci = [r.get("zeta_ci", 0.0) for r in mine]
+        return float(np.mean(zeta)), float(np.mean(ci))
+    per_drive = {}
+    for r in mine:
+        att = r["peak_attenuation_undamped_db"]
+        if not math.isfinite(att):
+            att = r["peak_attenuation_added_mass_db"]
+        if not math.isfinite(att):
+            att = -20.0 * math.log10(r["peak_amplitude"])
+        peak = max((x for x in mine if x["drive"] == r["drive"]), key=lambda x: x["amplitude"])
+        ci = 20.0 / math.log(10.0) * peak.get("amplitude_ci", 0.0) / peak["amplitude"]
+        per_drive[r["drive"]] = (att, ci)
+    return min(per_drive.values())
+
+
+def mark_best(rows: list[dict], budget: float | None, kind: str, noise: float) -> None:
+    """``within_budget``, ``score``, ``score_ci``, ``best`` and ``verdict`` of every row
+    (module doc); ``noise`` the smallest score difference the points resolve."""
+    scores: dict[str, tuple[float, float]] = {}
     for config in dict.fromkeys(r["config"] for r in rows):
-        mine = [r for r in rows if r["config"] == config]
-        if kind == "ringdown":
-            score = float(np.mean([r["zeta_percent"] for r in mine]))
-        else:
-            per_drive = {}
-            for r in mine:
-                att = r["peak_attenuation_undamped_db"]
-                if not math.isfinite(att):
-                    att = r["peak_attenuation_added_mass_db"]
-                if not math.isfinite(att):
-                    att = -20.0 * math.log10(r["peak_amplitude"])
-                per_drive[r["drive"]] = att
-            score = min(per_drive.values())
-        scores[config] = score
+        score, ci = _score([r for r in rows if r["config"] == config], kind)
+        scores[config] = (score, max(ci, noise) if math.isfinite(ci) else math.inf)
     ok = {r["config"] for r in rows if budget is None or r["added_mass"] <= budget * (1 + 1e-12)}
-    finite = {k: s for k, s in scores.items() if k in ok and math.isfinite(s)}
-    best = max(finite, key=finite.get) if finite else None
+    converged = {
+        config
+        for config in scores
+        if all(bool(r.get("converged", True)) for r in rows if r["config"] == config)
+    }
+    ranked = sorted(
+        (k for k in scores if k in ok and k in converged and math.isfinite(scores[k][0])),
+        key=lambda k: -scores[k][0],
+    )
+    best, verdict = None, {}
+    if len(ranked) == 1:
+        best = ranked[0]
+    elif len(ranked) > 1:
+        (first, (s1, c1)), (second, (s2, c2)) = ((k, scores[k]) for k in ranked[:2])
+        if s1 - c1 > s2 + c2:
+            best = first
+        else:
+            verdict[first] = f"no significant difference from {second}"
+            verdict[second] = f"no significant difference from {first}"
     for r in rows:
         r["within_budget"] = r["config"] in ok
-        r["score"] = scores[r["config"]]
+        r["score"], r["score_ci"] = scores[r["config"]]
         r["best"] = r["config"] == best
+        r["verdict"] = "best" if r["best"] else verdict.get(r["config"], "")
 
 
 def _cell(v) -> str:

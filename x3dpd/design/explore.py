@@ -171,12 +171,21 @@ def run_design(
     write_design_csv(out / "design.csv", rows)
     figures = _figures(out, design, rows, configs)
     best = [r for r in rows if r["best"]]
+    tied = [r for r in rows if r["verdict"].startswith("no significant")]
     if best:
         b = best[0]
         echo(
             f"best configuration{' within the mass budget' if design.mass_budget else ''}: "
             f"{b['config']} (added mass {b['added_mass']:.4g}, {_score_text(b, ev.kind)})"
         )
+    elif tied:
+        a = tied[0]
+        echo(
+            f"no significant difference: {a['config']} leads ({_score_text(a, ev.kind)}) but "
+            f"its interval overlaps the runner-up's, {a['verdict'].split(' from ')[-1]}"
+        )
+    else:
+        echo("no best configuration: none within the budget converged at every point")
     echo(
         f"wrote {out / 'design.csv'} and "
         + ", ".join(str(f) for f in figures)
@@ -231,9 +240,10 @@ def _figures(out: Path, design: DesignFile, rows: list[dict], configs: list[Conf
 
 
 def _score_text(row: dict, kind: str) -> str:
+    ci = row.get("score_ci", math.nan)
     if kind == "ringdown":
-        return f"mean zeta {row['score']:.3g} %"
-    return f"peak attenuation {row['score']:.2f} dB (worst drive)"
+        return f"mean zeta {row['score']:.3g} +/- {ci:.2g} %"
+    return f"peak attenuation {row['score']:.2f} +/- {ci:.2f} dB (worst drive)"
 
 
 def _sweep_spec(design: DesignFile, made: Made) -> SweepSpec:

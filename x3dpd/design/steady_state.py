@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from x3dpd.api import run as run_deck
 from x3dpd.api.decks import Deck
 from x3dpd.api.measurements import SteadyStateMonitor
+from x3dpd.api.stepper import process_compile_seconds
 from x3dpd.api.traces import ENERGY_COLUMNS, ROLLING_COLUMN
 from x3dpd.design.drive import BASE_QUANTITIES, base_motion_spec, displacement_amplitude
 from x3dpd.design.predict import continued_base_start, predicted_start
@@ -115,6 +116,9 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     period = 1.0 / point.frequency_hz
     itrac = max(1, int(period / (crit.samples_per_cycle * dt)))
 
+    # a structure without particles has no scatter to average: a deterministic answer
+    deterministic = not has_particles(point.deck)
+
     def new_monitor():
         return SteadyStateMonitor(
             omega,
@@ -125,6 +129,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
             min_windows=crit.min_windows,
             max_cycles=crit.max_cycles,
             extrapolate=crit.extrapolate,
+            deterministic=deterministic,
         )
 
     monitor = new_monitor()
@@ -166,6 +171,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         )
         motion = ()
     wall = _time.perf_counter()
+    compiled_before = process_compile_seconds()  # the predicted start may build the loop
     start = "previous" if previous is not None else "deck"
     if crit.predict:
         predicted = predicted_start(point, previous, dt, t_start, usrfrc, motion)
@@ -193,6 +199,8 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     whole = watchers[lead].result()
     summary = result.summary
     loss = whole.dissipated_per_cycle
+    losses = ALL_LOSSES + (ROLLING_COLUMN,)
+    _, dissipated_hw = whole.energy_interval(losses)
     if point.base:  # the base's work per cycle, from the ledger
         work = loss.get(BASE_WORK, math.nan)
     else:  # steady state: the drive's work per cycle, pi F X sin(-phi), equals the dissipation
@@ -207,6 +215,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         # the rolling loss (a scene with a rolling law) is the particles' too
         "dissipated_per_cycle": sum(loss.get(name, math.nan) for name in ALL_LOSSES)
         + loss.get(ROLLING_COLUMN, 0.0),
+        "dissipated_per_cycle_ci": dissipated_hw,
         "dissipated_particles_per_cycle": sum(loss.get(name, math.nan) for name in PARTICLE_LOSSES)
         + loss.get(ROLLING_COLUMN, 0.0),
         # the ledger's split (x3dpd design's columns; sweep.csv keeps the two sums)
@@ -215,6 +224,8 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         },
         "input_work_per_cycle": work,
         "cycles": whole.cycles,
+        "kept_cycles": whole.kept,
+        "stopped_by": whole.method,
         "extrapolated": whole.extrapolated,
         "irregular": whole.irregular,
         "method": "simulated",
@@ -222,7 +233,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "t_start": t_start,
         "t_end": float(summary["t_end"]),
         "steps": int(summary["steps"]),
-        "compile_s": float(summary.get("compile_s", 0.0)),
+        "compile_s": process_compile_seconds() - compiled_before,
         "wall_s": wall,
         "response_node": point.node,
         "response_dof": point.dof,
@@ -237,6 +248,14 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     return row, result.final_state
 
 
+def has_particles(deck: Deck) -> bool:
+    """Whether a deck has particle nodes (nodes above the first PDMP card's NODLIM)."""
+    if not deck.pdmp:
+        return False
+    nodlim = min(card.nodlim for card in deck.pdmp)
+    return any(node.nid > nodlim for node in deck.nodes)
+
+
 def response_columns(
     ss, point: SweepPoint, node: int | None = None, dof: int | None = None
 ) -> dict:
@@ -246,7 +265,9 @@ def response_columns(
     w = 2.0 * math.pi * point.frequency_hz
     out = {
         "amplitude": ss.amplitude,
+        "amplitude_ci": ss.amplitude_hw,
         "phase": ss.phase_deg,
+        "phase_ci": ss.phase_hw_deg,
         "velocity": ss.velocity,
         "acceleration": ss.acceleration,
         "accelerance": math.nan if point.base else ss.acceleration / abs(point.drive),

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -28,7 +29,9 @@ COLUMNS = (
     "drive_quantity",
     "direction",
     "amplitude",
+    "amplitude_ci",
     "phase",
+    "phase_ci",
     "velocity",
     "acceleration",
     "accelerance",
@@ -37,9 +40,12 @@ COLUMNS = (
     "mean",
     "spread",
     "dissipated_per_cycle",
+    "dissipated_per_cycle_ci",
     "dissipated_particles_per_cycle",
     "input_work_per_cycle",
     "cycles",
+    "kept_cycles",
+    "stopped_by",
     "converged",
     "extrapolated",
     "irregular",
@@ -61,7 +67,9 @@ RESPONSE_COLUMNS = (
     "response_node",
     "response_dof",
     "amplitude",
+    "amplitude_ci",
     "phase",
+    "phase_ci",
     "velocity",
     "acceleration",
     "accelerance",
@@ -103,7 +111,8 @@ def label_branches(rows: list[dict]) -> None:
     than their tolerance (hysteresis), the larger amplitude is on the ``high`` branch and the
     smaller on the ``low`` one; elsewhere the response is ``single``-valued. Points run from the
     initial state (no direction) or in closed form are ``single``; an irregular point is
-    ``irregular`` whatever its neighbours.
+    ``irregular`` whatever its neighbours. The two must also differ by more than their
+    combined 95 % interval, sqrt(ci_up^2 + ci_down^2): chaos alone makes no branches.
     """
     by = {}
     for r in rows:
@@ -114,8 +123,9 @@ def label_branches(rows: list[dict]) -> None:
             r["branch"] = "single"
         if up and down:
             tol = 3.0 * max(abs(up["change"]), abs(down["change"]), 0.01)
-            if abs(up["amplitude"] - down["amplitude"]) > tol * max(
-                up["amplitude"], down["amplitude"]
+            both = math.hypot(up.get("amplitude_ci", 0.0), down.get("amplitude_ci", 0.0))
+            if abs(up["amplitude"] - down["amplitude"]) > max(
+                tol * max(up["amplitude"], down["amplitude"]), both
             ):
                 hi, lo = (up, down) if up["amplitude"] > down["amplitude"] else (down, up)
                 hi["branch"], lo["branch"] = "high", "low"

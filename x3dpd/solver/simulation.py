@@ -73,6 +73,21 @@ class Block:
     energy: np.ndarray
 
 
+#: Seconds this process has spent loading and compiling step loops (and their first calls),
+#: over every Simulation: what a sweep point or a design counts as its compile time, whoever
+#: built the loop (its run, or the predicted start before it).
+_COMPILE_SECONDS = [0.0]
+
+
+def _count_compile(seconds: float) -> None:
+    _COMPILE_SECONDS[0] += seconds
+
+
+def process_compile_seconds() -> float:
+    """Seconds this process has spent loading and compiling step loops so far [s]."""
+    return _COMPILE_SECONDS[0]
+
+
 class Simulation(RunChecks):
     """A model ready to run.
 
@@ -150,6 +165,7 @@ class Simulation(RunChecks):
         self.energy_columns = energy_columns(model.rolling_law)
         self.compile_seconds = 0.0
         self._load_seconds = _time.perf_counter() - t
+        _count_compile(self._load_seconds)
         self.state = initial_state(model, self.setup, model.n_nodes, len(rows),
                                    law_count(self.ext.table))
         self.fpy = np.zeros((model.n_nodes, 6))
@@ -176,6 +192,7 @@ class Simulation(RunChecks):
         with variant_compile_lock(cache_dir(), self.kernels.__name__):
             self._initialize()
         self.compile_seconds += _time.perf_counter() - t
+        _count_compile(_time.perf_counter() - t)
         self._initialized = True
 
     def _initialize(self) -> None:
@@ -274,6 +291,7 @@ class Simulation(RunChecks):
                     self._packed_bundles(output))
                 if not self._timed_first_call:
                     self.compile_seconds += _time.perf_counter() - t0
+                    _count_compile(_time.perf_counter() - t0)
                     self._timed_first_call = True
                 self.state.step += steps
                 done += steps
