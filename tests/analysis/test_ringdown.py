@@ -71,3 +71,23 @@ def test_too_short_a_record_is_refused():
     t, x = linear_ringdown(0.02, cycles=5)
     with pytest.raises(InputError, match="cycles"):
         damping_vs_amplitude(t, x)
+
+
+def test_each_levels_interval_holds_the_true_zeta_95_percent_of_the_time():
+    """A linear ring-down (zeta 2 %) measured with white noise of 0.2 % of its start amplitude:
+    over 80 noisy records, the share of levels whose 95 % interval holds the true zeta is about
+    0.95 (0.88 and above passes: the levels of one record are correlated, so the share scatters
+    more than 80 independent draws would), and the intervals shrink to nothing without noise."""
+    zeta = 0.02
+    t, x = linear_ringdown(zeta, cycles=40.0)
+    clean = damping_vs_amplitude(t, x)
+    assert np.all(clean.zeta_ci < 1e-3 * zeta)
+    rng = np.random.default_rng(12)
+    held, total = 0, 0
+    for _ in range(80):
+        rd = damping_vs_amplitude(t, x + 0.002 * 0.05 * rng.standard_normal(t.size))
+        # the middle level of each record (one draw per record: independent across records)
+        k = rd.zeta.size // 2
+        held += abs(rd.zeta[k] - clean.zeta[k]) <= rd.zeta_ci[k]
+        total += 1
+    assert held / total >= 0.88, held / total

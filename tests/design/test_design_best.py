@@ -34,8 +34,8 @@ def _rows(config, peak, ci, *, converged=True, added_mass=1e-6, drives=(1.0,)):
     return out
 
 
-def _best(rows, noise=noise_db(0.01), budget=None):
-    mark_best(rows, budget, "sweep", noise)
+def _best(rows, tol=0.01, budget=None):
+    mark_best(rows, budget, "sweep", tol)
     return {r["config"] for r in rows if r["best"]}, {r["config"]: r["verdict"] for r in rows}
 
 
@@ -60,6 +60,7 @@ def test_overlapping_intervals_are_no_significant_difference():
 def test_numerical_noise_between_exact_answers_is_no_difference():
     """A bare structure and a sphere that never touches a wall: both deterministic (zero
     half-width), 0.01 dB apart -- below what points computed to 1 % resolve (0.086 dB)."""
+    assert noise_db(0.01) == pytest.approx(0.0864, abs=1e-4)
     rows = _rows("bare", 1.0, 0.0) + _rows("sphere", 10 ** (-0.01 / 20), 0.0)
     best, verdict = _best(rows)
     assert best == set() and verdict["sphere"].startswith("no significant difference")

@@ -50,22 +50,37 @@ def _budget(ax, budget: float | None) -> None:
             ax.set_xlim(lo, hi)
 
 
+def _peak_interval_db(mine: Sequence[Mapping], drive) -> float:
+    """The 95 % half-width [dB] of a configuration's peak attenuation at one drive: its peak
+    point's amplitude interval, 20 / ln 10 x ci / X."""
+    here = [r for r in mine if r["drive"] == drive]
+    peak = max(here, key=lambda r: r["amplitude"])
+    ci = float(peak.get("amplitude_ci", 0.0) or 0.0)
+    return 20.0 / math.log(10.0) * ci / peak["amplitude"] if peak["amplitude"] > 0 else math.nan
+
+
 def plot_attenuation_vs_mass(
     png: str | os.PathLike,
     rows: Sequence[Mapping],
     budget: float | None = None,
     title: str = "",
     mass_unit: str = "",
+    force_unit: str = "",
 ) -> str:
     """Peak attenuation vs the undamped baseline (else vs added mass; else the peak amplitude)
-    against added mass, one panel per drive, a line per (material, radius)."""
+    against added mass, one panel per drive, a line per (material, radius), each point with its
+    95 % interval. A dwell (one frequency per drive) shows the attenuation at its frequency."""
     plt = _pyplot()
     drives = sorted({r["drive"] for r in rows})
-    quantity, label = "peak_attenuation_undamped_db", "peak attenuation vs undamped [dB]"
+    dwell = all(len({r["frequency_hz"] for r in rows if r["drive"] == d}) == 1 for d in drives)
+    what = (
+        f"attenuation at {rows[0]['frequency_hz']:g} Hz" if dwell and rows else "peak attenuation"
+    )
+    quantity, label = "peak_attenuation_undamped_db", f"{what} vs undamped [dB]"
     if not any(math.isfinite(r[quantity]) for r in rows):
-        quantity, label = "peak_attenuation_added_mass_db", "peak attenuation vs added mass [dB]"
+        quantity, label = "peak_attenuation_added_mass_db", f"{what} vs added mass [dB]"
     if not any(math.isfinite(r[quantity]) for r in rows):
-        quantity, label = "peak_amplitude", "peak amplitude"
+        quantity, label = "peak_amplitude", "peak amplitude" if not dwell else "amplitude"
     masses = {r["added_mass"] for r in rows}
     # an equal-mass study (the report's particle-count study): against the count instead
     by_count = len({r["count"] for r in rows}) > 1 and max(masses) - min(masses) <= 1e-9 * max(
@@ -78,47 +93,53 @@ def plot_attenuation_vs_mass(
         for config, mine in _by_config(rows).items():
             here = [r for r in mine if r["drive"] == drive]
             if here:
-                per_config[config] = here[0]
-        families: dict[str, list] = {}
-        for config, r in per_config.items():
-            family = "equal mass" if by_count else _family(r)
-            families.setdefault(family, []).append((r[x_key], r[quantity], config))
-        for k, (name, pts) in enumerate(sorted(families.items())):
-            pts.sort()
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", color=f"C{k}", label=name)
-            for m, y, config in pts:
-                ax.annotate(config, (m, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
-        best = [r for r in per_config.values() if r.get("best")]
+                per_config[config] = (here[0], _peak_interval_db(mine, drive))
+        best = [r for r, _ in per_config.values() if r.get("best")]
         if best:
+            # under the points and their names: the star marks, the label names
             b = best[0]
             ax.plot(
-                b[x_key],
-                b[quantity],
-                marker="*",
-                ms=18,
-                color="gold",
-                mec="k",
-                ls="none",
-                label=f"best: {b['config']}",
-                zorder=5,
+                b[x_key], b[quantity], marker="*", ms=20, color="gold", mec="0.4", ls="none",
+                label=f"best: {b['config']}", zorder=1,
             )
+        families: dict[str, list] = {}
+        for config, (r, ci) in per_config.items():
+            family = "equal mass" if by_count else _family(r)
+            families.setdefault(family, []).append((r[x_key], r[quantity], ci, config))
+        for k, (name, pts) in enumerate(sorted(families.items())):
+            pts.sort()
+            x, y, ci = (np.array([p[j] for p in pts], float) for j in range(3))
+            ax.plot(x, y, marker="o", color=f"C{k}", label=name, zorder=3)
+            if quantity != "peak_amplitude" and np.isfinite(ci).any():
+                ax.errorbar(x, y, yerr=np.where(np.isfinite(ci), ci, 0.0), fmt="none",
+                            ecolor=f"C{k}", capsize=2.5, zorder=3)
+            for m, v, _, config in pts:
+                ax.annotate(config, (m, v), fontsize=6, xytext=(4, 6), textcoords="offset points",
+                            zorder=4)
         if by_count:
             ax.set_xscale("log")
-            ax.set_xlabel(f"particle count (equal added mass {max(masses):.4g})")
+            ax.set_xlabel(
+                f"particle count (equal added mass {max(masses):.4g}"
+                f"{f' {mass_unit}' if mass_unit else ''})"
+            )
         else:
             _budget(ax, budget)
             ax.set_xlabel(f"added (particle) mass{f' [{mass_unit}]' if mass_unit else ''}")
         ax.set_ylabel(label)
         if quantity == "peak_amplitude":
             ax.set_yscale("log")
-        ax.set_title(f"drive {drive:.5g}", fontsize=9)
+        ax.set_title(f"drive {drive:.5g}{f' {force_unit}' if force_unit else ''}", fontsize=9)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="best")
     return save_figure(plt, fig, png, title)
 
 
 def plot_damping_families(
-    png: str | os.PathLike, rows: Sequence[Mapping], budget: float | None = None, title: str = ""
+    png: str | os.PathLike,
+    rows: Sequence[Mapping],
+    budget: float | None = None,
+    title: str = "",
+    mass_unit: str = "",
 ) -> str:
     """% zeta vs amplitude, a line per configuration coloured by added mass; beside it the
     mean % zeta vs added mass per (material, radius)."""
@@ -144,7 +165,7 @@ def plot_damping_families(
     if base:
         ax.axhline(base[0], color="k", ls=":", label=f"structure alone {base[0]:.3g} %")
     sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
-    fig.colorbar(sm, ax=ax, label="added mass")
+    fig.colorbar(sm, ax=ax, label=f"added mass{f' [{mass_unit}]' if mass_unit else ''}")
     ax.set_xlabel("amplitude [dB re 1 g]")
     ax.set_ylabel("damping [% zeta]")
     ax.grid(True, alpha=0.3)
@@ -171,7 +192,7 @@ def plot_damping_families(
             zorder=5,
         )
     _budget(ax2, budget)
-    ax2.set_xlabel("added (particle) mass")
+    ax2.set_xlabel(f"added (particle) mass{f' [{mass_unit}]' if mass_unit else ''}")
     ax2.set_ylabel("mean damping [% zeta]")
     ax2.grid(True, alpha=0.3)
     ax2.legend(fontsize=7)

@@ -262,7 +262,8 @@ def plot_ringdown(
     png: str | os.PathLike, series: Mapping[str, Mapping[str, np.ndarray]], title: str = ""
 ) -> str:
     """% zeta versus amplitude in dB re 1 g (Figure 6, right), one line per series (measured
-    ones, named ``measured ...``, dashed black)."""
+    ones, named ``measured ...``, dashed black), shaded over each level's 95 % interval
+    (``zeta_ci_percent``) where the series has one."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4.0))
     for k, (name, cols) in enumerate(series.items()):
@@ -271,7 +272,11 @@ def plot_ringdown(
             if name.startswith("measured")
             else {"color": "C3" if k == 0 else "C0"}
         )
-        ax.plot(cols["amplitude_db"], 100.0 * np.asarray(cols["zeta"]), lw=1.5, label=name, **style)
+        db, zeta = np.asarray(cols["amplitude_db"]), 100.0 * np.asarray(cols["zeta"])
+        ax.plot(db, zeta, lw=1.5, label=name, **style)
+        ci = np.asarray(cols.get("zeta_ci_percent", np.full(db.shape, np.nan)), float)
+        if np.isfinite(ci).any():
+            ax.fill_between(db, zeta - ci, zeta + ci, color=style["color"], alpha=0.2, lw=0)
     ax.set_xlabel("amplitude [dB re 1 g]")
     ax.set_ylabel("damping [% zeta]")
     ax.grid(True, alpha=0.3)

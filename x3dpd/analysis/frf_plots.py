@@ -32,6 +32,16 @@ class Curve:
     baseline: bool = False
 
 
+
+def phase_degrees(h) -> np.ndarray:
+    """The phase of a complex FRF over increasing frequency [deg], unwrapped (no jump of 360
+    deg where it passes +/-180 deg, as an accelerance does below resonance) and shifted by whole
+    turns so that its mean lies within (-180, 180]."""
+    phase = np.degrees(np.unwrap(np.angle(np.asarray(h, dtype=complex))))
+    if phase.size:
+        phase -= 360.0 * np.round(np.mean(phase) / 360.0)
+    return phase
+
 def _db(x) -> np.ndarray:
     with np.errstate(divide="ignore"):
         return 20.0 * np.log10(np.abs(x))
@@ -77,7 +87,7 @@ def plot_frf(
             ax_m.fill_between(
                 f, _db(lo), _db(mag + curve.r95), color=style["color"], alpha=0.2, lw=0
             )
-        ax_p.plot(f, np.degrees(np.angle(curve.h)), **style)
+        ax_p.plot(f, phase_degrees(curve.h), **style)
         if curve.coherence is not None:
             ax_c.plot(f, curve.coherence, **style)
     ax_m.set_ylabel(f"|H| [dB re 1 {ylabel}]")
@@ -138,8 +148,8 @@ def plot_fit(
     f = np.asarray(frequency)
     ax_m.plot(f, _db(measured), "o", ms=2.5, color="0.35", label="measured")
     ax_m.plot(f, _db(fitted), color="C3", lw=1.4, label="SDOF fit")
-    ax_p.plot(f, np.degrees(np.angle(measured)), "o", ms=2.5, color="0.35")
-    ax_p.plot(f, np.degrees(np.angle(fitted)), color="C3", lw=1.4)
+    ax_p.plot(f, phase_degrees(measured), "o", ms=2.5, color="0.35")
+    ax_p.plot(f, phase_degrees(fitted), color="C3", lw=1.4)
     for ax in (ax_m, ax_p):
         ax.axvspan(*band, color="C0", alpha=0.06)
         ax.grid(True, alpha=0.3)

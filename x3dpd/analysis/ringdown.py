@@ -21,6 +21,18 @@ The report's method, step by step:
 The unwrapped Hilbert phase, fitted by a spline the same way, gives the instantaneous frequency
 w(t) used for T_d and for the displacement-to-acceleration factor. The first and last
 ``trim_cycles`` cycles are dropped: the Hilbert transform of a finite record rings at its ends.
+
+**Each level's 95 % interval** (``zeta_ci``): the spline is a linear least-squares fit
+y = B c of ln A, so its slope at t is a linear function d(t)^T c of the coefficients, whose
+covariance is White's sandwich (B^T B)^-1 B^T diag(r_i^2) B (B^T B)^-1 n / (n - p) for
+independent residuals r_i whose variance may change along the record (the noise of ln A grows
+as A decays). The residuals of a dense record are correlated over about a cycle (the
+particles' impacts, the envelope's ripple), so the covariance is scaled by 2 tau, tau the
+residuals' integrated autocorrelation time (x3dpd.analysis.confidence.autocorrelation_time),
+and the
+half-width of zeta is t_{0.975, n/(2 tau) - p} sqrt(d^T Cov d) (2 pi / w) dzeta/ddelta, with
+dzeta/ddelta = 4 pi^2 / (4 pi^2 + delta^2)^(3/2). A linear oscillator's exact decay has
+residuals of round-off and an interval of nothing.
 """
 
 from __future__ import annotations
@@ -42,7 +54,8 @@ class Ringdown:
     ``time`` [s]; ``amplitude`` the fitted envelope of the analysed signal (its units);
     ``frequency_hz`` the instantaneous frequency; ``amplitude_g`` the acceleration amplitude
     [g] (w^2 A / g for a displacement, A / g for an acceleration); ``amplitude_db`` = 20 log10 of
-    it (dB re 1 g); ``zeta`` the damping ratio (fraction, not %).
+    it (dB re 1 g); ``zeta`` the damping ratio (fraction, not %) and ``zeta_ci`` its 95 %
+    half-width (module docstring).
     """
 
     time: np.ndarray
@@ -51,6 +64,7 @@ class Ringdown:
     amplitude_g: np.ndarray
     amplitude_db: np.ndarray
     zeta: np.ndarray
+    zeta_ci: np.ndarray | None = None
 
     def columns(self) -> dict[str, np.ndarray]:
         """The rows as named columns, in the order ``ringdown.csv`` writes them."""
@@ -62,7 +76,11 @@ class Ringdown:
             "amplitude_db": self.amplitude_db,
             "zeta": self.zeta,
             "zeta_percent": 100.0 * self.zeta,
+            "zeta_ci_percent": 100.0 * self._ci(),
         }
+
+    def _ci(self) -> np.ndarray:
+        return self.zeta_ci if self.zeta_ci is not None else np.full_like(self.zeta, np.nan)
 
 
 def hilbert_envelope(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -123,6 +141,33 @@ def _lsq_spline(t: np.ndarray, y: np.ndarray, piece: float):
     interior = np.linspace(t[0], t[-1], n_pieces + 1)[1:-1]
     knots = np.r_[[t[0]] * (k + 1), interior, [t[-1]] * (k + 1)]
     return make_lsq_spline(t, y, knots, k=k)
+
+
+def slope_half_width(spline, t: np.ndarray, y: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """The 95 % half-width of a least-squares spline's slope at times ``at``, from the fit's
+    residuals at (t, y) and their correlation (module docstring) [y's units per second]."""
+    from scipy.interpolate import BSpline
+
+    from x3dpd.analysis.confidence import autocorrelation_time, t_quantile
+
+    knots, k = spline.t, spline.k
+    p = knots.size - k - 1
+    basis = BSpline.design_matrix(t, knots, k).toarray()
+    residual = y - spline(t)
+    n = t.size
+    tau = autocorrelation_time(residual)
+    dof = n / (2.0 * tau) - p
+    if dof < 1.0:
+        return np.full(at.shape, np.inf)
+    # the sandwich (White's heteroscedasticity-consistent) covariance: the noise of ln A grows
+    # as A decays, so one variance for the whole record overstates it early and understates
+    # it late; scaled by 2 tau for the residuals' correlation and by n / (n - p)
+    bread = np.linalg.pinv(basis.T @ basis)
+    meat = (basis * (residual**2)[:, None]).T @ basis
+    cov = bread @ meat @ bread * (2.0 * tau * n / (n - p))
+    slopes = np.column_stack([BSpline(knots, np.eye(p)[j], k).derivative()(at) for j in range(p)])
+    se = np.sqrt(np.maximum(np.einsum("ij,jk,ik->i", slopes, cov, slopes), 0.0))
+    return t_quantile(dof) * se
 
 
 def damping_vs_amplitude(
@@ -194,6 +239,8 @@ def damping_vs_amplitude(
     amp = np.exp(log_env(te))
     delta = -log_env.derivative()(te) * 2.0 * np.pi / omega
     zeta = delta / np.sqrt(4.0 * np.pi**2 + delta**2)
+    slope_hw = slope_half_width(log_env, t[sel], np.log(env[sel]), te)
+    zeta_ci = slope_hw * 2.0 * np.pi / omega * 4.0 * np.pi**2 / (4.0 * np.pi**2 + delta**2) ** 1.5
     accel = amp * omega**2 if kind == "displacement" else amp
     amp_g = accel / g
     return Ringdown(
@@ -203,6 +250,7 @@ def damping_vs_amplitude(
         amplitude_g=amp_g,
         amplitude_db=20.0 * np.log10(amp_g),
         zeta=zeta,
+        zeta_ci=zeta_ci,
     )
 
 

@@ -234,20 +234,18 @@ class SteadyStateMonitor:
             if self.extrapolate and self._extrapolated():
                 self.done = self.converged = True
                 self.method = "extrapolated"
-            else:
-                change, tail, _, spread = self._change()
-                if not self.deterministic:
-                    self.assessment = assess(self.phasors)
-                    if self.assessment.within(self.tol):
-                        self.done = self.converged = True
-                        self.method = "interval"
-                        return
-                # a regular response (no particles, or cycles that do not scatter beyond tol)
-                # may also settle as a deterministic sequence does
-                regular = self.deterministic or spread <= self.tol
-                if regular and change <= self.tol and tail <= self.tol and self._settled():
+            elif self.deterministic:
+                change, tail, _, _ = self._change()
+                if change <= self.tol and tail <= self.tol and self._settled():
                     self.done = self.converged = True
                     self.method = "window"
+            else:
+                # with particles, even a response that hardly scatters from cycle to cycle may
+                # wander over many (a bed's slow rearrangements): only the interval decides
+                self.assessment = assess(self.phasors)
+                if self.assessment.within(self.tol):
+                    self.done = self.converged = True
+                    self.method = "interval"
         if len(self.phasors) >= self.max_cycles:
             self.done = True
 

@@ -60,6 +60,7 @@ COLUMNS = (
     "acceleration",
     "amplitude_db",
     "zeta_percent",
+    "zeta_ci_percent",
     "baseline_zeta_percent",
     "baseline_undamped",
     "baseline_added_mass",
@@ -132,7 +133,7 @@ def design_rows(design, configs) -> list[dict]:
         mine = _ringdown_rows(c) if kind == "ringdown" else _sweep_rows(c)
         base = {**_config_columns(c), "evaluation": kind}
         rows.extend({**base, **r} for r in mine)
-    mark_best(rows, design.mass_budget, kind, noise_db(design.evaluation.criterion.tol))
+    mark_best(rows, design.mass_budget, kind, design.evaluation.criterion.tol)
     return rows
 
 
@@ -204,13 +205,17 @@ def _ringdown_rows(c) -> list[dict]:
         order = np.argsort(db)
         grid = np.linspace(db.min(), db.max(), RINGDOWN_POINTS)
         z = np.interp(grid, db[order], zeta[order])
+        # a ring-down stored before the intervals has none: nan
+        ci = np.asarray(cols.get("zeta_ci_percent", np.full(db.size, np.nan)))
+        zc = np.interp(grid, db[order], ci[order])
         g = np.interp(grid, db[order], np.asarray(cols["amplitude_g"])[order])
-        for x, y, a in zip(grid, z, g):
+        for x, y, e, a in zip(grid, z, zc, g):
             out.append(
                 {
                     "drive": level,
                     "amplitude_db": float(x),
                     "zeta_percent": float(y),
+                    "zeta_ci_percent": float(e),
                     "acceleration": float(a),
                     "converged": True,
                 }
@@ -222,12 +227,13 @@ def _ringdown_rows(c) -> list[dict]:
 
 def _score(mine: list[dict], kind: str) -> tuple[float, float]:
     """A configuration's score and its 95 % half-width (module doc): for a ring-down the mean
-    % zeta (half-width from its rows' ``zeta_ci``, when they have one), for a sweep the worst
+    % zeta (its half-width the levels' mean ``zeta_ci_percent``: the levels come from one record
+    and err together), for a sweep the worst
     peak attenuation over the drive levels, its half-width from that drive's peak point."""
     if kind == "ringdown":
         zeta = [r["zeta_percent"] for r in mine]
-        ci = [r.get("zeta_ci", 0.0) for r in mine]
-        return float(np.mean(zeta)), float(np.mean(ci))
+        ci = [r.get("zeta_ci_percent", 0.0) for r in mine]
+        return float(np.mean(zeta)), float(np.nan_to_num(np.mean(ci), nan=0.0))
     per_drive = {}
     for r in mine:
         att = r["peak_attenuation_undamped_db"]
@@ -241,12 +247,14 @@ def _score(mine: list[dict], kind: str) -> tuple[float, float]:
     return min(per_drive.values())
 
 
-def mark_best(rows: list[dict], budget: float | None, kind: str, noise: float) -> None:
+def mark_best(rows: list[dict], budget: float | None, kind: str, tol: float) -> None:
     """``within_budget``, ``score``, ``score_ci``, ``best`` and ``verdict`` of every row
-    (module doc); ``noise`` the smallest score difference the points resolve."""
+    (module doc) of points computed to the relative tolerance ``tol``: no score is more
+    certain than that (a sweep's dB: ``noise_db``; a ring-down's % zeta: tol of it)."""
     scores: dict[str, tuple[float, float]] = {}
     for config in dict.fromkeys(r["config"] for r in rows):
         score, ci = _score([r for r in rows if r["config"] == config], kind)
+        noise = tol * abs(score) if kind == "ringdown" else noise_db(tol)
         scores[config] = (score, max(ci, noise) if math.isfinite(ci) else math.inf)
     ok = {r["config"] for r in rows if budget is None or r["added_mass"] <= budget * (1 + 1e-12)}
     converged = {

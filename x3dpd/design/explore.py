@@ -46,6 +46,7 @@ from x3dpd.design.sweep import (
     write_csv,
 )
 from x3dpd.errors import InputError
+from x3dpd.units import labels_for
 
 
 @dataclass(frozen=True)
@@ -208,10 +209,23 @@ def _figures(out: Path, design: DesignFile, rows: list[dict], configs: list[Conf
     if not rows:
         return []
     title = design.title
+    deck = configs[0].made.deck
+    units = labels_for(deck.units.system if deck.units is not None else None)
     if design.evaluation.kind == "ringdown":
-        return [plot_damping_families(out / "design_damping.png", rows, design.mass_budget, title)]
+        return [
+            plot_damping_families(
+                out / "design_damping.png", rows, design.mass_budget, title, units["mass"]
+            )
+        ]
     figures = [
-        plot_attenuation_vs_mass(out / "design_attenuation.png", rows, design.mass_budget, title)
+        plot_attenuation_vs_mass(
+            out / "design_attenuation.png",
+            rows,
+            design.mass_budget,
+            title,
+            mass_unit=units["mass"],
+            force_unit=units["force"],
+        )
     ]
     if design.evaluation.kind == "sweep":
         curves = baseline_curves(configs[0].spec)
@@ -233,7 +247,7 @@ def _figures(out: Path, design: DesignFile, rows: list[dict], configs: list[Conf
                     out / f"design_response_{k}.png",
                     series,
                     base,
-                    title=f"{title}, drive {drive:.5g}",
+                    title=f"{title}, drive {drive:.5g} {units['force']}",
                 )
             )
     return figures
