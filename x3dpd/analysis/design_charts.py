@@ -99,8 +99,15 @@ def plot_attenuation_vs_mass(
             # under the points and their names: the star marks, the label names
             b = best[0]
             ax.plot(
-                b[x_key], b[quantity], marker="*", ms=20, color="gold", mec="0.4", ls="none",
-                label=f"best: {b['config']}", zorder=1,
+                b[x_key],
+                b[quantity],
+                marker="*",
+                ms=20,
+                color="gold",
+                mec="0.4",
+                ls="none",
+                label=f"best: {b['config']}",
+                zorder=1,
             )
         families: dict[str, list] = {}
         for config, (r, ci) in per_config.items():
@@ -111,11 +118,19 @@ def plot_attenuation_vs_mass(
             x, y, ci = (np.array([p[j] for p in pts], float) for j in range(3))
             ax.plot(x, y, marker="o", color=f"C{k}", label=name, zorder=3)
             if quantity != "peak_amplitude" and np.isfinite(ci).any():
-                ax.errorbar(x, y, yerr=np.where(np.isfinite(ci), ci, 0.0), fmt="none",
-                            ecolor=f"C{k}", capsize=2.5, zorder=3)
+                ax.errorbar(
+                    x,
+                    y,
+                    yerr=np.where(np.isfinite(ci), ci, 0.0),
+                    fmt="none",
+                    ecolor=f"C{k}",
+                    capsize=2.5,
+                    zorder=3,
+                )
             for m, v, _, config in pts:
-                ax.annotate(config, (m, v), fontsize=6, xytext=(4, 6), textcoords="offset points",
-                            zorder=4)
+                ax.annotate(
+                    config, (m, v), fontsize=6, xytext=(4, 6), textcoords="offset points", zorder=4
+                )
         if by_count:
             ax.set_xscale("log")
             ax.set_xlabel(

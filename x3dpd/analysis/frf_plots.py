@@ -32,7 +32,6 @@ class Curve:
     baseline: bool = False
 
 
-
 def phase_degrees(h) -> np.ndarray:
     """The phase of a complex FRF over increasing frequency [deg], unwrapped (no jump of 360
     deg where it passes +/-180 deg, as an accelerance does below resonance) and shifted by whole
@@ -41,6 +40,7 @@ def phase_degrees(h) -> np.ndarray:
     if phase.size:
         phase -= 360.0 * np.round(np.mean(phase) / 360.0)
     return phase
+
 
 def _db(x) -> np.ndarray:
     with np.errstate(divide="ignore"):
