@@ -237,6 +237,9 @@ def _bad_inputs(tmp_path):
     other_ref = _set(
         tmp_path, "ref2.uff", h=MODEL.accelerances()[:1], responses=[(2, 1)], reference=(2, 1)
     )
+    dead = MODEL.accelerances()
+    dead[2] = 0.0  # a channel that recorded nothing
+    dead = _set(tmp_path, "dead.uff", h=dead)
     velocity = _set(
         tmp_path, "vel.uff", h=MODEL.accelerances()[:1], responses=[(5, 1)], quantity="velocity"
     )
@@ -254,6 +257,7 @@ def _bad_inputs(tmp_path):
         ((good, other_ref, "--modes", 3), "2 references and 4 responses"),
         ((good, other, "--modes", 3), "7 FRFs for 4 points"),
         ((good, velocity, "--modes", 3), "of acceleration, velocity"),
+        ((dead, "--modes", 3), "the FRF at 3:x is 0 over the band 0.25:200 Hz"),
         ((good, "--modes", 3, "--node", 2), "--node is an option of the single-mode fit"),
         ((good, good), "2 files given"),
         ((good, "--modes", 3, "--units", "m,N"), "--units 'm,N'"),

@@ -168,6 +168,11 @@ def _lines(fs: FrfSet, band: tuple[float, float] | None, n_modes: int):
             f"(of {f.size}); --modes {n_modes} needs at least {need} ({LINES_PER_MODE} per "
             f"mode and {MIN_LINES}): widen --band or lower --modes"
         )
+    for o, point in enumerate(fs.points):  # (the readers refuse values that are not finite)
+        if not np.any(fs.h[o, sel] != 0):
+            raise InputError(
+                f"{fs.files}: the FRF at {point_name(point)} is 0 over the band {lo:g}:{hi:g} Hz"
+            )
     return (lo, hi), sel
 
 
