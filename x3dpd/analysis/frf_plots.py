@@ -1,6 +1,7 @@
 """Figures of the test-engineer tools: frf.png (the report's Figs 58-63: FRF magnitude in dB
 over a linear frequency axis, here with phase and coherence below), spectrum.png (Fig. 10) and
-fit.png (a measured FRF and its single-mode fit).
+fit.png (a measured FRF and its single-mode fit), modal_fit.png (a set of FRFs, their multi-mode
+fit and its stabilisation diagram).
 
 They take plain arrays and labels and know nothing of where the numbers came from.
 """
@@ -158,6 +159,52 @@ def plot_fit(
     ax_p.set_yticks([-180, -90, 0, 90, 180])
     ax_p.set_xlabel("frequency [Hz]")
     ax_m.legend(fontsize=8)
+    if title:
+        ax_m.set_title(title, fontsize=9)
+    return save_figure(plt, fig, png)
+
+
+def plot_modal_fit(
+    png: str | os.PathLike,
+    frequency,
+    measured,
+    fitted,
+    *,
+    labels: Sequence[str],
+    ylabel: str,
+    band: tuple[float, float],
+    stabilisation: tuple[Sequence[int], Sequence, Sequence],
+    modes,
+    title: str = "",
+) -> str:
+    """A multi-mode fit: each measured FRF (markers) and its synthesis from the fitted modes
+    (line) in dB, and below the stabilisation diagram -- the physical LSCF poles per order
+    (``stabilisation``: orders, each order's pole frequencies and stable flags; stable filled),
+    the fitted ``modes`` [Hz] as vertical lines."""
+    plt = _pyplot()
+    fig, (ax_m, ax_s) = plt.subplots(
+        2, 1, figsize=(7.0, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 2]}
+    )
+    f = np.asarray(frequency)
+    for k, (h, model) in enumerate(zip(measured, fitted)):
+        color = f"C{k % 10}"
+        ax_m.plot(f, _db(h), "o", ms=2.0, color=color, alpha=0.6)
+        ax_m.plot(f, _db(model), color=color, lw=1.1, label=labels[k])
+    orders, freqs, stable = stabilisation
+    for order, fo, so in zip(orders, freqs, stable):
+        fo, so = np.asarray(fo), np.asarray(so, dtype=bool)
+        ax_s.plot(fo[~so], np.full((~so).sum(), order), "o", ms=3, mfc="none", color="0.6")
+        ax_s.plot(fo[so], np.full(so.sum(), order), "o", ms=3, color="C3")
+    for fn in modes:
+        for ax in (ax_m, ax_s):
+            ax.axvline(fn, color="k", lw=0.6, ls=":")
+    for ax in (ax_m, ax_s):
+        ax.set_xlim(*band)
+        ax.grid(True, alpha=0.3)
+    ax_m.set_ylabel(f"|H| [dB re 1 {ylabel}]")
+    ax_s.set_ylabel("LSCF order (filled: stable)")
+    ax_s.set_xlabel("frequency [Hz]")
+    ax_m.legend(fontsize=7, ncol=2, title="measured (dots), fitted (lines)", title_fontsize=7)
     if title:
         ax_m.set_title(title, fontsize=9)
     return save_figure(plt, fig, png)

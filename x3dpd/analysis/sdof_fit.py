@@ -79,7 +79,8 @@ class SdofFit:
             raise InputError(
                 f"the fit gives a negative mass {mass:.4g} for force scale "
                 f"{force_scale:g}: the FRF's sign is reversed (drive and response "
-                "in opposite directions); give a negative force scale"
+                "in opposite directions); give a negative force scale (--force-scale "
+                f"{-force_scale:g})"
             )
         wn = 2.0 * math.pi * self.fn
         return {

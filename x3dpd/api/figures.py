@@ -6,8 +6,8 @@ docs/design.md). Each figure module loads matplotlib only when it draws.
 * :func:`write_movie`, :data:`VIEWS` -- ``x3dpd movie``;
 * :func:`write_vtk_series`, :func:`write_lammps_dump` -- ``x3dpd export``;
 * :class:`Scene`, :func:`scene_from_model` -- the geometry these draw;
-* :func:`plot_frf`, :func:`plot_spectrum`, :func:`plot_fit`, :class:`Curve` -- ``x3dpd frf``
-  and ``x3dpd fit``;
+* :func:`plot_frf`, :func:`plot_spectrum`, :func:`plot_fit`, :func:`plot_modal_fit`,
+  :class:`Curve` -- ``x3dpd frf`` and ``x3dpd fit``;
 * :func:`plot_sweep`, :func:`plot_responses`, :func:`plot_configurations`,
   :func:`plot_ringdown`, :func:`attenuations` (a sweep's peak attenuation against its
   baselines) -- ``x3dpd sweep`` and ``x3dpd ringdown``;
@@ -25,7 +25,7 @@ from x3dpd.analysis.design_plots import (
     plot_sweep,
 )
 from x3dpd.analysis.export import write_lammps_dump, write_vtk_series
-from x3dpd.analysis.frf_plots import Curve, plot_fit, plot_frf, plot_spectrum
+from x3dpd.analysis.frf_plots import Curve, plot_fit, plot_frf, plot_modal_fit, plot_spectrum
 from x3dpd.analysis.movie import VIEWS, write_movie
 from x3dpd.analysis.plots import plot_run
 from x3dpd.analysis.scene import Scene, scene_from_model
@@ -44,6 +44,7 @@ __all__ = [
     "plot_damping_families",
     "plot_fit",
     "plot_frf",
+    "plot_modal_fit",
     "plot_responses",
     "plot_ringdown",
     "plot_run",

@@ -10,6 +10,8 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
+
 from x3dpd.api.figures import plot_fit
 from x3dpd.api.measurements import (
     QUANTITY_ORDER,
@@ -105,6 +107,25 @@ def fit_text(
     return "\n".join(lines) + "\n"
 
 
+#: The fewest lines a band may hold (x3dpd.analysis.sdof_fit fits three parameters).
+MIN_LINES = 5
+
+
+def _enough_lines(measured: str, source: MeasuredFrf, band: tuple[float, float] | None) -> None:
+    """An error naming the file when the band holds fewer than :data:`MIN_LINES` usable lines
+    (above 0 Hz, H not 0), with how many it holds and how far apart the file's lines are."""
+    f = source.frequency
+    lo, hi = band if band is not None else (f[0], f[-1])
+    usable = np.count_nonzero((f >= lo) & (f <= hi) & (f > 0) & (np.abs(source.h) > 0))
+    if usable < MIN_LINES:
+        where = f"--band {lo:g}:{hi:g} Hz" if band is not None else "the file"
+        raise InputError(
+            f"{measured}: {where} holds {usable} usable line(s) of the file's {f.size} "
+            f"({float(np.median(np.diff(f))):.4g} Hz apart); a fit needs at least {MIN_LINES}: "
+            "widen the band"
+        )
+
+
 def fit_command(
     measured: str,
     *,
@@ -151,7 +172,18 @@ def fit_command(
             f"data ({source.frequency[0]:g} .. {source.frequency[-1]:g} Hz) of "
             f"{measured}"
         )
-    fit = fit_sdof(source.frequency, source.h, order=QUANTITY_ORDER[q], band=band_hz)
+    _enough_lines(measured, source, band_hz)
+    try:
+        fit = fit_sdof(source.frequency, source.h, order=QUANTITY_ORDER[q], band=band_hz)
+    except InputError as exc:
+        raise InputError(f"{measured}: {exc}") from None
+    scale = 1.0 if force_scale is None else force_scale
+    if mass is None and math.isfinite(scale) and scale * fit.residue < 0:
+        raise InputError(
+            f"{measured}: the FRF's sign is reversed (fitted R = {fit.residue:.4g}: drive "
+            "and response in opposite directions, common in hammer tests); pass "
+            f"--force-scale {-scale:g}"
+        )
     values = fit.deck_values(mass=mass, force_scale=force_scale)
     text = fit_text(source, fit, values, node=node, dof=dof, quantity=q, records=records)
     f = source.frequency

@@ -41,8 +41,10 @@ UFF_SUFFIXES = (".uff", ".unv", ".uf")
 @dataclass(frozen=True)
 class MeasuredFrf:
     """A measured FRF: ``frequency`` [Hz] (increasing), complex ``h``, optional ``coherence``,
-    the response ``quantity`` (None when the file does not say), a ``label`` and the ``unit``
-    of ``h`` (None when unknown)."""
+    the response ``quantity`` (None when the file does not say), a ``label``, the ``unit`` of
+    ``h`` (None when unknown), the ``response`` and ``reference`` points (node, direction 1-6,
+    negative along -x ...; None when the file does not say) and the ``function`` (a UFF file's
+    "transmissibility" when it says so)."""
 
     frequency: np.ndarray
     h: np.ndarray
@@ -51,6 +53,9 @@ class MeasuredFrf:
     label: str
     path: str
     unit: str | None = None
+    response: tuple[int, int] | None = None
+    reference: tuple[int, int] | None = None
+    function: str = "frequency response function"
 
 
 @dataclass(frozen=True)
@@ -189,7 +194,44 @@ def read_frf_csv(path: str | os.PathLike) -> MeasuredFrf:
         meta.get("label", os.path.basename(path)),
         path,
         meta.get("unit"),
+        parse_point(path, "response", meta.get("response")),
+        parse_point(path, "reference", meta.get("reference")) or _drive(path, meta),
     )
+
+
+def _drive(path: str, meta: dict) -> tuple[int, int] | None:
+    """The ``# drive:`` comment's point, when it names one (``x3dpd frf`` writes ``node N dof
+    D``; other files may describe their drive in words)."""
+    try:
+        return parse_point(path, "drive", meta.get("drive"))
+    except InputError:
+        return None
+
+
+_DOF_CODES = {"x": 1, "y": 2, "z": 3, "rx": 4, "ry": 5, "rz": 6}
+
+
+def parse_point(path: str, what: str, text: str | None) -> tuple[int, int] | None:
+    """A measured point ``(node, dof)`` from ``node N dof D`` (how ``x3dpd frf`` writes its
+    ``# drive:`` line) or ``N:D``, D 1-6 or x y z rx ry rz (with a sign: -1 is along -x, as
+    in UFF); None for None."""
+    if text is None:
+        return None
+    words = text.replace(":", " ").split()
+    if len(words) == 4 and words[0].lower() == "node" and words[2].lower() == "dof":
+        words = [words[1], words[3]]
+    try:
+        node = int(words[0])
+        key = words[1].lower()
+        sign = -1 if key.startswith("-") else 1
+        dof = sign * _DOF_CODES.get(key.lstrip("+-"), int(key.lstrip("+-")))
+        if len(words) != 2 or not 1 <= abs(dof) <= 6:
+            raise ValueError
+    except (ValueError, IndexError):
+        raise InputError(
+            f"{path}: {what} {text!r}: expected 'node N dof D' or N:D (D 1-6 or x y z rx ry rz)"
+        ) from None
+    return node, dof
 
 
 def _one_curve(path: str, cols: dict, line: int) -> None:
@@ -281,7 +323,9 @@ def read_frf_uff(path: str | os.PathLike) -> list[MeasuredFrf]:
         quantity = UFF_QUANTITY.get(int(s.get("ordinate_spec_data_type", 0)))
         num, den = (str(s.get(f"{a}_axis_units_lab", "")).strip() for a in ("ordinate", "orddenom"))
         unit = f"({num})/({den})" if num and den and num != "NONE" else None
-        out.append(MeasuredFrf(f, h, None, quantity, _uff_label(s), path, unit))
+        points = [(int(s.get(f"{a}_node", 0)), int(s.get(f"{a}_dir", 0))) for a in ("rsp", "ref")]
+        kind = UFF_FRF_TYPES[int(s["func_type"])]
+        out.append(MeasuredFrf(f, h, None, quantity, _uff_label(s), path, unit, *points, kind))
     if not out:
         found = ", ".join(sorted({str(int(s.get("func_type", 0))) for s in sets}))
         raise InputError(
