@@ -57,15 +57,16 @@ def folder_state(folder: Path) -> dict[str, tuple[int, bytes]]:
     }
 
 
-def refused(capsys, *args, message: str, folder: Path | None = None) -> str:
+def refused(capsys, *args, message: str, folder: Path | None = None, silent: bool = False) -> str:
     """``x3dpd ARGS`` is refused as bad input: exit status 2, one line on stderr holding
-    ``message``, no traceback, and nothing under ``folder`` written or changed. Returns the
-    line."""
+    ``message``, no traceback, and nothing under ``folder`` written or changed (``silent``:
+    nothing printed on stdout either, the input refused before any work). Returns the line."""
     capsys.readouterr()
     before = folder_state(folder) if folder is not None else None
     status = run_cli(*args)
-    err = capsys.readouterr().err
+    out, err = capsys.readouterr()
     assert status == 2, err
+    assert not (silent and out), out
     assert "Traceback" not in err, err
     lines = err.strip().splitlines()
     assert len(lines) == 1, err
