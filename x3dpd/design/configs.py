@@ -12,11 +12,11 @@ Several cavities (``cavities`` N): the configuration's cavity, as resized and fi
 N - 1 times onto the structure's master node(s) with its particles (x3dpd.deck.cavities).
 
 Time step: ``dt`` when the configuration gives one, else the step ``x3dpd check`` recommends
-for the configuration's particles (50 steps per contact, x3dpd.model.timestep; floored to 3
-digits by :func:`x3dpd.api.fit_time_step`, as ``x3dpd fill`` does), ITRAC scaled to keep the
-trace interval. Softer contacts (``stiffness_scale`` f): every modulus of the particles scaled
-by f and that step lengthened by f^(-2/5) (:func:`x3dpd.api.soft_step`, as ``x3dpd study
---stiffness-scale``).
+for the configuration's particles (50 steps per contact, x3dpd.model.timestep; shortened to
+divide the structure deck's trace interval by :func:`x3dpd.api.fit_time_step`, as ``x3dpd
+fill`` does), ITRAC scaled to keep the trace interval. Softer contacts (``stiffness_scale``
+f): every modulus of the particles scaled by f and that step lengthened by f^(-2/5)
+(:func:`x3dpd.api.soft_step`, as ``x3dpd study --stiffness-scale``).
 """
 
 from __future__ import annotations
