@@ -138,9 +138,15 @@ def read_design(path: str | Path) -> DesignFile:
     """Parse and check a design file (module doc); raises InputError at the bad line."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise InputError(f"{path}: cannot read the design file ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        line = path.read_bytes()[: exc.start].count(b"\n") + 1
+        raise InputError(
+            f"{path}:{line}: not a TOML file: byte {exc.object[exc.start]:#04x} is not UTF-8 "
+            "text (a design file is TOML, UTF-8 text)"
+        ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -258,9 +264,18 @@ def _configurations(r: Reader, data: dict) -> tuple[tuple[Configuration, ...], t
             if name in names:
                 r.fail(keys + ("name",), f"configuration name {name!r} given twice")
             names[name] = True
-            configs.append(Configuration(str(name), values, r.lines.get(keys, 0)))
+            configs.append(Configuration(str(name), values, _line(r, keys, lists)))
     varied = [k for k in CONFIG_KEYS if len({repr(c.values.get(k)) for c in configs}) > 1]
     return tuple(configs), tuple(varied)
+
+
+def _line(r: Reader, keys: tuple, lists: dict) -> int:
+    """The line a configuration's errors point at: its [[configuration]] table, else (made by
+    [vary] alone) the first varied key's, else the [fill] table's."""
+    line = r.lines.get(keys, 0)
+    if not line and lists:
+        line = r.lines.get(("vary", next(iter(lists))), 0)
+    return line or r.lines.get(("fill",), 0)
 
 
 def _label(key: str, value) -> str:
