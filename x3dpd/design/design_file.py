@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from x3dpd.design.design_reader import Reader, key_lines
+from x3dpd.design.drive import LARGEST_LEVEL
 from x3dpd.design.spec import parse_frequencies
 from x3dpd.design.steady_state import Criterion
 from x3dpd.errors import InputError
@@ -318,6 +319,12 @@ def _evaluation(r: Reader, ev: dict) -> Evaluation:
         if not isinstance(drives, list) or not drives:
             r.fail(keys + ("drives",), "expected a non-empty list of force amplitudes")
         drives = tuple(float(r.number(d, keys + ("drives",))) for d in drives)
+        if max(drives) > LARGEST_LEVEL:
+            r.fail(
+                keys + ("drives",),
+                f"a force amplitude of {max(drives):g} is beyond what a run can hold (at "
+                f"most {LARGEST_LEVEL:g}: its energies would overflow double precision)",
+            )
     node = ev.get("node")
     dof = ev.get("dof")
     if node is not None:
