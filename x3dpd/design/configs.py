@@ -96,8 +96,12 @@ class Made:
 
 
 def code_files(deck: Deck) -> list[str]:
-    """The Python files the deck's USRFRC card names (code that runs with the deck)."""
-    return [spec.strip() for card in deck.usrfrc for spec in card.specs if is_user_file(spec)]
+    """The Python files the deck's USRFRC card names (code that runs with the deck), told from
+    the deck's folder as the model builder tells them."""
+    folder = Path(deck.path).parent
+    return [
+        spec.strip() for card in deck.usrfrc for spec in card.specs if is_user_file(spec, folder)
+    ]
 
 
 def make_configurations(design: DesignFile) -> list[Made]:
