@@ -95,8 +95,8 @@ def fit_time_step(deck: Deck, *, dt: float | None = None, usrfrc=(), motion=()) 
         )
         if not math.isfinite(advice.dt_recommended):
             raise InputError(
-                f"{deck.path}: no contact and no loaded structural DOF limits the "
-                "time step: give one (--dt)"
+                f"{deck.path}: no contact and no spring or damper on a free structural DOF "
+                "limits the time step (modes are integrated exactly at any step): give one (--dt)"
             )
         dt, itrac = interval_step(advice.dt_recommended, par.itrac * par.dtmax)
     dt = float(dt)
