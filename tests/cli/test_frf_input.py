@@ -43,22 +43,20 @@ def _frf(trace, out, *options):
 
 
 def test_an_unknown_window_is_refused_before_anything(traces, tmp_path, capsys):
+    """Refused even with --overwrite: an earlier result in DIR is left as it was."""
     out = tmp_path / "out"
+    out.mkdir()
+    for name in ("frf.csv", "frf.png", "spectrum.csv", "spectrum.png"):
+        (out / name).write_text("an earlier result\n")
     message = "--window 'rectangle-ish': not a window scipy.signal.get_window knows"
-    refused(capsys, *_frf(traces[10], out, "--window", "rectangle-ish"), message=message)
+    bad = ("--window", "rectangle-ish", "--overwrite")
+    refused(capsys, *_frf(traces[10], out, *bad), message=message, folder=out)
     refused(
         capsys,
-        "spectrum",
-        traces[10],
-        "--node",
-        1,
-        "--out",
-        out,
-        "--window",
-        "rectangle-ish",
+        *("spectrum", traces[10], "--node", 1, "--out", out, *bad),
         message=message,
+        folder=out,
     )
-    assert not out.exists()
 
 
 def test_a_trace_cut_after_its_run_ended_is_refused(traces, tmp_path, capsys):
