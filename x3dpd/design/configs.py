@@ -184,7 +184,8 @@ def _make(design: DesignFile, template: Deck, config: Configuration, drive) -> M
     if "material" in v:
         deck = replace(deck, pdmp=(with_material(pd, v["material"], deck.units),) + deck.pdmp[1:])
         pd = deck.pdmp[0]
-    axis = max(0, min(2, drive[1] - 1)) if drive else 0  # the axis the evaluation drives
+    dof = drive[1] if drive else (design.evaluation.dof or 1)
+    axis = max(0, min(2, dof - 1))  # the axis the evaluation drives along
     if any(k in v for k in ("cavity_length", "cavity_size", "cavity_radius")):
         deck = resized(design, config, deck, axis)
     if v.get("count") == 0:
