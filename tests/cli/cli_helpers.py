@@ -43,3 +43,34 @@ def run_cli(*args) -> int:
     except SystemExit as exc:
         return int(exc.code or 0)
     return 0
+
+
+def folder_state(folder: Path) -> dict[str, tuple[int, bytes]]:
+    """Every file and folder under ``folder`` with its mtime and bytes (folders: b"/"), for
+    a test that something wrote nothing and overwrote nothing."""
+    folder = Path(folder)
+    if not folder.exists():
+        return {}
+    return {
+        str(p.relative_to(folder)): (p.stat().st_mtime_ns, b"/" if p.is_dir() else p.read_bytes())
+        for p in sorted(folder.rglob("*"))
+    }
+
+
+def refused(capsys, *args, message: str, folder: Path | None = None, silent: bool = False) -> str:
+    """``x3dpd ARGS`` is refused as bad input: exit status 2, one line on stderr holding
+    ``message``, no traceback, and nothing under ``folder`` written or changed (``silent``:
+    nothing printed on stdout either, the input refused before any work). Returns the line."""
+    capsys.readouterr()
+    before = folder_state(folder) if folder is not None else None
+    status = run_cli(*args)
+    out, err = capsys.readouterr()
+    assert status == 2, err
+    assert not (silent and out), out
+    assert "Traceback" not in err, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert message in lines[0], lines[0]
+    if folder is not None:
+        assert folder_state(folder) == before
+    return lines[0]

@@ -189,7 +189,7 @@ def test_cavities_go_on_the_master_nodes_the_design_names(tmp_path):
     "case, text, message",
     [
         ("zero", "cavities = [0, 2]\n", r":\d+: vary.cavities: expected a value > 0"),
-        ("masters", "cavities = [2]\n", r"configuration cav2: cavities: masters: node 1 is not "),
+        ("masters", "cavities = [2]\n", r":\d+: cavity.masters: node 1 is not a structural node"),
         ("too few", "cavities = [3]\n", r"masters lists 2 master nodes; give one per cavity"),
     ],
 )

@@ -139,6 +139,22 @@ def difference_gain(frequency, fs: float) -> np.ndarray:
     return np.sinc(2.0 * np.asarray(frequency, dtype=float) / fs)
 
 
+def check_window(window, option: str = "--window"):
+    """``window`` when :func:`scipy.signal.get_window` knows it (a name such as ``hann``, or
+    a tuple with its parameters); else an InputError naming ``option`` and the value."""
+    from scipy.signal import get_window
+
+    try:
+        get_window(window, 16)
+    except (ValueError, TypeError) as exc:
+        why = "" if str(exc).startswith("Invalid window name") else f" ({exc})"
+        raise InputError(
+            f"{option} {window!r}: not a window scipy.signal.get_window knows{why}; "
+            "e.g. hann, hamming, blackman, flattop, boxcar (rectangular)"
+        ) from None
+    return window
+
+
 def welch_segments(n: int, nperseg: int, noverlap: int) -> int:
     """Number of segments Welch's method averages over ``n`` samples."""
     return 0 if n < nperseg else (n - nperseg) // (nperseg - noverlap) + 1

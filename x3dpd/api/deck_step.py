@@ -5,7 +5,10 @@ chosen for other particles. :func:`fit_time_step` replaces it with
 :func:`x3dpd.model.timestep.recommended_time_step` of the new deck's own model (the shortest
 contact over :data:`~x3dpd.model.timestep.STEPS_PER_CONTACT` steps, or 0.2 of the structure's
 critical step; report Section 7.3), so that ``x3dpd check`` finds it clean, unless the caller
-gives the step. The trace keeps its interval: ITRAC is scaled by old DTMAX / new DTMAX.
+gives the step. The trace keeps its interval: ITRAC is scaled by old DTMAX / new DTMAX, and the
+recommended step is chosen to divide the template's trace interval exactly (a periodic random
+drive's period, a whole number of the template's intervals, then stays a whole number of
+samples: ``x3dpd frf``'s leakage-free lines, docs/testing-like-a-test-engineer.md).
 """
 
 from __future__ import annotations
@@ -36,7 +39,7 @@ class FittedStep:
         how = "as given" if self.advice is None else f"recommended ({_why(self.advice)})"
         return (
             f"DTMAX {self.dt:.3g} s {how}, was {self.old_dt:.3g} s; ITRAC {self.itrac} "
-            f"keeps the trace every {self.itrac * self.dt:.3g} s"
+            f"keeps the trace every {self.itrac * self.dt:.6g} s"
         )
 
 
@@ -58,11 +61,30 @@ def floor_digits(x: float, digits: int = 3) -> float:
     return float(f"{math.floor(x / scale * (1.0 + 1e-12))}e{round(math.log10(scale))}")
 
 
+#: Largest share of the recommended step :func:`fit_time_step` gives up to keep the template's
+#: trace interval exact (the step is interval / ITRAC): with fewer than 1 / this steps per
+#: interval the step is floored to 3 digits and the interval rounded instead.
+INTERVAL_STEP_LOSS = 0.01
+
+
+def interval_step(dt: float, interval: float) -> tuple[float, int]:
+    """``(step, ITRAC)``: the largest step <= ``dt`` [s] that divides the trace ``interval``
+    [s] exactly, ITRAC = ceil(interval / dt) steps, when it costs at most
+    :data:`INTERVAL_STEP_LOSS` of ``dt``; else ``dt`` floored to 3 significant digits and the
+    ITRAC nearest the interval (a step within 1e-12 of a divisor counts as one)."""
+    n = math.ceil(interval / dt * (1.0 - 1e-12))
+    if n >= 1 and interval / n >= (1.0 - INTERVAL_STEP_LOSS) * dt:
+        return interval / n, n
+    step = floor_digits(dt)
+    return step, max(1, round(interval / step))
+
+
 def fit_time_step(deck: Deck, *, dt: float | None = None, usrfrc=(), motion=()) -> FittedStep:
     """``deck`` with PARAMETERS DTMAX = ``dt`` or, when None, the recommended step of its own
-    model (floored to 3 significant digits); DTMIN becomes DTMAX on a constant-step deck (DTMIN =
-    DTMAX) and is capped at DTMAX on a variable-step one; ITRAC keeps the trace interval.
-    Raises :class:`InputError` when the deck has no PARAMETERS card or no step limit applies."""
+    model, shortened to divide the template's trace interval DTMAX x ITRAC exactly
+    (:func:`interval_step`); DTMIN becomes DTMAX on a constant-step deck (DTMIN = DTMAX) and is
+    capped at DTMAX on a variable-step one; ITRAC keeps the trace interval. Raises
+    :class:`InputError` when the deck has no PARAMETERS card or no step limit applies."""
     par = deck.parameters
     if par is None:
         raise InputError(f"{deck.path}: no PARAMETERS card: no time step to set")
@@ -73,15 +95,16 @@ def fit_time_step(deck: Deck, *, dt: float | None = None, usrfrc=(), motion=()) 
         )
         if not math.isfinite(advice.dt_recommended):
             raise InputError(
-                f"{deck.path}: no contact and no loaded structural DOF limits the "
-                "time step: give one (--dt)"
+                f"{deck.path}: no contact and no spring or damper on a free structural DOF "
+                "limits the time step (modes are integrated exactly at any step): give one (--dt)"
             )
-        dt = floor_digits(advice.dt_recommended)
+        dt, itrac = interval_step(advice.dt_recommended, par.itrac * par.dtmax)
     dt = float(dt)
     if not (dt > 0.0 and math.isfinite(dt)):
         raise InputError(f"time step must be a positive number; got {dt!r}")
     constant = par.dtmin >= par.dtmax
-    itrac = max(1, round(par.itrac * par.dtmax / dt))
+    if advice is None:
+        itrac = max(1, round(par.itrac * par.dtmax / dt))
     new = replace(par, dtmax=dt, dtmin=dt if constant else min(par.dtmin, dt), itrac=itrac)
     return FittedStep(replace(deck, parameters=new), dt, float(par.dtmax), itrac, advice)
 

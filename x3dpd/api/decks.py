@@ -14,8 +14,9 @@ Re-exports, so that a tool imports ``x3dpd.api`` and never the layers below it
   :func:`cavity_triangles`, :func:`cavity_box` -- a cavity's triangles and, for a box, its
   corners; :data:`BY_SHAPE_NAME` -- the analytic wall shapes (CYLINDER, CAPSULE) and their
   inscribed meshes;
-* :func:`with_cavities`, :func:`default_spacing`, :func:`cavity_set` -- several identical
-  cavities on a structure (x3dpd.deck.cavities, docs/design.md);
+* :func:`with_cavities`, :func:`default_spacing`, :func:`cavity_set`,
+  :func:`check_masters` -- several identical cavities on a structure (x3dpd.deck.cavities,
+  docs/design.md);
 * :func:`is_user_file` -- whether a USRFRC spec names a Python file (code the deck runs);
 * :func:`build_model` -- the arrays the solver runs (:func:`x3dpd.api.build` also takes a path).
 """
@@ -24,7 +25,7 @@ from __future__ import annotations
 
 from x3dpd.deck import format_deck, read_deck
 from x3dpd.deck.cards import Contact, Deck, Element, Mass, Node, Title, Triangle, WallMat
-from x3dpd.deck.cavities import cavity_set, default_spacing, with_cavities
+from x3dpd.deck.cavities import cavity_set, check_masters, default_spacing, with_cavities
 from x3dpd.deck.fill import (
     cavity_box,
     cavity_triangles,
@@ -53,6 +54,7 @@ __all__ = [
     "cavity_box",
     "cavity_set",
     "cavity_triangles",
+    "check_masters",
     "default_spacing",
     "fill_positions",
     "filled_deck",

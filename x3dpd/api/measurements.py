@@ -2,8 +2,8 @@
 docs/frf.md, docs/design-guide.md):
 
 * :data:`QUANTITY_ORDER`, :func:`estimate_frf`, :func:`amplitude_spectrum`,
-  :func:`power_spectrum`, :func:`difference_gain`, :func:`central_difference` -- spectra and
-  FRFs of a trace's signals (x3dpd.analysis.frf);
+  :func:`power_spectrum`, :func:`difference_gain`, :func:`central_difference`,
+  :func:`check_window` -- spectra and FRFs of a trace's signals (x3dpd.analysis.frf);
 * :func:`fit_sdof` -> :class:`SdofFit` -- an SDOF fitted to an FRF (x3dpd.analysis.sdof_fit);
 * :func:`lscf_poles` -> :class:`PoleOrders`, :func:`pole_groups`, :func:`select_poles`,
   :func:`max_order` -- the poles of a set of FRFs (LSCF and stabilisation,
@@ -19,7 +19,8 @@ docs/frf.md, docs/design-guide.md):
 * :func:`read_measured_frf` -> :class:`MeasuredFrf`, :func:`read_measured_history` -- a test's
   measured FRF or time history (x3dpd.io.measured);
 * the drive laws' values on a time grid: :func:`force_table`, :func:`force_values`,
-  :func:`law_count`, :func:`split_specs` (USRFRC, x3dpd.physics.usrfrc) and
+  :func:`law_count`, :func:`split_specs` (USRFRC, x3dpd.physics.usrfrc), the random law's
+  :data:`RANDOM_DEFAULT_PERIOD` (x3dpd.physics.random_signal) and
   :func:`motion_table`, :func:`motion_rows`, :func:`motion_history` (prescribed motion,
   x3dpd.physics.motion).
 """
@@ -30,6 +31,7 @@ from x3dpd.analysis.frf import (
     QUANTITY_ORDER,
     amplitude_spectrum,
     central_difference,
+    check_window,
     difference_gain,
     estimate_frf,
     power_spectrum,
@@ -43,12 +45,14 @@ from x3dpd.deck.modes import DOF_NAMES, ModeSet, write_modes_csv
 from x3dpd.io.frf_set import read_frf_set
 from x3dpd.io.measured import MeasuredFrf, read_measured_frf, read_measured_history
 from x3dpd.physics.motion import motion_history, motion_rows, motion_table
+from x3dpd.physics.random_signal import DEFAULT_PERIOD as RANDOM_DEFAULT_PERIOD
 from x3dpd.physics.usrfrc import force_table, force_values, law_count, split_specs
 
 __all__ = [
     "DOF_NAMES",
     "G_IN_S2",
     "QUANTITY_ORDER",
+    "RANDOM_DEFAULT_PERIOD",
     "MeasuredFrf",
     "ModalFit",
     "ModeSet",
@@ -58,6 +62,7 @@ __all__ = [
     "SteadyStateMonitor",
     "amplitude_spectrum",
     "central_difference",
+    "check_window",
     "damping_vs_amplitude",
     "difference_gain",
     "estimate_frf",

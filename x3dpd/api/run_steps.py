@@ -190,7 +190,7 @@ def make_step_loop(
     )
     plan.sim, plan.auto = sim, is_auto(sim)
     if trace_nodes is not None:
-        sim.trace_nodes = _node_indices(model, trace_nodes)
+        sim.trace_nodes = _node_indices(model, trace_nodes, sim.trace_nodes)
     sim.compiled_here = not _kernels_cached(sim)
     if on_compile is not None and sim.compiled_here:
         on_compile(CompileNotice.now())
@@ -316,7 +316,21 @@ def _continue_from(sim, initial: FinalState, key: str, model) -> None:
         sim.restore(state)
 
 
-def _node_indices(model, node_ids) -> np.ndarray:
+def _node_indices(model, node_ids, traced: np.ndarray) -> np.ndarray:
+    """Indices of the nodes to record: ``node_ids`` (user ids), or ``"structure"``: the
+    structure's nodes among ``traced`` (the TRACE card's), its particles left out."""
+    if isinstance(node_ids, str):
+        if node_ids != "structure":
+            raise InputError(
+                f"trace_nodes {node_ids!r}: expected 'structure' or a list of node ids"
+            )
+        idx = traced[traced < model.particle_start]
+        if idx.size == 0:
+            raise InputError(
+                "trace nodes 'structure': the deck's TRACE card names particles only; give "
+                "the node ids to trace"
+            )
+        return np.ascontiguousarray(idx, dtype=np.int64)
     ids = np.asarray(list(node_ids), dtype=np.int64)
     if ids.ndim != 1 or ids.size == 0:
         raise InputError("trace_nodes must be a non-empty list of node ids")

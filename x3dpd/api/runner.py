@@ -48,7 +48,7 @@ def run(
     overwrite: bool = False,
     restart: bool = False,
     itrac: int | None = None,
-    trace_nodes: Sequence[int] | None = None,
+    trace_nodes: Sequence[int] | str | None = None,
     keep_trace: bool = True,
     initial_state: FinalState | None = None,
     stop: Callable[[Chunk], bool] | None = None,
@@ -96,8 +96,10 @@ def run(
     itrac : int, optional
         Record every ``itrac`` steps (default the deck's ITRAC; with ``dt="auto"``, every
         ``itrac`` x DTMAX of simulated time).
-    trace_nodes : sequence of int, optional
-        User node ids to record (default the deck's TRACE card).
+    trace_nodes : sequence of int or "structure", optional
+        User node ids to record (default the deck's TRACE card); ``"structure"``: the TRACE
+        card's structure nodes, its particles left out (a trace a fraction of the size, for
+        a sweep's or an FRF's response; ``x3dpd run --trace-nodes structure``).
     keep_trace : bool
         Keep the recorded rows in memory (``result.trace``, ``result.energy``).
     initial_state : FinalState, optional

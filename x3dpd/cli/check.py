@@ -77,20 +77,23 @@ def _check_one(deck: str, usrfrc, motion, steps_per_contact: int) -> int:
     try:
         if not os.path.isfile(deck):
             raise InputError(f"{deck}: no such deck file")
-        model = build_model(_read_deck(deck), usrfrc=usrfrc, motion=motion)
+        cards = _read_deck(deck)
+        model = build_model(cards, usrfrc=usrfrc, motion=motion)
     except X3dpdError as exc:
         click.echo(f"x3dpd: error: {exc}", err=True)
         return 2
     report = check_model(model, steps_per_contact=steps_per_contact, usrfrc=usrfrc)
-    click.echo(format_report(report, labels_for(model.units)))
+    declared = cards.units is not None
+    click.echo(format_report(report, labels_for(model.units), declared=declared))
     return report.exit_status
 
 
-def format_report(report: CheckReport, units: dict | None = None) -> str:
+def format_report(report: CheckReport, units: dict | None = None, declared: bool = False) -> str:
     """Verdict line, each finding (headline, then indented details), then the summary, in the
-    deck's ``units`` (labels of x3dpd.units.labels_for; default inch-lbf-s)."""
+    deck's ``units`` (labels of x3dpd.units.labels_for; default inch-lbf-s), which a UNITS
+    card ``declared`` or not."""
     units = units or labels_for(None)
-    return _in_units("\n".join(_report_lines(report, units)), units)
+    return _in_units("\n".join(_report_lines(report, units, declared)), units)
 
 
 def _in_units(text: str, units: dict) -> str:
@@ -98,7 +101,7 @@ def _in_units(text: str, units: dict) -> str:
     return text.replace("length/s", units["velocity"])
 
 
-def _report_lines(report: CheckReport, units: dict) -> list[str]:
+def _report_lines(report: CheckReport, units: dict, declared: bool = False) -> list[str]:
     n_w, n_e = len(report.warnings), len(report.errors)
     verdict = (
         "clean"
@@ -154,19 +157,21 @@ def _report_lines(report: CheckReport, units: dict) -> list[str]:
     for k, text in enumerate(report.modes):
         lines.append(_row("modal structure" if k == 0 else "", text))
     lines.append(_row("effects", ", ".join(sorted(report.effects)) or "none"))
+    source = "from the UNITS card" if declared else "the default: declare others with a UNITS card"
     lines.append(
         _row(
             "units",
-            f"{units['system']} (declare with a UNITS card; mass "
-            f"{units['mass']}, energy {units['energy']})",
+            f"{units['system']} ({source}; mass {units['mass']}, energy {units['energy']})",
         )
     )
     ts = report.time_step
     if ts.binding == "none":
+        modes = "; the modes are integrated exactly at any step" if report.modes else ""
         lines.append(
             _row(
                 "time step",
-                f"DTMAX {ts.dt_deck:.3g} s; no limit (no contacts and no loaded structural DOFs)",
+                f"DTMAX {ts.dt_deck:.3g} s; no limit (no contacts and no spring or damper on a "
+                f"free structural DOF{modes})",
             )
         )
     else:

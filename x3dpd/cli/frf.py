@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import click
 
+from x3dpd.cli.progress import ReadProgress
 from x3dpd.cli.spectral_options import spectral_options
 
 
@@ -97,4 +98,5 @@ def frf(
         deck=deck,
         overwrite=overwrite,
         echo=(lambda s: None) if quiet else click.echo,
+        progress=None if quiet else ReadProgress(),
     )

@@ -18,6 +18,8 @@ def resume_command(opts: RunOptions) -> str:
         args += ["--trace", opts.trace]
     if opts.energy:
         args += ["--energy", opts.energy]
+    if opts.trace_nodes:
+        args += ["--trace-nodes", opts.trace_nodes]
     for spec in opts.usrfrc:
         args += ["--usrfrc", spec]
     if opts.usrfrc_add:

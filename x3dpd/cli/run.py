@@ -44,6 +44,7 @@ class RunOptions:
     penetration_limit: float = 0.25
     energy_tolerance: float = 0.05
     threads: int = 1
+    trace_nodes: str | None = None
     argv: tuple[str, ...] = field(default_factory=tuple)
 
 
@@ -54,6 +55,13 @@ class RunOptions:
     "trace",
     metavar="PATH",
     help="Trace file [default: <deck stem>.trace.txt in the current directory].",
+)
+@click.option(
+    "--trace-nodes",
+    metavar="WHICH",
+    help="Nodes to trace: structure (the TRACE card's structure nodes, without its "
+    "particles: a far smaller trace for frf, spectrum or sweep) or a comma list of node "
+    "ids [default: the deck's TRACE card].",
 )
 @click.option("--tmax", type=float, metavar="T", help="End time [s] [default: the deck's TMAX].")
 @click.option(
@@ -139,6 +147,7 @@ class RunOptions:
 def run(
     deck,
     trace,
+    trace_nodes,
     tmax,
     dt,
     usrfrc,
@@ -178,6 +187,7 @@ def run(
         quiet=quiet,
         energy_tolerance=energy_tolerance,
         threads=thread_count(threads, "--threads"),
+        trace_nodes=trace_nodes,
         argv=_command_line(),
     )
     status = run_deck(opts)
@@ -197,6 +207,16 @@ def _step(text: str | None) -> float | str | None:
     except ValueError:
         raise InputError(f"--dt: expected a time step in s or auto, got {text!r}") from None
     return value
+
+
+def _trace_nodes(text: str | None) -> str | tuple[int, ...] | None:
+    """``--trace-nodes``: ``structure`` or a comma list of node ids."""
+    if text is None or text.strip().lower() == "structure":
+        return text and "structure"
+    try:
+        return tuple(int(part) for part in text.split(","))
+    except ValueError:
+        raise InputError(f"--trace-nodes {text!r}: expected structure or node ids (9,12)") from None
 
 
 def _command_line() -> tuple[str, ...]:
@@ -262,6 +282,7 @@ def run_deck(opts: RunOptions) -> int:
             penetration_limit=opts.penetration_limit,
             energy_tolerance=opts.energy_tolerance,
             threads=opts.threads,
+            trace_nodes=_trace_nodes(opts.trace_nodes),
             handle_signals=True,
             command=command_line(opts.argv),
         )

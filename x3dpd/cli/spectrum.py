@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import click
 
+from x3dpd.cli.progress import ReadProgress
 from x3dpd.cli.spectral_options import spectral_options
 
 
@@ -61,4 +62,5 @@ def spectrum(
         t_from=t_from,
         overwrite=overwrite,
         echo=(lambda s: None) if quiet else click.echo,
+        progress=None if quiet else ReadProgress(),
     )

@@ -80,6 +80,29 @@ def cavity_master(deck: Deck, set_id: int | None = None) -> int:
     return owners.pop()
 
 
+def check_masters(deck: Deck, masters, set_id: int | None = None) -> None:
+    """Raise InputError unless ``masters`` can carry copies of cavity ``set_id``: the first is
+    the cavity's own master, and each is a node of the deck, a structural one (not beyond the
+    first PDMP card's NODLIM) and no other rigid body's slave."""
+    masters = tuple(masters)
+    master0 = cavity_master(deck, set_id)
+    if masters[0] != master0:
+        raise InputError(
+            f"masters: the first is the deck's own cavity's master node {master0}, got {masters[0]}"
+        )
+    ids = {n.nid for n in deck.nodes}
+    nodlim = deck.pdmp[0].nodlim if deck.pdmp else max(ids, default=0)
+    in_body = {k: rb.master for rb in deck.rbels for k in (rb.master, *rb.slaves)}
+    for m in masters:
+        if m not in ids:
+            raise InputError(f"masters: node {m} is not a node of {deck.path}")
+        if m > nodlim or in_body.get(m, m) != m:
+            raise InputError(
+                f"masters: node {m} is not a structural node (<= NODLIM {nodlim}) "
+                "that may be a rigid body's master"
+            )
+
+
 def cavity_extent(deck: Deck, set_id: int | None = None) -> np.ndarray:
     """The cavity's bounding-box size (x, y, z) [length]: of its triangles' nodes, or of an
     analytic wall's axis widened by its radius on every side (a capsule's caps included)."""
@@ -145,10 +168,7 @@ def with_cavities(
         raise InputError(
             f"cavities = {count}: masters lists {len(masters)} master nodes; give one per cavity"
         )
-    if masters[0] != master0:
-        raise InputError(
-            f"masters: the first is the deck's own cavity's master node {master0}, got {masters[0]}"
-        )
+    check_masters(deck, masters, sid)
     nodlim = deck.pdmp[0].nodlim
     named = [
         int(k)
@@ -162,14 +182,6 @@ def with_cavities(
             "are renumbered when the cavity is copied"
         )
     xyz = {n.nid: np.array([n.x, n.y, n.z]) for n in deck.nodes}
-    structural = {k for k in xyz if k <= nodlim}
-    in_body = {k: rb.master for rb in deck.rbels for k in (rb.master, *rb.slaves)}
-    for m in set(masters):
-        if m not in structural or in_body.get(m, m) != m:
-            raise InputError(
-                f"masters: node {m} is not a structural node (<= NODLIM {nodlim}) "
-                "that may be a rigid body's master"
-            )
     walls = _wall_nodes(deck, sid)
     slaves0 = {s for rb in deck.rbels if rb.master == master0 for s in rb.slaves}
     fixed = _fixed_dofs(deck)

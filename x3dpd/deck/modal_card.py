@@ -317,7 +317,7 @@ def load_mode_files(deck, base_dir: str):
     if modal is None or not modal.files:
         return deck
     from x3dpd.deck.modes import read_modes
-    from x3dpd.errors import InputError
+    from x3dpd.errors import InputError, ModeFileError
 
     files = []
     for rec in modal.files:
@@ -325,6 +325,11 @@ def load_mode_files(deck, base_dir: str):
         fmt = rec.option("format")
         try:
             modes = read_modes(path, fmt[0] if fmt else None)
+        except ModeFileError as exc:  # the file named once, as the record gives it
+            where = f"{rec.path}:{exc.line}" if exc.line else rec.path
+            raise DeckError(
+                f"mode file {where}: {exc.message}", deck.path, rec.pos.line, rec.pos.column, CARD
+            ) from None
         except InputError as exc:
             raise DeckError(
                 f"mode file {rec.path}: {exc}", deck.path, rec.pos.line, rec.pos.column, CARD

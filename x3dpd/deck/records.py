@@ -20,6 +20,8 @@ from x3dpd.deck.fields import CardSpec
 from x3dpd.errors import DeckError
 
 _WORD = re.compile(r"[^\s,&]+")
+#: A number with a Fortran double-precision exponent (``1.0D0``, ``-2.5d-3``).
+_FORTRAN = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)[dD][+-]?\d+")
 #: Largest integer a float field may spell as an integer id (2**53: exact in float64).
 _EXACT_INT = 2**53
 
@@ -93,16 +95,29 @@ def _fail(spec: CardSpec, record: Record, index: int, message: str) -> DeckError
 
 
 def to_float(text: str) -> float:
-    """A Fortran-style number (``1.0D0`` has a double-precision exponent) as a float."""
+    """A Fortran-style number (``1.0D0`` has a double-precision exponent) as a float. Raises
+    ValueError naming ``text`` as written when it is not a number (a word such as ``mindlin``
+    is not rewritten: only a number's exponent letter D is read as E)."""
     try:
         return float(text)
     except ValueError:
+        if not _FORTRAN.fullmatch(text.strip()):
+            raise ValueError(f"not a number: {text!r}") from None
         return float(text.replace("d", "e").replace("D", "e"))
 
 
+def _number(spec: CardSpec, record: Record, values: list[str], i: int, what: str) -> float:
+    """Field ``i`` as a float; a word that is no number is a DeckError naming the field."""
+    try:
+        return to_float(values[i])
+    except ValueError:
+        raise _fail(spec, record, i, f"{spec.label(i)} must be {what}; got {values[i]!r}") from None
+
+
 def _floats(spec: CardSpec, record: Record, values: list[str], start: int = 0) -> list[float]:
-    """Fields ``start``... as floats; a number beyond float64's range (1e400) is refused."""
-    out = [to_float(x) for x in values[start:]]
+    """Fields ``start``... as floats; a word that is no number, or a number beyond float64's
+    range (1e400), is refused."""
+    out = [_number(spec, record, values, i, "a number") for i in range(start, len(values))]
     if not all(map(isfinite, out)):
         i = start + next(k for k, x in enumerate(out) if not isfinite(x))
         raise _fail(
@@ -120,7 +135,7 @@ def _int(spec: CardSpec, record: Record, values: list[str], i: int, least: int |
     try:
         value = int(text)
     except ValueError:
-        x = to_float(text)
+        x = _number(spec, record, values, i, "an integer")
         if not (x.is_integer() and abs(x) < _EXACT_INT):
             message = f"{spec.label(i)} must be an integer; got {text}"
             raise _fail(spec, record, i, message) from None

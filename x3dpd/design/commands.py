@@ -14,7 +14,7 @@ import numpy as np
 
 from x3dpd.api.figures import attenuations, plot_responses, plot_sweep
 from x3dpd.api.decks import read_deck
-from x3dpd.design.drive import displacement_amplitude, parse_amplitudes
+from x3dpd.design.drive import check_levels, displacement_amplitude, parse_amplitudes
 from x3dpd.design.spec import (
     SweepSpec,
     check_base,
@@ -66,6 +66,7 @@ def sweep_command(
     quantity, drives = parse_amplitudes(amps, drive, standard_gravity(system))
     measured = parse_responses(responses, deck)
     frequencies = parse_frequencies(freq)
+    check_levels(quantity, drives, frequencies, units=labels_for(system))
     if quantity != "force":
         node, dof, measured = check_base(deck, node, dof, measured)
     elif node is None or dof is None:

@@ -12,11 +12,11 @@ Several cavities (``cavities`` N): the configuration's cavity, as resized and fi
 N - 1 times onto the structure's master node(s) with its particles (x3dpd.deck.cavities).
 
 Time step: ``dt`` when the configuration gives one, else the step ``x3dpd check`` recommends
-for the configuration's particles (50 steps per contact, x3dpd.model.timestep; floored to 3
-digits by :func:`x3dpd.api.fit_time_step`, as ``x3dpd fill`` does), ITRAC scaled to keep the
-trace interval. Softer contacts (``stiffness_scale`` f): every modulus of the particles scaled
-by f and that step lengthened by f^(-2/5) (:func:`x3dpd.api.soft_step`, as ``x3dpd study
---stiffness-scale``).
+for the configuration's particles (50 steps per contact, x3dpd.model.timestep; shortened to
+divide the structure deck's trace interval by :func:`x3dpd.api.fit_time_step`, as ``x3dpd
+fill`` does), ITRAC scaled to keep the trace interval. Softer contacts (``stiffness_scale``
+f): every modulus of the particles scaled by f and that step lengthened by f^(-2/5)
+(:func:`x3dpd.api.soft_step`, as ``x3dpd study --stiffness-scale``).
 """
 
 from __future__ import annotations
@@ -43,6 +43,7 @@ from x3dpd.api.decks import (
     Title,
     cavity_set,
     cavity_triangles,
+    check_masters,
     default_spacing,
     fill_positions,
     format_deck,
@@ -82,20 +83,25 @@ REFILL = (
 
 @dataclass(frozen=True)
 class Made:
-    """A configuration's deck: ``path`` of its file, the ``deck`` read back from it, and the
+    """A configuration's deck: ``path`` of its file, the ``deck`` read back from it, the
     ``values`` it resolved to (material, radius, count, fill ratio, added mass, cavity
-    length, clearance, dt)."""
+    length, clearance, dt) and the evaluation's ``drive`` point (node id, dof)."""
 
     config: Configuration
     path: Path
     deck: Deck
     values: dict
     text: str
+    drive: tuple[int, int] | None = None
 
 
 def code_files(deck: Deck) -> list[str]:
-    """The Python files the deck's USRFRC card names (code that runs with the deck)."""
-    return [spec.strip() for card in deck.usrfrc for spec in card.specs if is_user_file(spec)]
+    """The Python files the deck's USRFRC card names (code that runs with the deck), told from
+    the deck's folder as the model builder tells them."""
+    folder = Path(deck.path).parent
+    return [
+        spec.strip() for card in deck.usrfrc for spec in card.specs if is_user_file(spec, folder)
+    ]
 
 
 def make_configurations(design: DesignFile) -> list[Made]:
@@ -108,10 +114,63 @@ def make_configurations(design: DesignFile) -> list[Made]:
             f"file {code[0]} (USRFRC), which every configuration would run; a design runs a "
             "deck's code only with usrfrc_code = true"
         )
-    return [_make(design, template, c) for c in design.configurations]
+    _check_masters(design, template)
+    try:
+        drive = drive_point(design, template)
+    except InputError:  # an evaluation needs one: require_drive says so
+        drive = None
+    return [_make(design, template, c, drive) for c in design.configurations]
 
 
-def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
+def require_drive(design: DesignFile, made: list[Made]) -> None:
+    """Raise :func:`drive_point`'s InputError when the configurations have no drive point
+    (before a design writes anything: every evaluation drives and measures one)."""
+    if any(m.drive is None for m in made):
+        drive_point(design, load_deck(design.structure))
+
+
+def drive_point(design: DesignFile, template: Deck) -> tuple[int, int]:
+    """(node id, dof) the evaluation drives and measures: ``[evaluate] node`` and ``dof``,
+    else the structure deck's USRFRC drive, else its cavity's master along x (docs/design.md)
+    -- taken from the structure deck, so that a configuration without particles (``count =
+    0``: no cavity) is driven where the others are."""
+    from x3dpd.design.spec import default_drive_point
+
+    ev = design.evaluation
+    node, dof = ev.node, ev.dof
+    if node is None or dof is None:
+        try:
+            d_node, d_dof = default_drive_point(template)
+        except InputError:
+            raise InputError(
+                f"{design.where('evaluate')}: evaluate: {design.structure.name} has no USRFRC "
+                "drive and no cavity master node to drive; give node and dof in [evaluate]"
+            ) from None
+        node, dof = (d_node if node is None else node), (d_dof if dof is None else dof)
+    return int(node), int(dof)
+
+
+def _check_masters(design: DesignFile, template: Deck) -> None:
+    """``[cavity] masters``: nodes that can carry the cavity's copies, and used by some
+    configuration (one with more than one cavity)."""
+    masters = design.cavity_masters
+    if masters is None:
+        return
+    where = f"{design.where('cavity', 'masters')}: cavity.masters"
+    try:
+        check_masters(template, masters, design.cavity_set)
+    except InputError as exc:
+        raise InputError(f"{where}: {str(exc).removeprefix('masters: ')}") from None
+    if not any(c.values.get("cavities", 1) > 1 for c in design.configurations):
+        raise InputError(
+            f"{where}: master nodes for several cavities, but no configuration has more than "
+            "one (give cavities = N in [fill], [vary] or a [[configuration]])"
+        )
+
+
+def _make(design: DesignFile, template: Deck, config: Configuration, drive) -> Made:
+    """The configuration's deck, made and checked in memory; ``drive`` its evaluation's
+    (node, dof), None when there is none (:func:`require_drive` says so)."""
     v = config.values
     deck = template
     pd = deck.pdmp[0] if deck.pdmp else None
@@ -125,7 +184,8 @@ def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
     if "material" in v:
         deck = replace(deck, pdmp=(with_material(pd, v["material"], deck.units),) + deck.pdmp[1:])
         pd = deck.pdmp[0]
-    axis = _drive_axis(design, template)
+    dof = drive[1] if drive else (design.evaluation.dof or 1)
+    axis = max(0, min(2, dof - 1))  # the axis the evaluation drives along
     if any(k in v for k in ("cavity_length", "cavity_size", "cavity_radius")):
         deck = resized(design, config, deck, axis)
     if v.get("count") == 0:
@@ -147,32 +207,27 @@ def _make(design: DesignFile, template: Deck, config: Configuration) -> Made:
     values["mass_ratio"] = (
         values["added_mass"] / report.structure_mass if report.structure_mass > 0 else math.nan
     )
-    values["notes"] = tuple(f"{n.text} ({n.section})" for n in _rules(design, deck))
+    values["notes"] = tuple(f"{n.text} ({n.section})" for n in _rules(design, deck, drive))
     head = [
         f"{config.name}.inp: configuration {config.name} of the design {design.path.name}",
         f"Made by `x3dpd design` from {design.structure.name}; do not edit (rerun the design).",
         *(f"  {k} = {val!r}" for k, val in v.items()),
     ]
     text = "".join(f"$ {line}".rstrip() + "\n" for line in head) + "$\n" + format_deck(deck)
-    return Made(config, Path(), deck, values, text)
+    return Made(config, Path(), deck, values, text, drive)
 
 
-def _rules(design: DesignFile, deck: Deck) -> list:
+def _rules(design: DesignFile, deck: Deck, drive: tuple[int, int] | None) -> list:
     """The report's rules of thumb (x3dpd.api.rules_of_thumb) for the configuration under the
-    evaluation's drive at its largest level: a sine at the dwell's or ring-down's frequency, a
-    sweep over the band; the deck's own USRFRC drive for a ring-down without one."""
-    from x3dpd.design.spec import default_drive_point
-
+    evaluation's drive at its largest level at ``drive`` (node, dof): a sine at the dwell's or
+    ring-down's frequency, a sweep over the band; the deck's own USRFRC drive for a ring-down
+    without one."""
     ev = design.evaluation
     if not ev.drives or not ev.frequencies:
         return rules_of_thumb(deck)
-    node, dof = ev.node, ev.dof
-    if node is None or dof is None:
-        try:
-            d_node, d_dof = default_drive_point(deck)
-        except InputError:
-            return []
-        node, dof = (d_node if node is None else node), (d_dof if dof is None else dof)
+    if drive is None:
+        return []
+    node, dof = drive
     amp, lo, hi = max(ev.drives), min(ev.frequencies), max(ev.frequencies)
     spec = (
         f"sine:node={node},dof={dof},amp={amp!r},hz={lo!r}"
@@ -180,19 +235,6 @@ def _rules(design: DesignFile, deck: Deck) -> list:
         else f"sweep:node={node},dof={dof},amp={amp!r},f0={lo!r},f1={hi!r},rate=1"
     )
     return rules_of_thumb(replace(deck, usrfrc=()), usrfrc=(spec,))
-
-
-def _drive_axis(design: DesignFile, deck: Deck) -> int:
-    """Index 0-2 of the axis the evaluation drives along."""
-    from x3dpd.design.spec import default_drive_point
-
-    dof = design.evaluation.dof
-    if dof is None:
-        try:
-            dof = default_drive_point(deck)[1]
-        except InputError:
-            dof = 1
-    return max(0, min(2, dof - 1))
 
 
 def _with_cavities(design, config, deck: Deck, axis: int) -> Deck:

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from x3dpd.design.design_reader import Reader, key_lines
+from x3dpd.design.drive import LARGEST_LEVEL
 from x3dpd.design.spec import parse_frequencies
 from x3dpd.design.steady_state import Criterion
 from x3dpd.errors import InputError
@@ -138,9 +139,15 @@ def read_design(path: str | Path) -> DesignFile:
     """Parse and check a design file (module doc); raises InputError at the bad line."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise InputError(f"{path}: cannot read the design file ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        line = path.read_bytes()[: exc.start].count(b"\n") + 1
+        raise InputError(
+            f"{path}:{line}: not a TOML file: byte {exc.object[exc.start]:#04x} is not UTF-8 "
+            "text (a design file is TOML, UTF-8 text)"
+        ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -258,9 +265,18 @@ def _configurations(r: Reader, data: dict) -> tuple[tuple[Configuration, ...], t
             if name in names:
                 r.fail(keys + ("name",), f"configuration name {name!r} given twice")
             names[name] = True
-            configs.append(Configuration(str(name), values, r.lines.get(keys, 0)))
+            configs.append(Configuration(str(name), values, _line(r, keys, lists)))
     varied = [k for k in CONFIG_KEYS if len({repr(c.values.get(k)) for c in configs}) > 1]
     return tuple(configs), tuple(varied)
+
+
+def _line(r: Reader, keys: tuple, lists: dict) -> int:
+    """The line a configuration's errors point at: its [[configuration]] table, else (made by
+    [vary] alone) the first varied key's, else the [fill] table's."""
+    line = r.lines.get(keys, 0)
+    if not line and lists:
+        line = r.lines.get(("vary", next(iter(lists))), 0)
+    return line or r.lines.get(("fill",), 0)
 
 
 def _label(key: str, value) -> str:
@@ -303,6 +319,12 @@ def _evaluation(r: Reader, ev: dict) -> Evaluation:
         if not isinstance(drives, list) or not drives:
             r.fail(keys + ("drives",), "expected a non-empty list of force amplitudes")
         drives = tuple(float(r.number(d, keys + ("drives",))) for d in drives)
+        if max(drives) > LARGEST_LEVEL:
+            r.fail(
+                keys + ("drives",),
+                f"a force amplitude of {max(drives):g} is beyond what a run can hold (at "
+                f"most {LARGEST_LEVEL:g}: its energies would overflow double precision)",
+            )
     node = ev.get("node")
     dof = ev.get("dof")
     if node is not None:

@@ -34,6 +34,11 @@ DRIVES = ("force", "base")
 SUFFIXES = {"disp": "displacement", "vel": "velocity", "acc": "acceleration", "g": "acceleration"}
 #: Quantities of a base drive, and the letter of each in a point's file name.
 BASE_QUANTITIES = {"displacement": "D", "velocity": "V", "acceleration": "A"}
+#: Largest drive level a run can hold: a force, or a base's displacement, velocity or
+#: acceleration amplitude [force; length, length/s, length/s^2]. The energies a run books go
+#: as a level's square (m v^2, F x, m a x), which must stay below 1e250, the largest energy
+#: x3dpd accepts (x3dpd.model.magnitudes.LARGEST: far from DBL_MAX ~ 1.8e308).
+LARGEST_LEVEL = 1e125
 
 _AMP = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?)\s*([A-Za-z]*)\s*$")
 
@@ -86,6 +91,34 @@ def parse_amplitudes(texts: Sequence[str], drive: str, g: float) -> tuple[str, t
             f"{', '.join(sorted(set(quantities)))})"
         )
     return quantities[0], tuple(dict.fromkeys(values))
+
+
+def check_levels(
+    quantity: str, drives, frequencies, what: str = "--amp", units: dict | None = None
+) -> None:
+    """InputError unless every drive level, at every frequency [Hz], stays within
+    :data:`LARGEST_LEVEL`: a force drive's force; a base drive's displacement, velocity and
+    acceleration amplitudes (a run with 1e300 g blew up, and its diagnosis blamed the step).
+    ``units``: labels of the deck's units (x3dpd.units.labels_for) for the message."""
+    units = units or {}
+    for drive in drives:
+        for hz in frequencies:
+            w = 2.0 * math.pi * hz
+            if quantity == "force":
+                levels = {"force": abs(drive)}
+            else:
+                a = abs(displacement_amplitude(drive, quantity, w))
+                levels = {quantity: abs(drive)}  # the level given first, then what it implies
+                levels |= {"displacement": a, "velocity": a * w, "acceleration": a * w * w}
+            for name, level in levels.items():
+                if not level <= LARGEST_LEVEL:
+                    unit = units.get("length" if name == "displacement" else name, "")
+                    raise InputError(
+                        f"{what}: a drive whose {name} amplitude is {level:.4g} {unit} at "
+                        f"{hz:g} Hz is beyond what a run can hold (its energies, as the "
+                        f"level squared, would overflow double precision; at most "
+                        f"{LARGEST_LEVEL:g}); give a physical level"
+                    )
 
 
 def displacement_amplitude(value: float, quantity: str, omega: float) -> float:

@@ -31,9 +31,15 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from x3dpd.api.decks import Deck
-from x3dpd.design.configs import Made, make_configurations, write_configurations
+from x3dpd.design.configs import (
+    Made,
+    code_files,
+    make_configurations,
+    require_drive,
+    write_configurations,
+)
 from x3dpd.design.design_file import DesignFile, read_design
-from x3dpd.design.spec import SweepSpec, default_drive_point
+from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import run_point
 from x3dpd.design.sweep import (
     SweepDir,
@@ -109,6 +115,13 @@ def run_design(
 
     design = read_design(path)
     made = make_configurations(design)  # every error before anything is written
+    require_drive(design, made)
+    for code in code_files(made[0].deck) if design.usrfrc_code and made else ():
+        echo(
+            f"code run: {code} (the structure's USRFRC Python file, copied beside every "
+            "configuration's deck): this design executes it with your permissions; read it "
+            "first if the deck came from someone else (docs/usrfrc.md)"
+        )
     out = Path(out)
     configs = [Config(m, out / "configs" / m.config.name) for m in made]
     ev = design.evaluation
@@ -262,10 +275,7 @@ def _score_text(row: dict, kind: str) -> str:
 
 def _sweep_spec(design: DesignFile, made: Made) -> SweepSpec:
     ev = design.evaluation
-    node, dof = ev.node, ev.dof
-    if node is None or dof is None:
-        d_node, d_dof = default_drive_point(made.deck)
-        node, dof = (d_node if node is None else node), (d_dof if dof is None else dof)
+    node, dof = made.drive
     if node not in {n.nid for n in made.deck.nodes}:
         raise InputError(
             f"{design.where('evaluate', 'node')}: evaluate.node: node {node} is "
@@ -319,10 +329,7 @@ def _pending(design: DesignFile, c: Config) -> list:
 
 def _pending_ringdowns(design: DesignFile, c: Config) -> list:
     ev = design.evaluation
-    node, dof = ev.node, ev.dof
-    if node is None or dof is None:
-        d_node, d_dof = default_drive_point(c.made.deck)
-        node, dof = (d_node if node is None else node), (d_dof if dof is None else dof)
+    node, dof = c.made.drive
     c.node, c.dof = node, dof
     store = c.folder / "ringdown"
     store.mkdir(parents=True, exist_ok=True)

@@ -15,11 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.api import read_trace
 from x3dpd.api.figures import Curve, plot_frf, plot_spectrum
 from x3dpd.api.measurements import (
     QUANTITY_ORDER,
     amplitude_spectrum,
+    check_window,
     difference_gain,
     estimate_frf,
     power_spectrum,
@@ -30,6 +30,8 @@ from x3dpd.design.trace_signals import (
     drive_history,
     parse_band,
     parse_point,
+    period_notes,
+    read_record,
     response_history,
     response_unit,
     sampling_rate,
@@ -200,12 +202,15 @@ def frf_command(
     deck: str | None = None,
     overwrite: bool = False,
     echo: Callable[[str], None] = print,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> list[dict]:
     """``x3dpd frf``: H1, H2 and coherence of every response of every trace against the drive;
     DIR/frf.csv (one row per run, response and frequency) and DIR/frf.png. Returns the rows.
     ``baselines`` (undamped, added-mass): their closed-form FRFs for the first trace's deck (or
     ``deck``) overlaid too (x3dpd.design.frf_baselines) and written at the run's frequency
-    lines to DIR/baselines.csv (baseline, response, frequency_hz, re, im, mag, phase_deg)."""
+    lines to DIR/baselines.csv (baseline, response, frequency_hz, re, im, mag, phase_deg).
+    Every option and measured file is checked before a trace is read; ``progress(path,
+    bytes_read, size)`` follows the reading of each trace."""
     if not traces:
         raise InputError("give at least one TRACE")
     if not responses:
@@ -215,19 +220,21 @@ def frf_command(
     band_hz = parse_band(band)
     if quantity not in QUANTITY_ORDER:
         raise InputError(f"--quantity {quantity!r}: expected one of {', '.join(QUANTITY_ORDER)}")
+    check_window(window)
     paths = _outputs(
         out, ("frf.csv", "frf.png") + (("baselines.csv",) if baselines else ()), overwrite
     )
+    overlays = measured_curves(measured, quantity, measured_scale, band_hz)
     curves, rows, units = [], [], set()
     labels = run_labels(traces)
     first = None
     for path, run in zip(traces, labels):
-        trace = read_trace(path)
+        trace = read_record(path, echo, progress)
         fs = sampling_rate(trace, path)
         check_band(band_hz, fs, path)
         keep = _window(trace.time, t_from, path)
         source = drive_history(trace, d_node, d_dof, path)
-        for note in source.notes:
+        for note in (*source.notes, *period_notes(source, fs)):
             echo(f"note: {path}: {note}")
         signals, differenced = [], []
         for node, dof in points:
@@ -288,7 +295,7 @@ def frf_command(
         curves += _baseline_curves(
             first, deck, baselines, (d_node, d_dof), points, quantity, base_rows
         )
-    curves += measured_curves(measured, quantity, measured_scale, band_hz)
+    curves += overlays
     unit = units.pop() if len(units) == 1 else "unit"
     head = [f"# quantity: {quantity}", f"# unit: {unit}", f"# drive: node {d_node} dof {d_dof}"]
     names = list(rows[0]) if rows else []
@@ -337,18 +344,21 @@ def spectrum_command(
     t_from: float | None = None,
     overwrite: bool = False,
     echo: Callable[[str], None] = print,
+    progress: Callable[[str, int, int], None] | None = None,
 ) -> list[dict]:
     """``x3dpd spectrum``: the amplitude spectrum (one FFT of the record, ``fft``) or the PSD
-    (Welch, ``welch``) of a node's response; DIR/spectrum.csv and DIR/spectrum.png."""
+    (Welch, ``welch``) of a node's response; DIR/spectrum.csv and DIR/spectrum.png.
+    ``progress`` as :func:`frf_command`'s."""
     if method not in ("fft", "welch"):
         raise InputError(f"--method {method!r}: expected fft or welch")
     if not traces:
         raise InputError("give at least one TRACE")
     band_hz = parse_band(band)
+    check_window(window)
     paths = _outputs(out, ("spectrum.csv", "spectrum.png"), overwrite)
     curves, rows, unit = [], [], ""
     for path, run in zip(traces, run_labels(traces)):
-        trace = read_trace(path)
+        trace = read_record(path, echo, progress)
         fs = sampling_rate(trace, path)
         check_band(band_hz, fs, path)
         keep = _window(trace.time, t_from, path)

@@ -13,12 +13,15 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from x3dpd.api import TraceData
+from x3dpd.api import TraceData, read_trace
 from x3dpd.api.measurements import (
+    RANDOM_DEFAULT_PERIOD,
     central_difference,
     force_table,
     force_values,
@@ -28,6 +31,7 @@ from x3dpd.api.measurements import (
     motion_table,
     split_specs,
 )
+from x3dpd.api.traces import TraceWarning
 from x3dpd.errors import InputError
 
 #: Quantities a response can be read as, and their unit in terms of the trace's length unit.
@@ -37,6 +41,10 @@ RESPONSE_UNITS = {
     "acceleration": "{length}/s^2",
 }
 _NODE = re.compile(r"node\s*=\s*(\d+)", re.IGNORECASE)
+_PERIOD = re.compile(r"\bperiod\s*=\s*([^,\s]+)", re.IGNORECASE)
+#: How close to a whole number of output intervals a periodic drive's period must be
+#: (relative): the printed output times carry 9 significant digits.
+WHOLE_PERIOD_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -75,6 +83,60 @@ def parse_band(text: str | None, what: str = "--band") -> tuple[float, float] | 
     if not colon or not (0.0 <= band[0] < band[1] < math.inf):
         raise InputError(f"{what} {text!r}: expected LO:HI in Hz with 0 <= LO < HI")
     return band
+
+
+def read_record(
+    path: str, echo: Callable[[str], None], progress: Callable[[str, int, int], None] | None = None
+) -> TraceData:
+    """The trace at ``path`` for a spectrum or an FRF (``progress(path, bytes_read, size)`` as
+    it is read). A file cut after its run ended -- the sidecar says the run is complete but the
+    file holds fewer output times, or a row cut short -- is an InputError: the record is short.
+    An interrupted run's cut last output time is dropped with a note."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", TraceWarning)
+        trace = read_trace(
+            path, progress=None if progress is None else (lambda d, t: progress(path, d, t))
+        )
+    notes = [str(w.message) for w in caught if issubclass(w.category, TraceWarning)]
+    blocks = trace.meta.get("blocks")
+    held = int(trace.time.size)
+    if trace.status == "complete" and (
+        trace.dropped_rows or (isinstance(blocks, int) and blocks != held)
+    ):
+        raise InputError(
+            f"{path}: the record is short: the file holds {held} output times"
+            + (" and a cut one" if trace.dropped_rows else "")
+            + f", but its sidecar says the run wrote {blocks} and completed; the file was "
+            "cut or copied in part after the run (copy the whole trace again)"
+        )
+    for note in notes:
+        echo(f"note: {note}")
+    return trace
+
+
+def period_notes(drive: DriveSignal, fs: float) -> list[str]:
+    """What is wrong with a periodic (``random:``) drive's period on a record sampled at
+    ``fs`` [1/s]: a period that is not a whole number of output intervals (no Welch segment
+    then holds whole periods, and the drive's lines cannot fall on frequency bins)."""
+    out = []
+    for spec in drive.specs:
+        if not spec.strip().lower().startswith("random:"):
+            continue
+        m = _PERIOD.search(spec)
+        try:
+            period = float(m.group(1)) if m else RANDOM_DEFAULT_PERIOD
+        except ValueError:
+            continue
+        n = period * fs
+        if abs(n - round(n)) > WHOLE_PERIOD_TOLERANCE * n:
+            out.append(
+                f"the drive's period {period:g} s is {n:.2f} output intervals of "
+                f"{1.0 / fs:.6g} s, not a whole number: no segment can hold whole periods, so "
+                "the periodic drive's lines cannot fall on frequency bins and leak (the exact, "
+                "leakage-free FRF of whole periods is lost); trace at an interval that divides "
+                "the period (ITRAC x DT)"
+            )
+    return out
 
 
 def output_times(trace: TraceData) -> np.ndarray:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 import warnings
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import TextIO
 
@@ -148,17 +148,30 @@ def _abbrev(items: list, n: int = 8) -> str:
     return ", ".join(map(str, items[:n])) + (", ..." if len(items) > n else "")
 
 
-class _Lines:
-    """Complete lines of a text file for ``numpy.loadtxt``; remembers a cut last line."""
+#: Lines read between two calls of read_trace's ``progress``.
+PROGRESS_LINES = 1 << 15
 
-    def __init__(self, f: TextIO):
+
+class _Lines:
+    """Complete lines of a text file for ``numpy.loadtxt``; remembers a cut last line and,
+    with ``progress``, reports the bytes read (latin-1: one byte a character) every
+    :data:`PROGRESS_LINES` lines."""
+
+    def __init__(self, f: TextIO, progress: Callable[[int, int], None] | None = None):
         self.f = f
         self.count = 0
         self.cut = ""
+        self.progress = progress
+        self.total = os.fstat(f.fileno()).st_size if progress is not None else 0
 
     def __iter__(self) -> Iterator[str]:
         blank = 0
+        done = 0
         for line in self.f:
+            if self.progress is not None:
+                done += len(line)
+                if self.count % PROGRESS_LINES == 0:
+                    self.progress(done, self.total)
             if not line.endswith("\n"):
                 self.cut = line
                 return
@@ -195,7 +208,11 @@ def _locate_error(path: str, ncols: int = len(COLUMNS)) -> TraceError:
 
 
 def read_trace(
-    path: str | os.PathLike, *, node_ids: Iterable[int] | None = None, strict: bool = False
+    path: str | os.PathLike,
+    *,
+    node_ids: Iterable[int] | None = None,
+    strict: bool = False,
+    progress: Callable[[int, int], None] | None = None,
 ) -> TraceData:
     """Read a trace file (with its sidecar ``path + ".json"`` when there is one).
 
@@ -206,6 +223,9 @@ def read_trace(
     A last output time with fewer than R rows, or a last line without its newline, is what an
     interrupted write leaves: it is dropped with a :class:`TraceWarning` (``dropped_rows`` says
     how many rows), or raises :class:`~x3dpd.errors.TraceError` when ``strict``.
+
+    ``progress(bytes_read, file_size)`` is called as the rows are read (every
+    :data:`PROGRESS_LINES` lines) and once at the end, for a progress line over a big file.
 
     Raises
     ------
@@ -227,10 +247,12 @@ def read_trace(
     lines = None
     try:
         with open(spath, encoding="latin-1", newline="") as f:
-            lines = _Lines(f)
+            lines = _Lines(f, progress)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", UserWarning)  # "input contained no data"
                 rows = np.loadtxt(lines, delimiter=";", comments=None, ndmin=2, dtype=np.float64)
+            if progress is not None:
+                progress(lines.total, lines.total)
     except ValueError:
         raise _locate_error(spath) from None
     except OSError as exc:

@@ -118,12 +118,11 @@ class LoadSteps(BuilderBase):
         stay relative to the working directory, as shells expect). A missing file is an error at
         the card.
         """
-        known = self.deck.path not in ("<deck>", "<string>", "-")
-        folder = Path(self.deck.path).parent if known else None
+        folder = self._deck_folder()
         out = []
         for card in self.deck.usrfrc:
             for spec in card.specs:
-                if is_user_file(spec):
+                if is_user_file(spec, folder):
                     path = Path(spec.strip())
                     if folder is not None and not path.is_absolute():
                         path = folder / path
@@ -137,6 +136,11 @@ class LoadSteps(BuilderBase):
                 out.append(spec)
         return tuple(out)
 
+    def _deck_folder(self) -> Path | None:
+        """The folder the deck's USRFRC files are taken from (None: a deck without a file)."""
+        known = self.deck.path not in ("<deck>", "<string>", "-")
+        return Path(self.deck.path).parent if known else None
+
     def _external_loads(self) -> list[tuple[str, tuple[int, int]]]:
         """(spec, (node index, DOF column)) of every built-in force law (user files: unknown).
 
@@ -145,7 +149,7 @@ class LoadSteps(BuilderBase):
         """
         out = []
         for card in self.deck.usrfrc:
-            builtin, _ = split_specs(card.specs)
+            builtin, _ = split_specs(card.specs, self._deck_folder())
             if not builtin:
                 continue
             try:

@@ -35,6 +35,13 @@ from x3dpd.model.modal_structure import ModalStructure, unit_factors
 CARD = "MODAL"
 #: Relative tolerance of a generalized mass of 1 (mass-normalised shapes).
 UNIT_MASS_TOLERANCE = 1e-3
+#: Highest natural frequency a mode may have [cycles per time unit]: far above any structural
+#: mode, and low enough that omega^2 and the step coefficients stay far from overflow.
+MAX_FREQUENCY = 1e12
+#: Largest ratio of two nonzero natural frequencies whose modes the deck's mass couples: the
+#: coupled eigenproblem (scipy.linalg.eigh) resolves its lowest eigenvalue to about
+#: eps (f_max / f_min)^2 of itself, 2e-6 at this ratio; at 1e15 Hz beside 38 Hz it found 0 Hz.
+MAX_FREQUENCY_RATIO = 1e5
 
 
 class ModalSteps(BuilderBase):
@@ -76,6 +83,7 @@ class ModalSteps(BuilderBase):
         added = (
             self._added_mass(node_idx) if card.housing == "added" else np.zeros((len(nodes), 6, 6))
         )
+        self._check_frequencies(card, numbers, freq, coupled=bool(np.any(added)))
         omega0 = 2.0 * math.pi * np.asarray(freq, dtype=np.float64)
         omega, zeta_c, shape_c, coupling = couple_added_mass(omega0, np.asarray(zeta), phi, added)
         body = np.array([self.body_of_master.get(int(i), -1) for i in node_idx], dtype=np.int64)
@@ -96,6 +104,45 @@ class ModalSteps(BuilderBase):
             source=source,
         )
         self.modal_nodes = {int(i) for i in node_idx}
+
+    def _check_frequencies(self, card, numbers, freq, coupled: bool) -> None:
+        """Each mode's frequency within [0, MAX_FREQUENCY]; with the deck's mass coupled in,
+        the nonzero ones within MAX_FREQUENCY_RATIO of each other. The error stands at the
+        mode's MODE record (at the FILE record for a mode file)."""
+        f = np.asarray(freq, dtype=np.float64)
+
+        def where(k: int) -> Pos:
+            if card.files:
+                return card.files[0].pos
+            return next(m.pos for m in card.modes if m.number == numbers[k])
+
+        def prefix() -> str:
+            return f"mode file {card.files[0].path}: " if card.files else ""
+
+        high = np.flatnonzero(~(f <= MAX_FREQUENCY))
+        if high.size:
+            k = int(high[0])
+            raise self.error(
+                f"{prefix()}mode {numbers[k]} has frequency {f[k]:.6g} (cycles per time unit): "
+                f"out of range, expected 0 <= FREQ <= {MAX_FREQUENCY:g} (no structural mode "
+                "comes near it: a typing slip?)",
+                where(k),
+                CARD,
+            )
+        nonzero = np.flatnonzero(f > 0.0)
+        if coupled and nonzero.size > 1:
+            lo = int(nonzero[np.argmin(f[nonzero])])
+            hi = int(nonzero[np.argmax(f[nonzero])])
+            if f[hi] > MAX_FREQUENCY_RATIO * f[lo]:
+                raise self.error(
+                    f"{prefix()}mode {numbers[hi]} has frequency {f[hi]:.6g}, "
+                    f"{f[hi] / f[lo]:.3g} x above mode {numbers[lo]}'s {f[lo]:.6g}: with the "
+                    f"deck's mass coupled in (HOUSING added) modes more than "
+                    f"{MAX_FREQUENCY_RATIO:g} x apart cannot be solved together in double "
+                    "precision; leave the high mode out (modes=, band=) or give HOUSING included",
+                    where(hi),
+                    CARD,
+                )
 
     # -- inline records -------------------------------------------------------------------------
     def _modes_inline(self, card):

@@ -45,6 +45,7 @@ from x3dpd.model.check_text import (  # noqa: F401  (MAX_LISTED re-exported)
     _span_text,
     _tri,
 )
+from x3dpd.model.check_beds import jammed_beds
 from x3dpd.model.check_modal import modal_table, modal_warnings
 from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
@@ -148,9 +149,10 @@ def check_model(
     """Summarise a model and list what is likely wrong with it before a run.
 
     Warnings, in this order: walls that cut through the particle cloud (one headline per
-    cavity), particles outside their cavity, particles penetrating walls, overlapping particles,
-    cavities whose inside could not be told consistently, particles in no slave set, cavities
-    without particles, and a time step above the recommendation (:func:`recommended_time_step`).
+    cavity), particles outside their cavity or penetrating walls, the analytic walls' and modal
+    structure's, beds wall to wall along the drive (x3dpd.model.check_beds), overlapping
+    particles, cavities whose inside could not be told consistently, particles in no slave set,
+    cavities without particles, and a time step above the recommendation.
     The model itself is consistent (:func:`~x3dpd.model.build.build_model` raised otherwise);
     ``errors`` lists numbers a run cannot work with (:func:`~x3dpd.model.magnitudes.
     magnitude_errors`: masses that underflow, kinetic energies or weights that overflow).
@@ -211,6 +213,7 @@ def check_model(
         Finding(code, head, _listed(lines)) for code, head, lines in shape_warnings(model, REL_TOL)
     ]
     warnings += [Finding(code, head, _listed(lines)) for code, head, lines in modal_warnings(model)]
+    warnings += [Finding(code, head, lines) for code, head, lines in jammed_beds(model, usrfrc)]
     pairs, depth = particle_overlaps(model)
     if pairs.shape[0]:
         rad = dict(zip(model.node_ids[ps:].tolist(), model.radius.tolist()))

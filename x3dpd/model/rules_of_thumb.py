@@ -24,6 +24,11 @@ each a :class:`RuleNote` with its number and the report's section; ``x3dpd check
   nearest neighbour, as a frequency ratio and in half-power bandwidths |f_j - f_k| / (2 zeta_k
   f_k).
 
+Modes whose frequencies agree within :data:`REPEATED` are one repeated mode (a rod's y and z
+bending pair, a symmetric plate's: the eigensolver returns any two orthogonal shapes of it, so
+each alone means nothing): its effective mass at the drive is 1 / sum phi_k^2 over the group,
+and its nearest neighbour is the nearest mode outside it.
+
 The structure's response is the linear one without the particles (:mod:`x3dpd.model.
 linear_structure`; the undamped system of Section 7.5 step 1), to the deck's one sine or sweep
 USRFRC law at a translational DOF of an SDOF or modal structure; anything else is not estimated
@@ -38,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from x3dpd.errors import X3dpdError
-from x3dpd.model.check_shapes import shape_extent
+from x3dpd.model.check_beds import bed_extent
 from x3dpd.model.linear_structure import ModalLinear, Sdof, linear_modal, linear_sdof, rigid_body
 from x3dpd.model.model import Model
 from x3dpd.physics.usrfrc import (
@@ -59,6 +64,10 @@ SECTIONS = {
     "mode-separation": "report Section 7.5 step 2",
 }
 _AXES = "xyz"
+#: Modes whose frequencies differ by less than this fraction are one repeated mode: far below a
+#: lightly damped mode's half-power bandwidth 2 zeta (1e-3 at zeta = 0.05 %), far above the
+#: rounding of an OP2 file's 32-bit frequencies (6e-8).
+REPEATED = 1e-4
 
 
 @dataclass(frozen=True)
@@ -223,29 +232,14 @@ def _turn_on(model: Model, drive, g0: float, acc: str) -> RuleNote:
     )
 
 
-def _cavity_span(model: Model, c: int, d: int) -> tuple[float, float]:
-    """(lo, hi) of cavity ``c`` along axis ``d``: its triangles' nodes and analytic walls."""
-    tri = model.tri_nodes[model.face_cavity[model.tri_face] == c].reshape(-1)
-    pts = [model.x0[tri, d]] if tri.size else []
-    for w in np.flatnonzero(model.shape_cavity == c):
-        lo, hi = shape_extent(model, int(w))
-        pts.append(np.array([lo[d], hi[d]]))
-    both = np.concatenate(pts) if pts else np.zeros(0)
-    return (float(both.min()), float(both.max())) if both.size else (math.nan, math.nan)
-
-
 def _clearances(model: Model, drive: DriveEstimate, length: str) -> list[RuleNote]:
     d = drive.dof - 1
     out = []
-    ps = model.particle_start
     for c, sid in enumerate(model.cavity_set_ids.tolist()):
-        mine = np.flatnonzero(model.particle_cavity == c)
-        lo, hi = _cavity_span(model, c, d)
-        if not mine.size or not math.isfinite(hi - lo):
+        extent = bed_extent(model, c, d)
+        if extent is None:
             continue
-        x, r = model.x0[ps + mine, d], model.radius[mine]
-        bed = float(np.max(x + r) - np.min(x - r))
-        free = (hi - lo) - bed
+        cavity, bed, free = extent
         twice = 2.0 * drive.peak_displacement
         ratio = free / twice if twice > 0 else math.inf
         out.append(
@@ -254,7 +248,7 @@ def _clearances(model: Model, drive: DriveEstimate, length: str) -> list[RuleNot
                 ratio,
                 (
                     f"cavity set {sid}: the particles' free length along {_AXES[d]} is {free:.3g} "
-                    f"{length} (cavity {hi - lo:.4g} less the bed {bed:.4g} as they start); "
+                    f"{length} (cavity {cavity:.4g} less the bed {bed:.4g} as they start); "
                     f"twice the structure's predicted peak displacement ({drive.description}) is "
                     f"{twice:.3g} {length}: free length = {ratio:.3g} x that (the report's dampers "
                     "work best near 1)"
@@ -265,14 +259,28 @@ def _clearances(model: Model, drive: DriveEstimate, length: str) -> list[RuleNot
     return out
 
 
-def _cavity_dof(model: Model, mode: int) -> tuple[int, int] | None:
-    """(node id, dof 1-3) where the first cavity's body moves most in ``mode``: the master of
-    the rigid body holding its first wall node, its translation of largest |phi|."""
+def repeated_group(omega: np.ndarray, mode: int) -> list[int]:
+    """The modes (0-based) that are one repeated mode with ``mode`` (:data:`REPEATED`)."""
+    w = np.asarray(omega, float)
+    return [j for j in range(w.size) if abs(w[j] - w[mode]) <= REPEATED * w[mode]]
+
+
+def _group_text(group: list[int], hz: float) -> str:
+    if len(group) == 1:
+        return f"mode {group[0] + 1}"
+    names = ", ".join(str(j + 1) for j in group[:-1]) + f" and {group[-1] + 1}"
+    return f"modes {names} (one repeated mode at {hz:.4g} Hz)"
+
+
+def _cavity_dof(model: Model, group: list[int]) -> tuple[int, int] | None:
+    """(node id, dof 1-3) where the first cavity's body moves most in the modes ``group``: the
+    master of the rigid body holding its first wall node, its translation of largest sum of
+    phi^2."""
     walls = model.tri_nodes.reshape(-1)[:1].tolist() + model.shape_nodes.reshape(-1)[:1].tolist()
     if not walls:
         return None
     _, _, master = rigid_body(model, int(walls[0]))
-    phi = [abs(model.modal.shape_at(master, d)[mode]) for d in range(3)]
+    phi = [float(np.sum(model.modal.shape_at(master, d)[group] ** 2)) for d in range(3)]
     return int(model.node_ids[master]), int(np.argmax(phi)) + 1
 
 
@@ -287,16 +295,17 @@ def _mass_ratio(model: Model, drive, modal_mode: int | None, mass: str) -> RuleN
             hz = math.sqrt(sdof.k / sdof.m) / (2 * math.pi)
             where = None
     if model.modal is not None and modal_mode is not None:
-        where = where or _cavity_dof(model, modal_mode)
+        group = repeated_group(model.modal.omega, modal_mode)
+        where = where or _cavity_dof(model, group)
         if where is not None and where[0] in model.node_ids:
-            phi = model.modal.shape_at(model.index_of(where[0]), where[1] - 1)[modal_mode]
-            if phi != 0.0:
-                ms = 1.0 / phi**2
+            phi = model.modal.shape_at(model.index_of(where[0]), where[1] - 1)[group]
+            if np.any(phi != 0.0):
+                hz = float(model.modal.omega[modal_mode]) / (2 * math.pi)
+                ms = 1.0 / float(np.sum(phi**2))
                 what = (
-                    f"mode {modal_mode + 1}'s effective mass at node {where[0]} "
+                    f"{_group_text(group, hz)}'s effective mass at node {where[0]} "
                     f"{_AXES[where[1] - 1]}"
                 )
-                hz = float(model.modal.omega[modal_mode]) / (2 * math.pi)
     if not ms > 0:
         return None
     ratio = mp / ms
@@ -312,14 +321,16 @@ def _mass_ratio(model: Model, drive, modal_mode: int | None, mass: str) -> RuleN
 def _separation(model: Model, mode: int) -> RuleNote:
     ms = model.modal
     f = ms.omega / (2 * math.pi)
-    if f.size < 2:
+    group = repeated_group(ms.omega, mode)
+    damped = _group_text(group, float(f[mode]))
+    others = [j for j in range(f.size) if j not in group]
+    if not others:
         return RuleNote(
             "mode-separation",
             math.inf,
-            f"mode {mode + 1} at {f[mode]:.4g} Hz is the structure's only mode",
+            f"{damped} at {f[mode]:.4g} Hz is the structure's only mode",
             SECTIONS["mode-separation"],
         )
-    others = [j for j in range(f.size) if j != mode]
     j = min(others, key=lambda k: abs(f[k] - f[mode]))
     band = 2.0 * ms.zeta[mode] * f[mode]
     bandwidths = abs(f[j] - f[mode]) / band if band > 0 else math.inf
@@ -327,7 +338,7 @@ def _separation(model: Model, mode: int) -> RuleNote:
         "mode-separation",
         float(f[j] / f[mode]),
         (
-            f"the damped mode {mode + 1} ({f[mode]:.4g} Hz) has its nearest neighbour, mode "
+            f"the damped {damped} ({f[mode]:.4g} Hz) has its nearest neighbour, mode "
             f"{j + 1}, at {f[j]:.4g} Hz: {f[j] / f[mode]:.3g} x its frequency, {bandwidths:.3g} "
             "half-power bandwidths away (particle dampers suit well-separated modes)"
         ),

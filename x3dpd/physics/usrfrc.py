@@ -212,24 +212,30 @@ def _force_row(spec: str, node_ids: np.ndarray) -> list[float] | RandomLaw:
 # Public API: built-in forces
 # ---------------------------------------------------------------------------------------------
 
-def is_user_file(spec: str) -> bool:
+def is_user_file(spec: str, folder: str | os.PathLike | None = None) -> bool:
     """True when ``spec`` names a user force file rather than a built-in law.
 
     A spec is a built-in law when it starts with ``constant:``, ``step:``, ``sine:``,
     ``sweep:`` or ``random:``; otherwise it is a file when it contains ``.py`` or is an
-    existing path.
+    existing path: relative to ``folder`` when given (a deck's USRFRC card: the deck's folder,
+    whatever the working directory), else to the working directory (``--usrfrc``).
     """
     kind = spec.strip().partition(":")[0].strip().lower()
     if ":" in spec and kind in _KEYS:
         return False
-    return ".py" in spec or os.path.exists(spec)
+    path = spec.strip()
+    if folder is not None and not os.path.isabs(path):
+        path = os.path.join(folder, path)
+    return ".py" in spec or os.path.exists(path)
 
 
-def split_specs(specs) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """Split specs into ``(built-in law specs, user file paths)``, keeping their order."""
+def split_specs(specs, folder: str | os.PathLike | None = None
+                ) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Split specs into ``(built-in law specs, user file paths)``, keeping their order (files
+    told as :func:`is_user_file` tells them, from ``folder``)."""
     specs = tuple(specs)
-    return (tuple(s for s in specs if not is_user_file(s)),
-            tuple(s.strip() for s in specs if is_user_file(s)))
+    return (tuple(s for s in specs if not is_user_file(s, folder)),
+            tuple(s.strip() for s in specs if is_user_file(s, folder)))
 
 
 def force_table(specs, model_or_node_ids) -> np.ndarray:
@@ -255,7 +261,7 @@ def force_table(specs, model_or_node_ids) -> np.ndarray:
     node_ids = _node_ids(model_or_node_ids)
     rows, laws = [], []
     for spec in specs:
-        if is_user_file(spec):
+        if ".py" in spec and is_user_file(spec):  # the caller tells files (from their folder)
             raise UsrfrcError(f"usrfrc spec {spec!r} is a user force file; "
                               "load it with load_user_force()")
         row = _force_row(spec, node_ids)

@@ -29,8 +29,9 @@ from x3dpd.deck.modes.modeset import ModeSet, sorted_mode_set
 
 #: How to get the optional OP2 reader (say it in errors).
 INSTALL_HINT = (
-    "pip install cpylog && pip install --no-deps pyNastran==1.4.1 "
-    "(pyNastran's numpy<2 pin is not needed for reading OP2 files)"
+    'pip install -e ".[nastran]" && pip install --no-deps pyNastran==1.4.1 in x3dpd\'s '
+    "folder (the extra installs cpylog, pyNastran's logger; pyNastran's numpy<2 pin is not "
+    "needed for reading OP2 files)"
 )
 
 #: pyNastran grid types with one value (scalar, extra and modal points).
