@@ -338,3 +338,36 @@ def test_a_clearance_sets_the_cavity_length_to_the_bed_plus_the_clearance(tmp_pa
         assert x - xs[0] == pytest.approx(c / 2 + 0.1, rel=1e-12)
         assert m.values["clearance"] == pytest.approx(c, rel=1e-9)
         assert check(m.deck).exit_status == 0
+
+
+def test_a_design_finds_each_configurations_peak(tmp_path):
+    """frequencies = "auto:LO:HI": every configuration's peak search (issue 30 item 3) runs on
+    the design's executor, its peaks in configs/NAME/sweep/peaks.csv: the linear SDOF's
+    closed-form peak, f_n sqrt(1 - 2 zeta^2), within 0.1 %, with five points each."""
+    write_deck(sdof_deck(dt=1e-5, hz=37.0), tmp_path / "sdof.inp")
+    spec = write(
+        tmp_path,
+        """
+structure = "sdof.inp"
+[fill]
+count = 0
+[vary]
+dt = [2e-5, 4e-5]
+[evaluate]
+kind = "sweep"
+node = 1
+dof = 1
+drives = [4.84040e-3]
+frequencies = "auto:35:40:0.01"
+baselines = ["undamped"]
+tol = 1e-3
+""",
+    )
+    rows = run_design(spec, tmp_path / "out", workers=2, echo=lambda s: None)
+    zeta = TABLE4_C / (2 * math.sqrt(TABLE4_K * TABLE4_MASS))
+    f_peak = math.sqrt(TABLE4_K / TABLE4_MASS) / (2 * math.pi) * math.sqrt(1 - 2 * zeta**2)
+    for name in ("dt2e-05", "dt4e-05"):
+        (peak,) = read_csv(tmp_path / "out" / "configs" / name / "sweep" / "peaks.csv")
+        assert peak["converged"] == 1 and peak["points"] == 5
+        assert peak["peak_hz"] == pytest.approx(f_peak, rel=1e-3)
+        assert len([r for r in rows if r["config"] == name]) == 5

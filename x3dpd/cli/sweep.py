@@ -17,7 +17,11 @@ from x3dpd.errors import InputError
     "--freq",
     required=True,
     metavar="SPEC",
-    help="Frequencies [Hz]: START:STOP:STEP (STOP included) or a comma list.",
+    help="Frequencies [Hz]: START:STOP:STEP (STOP included), a comma list, or "
+    "auto:LO:HI[:RES[:POINTS]] to find the peak and its half-power band in [LO, HI] with "
+    "as few points as it can (a coarse pass of 4, then one at a time at a fitted "
+    "resonance curve's peak, until it settles within RES Hz [default (HI-LO)/100]; at "
+    "most POINTS [7] per drive and chain; DIR/peaks.csv).",
 )
 @click.option(
     "--drive",

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,11 +21,12 @@ from x3dpd.design.spec import (
     check_base,
     check_node,
     default_drive_point,
+    parse_auto_band,
     parse_frequencies,
     parse_responses,
 )
 from x3dpd.design.steady_state import Criterion
-from x3dpd.design.sweep import baseline_curves, deck_hash, run_sweep
+from x3dpd.design.sweep import baseline_curves, deck_hash, read_csv, run_sweep
 from x3dpd.design.sweep_measured import measured_curves, read_measured
 from x3dpd.errors import InputError
 from x3dpd.units import labels_for, standard_gravity
@@ -65,7 +67,8 @@ def sweep_command(
     system = deck.units.system if deck.units is not None else None
     quantity, drives = parse_amplitudes(amps, drive, standard_gravity(system))
     measured = parse_responses(responses, deck)
-    frequencies = parse_frequencies(freq)
+    auto = parse_auto_band(freq)
+    frequencies = (auto.lo, auto.hi) if auto else parse_frequencies(freq)
     check_levels(quantity, drives, frequencies, units=labels_for(system))
     if quantity != "force":
         node, dof, measured = check_base(deck, node, dof, measured)
@@ -81,7 +84,8 @@ def sweep_command(
     spec = SweepSpec(
         deck=deck,
         deck_text_hash=deck_hash(deck_path),
-        frequencies=frequencies,
+        frequencies=() if auto else frequencies,
+        auto=auto,
         drives=drives,
         node=node,
         dof=dof,
@@ -114,8 +118,14 @@ def sweep_command(
         + ", ".join(f"{n}:{d}" for n, d in measured)
     )
     echo(
-        f"sweep {deck_path}: {what}, {len(frequencies)} frequencies "
-        f"{frequencies[0]:g}-{frequencies[-1]:g} Hz, drive {', '.join(f'{d:g}' for d in drives)}"
+        f"sweep {deck_path}: {what}, "
+        + (
+            f"the peak in {auto.lo:g}-{auto.hi:g} Hz to {auto.resolution:g} Hz (at most "
+            f"{auto.max_points} points a drive)"
+            if auto
+            else f"{len(frequencies)} frequencies {frequencies[0]:g}-{frequencies[-1]:g} Hz"
+        )
+        + f", drive {', '.join(f'{d:g}' for d in drives)}"
         f" {unit}, "
         + (
             f"chained {direction}"
@@ -160,6 +170,23 @@ def sweep_command(
         )
         raise
     length, force, unit_t = deck.units.system if deck.units is not None else ("in", "lbf", "s")
+    if auto:  # the baselines' curves and overlays over the band the search visited
+        spec = replace(spec, frequencies=tuple(sorted({r["frequency_hz"] for r in rows})))
+        for p in read_csv(Path(out) / "peaks.csv"):
+            state = (
+                ""
+                if p["converged"]
+                else (
+                    "  AT THE BAND'S EDGE: widen it" if p["at_edge"] else "  NOT SETTLED (points)"
+                )
+            )
+            chain = f" {p['direction']}" if p["direction"] else ""
+            echo(
+                f"peak {p['config']} drive {p['drive']:g}{chain}: "
+                f"{p['peak_hz']:.4f} +/- {p['peak_hz_ci']:.2g} Hz, X = {p['peak_amplitude']:.5e} "
+                f"+/- {p['peak_amplitude_ci']:.2g} {length}, half-power band "
+                f"{p['band_lo_hz']:.4f}-{p['band_hi_hz']:.4f} Hz, {int(p['points'])} points{state}"
+            )
 
     def overlays(point: tuple[int, int]) -> dict:
         return measured_curves(frfs, spec, point, measured_scale)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from x3dpd.design.design_reader import Reader, key_lines
 from x3dpd.design.drive import LARGEST_LEVEL
-from x3dpd.design.spec import parse_frequencies
+from x3dpd.design.spec import AutoBand, parse_auto_band, parse_frequencies
 from x3dpd.design.steady_state import Criterion
 from x3dpd.errors import InputError
 
@@ -106,6 +106,8 @@ class Evaluation:
     criterion: Criterion = field(default_factory=Criterion)
     drive_until: float = 1.0
     ring: float = 2.0
+    #: ``frequencies = "auto:LO:HI[:RES[:POINTS]]"``: search each peak (``frequencies`` empty)
+    auto: AutoBand | None = None
 
 
 @dataclass(frozen=True)
@@ -376,7 +378,8 @@ def _evaluation(r: Reader, ev: dict) -> Evaluation:
             else repr(freq)
         )
         try:
-            out["frequencies"] = parse_frequencies(text)
+            out["auto"] = parse_auto_band(text)
+            out["frequencies"] = () if out["auto"] else parse_frequencies(text)
         except InputError as exc:
             r.fail(keys + ("frequencies",), str(exc).replace("--freq ", ""))
         direction = ev.get("direction")

@@ -22,6 +22,17 @@ from x3dpd.errors import InputError
 
 
 @dataclass(frozen=True)
+class AutoBand:
+    """``--freq auto:LO:HI[:RES[:POINTS]]``: find the peak in [``lo``, ``hi``] Hz to ``resolution``
+    Hz with at most ``max_points`` points per drive and chain (x3dpd.analysis.peak_search)."""
+
+    lo: float
+    hi: float
+    resolution: float
+    max_points: int = 7
+
+
+@dataclass(frozen=True)
 class SweepSpec:
     """What to sweep: the deck, frequencies [Hz], drive amplitudes, node, DOF, chains.
 
@@ -42,6 +53,8 @@ class SweepSpec:
     #: (node, dof) pairs measured besides the driven one (``--response NODE:DOF``)
     responses: tuple[tuple[int, int], ...] = ()
     quantity: str = "force"
+    #: ``--freq auto:...``: search the peak instead of a grid (``frequencies`` then empty)
+    auto: AutoBand | None = None
 
     @property
     def base(self) -> bool:
@@ -62,7 +75,31 @@ class SweepSpec:
         if self.base:
             out["drive"] = "base"
             out["quantity"] = self.quantity
+        if self.auto is not None:
+            out["auto"] = asdict(self.auto)
         return out
+
+
+def parse_auto_band(text: str) -> AutoBand | None:
+    """``auto:LO:HI[:RES[:POINTS]]`` -> an AutoBand (RES default (HI - LO) / 100 Hz, POINTS
+    default 7); None for any other ``--freq`` text."""
+    parts = str(text).strip().split(":")
+    if parts[0].strip().lower() != "auto":
+        return None
+    usage = (
+        f"--freq {text!r}: expected auto:LO:HI[:RES[:POINTS]] (0 < LO < HI Hz; RES > 0 Hz the "
+        "resolution of the peak's frequency; POINTS >= 5 the most points per drive and chain)"
+    )
+    try:
+        lo, hi = float(parts[1]), float(parts[2])
+        res = float(parts[3]) if len(parts) > 3 else (hi - lo) / 100.0
+        points = int(parts[4]) if len(parts) > 4 else 7
+    except (IndexError, ValueError):
+        raise InputError(usage) from None
+    ok = all(math.isfinite(v) for v in (lo, hi, res)) and 0 < lo < hi and res > 0
+    if not ok or points < 5 or len(parts) > 5:
+        raise InputError(usage)
+    return AutoBand(lo, hi, res, points)
 
 
 def parse_frequencies(text: str) -> tuple[float, ...]:

@@ -70,49 +70,72 @@ def deck_hash(path: str | os.PathLike) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
-    """The chains to simulate and the closed-form rows, for the deck and its baselines."""
+def configurations(spec: SweepSpec) -> list[tuple[str, object, list | None]]:
+    """(config, deck, closed-form structures or None) of the deck and its baselines: a
+    baseline whose structure has a closed form (x3dpd.design.closed_form) is computed, not
+    simulated; None marks a configuration to simulate."""
     configs = {"deck": spec.deck, **baseline_decks(spec.deck, spec.baselines, mass_node(spec))}
     if spec.base:  # the base's motion drives it: no USRFRC force besides
         configs = {name: replace(deck, usrfrc=()) for name, deck in configs.items()}
-    chains: list[list[SweepPoint]] = []
-    closed: list[dict] = []
+    out = []
     for config, deck in configs.items():
-        sdof = structures = None
+        closed = None
         if config != "deck" and spec.base:
             model = build_model(deck)
             structures = [
                 base_response_structure(model, spec.node, spec.dof, r) for r in spec.responses
             ]
             if structures and all(s is not None for s in structures):
-                closed.extend(base_closed_form_rows(config, spec, structures))
-                continue
+                closed = ("base", structures)
         elif config != "deck":
             model = build_model(deck)
             sdof = force_structure(model, spec.node, spec.dof)
             structures = [force_structure(model, spec.node, spec.dof, r) for r in spec.responses]
-        if sdof is not None and all(s is not None for s in structures):
-            closed.extend(closed_form_rows(config, sdof, spec, structures))
+            if sdof is not None and all(s is not None for s in structures):
+                closed = ("force", (sdof, structures))
+        out.append((config, deck, closed))
+    return out
+
+
+def closed_rows(config: str, closed, spec: SweepSpec) -> list[dict]:
+    """The rows of a closed-form configuration at ``spec.frequencies``."""
+    kind, what = closed
+    if kind == "base":
+        return base_closed_form_rows(config, spec, what)
+    return closed_form_rows(config, what[0], spec, what[1])
+
+
+def point_maker(spec: SweepSpec, config: str, deck, drive: float):
+    """A function ``(f, direction="") -> SweepPoint`` of one configuration and drive."""
+
+    def point(f: float, direction: str = "") -> SweepPoint:
+        return SweepPoint(
+            config=config,
+            deck=deck,
+            frequency_hz=f,
+            drive=drive,
+            node=spec.node,
+            dof=spec.dof,
+            direction=direction,
+            dt=spec.dt,
+            criterion=spec.criterion,
+            responses=spec.responses,
+            quantity=spec.quantity,
+        )
+
+    return point
+
+
+def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
+    """The chains to simulate and the closed-form rows, for the deck and its baselines."""
+    chains: list[list[SweepPoint]] = []
+    closed: list[dict] = []
+    for config, deck, structures in configurations(spec):
+        if structures is not None:
+            closed.extend(closed_rows(config, structures, spec))
             continue
         for drive in spec.drives:
-            # called only within this iteration; the defaults bind this iteration's values
-            def point(
-                f: float, direction: str = "", *, config=config, deck=deck, drive=drive
-            ) -> SweepPoint:
-                return SweepPoint(
-                    config=config,
-                    deck=deck,
-                    frequency_hz=f,
-                    drive=drive,
-                    node=spec.node,
-                    dof=spec.dof,
-                    direction=direction,
-                    dt=spec.dt,
-                    criterion=spec.criterion,
-                    responses=spec.responses,
-                    quantity=spec.quantity,
-                )
-
+            point = point_maker(spec, config, deck, drive)
             freqs = sorted(spec.frequencies)
             if spec.direction is None:
                 chains.extend([point(f)] for f in freqs)
@@ -174,12 +197,15 @@ def run_sweep(
     overwrite: bool = False,
     on_point: Callable[[dict], None] | None = None,
 ) -> list[dict]:
-    """Run (or resume) a sweep into ``out``; returns all rows, sorted, and writes sweep.csv.
+    """Run (or resume) a sweep into ``out``; returns all rows, sorted, and writes sweep.csv
+    (and, with ``spec.auto``, peaks.csv: x3dpd.design.auto_sweep).
 
     ``workers``: local worker processes (default: all cores; 1 = serial in this process);
     ``scheduler``: address of an existing Dask scheduler (overrides ``workers``);
     ``on_point(row)`` is called as each point finishes (progress).
     """
+    if spec.auto is not None:
+        return _run_auto_sweep(spec, out, workers, scheduler, overwrite, on_point)
     chains, rows = plan(spec)  # first: a bad baseline or structure writes nothing
     store = SweepDir(out, spec, overwrite)
     done, todo = pending(chains, store)
@@ -198,6 +224,42 @@ def run_sweep(
     rows = sort_rows(rows)
     label_branches(rows)
     write_csv(Path(out) / "sweep.csv", rows)
+    return rows
+
+
+def _run_auto_sweep(spec, out, workers, scheduler, overwrite, on_point) -> list[dict]:
+    """``run_sweep`` of a peak search (x3dpd.design.auto_sweep)."""
+    from x3dpd.design.auto_sweep import AutoJob, run_auto, write_peaks
+
+    configs = configurations(spec)  # first: a bad baseline or structure writes nothing
+    store = SweepDir(out, spec, overwrite)
+    rows: list[dict] = []
+    simulated = [(config, deck) for config, deck, closed in configs if closed is None]
+
+    def finished_row(row: dict, computed: bool) -> None:
+        rows.append(row)
+        if computed and on_point:
+            on_point(row)
+
+    with Executor(workers, scheduler) as executor:
+        (groups,) = run_auto([AutoJob(spec, store, simulated, finished_row)], executor)
+    rows = finish_auto_rows(spec, configs, groups, rows)
+    write_csv(Path(out) / "sweep.csv", rows)
+    write_peaks(Path(out) / "peaks.csv", groups)
+    return rows
+
+
+def finish_auto_rows(spec: SweepSpec, configs, groups, rows: list[dict]) -> list[dict]:
+    """A peak search's rows with the closed-form baselines' at the frequencies it visited,
+    sorted and their branches labelled."""
+    from x3dpd.design.auto_sweep import visited
+
+    at = visited(spec, groups)
+    for config, _, closed in configs:
+        if closed is not None:
+            rows.extend(closed_rows(config, closed, at))
+    rows = sort_rows(rows)
+    label_branches(rows)
     return rows
 
 
@@ -233,35 +295,66 @@ def run_chains(todo, workers: int | None = None, scheduler: str | None = None) -
     or the given one for its first), then ``finished(point, len(chain), result)`` in this
     process. ``workers`` local processes (default: all cores; 1: serially here) or an existing
     cluster at ``scheduler``; the same ``fn`` computes each task in every mode."""
-    workers = workers or os.cpu_count() or 1
-    if scheduler is None and workers == 1:
-        for fn, chain, previous, finished in todo:
-            for point in chain:
-                previous = fn(point, previous)
-                finished(point, len(chain), previous)
-    elif todo:
-        _run_dask(todo, workers, scheduler)
+    with Executor(workers, scheduler) as executor:
+        executor.run(todo)
 
 
-def _run_dask(todo, workers: int, scheduler: str | None) -> None:
-    from dask.distributed import Client, LocalCluster, as_completed
+class Executor:
+    """Where chains of tasks run (:func:`run_chains`), kept open across several calls of
+    :meth:`run` (an adaptive sweep's rounds): serially in this process (``workers`` 1), on a
+    local cluster of ``workers`` processes (default: all cores), or on the cluster at
+    ``scheduler``. The cluster starts at the first task."""
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None):
+        self.workers = workers or os.cpu_count() or 1
+        self.scheduler = scheduler
+        self.client = self.cluster = None
+
+    def __enter__(self) -> Executor:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.client is not None:
+            self.client.close(timeout=10)
+        if self.cluster is not None:
+            self.cluster.close(timeout=10)
+
+    def run(self, todo) -> None:
+        """Run ``todo`` (as :func:`run_chains` does) to its end."""
+        if self.scheduler is None and self.workers == 1:
+            for fn, chain, previous, finished in todo:
+                for point in chain:
+                    previous = fn(point, previous)
+                    finished(point, len(chain), previous)
+        elif todo:
+            if self.client is None:
+                self.client, self.cluster = _dask_client(self.workers, self.scheduler)
+            _run_dask(self.client, todo)
+
+
+def _dask_client(workers: int, scheduler: str | None):
+    from dask.distributed import Client, LocalCluster
 
     if scheduler is not None:
-        client, cluster = Client(scheduler), None
-    else:
-        # the worker processes start with SIGINT ignored (a process inherits that, and Python
-        # then installs no KeyboardInterrupt of its own): Ctrl-C reaches the whole process
-        # group, and this process, not each worker, decides what happens
-        main = threading.current_thread() is threading.main_thread()
-        old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
-        try:
-            cluster = LocalCluster(
-                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0"
-            )
-        finally:
-            if main:
-                signal.signal(signal.SIGINT, old)
-        client = Client(cluster)
+        return Client(scheduler), None
+    # the worker processes start with SIGINT ignored (a process inherits that, and Python
+    # then installs no KeyboardInterrupt of its own): Ctrl-C reaches the whole process group,
+    # and this process, not each worker, decides what happens
+    main = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        cluster = LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0"
+        )
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, old)
+    return Client(cluster), cluster
+
+
+def _run_dask(client, todo) -> None:
+    from dask.distributed import as_completed
+
     futures = {}
     try:
         for fn, chain, previous, finished in todo:
@@ -278,7 +371,3 @@ def _run_dask(todo, workers: int, scheduler: str | None) -> None:
         # narrate the shutdown at length.
         logging.getLogger("distributed").setLevel(logging.CRITICAL)
         raise
-    finally:
-        client.close(timeout=10)
-        if cluster is not None:
-            cluster.close(timeout=10)
