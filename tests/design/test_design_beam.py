@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from x3dpd.api import check, load_deck
+from x3dpd.design.steady_state import Criterion
 from x3dpd.design.commands import sweep_command
 from x3dpd.design.configs import make_configurations
 from x3dpd.design.design_file import read_design
@@ -75,10 +76,8 @@ def test_the_beam_count_design_gives_the_numbers_of_x3dpd_sweep_on_the_shipped_d
         baselines=("undamped", "added-mass"),
         out=str(tmp_path / "sweep"),
         workers=1,
-        tol=0.02,
-        window=2,
-        max_cycles=6,
         echo=said.append,
+        criterion=Criterion(tol=0.02, window=2, max_cycles=6),
     )
     by_design = read_csv(tmp_path / "design" / "configs" / "beam_1" / "sweep" / "sweep.csv")
     by_sweep = read_csv(tmp_path / "sweep" / "sweep.csv")

@@ -20,6 +20,7 @@ from modal_decks import modal_deck
 from x3dpd.deck.cards import Boundary, Deck, Element, Mass, Material, Node, Trace
 from x3dpd.deck.parser import read_deck
 from x3dpd.deck.writer import write_deck
+from x3dpd.design.steady_state import Criterion
 from x3dpd.design.baselines import base_sdof, particle_mass, with_added_mass, without_particles
 from x3dpd.design.linear_system import linear_system
 from x3dpd.design.spec import SweepSpec
@@ -147,9 +148,9 @@ def test_the_simulated_chain_is_its_closed_form(tmp_path, drive):
         responses=["1:1", "2:1"] if drive == "base" else ["2:1"],
         out=str(tmp_path / "out"),
         workers=1,
-        tol=1e-3,
         drive=drive,
         echo=lambda s: None,
+        criterion=Criterion(tol=1e-3),
     )
     for r in rows:
         g1, g2, z = chain_cramer(r["frequency_hz"])
@@ -341,9 +342,9 @@ def test_a_simulated_modal_structure_on_a_shaker_equals_its_closed_form(tmp_path
         baselines=["undamped"],
         out=str(tmp_path / "out"),
         workers=1,
-        tol=1e-3,
         drive="base",
         echo=lambda s: None,
+        criterion=Criterion(tol=1e-3),
     )
     by = {(r["config"], r["frequency_hz"]): r for r in rows}
     for hz in (5.0, 8.5, 12.0):

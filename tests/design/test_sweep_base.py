@@ -63,10 +63,10 @@ def test_base_driven_sdof_transmissibility_equals_its_closed_form(shaker, tmp_pa
         responses=["1:1"],
         out=str(tmp_path / "out"),
         workers=1,
-        tol=1e-3,
         drive="base",
         direction="up",
         echo=lambda s: None,
+        criterion=Criterion(tol=1e-3),
     )
     assert [r["frequency_hz"] for r in rows] == list(freqs)
     for r in rows:
@@ -117,9 +117,9 @@ def test_springs_to_base_and_ground_and_the_closed_form_baseline(tmp_path):
         baselines=("undamped",),
         out=str(tmp_path / "out"),
         workers=1,
-        tol=1e-3,
         drive="base",
         echo=lambda s: None,
+        criterion=Criterion(tol=1e-3),
     )
     by = {(r["config"], r["frequency_hz"]): r for r in rows}
     for f in freqs:
@@ -157,11 +157,10 @@ def test_the_predicted_start_is_the_steady_state_under_gravity(tmp_path):
         responses=["1:1"],
         out=str(tmp_path / "out"),
         workers=1,
-        tol=1e-3,
-        extrapolate=False,
         drive="base",
         direction="up",
         echo=lambda s: None,
+        criterion=Criterion(tol=1e-3, extrapolate=False),
     )
     for r in rows:
         (m,) = r["responses"]
@@ -220,9 +219,8 @@ def test_2g_in_a_metre_deck_is_19_6133(tmp_path):
         workers=1,
         drive="base",
         responses=["1:1"],
-        max_cycles=15,
-        window=5,
         echo=spec_plan.append,
+        criterion=Criterion(max_cycles=15, window=5),
     )
     assert rows[0]["drive"] == pytest.approx(2 * 9.80665, rel=1e-15)
     assert "19.6133 m/s^2" in spec_plan[0]

@@ -136,8 +136,8 @@ def test_a_response_elsewhere_is_the_cross_frf(tmp_path):
         baselines=["undamped"],
         out=str(tmp_path / "o"),
         workers=1,
-        tol=1e-3,
         echo=lambda s: None,
+        criterion=Criterion(tol=1e-3),
     )
     for r in rows:
         (m,) = r["responses"]

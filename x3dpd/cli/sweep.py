@@ -95,6 +95,14 @@ from x3dpd.errors import InputError
     help="Recorded samples per drive cycle (amplitude measurement).",
 )
 @click.option(
+    "--replicas",
+    type=int,
+    default=1,
+    show_default=True,
+    help="Run each point R times, the particles started a hair apart, each to --tol x "
+    "sqrt(R), on as many workers, and pool them into one answer with one interval.",
+)
+@click.option(
     "--no-extrapolate",
     is_flag=True,
     help="Never extrapolate a linear transient; wait for it to die.",
@@ -140,6 +148,7 @@ def sweep(
     window,
     max_cycles,
     samples_per_cycle,
+    replicas,
     no_extrapolate,
     no_predict,
     measured,
@@ -152,11 +161,13 @@ def sweep(
 
     if workers is not None and workers < 1:
         raise InputError(f"--workers {workers}: expected 1 or more")
-    if tol <= 0 or window < 2 or max_cycles < 3 * window or samples_per_cycle < 20:
+    if tol <= 0 or window < 2 or max_cycles < 3 * window or samples_per_cycle < 20 or replicas < 1:
         raise InputError(
             "steady-state options: expected --tol > 0, --window >= 2, "
-            "--max-cycles >= 3 x window, --samples-per-cycle >= 20"
+            "--max-cycles >= 3 x window, --samples-per-cycle >= 20, --replicas >= 1"
         )
+    from x3dpd.design.steady_state import Criterion
+
     sweep_command(
         deck,
         freq=freq,
@@ -169,12 +180,15 @@ def sweep(
         workers=workers,
         scheduler=scheduler,
         dt=dt,
-        tol=tol,
-        window=window,
-        max_cycles=max_cycles,
-        samples_per_cycle=samples_per_cycle,
-        extrapolate=not no_extrapolate,
-        predict=not no_predict,
+        criterion=Criterion(
+            tol=tol,
+            window=window,
+            max_cycles=max_cycles,
+            samples_per_cycle=samples_per_cycle,
+            extrapolate=not no_extrapolate,
+            predict=not no_predict,
+            replicas=replicas,
+        ),
         overwrite=overwrite,
         responses=response,
         drive=drive,

@@ -23,7 +23,8 @@ from dataclasses import dataclass, field, replace
 from x3dpd.api.measurements import PeakSearch
 from x3dpd.design.spec import SweepSpec
 from x3dpd.design.steady_state import run_point
-from x3dpd.design.sweep import point_maker
+from x3dpd.design.replicas import pooled
+from x3dpd.design.sweep import point_maker, replica_count
 
 #: peaks.csv columns, in order.
 PEAK_COLUMNS = (
@@ -58,21 +59,26 @@ class _Group:
     config: str
     drive: float
     direction: str
-    point: object  # (f, direction) -> SweepPoint
+    point: object  # (f, direction, replica) -> SweepPoint
     search: PeakSearch
+    replicas: int = 1
     rows: list = field(default_factory=list)
-    states: dict = field(default_factory=dict)  # frequency -> (row, state) of chain points
+    #: (frequency, replica) -> (row, state) of chain points
+    states: dict = field(default_factory=dict)
 
     def measured(self) -> list[tuple[float, float, float]]:
-        return [(r["frequency_hz"], *peak_value(r)) for r in self.rows]
+        """(frequency, amplitude, half-width) of every point, its replicas pooled."""
+        return [(r["frequency_hz"], *peak_value(r)) for r in pooled(self.rows)]
 
-    def upstream(self, f: float):
-        """(row, state) of the computed point just before ``f`` in the chain's direction."""
+    def upstream(self, f: float, replica: int):
+        """(row, state) of the replica's computed point just before ``f`` in the chain's
+        direction."""
+        mine = [g for g, r in self.states if r == replica]
         if self.direction == "down":
-            above = [g for g in self.states if g > f]
-            return self.states[min(above)] if above else None
-        below = [g for g in self.states if g < f]
-        return self.states[max(below)] if below else None
+            above = [g for g in mine if g > f]
+            return self.states[(min(above), replica)] if above else None
+        below = [g for g in mine if g < f]
+        return self.states[(max(below), replica)] if below else None
 
 
 @dataclass(frozen=True)
@@ -100,6 +106,7 @@ def _groups(job: AutoJob) -> list[_Group]:
             direction,
             point_maker(spec, config, deck, drive),
             PeakSearch(band.lo, band.hi, band.resolution, band.max_points, spec.criterion.tol),
+            replica_count(spec, deck),
         )
         for config, deck in job.simulated
         for drive in spec.drives
@@ -131,19 +138,22 @@ def _propose(g: _Group, job: AutoJob, todo: list) -> bool:
     if not fresh:
         return False
     chained = bool(g.direction)
-    if chained and not g.rows:  # the coarse pass: one chain in the direction's order
-        fresh = sorted(fresh, reverse=g.direction == "down")
-        return _load_chain(g, [g.point(f, g.direction) for f in fresh], job, todo)
     found = False
+    if chained and not g.rows:  # the coarse pass: one chain per replica, in the direction
+        fresh = sorted(fresh, reverse=g.direction == "down")
+        for r in range(g.replicas):
+            found |= _load_chain(g, [g.point(f, g.direction, r) for f in fresh], job, todo)
+        return found
     for f in fresh:
-        point = g.point(f, g.direction)
-        done = job.store.load(point, need_state=chained)
-        if done is not None:
-            _keep(g, point, done, job.finished_row, computed=False)
-            found = True
-            continue
-        previous = g.upstream(f) if chained else None
-        todo.append((run_point, [point], previous, _finisher(g, job)))
+        for r in range(g.replicas):
+            point = g.point(f, g.direction, r)
+            done = job.store.load(point, need_state=chained)
+            if done is not None:
+                _keep(g, point, done, job.finished_row, computed=False)
+                found = True
+                continue
+            previous = g.upstream(f, r) if chained else None
+            todo.append((run_point, [point], previous, _finisher(g, job)))
     return found
 
 
@@ -164,7 +174,7 @@ def _keep(g: _Group, point, result, finished_row, computed: bool = True) -> None
     row, state = result
     g.rows.append(row)
     if g.direction:
-        g.states[point.frequency_hz] = (row, state)
+        g.states[(point.frequency_hz, point.replica)] = (row, state)
     finished_row(row, computed)
 
 

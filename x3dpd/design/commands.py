@@ -32,6 +32,10 @@ from x3dpd.errors import InputError
 from x3dpd.units import labels_for, standard_gravity
 
 
+#: the CLI's defaults (``x3dpd sweep --help``)
+DEFAULT_CRITERION = Criterion()
+
+
 def sweep_command(
     deck_path: str,
     *,
@@ -45,12 +49,7 @@ def sweep_command(
     workers: int | None = None,
     scheduler: str | None = None,
     dt: float | None = None,
-    tol: float = 0.01,
-    window: int = 5,
-    max_cycles: int = 400,
-    samples_per_cycle: int = 200,
-    extrapolate: bool = True,
-    predict: bool = True,
+    criterion: Criterion = DEFAULT_CRITERION,
     overwrite: bool = False,
     responses: Sequence[str] = (),
     drive: str = "force",
@@ -61,7 +60,8 @@ def sweep_command(
     """Run a sweep into ``out`` (sweep.csv, sweep.png, points/; with ``responses``
     (``NODE:DOF`` texts) also sweep_responses.png); returns its rows. ``drive`` "force" (a
     sine force on the node) or "base" (the node moved, x3dpd.design.drive; sweep.png then
-    shows the transmissibility at the responses). ``measured_files``: measured FRFs
+    shows the transmissibility at the responses). ``criterion`` how each point is measured
+    (x3dpd.design.steady_state.Criterion). ``measured_files``: measured FRFs
     (``FILE[@NODE:DOF]``) drawn on the plots (x3dpd.design.sweep_measured)."""
     deck = read_deck(deck_path)
     system = deck.units.system if deck.units is not None else None
@@ -94,14 +94,7 @@ def sweep_command(
         dt=dt,
         responses=measured,
         quantity=quantity,
-        criterion=Criterion(
-            tol=tol,
-            window=window,
-            max_cycles=max_cycles,
-            samples_per_cycle=samples_per_cycle,
-            extrapolate=extrapolate,
-            predict=predict,
-        ),
+        criterion=criterion,
     )
     lab = labels_for(system)
     unit = {
@@ -131,7 +124,7 @@ def sweep_command(
             f"chained {direction}"
             if direction
             else "each point from "
-            + ("its predicted steady state" if predict else "the deck's initial state")
+            + ("its predicted steady state" if criterion.predict else "the deck's initial state")
         )
         + (f", baselines {','.join(baselines)}" if baselines else "")
     )

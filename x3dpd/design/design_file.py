@@ -68,6 +68,7 @@ EVALUATE_KEYS = {
         "samples_per_cycle",
         "extrapolate",
         "predict",
+        "replicas",
     ),
     "dwell": (
         "frequency",
@@ -77,6 +78,7 @@ EVALUATE_KEYS = {
         "samples_per_cycle",
         "extrapolate",
         "predict",
+        "replicas",
     ),
     "ringdown": ("drive_frequency", "drive_until", "ring"),
 }
@@ -339,7 +341,7 @@ def _evaluation(r: Reader, ev: dict) -> Evaluation:
     if not isinstance(baselines, list) or any(b not in BASELINES for b in baselines):
         r.fail(keys + ("baselines",), f"expected a list of {', '.join(BASELINES)}")
     crit = {}
-    for k in ("tol", "window", "max_cycles", "samples_per_cycle"):
+    for k in ("tol", "window", "max_cycles", "samples_per_cycle", "replicas"):
         if k in ev:
             crit[k] = r.number(ev[k], keys + (k,), integer=k != "tol")
     for k in ("extrapolate", "predict"):
@@ -352,11 +354,12 @@ def _evaluation(r: Reader, ev: dict) -> Evaluation:
         criterion.window < 2
         or criterion.max_cycles < 3 * criterion.window
         or criterion.samples_per_cycle < 20
+        or criterion.replicas < 1
     ):
         r.fail(
             keys,
             "steady-state settings: expected window >= 2, max_cycles >= 3 x window, "
-            "samples_per_cycle >= 20",
+            "samples_per_cycle >= 20, replicas >= 1",
         )
     out = {
         "kind": kind,

@@ -47,6 +47,7 @@ from x3dpd.design.design_runs import (
     _run_fixed_design,
     run_ringdown,  # noqa: F401  (re-exported)
 )
+from x3dpd.design.replicas import pooled
 from x3dpd.design.sweep import configurations, label_branches, sort_rows, write_csv
 from x3dpd.errors import InputError
 from x3dpd.units import labels_for
@@ -105,7 +106,7 @@ def run_design(
         progress = _run_fixed_design(configs, made, ev, workers, scheduler, echo, design, out)
     for c in configs:
         if c.spec is not None:
-            c.rows = sort_rows(c.rows)
+            c.rows = sort_rows(pooled(c.rows))
             label_branches(c.rows)
             write_csv(c.folder / "sweep" / "sweep.csv", c.rows)
     rows = design_rows(design, configs)

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from x3dpd.api import run as run_deck
 from x3dpd.api.decks import Deck
@@ -25,6 +25,7 @@ from x3dpd.api.stepper import process_compile_seconds
 from x3dpd.api.traces import ENERGY_COLUMNS, ROLLING_COLUMN
 from x3dpd.design.drive import BASE_QUANTITIES, base_motion_spec, displacement_amplitude
 from x3dpd.design.predict import continued_base_start, predicted_start
+from x3dpd.design.replicas import jittered
 from x3dpd.errors import InputError
 
 #: Ledger columns summed as the energy dissipated by the particles, and by everything.
@@ -50,7 +51,8 @@ class Criterion:
 
     ``tol`` relative tolerance; ``window`` cycles per window; ``min_windows`` windows discarded
     at least; ``max_cycles`` the cap; ``samples_per_cycle`` recording rate; ``extrapolate``
-    allow the Prony limit for responses that are linear enough.
+    allow the Prony limit for responses that are linear enough; ``replicas`` runs of each point
+    (particles started a hair apart), pooled into one answer (x3dpd.design.replicas).
     """
 
     tol: float = 0.01
@@ -60,6 +62,7 @@ class Criterion:
     samples_per_cycle: int = 200
     extrapolate: bool = True
     predict: bool = True
+    replicas: int = 1
 
 
 @dataclass(frozen=True)
@@ -79,6 +82,8 @@ class SweepPoint:
     responses: tuple[tuple[int, int], ...] = ()
     #: "force", or a base drive's amplitude quantity (x3dpd.design.drive)
     quantity: str = "force"
+    #: which of the point's replicas (x3dpd.design.replicas; 0: the deck as it is)
+    replica: int = 0
 
     @property
     def key(self) -> str:
@@ -86,7 +91,7 @@ class SweepPoint:
         letter = BASE_QUANTITIES.get(self.quantity, "F")
         return (
             f"{self.config}_{letter}{self.drive:.6e}_{self.direction or 'rest'}"
-            f"_{self.frequency_hz:.6f}Hz"
+            f"_{self.frequency_hz:.6f}Hz" + (f"_r{self.replica}" if self.replica else "")
         )
 
     @property
@@ -118,6 +123,10 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
 
     # a structure without particles has no scatter to average: a deterministic answer
     deterministic = not has_particles(point.deck)
+    # a replica's particles start a hair apart: everything below runs its deck
+    point = replace(point, deck=jittered(point.deck, point.replica))
+    # R replicas, pooled, reach tol if each reaches tol sqrt(R) (x3dpd.design.replicas)
+    tol = crit.tol * math.sqrt(max(crit.replicas, 1))
 
     def new_monitor():
         return SteadyStateMonitor(
@@ -125,7 +134,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
             t0=t_start,
             t_start=t_start,
             window=crit.window,
-            tol=crit.tol,
+            tol=tol,
             min_windows=crit.min_windows,
             max_cycles=crit.max_cycles,
             extrapolate=crit.extrapolate,
@@ -237,6 +246,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "wall_s": wall,
         "response_node": point.node,
         "response_dof": point.dof,
+        "replica": point.replica,
     }
     if point.responses:
         row["responses"] = [

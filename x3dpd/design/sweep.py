@@ -49,7 +49,8 @@ from x3dpd.design.closed_form import (
     mass_node,
 )
 from x3dpd.design.spec import SweepSpec
-from x3dpd.design.steady_state import SweepPoint, run_point
+from x3dpd.design.replicas import pooled
+from x3dpd.design.steady_state import SweepPoint, has_particles, run_point
 from x3dpd.design.sweep_table import (  # noqa: F401  (re-exported: the sweep's public names)
     COLUMNS,
     RESPONSE_COLUMNS,
@@ -106,9 +107,10 @@ def closed_rows(config: str, closed, spec: SweepSpec) -> list[dict]:
 
 
 def point_maker(spec: SweepSpec, config: str, deck, drive: float):
-    """A function ``(f, direction="") -> SweepPoint`` of one configuration and drive."""
+    """A function ``(f, direction="", replica=0) -> SweepPoint`` of one configuration and
+    drive."""
 
-    def point(f: float, direction: str = "") -> SweepPoint:
+    def point(f: float, direction: str = "", replica: int = 0) -> SweepPoint:
         return SweepPoint(
             config=config,
             deck=deck,
@@ -121,9 +123,16 @@ def point_maker(spec: SweepSpec, config: str, deck, drive: float):
             criterion=spec.criterion,
             responses=spec.responses,
             quantity=spec.quantity,
+            replica=replica,
         )
 
     return point
+
+
+def replica_count(spec: SweepSpec, deck) -> int:
+    """How many replicas each point of ``deck`` runs: the criterion's, one without particles
+    (a deterministic answer has nothing to pool)."""
+    return spec.criterion.replicas if has_particles(deck) else 1
 
 
 def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
@@ -137,12 +146,13 @@ def plan(spec: SweepSpec) -> tuple[list[list[SweepPoint]], list[dict]]:
         for drive in spec.drives:
             point = point_maker(spec, config, deck, drive)
             freqs = sorted(spec.frequencies)
-            if spec.direction is None:
-                chains.extend([point(f)] for f in freqs)
-            if spec.direction in ("up", "both"):
-                chains.append([point(f, "up") for f in freqs])
-            if spec.direction in ("down", "both"):
-                chains.append([point(f, "down") for f in reversed(freqs)])
+            for r in range(replica_count(spec, deck)):
+                if spec.direction is None:
+                    chains.extend([point(f, "", r)] for f in freqs)
+                if spec.direction in ("up", "both"):
+                    chains.append([point(f, "up", r) for f in freqs])
+                if spec.direction in ("down", "both"):
+                    chains.append([point(f, "down", r) for f in reversed(freqs)])
     return chains, closed
 
 
@@ -221,7 +231,7 @@ def run_sweep(
     run_chains(
         [(run_point, chain, previous, finished) for chain, previous in todo], workers, scheduler
     )
-    rows = sort_rows(rows)
+    rows = sort_rows(pooled(rows))
     label_branches(rows)
     write_csv(Path(out) / "sweep.csv", rows)
     return rows
@@ -255,6 +265,7 @@ def finish_auto_rows(spec: SweepSpec, configs, groups, rows: list[dict]) -> list
     from x3dpd.design.auto_sweep import visited
 
     at = visited(spec, groups)
+    rows = pooled(rows)
     for config, _, closed in configs:
         if closed is not None:
             rows.extend(closed_rows(config, closed, at))

@@ -46,6 +46,7 @@ COLUMNS = (
     "cycles",
     "kept_cycles",
     "stopped_by",
+    "replicas",
     "converged",
     "extrapolated",
     "irregular",
