@@ -1,11 +1,14 @@
 """The energy audit stops a run at the same step through the API, the CLI and however the run
 is split into calls of the step loop (docs/physics.md, "Stopping a run that goes unstable").
 
-decks/beam_64.inp: 64 Lee & Radok spheres in a box shaken on a spring. At its 5e-7 s step the
-ledger's residual grows to about 1 % of the energy scale within 0.02 s (the Lee & Radok onset is
-booked from a = 0, docs/physics.md, "Energy ledger"), while the scale -- the largest of the
-ledger's terms -- keeps growing with the drive's work: a tolerance of 0.8 % is exceeded at a row
-near 0.013 s, and no longer against the scale at 0.03 s. The audit judged every row of a chunk
+decks/beam_64.inp made elastic (E1 = 0): 64 Hertz spheres in a box shaken on a spring. The
+ledger books each contact's work by the trapezoid, which velocity Verlet conserves, but an
+elastic contact stores the exact Hertz energy 2/5 F a, and nothing books their difference (a
+viscoelastic one's goes to its dissipation): at the 5e-7 s step the residual grows to about
+6e-4 of the energy scale within 0.02 s, while the scale -- the largest of the ledger's terms --
+keeps growing with the drive's work: a tolerance of 5e-4 is exceeded at a row near 0.019 s, and
+no longer against the scale at 0.03 s. (The Lee & Radok deck itself closes to round-off:
+tests/solver/test_conservation.py.) The audit judged every row of a chunk
 against the largest scale of the whole chunk, so a run whose chunks the API sized to the machine's
 speed stopped later, or not at all (the same shaken HOOKE bed stopped at 0.3215 s through the API
 and at 0.2807 s through the CLI); now each row is judged against the rows up to it only.
@@ -28,14 +31,31 @@ from x3dpd.io.energy import read_energy
 from x3dpd.model.build import build_model
 from x3dpd.solver.simulation import Simulation
 
-DECK = Path(__file__).resolve().parents[2] / "decks" / "beam_64.inp"
+BEAM_64 = Path(__file__).resolve().parents[2] / "decks" / "beam_64.inp"
 TMAX = 0.03
-TOL = 0.008
+TOL = 5e-4
+
+
+@pytest.fixture(scope="module")
+def DECK(tmp_path_factory):
+    """decks/beam_64.inp with elastic spheres: PDMP's E1 (field 6) 0."""
+    lines = BEAM_64.read_text().split("\n")
+    k = next(i for i, line in enumerate(lines) if line.strip().upper() == "PDMP") + 1
+    while lines[k].lstrip().startswith("$"):
+        k += 1
+    fields = lines[k].split()
+    fields[5] = "0.0"
+    lines[k] = "   " + " ".join(fields)
+    path = tmp_path_factory.mktemp("elastic") / "beam_64.inp"
+    path.write_text("\n".join(lines))
+    return path
+
+
 RESIDUAL, U_CONTACT = 11, 5
 
 
 @pytest.fixture(scope="module")
-def expected():
+def expected(DECK):
     """(step, time) of the first ledger row the rule flags, from a run the audit does not stop:
     |residual| > TOL * scale + U_c, scale = max(|e_ref|, every |term| of the rows after t0 up
     to this one) (x3dpd.solver.ledger_checks)."""
@@ -59,7 +79,7 @@ def _stops_at(run) -> tuple[int, float]:
     return err.value.step, err.value.time
 
 
-def test_the_api_stops_where_the_rule_says_whatever_its_chunks(expected):
+def test_the_api_stops_where_the_rule_says_whatever_its_chunks(DECK, expected):
     """Chunks sized to the machine's speed, and one trace row per chunk (a stop callback asked
     after every row)."""
     assert _stops_at(lambda: x3dpd.run(DECK, tmax=TMAX, energy_tolerance=TOL)) == expected
@@ -74,7 +94,7 @@ def test_the_api_stops_where_the_rule_says_whatever_its_chunks(expected):
 
 
 @pytest.mark.parametrize("calls", [1, 37], ids=["one-call", "37-calls"])
-def test_a_simulation_stops_at_the_same_step_in_one_call_or_many(expected, calls):
+def test_a_simulation_stops_at_the_same_step_in_one_call_or_many(DECK, expected, calls):
     sim = Simulation(build_model(x3dpd.load_deck(DECK)), energy_tolerance=TOL)
     total = int(round(TMAX / sim.dt))
     per_call = -(-total // calls)
@@ -86,7 +106,7 @@ def test_a_simulation_stops_at_the_same_step_in_one_call_or_many(expected, calls
     assert _stops_at(advance) == expected
 
 
-def test_the_cli_stops_at_the_same_step(expected, tmp_path, monkeypatch, capsys):
+def test_the_cli_stops_at_the_same_step(DECK, expected, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     shutil.copy(DECK, "beam_64.inp")
     with pytest.raises(SystemExit) as exc:
@@ -94,7 +114,7 @@ def test_the_cli_stops_at_the_same_step(expected, tmp_path, monkeypatch, capsys)
     _, err = capsys.readouterr()
     assert exc.value.code == 3, err
     step, t = expected
-    assert re.search(rf"unstable run at t = {t:.6g} s: total energy was lost", err), err
+    assert re.search(rf"unstable run at t = {t:.6g} s: total energy (was lost|grew)", err), err
     # the energy file ends with the row the audit flagged
     assert read_energy("beam_64.energy.csv").data[-1, 0] == pytest.approx(t, rel=1e-12)
 

@@ -16,7 +16,7 @@ from x3dpd._jit import step_kernel
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ROLLING, N_MAXWELL, N_ROLLING,
                                             N_TANGENTIAL, ROLLING_TORQUE,
                                             NORMAL_CLAMPED, NORMAL_DAMPED, NORMAL_STIFFNESS_SHAPE,
-                                            NORMAL_USES_RATE, NORMAL_WALL_FORCE,
+                                            NORMAL_WALL_FORCE,
                                             TANGENTIAL_FORCE, TANGENTIAL_STORED_ENERGY,
                                             TANGENTIAL_STORES)
 from x3dpd.solver.bundles import Status
@@ -51,13 +51,13 @@ def _booked_from(a, a_old, a_rate, dt):
     An open contact's last approach ``a_old``. A contact that opens on this step was a gap
     g < 0 away at the last one (a closed contact keeps no approach: ``a_old`` = 0), and its
     force jumps from 0 to F, so the step's work is 1/2 F (a - g): velocity Verlet conserves KE
-    - S plus exactly that trapezoid (x3dpd.solver.ledger_checks), and booking 1/2 F a instead
-    leaves up to 1/2 c_n v^2 dt per contact out of the ledger under the unclamped HOOKE
-    dashpot, whose F is c_n v at the onset. A law that reads the approach rate (half-step
-    velocities, so a - g = dt da/dt is this step's drift along n) gets g = a - dt da/dt; for
-    the others (Hertz, Lee & Radok: F -> 0 with a) the rate is not computed and the onset is
-    booked from a = 0."""
-    if NORMAL_USES_RATE and a_old <= 0.0:
+    - S plus exactly that trapezoid (x3dpd.solver.ledger_checks). ``a_rate`` is the approach
+    rate from the half-step velocities, so a - g = dt da/dt is this step's drift along n and
+    g = a - dt da/dt. Booking 1/2 F a instead left up to 1/2 c_n v^2 dt per contact out of the
+    ledger under the unclamped HOOKE dashpot, whose F is c_n v at the onset, and under Lee &
+    Radok, whose Maxwell terms jump with the approach's increment, 2e-3 of the energy scale of
+    decks/beam_64.inp in 50 ms (tests/solver/test_conservation.py)."""
+    if a_old <= 0.0:
         return a - dt * a_rate
     return a_old
 
@@ -224,17 +224,16 @@ def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, n
     r = radius[p]
     n0 = wall_nodes[row, 0]
     # normal force: the scene's law (x3dpd.physics.normal_laws)
-    a_rate = 0.0
-    if NORMAL_USES_RATE:
-        # approach rate: the wall point's velocity minus the particle's, along n
-        a_rate = -(nx * vel[i, 0] + ny * vel[i, 1] + nz * vel[i, 2])
-        for e in range(n_w):
-            nd = wall_nodes[row, e]
-            a_rate += w[e] * (nx * vel[nd, 0] + ny * vel[nd, 1] + nz * vel[nd, 2])
-        if lever:
-            a_rate += (nx * (vel[n0, 4] * lz - vel[n0, 5] * ly)
-                       + ny * (vel[n0, 5] * lx - vel[n0, 3] * lz)
-                       + nz * (vel[n0, 3] * ly - vel[n0, 4] * lx))
+    # approach rate: the wall point's velocity minus the particle's, along n (a law's rate,
+    # and the gap an opening contact is booked from: _booked_from)
+    a_rate = -(nx * vel[i, 0] + ny * vel[i, 1] + nz * vel[i, 2])
+    for e in range(n_w):
+        nd = wall_nodes[row, e]
+        a_rate += w[e] * (nx * vel[nd, 0] + ny * vel[nd, 1] + nz * vel[nd, 2])
+    if lever:
+        a_rate += (nx * (vel[n0, 4] * lz - vel[n0, 5] * ly)
+                   + ny * (vel[n0, 5] * lx - vel[n0, 3] * lz)
+                   + nz * (vel[n0, 3] * ly - vel[n0, 4] * lx))
     fn = NORMAL_WALL_FORCE(a, a_old, a_rate, p, particles, ws, s, S_H, N_MAXWELL)
     fn, dw = _record_normal(ws, on, s, a, _booked_from(a, a_old, a_rate, dt), fn, fn_old)
     lost = 0.0

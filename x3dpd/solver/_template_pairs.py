@@ -11,11 +11,11 @@ import math
 import numpy as np
 
 from x3dpd._jit import loop_kernel, step_kernel, vector_kernel
-from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, _booked_from,
+from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE,
                                             _close_contact, _penetration, _tangential)
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ONE_PARTICLE_KIND, N_MAXWELL,
                                             N_TANGENTIAL, NORMAL_CLAMPED, NORMAL_PAIR_FORCE,
-                                            NORMAL_USES_RATE, HAS_ROLLING, ROLLING_TORQUE,
+                                            HAS_ROLLING, ROLLING_TORQUE,
                                             TANGENTIAL_STORES)
 from x3dpd.solver.contact_lists import (COLUMN_ROW, PAIR_COLUMNS, PAIR_INPUT_COLUMNS,
                                          PAIR_OUTPUT_COLUMNS, S_A, S_FN, S_FT, S_H)
@@ -41,8 +41,9 @@ I_DX, I_DY, I_DZ, I_VIX, I_VIY, I_VIZ, I_WIX, I_WIY, I_WIZ, I_VJX, I_VJY, I_VJZ,
     I_WJZ, I_AOLD, I_FNOLD, I_FTOX, I_FTOY, I_FTOZ = range(len(PAIR_INPUT_COLUMNS))
 O_FX, O_FY, O_FZ, O_TIX, O_TIY, O_TIZ, O_TJX, O_TJY, O_TJZ, O_A, O_FN, O_FTX, O_FTY, O_FTZ, \
     O_DW, O_LOST, O_ROLLED, O_RMIN = range(len(PAIR_OUTPUT_COLUMNS))
-#: the response reads the bodies' velocities (its normal law's rate, friction) and spins
-GATHER_VELOCITY = NORMAL_USES_RATE or HAS_FRICTION
+#: the response reads the bodies' velocities (the approach rate: its normal law's, and the gap
+#: an opening contact's work is booked from, _booked_from; friction) and spins
+GATHER_VELOCITY = True
 GATHER_SPIN = HAS_FRICTION or HAS_ROLLING
 #: entries of one column area of the scratch (contact_lists.pair_columns): the columns of one
 #: block of the list
@@ -243,21 +244,28 @@ def _pair_response(q0, n, busy, pl_i, pl_j, particles, hist, dt, cin, cout, hist
         # branch-free body, whose table reads are then loop-invariant loads (one kind) instead
         # of masked gathers. A candidate apart gets F = 0; its law value (NaN under Hertz's
         # a^1.5) and the histories of its row in ``hist`` are never applied (pass 3 closes it)
-        a_rate = 0.0
-        if NORMAL_USES_RATE:
-            a_rate = -(nx * (vjx_[e] - vix_[e]) + ny * (vjy_[e] - viy_[e])
-                       + nz * (vjz_[e] - viz_[e]))
+        a_rate = -(nx * (vjx_[e] - vix_[e]) + ny * (vjy_[e] - viy_[e])
+                   + nz * (vjz_[e] - viz_[e]))
         # Maxwell histories in row q of ``hist``, columns 0 ..
         fn_law = NORMAL_PAIR_FORCE(a, a_old, a_rate, pi, pj, ki, kj, particles, hist, q, 0,
                                    N_MAXWELL)
         if NORMAL_CLAMPED and fn_law < 0.0:
             fn_law = 0.0
         fn = fn_law if touching else 0.0
-        a_from = _booked_from(a, a_old, a_rate, dt) if touching else a_old
-        # work of the normal force over the step, 1/2 (F_old + F) (a - a_from), a_from = a_old
-        # or, on the step a contact opens, its gap (_booked_from; pass 3 books it for touching
-        # candidates only)
-        dw = 0.5 * (fn_old + fn) * (a - a_from)
+        # work the normal force does over the step as velocity Verlet moves the bodies, the
+        # trapezoid 1/2 (F_old n_old + F n) . (-dt dv) (dv = v_j - v_i at the half step, the
+        # drift of x_j - x_i over the step), n_old the direction at the last step's positions
+        # d - dt dv: along the approach alone, 1/2 (F_old + F) (a - a_old), it missed the turn
+        # of n, 1e-7 of beam_64's energy scale in 50 ms. A contact opening (F_old = 0) books
+        # 1/2 F dt da/dt (_booked_from's gap), a closing one (F = 0) 1/2 F_old's term (pass 3)
+        dvx = vjx_[e] - vix_[e]
+        dvy = vjy_[e] - viy_[e]
+        dvz = vjz_[e] - viz_[e]
+        ox = dx - dt * dvx
+        oy = dy - dt * dvy
+        oz = dz - dt * dvz
+        old_rate = -(ox * dvx + oy * dvy + oz * dvz) / math.sqrt(ox * ox + oy * oy + oz * oz)
+        dw = 0.5 * dt * (fn_old * old_rate + fn * a_rate)
         # force on j along +n, on i along -n
         fx = fn * nx
         fy = fn * ny
@@ -292,10 +300,30 @@ def _pair_response(q0, n, busy, pl_i, pl_j, particles, hist, dt, cin, cout, hist
                                                   history_dt, gamma,
                                                   ftox_[e], ftoy_[e], ftoz_[e], hist, q,
                                                   2 * N_MAXWELL)
+            # the last step's friction force acted at the last step's contact points, the arms
+            # +ri n_old and -rj n_old, and may lean out of this step's tangent plane: its half
+            # of the trapezoid is -1/2 F_old . v_r,old dt with v_r,old the contact points'
+            # relative velocity on those arms, not on this step's tangent plane (the law's
+            # v_t). Their difference, second order in the turn of n, was 2e-8 of beam_64's
+            # energy scale in 50 ms.
+            inv_old = 1.0 / math.sqrt(ox * ox + oy * oy + oz * oz)
+            mx = ox * inv_old
+            my = oy * inv_old
+            mz = oz * inv_old
+            vrox = (dvx - rj * (wjy * mz - wjz * my)) - ri * (wiy * mz - wiz * my)
+            vroy = (dvy - rj * (wjz * mx - wjx * mz)) - ri * (wiz * mx - wix * mz)
+            vroz = (dvz - rj * (wjx * my - wjy * mx)) - ri * (wix * my - wiy * mx)
+            vrx = vjx - vix
+            vry = vjy - viy
+            vrz = vjz - viz
+            vrn = vrx * nx + vry * ny + vrz * nz
+            lost -= 0.5 * dt * (ftox_[e] * (vrox - (vrx - vrn * nx))
+                                + ftoy_[e] * (vroy - (vry - vrn * ny))
+                                + ftoz_[e] * (vroz - (vrz - vrn * nz)))
             if TANGENTIAL_STORES and touching:
                 # the spring's share of the slip work is stored, not lost (a candidate that
-                # no longer touches: lost is its last step's slip work, -1/2 F_old . v_t dt,
-                # and pass 3 books the spring's energy as it closes the contact)
+                # no longer touches: lost is its last step's slip work, -1/2 F_old . v_r,old
+                # dt, and pass 3 books the spring's energy as it closes the contact)
                 dw += du
                 lost -= du
             fx += ftx
@@ -381,8 +409,9 @@ def _pair_apply(q0, n, area, busy, p0, pl_i, pl_j, ps, pl_on, force, pen_limit, 
                 w_fric += c[_entry(C_LOST, e)]
                 if HAS_ROLLING:
                     w_roll += c[_entry(C_ROLLED, e)]
-            dw, released = _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
-            w_normal += dw
+            # its last step's work: the response's trapezoid (1/2 F_old n_old . -dt dv)
+            _, released = _close_contact(ps, pl_on, s, a, ps[s, S_A], ps[s, S_FN])
+            w_normal += c[_entry(C_DW, e)]
             if TANGENTIAL_STORES:
                 w_normal -= released
                 w_fric += released
