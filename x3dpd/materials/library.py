@@ -11,7 +11,6 @@ turns a material into a deck's unit system.
 from __future__ import annotations
 
 import difflib
-import math
 import re
 import tomllib
 from collections.abc import Mapping
@@ -19,36 +18,22 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
-from x3dpd.errors import InputError
+from x3dpd.materials.quantities import (
+    DENSITY_UNITS,
+    PRESSURE_UNITS,
+    MaterialError,
+    finite_number,
+    source_of,
+    unit_factor,
+)
+from x3dpd.materials.tables import TemperatureTables, read_temperature_block
 
 #: The library shipped with x3dpd.
 LIBRARY = Path(__file__).with_name("library.toml")
 
-#: Units a library file may give a modulus in [Pa per unit].
-PRESSURE_UNITS = {
-    "Pa": 1.0,
-    "kPa": 1e3,
-    "MPa": 1e6,
-    "GPa": 1e9,
-    "psi": 4.4482216152605 / 0.0254**2,
-    "ksi": 1e3 * 4.4482216152605 / 0.0254**2,
-    "Msi": 1e6 * 4.4482216152605 / 0.0254**2,
-}
-#: Units a library file may give a density in [kg/m^3 per unit]; ``lb/in^3`` is pound-mass
-#: (0.45359237 kg) per cubic inch, ``lbf s^2/in^4`` the mass density of an inch-lbf-s deck.
-DENSITY_UNITS = {
-    "kg/m^3": 1.0,
-    "g/cm^3": 1e3,
-    "lb/in^3": 0.45359237 / 0.0254**3,
-    "lbf s^2/in^4": 4.4482216152605 / 0.0254**4,
-}
 #: Fields every material must give, and the optional ones.
 REQUIRED = ("E", "nu", "rho", "mu")
-OPTIONAL = ("maxwell", "restitution", "description", "aliases")
-
-
-class MaterialError(InputError):
-    """An unknown material name or a malformed library file (exit status 2)."""
+OPTIONAL = ("maxwell", "restitution", "description", "aliases", "temperature")
 
 
 @dataclass(frozen=True)
@@ -65,6 +50,8 @@ class Material:
     restitution : normal coefficient of restitution where a source gives one, else None.
     sources : field name ("E", "nu", "rho", "mu", "maxwell", ...) -> where its value comes from.
     description : what the material is (alloy, grade, temper).
+    temperature : its tables against temperature (E, nu, rho, expansion; x3dpd.materials.
+        tables), or None for a material known at room temperature only.
     """
 
     name: str
@@ -77,6 +64,7 @@ class Material:
     sources: Mapping[str, str] = field(default_factory=dict, compare=False)
     aliases: tuple[str, ...] = ()
     description: str = ""
+    temperature: TemperatureTables | None = field(default=None, compare=False, repr=False)
 
     @property
     def instantaneous_E(self) -> float:
@@ -93,12 +81,6 @@ def _key(name: str) -> str:
     return re.sub(r"[\s_\-.]+", "", str(name).lower())
 
 
-def _number(where: str, what: str, raw) -> float:
-    if isinstance(raw, bool) or not isinstance(raw, (int, float)) or not math.isfinite(raw):
-        raise MaterialError(f"{where}: {what} must be a finite number; got {raw!r}")
-    return float(raw)
-
-
 def _si(where: str, name: str, entry, units: dict | None) -> tuple[float, str]:
     """(value in SI, source) of one ``{ value, unit, source }`` table."""
     if not isinstance(entry, dict):
@@ -109,18 +91,9 @@ def _si(where: str, name: str, entry, units: dict | None) -> tuple[float, str]:
             f"{where}: {name}: unknown key(s) {', '.join(sorted(unknown))}; "
             "expected value, unit, source"
         )
-    source = entry.get("source")
-    if not isinstance(source, str) or not source.strip():
-        raise MaterialError(f"{where}: {name} has no source")
-    value = _number(where, f"{name} value", entry.get("value"))
-    if units is None:
-        if "unit" in entry:
-            raise MaterialError(f"{where}: {name} is dimensionless: it takes no unit")
-        return value, source
-    unit = entry.get("unit")
-    if unit not in units:
-        raise MaterialError(f"{where}: {name} unit {unit!r}: expected one of {', '.join(units)}")
-    return value * units[unit], source
+    source = source_of(where, name, entry)
+    value = finite_number(where, f"{name} value", entry.get("value"))
+    return value * unit_factor(where, name, entry, units), source
 
 
 def _maxwell(where: str, raw) -> tuple[tuple[tuple[float, float], ...], str]:
@@ -138,7 +111,7 @@ def _maxwell(where: str, raw) -> tuple[tuple[tuple[float, float], ...], str]:
             {"value": arm["E"], "unit": arm["unit"], "source": arm["source"]},
             PRESSURE_UNITS,
         )
-        tau = _number(where, f"maxwell arm {k} tau", arm["tau"])
+        tau = finite_number(where, f"maxwell arm {k} tau", arm["tau"])
         if not (e > 0 and tau > 0):
             raise MaterialError(f"{where}: maxwell arm {k}: E and tau must be positive")
         arms.append((e, tau))
@@ -172,6 +145,14 @@ def _material(where: str, key: str, table) -> Material:
     aliases = table.get("aliases", [])
     if not (isinstance(aliases, list) and all(isinstance(a, str) for a in aliases)):
         raise MaterialError(f"{where}: aliases must be a list of names")
+    tables = None
+    if "temperature" in table:
+        if arms:
+            raise MaterialError(
+                f"{where}: a viscoelastic material cannot have a temperature table "
+                "(its Maxwell arms have no data at temperature)"
+            )
+        tables = read_temperature_block(where, table["temperature"], rho)
     return Material(
         name=key,
         E=e,
@@ -183,6 +164,7 @@ def _material(where: str, key: str, table) -> Material:
         sources=sources,
         aliases=tuple(aliases),
         description=str(table.get("description", "")),
+        temperature=tables,
     )
 
 

@@ -15,11 +15,12 @@ from x3dpd.materials.library import Material, MaterialError, material
 from x3dpd.units import DEFAULT, parse_units, si_size
 
 
-def _round(x: float) -> float:
+def round12(x: float) -> float:
+    """``x`` to 12 significant digits (a value given in the deck's units comes back as written)."""
     return float(f"{x:.12g}")
 
 
-def _system(units) -> tuple[str, str, str]:
+def unit_system(units) -> tuple[str, str, str]:
     """(length, force, time) from None, a tuple, ``"in lbf s"`` or a UNITS card."""
     if units is None:
         return DEFAULT
@@ -67,16 +68,16 @@ def in_units(mat, units=None) -> DeckMaterial:
     decks), ``(length, force, time)``, a string such as ``"m N s"``, or a deck's UNITS card.
     Raises :class:`MaterialError` for units x3dpd does not know (x3dpd.units)."""
     mat: Material = material(mat)
-    system = _system(units)
+    system = unit_system(units)
     metres, newtons, seconds = si_size(system)
     pressure = metres**2 / newtons  # per Pa
     density = metres**4 / (newtons * seconds**2)  # per kg/m^3
     return DeckMaterial(
         name=mat.name,
-        E=_round(mat.E * pressure),
+        E=round12(mat.E * pressure),
         nu=mat.nu,
-        rho=_round(mat.rho * density),
+        rho=round12(mat.rho * density),
         mu=mat.mu,
-        maxwell=tuple((_round(e * pressure), _round(tau / seconds)) for e, tau in mat.maxwell),
+        maxwell=tuple((round12(e * pressure), round12(tau / seconds)) for e, tau in mat.maxwell),
         units=system,
     )
