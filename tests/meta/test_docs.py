@@ -22,6 +22,8 @@ from pathlib import Path
 
 import pytest
 
+from x3dpd.solver.bundles import ADVANCE_BUNDLES
+
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGE = ROOT / "x3dpd"
 README = ROOT / "README.md"
@@ -33,21 +35,11 @@ LINKED = (README, ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").glob("*.md")))
 MAX_README_LINES = 350
 
 #: The step loop's bundle arguments as the docs write them (``pairs.history``): argument name
-#: -> class in x3dpd.solver.bundles (their names are ADVANCE_BUNDLES).
-BUNDLE_ARGUMENTS = {
-    "nodes": "Nodes",
-    "loads": "Loads",
-    "springs": "Springs",
-    "rigid": "RigidBodies",
-    "particles": "Particles",
-    "faces": "Faces",
-    "walls": "ContactList",
-    "pairs": "ContactList",
-    "shapes": "Shapes",
-    "modal": "Modal",
-    "stepping": "Stepping",
-    "output": "Output",
-}
+#: (ADVANCE_BUNDLES) -> class in x3dpd.solver.bundles.
+_BUNDLES = "Nodes Loads Springs RigidBodies Particles Faces ContactList ContactList Shapes Modal"
+BUNDLE_ARGUMENTS = dict(
+    zip(ADVANCE_BUNDLES, (*_BUNDLES.split(), "Stepping", "Output"), strict=True)
+)
 #: Names the docs use that are not x3dpd's: numba's, LLVM's and the environment's.
 NOT_OURS = {"NUMBA_OPT", "NUMBA_LLVM_PASS_TIMINGS", "NUMBA_NUM_THREADS", "LocalCluster"}
 
@@ -58,17 +50,22 @@ SHORT_PATH = re.compile(rf"(?<![\w./<-])((?:{'|'.join(SUBPACKAGES)})/[\w./*<>-]*
 FILE_SUFFIXES = (".py", ".md", ".toml", ".json", ".lark", ".inp", ".csv", ".png", ".txt")
 
 
-# ---- what the package defines --------------------------------------------------------------
+@cache
+def _package_modules() -> tuple[tuple[str, Path], ...]:
+    """(dotted name, file) of every module of the package."""
+    out = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = path.relative_to(ROOT).with_suffix("").parts
+        out.append((".".join(parts[:-1] if parts[-1] == "__init__" else parts), path))
+    return tuple(out)
 
 
 @cache
 def _modules() -> dict[str, list[str]]:
     """Module basename -> the dotted names of the package's modules of that basename."""
     out: dict[str, list[str]] = {}
-    for path in sorted(PACKAGE.rglob("*.py")):
-        rel = path.relative_to(ROOT).with_suffix("")
-        parts = rel.parts[:-1] if rel.name == "__init__" else rel.parts
-        out.setdefault(parts[-1], []).append(".".join(parts))
+    for module, _ in _package_modules():
+        out.setdefault(module.rsplit(".", 1)[-1], []).append(module)
     return out
 
 
@@ -97,13 +94,10 @@ def _identifiers() -> frozenset[str]:
 def _classes() -> dict[str, list[str]]:
     """Class name -> the modules (dotted) that define a class of that name."""
     out: dict[str, list[str]] = {}
-    for modules in _modules().values():
-        for module in modules:
-            path = ROOT / Path(*module.split("."))
-            path = path / "__init__.py" if path.is_dir() else path.with_suffix(".py")
-            for node in ast.walk(ast.parse(path.read_text())):
-                if isinstance(node, ast.ClassDef):
-                    out.setdefault(node.name, []).append(module)
+    for module, path in _package_modules():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ClassDef):
+                out.setdefault(node.name, []).append(module)
     return out
 
 
@@ -174,13 +168,14 @@ def _file_exists(name: str) -> bool:
     return (ROOT / name).is_file() or any(any(top.rglob(name)) for top in tops)
 
 
-# ---- what a doc names ----------------------------------------------------------------------
+def _prose(text: str) -> str:
+    """A Markdown text without its fenced code blocks."""
+    return re.sub(r"^```.*?^```", "", text, flags=re.S | re.M)
 
 
 def _inline_code(text: str) -> list[str]:
     """The doc's inline code spans (fenced blocks left out; a span may run over a line end)."""
-    text = re.sub(r"^```.*?^```", "", text, flags=re.S | re.M)
-    return [" ".join(span.split()) for span in re.findall(r"`([^`]+)`", text)]
+    return [" ".join(span.split()) for span in re.findall(r"`([^`]+)`", _prose(text))]
 
 
 def path_problems(text: str, short_paths: bool = False) -> list[str]:
@@ -255,9 +250,6 @@ def registry_problems(text: str) -> list[str]:
     return bad
 
 
-# ---- links ---------------------------------------------------------------------------------
-
-
 def slug(heading: str) -> str:
     """GitHub's anchor of a heading: lower case, punctuation dropped, spaces to hyphens."""
     text = re.sub(r"`", "", heading.strip().lower())
@@ -266,7 +258,7 @@ def slug(heading: str) -> str:
 
 
 def anchors(path: Path) -> set[str]:
-    text = re.sub(r"^```.*?^```", "", path.read_text(), flags=re.S | re.M)
+    text = _prose(path.read_text())
     seen: dict[str, int] = {}
     out = set()
     for heading in re.findall(r"^#{1,6} (.+)$", text, flags=re.M):
@@ -278,7 +270,7 @@ def anchors(path: Path) -> set[str]:
 
 
 def link_problems(path: Path) -> list[str]:
-    text = re.sub(r"^```.*?^```", "", path.read_text(), flags=re.S | re.M)
+    text = _prose(path.read_text())
     bad = []
     for target in re.findall(r"\]\(([^)\s]+)\)", text):
         if re.match(r"[a-z]+:", target):
@@ -290,9 +282,6 @@ def link_problems(path: Path) -> list[str]:
         elif anchor and dest.suffix == ".md" and anchor not in anchors(dest):
             bad.append(f"{path.name}: ({target}): no heading #{anchor} in {dest.name}")
     return bad
-
-
-# ---- the README ----------------------------------------------------------------------------
 
 
 def quick_start_commands(text: str) -> list[str]:
@@ -316,9 +305,6 @@ def ci_runs(command: str, ci_text: str) -> bool:
         for line in ci_text.splitlines()
         if line.strip() and not line.lstrip().startswith("#")
     )
-
-
-# ---- the tests -----------------------------------------------------------------------------
 
 
 @pytest.mark.parametrize("doc", CODE_DOCS, ids=lambda p: p.name)
@@ -366,9 +352,6 @@ def test_the_readme_is_a_manual_with_a_two_command_quick_start():
     assert ci_runs(commands[1], (ROOT / ".ci" / "run").read_text()), (
         ".ci/run must run the README's test command"
     )
-
-
-# ---- each check can fail -------------------------------------------------------------------
 
 
 def test_the_check_flags_a_path_that_does_not_exist():
