@@ -37,13 +37,18 @@ def test_replicas_that_agree_within_their_intervals_shrink_it_by_sqrt_r():
     assert m == pytest.approx(1.0, abs=1e-12) and h == pytest.approx(0.005, rel=1e-12)
 
 
-def test_periodic_and_unfinished_replicas():
-    # zero half-widths (periodic motions): the plain mean, its interval from the spread
+def test_replicas_without_their_own_interval_pool_by_their_spread():
+    """Zero half-widths (periodic motions) or none (replicas stopped as long enough to pool):
+    the plain mean, the half-width t_{0.975, R-1} s / sqrt(R) from the replicas' spread."""
+    from scipy.stats import t
+
     assert pool([2.0, 2.0], [0.0, 0.0]) == (2.0, 0.0)
     m, h = pool([2.0, 2.2], [0.0, 0.0])
-    assert m == pytest.approx(2.1) and h == pytest.approx(1.96 * 0.1414213562 / math.sqrt(2))
-    # a replica without an interval: none for the pool
-    assert pool([1.0, 1.1], [0.01, math.inf])[1] == math.inf
+    assert m == pytest.approx(2.1) and h == pytest.approx(t.ppf(0.975, 1) * 0.1414213562 / 2**0.5)
+    values = [1.0, 1.1, 0.95, 1.02]
+    m, h = pool(values, [math.inf, 0.01, math.inf, 0.02])
+    s = float(np.std(values, ddof=1))
+    assert m == pytest.approx(np.mean(values)) and h == pytest.approx(t.ppf(0.975, 3) * s / 2)
 
 
 def test_a_replica_starts_its_particles_a_hair_apart():
@@ -87,6 +92,8 @@ def test_a_points_replicas_pool_into_one_row_on_dask_as_serially(tmp_path):
     assert row["cycles"] == sum(r["cycles"] for r in stored)
     expected = pool([r["amplitude"] for r in stored], [r["amplitude_ci"] for r in stored])
     assert (row["amplitude"], row["amplitude_ci"]) == expected
+    done = all(r["converged"] for r in stored)
+    assert row["converged"] == (done and expected[1] <= 0.01 * expected[0])
     parallel = run_sweep(_spec(3), tmp_path / "dask", workers=2)
     for a, b in zip(serial, parallel):
         for k in set(a) - {"wall_s", "compile_s"}:

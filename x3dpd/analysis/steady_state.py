@@ -65,7 +65,8 @@ class SteadyState:
     ``tail`` the estimated remaining relative change; ``cycles`` drive cycles run, of which
     ``kept`` were averaged (the rest: the start-up transient); ``converged`` met the criterion
     before the cap; ``irregular`` its cycles scatter by more than the tolerance (a statistical
-    answer); ``method`` how it converged ("interval", "extrapolated", "window", or "cap");
+    answer); ``method`` how it converged ("interval", "extrapolated", "window", "replica": a
+    replica long enough to pool, or "cap");
     ``tau`` the cycles' integrated autocorrelation time [cycles]; ``dissipated_per_cycle``
     ledger energy dissipated per cycle over the kept cycles (when fed) and ``cycle_energies``
     the same per kept cycle (for the interval of a sum of them, :meth:`energy_interval`).
@@ -103,7 +104,7 @@ class SteadyState:
         if not present:
             return math.nan, math.nan
         total = np.sum(present, axis=0)
-        if self.method in ("interval", "cap"):
+        if self.method in ("interval", "replica", "cap"):
             iv = mean_interval(total)
             return iv.mean, iv.half_width
         value = float(np.mean(total))
@@ -124,6 +125,9 @@ class SteadyStateMonitor:
     max_cycles : the cap.
     extrapolate : allow the Prony limit (module docstring).
     deterministic : a response without particles: no statistical answer (module docstring).
+    replica_cycles : one replica of several (x3dpd.design.replicas): it may also stop once its
+        transient is out and it kept this many cycles, its mean then pooled by the replicas'
+        spread ("replica").
     """
 
     def __init__(
@@ -138,6 +142,7 @@ class SteadyStateMonitor:
         max_cycles: int = 600,
         extrapolate: bool = True,
         deterministic: bool = False,
+        replica_cycles: int | None = None,
     ):
         self.omega = float(omega)
         self.t0 = float(t0)
@@ -149,6 +154,7 @@ class SteadyStateMonitor:
         self.max_cycles = int(max_cycles)
         self.extrapolate = bool(extrapolate)
         self.deterministic = bool(deterministic)
+        self.replica_cycles = replica_cycles
         self.limit: complex | None = None
         #: the limits of the last two pairs of windows, when extrapolated
         self.limits: tuple[complex, complex] | None = None
@@ -246,6 +252,13 @@ class SteadyStateMonitor:
                 if self.assessment.within(self.tol):
                     self.done = self.converged = True
                     self.method = "interval"
+                elif (
+                    self.replica_cycles is not None
+                    and self.assessment.settled
+                    and n - self.assessment.truncation >= self.replica_cycles
+                ):
+                    self.done = self.converged = True
+                    self.method = "replica"
         if len(self.phasors) >= self.max_cycles:
             self.done = True
 
@@ -332,13 +345,14 @@ class SteadyStateMonitor:
         change = tail = math.inf
         if w >= 2:
             change, tail, _, _ = self._change()
-        statistical = not self.deterministic and self.method in ("interval", "cap")
+        statistical = not self.deterministic and self.method in ("interval", "replica", "cap")
         interval = None
         if statistical:
             if self.assessment is None or self.method == "cap":
                 self.assessment = assess(self.phasors[:hi])
-            lo = self.assessment.truncation if self.method == "interval" else lo
-            interval = self.assessment.interval if self.method == "interval" else None
+            kept = self.method in ("interval", "replica")
+            lo = self.assessment.truncation if kept else lo
+            interval = self.assessment.interval if kept else None
             if (
                 self.method == "cap"
                 and self.assessment.settled
@@ -383,7 +397,7 @@ class SteadyStateMonitor:
             cycles=n,
             converged=self.converged,
             irregular=self.converged
-            and self.method == "interval"
+            and self.method in ("interval", "replica")
             and float(np.std(amps) / np.mean(amps)) > self.tol,
             t_end=self.t_start + hi * self.period,
             dissipated_per_cycle={name: float(np.mean(e)) for name, e in energies.items()},

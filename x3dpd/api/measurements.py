@@ -40,6 +40,7 @@ from x3dpd.analysis.ringdown import G_IN_S2, Ringdown, damping_vs_amplitude, res
 from x3dpd.analysis.lscf import PoleOrders, lscf_poles, max_order, pole_groups, select_poles
 from x3dpd.analysis.lsfd import ModalFit, refine_modes
 from x3dpd.analysis.sdof_fit import SdofFit, fit_sdof
+from x3dpd.analysis.confidence import t_quantile
 from x3dpd.analysis.peak_search import Peak, PeakSearch
 from x3dpd.analysis.steady_state import SteadyStateMonitor
 from x3dpd.deck.modes import DOF_NAMES, ModeSet, write_modes_csv
@@ -63,6 +64,7 @@ __all__ = [
     "Peak",
     "PeakSearch",
     "SteadyStateMonitor",
+    "t_quantile",
     "amplitude_spectrum",
     "central_difference",
     "check_window",

@@ -68,7 +68,7 @@ class _Group:
 
     def measured(self) -> list[tuple[float, float, float]]:
         """(frequency, amplitude, half-width) of every point, its replicas pooled."""
-        return [(r["frequency_hz"], *peak_value(r)) for r in pooled(self.rows)]
+        return [(r["frequency_hz"], *peak_value(r)) for r in pooled(self.rows, self.search.tol)]
 
     def upstream(self, f: float, replica: int):
         """(row, state) of the replica's computed point just before ``f`` in the chain's

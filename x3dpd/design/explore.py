@@ -106,7 +106,7 @@ def run_design(
         progress = _run_fixed_design(configs, made, ev, workers, scheduler, echo, design, out)
     for c in configs:
         if c.spec is not None:
-            c.rows = sort_rows(pooled(c.rows))
+            c.rows = sort_rows(pooled(c.rows, ev.criterion.tol))
             label_branches(c.rows)
             write_csv(c.folder / "sweep" / "sweep.csv", c.rows)
     rows = design_rows(design, configs)

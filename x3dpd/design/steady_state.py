@@ -52,7 +52,8 @@ class Criterion:
     ``tol`` relative tolerance; ``window`` cycles per window; ``min_windows`` windows discarded
     at least; ``max_cycles`` the cap; ``samples_per_cycle`` recording rate; ``extrapolate``
     allow the Prony limit for responses that are linear enough; ``replicas`` runs of each point
-    (particles started a hair apart), pooled into one answer (x3dpd.design.replicas).
+    (particles started a hair apart), pooled into one answer (x3dpd.design.replicas), each of
+    which may stop once its transient is out and it kept ``replica_cycles`` cycles.
     """
 
     tol: float = 0.01
@@ -63,6 +64,7 @@ class Criterion:
     extrapolate: bool = True
     predict: bool = True
     replicas: int = 1
+    replica_cycles: int = 50
 
 
 @dataclass(frozen=True)
@@ -139,6 +141,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
             max_cycles=crit.max_cycles,
             extrapolate=crit.extrapolate,
             deterministic=deterministic,
+            replica_cycles=crit.replica_cycles if crit.replicas > 1 else None,
         )
 
     monitor = new_monitor()

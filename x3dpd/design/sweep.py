@@ -231,7 +231,7 @@ def run_sweep(
     run_chains(
         [(run_point, chain, previous, finished) for chain, previous in todo], workers, scheduler
     )
-    rows = sort_rows(pooled(rows))
+    rows = sort_rows(pooled(rows, spec.criterion.tol))
     label_branches(rows)
     write_csv(Path(out) / "sweep.csv", rows)
     return rows
@@ -265,7 +265,7 @@ def finish_auto_rows(spec: SweepSpec, configs, groups, rows: list[dict]) -> list
     from x3dpd.design.auto_sweep import visited
 
     at = visited(spec, groups)
-    rows = pooled(rows)
+    rows = pooled(rows, spec.criterion.tol)
     for config, _, closed in configs:
         if closed is not None:
             rows.extend(closed_rows(config, closed, at))
