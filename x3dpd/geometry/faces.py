@@ -15,7 +15,13 @@ import numpy as np
 
 from x3dpd._jit import kernel, step_kernel
 
-__all__ = ["_build_wall_list", "_face_offsets", "_face_planes", "_locate_on_face"]
+__all__ = ["TRIANGLE_FRAME", "_build_wall_list", "_face_offsets", "_face_planes",
+           "_locate_on_face", "_locate_on_frames", "_triangle_frames"]
+
+#: Values per triangle of :func:`_triangle_frames`: the gradients g_e (3 each) and offsets h_e
+#: of the barycentric coordinates lambda_e = g_e . q - h_e, e = 0, 1, 2, and the heights H_e
+#: over each edge: 3 x 3 + 3 + 3.
+TRIANGLE_FRAME = 15
 
 
 @step_kernel
@@ -105,6 +111,87 @@ def _locate_on_face(qx, qy, qz, nx, ny, nz, f, x, face_ptr, face_tris, tri_nodes
                 lam1 = lam
             else:
                 lam2 = lam
+        if outside <= tol and outside < best_out:
+            best_out = outside
+            best = t
+            lam0 = min(max(lam0, 0.0), 1.0)
+            lam1 = min(max(lam1, 0.0), 1.0)
+            lam2 = min(max(lam2, 0.0), 1.0)
+            sw = lam0 + lam1 + lam2
+            w[0] = lam0 / sw
+            w[1] = lam1 / sw
+            w[2] = lam2 / sw
+            if outside == 0.0:
+                break
+    return best
+
+
+@step_kernel
+def _triangle_frames(x, face_n, face_ptr, face_tris, tri_nodes, frames):
+    """Each triangle's barycentric frame at the current node positions, for
+    :func:`_locate_on_frames`: with its face's unit normal n, the edge e_e opposite node e (e_0
+    from node 1 to node 2, e_1 from 2 to 0, e_2 from 0 to 1) and twice the signed area along n,
+    A = n . (e_2 x (x_2 - x_0)), the coordinate of a point q of the plane is
+
+        lambda_e = n . (e_e x (q - x_i)) / A = g_e . q - h_e,  g_e = (n x e_e) / A,
+        h_e = g_e . x_i   (x_i the edge's first node),
+
+    and a point with lambda_e < 0 lies -lambda_e H_e outside edge e, H_e = |A| / |e_e| (the
+    triangle's height over it). A few dozen operations per triangle per step; the locator then
+    needs three dot products per triangle, no division and no square root."""
+    for f in range(face_ptr.shape[0] - 1):
+        nx = face_n[f, 0]
+        ny = face_n[f, 1]
+        nz = face_n[f, 2]
+        for k in range(face_ptr[f], face_ptr[f + 1]):
+            t = face_tris[k]
+            p0 = tri_nodes[t, 0]
+            p1 = tri_nodes[t, 1]
+            p2 = tri_nodes[t, 2]
+            ax = x[p1, 0] - x[p0, 0]
+            ay = x[p1, 1] - x[p0, 1]
+            az = x[p1, 2] - x[p0, 2]
+            bx = x[p2, 0] - x[p0, 0]
+            by = x[p2, 1] - x[p0, 1]
+            bz = x[p2, 2] - x[p0, 2]
+            area2 = nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
+            inv = 1.0 / area2
+            for e in range(3):
+                if e == 0:
+                    i = p1
+                    j = p2
+                elif e == 1:
+                    i = p2
+                    j = p0
+                else:
+                    i = p0
+                    j = p1
+                ex = x[j, 0] - x[i, 0]
+                ey = x[j, 1] - x[i, 1]
+                ez = x[j, 2] - x[i, 2]
+                gx = (ny * ez - nz * ey) * inv
+                gy = (nz * ex - nx * ez) * inv
+                gz = (nx * ey - ny * ex) * inv
+                frames[t, 3 * e] = gx
+                frames[t, 3 * e + 1] = gy
+                frames[t, 3 * e + 2] = gz
+                frames[t, 9 + e] = gx * x[i, 0] + gy * x[i, 1] + gz * x[i, 2]
+                frames[t, 12 + e] = abs(area2) / math.sqrt(ex * ex + ey * ey + ez * ez)
+
+
+@step_kernel
+def _locate_on_frames(qx, qy, qz, f, face_ptr, face_tris, frames, tol, w):
+    """:func:`_locate_on_face` on the triangles' frames (:func:`_triangle_frames`): the
+    triangle of face ``f`` that holds point q of the face's plane within ``tol`` of its edges,
+    its clamped barycentric weights into ``w``; returns the triangle, or -1."""
+    best = -1
+    best_out = 1e300
+    for k in range(face_ptr[f], face_ptr[f + 1]):
+        t = face_tris[k]
+        lam0 = frames[t, 0] * qx + frames[t, 1] * qy + frames[t, 2] * qz - frames[t, 9]
+        lam1 = frames[t, 3] * qx + frames[t, 4] * qy + frames[t, 5] * qz - frames[t, 10]
+        lam2 = frames[t, 6] * qx + frames[t, 7] * qy + frames[t, 8] * qz - frames[t, 11]
+        outside = max(0.0, -lam0 * frames[t, 12], -lam1 * frames[t, 13], -lam2 * frames[t, 14])
         if outside <= tol and outside < best_out:
             best_out = outside
             best = t

@@ -23,7 +23,8 @@ import math
 
 from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
-from x3dpd.geometry.faces import _build_wall_list, _face_offsets, _face_planes
+from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
+                                  _triangle_frames)
 from x3dpd.physics.axial_spring import _axial_spring_forces
 from x3dpd.physics.modal import _modal_drift, _modal_kick, _modal_place
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
@@ -39,7 +40,8 @@ from x3dpd.solver._template_pair_passes import _pair_contacts
 from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_EXTERNAL, HAS_MODAL,
                                             HAS_MOTION, HAS_PAIRS, HAS_PYTHON_FORCE, HAS_RIGID,
                                             HAS_RIGID_ROTATION, HAS_ROTATIONAL_SPRINGS,
-                                            HAS_SHAPES, HAS_SPRINGS, HAS_USER_FORCE, HAS_WALLS,
+                                            HAS_ONE_WALL_KIND, HAS_SHAPES, HAS_SPRINGS,
+                                            HAS_USER_FORCE, HAS_WALLS,
                                             HAS_WALLS_TRANSLATE, USER_FORCE)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
 from x3dpd.solver.bundles import (ContactList, Faces, Loads, Modal, Nodes, Output, Particles,
@@ -113,6 +115,10 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
         else:
             _face_planes(x, faces.tri_nodes, faces.tri_sign, faces.first_tri, faces.normal,
                          faces.offset)
+        if HAS_ONE_WALL_KIND:
+            # the triangles' barycentric frames, for the locator of the wall columns
+            _triangle_frames(x, faces.normal, faces.tri_ptr, faces.tris, faces.tri_nodes,
+                             faces.tri_frame)
         # the rebuild's scratch is free while forces run
         status |= _wall_contacts(nodes, particles, faces, walls, stepping,
                                  stepping.small[6:9], walls.first_new)

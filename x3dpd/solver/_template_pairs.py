@@ -264,7 +264,8 @@ def _pair_response(q0, n, busy, pl_i, pl_j, particles, hist, dt, cin, cout, hist
         ox = dx - dt * dvx
         oy = dy - dt * dvy
         oz = dz - dt * dvz
-        old_rate = -(ox * dvx + oy * dvy + oz * dvz) / math.sqrt(ox * ox + oy * oy + oz * oz)
+        inv_old = 1.0 / math.sqrt(ox * ox + oy * oy + oz * oz)
+        old_rate = -(ox * dvx + oy * dvy + oz * dvz) * inv_old
         dw = 0.5 * dt * (fn_old * old_rate + fn * a_rate)
         # force on j along +n, on i along -n
         fx = fn * nx
@@ -306,7 +307,6 @@ def _pair_response(q0, n, busy, pl_i, pl_j, particles, hist, dt, cin, cout, hist
             # relative velocity on those arms, not on this step's tangent plane (the law's
             # v_t). Their difference, second order in the turn of n, was 2e-8 of beam_64's
             # energy scale in 50 ms.
-            inv_old = 1.0 / math.sqrt(ox * ox + oy * oy + oz * oz)
             mx = ox * inv_old
             my = oy * inv_old
             mz = oz * inv_old

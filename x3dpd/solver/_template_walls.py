@@ -13,8 +13,12 @@ from x3dpd.geometry.faces import _locate_on_face
 from x3dpd.solver._template_contact import (HAS_TORQUE, L_DFRIC, L_DROLL, L_WN, OK,
                                             _close_contact, _penetration, _wall_closing_work,
                                             _wall_response)
-from x3dpd.solver._template_variant import HAS_ROLLING, SHAPE_LOCATE, TANGENTIAL_STORES
-from x3dpd.solver.contact_lists import S_A, S_FN
+from x3dpd.solver._template_variant import (HAS_ONE_WALL_KIND, HAS_ROLLING, SHAPE_LOCATE,
+                                            TANGENTIAL_STORES)
+from x3dpd.solver._template_wall_columns import (_wall_apply, _wall_columns_in,
+                                                 _wall_columns_out, _wall_gather,
+                                                 _wall_response_columns)
+from x3dpd.solver.contact_lists import COLUMN_ROW, PAIR_BLOCK, S_A, S_FN
 
 @kernel
 def _no_shape_locate(kind, x, na, nb, params, c, px, py, pz, r, out):
@@ -29,9 +33,12 @@ if SHAPE_LOCATE is None:
 @step_kernel
 def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     """Particle-wall contact forces on the triangulated walls (report Figure 40): the face
-    locator (x3dpd.geometry.faces) then the shared contact response ``_wall_response``. ``w``
-    is a 3-element scratch array, ``busy`` an int scratch of the list's capacity. Returns a
-    status bit."""
+    locator (x3dpd.geometry.faces) then the shared contact response ``_wall_response``, one
+    contact at a time -- or, when every particle meets the walls alike, in columns with a
+    vectorized response (``_wall_contacts_in_columns``). ``w`` is a 3-element scratch array,
+    ``busy`` an int scratch of the list's capacity. Returns a status bit."""
+    if HAS_ONE_WALL_KIND:
+        return _wall_contacts_in_columns(nodes, particles, faces, walls, stepping, w, busy)
     x = nodes.x
     p0, radius = particles.p0, particles.radius
     wl_p, wl_f, ws, wl_on, nw = walls.first, walls.second, walls.state, walls.on, walls.count[0]
@@ -109,6 +116,39 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     ledger[L_DFRIC] += w_fric
     if HAS_ROLLING:
         ledger[L_DROLL] += w_roll
+    return status
+
+
+@step_kernel
+def _wall_contacts_in_columns(nodes, particles, faces, walls, stepping, w, busy):
+    """``_wall_contacts`` in three passes over the list block by block (PAIR_BLOCK candidates,
+    ``_template_wall_columns``): gather and locate, the vectorized response, the apply pass in
+    list order (which closes the contacts that ended). The ledger's sums chain through the
+    blocks in that order."""
+    nw = walls.count[0]
+    c = walls.columns
+    rows = c.reshape((c.shape[0] // COLUMN_ROW, COLUMN_ROW))
+    status = OK
+    w_normal = 0.0
+    w_fric = 0.0
+    w_roll = 0.0
+    for lo in range(0, nw, PAIR_BLOCK):
+        hi = min(nw, lo + PAIR_BLOCK)
+        nb = _wall_gather(lo, hi, nodes.x, nodes.vel, particles.p0, particles.radius,
+                          walls.first, walls.second, walls.state, walls.on, faces.normal,
+                          faces.offset, faces.tri_ptr, faces.tris, faces.tri_nodes,
+                          faces.tri_frame, busy, c, walls.history, w)
+        if nb == 0:
+            continue
+        _wall_response_columns(nb, particles, walls.history, stepping.dt, stepping.history_dt,
+                               _wall_columns_in(rows), _wall_columns_out(rows))
+        status, w_normal, w_fric, w_roll = _wall_apply(nb, busy, nodes, particles, faces, walls,
+                                                       stepping, w, c, status, w_normal, w_fric,
+                                                       w_roll)
+    stepping.ledger[L_WN] += w_normal
+    stepping.ledger[L_DFRIC] += w_fric
+    if HAS_ROLLING:
+        stepping.ledger[L_DROLL] += w_roll
     return status
 
 

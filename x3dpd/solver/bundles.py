@@ -21,7 +21,8 @@ from typing import NamedTuple
 import numpy as np
 
 from x3dpd.geometry.shapes import MAX_SHAPE_PARTS
-from x3dpd.solver.contact_lists import S_H, history_columns, pair_columns
+from x3dpd.solver.contact_lists import (PAIR_BLOCK, S_H, history_columns, pair_columns,
+                                         wall_columns)
 
 __all__ = ["Status", "Nodes", "Loads", "Springs", "RigidBodies", "Particles", "Faces",
            "ContactList", "Shapes", "Modal", "Stepping", "Output"]
@@ -130,6 +131,7 @@ class Faces(NamedTuple):
     tris: np.ndarray         # triangle indices of each face
     tri_nodes: np.ndarray    # (T, 3) node indices of each triangle
     tri_sign: np.ndarray     # (T,) +-1: orientation of the triangle's normal
+    tri_frame: np.ndarray    # (T, 15) barycentric frames (x3dpd.geometry.faces), each step
 
 
 class ContactList(NamedTuple):
@@ -219,7 +221,8 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
                   history_dt: float | None = None) -> dict:
     """The kernels' bundles of one scene (everything but :class:`Output`), by name.
 
-    ``faces_now``: (normal, offset) arrays the kernels refresh from the wall nodes;
+    ``faces_now``: (normal, offset, triangle frames) arrays the kernels refresh from the wall
+    nodes;
     ``scratch``: the rebuild scratch arrays of both lists and ``small`` (see
     :func:`contact_scratch`); ``ledger`` replaces the state's ledger (a scratch one for force
     evaluations that must not count work); ``history_dt`` the step the tangential laws'
@@ -244,7 +247,7 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
                                k.half, k.mu, k.inv_mt, k.pcav, k.law_wall, k.law_pair,
                                k.tan_wall, k.tan_pair),
         "faces": Faces(k.cav_ptr, k.cav_faces, faces_now[0], faces_now[1], k.face_first_tri,
-                       k.face_ptr, k.face_tris, k.tri_nodes, k.tri_sign),
+                       k.face_ptr, k.face_tris, k.tri_nodes, k.tri_sign, faces_now[2]),
         "walls": walls,
         "pairs": pairs,
         "shapes": Shapes(*k.shapes, s.cs, s.cs_on, scratch["located"]),
@@ -264,8 +267,11 @@ def contact_scratch(state) -> dict:
             "ws2": np.zeros_like(s.ws), "wl_a": np.zeros(s.wl_p.shape[0]),
             "pl_i2": np.zeros_like(s.pl_i), "pl_j2": np.zeros_like(s.pl_j),
             "ps2": np.zeros_like(s.ps), "pl_a": np.zeros(s.pl_i.shape[0]),
-            "wl_c": np.zeros(1), "pl_c": pair_columns(s.pl_i.shape[0]),
-            "wl_h": np.zeros((1, 1), order="F"),
+            # the wall pass's columns (variants with one wall kind; a scene without walls
+            # holds a list of one candidate: placeholders)
+            "wl_c": wall_columns() if s.wl_p.shape[0] > 1 else np.zeros(1),
+            "wl_h": history_columns(min(s.wl_p.shape[0], PAIR_BLOCK), s.ws.shape[1] - S_H),
+            "pl_c": pair_columns(s.pl_i.shape[0]),
             "pl_h": history_columns(s.pl_i.shape[0], s.ps.shape[1] - S_H),
             "small": np.zeros(9), "located": np.zeros((MAX_SHAPE_PARTS, 9)),
             "mq_old": np.zeros_like(s.mq), "mp_old": np.zeros_like(s.mp),

@@ -15,7 +15,8 @@ import numpy as np
 from x3dpd._jit import kernel
 
 __all__ = ["S_A", "S_FN", "S_FT", "S_H", "PAIR_COLUMNS", "PAIR_INPUT_COLUMNS",
-           "PAIR_OUTPUT_COLUMNS", "PAIR_BLOCK", "COLUMN_ROW", "column_areas", "pair_columns",
+           "PAIR_OUTPUT_COLUMNS", "PAIR_BLOCK", "COLUMN_ROW", "WALL_COLUMNS", "WALL_INPUT_COLUMNS",
+           "WALL_OUTPUT_COLUMNS", "column_areas", "pair_columns", "wall_columns",
            "history_columns", "_active_flags",
            "_merge_states", "_pair_approach", "kept_histories", "restore_histories"]
 
@@ -46,6 +47,23 @@ PAIR_OUTPUT_COLUMNS = ("fx", "fy", "fz",           # force on particle j (minus 
                        "rmin")                     # the smaller radius (penetration limit)
 PAIR_COLUMNS = PAIR_OUTPUT_COLUMNS + PAIR_INPUT_COLUMNS
 
+#: The wall pass's columns (``_template_wall_columns``), one entry per busy candidate of a
+#: block: what the gather pass writes for the response ...
+WALL_INPUT_COLUMNS = ("a", "a_old", "fn_old",
+                      "ftox", "ftoy", "ftoz",    # the state row's friction force
+                      "nx", "ny", "nz",          # the face's normal, into the particle
+                      "vx", "vy", "vz",          # the particle's velocity
+                      "wx", "wy", "wz",          # its spin
+                      "vwx", "vwy", "vwz")       # the wall point's velocity
+#: ... what the response hands to the apply pass ...
+WALL_OUTPUT_COLUMNS = ("fx", "fy", "fz",         # force on the particle
+                       "tx", "ty", "tz",         # moment on it (friction and rolling)
+                       "fn", "ftx", "fty", "ftz",
+                       "dw", "lost", "rolled")
+#: ... and the wall point on its triangle, for the apply pass (the triangle, -1: the contact
+#: ended or left the face, and its three barycentric weights)
+WALL_COLUMNS = WALL_OUTPUT_COLUMNS + WALL_INPUT_COLUMNS + ("tri", "w0", "w1", "w2")
+
 #: Candidates per block of the pair passes: the passes run block after block of the list (a
 #: threaded loop, its blocks on several threads), each block's busy candidates in a column
 #: area of their own (``pair_columns``).
@@ -73,6 +91,12 @@ def pair_columns(capacity: int):
     :data:`PAIR_COLUMNS` (the entry of column ``C`` for the block's ``k``-th busy candidate at
     area * len(PAIR_COLUMNS) * COLUMN_ROW + C * COLUMN_ROW + k)."""
     return np.zeros(column_areas(capacity) * len(PAIR_COLUMNS) * COLUMN_ROW)
+
+
+def wall_columns():
+    """The wall pass's flat column scratch: one area of :data:`WALL_COLUMNS` rows of
+    :data:`COLUMN_ROW` entries (the list's busy candidates, block by block of PAIR_BLOCK)."""
+    return np.zeros(len(WALL_COLUMNS) * COLUMN_ROW)
 
 
 def history_columns(capacity: int, n_history: int):

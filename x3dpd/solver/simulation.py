@@ -25,6 +25,7 @@ from x3dpd.physics.rolling import n_history as rolling_history
 from x3dpd.physics.tangential_laws import n_history
 from x3dpd.physics.user_force_file import build_external_forces
 from x3dpd.physics.usrfrc import law_count
+from x3dpd.geometry.faces import TRIANGLE_FRAME
 from x3dpd.solver.bundles import (
     ContactList,
     Loads,
@@ -158,6 +159,7 @@ class Simulation(RunChecks):
                                             normal_law=model.normal_law,
                                             rolling_law=model.rolling_law,
                                             one_particle_kind=_one_particle_kind(self.setup),
+                                            one_wall_kind=_one_wall_kind(self.setup),
                                             threaded=self.threads > 1)
         t = _time.perf_counter()
         self.kernels = make_advance(self.variant, [(uf.path, uf.node_index) for uf in compiled])
@@ -229,7 +231,7 @@ class Simulation(RunChecks):
         self._sc = None
         k = self.setup
         if k.tri_nodes.shape[0]:
-            face_n, face_d = self._faces()
+            face_n, face_d, _ = self._faces()
             self.kernels._face_planes(state.x, k.tri_nodes, k.tri_sign, k.face_first_tri, face_n,
                                       face_d)
         with variant_compile_lock(cache_dir(), self.kernels.__name__):
@@ -389,10 +391,13 @@ class Simulation(RunChecks):
             s.mf -= k.modal_coupling @ s.mp
 
     def _faces(self):
+        """The faces' planes (normal, offset) and the triangles' frames
+        (x3dpd.geometry.faces._triangle_frames), which the step loop refreshes."""
         if not hasattr(self, "_face_n"):
             nf = self.setup.face_first_tri.shape[0]
             self._face_n, self._face_d = np.zeros((nf, 3)), np.zeros(nf)
-        return self._face_n, self._face_d
+            self._tri_frame = np.zeros((self.setup.tri_nodes.shape[0], TRIANGLE_FRAME))
+        return self._face_n, self._face_d, self._tri_frame
 
     def _bundles(self, ledger: np.ndarray | None = None,
                  history_dt: float | None = None) -> dict:
@@ -424,7 +429,7 @@ class Simulation(RunChecks):
     def _direct_rebuild(self) -> None:
         """Build the contact lists from scratch (at t0), growing them until they fit."""
         s, k = self.state, self.setup
-        face_n, face_d = self._faces()
+        face_n, face_d, _ = self._faces()
         if k.tri_nodes.shape[0]:
             self.kernels._face_planes(s.x, k.tri_nodes, k.tri_sign, k.face_first_tri, face_n,
                                       face_d)
@@ -462,6 +467,17 @@ def _one_particle_kind(setup) -> bool:
         return False
     return all(bool(np.all(a == a[:1])) for a in (setup.radius, setup.ep, setup.decay,
                                                    setup.half))
+
+
+def _one_wall_kind(setup) -> bool:
+    """True when every particle meets the triangulated walls with bit-identical constants --
+    radius, the wall laws' (Hertz and Maxwell, HOOKE), friction and tangential masses -- so
+    that the wall response reads particle 0's (``_template_wall_columns``)."""
+    if setup.radius.shape[0] == 0:
+        return False
+    return all(bool(np.all(a == a[:1])) for a in (setup.radius, setup.kw, setup.decay,
+                                                   setup.half, setup.mu, setup.inv_mt,
+                                                   setup.law_wall, setup.tan_wall))
 
 
 def _walls_only_translate(setup, prescribed_nodes) -> bool:

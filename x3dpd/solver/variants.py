@@ -37,7 +37,7 @@ from x3dpd.physics.tangential_laws import TANGENTIAL_LAW_API, TANGENTIAL_LAWS
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 #: The template's parts besides the loop, in import order (``_template_<part>.py``): each is
 #: generated per variant beside it, ``variant`` holding the variant's constants.
-PARTS = ("variant", "contact", "walls", "pairs", "pair_passes", "energy")
+PARTS = ("variant", "contact", "wall_columns", "walls", "pairs", "pair_passes", "energy")
 _PART_MODULE = "x3dpd.solver._template_"
 _BEGIN = "# --- VARIANT BEGIN ---"
 _END = "# --- VARIANT END ---"
@@ -71,6 +71,10 @@ class Variant:
     #: every particle has the same radius, kind and law constants: the pair response reads
     #: them once instead of gathering them per contact
     one_particle_kind: bool = False
+    #: every particle meets the triangulated walls with the same constants (radius, the wall
+    #: laws', friction): their contacts go through columns and a vectorized response
+    #: (``_template_wall_columns``), else one at a time (``_template_walls``)
+    one_wall_kind: bool = False
     #: a structure given by its modes (MODAL card, x3dpd.physics.modal)
     modal: bool = False
     #: MATID type 2 elements: spring-dampers along the line between two nodes
@@ -87,7 +91,7 @@ class Variant:
                      user_force: bool = False, python_force: bool = False,
                      walls_translate: bool = False, normal_law: str = "lee_radok",
                      one_particle_kind: bool = False, rolling_law: str = "none",
-                     threaded: bool = False) -> "Variant":
+                     threaded: bool = False, one_wall_kind: bool = False) -> "Variant":
         e = set(effects)
         return cls(
             springs=bool({"springs", "dampers"} & e),
@@ -108,6 +112,7 @@ class Variant:
             normal_law=normal_law,
             shapes="+".join(s.name for s in SHAPES if s.effect in e),
             one_particle_kind=one_particle_kind and "pair_contact" in e,
+            one_wall_kind=one_wall_kind and "wall_contact" in e,
             modal="modal_structure" in e,
             axial_springs="axial_springs" in e,
             rotational_springs="rotational_springs" in e,
