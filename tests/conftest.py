@@ -11,11 +11,23 @@ reuse it in the same process, while the other worker starts on the rest of the s
 The suite also compiles every step loop strictly (``X3DPD_STRICT_STEP_LOOP=1``, inherited by
 the processes the tests start): a loop that does not type without SSA fails its test instead of
 falling back to numba's slower full pipeline (x3dpd._jit.StepLoopCompiler).
+
+The suite's own kernel cache (``.pytest_cache/x3dpd-kernels`` unless ``X3DPD_CACHE_DIR`` is
+set), the report of the step loops a run compiled, the ratchet on them (tests/meta/variants.txt)
+and ``@pytest.mark.rides`` come from tests/variant_report.py, whose hooks are imported here.
 """
 
 from __future__ import annotations
 
 import os
+
+from variant_report import (  # noqa: F401  (pytest hooks of this conftest)
+    pytest_configure,
+    pytest_runtest_call,
+    pytest_runtest_setup,
+    pytest_sessionfinish,
+    pytest_terminal_summary,
+)
 
 os.environ.setdefault("X3DPD_STRICT_STEP_LOOP", "1")
 

@@ -9,6 +9,17 @@ report. Node numbering is given in each docstring; particles always have the hig
 * :func:`closed_box_deck` -- particles in a fixed closed box (6 faces, 12 triangles).
 * :func:`sdof_deck` -- the report's Table 4 beam: one mass on a spring-damper to ground, no
   particles.
+
+**Shared step loops.** Every combination of effects compiles a step loop of its own
+(x3dpd.solver.variants.Variant: 15-50 s each in a cold suite), so many scenes here are shaped to
+share one: a sphere on a floor or in a box gets a resting spectator sphere (:func:`floor_deck`'s
+node 6, :data:`SPECTATOR`) and so has pair contacts like the many-particle scenes; particles
+without walls get a floor they never reach (:func:`pair_deck`'s ``far_floor``); a HOOKE floor
+goes without the spectator, to share the loop of the shipped Chung & Ooi decks. A test that
+relies on it says which loop it rides -- ``@pytest.mark.rides(BOX_LOOP)`` with the labels
+below (x3dpd Variant.label) -- and fails when its Simulations run another
+(tests/variant_report.py): a change to its scene that would compile a new loop shows in that
+test. Every label below is in the suite's variant list (tests/meta/variants.txt).
 """
 
 from __future__ import annotations
@@ -55,6 +66,45 @@ TABLE4_K = 1.14823e1
 G = 386.1
 
 ALL_DOFS = (1, 2, 3, 4, 5, 6)
+
+# ---- the shared step loops (Variant.label; see the module docstring) -------------------------
+
+#: spheres of one kind, elastic, in a fixed box or on a fixed floor with the spectator
+BOX_LOOP = "walls+pairs+walls_translate+one_particle_kind"
+#: the same, viscoelastic (one Maxwell term: Figure 30's material, the beam decks')
+BOX_VISCO_LOOP = "walls+pairs+viscoelastic+n_maxwell=1+walls_translate+one_particle_kind"
+#: the box scenes with friction, by tangential law
+BOX_FRICTION_LOOP = {
+    "regularized": "walls+pairs+friction+walls_translate+one_particle_kind",
+    "coulomb": "walls+pairs+friction+friction_law=coulomb+walls_translate+one_particle_kind",
+    "mindlin": "walls+pairs+friction+friction_law=mindlin+walls_translate+one_particle_kind",
+    "linear_history": (
+        "walls+pairs+friction+friction_law=linear_history+walls_translate+one_particle_kind"
+    ),
+}
+#: the resting Mindlin stack of viscoelastic spheres (tests/hardcases/test_resting.py)
+MINDLIN_STACK_LOOP = (
+    "walls+pairs+friction+viscoelastic+n_maxwell=1+friction_law=mindlin+walls_translate"
+    "+one_particle_kind"
+)
+#: ... and its threaded twin (a run with threads > 1, tests/solver/test_threads.py)
+MINDLIN_STACK_THREADED_LOOP = MINDLIN_STACK_LOOP + "+threaded"
+#: one sphere on a HOOKE plane, without the spectator, by tangential law: the loops of the
+#: Chung & Ooi benchmark scenes (decks/benchmarks/chung_ooi, tests/physics/test_chung_ooi.py)
+HOOKE_PLANE_LOOP = {
+    "coulomb": "walls+friction+friction_law=coulomb+walls_translate+normal_law=hooke",
+    "linear_history": "walls+friction+friction_law=linear_history+walls_translate+normal_law=hooke",
+    "mindlin": "walls+friction+friction_law=mindlin+walls_translate+normal_law=hooke",
+}
+
+
+def shared_loops() -> list[str]:
+    """Every label above (tests/meta/test_variant_ratchet.py checks them against the list)."""
+    return sorted(
+        {BOX_LOOP, BOX_VISCO_LOOP, MINDLIN_STACK_LOOP, MINDLIN_STACK_THREADED_LOOP}
+        | set(BOX_FRICTION_LOOP.values())
+        | set(HOOKE_PLANE_LOOP.values())
+    )
 
 
 def sphere_mass(radius: float = STEEL_R, density: float = STEEL_RHO) -> float:
@@ -109,8 +159,9 @@ def floor_deck(
     The floor spans ``[-side/2, side/2]`` in x and z around (0, 0); the sphere's centre starts at
     (center[0], height, center[1]) (default: just touching, ``height = R``) with the given
     translational ``velocity`` and angular velocity ``omega``. ``gravity`` > 0 adds a BODY card
-    (0, -gravity, 0). ``spectator`` adds node 6 at rest on the floor at (-0.3, R, -0.3) (same
-    kernel variant as the box scenes). ``material`` goes to :func:`pdmp`.
+    (0, -gravity, 0). ``spectator`` adds node 6 at rest on the floor at (-0.3, R, -0.3): the
+    scene then rides the box scenes' loop (:data:`BOX_LOOP` and its kin; a test relying on it
+    declares ``@pytest.mark.rides``). ``material`` goes to :func:`pdmp`.
     """
     h = side / 2.0
     r = float(material.get("radius", STEEL_R))
@@ -145,8 +196,9 @@ def pair_deck(
 
     ``positions`` (P, 3), ``velocities`` (P, 3) or (P, 6). ``far_floor``: a fixed floor y = -1
     (nodes 1-4, as :func:`floor_deck`'s, particles from node 5) that no particle reaches: the
-    scene then compiles the kernel variant of the floor and box scenes (walls + pairs) instead
-    of a pairs-only one of its own, which saves a 10-20 s numba compile.
+    scene then rides a loop of the floor and box scenes (walls + pairs, :data:`BOX_LOOP` and
+    its kin; the test declares it, ``@pytest.mark.rides``) instead of compiling a pairs-only
+    one of its own.
     """
     positions = np.asarray(positions, float).reshape(-1, 3)
     first = 5 if far_floor else 1
@@ -194,8 +246,9 @@ CUBE_TRIANGLES = (
     (2, 6, 7),
     (2, 7, 3),
 )
-#: A particle at rest far from everything: it makes a one-sphere scene compile the same kernel
-#: variant (walls + pairs) as the many-particle scenes, which saves a 10-20 s numba compile.
+#: A particle at rest far from everything: a one-sphere scene with it rides the many-particle
+#: scenes' loop (walls + pairs, :data:`BOX_LOOP` and its kin) instead of compiling one of its
+#: own; the test declares which, ``@pytest.mark.rides``.
 SPECTATOR = (0.8, 0.8, 0.8)
 
 

@@ -4,15 +4,22 @@ Every kernel uses :func:`kernel` instead of ``numba.njit`` so that compile flags
 hard-coded (``tests/meta/test_kernel_flags.py`` enforces this). ``fastmath`` stays off: contact
 laws take square roots of small differences and the energy ledger sums many tiny terms, and
 reassociation would make runs irreproducible across machines.
+
+Every kernel compiles through a pipeline class of this module (:class:`X3dpdCompiler`, and
+:class:`StepLoopCompiler` for the step loops), which puts x3dpd's compile-time changes to numba's
+internals in place for the length of that compile only (:func:`x3dpd_compile`). Importing
+x3dpd changes nothing in numba: a user's own ``numba.njit`` functions compile as numba compiles
+them (``tests/meta/test_numba_untouched.py``).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 
 import numba
-from numba.core import cpu as _numba_cpu
-from numba.core import options as _numba_options
+from numba.core import compiler as _numba_compiler
+from numba.core.compiler_lock import global_compiler_lock as _numba_compiler_lock
 
 #: Flags shared by all kernels. ``cache=True`` stores compiled machine code beside the sources
 #: (or in NUMBA_CACHE_DIR) so a second run starts in about a second.
@@ -77,14 +84,6 @@ def loop_kernel(fn=None, **overrides):
     return kernel(fn, _nrt=False, pipeline_class=StepLoopCompiler, **overrides)
 
 
-# numba has a compiler flag that marks every array argument ``noalias`` (its parallel backend
-# sets it for its own loop bodies) but no public option for it; this maps the option ``_noalias``
-# onto it, as numba maps ``_nrt`` onto its flag. Private behaviour: pinned numba range in
-# pyproject.toml, checked by tests/meta/test_kernel_flags.py.
-if not hasattr(_numba_cpu.CPUTargetOptions, "_noalias"):
-    _numba_cpu.CPUTargetOptions._noalias = _numba_options._mapping("noalias")
-
-
 def vector_kernel(fn=None, **overrides):
     """Compile a loop over contiguous columns that LLVM should vectorize: its own function
     (never inlined), without NRT like the step loop, and with every array argument declared
@@ -98,9 +97,7 @@ def vector_kernel(fn=None, **overrides):
     arrays, or distinct rows of one array). Results are bit for bit those of the scalar loop:
     ``fastmath`` stays off, so the packed instructions round exactly as the scalar ones do.
     """
-    return kernel(
-        fn, inline="never", _nrt=False, _noalias=True, pipeline_class=StepLoopCompiler, **overrides
-    )
+    return kernel(fn, inline="never", _nrt=False, pipeline_class=VectorLoopCompiler, **overrides)
 
 
 def threaded_kernel(fn=None, **overrides):
@@ -114,8 +111,10 @@ def threaded_kernel(fn=None, **overrides):
 
 
 def kernel(fn=None, **overrides):
-    """Compile ``fn`` with the project's flags: ``@kernel`` or ``@kernel(cache=False)``."""
-    flags = {**JIT_FLAGS, **overrides}
+    """Compile ``fn`` with the project's flags: ``@kernel`` or ``@kernel(cache=False)``; through
+    numba's own pipeline with x3dpd's compile-time patches (:class:`X3dpdCompiler`) unless
+    ``pipeline_class`` says otherwise."""
+    flags = {**JIT_FLAGS, "pipeline_class": X3dpdCompiler, **overrides}
     if fn is None:
         return lambda f: numba.njit(**flags)(f)
     return numba.njit(**flags)(fn)
@@ -155,10 +154,6 @@ def _inline_fresh_ir(self, caller_ir, block, i, function, arg_typs=None):
         )
     finally:
         _numba_inline.copy = saved
-
-
-if not JIT_DISABLED:
-    _numba_inline.InlineWorker.inline_function = _inline_fresh_ir
 
 
 # ---- compile time: the step loop optimized once by LLVM, not twice -------------------------
@@ -228,9 +223,78 @@ def _memo_call_type(self, context, args, kws):
     return sig
 
 
-if not JIT_DISABLED:
-    _numba_codegen.CPUCodeLibrary._optimize_functions = _optimize_functions_once
-    _numba_functions.BaseFunction.get_call_type = _memo_call_type
+# ---- compile time: numba's error messages without terminal colours -------------------------
+# numba formats an error message, in colour, for every typing template that does not fit a
+# call and for every global it cannot type, though it throws nearly all of them away: ~17,000
+# colour markups (colorama's stream wrappers, one per message part) per step loop. The plain
+# scheme numba uses in its own test suite (NUMBA_DISABLE_ERROR_MESSAGE_HIGHLIGHTING) costs
+# nothing; x3dpd reports its own errors, so the colours were never seen.
+
+
+def _plain_markup(self, msg, color=None, style=None):
+    """numba's coloured ``_markup``, the message as it is."""
+    return msg
+
+
+# ---- the patches above, in place for x3dpd's own compiles only ------------------------------
+# The four replacements above change private methods of numba's classes. They are installed
+# when an x3dpd kernel starts compiling (X3dpdCompiler, the pipeline class of every kernel of
+# this module) and the originals put back when it ends, so that a user's own numba functions,
+# compiled before, after or beside x3dpd's, compile with numba as it is. numba compiles one
+# function at a time per process (its global compiler lock, held here too), so no other
+# compile runs while they are in place; what an x3dpd compile compiles on its way (the kernels
+# it calls, numba's own overloads of numpy functions) compiles with them, as it always did.
+from numba.core import errors as _numba_errors  # noqa: E402
+
+#: (class, method name, x3dpd's replacement) of each patch, for the length of an x3dpd compile
+PATCHES = (
+    (_numba_inline.InlineWorker, "inline_function", _inline_fresh_ir),
+    (_numba_codegen.CPUCodeLibrary, "_optimize_functions", _optimize_functions_once),
+    (_numba_functions.BaseFunction, "get_call_type", _memo_call_type),
+) + (
+    ((_numba_errors.HighlightColorScheme, "_markup", _plain_markup),)
+    if hasattr(_numba_errors, "HighlightColorScheme")
+    else ()
+)
+_MISSING = object()
+#: nesting depth of :func:`x3dpd_compile` (an x3dpd kernel compiling the kernels it calls)
+_DEPTH = [0]
+
+
+@contextlib.contextmanager
+def x3dpd_compile():
+    """Hold numba's compiler lock with :data:`PATCHES` in place; the originals return when the
+    outermost of nested uses ends (re-entrant: a kernel compiles the kernels it calls)."""
+    with _numba_compiler_lock:
+        saved = None
+        if _DEPTH[0] == 0:
+            saved = [(cls, name, cls.__dict__.get(name, _MISSING)) for cls, name, _ in PATCHES]
+            for cls, name, new in PATCHES:
+                setattr(cls, name, new)
+        _DEPTH[0] += 1
+        try:
+            yield
+        finally:
+            _DEPTH[0] -= 1
+            if saved is not None:
+                for cls, name, old in saved:
+                    if old is _MISSING:
+                        delattr(cls, name)
+                    else:
+                        setattr(cls, name, old)
+
+
+class X3dpdCompiler(_numba_compiler.Compiler):
+    """numba's own pipeline (``numba.core.compiler.Compiler``), run with x3dpd's compile-time
+    patches in place (:func:`x3dpd_compile`): the pipeline class of every x3dpd kernel."""
+
+    def compile_extra(self, func):
+        with x3dpd_compile():
+            return super().compile_extra(func)
+
+    def compile_ir(self, func_ir, lifted=(), lifted_from=None):
+        with x3dpd_compile():
+            return super().compile_ir(func_ir, lifted, lifted_from)
 
 
 # ---- compile time: the step loop through a shorter numba pipeline ---------------------------
@@ -245,9 +309,7 @@ if not JIT_DISABLED:
 # (pinned; tests/meta/test_kernel_flags.py checks the pass names). The step loops and the pair
 # passes (``loop_kernel``, ``vector_kernel``) compile through it; their results are those of
 # numba's full pipeline, bit for bit (every golden and API = CLI byte test).
-from numba.core import compiler as _numba_compiler  # noqa: E402
 from numba.core import compiler_machinery as _numba_machinery  # noqa: E402
-from numba.core import errors as _numba_errors  # noqa: E402
 from numba.core import typed_passes as _numba_typed_passes  # noqa: E402
 
 #: The passes the step loops skip.
@@ -257,7 +319,7 @@ STEP_LOOP_SKIPPED_PASSES = (
 )
 
 
-class StepLoopCompiler(_numba_compiler.CompilerBase):
+class StepLoopCompiler(X3dpdCompiler):
     """numba's nopython pipeline for a step loop (:func:`loop_kernel`): without SSA
     reconstruction and without :data:`STEP_LOOP_SKIPPED_PASSES`.
 
@@ -290,7 +352,7 @@ class StepLoopCompiler(_numba_compiler.CompilerBase):
                 raise
             FULL_PIPELINE_FALLBACKS.append(func.__qualname__)
             s = self.state
-            return _numba_compiler.Compiler(
+            return X3dpdCompiler(
                 s.typingctx, s.targetctx, None, s.args, s.return_type, self._flags, s.locals
             ).compile_extra(func)
 
@@ -299,20 +361,14 @@ class StepLoopCompiler(_numba_compiler.CompilerBase):
 FULL_PIPELINE_FALLBACKS: list[str] = []
 
 
-# ---- compile time: numba's error messages without terminal colours -------------------------
-# numba formats an error message, in colour, for every typing template that does not fit a
-# call and for every global it cannot type, though it throws nearly all of them away: ~17,000
-# colour markups (colorama's stream wrappers, one per message part) per step loop. The plain
-# scheme numba uses in its own test suite (NUMBA_DISABLE_ERROR_MESSAGE_HIGHLIGHTING) costs
-# nothing; x3dpd reports its own errors, so the colours were never seen.
+class VectorLoopCompiler(StepLoopCompiler):
+    """:class:`StepLoopCompiler` with numba's ``noalias`` flag: every array argument of the
+    compiled function is declared not to overlap any other (:func:`vector_kernel`). numba has
+    the flag (its parallel backend sets it for its own loop bodies) but no option for it; a
+    pipeline class of its own sets it for x3dpd's vector kernels alone. Private behaviour:
+    pinned numba range in pyproject.toml, checked by tests/meta/test_kernel_flags.py."""
 
-
-def _plain_markup(self, msg, color=None, style=None):
-    """numba's coloured ``_markup``, the message as it is."""
-    return msg
-
-
-if not JIT_DISABLED and hasattr(_numba_errors, "HighlightColorScheme"):
-    # the class, not numba's instance of it: modules that took the instance at import
-    # (numba.core.typing.typeof ...) keep using it
-    _numba_errors.HighlightColorScheme._markup = _plain_markup
+    def __init__(self, typingctx, targetctx, library, args, return_type, flags, locals):
+        flags = flags.copy()
+        flags.noalias = True
+        super().__init__(typingctx, targetctx, library, args, return_type, flags, locals)

@@ -22,6 +22,8 @@ import numpy as np
 import pytest
 
 from factories import (
+    BOX_LOOP,
+    BOX_VISCO_LOOP,
     FIG30_E0,
     FIG30_E1,
     FIG30_TAU1,
@@ -51,6 +53,7 @@ def lee_radok(dtmin=1e-10, **material):
     return replace(deck, parameters=replace(deck.parameters, dtmin=dtmin, tmax=T))
 
 
+@pytest.mark.rides(BOX_VISCO_LOOP)
 def test_the_lee_radok_wall_impact_gets_its_restitution_right():
     auto = x3dpd.run(lee_radok())  # DTMIN < DTMAX: auto by default
     assert auto.summary["step"]["mode"] == "auto"
@@ -75,6 +78,7 @@ def hertz_approach(radius, v, e=STEEL_E, nu=STEEL_NU):
     return (5.0 * sphere_mass(radius) * v * v / (4.0 * k)) ** 0.4
 
 
+@pytest.mark.rides(BOX_LOOP)
 def test_it_sees_the_wall_coming_no_deeper_than_a_fine_step_and_rebounds_elastically():
     """An elastic sphere (contact 3.4 us) at DTMAX 2e-6 s. The run stops when an approach
     exceeds ``penetration_limit`` x R, checked every step: with the limit at the closed-form
@@ -117,6 +121,7 @@ def test_the_ledger_stays_exact_and_output_times_are_those_of_a_fixed_dtmax_run(
     assert 0.0 <= x.min() and x.max() <= 0.1 * (1 + 1e-3)
 
 
+@pytest.mark.rides(BOX_VISCO_LOOP)
 def test_a_continued_run_repeats_the_uninterrupted_one_bit_for_bit():
     whole = x3dpd.run(lee_radok())
     half = x3dpd.run(lee_radok(), tmax=T / 2)
@@ -128,6 +133,7 @@ def test_a_continued_run_repeats_the_uninterrupted_one_bit_for_bit():
         x3dpd.run(lee_radok(), dt=DTMAX, initial_state=state)
 
 
+@pytest.mark.rides(BOX_VISCO_LOOP)
 def test_stopped_then_restarted_writes_the_same_bytes(tmp_path):
     """Stopped through ``stop=`` in the middle (a dump at the driver's level), resumed with
     ``restart=True``: the trace and the energy file equal the uninterrupted run's."""

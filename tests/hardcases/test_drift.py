@@ -10,13 +10,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from factories import G, floor_deck
+from factories import BOX_LOOP, G, floor_deck
 
 from x3dpd.model.build import build_model
 from x3dpd.model.timestep import recommended_time_step
 from x3dpd.solver.simulation import Simulation
 
 R = 0.03125
+#: floor_deck's sphere and its spectator: the box scenes' loop
+pytestmark = pytest.mark.rides(BOX_LOOP)
 
 
 def drift(height, seconds, dt=None):

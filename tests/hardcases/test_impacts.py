@@ -12,6 +12,8 @@ import math
 import numpy as np
 import pytest
 from factories import (
+    BOX_LOOP,
+    BOX_VISCO_LOOP,
     FIG30_E0,
     FIG30_E1,
     FIG30_TAU1,
@@ -30,6 +32,8 @@ from x3dpd.solver.simulation import Simulation
 TABLE3_SPEEDS = (0.0628, 6.28, 628.0, 6280.0)
 REPORT_DT = 5e-7
 VISCO = dict(e0=FIG30_E0, e1=FIG30_E1, tau1=FIG30_TAU1)
+#: floor_deck's sphere and its spectator: the box scenes' loops, elastic and viscoelastic
+pytestmark = pytest.mark.rides(BOX_LOOP, BOX_VISCO_LOOP)
 
 
 def wall_contact_time(v, radius=STEEL_R, e=STEEL_E, nu=STEEL_NU):

@@ -15,10 +15,12 @@ import math
 import numpy as np
 import pytest
 from factories import (
+    BOX_VISCO_LOOP,
     FIG30_E0,
     FIG30_E1,
     FIG30_TAU1,
     G,
+    MINDLIN_STACK_LOOP,
     STEEL_E,
     STEEL_NU,
     SPECTATOR,
@@ -87,6 +89,7 @@ def check_stack(block, n=3):
     assert np.all(np.abs(block.data[:, :n, [0, 2]] - 0.5) < 1e-9)  # a column stays a column
 
 
+@pytest.mark.rides(MINDLIN_STACK_LOOP)
 def test_a_resting_stack_carries_its_weight_without_creep():
     check_stack(stack(0.05))
 
@@ -117,6 +120,7 @@ def test_stick_slip_at_a_tiny_slip_speed(friction):
         assert abs(vx[-1]) > 5 / 7 * v0
 
 
+@pytest.mark.rides(BOX_VISCO_LOOP)
 def test_viscoelastic_unloading_clamps_the_force_at_zero():
     """A strongly viscoelastic sphere (E1 = 2 E0, tau1 near the contact time): on unloading the
     Lee & Radok force reaches zero while the approach is still positive; it is clamped there
@@ -131,7 +135,7 @@ def test_viscoelastic_unloading_clamps_the_force_at_zero():
         e0=FIG30_E0,
         e1=2 * FIG30_E0,
         tau1=t_c,
-        spectators=[SPECTATOR],  # the box scenes' kernel variant (walls + pairs)
+        spectators=[SPECTATOR],  # the box scenes' loop (walls + pairs): rides, above
     )
     block = Simulation(build_model(deck)).advance(int(3 * t_c / dt))
     y, vy = block.data[:, 0, 1], block.data[:, 0, 4]

@@ -39,6 +39,24 @@ def test_only_the_jit_module_names_numba_compile_decorators():
     assert not bad, "compile through x3dpd._jit instead:\n" + "\n".join(bad)
 
 
+def _seen_during_a_compile() -> dict:
+    """The four patched numba methods (x3dpd._jit.PATCHES) as a real x3dpd compile sees them:
+    read from inside the pipeline of a kernel compiling."""
+    import numpy as np
+
+    import x3dpd._jit as jit
+
+    seen = {}
+
+    class Probe(jit.X3dpdCompiler):
+        def define_pipelines(self):
+            seen.update({name: getattr(cls, name) for cls, name, _ in jit.PATCHES})
+            return super().define_pipelines()
+
+    assert jit.kernel(cache=False, pipeline_class=Probe)(lambda a: a.sum())(np.ones(2)) == 2.0
+    return seen
+
+
 def test_the_check_can_fail():
     tree = ast.parse("import numba\nf = numba.njit(lambda: 0)\nfrom numba import jit\n")
     assert sorted(_numba_compile_uses(tree)) == [(2, "numba.njit"), (3, "from numba import jit")]
@@ -78,8 +96,9 @@ def test_loop_kernels_really_compile_without_reference_counting():
 
 
 def test_vector_kernels_vectorize_loops_over_many_columns():
-    """``x3dpd._jit.vector_kernel`` declares its array arguments ``noalias`` (a numba flag mapped
-    by hand onto a private option; pyproject.toml pins numba to versions where it works), and
+    """``x3dpd._jit.vector_kernel`` declares its array arguments ``noalias`` (a numba flag its
+    pipeline class sets, ``VectorLoopCompiler``; pyproject.toml pins numba to versions where
+    it works), and
     LLVM then vectorizes a loop shaped like the pair response: it gathers rows of 2-D arrays
     through an index list and writes a dozen columns. The same loop compiled without the flag
     stays scalar -- LLVM cannot rule out that a column overlaps the rows it reads (the check can
@@ -133,18 +152,18 @@ def test_vector_kernels_vectorize_loops_over_many_columns():
 
 
 def test_numba_inlines_through_the_copy_free_inliner():
-    """x3dpd._jit replaces numba's ``InlineWorker.inline_function`` (private, numba 0.68) so
-    that inlining a step kernel does not deep-copy its fresh IR twice. The patch works only
-    while numba's inlining pass calls that method and ``inline_ir`` copies through its module's
-    ``copy``: if a numba upgrade changes either, this fails instead of compile time silently
-    doubling."""
+    """x3dpd._jit replaces numba's ``InlineWorker.inline_function`` (private, numba 0.68) while
+    an x3dpd kernel compiles, so that inlining a step kernel does not deep-copy its fresh IR
+    twice. The patch works only while numba's inlining pass calls that method and ``inline_ir``
+    copies through its module's ``copy``: if a numba upgrade changes either, this fails instead
+    of compile time silently doubling."""
     import inspect
 
     from numba.core import inline_closurecall, untyped_passes
 
     import x3dpd._jit as jit
 
-    assert inline_closurecall.InlineWorker.inline_function is jit._inline_fresh_ir
+    assert _seen_during_a_compile()["inline_function"] is jit._inline_fresh_ir
     assert "inline_worker.inline_function(" in inspect.getsource(
         untyped_passes.InlineInlinables._do_work
     )
@@ -178,16 +197,17 @@ def test_the_copy_free_inliner_computes_what_numba_inlines():
 
 def test_numba_optimizes_through_the_once_only_step_loop_pass():
     """x3dpd._jit skips numba's per-function LLVM pass for step loops (``loop_kernel``; they
-    are optimized whole after linking). The patch works only while numba's code library runs
-    that pass through ``_optimize_functions`` from ``add_llvm_module``: if a numba upgrade
-    changes that, this fails instead of compile time silently growing."""
+    are optimized whole after linking), patched in while an x3dpd kernel compiles. The patch
+    works only while numba's code library runs that pass through ``_optimize_functions`` from
+    ``add_llvm_module``: if a numba upgrade changes that, this fails instead of compile time
+    silently growing."""
     import inspect
 
     from numba.core import codegen
 
     import x3dpd._jit as jit
 
-    assert codegen.CPUCodeLibrary._optimize_functions is jit._optimize_functions_once
+    assert _seen_during_a_compile()["_optimize_functions"] is jit._optimize_functions_once
     assert "self._optimize_functions(" in inspect.getsource(codegen.CPUCodeLibrary.add_llvm_module)
 
 
@@ -234,9 +254,9 @@ def test_a_loop_optimized_once_computes_what_python_computes():
 
 def test_numba_types_calls_through_the_memo():
     """x3dpd._jit remembers numba's resolved call types (``BaseFunction.get_call_type``,
-    private, numba 0.68): a function with the same call many times resolves it once, gives the
-    Python values, and a call numba cannot type still fails with numba's TypingError (failures
-    are not remembered)."""
+    private, numba 0.68) while an x3dpd kernel compiles: a function with the same call many
+    times resolves it once, gives the Python values, and a call numba cannot type still fails
+    with numba's TypingError (failures are not remembered)."""
     import numpy as np
     import pytest
     from numba.core import errors
@@ -245,7 +265,8 @@ def test_numba_types_calls_through_the_memo():
     import x3dpd._jit as jit
     from x3dpd._jit import kernel
 
-    assert functions.BaseFunction.get_call_type is jit._memo_call_type
+    assert _seen_during_a_compile()["get_call_type"] is jit._memo_call_type
+    assert functions.BaseFunction.get_call_type is jit._resolve_call_type  # numba's, outside
     resolved = []
     real = jit._resolve_call_type
 
@@ -352,13 +373,14 @@ def test_a_step_loop_with_one_name_of_two_types_falls_back_or_fails_strictly(mon
 
 def test_numba_error_messages_are_built_without_colour():
     """x3dpd._jit makes numba's coloured markup (``HighlightColorScheme._markup``, private)
-    return the message as it is: building a colour sequence per message part cost ~1 CPU-s
-    per step loop. The message text is unchanged."""
+    return the message as it is while an x3dpd kernel compiles: building a colour sequence per
+    message part cost ~1 CPU-s per step loop. The message text is unchanged."""
     from numba.core import errors
 
     import x3dpd._jit as jit
 
     scheme = errors.termcolor()
-    assert scheme.errmsg("no match") == "no match"
+    with jit.x3dpd_compile():
+        assert scheme.errmsg("no match") == "no match"
     if hasattr(errors, "HighlightColorScheme"):
-        assert errors.HighlightColorScheme._markup is jit._plain_markup
+        assert _seen_during_a_compile()["_markup"] is jit._plain_markup

@@ -14,7 +14,7 @@ against closed forms computed here from k, c, m and I.
 * the energy ledger closes in every run; a resumed run continues bit for bit.
 
 Every scene holds resting spectators (an axial and a rotational element, a free rigid body) so
-that all runs share one compiled step loop.
+that all runs share one compiled step loop (:data:`SPRINGS_LOOP`: the tests ride it).
 """
 
 from __future__ import annotations
@@ -97,6 +97,11 @@ SPECTATOR_ELEMENTS = ["90 90 90 91", "91 91 92"]
 SPECTATOR_MASSES = ["91 1.0", "92 0.0 1.0 1.0 1.0", "93 1.0 1.0 1.0 1.0"]
 SPECTATOR_RBELS = ["93 123456 1 94"]
 SPECTATOR_BOUNDARIES = ["90 90 1 1 2 3 4 5 6", "91 91 1 4 5 6", "92 92 1 1 2 3"]
+#: The one step loop of these scenes with their spectators (x3dpd Variant.label)
+SPRINGS_LOOP = "rigid+rigid_rotation+axial_springs+rotational_springs"
+#: decks/beam_1.inp's loop
+BEAM_1_LOOP = "springs+rigid+walls+friction+viscoelastic+external+n_maxwell=1+walls_translate"
+pytestmark = pytest.mark.rides(SPRINGS_LOOP)
 
 
 def _ledger_closes(r, rel):
@@ -477,6 +482,7 @@ def test_a_resumed_run_continues_bit_for_bit(tmp_path, monkeypatch):
         assert (tmp_path / f"part.{name}").read_bytes() == (tmp_path / f"whole.{name}").read_bytes()
 
 
+@pytest.mark.rides(BEAM_1_LOOP)
 def test_a_dump_from_before_these_springs_restores_and_runs_on():
     """Restart dumps written before types 2 and 3 have none of their state: such a state has
     empty spring rows (a scene without them) and runs on bit for bit."""

@@ -19,7 +19,15 @@ import pytest
 
 
 import reference as ref
-from factories import STEEL_E, STEEL_NU, STEEL_R, G, closed_box_deck, sphere_mass
+from factories import (
+    BOX_FRICTION_LOOP,
+    STEEL_E,
+    STEEL_NU,
+    STEEL_R,
+    G,
+    closed_box_deck,
+    sphere_mass,
+)
 
 from x3dpd.model.build import build_model
 from x3dpd.physics.coulomb import coulomb_slip_coefficient, regularized_coulomb_slip_coefficient
@@ -64,7 +72,7 @@ def _slide(friction: str, t_end: float):
         dt=DT,
         gravity=G,
         mu=MU,
-        spectators=[(0.15, STEEL_R - DELTA, 0.85)],
+        spectators=[(0.15, STEEL_R - DELTA, 0.85)],  # the box scenes' loop (walls + pairs)
         itrac=1,
     )
     model = build_model(deck)
@@ -134,6 +142,7 @@ def test_friction_energy_in_the_ledger(regularized):
     assert abs(e["residual"]) < 1e-9 * D_FRICTION * 7
 
 
+@pytest.mark.rides(BOX_FRICTION_LOOP["coulomb"])
 def test_bare_coulomb_chatters():
     """Why "regularized" is the default: with the bare Coulomb law (Eq. 29) the friction force
     flips sign at every step once the sphere should roll, and the slip does not go to zero: it

@@ -17,6 +17,7 @@ from scipy.integrate import quad
 
 import reference as ref
 from factories import (
+    BOX_LOOP,
     FIG28_V,
     SPECTATOR,
     STEEL_E,
@@ -34,6 +35,8 @@ from x3dpd.solver.simulation import Simulation
 
 M = sphere_mass()
 K_WALL = ref.hertz_k(STEEL_E / (1.0 - STEEL_NU**2), STEEL_R)
+#: a sphere on the floor or in the box rides the box scenes' loop (its spectator sphere)
+pytestmark = pytest.mark.rides(BOX_LOOP)
 
 
 # --- the helper functions ----------------------------------------------------------------------

@@ -22,7 +22,14 @@ import numpy as np
 import pytest
 
 from contact_reference import hooke_oblique_beta
-from factories import STEEL_NU, STEEL_R, floor_deck, sphere_mass
+from factories import (
+    BOX_FRICTION_LOOP,
+    HOOKE_PLANE_LOOP,
+    STEEL_NU,
+    STEEL_R,
+    floor_deck,
+    sphere_mass,
+)
 from processes import x3dpd as run_process
 
 import x3dpd
@@ -38,6 +45,9 @@ INERTIA = 0.4 * M * STEEL_R**2
 KN = 1.0e4  # HOOKE k_n [lbf/in]
 G = 386.1  # [in/s^2]
 LAW = "linear_history"
+#: HOOKE floors without the spectator ride the Chung & Ooi decks' loops; the Hertz floor with
+#: it (the gross-sliding impulse) the box scenes' loop of this law
+pytestmark = pytest.mark.rides(*HOOKE_PLANE_LOOP.values(), BOX_FRICTION_LOOP[LAW])
 
 
 def _hooke(deck, e):

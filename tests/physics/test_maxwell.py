@@ -18,6 +18,7 @@ import pytest
 
 import reference as ref
 from factories import (
+    BOX_VISCO_LOOP,
     FIG28_V,
     FIG30_E0,
     FIG30_E1,
@@ -160,6 +161,7 @@ def _measure(rec):
 STEPS_PER_CONTACT = (100, 200, 400, 800)
 
 
+@pytest.mark.rides(BOX_VISCO_LOOP)
 def test_solver_converges_to_lee_radok_at_second_order(reference_impact):
     r = reference_impact
     errors = []

@@ -30,7 +30,17 @@ import pytest
 
 
 from contact_reference import hertz_mindlin_impact
-from factories import STEEL_E, STEEL_NU, STEEL_R, floor_deck, pair_deck, sphere_mass
+from factories import (
+    BOX_FRICTION_LOOP,
+    BOX_LOOP,
+    HOOKE_PLANE_LOOP,
+    STEEL_E,
+    STEEL_NU,
+    STEEL_R,
+    floor_deck,
+    pair_deck,
+    sphere_mass,
+)
 
 import x3dpd
 
@@ -45,6 +55,9 @@ SPIN = 1.0 + M * STEEL_R**2 / INERTIA
 
 #: A HOOKE stiffness for the damped impacts [lbf/in]: a 27 us contact, 54 steps at DT.
 KN = 1.0e4
+#: floor_deck's sphere and its spectator, and pair_deck's far floor: the box scenes' loops by
+#: law (BOX_LOOP when mu = 0); on HOOKE without the spectator, the Chung & Ooi decks' loop
+pytestmark = pytest.mark.rides(BOX_LOOP, *BOX_FRICTION_LOOP.values(), HOOKE_PLANE_LOOP["mindlin"])
 
 
 def _impact(law, degrees, *, mu=MU, t_end=8e-5, dt=DT, hooke_e=None, **kw):

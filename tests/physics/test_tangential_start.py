@@ -23,7 +23,7 @@ import math
 import numpy as np
 import pytest
 
-from factories import STEEL_NU, STEEL_R, floor_deck, sphere_mass
+from factories import HOOKE_PLANE_LOOP, STEEL_NU, STEEL_R, floor_deck, sphere_mass
 
 import x3dpd
 from x3dpd.deck.cards import Hooke
@@ -39,6 +39,8 @@ G = 386.1
 MU = 0.3
 U0 = 1.0e-3  # slip speed at t0 [in/s]
 LAWS = ["linear_history", "mindlin"]
+#: a HOOKE floor without the spectator: the Chung & Ooi decks' loops of these laws
+pytestmark = pytest.mark.rides(*(HOOKE_PLANE_LOOP[law] for law in LAWS))
 
 
 def _deck(e: float, steps_per_period: int):

@@ -82,3 +82,8 @@ def test_two_processes_starting_one_new_scene_compile_it_once(tmp_path):
     ]
     counts = [json.loads(p.communicate(timeout=900)[0].strip().splitlines()[-1]) for p in procs]
     assert sorted(c["misses"] for c in counts) == [0, 1], counts
+    # the kernel cache's manifest: one compile and one load of the loop, both booked
+    (manifest,) = (tmp_path / "cache" / "kernels").glob("*/manifest.json")
+    (entry,) = json.loads(manifest.read_text())["variants"].values()
+    assert (entry["compiles"], entry["loads"]) == (1, 1), entry
+    assert entry["compile_seconds"] > 0.0

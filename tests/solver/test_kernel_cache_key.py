@@ -12,6 +12,8 @@ import dataclasses
 import inspect
 from pathlib import Path
 
+import pytest
+from factories import BOX_LOOP
 from numba.core.registry import CPUDispatcher
 
 from x3dpd.solver import variants
@@ -141,6 +143,7 @@ def test_the_source_hash_is_kept_until_a_source_file_changes(monkeypatch, tmp_pa
     assert variants._source_hash() == first and walked == [1]  # re-walked, same real sources
 
 
+@pytest.mark.rides(BOX_LOOP)
 def test_a_frictionless_scene_compiles_one_loop_whatever_the_tangential_law():
     """Every PCOF 0 and no rolling law: no tangential law runs, so --friction must not make a
     loop of its own to compile (it did: one per law, in a suite of decks and options); a scene

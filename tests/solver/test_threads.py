@@ -18,7 +18,15 @@ import numpy as np
 import pytest
 
 from cli_helpers import run_cli
-from factories import FIG30_E0, FIG30_E1, FIG30_TAU1, STEEL_R, pair_deck
+from factories import (
+    FIG30_E0,
+    FIG30_E1,
+    FIG30_TAU1,
+    MINDLIN_STACK_LOOP,
+    MINDLIN_STACK_THREADED_LOOP,
+    STEEL_R,
+    pair_deck,
+)
 
 import x3dpd
 from x3dpd.deck import write_deck
@@ -41,7 +49,8 @@ def _block_deck():
     spins = rng.uniform(-200.0, 200.0, (len(positions), 3))  # rad/s: slip ~ 10 in/s at R
     squeeze = -(0.1 / spacing) * (positions - positions.mean(axis=0))  # in/s
     velocities = np.hstack([squeeze, spins])
-    # far_floor: the single-thread loop is the Mindlin stack's (tests/hardcases/test_resting.py)
+    # far_floor: the single-thread loop is the Mindlin stack's (tests/hardcases/test_resting.py;
+    # the test rides it)
     return pair_deck(
         positions,
         velocities,
@@ -64,6 +73,7 @@ def _run(tmp_path, name, threads):
 
 
 @needs_two
+@pytest.mark.rides(MINDLIN_STACK_LOOP, MINDLIN_STACK_THREADED_LOOP)
 def test_two_threads_give_the_same_bytes_as_one_through_the_api_and_the_cli(tmp_path):
     one, trace_1, energy_1 = _run(tmp_path, "one", 1)
     two, trace_2, energy_2 = _run(tmp_path, "two", 2)

@@ -37,6 +37,7 @@ def cli() -> None:
 
 def _register() -> None:
     from x3dpd.cli import (
+        cache,
         check,
         design,
         export,
@@ -69,6 +70,7 @@ def _register() -> None:
     cli.add_command(spectrum.spectrum)
     cli.add_command(fit.fit)
     cli.add_command(materials.materials_command)
+    cli.add_command(cache.cache)
 
 
 def main(argv: list[str] | None = None) -> None:

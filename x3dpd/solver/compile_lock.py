@@ -10,6 +10,10 @@ The lock is an exclusive ``flock`` on a file beside the variant's generated sour
 ``fcntl`` is missing it does nothing). It is taken around a Simulation's first calls of its
 kernels, where numba compiles or loads them; with a warm cache it is held for milliseconds.
 Re-entry from the same thread is a no-op, so nested use cannot deadlock.
+
+Held, the lock is also where the kernel cache learns what happened: the block is timed and the
+variant booked in the cache's manifest as compiled (with its compile seconds) or loaded
+(x3dpd.solver.kernel_cache.watch_first_calls).
 """
 
 from __future__ import annotations
@@ -18,6 +22,8 @@ import contextlib
 import os
 import threading
 from pathlib import Path
+
+from x3dpd.solver.kernel_cache import watch_first_calls
 
 try:  # POSIX
     import fcntl
@@ -33,18 +39,24 @@ def variant_compile_lock(folder: Path, module_name: str):
     held = getattr(_HELD, "names", None)
     if held is None:
         held = _HELD.names = set()
-    if fcntl is None or module_name in held:
+    if module_name in held:
         yield
+        return
+    if fcntl is None:
+        with watch_first_calls(folder, module_name):
+            yield
         return
     try:
         fd = os.open(Path(folder) / f"{module_name}.lock", os.O_RDWR | os.O_CREAT, 0o644)
     except OSError:  # an unwritable cache folder: compile without the lock
-        yield
+        with watch_first_calls(folder, module_name):
+            yield
         return
     held.add(module_name)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX)
-        yield
+        with watch_first_calls(folder, module_name):
+            yield
     finally:
         held.discard(module_name)
         os.close(fd)  # closing the descriptor releases the lock

@@ -42,6 +42,8 @@ _PART_MODULE = "x3dpd.solver._template_"
 _BEGIN = "# --- VARIANT BEGIN ---"
 _END = "# --- VARIANT END ---"
 _LOADED: dict[tuple, object] = {}
+#: generated loop module name -> (its Variant, its file stem), of every loop made here
+_VARIANT_OF: dict[str, tuple] = {}
 
 
 @dataclass(frozen=True)
@@ -149,6 +151,50 @@ class Variant:
         # module names of the generated files: identifier characters only ("cylinder+capsule"
         # -> "cylinder_capsule")
         return re.sub(r"\W", "_", f"advance_{flags}_{rest}")
+
+    def label(self) -> str:
+        """A readable name of the variant: its effects joined by ``+`` -- each flag that is on,
+        each other field that differs from its default as ``field=value`` (the shapes joined by
+        commas) -- or ``"none"``; as unique as :meth:`name` (``walls+pairs+walls_translate``,
+        ``walls+pairs+friction+friction_law=mindlin+normal_law=hooke``). The kernel cache's
+        manifest, ``x3dpd cache``, the test suite's variant list (tests/meta/variants.txt) and
+        the loops tests declare they ride (``pytest.mark.rides``) use it."""
+        parts = []
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, bool):
+                if value:
+                    parts.append(f.name)
+            elif value != f.default:
+                text = value.replace("+", ",") if f.name == "shapes" else value
+                parts.append(f"{f.name}={text}")
+        return "+".join(parts) or "none"
+
+    @classmethod
+    def from_label(cls, label: str) -> "Variant":
+        """The variant of a :meth:`label`; a ValueError names a part that is not one."""
+        kinds = {f.name: f for f in fields(cls)}
+        values: dict = {}
+        for part in ([] if label.strip() == "none" else label.strip().split("+")):
+            name, eq, text = part.partition("=")
+            f = kinds.get(name)
+            if f is None or (isinstance(f.default, bool) == bool(eq)):
+                raise ValueError(f"{part!r} in variant label {label!r} is neither an effect "
+                                 "flag nor field=value of a Variant field")
+            if name in values:
+                raise ValueError(f"{name} twice in variant label {label!r}")
+            if isinstance(f.default, bool):
+                values[name] = True
+            elif isinstance(f.default, int):
+                values[name] = int(text)
+            else:
+                values[name] = text.replace(",", "+") if name == "shapes" else text
+        variant = cls(**values)
+        variant.header()  # an unknown law or shape: a ValueError naming it
+        if variant.label() != label.strip():
+            raise ValueError(f"variant label {label!r} is not in canonical form: "
+                             f"{variant.label()!r}")
+        return variant
 
 
 def _shapes_source(names: str) -> str:
@@ -271,11 +317,31 @@ def _source_hash() -> str:
     return digest
 
 
-def cache_dir() -> Path:
-    """Folder of generated variants (``$X3DPD_CACHE_DIR`` or ``~/.cache/x3dpd``)."""
+def cache_root() -> Path:
+    """The kernel cache: ``$X3DPD_CACHE_DIR``, else ``$XDG_CACHE_HOME/x3dpd``, else
+    ``~/.cache/x3dpd``. It holds ``kernels/<source hash>/`` (:func:`cache_dir`) and, beside
+    those folders, the compile times of this machine (``kernels/compile_times.json``,
+    x3dpd.solver.compile_log)."""
     base = os.environ.get("X3DPD_CACHE_DIR") or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "x3dpd")
-    return Path(base) / "kernels" / _source_hash()
+    return Path(base)
+
+
+def cache_dir() -> Path:
+    """Folder of generated variants of these sources: ``kernels/<source hash>`` in
+    :func:`cache_root`."""
+    return cache_root() / "kernels" / _source_hash()
+
+
+def source_hash() -> str:
+    """The hash of the kernel sources and numba's version that names :func:`cache_dir`."""
+    return _source_hash()
+
+
+def variant_of(module_name: str):
+    """``(Variant, file stem)`` of a loop module :func:`make_advance` made in this process, or
+    None for any other module."""
+    return _VARIANT_OF.get(module_name)
 
 
 def variant_sources(variant: Variant) -> dict[str, str]:
@@ -325,6 +391,7 @@ def make_advance(variant: Variant, user_files=()):
         _write_if_changed(path, sources[part].replace(_PART_MODULE, f"{name}__"))
         module = _import_file(f"{name}{suffix}", path)
     _LOADED[key] = module
+    _VARIANT_OF[name] = (variant, stem)
     return module
 
 
