@@ -330,7 +330,7 @@ def _node_indices(model, node_ids, traced: np.ndarray) -> np.ndarray:
                 "trace nodes 'structure': the deck's TRACE card names particles only; give "
                 "the node ids to trace"
             )
-        return np.ascontiguousarray(idx, dtype=np.int64)
+        return np.array(idx, dtype=np.int64)  # writable, as the kernels were compiled for
     ids = np.asarray(list(node_ids), dtype=np.int64)
     if ids.ndim != 1 or ids.size == 0:
         raise InputError("trace_nodes must be a non-empty list of node ids")
@@ -338,7 +338,7 @@ def _node_indices(model, node_ids, traced: np.ndarray) -> np.ndarray:
     bad = [int(i) for i, j in zip(ids, idx) if j >= model.n_nodes or model.node_ids[j] != i]
     if bad:
         raise InputError(f"trace_nodes: node(s) {', '.join(map(str, bad))} are not in the deck")
-    return np.ascontiguousarray(idx, dtype=np.int64)
+    return np.array(idx, dtype=np.int64)  # writable, as the kernels were compiled for
 
 
 class CompileNotice(str):

@@ -171,7 +171,8 @@ class Simulation(RunChecks):
         self.state = initial_state(model, self.setup, model.n_nodes, len(rows),
                                    law_count(self.ext.table))
         self.fpy = np.zeros((model.n_nodes, 6))
-        self.trace_nodes = np.ascontiguousarray(model.trace_nodes, dtype=np.int64)
+        # a writable copy: a read-only array is another numba type, and another compile
+        self.trace_nodes = np.array(model.trace_nodes, dtype=np.int64)
         self.diag = np.zeros(8)
         self._initialized = False
 
