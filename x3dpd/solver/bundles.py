@@ -21,6 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from x3dpd.geometry.shapes import MAX_SHAPE_PARTS
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.solver.contact_lists import (PAIR_BLOCK, S_H, history_columns, pair_columns,
                                          wall_columns)
 
@@ -218,8 +219,10 @@ class Output(NamedTuple):
 
 def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict, dt: float,
                   pen_limit: float, diag: np.ndarray, ledger: np.ndarray | None = None,
-                  history_dt: float | None = None) -> dict:
-    """The kernels' bundles of one scene (everything but :class:`Output`), by name.
+                  history_dt: float | None = None, units=()) -> dict:
+    """The kernels' bundles of one scene (everything but :class:`Output`), by name; the effect
+    units' (x3dpd.physics.effect_units) by their names too, and those of ``units`` (the units
+    the scene's loop compiles) as a tuple under ``"units"``.
 
     ``faces_now``: (normal, offset, triangle frames) arrays the kernels refresh from the wall
     nodes;
@@ -229,6 +232,7 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
     histories advance by (default ``dt``; 0 for a force evaluation at a state).
     """
     k, s = setup, state
+    own = {u.name: unit_bundle(u, k.units[u.name], s, scratch) for u in UNITS}
     walls = ContactList(s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, scratch["wl_p2"], scratch["wl_f2"],
                         scratch["ws2"], scratch["wl_a"], scratch["wl_c"], scratch["wl_h"])
     pairs = ContactList(s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, scratch["pl_i2"],
@@ -257,7 +261,20 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
         "stepping": Stepping(float(dt), float(k.skin), float(pen_limit),
                              s.ledger if ledger is None else ledger, s.nbr, diag,
                              scratch["small"], float(dt if history_dt is None else history_dt)),
+        **own,
+        "units": tuple(own[u.name] for u in units),
     }
+
+
+def unit_bundle(unit, constants: dict, state, scratch: dict):
+    """The bundle of effect unit ``unit``: its ``constants`` (x3dpd.solver.state.Setup.units),
+    its state arrays in ``state`` and its scratch arrays in ``scratch``."""
+    arrays = dict(constants)
+    for a in unit.state:
+        arrays[a.field] = state.units[a.name]
+    for field, _ in unit.scratch:
+        arrays[field] = scratch[f"{unit.name}.{field}"]
+    return unit.bundle(**arrays)
 
 
 def contact_scratch(state) -> dict:
@@ -275,16 +292,26 @@ def contact_scratch(state) -> dict:
             "pl_h": history_columns(s.pl_i.shape[0], s.ps.shape[1] - S_H),
             "small": np.zeros(9), "located": np.zeros((MAX_SHAPE_PARTS, 9)),
             "mq_old": np.zeros_like(s.mq), "mp_old": np.zeros_like(s.mp),
-            "mf_new": np.zeros_like(s.mf), "m_rate": np.zeros_like(s.mf)}
+            "mf_new": np.zeros_like(s.mf), "m_rate": np.zeros_like(s.mf),
+            # the effect units' scratch arrays, shaped like their state arrays
+            **{f"{u.name}.{field}": np.zeros_like(s.units[_state_name(u, like)])
+               for u in UNITS for field, like in u.scratch}}
 
 
-#: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start).
+def _state_name(unit, field: str) -> str:
+    return next(a.name for a in unit.state if a.field == field)
+
+
+#: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start); ``units`` is the
+#: tuple of the bundles of the effect units the loop compiles, in registry order.
 ADVANCE_BUNDLES = ("nodes", "loads", "springs", "rigid", "particles", "faces", "walls", "pairs",
-                   "shapes", "modal", "stepping", "output")
+                   "shapes", "modal", "units", "stepping", "output")
 
 
 def pack(bundles: dict, output: Output) -> tuple:
     """The argument of ``advance_packed``: every bundle as a plain tuple, in
-    :data:`ADVANCE_BUNDLES` order (numba types plain tuples of arrays in C, fast)."""
+    :data:`ADVANCE_BUNDLES` order, the units' a tuple of plain tuples (numba types plain tuples
+    of arrays in C, fast)."""
     named = {**bundles, "output": output}
-    return tuple(tuple(named[name]) for name in ADVANCE_BUNDLES)
+    return tuple(tuple(tuple(u) for u in named[name]) if name == "units"
+                 else tuple(named[name]) for name in ADVANCE_BUNDLES)

@@ -7,11 +7,12 @@ saves. ``Kernel arrays`` (``Setup``) are derived once from the model and never c
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.physics.hooke import hooke_tables
 from x3dpd.physics.maxwell import maxwell_step_factors
 from x3dpd.physics.wall_material import (particle_walls, plane_strain_moduli, wall_friction,
@@ -51,7 +52,10 @@ class State:
     rotational_theta (Q,3) each rotational spring's relative rotation about x, y, z since t0
     [rad]; rotational_md_prev (Q,3) the rotational dampers' moments of the last step;
     step: steps done since t0; e_ref: energy at t0;
-    scale: the largest energy-ledger term seen so far (what the residual is judged against).
+    scale: the largest energy-ledger term seen so far (what the residual is judged against);
+    units: the effect units' state arrays by their names (x3dpd.physics.effect_unit.StateArray:
+    every registered unit's, whatever the scene calls for), also read as attributes
+    (``state.mq``).
     """
 
     x: np.ndarray
@@ -85,14 +89,23 @@ class State:
     step: int = 0
     e_ref: float = 0.0
     scale: float = 0.0
+    units: dict = field(default_factory=dict)
+
+    def __getattr__(self, name: str):
+        units = self.__dict__.get("units")
+        if units is not None and name in units:
+            return units[name]
+        raise AttributeError(f"State has no attribute {name!r}")
 
     def to_arrays(self) -> dict[str, np.ndarray]:
-        """Flat dict for a restart dump."""
-        out = {}
-        for f in fields(self):
-            v = getattr(self, f.name)
-            out[f.name] = np.asarray(v)
-        return out
+        """Flat dict for a restart dump: the arrays in the order dumps have always had them
+        (:data:`_DUMP_ORDER`), a later unit's after them, then ``step``, ``e_ref``, ``scale``."""
+        core = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "units"}
+        named = {**core, **self.units}
+        order = [n for n in _DUMP_ORDER if n in named]
+        order += [n for n in self.units if n not in order]
+        order += [n for n in core if n not in order and n not in _SCALARS]
+        return {n: np.asarray(named[n]) for n in order + list(_SCALARS)}
 
     def copy(self) -> "State":
         """An independent copy (every array copied): a final state to continue from, or to
@@ -103,7 +116,7 @@ class State:
     def from_arrays(cls, arrays: dict) -> "State":
         kw = {}
         for f in fields(cls):
-            if f.name in _OPTIONAL_STATE and f.name not in arrays:
+            if f.name == "units" or (f.name in _OPTIONAL_STATE and f.name not in arrays):
                 continue   # a dump written before these existed: a scene without any
             v = arrays[f.name]
             if f.name == "step":
@@ -113,6 +126,10 @@ class State:
             else:
                 kw[f.name] = np.array(v)
         state = cls(**kw)
+        for unit in UNITS:
+            for a in unit.state:   # a dump written before the unit existed: empty
+                state.units[a.name] = (np.array(arrays[a.name]) if a.name in arrays
+                                       else np.zeros((0,) + a.columns))
         if state.cs is None:
             state.cs = np.zeros((0, state.ws.shape[1]))
             state.cs_on = np.zeros(0, np.int8)
@@ -131,6 +148,15 @@ _MODAL_STATE = ("mq", "mp", "mf")
 _SPRING_STATE = ("axial_fd_prev", "rotational_theta", "rotational_md_prev")
 #: State fields absent from dumps of older versions: analytic walls' contacts, modes, springs.
 _OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE + _SPRING_STATE
+#: The scalars at a dump's end.
+_SCALARS = ("step", "e_ref", "scale")
+#: The arrays of a restart dump in the order dumps have always had them, the effect units' at
+#: the places they had before they were units (x3dpd.io.restart writes them in this order, so
+#: that a dump's bytes stay those of before); a unit added later puts its arrays after these.
+_DUMP_ORDER = ("x", "vel", "force", "rot", "fext_prev", "frow_prev", "motion_prev", "fd_prev",
+               "wl_p", "wl_f", "ws", "wl_on", "nwl", "pl_i", "pl_j", "ps", "pl_on", "npl", "nbr",
+               "ledger", "cs", "cs_on", "mq", "mp", "mf", "axial_fd_prev", "rotational_theta",
+               "rotational_md_prev")
 
 
 @dataclass(frozen=True)
@@ -194,6 +220,9 @@ class Setup:
     n_maxwell: int
     skin: float
     dt: float
+    #: the effect units' constant arrays, by unit name and bundle field
+    #: (x3dpd.physics.effect_unit: every registered unit's, whatever the scene calls for)
+    units: dict = field(default_factory=dict)
 
 
 def _f64(a, shape=None):
@@ -261,6 +290,10 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
 
     modal = _modal_setup(model, float(dt), inv_m, mass, kin_mass, kin_inertia, rig_free_rot,
                          rig_inv_ib)
+    # the effect units' constants; a unit may take its nodes out of velocity Verlet
+    nodes = {"inv_m": inv_m, "mass": mass, "kin_mass": kin_mass, "kin_inertia": kin_inertia,
+             "rig_free_rot": rig_free_rot, "rig_inv_ib": rig_inv_ib}
+    units = {u.name: u.setup(model, float(dt), nodes) for u in UNITS}
 
     # particles
     radius = _f64(model.radius)
@@ -360,7 +393,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
         tri_sign=_f64(model.tri_sign), shapes=shape_table(model, pcav), **modal,
         n_maxwell=n_maxwell,
-        skin=float(skin), dt=float(dt),
+        skin=float(skin), dt=float(dt), units=units,
     )
 
 
@@ -436,4 +469,6 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         axial_fd_prev=np.zeros((setup.ax_nodes.shape[0], 3)),
         rotational_theta=np.zeros((setup.rot_nodes.shape[0], 3)),
         rotational_md_prev=np.zeros((setup.rot_nodes.shape[0], 3)), step=0, e_ref=0.0,
+        units={a.name: np.zeros((setup.units[u.name][a.rows].shape[0],) + a.columns)
+               for u in UNITS for a in u.state},
     )
