@@ -31,7 +31,6 @@ from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
 from x3dpd.physics.rotational_spring import _rotational_spring_drift, _rotational_spring_moments
-from x3dpd.physics.spring_damper import _spring_forces
 from x3dpd.physics.usrfrc import KIND_DATA, _force_value
 from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
                                             REALLOC_WALLS)
@@ -40,7 +39,7 @@ from x3dpd.solver._template_pair_passes import _pair_contacts
 from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_EXTERNAL, HAS_MODAL,
                                             HAS_MOTION, HAS_ONE_WALL_KIND, HAS_PAIRS,
                                             HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
-                                            HAS_ROTATIONAL_SPRINGS, HAS_SHAPES, HAS_SPRINGS,
+                                            HAS_ROTATIONAL_SPRINGS, HAS_SHAPES,
                                             HAS_USER_FORCE, HAS_WALLS, HAS_WALLS_TRANSLATE,
                                             SLOT_DRIFT, SLOT_FOLLOW, SLOT_FORCE, SLOT_KICK,
                                             SLOT_PLACE, UNIT_BUNDLES, USER_FORCE)
@@ -70,9 +69,6 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
     dt, ledger = stepping.dt, stepping.ledger
     status = OK
     SLOT_FORCE(units, nodes, rigid, stepping, t)
-    if HAS_SPRINGS:
-        ledger[L_DDAMP] += _spring_forces(x, nodes.x0, vel, springs.nodes, springs.k, springs.c,
-                                          force, springs.fd_prev, dt)
     if HAS_AXIAL_SPRINGS:
         ledger[L_DDAMP] += _axial_spring_forces(x, vel, springs.axial_nodes, springs.axial_k,
                                                 springs.axial_c, springs.axial_rest, force,

@@ -10,11 +10,10 @@ from x3dpd.physics.axial_spring import _axial_spring_energy
 from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.physics.modal import _modal_energies
 from x3dpd.physics.rotational_spring import _rotational_spring_energy
-from x3dpd.physics.spring_damper import _spring_energy
 from x3dpd.solver._template_contact import (CONTACT_TAIL, L_DDAMP, L_DFRIC, L_DROLL, L_WEXT,
                                             L_WN)
 from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_MODAL, HAS_PAIRS, HAS_ROLLING,
-                                            HAS_ROTATIONAL_SPRINGS, HAS_SHAPES, HAS_SPRINGS,
+                                            HAS_ROTATIONAL_SPRINGS, HAS_SHAPES,
                                             HAS_VISCOELASTIC, HAS_WALLS,
                                             NORMAL_DAMPED, NORMAL_STORED_ENERGY, SLOT_ENERGY,
                                             TANGENTIAL_STORED_ENERGY, TANGENTIAL_STORES)
@@ -46,7 +45,7 @@ def _energies(nodes, springs, particles, walls, pairs, shapes, modal, units, dt,
     g = nodes.g
     has_gravity = g[0] != 0.0 or g[1] != 0.0 or g[2] != 0.0
     out[2] = _gravity_energy(nodes.mass, x, x0, g) if has_gravity else 0.0
-    out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
+    out[3] = 0.0
     shadow += SLOT_ENERGY(units, nodes, out)
     if HAS_AXIAL_SPRINGS:
         out[3] += _axial_spring_energy(x, springs.axial_nodes, springs.axial_k, springs.axial_rest)

@@ -67,14 +67,9 @@ class Loads(NamedTuple):
 
 
 class Springs(NamedTuple):
-    """Springs and dashpots between node pairs (report Section 7.1): along the global axes
-    (MATID type 1), along the line between two nodes (type 2) and about the global axes
-    (type 3, rotational)."""
+    """Springs and dashpots between node pairs (report Section 7.1): along the line between two
+    nodes (MATID type 2) and about the global axes (type 3, rotational)."""
 
-    nodes: np.ndarray        # (S, 2) node indices
-    k: np.ndarray            # (S, 3) stiffness per direction [force/length]
-    c: np.ndarray            # (S, 3) damping per direction [force*s/length]
-    fd_prev: np.ndarray      # (S, 3) damper forces at the last step
     axial_nodes: np.ndarray  # (A, 2) node indices of the axial elements
     axial_k: np.ndarray      # (A,) stiffness along the element's line [force/length]
     axial_c: np.ndarray      # (A,) damping along the line [force*s/length]
@@ -242,7 +237,7 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
                        k.kin_inertia, k.g),
         "loads": loads,
-        "springs": Springs(k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev, k.ax_nodes, k.ax_k, k.ax_c,
+        "springs": Springs(k.ax_nodes, k.ax_k, k.ax_c,
                            k.ax_rest, s.axial_fd_prev, k.rot_nodes, k.rot_k, k.rot_c,
                            s.rotational_theta, s.rotational_md_prev),
         "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,

@@ -38,9 +38,9 @@ class State:
     x (n,3) coordinates; vel (n,6) velocities (v, omega); force (n,6) force and moment sums;
     rot (B,3,3) rigid-body rotations; fext_prev (n,6) user force of the last step;
     frow_prev (m,) built-in forces of the last step;
-    motion_prev (M,) actuator forces of the last step; fd_prev (S,3) damper forces of the last
-    step; wl_p, wl_f, ws, wl_on (Lw) wall candidate list (particle, face, state row, open-contact
-    flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
+    motion_prev (M,) actuator forces of the last step; wl_p, wl_f, ws, wl_on (Lw) wall
+    candidate list (particle, face, state row, open-contact flag); nwl (1,) its length; pl_i,
+    pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
     ledger (5,) cumulative work/dissipation (the L_* slots of x3dpd.solver._template_contact);
     cs, cs_on (R) contact state rows and open flags of the analytic walls' static list, one
@@ -65,7 +65,6 @@ class State:
     fext_prev: np.ndarray
     frow_prev: np.ndarray
     motion_prev: np.ndarray
-    fd_prev: np.ndarray
     wl_p: np.ndarray
     wl_f: np.ndarray
     ws: np.ndarray
@@ -170,9 +169,6 @@ class Setup:
     kin_mass: np.ndarray
     kin_inertia: np.ndarray
     g: np.ndarray
-    sp_nodes: np.ndarray
-    sp_k: np.ndarray
-    sp_c: np.ndarray
     ax_nodes: np.ndarray   # (A, 2) axial elements (MATID type 2): node indices
     ax_k: np.ndarray       # (A,) stiffness [force/length]
     ax_c: np.ndarray       # (A,) damping [force s/length]
@@ -373,8 +369,6 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         x0=_f64(model.x0, (n, 3)), inv_m=inv_m, mass=mass, fgrav=_body_forces(mass, model),
         kin_mass=kin_mass,
         kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
-        sp_nodes=_i64(model.spring_nodes).reshape(-1, 2), sp_k=_f64(model.spring_k).reshape(-1, 3),
-        sp_c=_f64(model.spring_c).reshape(-1, 3),
         ax_nodes=_i64(model.axial_nodes).reshape(-1, 2), ax_k=_f64(model.axial_k),
         ax_c=_f64(model.axial_c), ax_rest=_f64(model.axial_length),
         rot_nodes=_i64(model.rotational_nodes).reshape(-1, 2),
@@ -454,7 +448,6 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         x=setup.x0.copy(), vel=vel, force=np.zeros((n, 6)), rot=rot,
         fext_prev=np.zeros((n_fext_nodes, 6)), frow_prev=np.zeros(n_force_rows),
         motion_prev=np.zeros(n_motion),
-        fd_prev=np.zeros((setup.sp_nodes.shape[0], 3)),
         wl_p=np.zeros(lw, np.int64), wl_f=np.zeros(lw, np.int64), ws=np.zeros((lw, ncols)),
         wl_on=np.zeros(lw, np.int8),
         nwl=np.zeros(1, np.int64),

@@ -44,8 +44,8 @@ def units_source(variant) -> str:
         else:
             body = [call for _, call in calls] or ["return"]
         lines += _function(f"SLOT_{slot.upper()}", f"units, {_ARGS[slot]}", body)
-    return "\n".join(lines)
+    return "\n".join(lines + [""])
 
 
 def _function(name: str, args: str, body: list[str]) -> list[str]:
-    return ["", "", "@_unit_kernel", f"def {name}({args}):"] + [f"    {b}" for b in body] + [""]
+    return ["", "", "@_unit_kernel", f"def {name}({args}):"] + [f"    {b}" for b in body]

@@ -98,7 +98,6 @@ class Variant:
                      threaded: bool = False, one_wall_kind: bool = False) -> "Variant":
         e = set(effects)
         return cls(
-            springs=bool({"springs", "dampers"} & e),
             rigid="rigid_links" in e,
             rigid_rotation="rigid_rotation" in e,
             walls="wall_contact" in e,
