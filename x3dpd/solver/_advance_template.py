@@ -25,7 +25,6 @@ from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
                                   _triangle_frames)
-from x3dpd.physics.axial_spring import _axial_spring_forces
 from x3dpd.physics.modal import _modal_drift, _modal_kick, _modal_place
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
@@ -36,7 +35,7 @@ from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REAL
                                             REALLOC_WALLS)
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pair_passes import _pair_contacts
-from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_EXTERNAL, HAS_MODAL,
+from x3dpd.solver._template_variant import (HAS_EXTERNAL, HAS_MODAL,
                                             HAS_MOTION, HAS_ONE_WALL_KIND, HAS_PAIRS,
                                             HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
                                             HAS_ROTATIONAL_SPRINGS, HAS_SHAPES,
@@ -69,10 +68,6 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
     dt, ledger = stepping.dt, stepping.ledger
     status = OK
     SLOT_FORCE(units, nodes, rigid, stepping, t)
-    if HAS_AXIAL_SPRINGS:
-        ledger[L_DDAMP] += _axial_spring_forces(x, vel, springs.axial_nodes, springs.axial_k,
-                                                springs.axial_c, springs.axial_rest, force,
-                                                springs.axial_fd_prev, dt)
     if HAS_ROTATIONAL_SPRINGS:
         ledger[L_DDAMP] += _rotational_spring_moments(vel, springs.rot_nodes, springs.rot_k,
                                                       springs.rot_c, springs.rot_theta, force,

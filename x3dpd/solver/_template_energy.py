@@ -6,13 +6,12 @@ SNAPSHOT mode (x3dpd.solver.simulation), so each variant compiles them once.
 """
 
 from x3dpd._jit import step_kernel
-from x3dpd.physics.axial_spring import _axial_spring_energy
 from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.physics.modal import _modal_energies
 from x3dpd.physics.rotational_spring import _rotational_spring_energy
 from x3dpd.solver._template_contact import (CONTACT_TAIL, L_DDAMP, L_DFRIC, L_DROLL, L_WEXT,
                                             L_WN)
-from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_MODAL, HAS_PAIRS, HAS_ROLLING,
+from x3dpd.solver._template_variant import (HAS_MODAL, HAS_PAIRS, HAS_ROLLING,
                                             HAS_ROTATIONAL_SPRINGS, HAS_SHAPES,
                                             HAS_VISCOELASTIC, HAS_WALLS,
                                             NORMAL_DAMPED, NORMAL_STORED_ENERGY, SLOT_ENERGY,
@@ -47,8 +46,6 @@ def _energies(nodes, springs, particles, walls, pairs, shapes, modal, units, dt,
     out[2] = _gravity_energy(nodes.mass, x, x0, g) if has_gravity else 0.0
     out[3] = 0.0
     shadow += SLOT_ENERGY(units, nodes, out)
-    if HAS_AXIAL_SPRINGS:
-        out[3] += _axial_spring_energy(x, springs.axial_nodes, springs.axial_k, springs.axial_rest)
     if HAS_ROTATIONAL_SPRINGS:
         out[3] += _rotational_spring_energy(springs.rot_k, springs.rot_theta)
     out[4] = (_contact_energy(particles, walls, pairs, shapes)

@@ -67,14 +67,9 @@ class Loads(NamedTuple):
 
 
 class Springs(NamedTuple):
-    """Springs and dashpots between node pairs (report Section 7.1): along the line between two
-    nodes (MATID type 2) and about the global axes (type 3, rotational)."""
+    """Rotational springs and dashpots between node pairs about the global axes (MATID
+    type 3)."""
 
-    axial_nodes: np.ndarray  # (A, 2) node indices of the axial elements
-    axial_k: np.ndarray      # (A,) stiffness along the element's line [force/length]
-    axial_c: np.ndarray      # (A,) damping along the line [force*s/length]
-    axial_rest: np.ndarray   # (A,) rest length L0 [length]
-    axial_fd_prev: np.ndarray  # (A, 3) damper force vectors on the first node, last step
     rot_nodes: np.ndarray    # (Q, 2) node indices of the rotational elements (-1: ground)
     rot_k: np.ndarray        # (Q, 3) stiffness about x, y, z [force*length/rad]
     rot_c: np.ndarray        # (Q, 3) damping [force*length*s/rad]
@@ -237,8 +232,7 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
                        k.kin_inertia, k.g),
         "loads": loads,
-        "springs": Springs(k.ax_nodes, k.ax_k, k.ax_c,
-                           k.ax_rest, s.axial_fd_prev, k.rot_nodes, k.rot_k, k.rot_c,
+        "springs": Springs(k.rot_nodes, k.rot_k, k.rot_c,
                            s.rotational_theta, s.rotational_md_prev),
         "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,
                              k.rig_inv_ib, k.rig_ib, k.rig_free_rot),

@@ -48,7 +48,6 @@ class State:
     any);
     mq, mp, mf (M) modal coordinates, their rates and the modal forces of the last step
     (x3dpd.physics.modal; empty without a MODAL card);
-    axial_fd_prev (A,3) the axial dampers' force vectors of the last step;
     rotational_theta (Q,3) each rotational spring's relative rotation about x, y, z since t0
     [rad]; rotational_md_prev (Q,3) the rotational dampers' moments of the last step;
     step: steps done since t0; e_ref: energy at t0;
@@ -82,7 +81,6 @@ class State:
     mq: np.ndarray = None
     mp: np.ndarray = None
     mf: np.ndarray = None
-    axial_fd_prev: np.ndarray = None
     rotational_theta: np.ndarray = None
     rotational_md_prev: np.ndarray = None
     step: int = 0
@@ -144,7 +142,7 @@ class State:
 #: State fields of the modal structure (absent from dumps of older versions).
 _MODAL_STATE = ("mq", "mp", "mf")
 #: State fields of the axial and rotational springs (MATID types 2, 3; absent from older dumps).
-_SPRING_STATE = ("axial_fd_prev", "rotational_theta", "rotational_md_prev")
+_SPRING_STATE = ("rotational_theta", "rotational_md_prev")
 #: State fields absent from dumps of older versions: analytic walls' contacts, modes, springs.
 _OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE + _SPRING_STATE
 #: The scalars at a dump's end.
@@ -169,10 +167,6 @@ class Setup:
     kin_mass: np.ndarray
     kin_inertia: np.ndarray
     g: np.ndarray
-    ax_nodes: np.ndarray   # (A, 2) axial elements (MATID type 2): node indices
-    ax_k: np.ndarray       # (A,) stiffness [force/length]
-    ax_c: np.ndarray       # (A,) damping [force s/length]
-    ax_rest: np.ndarray    # (A,) rest length L0 [length]
     rot_nodes: np.ndarray  # (Q, 2) rotational elements (MATID type 3): node indices (-1: ground)
     rot_k: np.ndarray      # (Q, 3) stiffness about x, y, z [force length/rad]
     rot_c: np.ndarray      # (Q, 3) damping [force length s/rad]
@@ -369,8 +363,6 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         x0=_f64(model.x0, (n, 3)), inv_m=inv_m, mass=mass, fgrav=_body_forces(mass, model),
         kin_mass=kin_mass,
         kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
-        ax_nodes=_i64(model.axial_nodes).reshape(-1, 2), ax_k=_f64(model.axial_k),
-        ax_c=_f64(model.axial_c), ax_rest=_f64(model.axial_length),
         rot_nodes=_i64(model.rotational_nodes).reshape(-1, 2),
         rot_k=_f64(model.rotational_k).reshape(-1, 3),
         rot_c=_f64(model.rotational_c).reshape(-1, 3),
@@ -459,7 +451,6 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
         mq=np.zeros(setup.modal_coef.shape[0]), mp=np.zeros(setup.modal_coef.shape[0]),
         mf=np.zeros(setup.modal_coef.shape[0]),
-        axial_fd_prev=np.zeros((setup.ax_nodes.shape[0], 3)),
         rotational_theta=np.zeros((setup.rot_nodes.shape[0], 3)),
         rotational_md_prev=np.zeros((setup.rot_nodes.shape[0], 3)), step=0, e_ref=0.0,
         units={a.name: np.zeros((setup.units[u.name][a.rows].shape[0],) + a.columns)
