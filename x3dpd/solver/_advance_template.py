@@ -29,7 +29,6 @@ from x3dpd.physics.modal import _modal_drift, _modal_kick, _modal_place
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
-from x3dpd.physics.rotational_spring import _rotational_spring_drift, _rotational_spring_moments
 from x3dpd.physics.usrfrc import KIND_DATA, _force_value
 from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
                                             REALLOC_WALLS)
@@ -38,13 +37,13 @@ from x3dpd.solver._template_pair_passes import _pair_contacts
 from x3dpd.solver._template_variant import (HAS_EXTERNAL, HAS_MODAL,
                                             HAS_MOTION, HAS_ONE_WALL_KIND, HAS_PAIRS,
                                             HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
-                                            HAS_ROTATIONAL_SPRINGS, HAS_SHAPES,
+                                            HAS_SHAPES,
                                             HAS_USER_FORCE, HAS_WALLS, HAS_WALLS_TRANSLATE,
                                             SLOT_DRIFT, SLOT_FOLLOW, SLOT_FORCE, SLOT_KICK,
                                             SLOT_PLACE, UNIT_BUNDLES, USER_FORCE)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
 from x3dpd.solver.bundles import (ContactList, Faces, Loads, Modal, Nodes, Output, Particles,
-                                  RigidBodies, Shapes, Springs, Stepping)
+                                  RigidBodies, Shapes, Stepping)
 from x3dpd.solver.contact_lists import _active_flags, _merge_states, _pair_approach
 
 
@@ -59,21 +58,15 @@ if USER_FORCE is None:
 
 
 @step_kernel
-def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes, units,
-                 stepping):
+def _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes, units, stepping):
     """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t:
     the effect units' (slot ``force``), the loads, the wall and pair contacts; then the rigid
     slaves' forces gathered onto their masters. Returns the contacts' status bits."""
-    x, vel, force = nodes.x, nodes.vel, nodes.force
-    dt, ledger = stepping.dt, stepping.ledger
+    x = nodes.x
     status = OK
     SLOT_FORCE(units, nodes, rigid, stepping, t)
-    if HAS_ROTATIONAL_SPRINGS:
-        ledger[L_DDAMP] += _rotational_spring_moments(vel, springs.rot_nodes, springs.rot_k,
-                                                      springs.rot_c, springs.rot_theta, force,
-                                                      springs.rot_md_prev, dt)
     if HAS_EXTERNAL:
-        ledger[L_WEXT] += _external_forces(t, nodes, loads, dt)
+        stepping.ledger[L_WEXT] += _external_forces(t, nodes, loads, stepping.dt)
     if HAS_WALLS:
         if HAS_WALLS_TRANSLATE:
             _face_offsets(x, faces.tri_nodes, faces.first_tri, faces.normal, faces.offset)
@@ -93,7 +86,7 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
     if HAS_PAIRS:
         status |= _pair_contacts(nodes, particles, pairs, stepping, pairs.first_new)
     if HAS_RIGID:
-        _gather_slaves(x, force, rigid.master, rigid.ptr, rigid.slaves, HAS_RIGID_ROTATION)
+        _gather_slaves(x, nodes.force, rigid.master, rigid.ptr, rigid.slaves, HAS_RIGID_ROTATION)
     return status
 
 
@@ -199,7 +192,7 @@ def _adopt_new_list(lst, m):
 
 
 @step_kernel
-def _drift(synced, t_old, t, nodes, loads, springs, rigid, particles, modal, units, stepping):
+def _drift(synced, t_old, t, nodes, loads, rigid, particles, modal, units, stepping):
     """The first half kick (unless the last step's second one already did it: ``synced``
     False), which also resets the forces to the body forces m g, and the drift of every node
     from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``,
@@ -240,8 +233,6 @@ def _drift(synced, t_old, t, nodes, loads, springs, rigid, particles, modal, uni
         vwall = _update_slaves(x, vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
                                rigid.rot, True, HAS_RIGID_ROTATION)
     SLOT_FOLLOW(units, nodes, rigid, stepping, t)
-    if HAS_ROTATIONAL_SPRINGS:   # their rotations advance as positions do
-        _rotational_spring_drift(vel, springs.rot_nodes, springs.rot_theta, dt)
     nbr[4] = math.sqrt(vmax2)
     nbr[5] = vwall
     nbr[0] += dt * nbr[4]
@@ -318,8 +309,7 @@ def _kick_to_end(t, nodes, loads, rigid, modal, units, stepping):
 
 
 @step_kernel
-def _output_row(t, row, nodes, springs, particles, walls, pairs, shapes, modal, units, stepping,
-                output):
+def _output_row(t, row, nodes, particles, walls, pairs, shapes, modal, units, stepping, output):
     """Row ``row`` of the output buffers at time t: the trace nodes' x, v, omega and the
     energy ledger row (the energies also in ``stepping.small[0:6]``). Returns NONFINITE when a
     traced value or the residual is inf or NaN (caught here, cheaply, before it reaches the
@@ -334,7 +324,7 @@ def _output_row(t, row, nodes, springs, particles, walls, pairs, shapes, modal, 
             data[row, k, 3 + d] = vel[i, d]
     output.times[row] = t
     en = stepping.small[0:6]   # energies at an output step
-    _energies(nodes, springs, particles, walls, pairs, shapes, modal, units, stepping.dt, en)
+    _energies(nodes, particles, walls, pairs, shapes, modal, units, stepping.dt, en)
     _ledger_row(t, en, stepping.ledger, output.e_ref, output.energy[row])
     bad = False
     for k in range(trace_nodes.shape[0]):
@@ -378,10 +368,9 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
     Returns (status, steps done, rows written); the run stops at the first non-zero status or a
     full output buffer.
     """
-    (nodes_, loads_, springs_, rigid_, particles_, faces_, walls_, pairs_, shapes_, modal_,
-     units_, stepping_, output_) = packed
-    nodes, loads, springs, rigid = (Nodes(*nodes_), Loads(*loads_), Springs(*springs_),
-                                    RigidBodies(*rigid_))
+    (nodes_, loads_, rigid_, particles_, faces_, walls_, pairs_, shapes_, modal_, units_,
+     stepping_, output_) = packed
+    nodes, loads, rigid = Nodes(*nodes_), Loads(*loads_), RigidBodies(*rigid_)
     particles, faces, walls, pairs = (Particles(*particles_), Faces(*faces_),
                                       ContactList(*walls_), ContactList(*pairs_))
     shapes, modal, units = Shapes(*shapes_), Modal(*modal_), UNIT_BUNDLES(units_)
@@ -407,10 +396,10 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             if mode == FORCES:
                 _body_forces(nodes)
             else:
-                _drift(synced, t_start + step * dt, t, nodes, loads, springs, rigid, particles,
-                       modal, units, stepping)
-            st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs,
-                              shapes, units, stepping)
+                _drift(synced, t_start + step * dt, t, nodes, loads, rigid, particles, modal,
+                       units, stepping)
+            st = _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
+                              units, stepping)
             if mode == FORCES:
                 return st, 0, 0
             _after_forces(t_start + step * dt, t, nodes, loads, rigid, modal, units, stepping)
@@ -426,8 +415,8 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
                 return st, it + 1, rows
         if out_in == 0:
             out_in = output.itrac
-            st = _output_row(t, rows, nodes, springs, particles, walls, pairs, shapes, modal,
-                             units, stepping, output)
+            st = _output_row(t, rows, nodes, particles, walls, pairs, shapes, modal, units,
+                             stepping, output)
             rows += 1
             if mode == SNAPSHOT:
                 return OK, 0, rows

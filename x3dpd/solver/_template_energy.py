@@ -8,18 +8,17 @@ SNAPSHOT mode (x3dpd.solver.simulation), so each variant compiles them once.
 from x3dpd._jit import step_kernel
 from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.physics.modal import _modal_energies
-from x3dpd.physics.rotational_spring import _rotational_spring_energy
 from x3dpd.solver._template_contact import (CONTACT_TAIL, L_DDAMP, L_DFRIC, L_DROLL, L_WEXT,
                                             L_WN)
-from x3dpd.solver._template_variant import (HAS_MODAL, HAS_PAIRS, HAS_ROLLING,
-                                            HAS_ROTATIONAL_SPRINGS, HAS_SHAPES,
+from x3dpd.solver._template_variant import (HAS_MODAL, HAS_PAIRS, HAS_ROLLING, HAS_SHAPES,
                                             HAS_VISCOELASTIC, HAS_WALLS,
                                             NORMAL_DAMPED, NORMAL_STORED_ENERGY, SLOT_ENERGY,
                                             TANGENTIAL_STORED_ENERGY, TANGENTIAL_STORES)
 from x3dpd.solver.contact_lists import S_A, S_FN, S_FT
 
+
 @step_kernel
-def _energies(nodes, springs, particles, walls, pairs, shapes, modal, units, dt, out):
+def _energies(nodes, particles, walls, pairs, shapes, modal, units, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction).
 
     The effect units add theirs in the slot ``energy`` (x3dpd.physics.effect_unit): a modal
@@ -46,8 +45,6 @@ def _energies(nodes, springs, particles, walls, pairs, shapes, modal, units, dt,
     out[2] = _gravity_energy(nodes.mass, x, x0, g) if has_gravity else 0.0
     out[3] = 0.0
     shadow += SLOT_ENERGY(units, nodes, out)
-    if HAS_ROTATIONAL_SPRINGS:
-        out[3] += _rotational_spring_energy(springs.rot_k, springs.rot_theta)
     out[4] = (_contact_energy(particles, walls, pairs, shapes)
               if (HAS_WALLS or HAS_PAIRS or HAS_SHAPES) else 0.0)
     if HAS_MODAL:

@@ -25,7 +25,7 @@ from x3dpd.physics.effect_units import UNITS
 from x3dpd.solver.contact_lists import (PAIR_BLOCK, S_H, history_columns, pair_columns,
                                          wall_columns)
 
-__all__ = ["Status", "Nodes", "Loads", "Springs", "RigidBodies", "Particles", "Faces",
+__all__ = ["Status", "Nodes", "Loads", "RigidBodies", "Particles", "Faces",
            "ContactList", "Shapes", "Modal", "Stepping", "Output"]
 
 
@@ -64,17 +64,6 @@ class Loads(NamedTuple):
     python: np.ndarray       # (n, 6) forces of Python user files (set between steps)
     motion: np.ndarray       # (M, MOTION_COLUMNS) prescribed motions (x3dpd.physics.motion)
     motion_prev: np.ndarray  # (M,) actuator force of each motion at the last step
-
-
-class Springs(NamedTuple):
-    """Rotational springs and dashpots between node pairs about the global axes (MATID
-    type 3)."""
-
-    rot_nodes: np.ndarray    # (Q, 2) node indices of the rotational elements (-1: ground)
-    rot_k: np.ndarray        # (Q, 3) stiffness about x, y, z [force*length/rad]
-    rot_c: np.ndarray        # (Q, 3) damping [force*length*s/rad]
-    rot_theta: np.ndarray    # (Q, 3) relative rotations since t0 [rad]
-    rot_md_prev: np.ndarray  # (Q, 3) damper moments at the last step
 
 
 class RigidBodies(NamedTuple):
@@ -232,8 +221,6 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
                        k.kin_inertia, k.g),
         "loads": loads,
-        "springs": Springs(k.rot_nodes, k.rot_k, k.rot_c,
-                           s.rotational_theta, s.rotational_md_prev),
         "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,
                              k.rig_inv_ib, k.rig_ib, k.rig_free_rot),
         "particles": Particles(int(k.p0), k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay,
@@ -293,8 +280,8 @@ def _state_name(unit, field: str) -> str:
 
 #: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start); ``units`` is the
 #: tuple of the bundles of the effect units the loop compiles, in registry order.
-ADVANCE_BUNDLES = ("nodes", "loads", "springs", "rigid", "particles", "faces", "walls", "pairs",
-                   "shapes", "modal", "units", "stepping", "output")
+ADVANCE_BUNDLES = ("nodes", "loads", "rigid", "particles", "faces", "walls", "pairs", "shapes",
+                   "modal", "units", "stepping", "output")
 
 
 def pack(bundles: dict, output: Output) -> tuple:

@@ -58,7 +58,6 @@ def structure_omega_bound(setup: Setup) -> float:
     # each effect unit's linear elements (x3dpd.physics.effect_unit: ``stiffness``)
     groups = [g for u in UNITS if u.stiffness is not None
               for g in u.stiffness(setup.units[u.name])]
-    groups += ((setup.rot_nodes, np.abs(setup.rot_k), 3),)
     for nodes, ks, col in groups:
         for s in range(nodes.shape[0]):
             a, b = int(nodes[s, 0]), int(nodes[s, 1])

@@ -48,8 +48,6 @@ class State:
     any);
     mq, mp, mf (M) modal coordinates, their rates and the modal forces of the last step
     (x3dpd.physics.modal; empty without a MODAL card);
-    rotational_theta (Q,3) each rotational spring's relative rotation about x, y, z since t0
-    [rad]; rotational_md_prev (Q,3) the rotational dampers' moments of the last step;
     step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against);
     units: the effect units' state arrays by their names (x3dpd.physics.effect_unit.StateArray:
@@ -81,8 +79,6 @@ class State:
     mq: np.ndarray = None
     mp: np.ndarray = None
     mf: np.ndarray = None
-    rotational_theta: np.ndarray = None
-    rotational_md_prev: np.ndarray = None
     step: int = 0
     e_ref: float = 0.0
     scale: float = 0.0
@@ -133,18 +129,13 @@ class State:
         for name in _MODAL_STATE:
             if getattr(state, name) is None:
                 setattr(state, name, np.zeros(0))
-        for name in _SPRING_STATE:
-            if getattr(state, name) is None:
-                setattr(state, name, np.zeros((0, 3)))
         return state
 
 
 #: State fields of the modal structure (absent from dumps of older versions).
 _MODAL_STATE = ("mq", "mp", "mf")
-#: State fields of the axial and rotational springs (MATID types 2, 3; absent from older dumps).
-_SPRING_STATE = ("rotational_theta", "rotational_md_prev")
-#: State fields absent from dumps of older versions: analytic walls' contacts, modes, springs.
-_OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE + _SPRING_STATE
+#: State fields absent from dumps of older versions: analytic walls' contacts, modes.
+_OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE
 #: The scalars at a dump's end.
 _SCALARS = ("step", "e_ref", "scale")
 #: The arrays of a restart dump in the order dumps have always had them, the effect units' at
@@ -167,9 +158,6 @@ class Setup:
     kin_mass: np.ndarray
     kin_inertia: np.ndarray
     g: np.ndarray
-    rot_nodes: np.ndarray  # (Q, 2) rotational elements (MATID type 3): node indices (-1: ground)
-    rot_k: np.ndarray      # (Q, 3) stiffness about x, y, z [force length/rad]
-    rot_c: np.ndarray      # (Q, 3) damping [force length s/rad]
     rig_master: np.ndarray
     rig_ptr: np.ndarray
     rig_slaves: np.ndarray
@@ -363,9 +351,6 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         x0=_f64(model.x0, (n, 3)), inv_m=inv_m, mass=mass, fgrav=_body_forces(mass, model),
         kin_mass=kin_mass,
         kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
-        rot_nodes=_i64(model.rotational_nodes).reshape(-1, 2),
-        rot_k=_f64(model.rotational_k).reshape(-1, 3),
-        rot_c=_f64(model.rotational_c).reshape(-1, 3),
         rig_master=_i64(model.rigid_master), rig_ptr=_i64(model.rigid_ptr),
         rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
         rig_free_rot=rig_free_rot,
@@ -451,8 +436,7 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
         mq=np.zeros(setup.modal_coef.shape[0]), mp=np.zeros(setup.modal_coef.shape[0]),
         mf=np.zeros(setup.modal_coef.shape[0]),
-        rotational_theta=np.zeros((setup.rot_nodes.shape[0], 3)),
-        rotational_md_prev=np.zeros((setup.rot_nodes.shape[0], 3)), step=0, e_ref=0.0,
+        step=0, e_ref=0.0,
         units={a.name: np.zeros((setup.units[u.name][a.rows].shape[0],) + a.columns)
                for u in UNITS for a in u.state},
     )

@@ -117,7 +117,6 @@ class Variant:
             one_particle_kind=one_particle_kind and "pair_contact" in e,
             one_wall_kind=one_wall_kind and "wall_contact" in e,
             modal="modal_structure" in e,
-            rotational_springs="rotational_springs" in e,
             threaded=threaded and "pair_contact" in e,
             # an effect unit is compiled when the scene has any of its effects
             **{u.flag: bool(set(u.effects) & e) for u in UNITS},
