@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from x3dpd.physics import axial_spring, rotational_spring, spring_damper
+from x3dpd.physics import axial_spring, modal, rotational_spring, spring_damper
 from x3dpd.physics.effect_unit import SLOTS, EffectUnit, StateArray
 
 __all__ = ["UNITS", "BY_UNIT_NAME", "EffectUnit", "StateArray", "SLOTS", "units_of"]
@@ -65,7 +65,7 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
 
 
 #: The effect units, in the order the slots call them.
-UNITS: tuple[EffectUnit, ...] = _register(spring_damper, axial_spring, rotational_spring)
+UNITS: tuple[EffectUnit, ...] = _register(spring_damper, axial_spring, rotational_spring, modal)
 #: Effect unit by name.
 BY_UNIT_NAME = {u.name: u for u in UNITS}
 

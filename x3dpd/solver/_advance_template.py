@@ -25,16 +25,15 @@ from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
                                   _triangle_frames)
-from x3dpd.physics.modal import _modal_drift, _modal_kick, _modal_place
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
 from x3dpd.physics.usrfrc import KIND_DATA, _force_value
-from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
+from x3dpd.solver._template_contact import (L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
                                             REALLOC_WALLS)
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pair_passes import _pair_contacts
-from x3dpd.solver._template_variant import (HAS_EXTERNAL, HAS_MODAL,
+from x3dpd.solver._template_variant import (HAS_EXTERNAL,
                                             HAS_MOTION, HAS_ONE_WALL_KIND, HAS_PAIRS,
                                             HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
                                             HAS_SHAPES,
@@ -42,7 +41,7 @@ from x3dpd.solver._template_variant import (HAS_EXTERNAL, HAS_MODAL,
                                             SLOT_DRIFT, SLOT_FOLLOW, SLOT_FORCE, SLOT_KICK,
                                             SLOT_PLACE, UNIT_BUNDLES, USER_FORCE)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
-from x3dpd.solver.bundles import (ContactList, Faces, Loads, Modal, Nodes, Output, Particles,
+from x3dpd.solver.bundles import (ContactList, Faces, Loads, Nodes, Output, Particles,
                                   RigidBodies, Shapes, Stepping)
 from x3dpd.solver.contact_lists import _active_flags, _merge_states, _pair_approach
 
@@ -192,7 +191,7 @@ def _adopt_new_list(lst, m):
 
 
 @step_kernel
-def _drift(synced, t_old, t, nodes, loads, rigid, particles, modal, units, stepping):
+def _drift(synced, t_old, t, nodes, loads, rigid, particles, units, stepping):
     """The first half kick (unless the last step's second one already did it: ``synced``
     False), which also resets the forces to the body forces m g, and the drift of every node
     from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``,
@@ -223,9 +222,6 @@ def _drift(synced, t_old, t, nodes, loads, rigid, particles, modal, units, stepp
     if HAS_RIGID_ROTATION:
         _rotate(rigid.rot, rigid.master, vel, dt)
     SLOT_DRIFT(units, nodes, rigid, stepping, t)
-    if HAS_MODAL:
-        # modal nodes (and a modal master's rotation) from the modes (x3dpd.physics.modal)
-        _modal_drift(modal, x, nodes.x0, vel, rigid.rot, dt)
     if HAS_MOTION:
         _apply_motion_step(t_old, t, loads.motion, nodes.x0, x, vel)
     vwall = 0.0
@@ -255,7 +251,7 @@ def _body_forces(nodes):
 
 
 @step_kernel
-def _after_forces(t_old, t, nodes, loads, rigid, modal, units, stepping):
+def _after_forces(t_old, t, nodes, loads, rigid, units, stepping):
     """What takes the step's summed forces: the prescribed motions' actuator work and the
     units' slot ``kick``."""
     if HAS_MOTION:
@@ -264,9 +260,6 @@ def _after_forces(t_old, t, nodes, loads, rigid, modal, units, stepping):
                                                 nodes.kin_inertia, nodes.force,
                                                 loads.motion_prev)
     SLOT_KICK(units, nodes, rigid, stepping, t)
-    if HAS_MODAL:
-        # the modal forces of this step complete the modes' step (and the damping's work)
-        stepping.ledger[L_DDAMP] += _modal_kick(modal, nodes.force, stepping.dt)
 
 
 @step_kernel
@@ -288,7 +281,7 @@ def _kick_on(nodes, rigid, h):
 
 
 @step_kernel
-def _kick_to_end(t, nodes, loads, rigid, modal, units, stepping):
+def _kick_to_end(t, nodes, loads, rigid, units, stepping):
     """The second half kick to full-step velocities, then the nodes that follow them: the
     prescribed motions, the units' slot ``place``, the rigid slaves."""
     h = 0.5 * stepping.dt
@@ -301,15 +294,13 @@ def _kick_to_end(t, nodes, loads, rigid, modal, units, stepping):
     if HAS_MOTION:
         _apply_motion(t, loads.motion, nodes.x0, nodes.x, nodes.vel)
     SLOT_PLACE(units, nodes, rigid, stepping, t)
-    if HAS_MODAL:
-        _modal_place(modal, nodes.x, nodes.x0, nodes.vel, rigid.rot, modal.p, False)
     if HAS_RIGID:
         _update_slaves(nodes.x, nodes.vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
                        rigid.rot, False, HAS_RIGID_ROTATION)
 
 
 @step_kernel
-def _output_row(t, row, nodes, particles, walls, pairs, shapes, modal, units, stepping, output):
+def _output_row(t, row, nodes, particles, walls, pairs, shapes, units, stepping, output):
     """Row ``row`` of the output buffers at time t: the trace nodes' x, v, omega and the
     energy ledger row (the energies also in ``stepping.small[0:6]``). Returns NONFINITE when a
     traced value or the residual is inf or NaN (caught here, cheaply, before it reaches the
@@ -324,7 +315,7 @@ def _output_row(t, row, nodes, particles, walls, pairs, shapes, modal, units, st
             data[row, k, 3 + d] = vel[i, d]
     output.times[row] = t
     en = stepping.small[0:6]   # energies at an output step
-    _energies(nodes, particles, walls, pairs, shapes, modal, units, stepping.dt, en)
+    _energies(nodes, particles, walls, pairs, shapes, units, stepping.dt, en)
     _ledger_row(t, en, stepping.ledger, output.e_ref, output.energy[row])
     bad = False
     for k in range(trace_nodes.shape[0]):
@@ -368,12 +359,12 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
     Returns (status, steps done, rows written); the run stops at the first non-zero status or a
     full output buffer.
     """
-    (nodes_, loads_, rigid_, particles_, faces_, walls_, pairs_, shapes_, modal_, units_,
-     stepping_, output_) = packed
+    (nodes_, loads_, rigid_, particles_, faces_, walls_, pairs_, shapes_, units_, stepping_,
+     output_) = packed
     nodes, loads, rigid = Nodes(*nodes_), Loads(*loads_), RigidBodies(*rigid_)
     particles, faces, walls, pairs = (Particles(*particles_), Faces(*faces_),
                                       ContactList(*walls_), ContactList(*pairs_))
-    shapes, modal, units = Shapes(*shapes_), Modal(*modal_), UNIT_BUNDLES(units_)
+    shapes, units = Shapes(*shapes_), UNIT_BUNDLES(units_)
     stepping, output = Stepping(*stepping_), Output(*output_)
     dt, diag = stepping.dt, stepping.diag
     rows = 0
@@ -396,27 +387,27 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             if mode == FORCES:
                 _body_forces(nodes)
             else:
-                _drift(synced, t_start + step * dt, t, nodes, loads, rigid, particles, modal,
-                       units, stepping)
+                _drift(synced, t_start + step * dt, t, nodes, loads, rigid, particles, units,
+                       stepping)
             st = _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
                               units, stepping)
             if mode == FORCES:
                 return st, 0, 0
-            _after_forces(t_start + step * dt, t, nodes, loads, rigid, modal, units, stepping)
+            _after_forces(t_start + step * dt, t, nodes, loads, rigid, units, stepping)
             out_in -= 1
             synced = st != OK or it == nsteps - 1 or out_in == 0
             if not synced:
                 _kick_on(nodes, rigid, 0.5 * dt)
                 continue
-            _kick_to_end(t, nodes, loads, rigid, modal, units, stepping)
+            _kick_to_end(t, nodes, loads, rigid, units, stepping)
             if st != OK:
                 diag[4] = t
                 diag[5] = step + 1
                 return st, it + 1, rows
         if out_in == 0:
             out_in = output.itrac
-            st = _output_row(t, rows, nodes, particles, walls, pairs, shapes, modal, units,
-                             stepping, output)
+            st = _output_row(t, rows, nodes, particles, walls, pairs, shapes, units, stepping,
+                             output)
             rows += 1
             if mode == SNAPSHOT:
                 return OK, 0, rows

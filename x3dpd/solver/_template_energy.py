@@ -7,10 +7,9 @@ SNAPSHOT mode (x3dpd.solver.simulation), so each variant compiles them once.
 
 from x3dpd._jit import step_kernel
 from x3dpd.physics.gravity import _gravity_energy
-from x3dpd.physics.modal import _modal_energies
 from x3dpd.solver._template_contact import (CONTACT_TAIL, L_DDAMP, L_DFRIC, L_DROLL, L_WEXT,
                                             L_WN)
-from x3dpd.solver._template_variant import (HAS_MODAL, HAS_PAIRS, HAS_ROLLING, HAS_SHAPES,
+from x3dpd.solver._template_variant import (HAS_PAIRS, HAS_ROLLING, HAS_SHAPES,
                                             HAS_VISCOELASTIC, HAS_WALLS,
                                             NORMAL_DAMPED, NORMAL_STORED_ENERGY, SLOT_ENERGY,
                                             TANGENTIAL_STORED_ENERGY, TANGENTIAL_STORES)
@@ -18,7 +17,7 @@ from x3dpd.solver.contact_lists import S_A, S_FN, S_FT
 
 
 @step_kernel
-def _energies(nodes, particles, walls, pairs, shapes, modal, units, dt, out):
+def _energies(nodes, particles, walls, pairs, shapes, units, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction).
 
     The effect units add theirs in the slot ``energy`` (x3dpd.physics.effect_unit): a modal
@@ -47,11 +46,6 @@ def _energies(nodes, particles, walls, pairs, shapes, modal, units, dt, out):
     shadow += SLOT_ENERGY(units, nodes, out)
     out[4] = (_contact_energy(particles, walls, pairs, shapes)
               if (HAS_WALLS or HAS_PAIRS or HAS_SHAPES) else 0.0)
-    if HAS_MODAL:
-        ke_m, u_m, ff_m = _modal_energies(modal)
-        out[0] += ke_m
-        out[3] += u_m
-        shadow += ff_m
     out[5] = dt * dt / 8.0 * shadow
 
 

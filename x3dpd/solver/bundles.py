@@ -26,7 +26,7 @@ from x3dpd.solver.contact_lists import (PAIR_BLOCK, S_H, history_columns, pair_c
                                          wall_columns)
 
 __all__ = ["Status", "Nodes", "Loads", "RigidBodies", "Particles", "Faces",
-           "ContactList", "Shapes", "Modal", "Stepping", "Output"]
+           "ContactList", "Shapes", "Stepping", "Output"]
 
 
 class Status(enum.IntFlag):
@@ -151,25 +151,6 @@ class Shapes(NamedTuple):
     located: np.ndarray      # (MAX_PARTS, 9) scratch: the locator's rows
 
 
-class Modal(NamedTuple):
-    """A structure given by its modes (MODAL card; x3dpd.physics.modal): N modal nodes, M
-    modes (both 0 in a scene without one)."""
-
-    nodes: np.ndarray        # (N,) node index of each modal node
-    shape: np.ndarray        # (N, 6, M) mass-normalised shapes at its 6 DOFs
-    body: np.ndarray         # (N,) rigid body the node is master of, or -1
-    coef: np.ndarray         # (M, 8) step coefficients (x3dpd.physics.modal.COEF_COLUMNS)
-    diss: np.ndarray         # (M, 10) the damping's dissipation per step, a quadratic form
-    coupling: np.ndarray     # (M, M) damping coupling the modes, or (0, 0)
-    q: np.ndarray            # (M,) modal coordinates [sqrt(mass) length]
-    p: np.ndarray            # (M,) their rates (p* between the two parts of a step)
-    f: np.ndarray            # (M,) modal forces of the last force evaluation
-    q_old: np.ndarray        # (M,) scratch: q at the step's start
-    p_old: np.ndarray        # (M,) scratch: p at the step's start
-    f_new: np.ndarray        # (M,) scratch: the forces being projected
-    rate: np.ndarray         # (M,) scratch: (q_{n+1} - q_n) / dt, the rate over the step
-
-
 class Stepping(NamedTuple):
     """Step size, list bookkeeping, the energy ledger and the diagnosis of a stop."""
 
@@ -231,9 +212,6 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
         "walls": walls,
         "pairs": pairs,
         "shapes": Shapes(*k.shapes, s.cs, s.cs_on, scratch["located"]),
-        "modal": Modal(k.modal_nodes, k.modal_shape, k.modal_body, k.modal_coef, k.modal_diss,
-                       k.modal_coupling, s.mq, s.mp, s.mf, scratch["mq_old"],
-                       scratch["mp_old"], scratch["mf_new"], scratch["m_rate"]),
         "stepping": Stepping(float(dt), float(k.skin), float(pen_limit),
                              s.ledger if ledger is None else ledger, s.nbr, diag,
                              scratch["small"], float(dt if history_dt is None else history_dt)),
@@ -267,8 +245,6 @@ def contact_scratch(state) -> dict:
             "pl_c": pair_columns(s.pl_i.shape[0]),
             "pl_h": history_columns(s.pl_i.shape[0], s.ps.shape[1] - S_H),
             "small": np.zeros(9), "located": np.zeros((MAX_SHAPE_PARTS, 9)),
-            "mq_old": np.zeros_like(s.mq), "mp_old": np.zeros_like(s.mp),
-            "mf_new": np.zeros_like(s.mf), "m_rate": np.zeros_like(s.mf),
             # the effect units' scratch arrays, shaped like their state arrays
             **{f"{u.name}.{field}": np.zeros_like(s.units[_state_name(u, like)])
                for u in UNITS for field, like in u.scratch}}
@@ -281,7 +257,7 @@ def _state_name(unit, field: str) -> str:
 #: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start); ``units`` is the
 #: tuple of the bundles of the effect units the loop compiles, in registry order.
 ADVANCE_BUNDLES = ("nodes", "loads", "rigid", "particles", "faces", "walls", "pairs", "shapes",
-                   "modal", "units", "stepping", "output")
+                   "units", "stepping", "output")
 
 
 def pack(bundles: dict, output: Output) -> tuple:

@@ -386,15 +386,10 @@ class Simulation(RunChecks):
         """The effect units' ``start`` hooks on the forces now in ``state.force`` (the modal
         forces f = sum phi^T F, less the coupling damping, into ``state.mf``: what the first
         step of the modes uses; x3dpd.physics.effect_unit)."""
-        k, s = self.setup, self.state
-        if k.modal_nodes.shape[0]:
-            s.mf[:] = np.einsum("jdk,jd->k", k.modal_shape, s.force[k.modal_nodes])
-            if k.modal_coupling.size:
-                s.mf -= k.modal_coupling @ s.mp
         bundles = self._bundles()
         for unit in UNITS:
             if unit.start is not None:
-                unit.start(bundles[unit.name], s.force)
+                unit.start(bundles[unit.name], self.state.force)
 
     def _faces(self):
         """The faces' planes (normal, offset) and the triangles' frames
@@ -496,9 +491,6 @@ def _walls_only_translate(setup, prescribed_nodes) -> bool:
     shear its triangle, so it disqualifies."""
     nodes = np.unique(setup.tri_nodes)
     if nodes.size == 0:
-        return False
-    turning = setup.modal_body[np.any(setup.modal_shape[:, 3:, :] != 0.0, axis=(1, 2))]
-    if np.any(turning >= 0):
         return False
     if any(len(u.turns(setup.units[u.name])) for u in UNITS if u.turns is not None):
         return False

@@ -46,8 +46,6 @@ class State:
     cs, cs_on (R) contact state rows and open flags of the analytic walls' static list, one
     row per part of each (particle, wall) pair (x3dpd.solver.bundles.Shapes; empty without
     any);
-    mq, mp, mf (M) modal coordinates, their rates and the modal forces of the last step
-    (x3dpd.physics.modal; empty without a MODAL card);
     step: steps done since t0; e_ref: energy at t0;
     scale: the largest energy-ledger term seen so far (what the residual is judged against);
     units: the effect units' state arrays by their names (x3dpd.physics.effect_unit.StateArray:
@@ -76,9 +74,6 @@ class State:
     ledger: np.ndarray
     cs: np.ndarray = None
     cs_on: np.ndarray = None
-    mq: np.ndarray = None
-    mp: np.ndarray = None
-    mf: np.ndarray = None
     step: int = 0
     e_ref: float = 0.0
     scale: float = 0.0
@@ -126,16 +121,11 @@ class State:
         if state.cs is None:
             state.cs = np.zeros((0, state.ws.shape[1]))
             state.cs_on = np.zeros(0, np.int8)
-        for name in _MODAL_STATE:
-            if getattr(state, name) is None:
-                setattr(state, name, np.zeros(0))
         return state
 
 
-#: State fields of the modal structure (absent from dumps of older versions).
-_MODAL_STATE = ("mq", "mp", "mf")
-#: State fields absent from dumps of older versions: analytic walls' contacts, modes.
-_OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE
+#: State fields absent from dumps of older versions: the analytic walls' contacts.
+_OPTIONAL_STATE = ("cs", "cs_on")
 #: The scalars at a dump's end.
 _SCALARS = ("step", "e_ref", "scale")
 #: The arrays of a restart dump in the order dumps have always had them, the effect units' at
@@ -189,12 +179,6 @@ class Setup:
     tri_nodes: np.ndarray
     tri_sign: np.ndarray
     shapes: "ShapeTable"      # the analytic walls and their static contact list
-    modal_nodes: np.ndarray   # (N,) modal nodes (x3dpd.solver.bundles.Modal)
-    modal_shape: np.ndarray   # (N, 6, M)
-    modal_body: np.ndarray    # (N,)
-    modal_coef: np.ndarray    # (M, 8) step coefficients for dt
-    modal_diss: np.ndarray    # (M, 10) dissipation forms for dt
-    modal_coupling: np.ndarray  # (M, M) or (0, 0)
     n_maxwell: int
     skin: float
     dt: float
@@ -220,26 +204,31 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     ``prescribed``: (m, 2) node index, dof index of DOFs moved by a prescribed motion (they are
     integrated as fixed: zero inverse mass).
     """
+    nodes = _node_arrays(model, float(dt), prescribed)
+    particles = _particle_arrays(model, dt, nodes["mass"], friction)
+    if skin is None:
+        radius = particles["radius"]
+        skin = 0.25 * float(radius.min()) if radius.shape[0] else 0.0
+    return Setup(**nodes, **particles, **_wall_arrays(model), skin=float(skin), dt=float(dt))
+
+
+def _node_arrays(model: Model, dt: float, prescribed) -> dict:
+    """The nodes' and rigid bodies' arrays of Setup, and the effect units' constants (a unit
+    may take its nodes out of velocity Verlet: x3dpd.physics.effect_unit)."""
     n = model.n_nodes
-    p0 = model.particle_start
-    npart = model.n_particles
     mass = _f64(model.mass).copy()
-    inertia = _f64(model.inertia, (n, 3)).copy()
     fixed = np.array(model.fixed, dtype=bool).reshape(n, 6).copy()
     if prescribed is not None:
         for i, d in np.asarray(prescribed, dtype=np.int64).reshape(-1, 2):
             fixed[i, d] = True
-
     kin_mass = mass.copy()
-    kin_inertia = inertia.copy()
+    kin_inertia = _f64(model.inertia, (n, 3)).copy()
     nb = model.rigid_master.shape[0]
     rig_free_rot = np.zeros((nb, 3), dtype=np.bool_)
     rig_r0 = np.zeros((model.rigid_slaves.shape[0], 3))
     rig_ib = _f64(model.rigid_inertia, (nb, 3, 3)).copy()
     rig_inv_ib = np.zeros((nb, 3, 3))
     slave = np.zeros(n, dtype=bool)
-    modal_bodies = set() if model.modal is None else set(model.modal.body[model.modal.body >= 0]
-                                                         .tolist())
     for b in range(nb):
         m = int(model.rigid_master[b])
         sl = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
@@ -247,9 +236,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_r0[model.rigid_ptr[b]:model.rigid_ptr[b + 1]] = model.x0[sl] - model.x0[m]
         kin_mass[m] = model.rigid_mass[b]
         kin_inertia[m] = np.diag(rig_ib[b])
-        rig_free_rot[b] = ~fixed[m, 3:6] & (b not in modal_bodies)   # the modes turn those
-        if rig_free_rot[b].any():
-            rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
+        rig_free_rot[b] = ~fixed[m, 3:6]
     kin_mass[slave] = 0.0
     kin_inertia[slave] = 0.0
 
@@ -261,20 +248,28 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
             inv_m[:, 3 + d] = np.where(has, 1.0 / np.where(has, kin_inertia[:, d], 1.0), 0.0)
     inv_m[fixed] = 0.0
     inv_m[slave] = 0.0
-    # rotations of rigid masters with a free rotational DOF use the full tensor (separate kick)
+    out = {"inv_m": inv_m, "mass": mass, "kin_mass": kin_mass, "kin_inertia": kin_inertia,
+           "rig_free_rot": rig_free_rot}
+    units = {u.name: u.setup(model, dt, out) for u in UNITS}
+    # rotations of rigid masters with a free rotational DOF (that no unit carries) use the full
+    # tensor (a kick of their own)
     for b in range(nb):
         if rig_free_rot[b].any():
+            rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
             inv_m[int(model.rigid_master[b]), 3:6] = 0.0
+    return {**out, "x0": _f64(model.x0, (n, 3)), "fgrav": _body_forces(mass, model),
+            "g": _f64(model.body_accel, (3,)), "rig_master": _i64(model.rigid_master),
+            "rig_ptr": _i64(model.rigid_ptr), "rig_slaves": _i64(model.rigid_slaves),
+            "rig_r0": rig_r0, "rig_ib": rig_ib, "rig_inv_ib": rig_inv_ib, "units": units}
 
-    modal = _modal_setup(model, float(dt), inv_m, mass, kin_mass, kin_inertia, rig_free_rot,
-                         rig_inv_ib)
-    # the effect units' constants; a unit may take its nodes out of velocity Verlet
-    nodes = {"inv_m": inv_m, "mass": mass, "kin_mass": kin_mass, "kin_inertia": kin_inertia,
-             "rig_free_rot": rig_free_rot, "rig_inv_ib": rig_inv_ib}
-    units = {u.name: u.setup(model, float(dt), nodes) for u in UNITS}
 
-    # particles
+def _particle_arrays(model: Model, dt: float, mass: np.ndarray, friction: str) -> dict:
+    """The particles' arrays of Setup: radii, moduli, Maxwell factors, kinds, the contact laws'
+    constant tables (``mass``: the nodes' masses)."""
+    p0 = model.particle_start
+    npart = model.n_particles
     radius = _f64(model.radius)
+    inertia = _f64(model.inertia, (model.n_nodes, 3))
     moduli = _f64(model.moduli, (npart, -1)) if npart else np.zeros((0, 1))
     taus = _f64(model.taus, (npart, -1)) if npart else np.zeros((0, 1))
     k_terms = moduli.shape[1]
@@ -302,23 +297,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     if k_terms > 1 and npart and np.any(moduli[:, 1:] != 0.0):
         n_maxwell = k_terms - 1
 
-    # walls: faces per cavity (CSR), triangles per face (CSR)
     pcav = _i64(model.particle_cavity)
-    ncav = int(model.cavity_set_ids.shape[0])
-    tri_face = _i64(model.tri_face)
-    nf = int(model.face_cavity.shape[0])
-    order = np.argsort(tri_face, kind="stable")
-    face_tris = _i64(order)
-    face_ptr = np.zeros(nf + 1, dtype=np.int64)
-    np.add.at(face_ptr, tri_face + 1, 1)
-    face_ptr = np.cumsum(face_ptr)
-    face_first_tri = _i64(face_tris[face_ptr[:-1]]) if nf else np.zeros(0, np.int64)
-    fc = _i64(model.face_cavity)
-    cav_faces = _i64(np.argsort(fc, kind="stable"))
-    cav_ptr = np.zeros(ncav + 1, dtype=np.int64)
-    np.add.at(cav_ptr, fc + 1, 1)
-    cav_ptr = np.cumsum(cav_ptr)
-
     hooke = (np.zeros((npart, 2)) if model.hooke is None
              else _f64(model.hooke, (npart, 2)))
     pm_all = mass[p0:] if npart else np.zeros(0)
@@ -344,57 +323,35 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
                                            mu_k, rep, model.rolling_law, mu_r, pin)
     tan_wall[:, 1] = wall_friction(tan_wall[:, 1], mu_wall)   # a WALLMAT wall's mu
 
-    if skin is None:
-        skin = 0.25 * float(radius.min()) if npart else 0.0
-
-    return Setup(
-        x0=_f64(model.x0, (n, 3)), inv_m=inv_m, mass=mass, fgrav=_body_forces(mass, model),
-        kin_mass=kin_mass,
-        kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
-        rig_master=_i64(model.rigid_master), rig_ptr=_i64(model.rigid_ptr),
-        rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
-        rig_free_rot=rig_free_rot,
-        p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), pkind=pkind, pair_c=pair_c,
-        law_wall=_f64(law_wall), law_pair=_f64(law_pair), tan_wall=_f64(tan_wall),
-        tan_pair=_f64(tan_pair),
-        n_tangential=n_history(friction) + rolling_history(model.rolling_law),
-        decay=_f64(decay), half=_f64(half), mu=_f64(wall_friction(model.mu, mu_wall)),
-        inv_mt=_f64(inv_mt), pcav=pcav,
-        cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
-        face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
-        tri_sign=_f64(model.tri_sign), shapes=shape_table(model, pcav), **modal,
-        n_maxwell=n_maxwell,
-        skin=float(skin), dt=float(dt), units=units,
-    )
+    return {"p0": int(p0), "radius": radius, "kw": _f64(kw), "ep": _f64(ep), "pkind": pkind,
+            "pair_c": pair_c, "law_wall": _f64(law_wall), "law_pair": _f64(law_pair),
+            "tan_wall": _f64(tan_wall), "tan_pair": _f64(tan_pair),
+            "n_tangential": n_history(friction) + rolling_history(model.rolling_law),
+            "decay": _f64(decay), "half": _f64(half), "mu": _f64(wall_friction(model.mu, mu_wall)),
+            "inv_mt": _f64(inv_mt), "pcav": pcav, "n_maxwell": n_maxwell}
 
 
-def _modal_setup(model, dt, inv_m, mass, kin_mass, kin_inertia, rig_free_rot, rig_inv_ib):
-    """The modal structure's kernel arrays (x3dpd.physics.modal); its nodes leave velocity
-    Verlet (zero inverse mass, no kinetic mass: the modes carry it). Updates the arrays in place.
-    With the housing included in the modes, the deck's mass on modal nodes does not weigh."""
-    from x3dpd.physics.modal import dissipation_forms, step_coefficients
-
-    ms = model.modal
-    if ms is None:
-        return {"modal_nodes": np.zeros(0, np.int64), "modal_shape": np.zeros((0, 6, 0)),
-                "modal_body": np.zeros(0, np.int64), "modal_coef": np.zeros((0, 8)),
-                "modal_diss": np.zeros((0, 10)), "modal_coupling": np.zeros((0, 0))}
-    nodes = _i64(ms.nodes)
-    inv_m[nodes] = 0.0
-    kin_mass[nodes] = 0.0
-    kin_inertia[nodes] = 0.0
-    for b in ms.body[ms.body >= 0]:
-        rig_free_rot[b] = False
-        rig_inv_ib[b] = 0.0
-    if ms.housing == "included":
-        mass[nodes] = 0.0
-        for b in ms.body[ms.body >= 0]:
-            mass[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = 0.0
-    return {"modal_nodes": nodes, "modal_shape": _f64(ms.shape),
-            "modal_body": _i64(ms.body),
-            "modal_coef": step_coefficients(ms.omega, ms.zeta, dt),
-            "modal_diss": dissipation_forms(ms.omega, ms.zeta, dt),
-            "modal_coupling": _f64(ms.coupling).reshape(ms.coupling.shape)}
+def _wall_arrays(model: Model) -> dict:
+    """The walls' arrays of Setup: faces per cavity (CSR), triangles per face (CSR), the
+    analytic walls and their static contact list."""
+    ncav = int(model.cavity_set_ids.shape[0])
+    tri_face = _i64(model.tri_face)
+    nf = int(model.face_cavity.shape[0])
+    order = np.argsort(tri_face, kind="stable")
+    face_tris = _i64(order)
+    face_ptr = np.zeros(nf + 1, dtype=np.int64)
+    np.add.at(face_ptr, tri_face + 1, 1)
+    face_ptr = np.cumsum(face_ptr)
+    face_first_tri = _i64(face_tris[face_ptr[:-1]]) if nf else np.zeros(0, np.int64)
+    fc = _i64(model.face_cavity)
+    cav_faces = _i64(np.argsort(fc, kind="stable"))
+    cav_ptr = np.zeros(ncav + 1, dtype=np.int64)
+    np.add.at(cav_ptr, fc + 1, 1)
+    cav_ptr = np.cumsum(cav_ptr)
+    return {"cav_ptr": cav_ptr, "cav_faces": cav_faces, "face_first_tri": face_first_tri,
+            "face_ptr": face_ptr, "face_tris": face_tris,
+            "tri_nodes": _i64(model.tri_nodes).reshape(-1, 3), "tri_sign": _f64(model.tri_sign),
+            "shapes": shape_table(model, _i64(model.particle_cavity))}
 
 
 def _body_forces(mass: np.ndarray, model) -> np.ndarray:
@@ -434,8 +391,6 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(5),
         cs=np.zeros((setup.shapes.row_particle.shape[0], ncols)),
         cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
-        mq=np.zeros(setup.modal_coef.shape[0]), mp=np.zeros(setup.modal_coef.shape[0]),
-        mf=np.zeros(setup.modal_coef.shape[0]),
         step=0, e_ref=0.0,
         units={a.name: np.zeros((setup.units[u.name][a.rows].shape[0],) + a.columns)
                for u in UNITS for a in u.state},

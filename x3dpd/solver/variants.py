@@ -116,7 +116,6 @@ class Variant:
             shapes="+".join(s.name for s in SHAPES if s.effect in e),
             one_particle_kind=one_particle_kind and "pair_contact" in e,
             one_wall_kind=one_wall_kind and "wall_contact" in e,
-            modal="modal_structure" in e,
             threaded=threaded and "pair_contact" in e,
             # an effect unit is compiled when the scene has any of its effects
             **{u.flag: bool(set(u.effects) & e) for u in UNITS},
