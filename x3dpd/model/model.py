@@ -58,9 +58,10 @@ class Model:
     particle_group : (P,) int64, index of the PDMP card the particle belongs to.
     particle_cavity : (P,) int64, cavity index whose walls the particle meets (-1: none).
     normal_law : str, the normal contact law of every particle (x3dpd.physics.normal_laws):
-        "lee_radok" (the report's), or "hooke" (HOOKE card).
-    hooke : (P, 2) float64, k_n [force/length] and restitution e per particle (HOOKE card;
-        zeros under another law).
+        "lee_radok" (the report's), or the law a card selects ("hooke": HOOKE card).
+    law_params : (P, n) float64, the normal law's own constants per particle from its card, in
+        the law's PARAMS order (HOOKE: k_n [force/length] and restitution e), or None under
+        the report's law.
 
     spring_nodes : (S, 2) int64, node indices; second is -1 for a spring to ground.
     spring_k, spring_c : (S, 3) float64, stiffness [force/length] and damping [force s/length]
@@ -157,7 +158,7 @@ class Model:
     title: str = ""
     path: str = "<deck>"
     normal_law: str = "lee_radok"
-    hooke: np.ndarray | None = None
+    law_params: np.ndarray | None = None
     wall_material: np.ndarray | None = None
     #: FRICTION card: the tangential law of the whole scene (None: no card, the run's
     #: option decides), per particle the kinetic mu (mu = the static one) and the rolling

@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from x3dpd.physics.effect_units import UNITS
-from x3dpd.physics.hooke import hooke_tables
 from x3dpd.physics.maxwell import maxwell_step_factors
 from x3dpd.physics.wall_material import (particle_walls, plane_strain_moduli, wall_friction,
                                           wall_hertz_constants)
@@ -298,11 +297,12 @@ def _particle_arrays(model: Model, dt: float, mass: np.ndarray, friction: str) -
         n_maxwell = k_terms - 1
 
     pcav = _i64(model.particle_cavity)
-    hooke = (np.zeros((npart, 2)) if model.hooke is None
-             else _f64(model.hooke, (npart, 2)))
+    # the normal law's own constants (its card's, x3dpd.physics.normal_laws) distinguish kinds too
+    law = NORMAL_LAWS[model.normal_law]
+    params = (np.zeros((npart, len(law.PARAMS))) if model.law_params is None
+              else _f64(model.law_params).reshape(npart, len(law.PARAMS)))
     pm_all = mass[p0:] if npart else np.zeros(0)
-    # the hooke law's own constants distinguish kinds too
-    extra = (hooke[:, 0], hooke[:, 1], pm_all) if model.normal_law == "hooke" else ()
+    extra = law.kind_keys(params, pm_all)
     mu_k = getattr(model, "mu_kinetic", None)
     mu_k = _f64(model.mu) if mu_k is None else _f64(mu_k)
     if n_history(friction):
@@ -313,14 +313,12 @@ def _particle_arrays(model: Model, dt: float, mass: np.ndarray, friction: str) -
         extra = extra + (mu_r,)
     pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu, *extra)
     pair_c = pair_constant_table(radius, cinst, inv_mt, model.mu, rep)
-    law_wall, law_pair = np.zeros((npart, 2)), np.zeros((rep.shape[0], rep.shape[0], 2))
-    if model.normal_law == "hooke":
-        law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
+    law_wall, law_pair = law.law_tables(params, pm_all, rep)
     bodies = ([b._replace(wall_e=float(e), wall_nu=float(n)) for b, e, n in
-               zip(contact_bodies(pm_all, radius, moduli, nu, hooke), e_wall, nu_wall)]
+               zip(contact_bodies(pm_all, radius, moduli, nu, params), e_wall, nu_wall)]
               if npart else [])   # a scene without particles has no contact bodies
-    tan_wall, tan_pair = tangential_tables(friction, NORMAL_LAWS[model.normal_law], bodies,
-                                           mu_k, rep, model.rolling_law, mu_r, pin)
+    tan_wall, tan_pair = tangential_tables(friction, law, bodies, mu_k, rep, model.rolling_law,
+                                           mu_r, pin)
     tan_wall[:, 1] = wall_friction(tan_wall[:, 1], mu_wall)   # a WALLMAT wall's mu
 
     return {"p0": int(p0), "radius": radius, "kw": _f64(kw), "ep": _f64(ep), "pkind": pkind,
