@@ -287,6 +287,17 @@ class AnalyticWall:
 
 
 @dataclass(frozen=True)
+class UnitRecord:
+    """One record of an effect unit's own card (our extension; x3dpd.physics.effect_units):
+    the values of the card's fields in order (a node field's an int: the node id)."""
+
+    unit: str
+    values: tuple[float | int, ...]
+    pos: Pos = NOWHERE
+    positions: tuple[Pos, ...] = ()  # where each value stands (for messages)
+
+
+@dataclass(frozen=True)
 class Units:
     """UNITS (our extension): the deck's unit system, ``LENGTH FORCE TIME`` (x3dpd.units)."""
 
@@ -326,3 +337,5 @@ class Deck:
     analytic_walls: tuple[AnalyticWall, ...] | None = None
     units: Units | None = None
     modal: Modal | None = None  # MODAL card (x3dpd.deck.modal_card); None: no modal structure
+    #: records of the effect units' own cards in file order (None: no such card)
+    unit_records: tuple[UnitRecord, ...] | None = None

@@ -50,6 +50,7 @@ from x3dpd.model.check_modal import modal_table, modal_warnings
 from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
 from x3dpd.model.rules_of_thumb import RuleNote, rules_of_thumb
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.physics.usrfrc import is_user_file
 from x3dpd.physics.wall_material import mixed_modulus, plane_strain_modulus
 from x3dpd.model.timestep import (
@@ -212,7 +213,9 @@ def check_model(
     warnings += [
         Finding(code, head, _listed(lines)) for code, head, lines in shape_warnings(model, REL_TOL)
     ]
-    warnings += [Finding(code, head, _listed(lines)) for code, head, lines in modal_warnings(model)]
+    unit_findings = [f for u in UNITS if u.check is not None for f in u.check(model)]
+    for code, head, lines in modal_warnings(model) + unit_findings:
+        warnings.append(Finding(code, head, _listed(lines)))
     warnings += [Finding(code, head, lines) for code, head, lines in jammed_beds(model, usrfrc)]
     pairs, depth = particle_overlaps(model)
     if pairs.shape[0]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from x3dpd.model.modal_structure import ModalStructure
+from x3dpd.physics.effect_units import UNITS
 
 # Names of the effects a scene can call for. The solver compiles exactly these.
 EFFECTS = (
@@ -33,6 +34,8 @@ EFFECTS = (
     "prescribed_motion",  # --motion
     "modal_structure",  # MODAL card (x3dpd.physics.modal)
 )
+# and the effects of the effect units (x3dpd.physics.effect_units) a unit card of its own names
+EFFECTS += tuple(e for u in UNITS for e in u.effects if e not in EFFECTS)
 
 
 @dataclass(frozen=True)
@@ -108,6 +111,8 @@ class Model:
     title : str, path : str.
     units : (length, force, time) unit names the deck declares (UNITS card; x3dpd.units).
     modal : the modal structure (MODAL card; x3dpd.model.modal_structure), None without one.
+    unit_data : the arrays of the effect units with a card of their own, by unit name (their
+        ``build`` of the card's records: x3dpd.physics.effect_units); empty without such cards.
     """
 
     node_ids: np.ndarray
@@ -180,6 +185,7 @@ class Model:
     rotational_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
     rotational_k: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     rotational_c: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    unit_data: dict = field(default_factory=dict)
 
     @property
     def n_nodes(self) -> int:

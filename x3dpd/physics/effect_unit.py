@@ -32,6 +32,16 @@ in ``stepping.ledger`` at the slots below (:data:`L_DDAMP` ...). An ``energy`` h
 ``en[3]``, and returns its share of the Verlet correction's sum f^2/m (the ledger's S:
 docs/energy.md).
 
+A unit's data comes from the model (x3dpd.model.model.Model): from the arrays a model builder
+step makes of the deck's cards (the springs' MATID and ELEMENTS, the MODAL card), or, for a
+unit with a card of its own (``card``: a :class:`UnitCard`), from ``model.unit_data[name]``,
+which its ``build(rows, fail)`` makes of the card's records: ``rows`` one dict per record,
+field -> value (a node field's value is the node's index, the others floats), ``fail(k,
+message)`` the deck error at record k (``FILE:LINE:COL: CARD: message``) to raise; it returns
+the unit's arrays by name. The deck reader and writer, the model builder (which also names the
+unit's first effect when its card has records) and ``x3dpd check`` (its ``check(model)``:
+findings ``(code, headline, lines)``) need no code of the unit's.
+
 Python-side hooks (plain functions, optional): ``setup(model, dt, nodes)`` returns the unit's
 constant arrays by bundle field from the model (x3dpd.model.model.Model) and the step ``dt``,
 and may take the unit's nodes out of velocity Verlet by changing the node arrays in ``nodes``
@@ -81,6 +91,21 @@ class StateArray:
 
 
 @dataclass(frozen=True)
+class UnitCard:
+    """A deck card of a unit's own (our extension): records of numbers, each with ``fields``
+    in order; the ``node_fields`` among them are node ids."""
+
+    name: str                       # the keyword, as the writer prints it
+    fields: tuple[str, ...]
+    node_fields: tuple[str, ...] = ()
+
+    @property
+    def key(self) -> str:
+        """The four letters X3D reads of a keyword."""
+        return self.name[:4]
+
+
+@dataclass(frozen=True)
 class EffectUnit:
     """One effect unit (a module of x3dpd.physics; see the module docstring)."""
 
@@ -100,6 +125,9 @@ class EffectUnit:
     #: kernels of its module that the Python side calls on a state, reached as attributes of
     #: the compiled loop module (x3dpd.solver.variants.make_advance)
     kernels: tuple[str, ...] = ()
+    card: UnitCard | None = None    # a card of its own, and
+    build: Callable | None = None   # (rows, fail) -> its arrays (model.unit_data[name])
+    check: Callable | None = None   # (model) -> [(code, headline, lines)] for x3dpd check
     module: str = ""                # the defining module (set by the registry)
     doc: str = ""                   # one line for docs and messages
 

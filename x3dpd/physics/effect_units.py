@@ -12,6 +12,8 @@ fixed slots of the step loop. Everything else is shared and reads the registry:
   the scene's variant has its ``flag`` (set from the model's effects, any of ``effects``), and
   writes each slot of the loop as the calls of its units' hooks, in registry order; a slot
   no unit of the scene fills compiles to nothing;
+* a unit with a card of its own gets it read and written (x3dpd.deck), its records checked and
+  built into ``model.unit_data`` (x3dpd.model.build_units) and its findings in ``x3dpd check``;
 * the diagnosis of a stop reads the units' ``stiffness`` (x3dpd.solver.diagnosis), a run's
   start their ``start`` hooks, the walls' test for turning bodies their ``turns``.
 
@@ -28,9 +30,10 @@ from __future__ import annotations
 import dataclasses
 
 from x3dpd.physics import axial_spring, modal, rotational_spring, spring_damper
-from x3dpd.physics.effect_unit import SLOTS, EffectUnit, StateArray
+from x3dpd.physics.effect_unit import SLOTS, EffectUnit, StateArray, UnitCard
 
-__all__ = ["UNITS", "BY_UNIT_NAME", "EffectUnit", "StateArray", "SLOTS", "units_of"]
+__all__ = ["UNITS", "BY_UNIT_NAME", "BY_UNIT_CARD", "EffectUnit", "StateArray", "UnitCard",
+           "SLOTS", "units_of"]
 
 
 def _register(*modules) -> tuple[EffectUnit, ...]:
@@ -53,6 +56,10 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
             raise ValueError(f"{where}: {sorted(named - fields)} are not fields of its bundle")
         if any(s.rows not in fields for s in unit.state):
             raise ValueError(f"{where}: a state array's rows are not a field of its bundle")
+        if (unit.card is None) != (unit.build is None):
+            raise ValueError(f"{where}: a card of its own needs its build, and a build its card")
+        if unit.card is not None and not set(unit.card.node_fields) <= set(unit.card.fields):
+            raise ValueError(f"{where}: its card's node fields are not among its fields")
         out.append(unit)
     for key in ("name", "flag"):
         values = [getattr(u, key) for u in out]
@@ -68,6 +75,8 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
 UNITS: tuple[EffectUnit, ...] = _register(spring_damper, axial_spring, rotational_spring, modal)
 #: Effect unit by name.
 BY_UNIT_NAME = {u.name: u for u in UNITS}
+#: Effect unit by the name of its own card (those that have one).
+BY_UNIT_CARD = {u.card.name: u for u in UNITS if u.card is not None}
 
 
 def units_of(variant) -> tuple[EffectUnit, ...]:
