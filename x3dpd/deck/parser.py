@@ -1,3 +1,4 @@
+# Over 400 lines: the generated grammar, the block reader and its error messages are one reader.
 """Read an X3D deck: text -> :class:`~x3dpd.deck.cards.Deck`, or one clear :class:`DeckError`.
 
 Three stages:

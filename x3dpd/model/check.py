@@ -1,3 +1,4 @@
+# Over 400 lines: check_model gathers every finding of x3dpd check (their parts: check_*.py).
 """Pre-run check of a model: summary, recommended time step and geometry warnings.
 
 :func:`check_model` never changes the model; it returns a :class:`CheckReport` whose

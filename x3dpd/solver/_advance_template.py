@@ -1,3 +1,4 @@
+# Over 400 lines: the step loop's slots and modes are one template, copied whole into each variant.
 """Template of the explicit time-step loop (report Section 7.3), specialised per scene.
 
 :func:`x3dpd.solver.variants.make_advance` copies this file and its parts -- what every contact
