@@ -3,7 +3,8 @@ analysis -> physics | geometry -> materials -> (errors, units, _jit). ``material
 library) sits just above the bottom: anything may import it, it imports only the bottom layer.
 Imports under ``if TYPE_CHECKING:`` do not count (no runtime edge). ``x3dpd/__init__.py`` is the
 public facade: it may load the API (lazily, in its ``__getattr__``) and nothing else above the
-bottom layer."""
+bottom layer. Above the API nothing touches what a layer below keeps private (a ``._name`` of
+anything but ``self``, a ``_name`` imported from another package)."""
 
 from __future__ import annotations
 
@@ -158,3 +159,72 @@ def test_a_cli_import_below_the_api_is_caught():
     assert not _beside_the_api(
         "cli", "if TYPE_CHECKING:\n    from x3dpd.model.model import Model", "x3dpd/cli/new.py"
     )
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def _private_uses(tool: str, source: str, name: str) -> list[str]:
+    """Where ``source`` (a module of ``tool``, above the API) touches a private name of a layer
+    below or beside it: an attribute ``._name`` of anything but ``self`` or ``cls`` (a
+    Simulation's kernels, its bundles, a state's internals), ``getattr(obj, "_name")``, or a
+    ``_name`` imported from an x3dpd package other than ``tool``."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Attribute) and _private(node.attr):
+            if not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls")):
+                bad.append(f"{name}:{node.lineno}: {tool} touches {ast.unparse(node)}")
+        elif (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Name)
+            and node.func.id in ("getattr", "setattr", "hasattr")
+            and len(node.args) > 1
+            and isinstance(node.args[1], ast.Constant)
+            and isinstance(node.args[1].value, str)
+            and _private(node.args[1].value)
+        ):
+            bad.append(f"{name}:{node.lineno}: {tool} touches {ast.unparse(node)}")
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            group = _group(node.module)
+            if group is None or group == tool:
+                continue
+            for alias in node.names:
+                if _private(alias.name):
+                    bad.append(
+                        f"{name}:{node.lineno}: {tool} imports {alias.name} from {node.module}"
+                    )
+    return bad
+
+
+def test_nothing_above_the_api_touches_a_private_name_below_it():
+    bad = []
+    for tool in ABOVE_API:
+        for path in sorted((PACKAGE / tool).rglob("*.py")):
+            bad += _private_uses(tool, path.read_text(), f"x3dpd/{path.relative_to(PACKAGE)}")
+    assert not bad, (
+        "private names used above x3dpd.api (give the layer below a public operation, "
+        "x3dpd/solver/placement.py for the step loop's state):\n" + "\n".join(bad)
+    )
+
+
+def test_a_private_name_above_the_api_is_caught():
+    # each way the predicted start once reached into the step loop, and the other spellings
+    for line in (
+        "sim.kernels._update_slaves(x, v)",
+        "b = sim._bundles()",
+        "sim.kernels._modal_place(b['modal'])",
+        "n = getattr(sim, '_load_seconds', 0.0)",
+        "from x3dpd.api.stepper import _private_helper",
+        "from x3dpd.design.sweep_table import _cell",
+    ):
+        assert _private_uses("testlab", line, "x3dpd/testlab/new.py"), line
+    assert _private_uses("design", "sim.state._sc = None", "x3dpd/design/new.py")
+    for line in (
+        "self._cache = {}",
+        "cls._registry[name] = x",
+        "name = sim.kernels.__name__",
+        "from x3dpd.design.sweep_table import _cell",  # its own package
+        "from x3dpd.api.stepper import place_modes",
+    ):
+        assert not _private_uses("design", line, "x3dpd/design/new.py"), line

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from x3dpd.api import read_trace, run
+from x3dpd.api import read_trace, run, run_config
 from x3dpd.api.decks import Deck
 from x3dpd.api.figures import plot_ringdown
 from x3dpd.api.measurements import (
@@ -77,19 +77,20 @@ def ringdown_of_deck(
     record ``ring`` seconds of free ring-down of ``node`` along ``dof``; analyse that."""
     if dof not in (1, 2, 3):
         raise InputError(f"--dof {dof}: the ring-down reads a coordinate, dof 1, 2 or 3")
-    forced = run(deck, tmax=drive_until, dt=dt, usrfrc=drive, keep_trace=False, trace_nodes=(node,))
-    period = _period(forced.model, node, dof)
-    step = forced.summary["dt"]
-    itrac = max(1, int(period / (SAMPLES_PER_CYCLE * step)))
+    driven = run_config(
+        deck, tmax=drive_until, dt=dt, usrfrc=drive, keep_trace=False, trace_nodes=(node,)
+    )
+    forced = run(driven)
+    period = _period(driven.model, node, dof)
+    itrac = max(1, int(period / (SAMPLES_PER_CYCLE * driven.step.dt)))
     free = run(
-        deck,
+        driven,  # the same run released: the drive replaced by none, recorded finely
         tmax=forced.summary["t_end"] + ring,
-        dt=dt,
         usrfrc=(f"constant:node={node},dof={dof},amp=0",),
         usrfrc_mode="replace",
         initial_state=forced.final_state,
         itrac=itrac,
-        trace_nodes=(node,),
+        keep_trace=True,
     )
     return signal_of(free.trace.time, free.trace.position[:, 0], dof, g, **options)
 
