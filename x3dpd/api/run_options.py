@@ -18,10 +18,11 @@ from x3dpd.api.outputs import check_writable, default_paths, require_dump
 from x3dpd.api.results import FinalState
 from x3dpd.api.stepping import wants_auto
 from x3dpd.errors import InputError
-from x3dpd.physics.tangential_laws import TANGENTIAL_LAWS
+from x3dpd.physics.tangential_laws import DEFAULT_LAW, TANGENTIAL_LAWS
 
-#: The tangential law of a run whose deck has no FRICTION card and that asks for none.
-DEFAULT_FRICTION = "regularized"
+#: The tangential law of a run whose deck has no FRICTION card and that asks for none
+#: (x3dpd.physics.tangential_laws names it).
+DEFAULT_FRICTION = DEFAULT_LAW
 
 
 @dataclass(frozen=True)
