@@ -70,31 +70,40 @@ ALL_DOFS = (1, 2, 3, 4, 5, 6)
 # ---- the shared step loops (Variant.label; see the module docstring) -------------------------
 
 #: spheres of one kind, elastic, in a fixed box or on a fixed floor with the spectator
-BOX_LOOP = "walls+pairs+walls_translate+one_particle_kind"
+BOX_LOOP = "walls+pairs+walls_translate+one_particle_kind+one_wall_kind"
 #: the same, viscoelastic (one Maxwell term: Figure 30's material, the beam decks')
-BOX_VISCO_LOOP = "walls+pairs+viscoelastic+n_maxwell=1+walls_translate+one_particle_kind"
+BOX_VISCO_LOOP = (
+    "walls+pairs+viscoelastic+n_maxwell=1+walls_translate+one_particle_kind+one_wall_kind"
+)
 #: the box scenes with friction, by tangential law
 BOX_FRICTION_LOOP = {
-    "regularized": "walls+pairs+friction+walls_translate+one_particle_kind",
-    "coulomb": "walls+pairs+friction+friction_law=coulomb+walls_translate+one_particle_kind",
-    "mindlin": "walls+pairs+friction+friction_law=mindlin+walls_translate+one_particle_kind",
+    "regularized": "walls+pairs+friction+walls_translate+one_particle_kind+one_wall_kind",
+    "coulomb": (
+        "walls+pairs+friction+friction_law=coulomb+walls_translate+one_particle_kind+one_wall_kind"
+    ),
+    "mindlin": (
+        "walls+pairs+friction+friction_law=mindlin+walls_translate+one_particle_kind+one_wall_kind"
+    ),
     "linear_history": (
         "walls+pairs+friction+friction_law=linear_history+walls_translate+one_particle_kind"
+        "+one_wall_kind"
     ),
 }
 #: the resting Mindlin stack of viscoelastic spheres (tests/hardcases/test_resting.py)
 MINDLIN_STACK_LOOP = (
     "walls+pairs+friction+viscoelastic+n_maxwell=1+friction_law=mindlin+walls_translate"
-    "+one_particle_kind"
+    "+one_particle_kind+one_wall_kind"
 )
 #: ... and its threaded twin (a run with threads > 1, tests/solver/test_threads.py)
 MINDLIN_STACK_THREADED_LOOP = MINDLIN_STACK_LOOP + "+threaded"
 #: one sphere on a HOOKE plane, without the spectator, by tangential law: the loops of the
 #: Chung & Ooi benchmark scenes (decks/benchmarks/chung_ooi, tests/physics/test_chung_ooi.py)
 HOOKE_PLANE_LOOP = {
-    "coulomb": "walls+friction+friction_law=coulomb+walls_translate+normal_law=hooke",
-    "linear_history": "walls+friction+friction_law=linear_history+walls_translate+normal_law=hooke",
-    "mindlin": "walls+friction+friction_law=mindlin+walls_translate+normal_law=hooke",
+    "coulomb": "walls+friction+friction_law=coulomb+walls_translate+normal_law=hooke+one_wall_kind",
+    "linear_history": (
+        "walls+friction+friction_law=linear_history+walls_translate+normal_law=hooke+one_wall_kind"
+    ),
+    "mindlin": "walls+friction+friction_law=mindlin+walls_translate+normal_law=hooke+one_wall_kind",
 }
 
 

@@ -94,15 +94,34 @@ def sweep_amplitude(tmp_path: Path, hz: float, *options: str) -> dict:
         return next(csv.DictReader(f))
 
 
-def test_a_default_sweep_point_keeps_its_tolerance_whatever_its_start(tmp_path):
+#: a cap past the chatter: how long the sphere chatters before it locks on is chaotic -- a
+#: rounding change moved it from ~390 to ~500 cycles from the predicted start -- so the default
+#: cap (400) may end a point inside it, where the point must say so (below)
+LONG_CAP = "1500"
+
+
+def test_a_sweep_point_keeps_its_tolerance_whatever_its_start(tmp_path):
     ref, spread, _ = periodic_amplitude(36.0, 600)
     assert spread < 1e-3  # the long run has settled on its periodic motion
     for options in ((), ("--no-predict",)):
-        row = sweep_amplitude(tmp_path, 36.0, *options)
+        row = sweep_amplitude(tmp_path, 36.0, "--max-cycles", LONG_CAP, *options)
         amp = float(row["amplitude"])
-        # a point may be flagged unconverged at the cap, but never report a drifting state
-        # as converged, and its amplitude is within the stated tolerance either way
-        assert abs(amp - ref) <= TOL * ref, (options, row["converged"], amp, ref)
+        # it stops by its own rule, before the cap, on the periodic motion within --tol
+        assert row["converged"] == "1" and row["stopped_by"] != "cap", (options, row)
+        assert abs(amp - ref) <= TOL * ref, (options, amp, ref)
+        # ... and its interval says how close: the reference inside a few half-widths
+        assert abs(amp - ref) <= max(3.0 * float(row["amplitude_ci"]), 1e-3 * ref)
+
+
+def test_a_point_that_meets_its_cap_in_the_chatter_says_so(tmp_path):
+    """At the default cap of 400 cycles the sphere may still chatter (above): the point is then
+    flagged, never a drifting state reported as converged."""
+    row = sweep_amplitude(tmp_path, 36.0)
+    if row["stopped_by"] == "cap":
+        assert row["converged"] == "0"
+    else:
+        ref, _, _ = periodic_amplitude(36.0, 600)
+        assert abs(float(row["amplitude"]) - ref) <= TOL * ref
 
 
 @pytest.mark.validate

@@ -100,7 +100,9 @@ SPECTATOR_BOUNDARIES = ["90 90 1 1 2 3 4 5 6", "91 91 1 4 5 6", "92 92 1 1 2 3"]
 #: The one step loop of these scenes with their spectators (x3dpd Variant.label)
 SPRINGS_LOOP = "rigid+rigid_rotation+axial_springs+rotational_springs"
 #: decks/beam_1.inp's loop
-BEAM_1_LOOP = "springs+rigid+walls+friction+viscoelastic+external+n_maxwell=1+walls_translate"
+BEAM_1_LOOP = (
+    "springs+rigid+walls+friction+viscoelastic+external+n_maxwell=1+walls_translate+one_wall_kind"
+)
 pytestmark = pytest.mark.rides(SPRINGS_LOOP)
 
 

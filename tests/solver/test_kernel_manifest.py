@@ -40,7 +40,11 @@ def test_a_run_books_its_loop_in_the_manifest_of_its_cache():
     sim.initialize()
     folder = variants.cache_dir()
     entry = read_manifest(folder)["variants"][sim.variant.name()]
-    assert entry["label"] == sim.variant.label() == "walls+walls_translate+normal_law=hooke"
+    assert (
+        entry["label"]
+        == sim.variant.label()
+        == "walls+walls_translate+normal_law=hooke+one_wall_kind"
+    )
     assert entry["effects"] == asdict(sim.variant)
     assert entry["source_hash"] == folder.name == variants.source_hash()
     assert entry["compiles"] >= 1 or entry["loads"] >= 1

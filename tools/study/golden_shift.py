@@ -81,9 +81,11 @@ def compare(old: Path, new: Path) -> list[str]:
     prov = json.loads((ROOT / "tests" / "golden" / "PROVENANCE.json").read_text())
     envelopes = {name: entry.get("rounding_envelope") for name, entry in prov["cases"].items()}
     a, b = np.load(old), np.load(new)
-    lines = ["| deck | rows compared | worst trace difference / rounding bound "
-             "| worst ledger difference / scale | one-ulp nudge: ledger / scale |",
-             "|---|---:|---:|---:|---:|"]
+    lines = [
+        "| deck | rows compared | worst trace difference / rounding bound "
+        "| worst ledger difference / scale | one-ulp nudge: ledger / scale |",
+        "|---|---:|---:|---:|---:|",
+    ]
     for key in sorted(k for k in a.files if k.endswith(":trace")):
         deck = key[: -len(":trace")]
         ta, tb = a[key], b[key]
@@ -101,8 +103,11 @@ def compare(old: Path, new: Path) -> list[str]:
         else:
             trace = f"{(per_row[nonzero] / bound[nonzero]).max():.2g}"
         ledger = _ledger_shift(a[f"{deck}:energy"], b[f"{deck}:energy"])
-        nudges = [_ledger_shift(a[f"{deck}:energy"], a[k]) for k in a.files
-                  if k.startswith(f"{deck}:energy_")]
+        nudges = [
+            _ledger_shift(a[f"{deck}:energy"], a[k])
+            for k in a.files
+            if k.startswith(f"{deck}:energy_")
+        ]
         nudge = f"{max(nudges):.2g}" if nudges else "-"
         lines.append(f"| {deck} | {n} of {len(ta)} | {trace} | {ledger:.2g} | {nudge} |")
     return lines
