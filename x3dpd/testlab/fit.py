@@ -126,6 +126,33 @@ def _enough_lines(measured: str, source: MeasuredFrf, band: tuple[float, float] 
         )
 
 
+def _measured_frf(measured: str, dataset: int, quantity: str | None, band_hz):
+    """The ``dataset``-th FRF of the file ``measured`` and its response quantity (the file's,
+    or ``quantity``), checked against ``band_hz`` (inside the data, enough lines in it)."""
+    frfs = read_measured_frf(measured)
+    if not 1 <= dataset <= len(frfs):
+        raise InputError(f"{measured}: --dataset {dataset}: the file holds {len(frfs)} FRF(s)")
+    source = frfs[dataset - 1]
+    q = quantity or source.quantity
+    if q is None:
+        raise InputError(
+            f"{measured}: the file does not say what the response is; give "
+            "--quantity displacement|velocity|acceleration"
+        )
+    if q not in QUANTITY_ORDER:
+        raise InputError(f"--quantity {q!r}: expected one of {', '.join(QUANTITY_ORDER)}")
+    if band_hz is not None and (
+        band_hz[1] > source.frequency[-1] or band_hz[0] < source.frequency[0]
+    ):
+        raise InputError(
+            f"--band {band_hz[0]:g}:{band_hz[1]:g} Hz reaches outside the measured "
+            f"data ({source.frequency[0]:g} .. {source.frequency[-1]:g} Hz) of "
+            f"{measured}"
+        )
+    _enough_lines(measured, source, band_hz)
+    return source, q
+
+
 def fit_command(
     measured: str,
     *,
@@ -152,27 +179,7 @@ def fit_command(
         raise InputError(f"--records {records!r}: expected sdof or modal")
     band_hz = parse_band(band)
     paths = output_paths(out, ("fit.txt", "fit.png"), overwrite)
-    frfs = read_measured_frf(measured)
-    if not 1 <= dataset <= len(frfs):
-        raise InputError(f"{measured}: --dataset {dataset}: the file holds {len(frfs)} FRF(s)")
-    source = frfs[dataset - 1]
-    q = quantity or source.quantity
-    if q is None:
-        raise InputError(
-            f"{measured}: the file does not say what the response is; give "
-            "--quantity displacement|velocity|acceleration"
-        )
-    if q not in QUANTITY_ORDER:
-        raise InputError(f"--quantity {q!r}: expected one of {', '.join(QUANTITY_ORDER)}")
-    if band_hz is not None and (
-        band_hz[1] > source.frequency[-1] or band_hz[0] < source.frequency[0]
-    ):
-        raise InputError(
-            f"--band {band_hz[0]:g}:{band_hz[1]:g} Hz reaches outside the measured "
-            f"data ({source.frequency[0]:g} .. {source.frequency[-1]:g} Hz) of "
-            f"{measured}"
-        )
-    _enough_lines(measured, source, band_hz)
+    source, q = _measured_frf(measured, dataset, quantity, band_hz)
     try:
         fit = fit_sdof(source.frequency, source.h, order=QUANTITY_ORDER[q], band=band_hz)
     except InputError as exc:

@@ -109,56 +109,6 @@ def measured_curves(
     return curves
 
 
-def _baseline_curves(
-    first,
-    deck: str | None,
-    names: Sequence[str],
-    drive: tuple[int, int],
-    points,
-    quantity: str,
-    rows: list[dict],
-) -> list[Curve]:
-    """The baselines' closed-form FRFs (x3dpd.testlab.frf_baselines) on a fine grid over the
-    first run's lines, drawn dash-dotted; their values at those lines appended to ``rows``
-    (DIR/baselines.csv)."""
-    from x3dpd.testlab.frf_baselines import baseline_frfs, run_deck
-
-    trace, path, kind, lines = first
-    lines = lines[lines > 0]
-    if lines.size < 2:
-        raise InputError(
-            "--baseline: the band holds fewer than two frequency lines above 0 Hz; "
-            "widen --band or use longer segments"
-        )
-    structure = run_deck(trace, path, deck)
-    fine = np.linspace(lines[0], lines[-1], 2001)
-    args = dict(
-        base=kind != "force", node=drive[0], dof=drive[1], responses=points, quantity=quantity
-    )
-    curves = []
-    at_lines = baseline_frfs(structure, names, frequency=lines, **args)
-    for (name, (node, dof), h), (_, _, h_fine) in zip(
-        at_lines, baseline_frfs(structure, names, frequency=fine, **args)
-    ):
-        run = f"{name} (closed form)"
-        curves.append(
-            Curve(run if len(points) == 1 else f"{run} {node}:{dof}", fine, h_fine, baseline=True)
-        )
-        rows += [
-            {
-                "baseline": name,
-                "response": f"{node}:{dof}",
-                "frequency_hz": x,
-                "re": v.real,
-                "im": v.imag,
-                "mag": abs(v),
-                "phase_deg": math.degrees(np.angle(v)),
-            }
-            for x, v in zip(lines, h)
-        ]
-    return curves
-
-
 def frf_command(
     traces: Sequence[str],
     *,
@@ -201,107 +151,137 @@ def frf_command(
         out, ("frf.csv", "frf.png") + (("baselines.csv",) if baselines else ()), overwrite
     )
     overlays = measured_curves(measured, quantity, measured_scale, band_hz)
+    welch = dict(segment=segment, nperseg=nperseg, overlap=overlap, window=window)
     curves, rows, units = [], [], set()
-    labels = run_labels(traces)
     first = None
-    for path, run in zip(traces, labels):
+    for path, run in zip(traces, run_labels(traces)):
         trace = read_record(path, echo, progress)
-        fs = sampling_rate(trace, path)
-        check_band(band_hz, fs, path)
-        keep = _window(trace.time, t_from, path)
-        source = drive_history(trace, d_node, d_dof, path)
-        for note in (*source.notes, *period_notes(source, fs)):
-            echo(f"note: {path}: {note}")
-        signals, differenced = [], []
-        for node, dof in points:
-            y, diff = response_history(trace, node, dof, quantity, path)
-            signals.append(y[keep])
-            differenced.append(diff)
-        nps, nov = welch_options(
-            fs, int(np.count_nonzero(keep)), segment=segment, nperseg=nperseg, overlap=overlap
+        est, kind, trace_units, lines, sel = _trace_frf(
+            trace, path, (d_node, d_dof), points, quantity, band_hz, t_from, welch, echo
         )
-        est = estimate_frf(
-            source.values[keep], np.array(signals), fs, nperseg=nps, noverlap=nov, window=window
-        )
-        echo(
-            f"{path}: drive {source.kind} on node {d_node} dof {d_dof} "
-            f"({'; '.join(source.specs)}), {fs:.6g} samples/s, {est.n_segments} segments of "
-            f"{nps} ({nps / fs:.4g} s, resolution {fs / nps:.4g} Hz), {window} window, "
-            f"{nov} overlap, {est.n_effective:.1f} equivalent averages"
-        )
-        f = est.frequency
-        sel = _in_band(f, band_hz, fs / nps)
-        first = first or (trace, path, source.kind, f[sel])
-        for k, (node, dof) in enumerate(points):
-            e = est.divided(difference_gain(f, fs)) if differenced[k] else est
-            h1, h2, coh = e.h1[k], e.h2[k], e.coherence[k]
-            r95 = e.confidence_radius()[k] if e.n_effective > 2 else np.full(f.size, np.nan)
-            unit = f"({response_unit(trace, quantity, dof)})/({source.unit})"
-            units.add(unit)
-            name = f"{node}:{dof}"
-            label = f"{run} {name}" if len(traces) > 1 or baselines else f"node {node} dof {dof}"
-            curves.append(
-                Curve(
-                    label,
-                    f[sel],
-                    h1[sel],
-                    h2[sel],
-                    coh[sel],
-                    r95[sel] if len(traces) * len(points) == 1 else None,
-                )
-            )
-            for j in np.flatnonzero(sel):
-                rows.append(
-                    {
-                        "run": run,
-                        "response": name,
-                        "frequency_hz": f[j],
-                        "h1_re": h1[j].real,
-                        "h1_im": h1[j].imag,
-                        "h1_mag": abs(h1[j]),
-                        "h1_phase_deg": math.degrees(np.angle(h1[j])),
-                        "h2_re": h2[j].real,
-                        "h2_im": h2[j].imag,
-                        "coherence": coh[j],
-                        "h1_r95": r95[j],
-                    }
-                )
+        first = first or (trace, path, kind, lines[sel])
+        units.update(trace_units)
+        labelled = len(traces) > 1 or bool(baselines)
+        with_r95 = len(traces) * len(points) == 1
+        for k, point in enumerate(points):
+            curves.append(_curve(est, k, point, sel, run if labelled else None, with_r95))
+            rows += _frf_rows(est, k, point, sel, run)
     base_rows: list[dict] = []
     if baselines:
-        curves += _baseline_curves(
+        from x3dpd.testlab.frf_baselines import baseline_curves
+
+        curves += baseline_curves(
             first, deck, baselines, (d_node, d_dof), points, quantity, base_rows
         )
-    curves += overlays
     unit = units.pop() if len(units) == 1 else "unit"
     head = [f"# quantity: {quantity}", f"# unit: {unit}", f"# drive: node {d_node} dof {d_dof}"]
+    title = ", ".join(Path(p).name for p in traces)
+    write_pair(
+        paths[:2],
+        _csv_text(head, rows),
+        lambda png: plot_frf(png, curves + overlays, ylabel=unit, band=band_hz, title=title),
+    )
+    if base_rows:
+        from x3dpd._files import write_atomically
+
+        text = _csv_text(head[:2], base_rows)
+        write_atomically(paths[2], lambda fh: fh.write(text.encode()))
+    echo(f"wrote {', '.join(map(str, paths))}")
+    return rows
+
+
+def _trace_frf(trace, path, drive, points, quantity, band_hz, t_from, welch, echo):
+    """One trace's FRF estimate (x3dpd.analysis.frf) of every response against the drive:
+    (each response's estimate, its differenced rate divided out; the drive's kind; each
+    response's unit; the frequency lines; the lines in the band)."""
+    fs = sampling_rate(trace, path)
+    check_band(band_hz, fs, path)
+    keep = _window(trace.time, t_from, path)
+    source = drive_history(trace, drive[0], drive[1], path)
+    for note in (*source.notes, *period_notes(source, fs)):
+        echo(f"note: {path}: {note}")
+    signals, differenced = [], []
+    for node, dof in points:
+        y, diff = response_history(trace, node, dof, quantity, path)
+        signals.append(y[keep])
+        differenced.append(diff)
+    window = welch["window"]
+    nps, nov = welch_options(
+        fs,
+        int(np.count_nonzero(keep)),
+        segment=welch["segment"],
+        nperseg=welch["nperseg"],
+        overlap=welch["overlap"],
+    )
+    est = estimate_frf(
+        source.values[keep], np.array(signals), fs, nperseg=nps, noverlap=nov, window=window
+    )
+    echo(
+        f"{path}: drive {source.kind} on node {drive[0]} dof {drive[1]} "
+        f"({'; '.join(source.specs)}), {fs:.6g} samples/s, {est.n_segments} segments of "
+        f"{nps} ({nps / fs:.4g} s, resolution {fs / nps:.4g} Hz), {window} window, "
+        f"{nov} overlap, {est.n_effective:.1f} equivalent averages"
+    )
+    f = est.frequency
+    sel = _in_band(f, band_hz, fs / nps)
+    ests = [est.divided(difference_gain(f, fs)) if d else est for d in differenced]
+    units = [f"({response_unit(trace, quantity, dof)})/({source.unit})" for _, dof in points]
+    return ests, source.kind, units, f, sel
+
+
+def _curve(ests, k: int, point, sel, run: str | None, with_r95: bool) -> Curve:
+    """Response ``k``'s H1, H2 and coherence in the band, as plotted (with its 95 % radius when
+    it is the only curve)."""
+    e = ests[k]
+    label = f"{run} {point[0]}:{point[1]}" if run is not None else f"node {point[0]} dof {point[1]}"
+    r95 = _r95(e, k)
+    return Curve(
+        label,
+        e.frequency[sel],
+        e.h1[k][sel],
+        e.h2[k][sel],
+        e.coherence[k][sel],
+        r95[sel] if with_r95 else None,
+    )
+
+
+def _r95(e, k: int) -> np.ndarray:
+    """Response ``k``'s 95 % confidence radius of H1 (NaN with two equivalent averages or
+    fewer)."""
+    f = e.frequency
+    return e.confidence_radius()[k] if e.n_effective > 2 else np.full(f.size, np.nan)
+
+
+def _frf_rows(ests, k: int, point, sel, run: str) -> list[dict]:
+    """DIR/frf.csv's rows of response ``k`` in the band."""
+    e = ests[k]
+    f, h1, h2, coh, r95 = e.frequency, e.h1[k], e.h2[k], e.coherence[k], _r95(e, k)
+    return [
+        {
+            "run": run,
+            "response": f"{point[0]}:{point[1]}",
+            "frequency_hz": f[j],
+            "h1_re": h1[j].real,
+            "h1_im": h1[j].imag,
+            "h1_mag": abs(h1[j]),
+            "h1_phase_deg": math.degrees(np.angle(h1[j])),
+            "h2_re": h2[j].real,
+            "h2_im": h2[j].imag,
+            "coherence": coh[j],
+            "h1_r95": r95[j],
+        }
+        for j in np.flatnonzero(sel)
+    ]
+
+
+def _csv_text(head: list[str], rows: list[dict]) -> str:
+    """A CSV with comment lines ``head``, its columns the rows' keys, numbers as repr."""
     names = list(rows[0]) if rows else []
     lines = head + [",".join(names)]
     lines += [
         ",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values()) for r in rows
     ]
-    title = ", ".join(Path(p).name for p in traces)
-    write_pair(
-        paths[:2],
-        "\n".join(lines) + "\n",
-        lambda png: plot_frf(png, curves, ylabel=unit, band=band_hz, title=title),
-    )
-    if base_rows:
-        from x3dpd._files import write_atomically
-
-        text = (
-            "\n".join(
-                head[:2]
-                + [",".join(base_rows[0])]
-                + [
-                    ",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values())
-                    for r in base_rows
-                ]
-            )
-            + "\n"
-        )
-        write_atomically(paths[2], lambda fh: fh.write(text.encode()))
-    echo(f"wrote {', '.join(map(str, paths))}")
-    return rows
+    return "\n".join(lines) + "\n"
 
 
 def spectrum_command(
@@ -360,18 +340,13 @@ def spectrum_command(
         rows += [{"run": run, "frequency_hz": f[j], column: v[j]} for j in np.flatnonzero(sel)]
         echo(f"{path}: node {node} dof {dof} {quantity}, {y.size} samples at {fs:.6g}/s, {method}")
     ylabel = f"amplitude [{unit}]" if method == "fft" else f"PSD [({unit})^2/Hz]"
-    names = list(rows[0])
-    lines = [
+    head = [
         f"# quantity: {quantity}",
         f"# unit: {unit}" if method == "fft" else f"# unit: ({unit})^2/Hz",
-        ",".join(names),
-    ]
-    lines += [
-        ",".join(str(v) if isinstance(v, str) else repr(float(v)) for v in r.values()) for r in rows
     ]
     write_pair(
         paths,
-        "\n".join(lines) + "\n",
+        _csv_text(head, rows),
         lambda png: plot_spectrum(
             png, curves, ylabel=ylabel, band=band_hz, title=f"node {node} dof {dof}"
         ),

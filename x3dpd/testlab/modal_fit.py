@@ -68,29 +68,35 @@ class FrfSet:
     unit: str | None
 
 
+def _check_frf(m) -> None:
+    """An FRF per unit force whose response and reference points are given, each direction
+    1-6 or its negative."""
+    if m.function != "frequency response function":
+        raise InputError(
+            f"{m.path}: the FRF {m.label!r} is a {m.function}; a modal fit needs FRFs per "
+            "unit force (UFF function type 4)"
+        )
+    if m.response is None or m.reference is None:
+        raise InputError(
+            f"{m.path}: the FRF {m.label!r} does not say its response and reference "
+            "points; a modal fit needs them (UFF 58 records, or CSV comments "
+            "'# response: N:D' and '# drive: N:D')"
+        )
+    for what, (_, dof) in (("response", m.response), ("reference", m.reference)):
+        if not 1 <= abs(dof) <= 6:
+            raise InputError(
+                f"{m.path}: the FRF {m.label!r} has {what} direction {dof}; expected "
+                "1-6 (x y z rx ry rz) or their negatives"
+            )
+
+
 def frf_set(measured: Sequence[str], quantity: str | None = None) -> FrfSet:
     """Read and check a set of FRFs (module docstring): points given, one frequency axis, one
     quantity, one shared point, each other point once, and a driving point."""
     files = ", ".join(os.fspath(m) for m in measured)
     frfs = read_frf_set(measured)
     for m in frfs:
-        if m.function != "frequency response function":
-            raise InputError(
-                f"{m.path}: the FRF {m.label!r} is a {m.function}; a modal fit needs FRFs per "
-                "unit force (UFF function type 4)"
-            )
-        if m.response is None or m.reference is None:
-            raise InputError(
-                f"{m.path}: the FRF {m.label!r} does not say its response and reference "
-                "points; a modal fit needs them (UFF 58 records, or CSV comments "
-                "'# response: N:D' and '# drive: N:D')"
-            )
-        for what, (_, dof) in (("response", m.response), ("reference", m.reference)):
-            if not 1 <= abs(dof) <= 6:
-                raise InputError(
-                    f"{m.path}: the FRF {m.label!r} has {what} direction {dof}; expected "
-                    "1-6 (x y z rx ry rz) or their negatives"
-                )
+        _check_frf(m)
     first = frfs[0]
     for m in frfs[1:]:
         if m.frequency.shape != first.frequency.shape or not np.allclose(
