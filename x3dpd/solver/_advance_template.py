@@ -192,7 +192,7 @@ def _adopt_new_list(lst, m):
 
 
 @step_kernel
-def _drift(synced, t_old, t, nodes, loads, rigid, particles, units, stepping):
+def _drift(synced, flat, t_old, t, nodes, loads, rigid, particles, units, stepping):
     """The first half kick (unless the last step's second one already did it: ``synced``
     False), which also resets the forces to the body forces m g, and the drift of every node
     from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``,
@@ -204,7 +204,7 @@ def _drift(synced, t_old, t, nodes, loads, rigid, particles, units, stepping):
         if HAS_RIGID_ROTATION:
             _rigid_angular_kick(vel, force, rigid.master, rigid.rot, rigid.inv_ib, rigid.ib,
                                 rigid.free_rot, 0.5 * dt, False)
-        vf, ff, imf, fgf = _flat(nodes)
+        vf, ff, imf, fgf = flat
         for k in range(vf.shape[0]):
             vf[k] += 0.5 * dt * ff[k] * imf[k]
             ff[k] = fgf[k]
@@ -238,15 +238,16 @@ def _drift(synced, t_old, t, nodes, loads, rigid, particles, units, stepping):
 
 @step_kernel
 def _flat(nodes):
-    """Velocities, forces, inverse masses and body forces as flat arrays (n * 6)."""
+    """Velocities, forces, inverse masses and body forces as flat arrays (n * 6): views, taken
+    once a call (a reshape in the step costs a call into numba's runtime)."""
     return (nodes.vel.reshape(-1), nodes.force.reshape(-1), nodes.inv_m.reshape(-1),
             nodes.fgrav.reshape(-1))
 
 
 @step_kernel
-def _body_forces(nodes):
+def _body_forces(flat):
     """Every force starts from the body forces m g (zero without gravity)."""
-    _, ff, _, fgf = _flat(nodes)
+    _, ff, _, fgf = flat
     for k in range(ff.shape[0]):
         ff[k] = fgf[k]
 
@@ -264,7 +265,7 @@ def _after_forces(t_old, t, nodes, loads, rigid, units, stepping):
 
 
 @step_kernel
-def _kick_on(nodes, rigid, h):
+def _kick_on(flat, nodes, rigid, h):
     """This step's second half kick and the next step's first in one pass over memory (no
     full-step velocities wanted), computed as (v + h a) + h a so that the rounding -- and so
     every trajectory -- is bit for bit the same whichever steps end a call; the forces reset
@@ -275,18 +276,18 @@ def _kick_on(nodes, rigid, h):
                             rigid.ib, rigid.free_rot, h, True)
         _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
                             rigid.ib, rigid.free_rot, h, False)
-    vf, ff, imf, fgf = _flat(nodes)
+    vf, ff, imf, fgf = flat
     for k in range(vf.shape[0]):
         vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
         ff[k] = fgf[k]
 
 
 @step_kernel
-def _kick_to_end(t, nodes, loads, rigid, units, stepping):
+def _kick_to_end(t, flat, nodes, loads, rigid, units, stepping):
     """The second half kick to full-step velocities, then the nodes that follow them: the
     prescribed motions, the units' slot ``place``, the rigid slaves."""
     h = 0.5 * stepping.dt
-    vf, ff, imf, _ = _flat(nodes)
+    vf, ff, imf, _ = flat
     for k in range(vf.shape[0]):
         vf[k] += h * ff[k] * imf[k]
     if HAS_RIGID_ROTATION:
@@ -368,6 +369,7 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
     shapes, units = Shapes(*shapes_), UNIT_BUNDLES(units_)
     stepping, output = Stepping(*stepping_), Output(*output_)
     dt, diag = stepping.dt, stepping.diag
+    flat = _flat(nodes)
     rows = 0
     synced = True   # vel holds full-step velocities and force the forces of this step
     out_in = output.itrac - step0 % output.itrac   # steps to the next trace output
@@ -386,10 +388,10 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             out_in = 0   # no step: straight to the output row of the current state
         else:
             if mode == FORCES:
-                _body_forces(nodes)
+                _body_forces(flat)
             else:
-                _drift(synced, t_start + step * dt, t, nodes, loads, rigid, particles, units,
-                       stepping)
+                _drift(synced, flat, t_start + step * dt, t, nodes, loads, rigid, particles,
+                       units, stepping)
             st = _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
                               units, stepping)
             if mode == FORCES:
@@ -398,9 +400,9 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             out_in -= 1
             synced = st != OK or it == nsteps - 1 or out_in == 0
             if not synced:
-                _kick_on(nodes, rigid, 0.5 * dt)
+                _kick_on(flat, nodes, rigid, 0.5 * dt)
                 continue
-            _kick_to_end(t, nodes, loads, rigid, units, stepping)
+            _kick_to_end(t, flat, nodes, loads, rigid, units, stepping)
             if st != OK:
                 diag[4] = t
                 diag[5] = step + 1
