@@ -37,6 +37,7 @@ from x3dpd.deck.fill import (
     with_material,
 )
 from x3dpd.deck.plates import expand_plates, plated_deck, plates_from_specs, sphere_ids
+from x3dpd.deck.plates_card import STARTS, Plate
 from x3dpd.deck.writer import write_deck
 from x3dpd.geometry.packing import PACKINGS
 from x3dpd.geometry.shapes import BY_SHAPE_NAME
@@ -46,6 +47,8 @@ from x3dpd.physics.usrfrc import is_user_file
 __all__ = [
     "BY_SHAPE_NAME",
     "PACKINGS",
+    "STARTS",
+    "Plate",
     "Contact",
     "Deck",
     "Element",

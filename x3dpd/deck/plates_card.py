@@ -91,7 +91,8 @@ class Plate:
             f"hole={self.hole!r}",
             f"thickness={self.thickness!r}",
             f"shim={self.shim!r}",
-            "size=" + ",".join(map(repr, self.size)),
+            "size="
+            + ",".join(map(repr, self.size[:1] if self.size[0] == self.size[1] else self.size)),
         ]
         if self.end:
             words.append(f"end={self.end!r}")
