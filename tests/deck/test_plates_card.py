@@ -190,3 +190,22 @@ def test_the_cli_says_one_line_exits_2_and_writes_nothing(command, tmp_path, cap
     assert len(err) == 1 and err[0].startswith(f"x3dpd: error: {path}:36:")
     assert ": PLATES: free length" in err[0]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.inp"]
+
+
+def test_fill_writes_the_plates_card_and_the_step(tmp_path, capsys):
+    """``x3dpd fill --plates``: the template's structure, the PLATES card as given, the step
+    the spheres' impacts need; a bad plate names its --plates value, exit 2, nothing written."""
+    template = tmp_path / "structure.inp"
+    template.write_text(STRUCTURE)
+    out = tmp_path / "mip.inp"
+    second = PLATE.replace("set=1", "set=2") + " end=0.05"
+    assert run_cli("fill", template, "--plates", PLATE, "--plates", second, "-o", out) == 0
+    text = out.read_text()
+    assert f"   {PLATE}".replace("size=10", "size=10.0") in text
+    deck = read_deck(out)
+    assert len(deck.contacts[0].slaves[1].nodes) == 221 and deck.trace.nodes == (8, 229)
+    assert "DTMAX" in capsys.readouterr().out  # the step recommended for the spheres
+    bad = tmp_path / "bad.inp"
+    assert run_cli("fill", template, "--plates", PLATE.replace("0.009", "-0.01"), "-o", bad) == 2
+    err = capsys.readouterr().err
+    assert "--plates 'set=1" in err and "free length" in err and not bad.exists()

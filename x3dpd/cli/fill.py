@@ -194,8 +194,14 @@ def _fill_plates(deck, specs, radius, material, dt, keep_dt, cards, output) -> N
         write_deck,
     )
 
+    from x3dpd.errors import DeckError
+
     out = plated_deck(deck, plates_from_specs(specs), radius=radius, material=material)
-    built = expand_plates(out)  # a bad plate is an error here, before anything is written
+    try:
+        built = expand_plates(out)  # a bad plate is an error here, before anything is written
+    except DeckError as exc:
+        spec = specs[exc.line - 1] if 0 < exc.line <= len(specs) else specs[0]
+        raise InputError(f"--plates {spec!r}: {exc.message}") from None
     step = None if keep_dt else fit_time_step(built, dt=dt)
     if step is not None:
         out = replace(out, parameters=step.deck.parameters)

@@ -40,8 +40,14 @@ from x3dpd.errors import DeckError, InputError, Pos
 from x3dpd.geometry.holes import grid_axes
 from x3dpd.materials import in_units
 
-__all__ = ["expand_plates", "grid_shape", "plate_layout", "plated_deck", "plates_from_specs",
-           "sphere_ids"]
+__all__ = [
+    "expand_plates",
+    "grid_shape",
+    "plate_layout",
+    "plated_deck",
+    "plates_from_specs",
+    "sphere_ids",
+]
 
 
 def grid_shape(plate: Plate) -> tuple[int, int]:
@@ -76,12 +82,13 @@ def sphere_ids(deck: Deck) -> list[tuple[int, int]]:
 
 
 def plates_from_specs(specs, what: str = "--plates") -> tuple[Plate, ...]:
-    """PLATES records from ``key=value`` lines (``x3dpd fill --plates``, a design's [mip]);
-    an InputError naming the line and the word."""
+    """PLATES records from ``key=value`` lines (``x3dpd fill --plates``); an InputError naming
+    the line and the word. The k-th record's position is line k (a later DeckError of
+    :func:`expand_plates` names its line)."""
     out = []
-    for spec in specs:
+    for k, spec in enumerate(specs, 1):
         try:
-            out += parse_plates([(spec, 0, 1)])
+            out += parse_plates([(spec, k, 1)])
         except DeckError as exc:
             raise InputError(f"{what} {spec!r}: {exc.message} (at column {exc.column})") from None
     return tuple(out)
@@ -96,8 +103,10 @@ def plated_deck(template: Deck, plates, *, radius=None, material=None) -> Deck:
     pd = template.pdmp[0] if template.pdmp else None
     if pd is None:
         if material is None or radius is None:
-            raise InputError(f"{template.path}: no PDMP card: give the spheres' material and "
-                             "radius (--material, --radius)")
+            raise InputError(
+                f"{template.path}: no PDMP card: give the spheres' material and "
+                "radius (--material, --radius)"
+            )
         nodlim = max((n.nid for n in template.nodes), default=0)
         pd = Pdmp(nodlim, float(radius), 0.0, 0.0, 0.0, 0.0, 1.0, 0.0)
     if material is not None:
@@ -110,9 +119,14 @@ def plated_deck(template: Deck, plates, *, radius=None, material=None) -> Deck:
         sets = tuple(s for s in c.slaves if all(k in keep for k in s.nodes))
         if c.triangles or sets:
             contacts.append(replace(c, slaves=sets))
-    deck = replace(template, pdmp=(pd,), plates=tuple(plates), contacts=tuple(contacts),
-                   nodes=tuple(n for n in template.nodes if n.nid in keep),
-                   initials=tuple(i for i in template.initials if i.nid in keep))
+    deck = replace(
+        template,
+        pdmp=(pd,),
+        plates=tuple(plates),
+        contacts=tuple(contacts),
+        nodes=tuple(n for n in template.nodes if n.nid in keep),
+        initials=tuple(i for i in template.initials if i.nid in keep),
+    )
     traced = [k for k in (template.trace.nodes if template.trace else ()) if k in keep]
     return replace(deck, trace=Trace(tuple(traced + [a for a, _ in sphere_ids(deck)])))
 
