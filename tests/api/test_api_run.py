@@ -37,6 +37,9 @@ SHIPPED = [
     ("shaker_fig9.inp", ["--motion", SHAKER_BASE], {"motion": [SHAKER_BASE]}, 2e-3),
     ("impact_wall.inp", [], {}, None),
     ("hooke_wall.inp", [], {}, None),
+    ("mip_apparatus_05.inp", [], {}, 2e-3),
+    ("mip_apparatus_025.inp", [], {}, 1e-3),
+    ("mip_engine.inp", [], {}, 2e-3),
 ]
 
 

@@ -38,6 +38,7 @@ from x3dpd.deck.cards import (
     Usrfrc,
 )
 from x3dpd.deck.modal_card import parse_modal
+from x3dpd.deck.plates_card import parse_plates
 from x3dpd.deck.transform_contact import ContactCards
 from x3dpd.deck.fields import BY_NAME, SINGLE_CARDS
 from x3dpd.deck.records import (  # noqa: F401  (Piece, to_float re-exported)
@@ -98,6 +99,10 @@ class DeckTransformer(ContactCards, Transformer):
     def modal(self, c: list[Token]) -> _Card:
         lines = [(str(t), t.line, t.column) for t in c[1:-1]]
         return "MODAL", c[0], parse_modal(_pos(c[0]), lines)
+
+    def plates(self, c: list[Token]) -> _Card:
+        lines = [(str(t), t.line, t.column) for t in c[1:-1]]
+        return "PLATES", c[0], parse_plates(lines)
 
     # -- value cards ------------------------------------------------------------------------
     def parameters(self, c: list[Any]) -> _Card:
@@ -336,5 +341,6 @@ class DeckTransformer(ContactCards, Transformer):
             friction=many("FRICTION") or None,
             analytic_walls=many("ANALYTIC") or None,
             modal=single.get("MODAL"),
+            plates=single.get("PLATES"),
             unit_records=many("UNIT") or None,
         )
