@@ -58,7 +58,9 @@ _POSITION_FIELDS = frozenset(
     {"pos", "positions", "slave_positions", "path", "value_pos", "node_pos", "housing_pos"}
 )
 #: Cards added to the language later: absent, they leave the key of older decks unchanged.
-_ABSENT_IS_OLD = frozenset({"units", "hooke", "analytic_walls", "modal", "wallmat", "friction"})
+_ABSENT_IS_OLD = frozenset(
+    {"units", "hooke", "analytic_walls", "modal", "wallmat", "friction", "temperature"}
+)
 
 
 def _plain(obj):

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 # Positions are defined with the errors that report them (a lower layer than the deck language).
 from x3dpd.errors import NOWHERE, Pos  # noqa: E402,F401
 from x3dpd.deck.modal_card import Modal, ModalFile, ModalMode, ModalShape  # noqa: E402,F401
+from x3dpd.deck.temperature_card import Temperature  # noqa: E402,F401
 
 
 @dataclass(frozen=True)
@@ -326,3 +327,5 @@ class Deck:
     analytic_walls: tuple[AnalyticWall, ...] | None = None
     units: Units | None = None
     modal: Modal | None = None  # MODAL card (x3dpd.deck.modal_card); None: no modal structure
+    #: TEMPERATURE card (x3dpd.deck.temperature_card); None: the deck's numbers as they stand
+    temperature: Temperature | None = None

@@ -82,6 +82,7 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("FRICTION", "FRIC", ("NODLIM", "LAW", "MUS", "MUK", "ROLL", "MUR")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
     CardSpec("MODAL", "MODA", ("RECORD",)),
+    CardSpec("TEMPERATURE", "TEMP", ("RECORD",)),
 ) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)  # CYLINDER, CAPSULE ...
 
 #: Card spec by canonical name.
@@ -91,7 +92,7 @@ BY_KEY: dict[str, CardSpec] = {c.key: c for c in CARDS}
 #: Fields of a CONTACT slave record (its second block).
 CONTACT_SLAVES = CardSpec("CONTACT", "CONT", ("SET",), "SLAVE")
 #: Cards that may appear at most once.
-SINGLE_CARDS = ("TITLE", "PARAMETERS", "BODY", "TRACE", "UNITS", "MODAL")
+SINGLE_CARDS = ("TITLE", "PARAMETERS", "BODY", "TRACE", "UNITS", "MODAL", "TEMPERATURE")
 
 
 def card_for_word(word: str) -> CardSpec | None:
