@@ -66,6 +66,7 @@ def test_shipped_decks_carry_a_provenance_header():
         "beam_64_modal.inp",
         "chassis_128.inp",
         "shaker_fig9.inp",
+        "capsule_wc7.inp",
     ],
 )
 def test_check_is_clean(name):

@@ -544,6 +544,15 @@ def shaker_fig9() -> str:
     return with_header(head, deck)
 
 
+def capsule_wc7() -> str:
+    """Section 6.4's titanium capsule, seven WC spheres, at temperature
+    (tools/make_capsule_deck.py)."""
+    from make_capsule_deck import capsule_deck
+
+    deck, head = capsule_deck()
+    return with_header(head, deck)
+
+
 def _parse(text: str):
     from x3dpd.deck.parser import parse_deck
 
@@ -559,6 +568,7 @@ def all_decks() -> dict[str, str]:
     out["impact_wall.inp"] = impact_deck()
     out["hooke_wall.inp"] = hooke_deck()
     out["shaker_fig9.inp"] = shaker_fig9()
+    out["capsule_wc7.inp"] = capsule_wc7()
     return out
 
 

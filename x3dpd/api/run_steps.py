@@ -90,13 +90,16 @@ def prepare(
     initial_state,
     penetration_limit,
     energy_tolerance,
+    temperature=None,
 ) -> RunPlan:
     """Step 1: check the arguments, read the deck (a path or a Deck), build its model (the
     deck's USRFRC card dropped when ``usrfrc`` replaces it), choose the output paths and refuse
     existing ones that cannot be written, and -- on a fresh start -- refuse particles that
-    start inside a wall deeper than ``penetration_limit`` radii. Raises InputError/DeckError
-    before anything is written."""
+    start inside a wall deeper than ``penetration_limit`` radii; ``temperature`` (not None)
+    replaces the TEMPERATURE card's operating temperature. Raises InputError/DeckError before
+    anything is written."""
     from x3dpd.deck import Deck, read_deck
+    from x3dpd.deck.temperature_card import with_temperature
     from x3dpd.model.build import build_model
 
     if not energy_tolerance > 0.0:
@@ -114,6 +117,8 @@ def prepare(
         if not os.path.isfile(deck_path):
             raise InputError(f"deck {deck_path} does not exist")
         deck_obj = read_deck(deck_path)
+    if temperature is not None:
+        deck_obj = with_temperature(deck_obj, temperature)
     usrfrc, motion = tuple(usrfrc), tuple(motion)
     model = build_model(deck_obj, usrfrc=usrfrc, motion=motion)
     replaced: list[str] = []

@@ -43,6 +43,7 @@ def run(
     usrfrc_mode: str = "replace",
     motion: Sequence[str] = (),
     friction: str | None = None,
+    temperature: str | float | None = None,
     trace: str | os.PathLike | None = None,
     energy: str | os.PathLike | None = None,
     overwrite: bool = False,
@@ -84,6 +85,10 @@ def run(
     friction : a name of ``x3dpd.api.FRICTION_LAWS`` ("regularized", "coulomb" ...), optional
         The tangential contact law for the whole run (docs/physics.md), over the deck's
         FRICTION card; default the card's law, else "regularized".
+    temperature : str or float, optional
+        The operating temperature over the deck's TEMPERATURE card's (``"850F"``, ``"455C"``,
+        ``"728K"``, or a number on the scale of the deck's UNITS card: docs/deck-reference.md,
+        "TEMPERATURE"); a deck without the card is refused. As ``x3dpd run --temperature``.
     trace : path, optional
         Write the trace (and its sidecar), the energy file and restart dumps here, the same bytes
         as ``x3dpd run --trace``. None: write nothing.
@@ -150,6 +155,7 @@ def run(
         usrfrc=usrfrc,
         usrfrc_mode=usrfrc_mode,
         motion=motion,
+        temperature=temperature,
         trace=trace,
         energy=energy,
         restart=restart,

@@ -20,6 +20,7 @@ from x3dpd.api import FRICTION_LAWS
 from x3dpd.api.outputs import check_writable, default_paths as _default_paths
 from x3dpd.cli.progress import CompileTicker, Progress
 from x3dpd.cli.resume import resume_command
+from x3dpd.cli.temperature_option import temperature_option
 from x3dpd.errors import InputError, UnstableRunError
 
 
@@ -40,6 +41,7 @@ class RunOptions:
     overwrite: bool = False
     restart: bool = False
     friction: str | None = None
+    temperature: str | None = None
     quiet: bool = False
     penetration_limit: float = 0.25
     energy_tolerance: float = 0.05
@@ -123,6 +125,7 @@ class RunOptions:
     help="Tangential contact law for the whole run (docs/physics.md), over the deck's "
     "FRICTION card  [default: the card's, else regularized]",
 )
+@temperature_option
 @click.option(
     "--energy-tolerance",
     type=click.FloatRange(min=0.0, min_open=True),
@@ -159,6 +162,7 @@ def run(
     overwrite,
     restart,
     friction,
+    temperature,
     energy_tolerance,
     threads,
     quiet,
@@ -184,6 +188,7 @@ def run(
         overwrite=overwrite,
         restart=restart,
         friction=friction,
+        temperature=temperature,
         quiet=quiet,
         energy_tolerance=energy_tolerance,
         threads=thread_count(threads, "--threads"),
@@ -271,6 +276,7 @@ def run_deck(opts: RunOptions) -> int:
             usrfrc_mode="add" if opts.usrfrc_add else "replace",
             motion=opts.motion,
             friction=opts.friction,
+            temperature=opts.temperature,
             trace=trace_path,
             energy=energy_path,
             overwrite=opts.overwrite,

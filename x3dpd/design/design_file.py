@@ -41,6 +41,7 @@ CONFIG_KEYS = (
     "seed",
     "dt",
     "stiffness_scale",
+    "temperature",
 )
 #: How many particles: at most one of these per configuration (none: the deck's count).
 AMOUNT_KEYS = ("count", "fill_ratio", "particle_mass")
@@ -302,6 +303,7 @@ def _label(key: str, value) -> str:
         "seed": "seed",
         "dt": "dt",
         "stiffness_scale": "Ex",
+        "temperature": "T",
     }
     if isinstance(value, tuple):
         value = "x".join(f"{v:g}" for v in value)
