@@ -92,3 +92,30 @@ def test_the_option_needs_a_deck_with_the_card(capsys, tmp_path):
         "850F",
         message="it applies to a deck",
     )
+
+
+def test_a_run_at_temperature_resumes_only_at_the_same_temperature(capsys, tmp_path):
+    """The operating temperature is part of the run's setup: a restart dump written at 850 F
+    resumes with --temperature 850F (the card key: the same setup) and is refused without it;
+    the resume command a run prints carries it."""
+    from x3dpd.cli.resume import resume_command
+    from x3dpd.cli.run import RunOptions
+
+    trace = tmp_path / "hot.trace.txt"
+    hot = ("--temperature", "850F", "--trace", trace, "--quiet")
+    assert run_cli("run", WC7, *hot, "--tmax", "0.002") == 0
+    refused(
+        capsys,
+        "run",
+        WC7,
+        "--trace",
+        trace,
+        "--tmax",
+        "0.003",
+        "--restart",
+        message="written by a different setup",
+        folder=tmp_path,
+    )
+    assert run_cli("run", WC7, *hot, "--tmax", "0.003", "--restart") == 0
+    opts = RunOptions(deck="capsule_wc7.inp", temperature="850F")
+    assert resume_command(opts) == "capsule_wc7.inp --restart --temperature 850F"
