@@ -7,9 +7,9 @@ The public Python API (docs/python-api.md)::
     result.trace.position        # (T, N, 3)
     result.energy["dissipated_friction"]
 
-``run``, ``load_deck``, ``check``, ``build``, ``read_trace``, ``read_energy``,
-``fit_time_step``, ``rules_of_thumb`` and the result and error types are loaded on first use
-(importing ``x3dpd`` alone stays cheap).
+``run``, ``run_config`` (a run configured once: a ``RunConfig``), ``load_deck``, ``check``,
+``build``, ``read_trace``, ``read_energy``, ``fit_time_step``, ``rules_of_thumb`` and the result
+and error types are loaded on first use (importing ``x3dpd`` alone stays cheap).
 
 The package is layered; imports only go downward: ``cli`` -> ``api`` -> ``deck`` | ``model`` |
 ``solver`` | ``io`` | ``analysis`` -> ``physics`` | ``geometry``.
@@ -24,6 +24,7 @@ __all__ = [
     "FinalState",
     "FittedStep",
     "InputError",
+    "RunConfig",
     "RunResult",
     "TraceData",
     "TraceError",
@@ -37,6 +38,7 @@ __all__ = [
     "read_trace",
     "rules_of_thumb",
     "run",
+    "run_config",
 ]
 
 

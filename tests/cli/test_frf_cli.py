@@ -20,7 +20,7 @@ from test_measured import write_uff58
 import x3dpd
 from x3dpd.deck.cards import Usrfrc
 from x3dpd.deck.writer import write_deck
-from x3dpd.design.frf import measured_curves
+from x3dpd.testlab.frf import measured_curves
 from x3dpd.io.measured import write_frf_csv
 from x3dpd.model.build import build_model
 

@@ -14,7 +14,7 @@ import numpy as np
 from scipy.signal import find_peaks
 
 from cli_helpers import run_cli
-from x3dpd.design.modal_fit import fit_set, frf_set
+from x3dpd.testlab.modal_fit import fit_set, frf_set
 
 FIXTURE = Path(__file__).resolve().parents[1] / "fixtures" / "frf" / "measurement.uff"
 BAND = (20.0, 1000.0)

@@ -11,6 +11,7 @@ import pytest
 
 from factories import TABLE4_C, TABLE4_DRIVE, TABLE4_K, TABLE4_MASS, sdof_deck
 
+from x3dpd.api import run_config
 from x3dpd.deck.parser import read_deck
 from x3dpd.design.predict import predicted_start
 from x3dpd.design.steady_state import Criterion, SweepPoint, run_point
@@ -59,7 +60,7 @@ def test_the_particles_ride_along_and_the_energy_is_booked():
     deck = read_deck(DECKS / "beam_1.inp")
     point = SweepPoint("deck", deck, 36.0, 4.84040e-3, 9, 1)
     spec = f"sine:node=9,dof=1,amp={point.drive!r},hz=36.0,t0=0.0"
-    start = predicted_start(point, None, 5e-7, 0.0, (spec,))
+    start = predicted_start(point, None, run_config(deck, dt=5e-7, usrfrc=(spec,)), 0.0)
     model = build_model(deck)
     x0 = np.asarray(model.x0)
     state = start.state
@@ -84,7 +85,10 @@ def test_the_particles_ride_along_and_the_energy_is_booked():
     k = float(model.spring_k[0][0])
     added = 0.5 * k * moved[i] ** 2 + 0.5 * m_all * state.vel[i, 0] ** 2
     rest = predicted_start(
-        SweepPoint("deck", deck, 36.0, 0.0, 9, 1), None, 5e-7, 0.0, (spec,)
+        SweepPoint("deck", deck, 36.0, 0.0, 9, 1),
+        None,
+        run_config(deck, dt=5e-7, usrfrc=(spec,)),
+        0.0,
     ).state.e_ref
     assert state.e_ref - rest == pytest.approx(added, rel=1e-6)
 
@@ -99,17 +103,16 @@ def test_a_chain_builds_its_models_once(monkeypatch):
     monkeypatch.setattr(predict, "build", lambda deck: built.append(deck) or real(deck))
     deck = read_deck(DECKS / "beam_1.inp")
     spec = "sine:node=9,dof=1,amp=4.8404e-3,hz=36.0,t0=0.0"
+    config = run_config(deck, dt=5e-7, usrfrc=(spec,))
     starts = [
-        predicted_start(SweepPoint("deck", deck, hz, 4.8404e-3, 9, 1), None, 5e-7, 0.0, (spec,))
+        predicted_start(SweepPoint("deck", deck, hz, 4.8404e-3, 9, 1), None, config, 0.0)
         for hz in (36.0, 37.0, 38.0)
     ]
     assert len(built) == 2  # the deck's model, the added-mass deck's model
     assert built[0] is deck and built[1] is not deck
     # a start computed from the cache is the one computed afresh
     predict._CACHE.clear()
-    fresh = predicted_start(
-        SweepPoint("deck", deck, 38.0, 4.8404e-3, 9, 1), None, 5e-7, 0.0, (spec,)
-    )
+    fresh = predicted_start(SweepPoint("deck", deck, 38.0, 4.8404e-3, 9, 1), None, config, 0.0)
     assert np.array_equal(fresh.state.x, starts[-1].state.x)
     assert np.array_equal(fresh.state.vel, starts[-1].state.vel)
     assert fresh.state.e_ref == starts[-1].state.e_ref

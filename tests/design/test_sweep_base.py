@@ -15,7 +15,7 @@ from factories import TABLE4_C, TABLE4_K, TABLE4_MASS, base_sdof_deck
 
 from test_run import x3dpd  # noqa: E402  (run the CLI in-process)
 
-from x3dpd.api import run
+from x3dpd.api import run, run_config
 from x3dpd.deck.cards import Units
 from x3dpd.deck.parser import read_deck
 from x3dpd.deck.writer import write_deck
@@ -285,7 +285,8 @@ def test_a_chained_point_hands_the_base_over_with_its_energy_booked(shaker):
     assert abs(math.sin(2 * math.pi * 39.0 * t_start)) > 0.1
     second = replace(first, frequency_hz=40.0)
     motion = (base_motion_spec(2, 1, 1e-3, 40.0, t_start),)
-    handed = continued_base_start(second, previous, 1e-5, t_start, motion)
+    config = run_config(deck, dt=1e-5, motion=motion, tmax=t_start + 0.05)
+    handed = continued_base_start(second, previous, config, t_start)
     assert handed.state.x[1, 0] == pytest.approx(0.0, abs=1e-15)  # x0 + u(t_start) = 0
     assert handed.state.vel[1, 0] == pytest.approx(1e-3 * 2 * math.pi * 40.0, rel=1e-12)
 

@@ -1,9 +1,10 @@
-"""The package imports only downward: cli -> (design | study) -> api -> deck | model | solver | io |
-analysis -> physics | geometry -> materials -> (errors, units, _jit). ``materials`` (the material
-library) sits just above the bottom: anything may import it, it imports only the bottom layer.
-Imports under ``if TYPE_CHECKING:`` do not count (no runtime edge). ``x3dpd/__init__.py`` is the
-public facade: it may load the API (lazily, in its ``__getattr__``) and nothing else above the
-bottom layer."""
+"""The package imports only downward: cli -> testlab -> (design | study) -> api -> deck | model |
+solver | io | analysis -> physics | geometry -> materials -> (errors, units, _jit). ``materials``
+(the material library) sits just above the bottom: anything may import it, it imports only the
+bottom layer. Imports under ``if TYPE_CHECKING:`` do not count (no runtime edge).
+``x3dpd/__init__.py`` is the public facade: it may load the API (lazily, in its ``__getattr__``)
+and nothing else above the bottom layer. Above the API nothing touches what a layer below keeps
+private (a ``._name`` of anything but ``self``, a ``_name`` imported from another package)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from pathlib import Path
 PACKAGE = Path(__file__).resolve().parents[2] / "x3dpd"
 LAYER = {
     "cli": 5,
+    "testlab": 4.5,
     "design": 4,
     "study": 4,
     "api": 3,
@@ -33,6 +35,12 @@ LAYER = {
 }
 #: What the facade ``x3dpd/__init__.py`` may import (lazily) besides the bottom layer.
 FACADE = {"api"}
+#: Modules kept for one release at their old home, each only re-exporting its new one (an
+#: upward import that nothing else may make): the test-lab modules that left x3dpd.design.
+SHIMS = {
+    f"design/{name}.py": f"x3dpd.testlab.{name}"
+    for name in ("frf", "fit", "modal_fit", "trace_signals")
+}
 
 
 def _group(module: str) -> str | None:
@@ -69,18 +77,31 @@ def test_imports_go_downward_only():
                 continue
             if here == "__init__" and there in FACADE:
                 continue
+            if SHIMS.get(rel.as_posix()) == module:
+                continue
             if LAYER[there] >= LAYER[here]:
                 bad.append(f"x3dpd/{rel}:{line}: {here} imports {module}")
     assert not bad, "imports that do not go downward:\n" + "\n".join(bad)
 
 
 #: What each tool above the API may import from the package (docs/architecture.md, "The
-#: layers"): the CLI reaches the library only through ``x3dpd.api``; ``study`` and ``design``
-#: likewise (design never drives the step loop itself: it goes through x3dpd.api.run and
-#: x3dpd.api.stepper, and reads decks, models, traces and figures through x3dpd.api's
-#: re-exports).
+#: layers"): the CLI reaches the library only through ``x3dpd.api``; ``study``, ``design`` and
+#: ``testlab`` likewise (design never drives the step loop itself: it goes through
+#: x3dpd.api.run and x3dpd.api.stepper, and reads decks, models, traces and figures through
+#: x3dpd.api's re-exports).
 ABOVE_API = {
-    "cli": {"cli", "api", "design", "study", "errors", "units", "materials", "__init__"},
+    "cli": {"cli", "api", "testlab", "design", "study", "errors", "units", "materials", "__init__"},
+    "testlab": {
+        "testlab",
+        "design",
+        "api",
+        "errors",
+        "units",
+        "materials",
+        "_jit",
+        "_files",
+        "__init__",
+    },
     "study": {"study", "api", "errors", "units", "materials", "_jit", "_files", "__init__"},
     "design": {"design", "api", "errors", "units", "materials", "_jit", "_files", "__init__"},
 }
@@ -99,6 +120,8 @@ def test_the_tools_above_the_api_go_through_it():
     bad = []
     for tool in ABOVE_API:
         for path in sorted((PACKAGE / tool).rglob("*.py")):
+            if path.relative_to(PACKAGE).as_posix() in SHIMS:
+                continue  # its one import is checked by test_a_shim_may_only_re_export_...
             bad += _beside_the_api(tool, path.read_text(), f"x3dpd/{path.relative_to(PACKAGE)}")
     assert not bad, "imports that bypass x3dpd.api:\n" + "\n".join(bad)
 
@@ -158,3 +181,80 @@ def test_a_cli_import_below_the_api_is_caught():
     assert not _beside_the_api(
         "cli", "if TYPE_CHECKING:\n    from x3dpd.model.model import Model", "x3dpd/cli/new.py"
     )
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def _private_uses(tool: str, source: str, name: str) -> list[str]:
+    """Where ``source`` (a module of ``tool``, above the API) touches a private name of a layer
+    below or beside it: an attribute ``._name`` of anything but ``self`` or ``cls`` (a
+    Simulation's kernels, its bundles, a state's internals), ``getattr(obj, "_name")``, or a
+    ``_name`` imported from an x3dpd package other than ``tool``."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Attribute) and _private(node.attr):
+            if not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls")):
+                bad.append(f"{name}:{node.lineno}: {tool} touches {ast.unparse(node)}")
+        elif (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Name)
+            and node.func.id in ("getattr", "setattr", "hasattr")
+            and len(node.args) > 1
+            and isinstance(node.args[1], ast.Constant)
+            and isinstance(node.args[1].value, str)
+            and _private(node.args[1].value)
+        ):
+            bad.append(f"{name}:{node.lineno}: {tool} touches {ast.unparse(node)}")
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            group = _group(node.module)
+            if group is None or group == tool:
+                continue
+            for alias in node.names:
+                if _private(alias.name):
+                    bad.append(
+                        f"{name}:{node.lineno}: {tool} imports {alias.name} from {node.module}"
+                    )
+    return bad
+
+
+def test_nothing_above_the_api_touches_a_private_name_below_it():
+    bad = []
+    for tool in ABOVE_API:
+        for path in sorted((PACKAGE / tool).rglob("*.py")):
+            bad += _private_uses(tool, path.read_text(), f"x3dpd/{path.relative_to(PACKAGE)}")
+    assert not bad, (
+        "private names used above x3dpd.api (give the layer below a public operation, "
+        "x3dpd/solver/placement.py for the step loop's state):\n" + "\n".join(bad)
+    )
+
+
+def test_a_private_name_above_the_api_is_caught():
+    # each way the predicted start once reached into the step loop, and the other spellings
+    for line in (
+        "sim.kernels._update_slaves(x, v)",
+        "b = sim._bundles()",
+        "sim.kernels._modal_place(b['modal'])",
+        "n = getattr(sim, '_load_seconds', 0.0)",
+        "from x3dpd.api.stepper import _private_helper",
+        "from x3dpd.design.sweep_table import _cell",
+    ):
+        assert _private_uses("testlab", line, "x3dpd/testlab/new.py"), line
+    assert _private_uses("design", "sim.state._sc = None", "x3dpd/design/new.py")
+    for line in (
+        "self._cache = {}",
+        "cls._registry[name] = x",
+        "name = sim.kernels.__name__",
+        "from x3dpd.design.sweep_table import _cell",  # its own package
+        "from x3dpd.api.stepper import place_modes",
+    ):
+        assert not _private_uses("design", line, "x3dpd/design/new.py"), line
+
+
+def test_a_shim_may_only_re_export_its_new_home():
+    for rel, target in SHIMS.items():
+        tree = ast.parse((PACKAGE / rel).read_text())
+        body = [n for n in tree.body if not isinstance(n, ast.Expr)]  # the docstring
+        assert len(body) == 1 and isinstance(body[0], ast.ImportFrom), rel
+        assert body[0].module == target and body[0].names[0].name == "*", rel

@@ -24,7 +24,7 @@ import x3dpd
 from x3dpd.analysis.frf import central_difference, difference_gain, estimate_frf
 from x3dpd.deck.cards import Boundary, Deck, Element, Mass, Material, Node, Trace
 from x3dpd.deck.writer import write_deck
-from x3dpd.design.trace_signals import drive_history
+from x3dpd.testlab.trace_signals import drive_history
 
 ZETA = 0.05
 C = 2.0 * ZETA * math.sqrt(TABLE4_K * TABLE4_MASS)

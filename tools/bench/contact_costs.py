@@ -5,7 +5,9 @@ and the contact passes timed alone on the frozen state, whole and with parts cut
 
 Takes the benchmark bed at rest (``--bed``: a bed prepared by ``count_instructions.py
 --prepare``, restored; without it ``bench_solver.py --settled``'s bed of ``--n`` spheres,
-settled here for 300,000 steps) and reports microseconds, each the best of five windows:
+settled here for 300,000 steps) and reports microseconds of this process's CPU time
+(``time.process_time``: on a machine others share, wall time counts their work too),
+each the best of five windows:
 
 - the whole step (``Simulation.advance`` from the bed's state), and the step of a copy of the
   scene's loop without its two contact passes (integration, the rigid cavity, the list check:
@@ -126,9 +128,9 @@ def _best_per_call(run, calls: int, *args) -> float:
     run(1, *args)
     best = float("inf")
     for _ in range(5):
-        t = time.perf_counter()
+        t = time.process_time()
         run(calls, *args)
-        best = min(best, (time.perf_counter() - t) / calls)
+        best = min(best, (time.process_time() - t) / calls)
     return best * 1e6
 
 
@@ -139,9 +141,9 @@ def step_time(sim: Simulation, steps: int) -> float:
     best = float("inf")
     for _ in range(5):
         sim.restore(state.copy())
-        t = time.perf_counter()
+        t = time.process_time()
         sim.advance(steps, max_rows=1)
-        best = min(best, (time.perf_counter() - t) / steps)
+        best = min(best, (time.process_time() - t) / steps)
     sim.restore(state)
     return best * 1e6
 

@@ -68,6 +68,68 @@ def _code_mappings(folder: Path) -> dict[int, Path]:
     return maps
 
 
+def _disassemble(base: int, path: Path, start: int, stop: int) -> list[str]:
+    return subprocess.run(
+        [
+            "objdump",
+            "-D",
+            "-b",
+            "binary",
+            "-m",
+            "i386:x86-64",
+            f"--adjust-vma={base:#x}",
+            f"--start-address={start:#x}",
+            f"--stop-address={stop:#x}",
+            str(path),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    ).stdout.splitlines()
+
+
+#: blocks this close (bytes) join one region of _print_regions
+GAP = int(os.environ.get("PROFILE_GAP", "512"))
+
+
+def _print_regions(blocks, per_ip, maps, bases, sizes, names, total, top) -> None:
+    """Runs of hot 128-byte blocks (gaps under 512 bytes joined): their share of the samples,
+    the function whose entry precedes them, and a signature of their instructions -- packed
+    (zmm/ymm) and scalar floating point, square roots and divisions -- to tell the loops apart
+    (the vectorized responses, the scatter passes, the integration)."""
+    hot = sorted(b for b, c in blocks.items() if c >= 0.002 * total)
+    runs = []
+    for b in hot:
+        if runs and b - runs[-1][1] < GAP:
+            runs[-1][1] = b
+        else:
+            runs.append([b, b])
+    rows = []
+    for lo, hi in runs:
+        share = sum(c for b, c in blocks.items() if lo <= b <= hi)
+        base = next(m for m in bases if m <= lo < m + sizes[m])
+        entry = max((a for a in names if base <= a <= lo), default=None)
+        sig = collections.Counter()
+        for line in _disassemble(base, maps[base], lo, hi + 128):
+            fields = line.split("\t")[-1].split() if "\t" in line else []
+            op = fields[0] if fields else ""
+            if "zmm" in line or "ymm" in line:
+                sig["packed"] += 1
+            elif op.endswith("sd"):
+                sig["scalar"] += 1
+            if "sqrt" in op:
+                sig["sqrt"] += 1
+            if op.startswith("vdiv") or op.startswith("div"):
+                sig["div"] += 1
+        rows.append((share, lo, hi, names.get(entry, "?"), sig))
+    print(f"\nhottest {top} regions:")
+    for share, lo, hi, name, sig in sorted(rows, reverse=True)[:top]:
+        print(
+            f"  {100 * share / total:5.1f} %  {lo:#x}..{hi + 128:#x} after {name}: "
+            + ", ".join(f"{k} {v}" for k, v in sorted(sig.items()))
+        )
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=50)
@@ -80,6 +142,12 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--top", type=int, default=12, help="hottest 128-byte blocks to list")
     ap.add_argument("--asm", type=int, default=2, help="hottest blocks to disassemble")
+    ap.add_argument(
+        "--regions",
+        type=int,
+        default=0,
+        help="list the hottest N regions (runs of hot blocks) with what their code does",
+    )
     args = ap.parse_args(argv)
     for tool in ("perf", "objdump"):
         if shutil.which(tool) is None:
@@ -104,7 +172,7 @@ def main(argv=None) -> int:
         tmp = Path(tmp)
         data = tmp / "perf.data"
         rec = subprocess.Popen(
-            ["perf", "record", "-q", "-p", str(os.getpid()), "-o", str(data)],
+            ["perf", "record", "-q", "-e", "cpu-clock", "-p", str(os.getpid()), "-o", str(data)],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
         )
@@ -149,6 +217,8 @@ def main(argv=None) -> int:
         print(f"\nhottest {args.top} blocks of 128 bytes:")
         for blk, c in blocks.most_common(args.top):
             print(f"  {100 * c / len(ips):5.1f} %  {blk:#x}")
+        if args.regions:
+            _print_regions(blocks, per_ip, maps, bases, sizes, names, len(ips), args.regions)
         for blk, _ in blocks.most_common(args.asm):
             base = next(b for b in bases if b <= blk < b + sizes[b])
             start = max(blk - 48, base)

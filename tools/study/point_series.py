@@ -30,7 +30,6 @@ def cycle_phasors(deck_path: str, hz: float, cycles: int, drive: float, node: in
     itrac = max(1, int(period / (200 * dt)))
     point = SweepPoint(config="deck", deck=deck, frequency_hz=hz, drive=drive, node=node, dof=dof)
     usrfrc = (f"sine:node={node},dof={dof},amp={drive!r},hz={hz!r},t0=0.0",)
-    start = predicted_start(point, None, dt, 0.0, usrfrc)
     monitor = SteadyStateMonitor(
         2 * math.pi * hz, t0=0.0, t_start=0.0, tol=1e-12, max_cycles=cycles + 10
     )
@@ -39,7 +38,7 @@ def cycle_phasors(deck_path: str, hz: float, cycles: int, drive: float, node: in
         monitor.feed(block.time, block.position[:, 0, dof - 1], block.velocity[:, 0, dof - 1])
         return False
 
-    x3dpd.run(
+    config = x3dpd.run_config(
         deck,
         tmax=cycles * period,
         dt=dt,
@@ -49,8 +48,8 @@ def cycle_phasors(deck_path: str, hz: float, cycles: int, drive: float, node: in
         keep_trace=False,
         stop=feed,
         stop_every=200,
-        initial_state=start,
     )
+    x3dpd.run(config.starting_from(predicted_start(point, None, config, 0.0)))
     return np.asarray(monitor.phasors)
 
 

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from x3dpd.api import run
-from x3dpd.design.frf import frf_command
+from x3dpd.testlab.frf import frf_command
 
 ROOT = Path(__file__).resolve().parents[2]
 PERIOD = 8.0

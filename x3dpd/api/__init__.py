@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 
+from x3dpd.api.config import DEFAULT_FRICTION, RunConfig, run_config
 from x3dpd.api.deck_step import FittedStep, fit_time_step, soft_step, softened
 from x3dpd.api.results import Chunk, FinalState, RunResult
 from x3dpd.api.runner import run
@@ -30,12 +31,9 @@ def load_deck(path: str | os.PathLike):
 
     Raises :class:`DeckError` (``FILE:LINE:COL: CARD: message``) on the first bad token.
     """
-    from x3dpd.deck import read_deck
+    from x3dpd.api.run_options import read_deck_file
 
-    path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise InputError(f"deck {path} does not exist")
-    return read_deck(path)
+    return read_deck_file(os.fspath(path))
 
 
 def build(deck, *, usrfrc=(), motion=(), temperature=None):
@@ -81,12 +79,14 @@ def rules_of_thumb(deck, *, usrfrc=(), motion=(), drive=None):
 
 __all__ = [
     "Chunk",
+    "DEFAULT_FRICTION",
     "DeckError",
     "EnergyData",
     "FRICTION_LAWS",
     "FinalState",
     "FittedStep",
     "InputError",
+    "RunConfig",
     "RunResult",
     "TraceData",
     "TraceError",
@@ -100,6 +100,7 @@ __all__ = [
     "read_energy",
     "read_trace",
     "run",
+    "run_config",
     "soft_step",
     "softened",
 ]

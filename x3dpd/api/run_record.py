@@ -25,6 +25,7 @@ def dump(plan: RunPlan, reason: str) -> None:
     and what the run was asked, so that a resumed run continues bit for bit."""
     if not plan.writes:
         return
+    config, files = plan.config, plan.config.files
     sim, writer, ewriter = plan.sim, plan.writer, plan.ewriter
     if plan.auto:
         writer.describe(step=sim.step_record())
@@ -34,28 +35,28 @@ def dump(plan: RunPlan, reason: str) -> None:
 
     extra = {"variable_step": sim.checkpoint()} if plan.auto else {}
     save_restart(
-        plan.dump_path,
+        files.dump,
         sim.state.to_arrays(),
         {
             **extra,
             "reason": reason,
             "x3dpd_version": __version__,
-            "deck_path": plan.deck_path,
-            "deck_abspath": os.path.abspath(plan.deck_path),
+            "deck_path": config.deck_path,
+            "deck_abspath": os.path.abspath(config.deck_path),
             "deck_sha256": plan.deck_sha,
-            "deck_key": plan.key,
-            "dt": plan.dt,
-            "itrac": plan.itrac,
-            "t0": plan.t0,
+            "deck_key": config.key,
+            "dt": config.step.dt,
+            "itrac": config.itrac,
+            "t0": config.model.t0,
             "step": int(sim.clock),
             "time": sim.time,
             "trace": {
-                "path": plan.trace_path,
+                "path": files.trace,
                 "bytes": writer.tell(),
                 "blocks": writer.blocks_written,
             },
             "energy": {
-                "path": plan.energy_path,
+                "path": files.energy,
                 "bytes": ewriter.tell(),
                 "rows": ewriter.rows_written,
             },
@@ -67,17 +68,17 @@ def dump(plan: RunPlan, reason: str) -> None:
     plan.stats.dumps += 1
 
 
-def start_recording(plan: RunPlan, *, keep_trace: bool, fresh: bool):
-    """Step 4: the recorder (rows kept in memory when ``keep_trace``) and the sink that writes
-    rows to it and the open files; on a ``fresh`` start (no dump, no initial state) the row at
-    t0. Returns (recorded node ids, recorder, sink)."""
-    sim, writer, stats = plan.sim, plan.writer, plan.stats
-    ids = plan.model.node_ids[sim.trace_nodes]
-    recorder = Recorder(ids, sim.energy_columns, keep_trace)
+def start_recording(plan: RunPlan):
+    """Step 4: the recorder (rows kept in memory when the run keeps its trace) and the sink
+    that writes rows to it and the open files; on a fresh start (no dump, no initial state) the
+    row at t0. Returns (recorded node ids, recorder, sink)."""
+    config, sim, writer, stats = plan.config, plan.sim, plan.writer, plan.stats
+    ids = config.model.node_ids[sim.trace_nodes]
+    recorder = Recorder(ids, sim.energy_columns, config.keep_trace)
     sink = Sink(writer, plan.ewriter, recorder)
     if plan.auto and plan.writes:  # the sidecar's record of the steps used, as of the last row
         sink.on_close = lambda: writer.describe(step=sim.step_record())
-    if plan.meta is None and fresh:
+    if plan.meta is None and config.initial_state is None:
         snap = sim.snapshot()
         sink.write(snap.times, snap.data, snap.energy)
         note_energy(stats, snap.energy)
@@ -87,23 +88,24 @@ def start_recording(plan: RunPlan, *, keep_trace: bool, fresh: bool):
     return ids, recorder, sink
 
 
-def step(plan: RunPlan, sink, ids, *, progress, stop, stop_every, handle_signals):
+def step(plan: RunPlan, sink, ids):
     """Step 5: step to TMAX in chunks (x3dpd.api.loop.step_loop), a restart dump every TREST and
     at the end; ``stop`` or a signal (``handle_signals``) ends the run early. Returns the status
     ("complete", "stopped", "interrupted") and the signal handler (its ``exit_status``)."""
-    with sink, Interrupts(handle_signals) as intr:
+    config = plan.config
+    with sink, Interrupts(config.handle_signals) as intr:
         stopped = step_loop(
             plan.sim,
             sink,
-            plan.n_end,
-            plan.trest_steps,
+            config.steps,
+            config.trest_steps,
             plan.stats,
-            progress,
+            config.progress,
             lambda reason: dump(plan, reason),
             intr,
-            stop,
+            config.stop,
             ids,
-            stop_every,
+            config.stop_every,
         )
         if intr.signum:
             dump(plan, "interrupted")
@@ -118,39 +120,31 @@ def step(plan: RunPlan, sink, ids, *, progress, stop, stop_every, handle_signals
 def summarise(plan: RunPlan, recorder, status: str) -> RunResult:
     """Step 6: the :class:`RunResult` of the run as it stands: its trace and energy ledger (when
     kept), the summary ``x3dpd run`` prints, and the final state a chained run continues from."""
-    sim = plan.sim
-    summary = _summary(
-        sim,
-        plan.stats,
-        status,
-        plan.applied,
-        plan.replaced,
-        plan.trace_path,
-        plan.energy_path,
-        plan.dump_path if plan.writes else None,
-        sim.energy_columns,
-    )
+    config, sim = plan.config, plan.sim
+    summary = _summary(plan, status)
     if plan.auto:
         auto_summary(summary, sim, plan.steps_before)
     final = FinalState(
         state=sim.state.copy(),
-        deck_key=plan.key,
-        dt=plan.dt,
+        deck_key=config.key,
+        dt=config.step.dt,
         time=sim.time,
         checkpoint=sim.checkpoint() if plan.auto else None,
     )
+    meta = {"status": status, "dt": config.step.dt, "itrac": config.itrac}
     return RunResult(
-        trace=recorder.trace({"status": status, "dt": plan.dt, "itrac": plan.itrac}),
+        trace=recorder.trace(meta),
         energy=recorder.energy(),
         summary=summary,
         final_state=final,
-        model=plan.model,
+        model=config.model,
     )
 
 
-def _summary(
-    sim, stats, status, applied, replaced, trace_path, energy_path, dump_path, columns
-) -> dict:
+def _summary(plan: RunPlan, status: str) -> dict:
+    """The summary of the run as it stands (docs/python-api.md, ``result.summary``)."""
+    config, files, sim, stats = plan.config, plan.config.files, plan.sim, plan.stats
+    applied, columns = config.applied, sim.energy_columns
     wall = time.perf_counter() - stats.wall_start
     compile_s = float(sim.compile_seconds) + float(getattr(sim, "_load_seconds", 0.0))
     if getattr(sim, "compiled_here", False) and not getattr(sim, "compile_logged", False):
@@ -177,11 +171,11 @@ def _summary(
         "energy_tolerance": float(sim.energy_tolerance),
         "last_energy": dict(zip(columns, map(float, e))) if e is not None else None,
         "usrfrc": list(applied),
-        "usrfrc_replaced": list(replaced),
-        "trace_file": trace_path,
+        "usrfrc_replaced": list(config.replaced),
+        "trace_file": files.trace if files else None,
         "code_files": [spec for spec in applied if is_user_file(spec)],
-        "energy_file": energy_path,
-        "restart_file": dump_path,
+        "energy_file": files.energy if files else None,
+        "restart_file": files.dump if files else None,
         "dumps": stats.dumps,
         "units": list(getattr(sim.model, "units", ("in", "lbf", "s"))),
     }

@@ -2,18 +2,28 @@
 (``x3dpd fill --settle``; a sweep point's predicted start, x3dpd.design.predict).
 
 :func:`stepper` builds the compiled step loop of a built model (:class:`Simulation`,
-docs/engine.md) at a fixed step and starts it at the deck's t0 or from an earlier run's state;
-:func:`total_energy` is what the energy ledger counts as the system's energy at that moment;
-:func:`apply_motion` puts prescribed nodes on their motion at a time (docs/usrfrc.md). A tool
-that changes ``stepper(...).state`` books the energy it adds in ``state.e_ref`` and hands the
-state to :func:`x3dpd.api.run` as a :class:`~x3dpd.api.FinalState` (``initial_state=``).
+docs/engine.md) at a fixed step and starts it at the deck's t0 or from an earlier run's state.
+A tool changes its state only through the solver's placement operations
+(x3dpd.solver.placement): :func:`total_energy` (what the energy ledger counts as the system's
+energy now), :func:`place_structure`, :func:`place_modes` (with :func:`carry_particles`),
+:func:`put_on_motion`, and :func:`book_energy_change`, which books the energy they added in the
+ledger's reference energy. It hands the state to :func:`x3dpd.api.run` as a
+:class:`~x3dpd.api.FinalState` (``initial_state=``).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 
-from x3dpd.physics.motion import apply_motion
+from x3dpd.solver.placement import (
+    book_energy_change,
+    body_poses,
+    carry_particles,
+    place_modes,
+    place_structure,
+    put_on_motion,
+    total_energy,
+)
 from x3dpd.solver.simulation import Simulation, process_compile_seconds
 
 
@@ -38,17 +48,15 @@ def stepper(
     return sim
 
 
-def total_energy(sim: Simulation) -> float:
-    """Kinetic + potential + stored contact energy minus the Verlet term, as the ledger counts
-    it (docs/physics.md, "Energy ledger") [energy]."""
-    en = sim.energy_now()
-    return float(en[:5].sum() - en[5])
-
-
 __all__ = [
     "Simulation",
-    "apply_motion",
+    "body_poses",
+    "book_energy_change",
+    "carry_particles",
+    "place_modes",
+    "place_structure",
     "process_compile_seconds",
+    "put_on_motion",
     "stepper",
     "total_energy",
 ]

@@ -8,8 +8,6 @@ usable DTMIN (0, or equal to DTMAX with an explicit ``"auto"``) the finest step 
 
 from __future__ import annotations
 
-import math
-
 from x3dpd.errors import InputError
 
 
@@ -22,26 +20,33 @@ def wants_auto(dt, parameters) -> bool:
     return dt is None and parameters is not None and parameters.dtmin < parameters.dtmax
 
 
-def make_stepper(model, *, dt, parameters, itrac, **sim_options):
-    """The object that advances the run: a :class:`Simulation` at a fixed ``dt`` or a
-    :class:`VariableStep` driver between DTMIN and DTMAX (trace every ITRAC x DTMAX)."""
+def make_stepper(config):
+    """The object that advances the run of ``config`` (x3dpd.api.config.RunConfig): a
+    :class:`Simulation` at its fixed step or a :class:`VariableStep` driver between DTMIN and
+    DTMAX (trace every ITRAC x DTMAX)."""
     from x3dpd.solver.simulation import Simulation
 
-    if not wants_auto(dt, parameters):
-        return Simulation(model, dt=dt, itrac=itrac, **sim_options)
-    from x3dpd.model.timestep import recommended_time_step
-    from x3dpd.solver.variable_step import VariableStep, auto_floor
+    step = config.step
+    options = dict(
+        itrac=config.itrac,
+        usrfrc=config.usrfrc,
+        motion=config.motion,
+        friction=config.friction,
+        penetration_limit=config.penetration_limit,
+        allow_python_usrfrc=config.usrfrc_python,
+        energy_tolerance=config.energy_tolerance,
+        threads=config.threads,
+    )
+    if not step.auto:
+        return Simulation(config.model, dt=step.dt, **options)
+    from x3dpd.solver.variable_step import VariableStep
 
-    dtmax = float(model.dt)
-    floor = auto_floor(parameters.dtmin if parameters is not None else 0.0, dtmax)
-    limit = recommended_time_step(model).dt_structure
     return VariableStep(
-        model,
-        dtmin=floor,
-        dtmax=dtmax,
-        itrac=itrac,
-        dt_structure=limit if math.isfinite(limit) and limit > 0 else math.inf,
-        **sim_options,
+        config.model,
+        dtmin=step.dtmin,
+        dtmax=step.dt,
+        dt_structure=step.dt_structure,
+        **options,
     )
 
 

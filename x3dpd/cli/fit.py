@@ -1,7 +1,7 @@
 """``x3dpd fit MEASURED --out DIR``: a single-mode SDOF fitted to a measured FRF, written as deck
 records; ``x3dpd fit MEASURED... --modes N --out DIR``: N modes fitted to a set of FRFs, written
-as a mode file and a MODAL card. A thin layer over :mod:`x3dpd.design.fit` and
-:mod:`x3dpd.design.modal_fit`."""
+as a mode file and a MODAL card. A thin layer over :mod:`x3dpd.testlab.fit` and
+:mod:`x3dpd.testlab.modal_fit`."""
 
 from __future__ import annotations
 
@@ -82,7 +82,7 @@ def fit(measured, out, modes, band, quantity, force_scale, units, overwrite, qui
                 f"--{given[0]} is an option of the single-mode fit; with --modes the nodes "
                 "and directions are the measured points"
             )
-        from x3dpd.design.modal_fit import modal_fit_command
+        from x3dpd.testlab.modal_fit import modal_fit_command
 
         modal_fit_command(
             measured,
@@ -103,7 +103,7 @@ def fit(measured, out, modes, band, quantity, force_scale, units, overwrite, qui
         )
     if units is not None:
         raise InputError("--units is an option of the multi-mode fit (--modes N)")
-    from x3dpd.design.fit import fit_command
+    from x3dpd.testlab.fit import fit_command
 
     options = {k: _SDOF_ONLY[k] if v is None else v for k, v in sdof.items()}
     fit_command(

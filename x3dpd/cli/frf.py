@@ -1,5 +1,5 @@
 """``x3dpd frf TRACE... --drive NODE:DOF --response NODE:DOF --out DIR``: H1, H2 and coherence of
-runs, measured FRFs overlaid. A thin layer over :mod:`x3dpd.design.frf`
+runs, measured FRFs overlaid. A thin layer over :mod:`x3dpd.testlab.frf`
 (docs/testing-like-a-test-engineer.md)."""
 
 from __future__ import annotations
@@ -78,7 +78,7 @@ def frf(
     quiet,
 ):
     """Frequency response functions H1, H2 and coherence of runs (DIR/frf.csv, frf.png)."""
-    from x3dpd.design.frf import frf_command
+    from x3dpd.testlab.frf import frf_command
 
     frf_command(
         traces,

@@ -118,7 +118,7 @@ class CompileTicker:
 
 
 class ReadProgress:
-    """``progress(path, bytes_read, size)`` of a trace being read (x3dpd.design.frf): for a
+    """``progress(path, bytes_read, size)`` of a trace being read (x3dpd.testlab.frf): for a
     file of :data:`READ_PROGRESS_BYTES` or more, ``reading PATH (39.0 MB): 45 %`` updated on a
     terminal (a plain line every ~10 s otherwise), ending ``100 % in 20.3 s``."""
 

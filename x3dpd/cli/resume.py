@@ -7,6 +7,8 @@ from __future__ import annotations
 import shlex
 from typing import TYPE_CHECKING
 
+from x3dpd.api.config import ENERGY_TOLERANCE
+
 if TYPE_CHECKING:
     from x3dpd.cli.run import RunOptions
 
@@ -36,7 +38,7 @@ def resume_command(opts: RunOptions) -> str:
         args += ["--friction", opts.friction]
     if opts.temperature is not None:
         args += ["--temperature", opts.temperature]
-    if opts.energy_tolerance != 0.05:
+    if opts.energy_tolerance != ENERGY_TOLERANCE:
         args += ["--energy-tolerance", repr(opts.energy_tolerance)]
     if opts.threads != 1:
         args += ["--threads", str(opts.threads)]

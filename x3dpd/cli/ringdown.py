@@ -1,6 +1,6 @@
 """``x3dpd ringdown TRACE|DECK --node N --dof D --out DIR``: damping ratio versus amplitude.
 
-A thin layer over :mod:`x3dpd.design.ringdown` (docs/design-guide.md).
+A thin layer over :mod:`x3dpd.testlab.ringdown` (docs/design-guide.md).
 """
 
 from __future__ import annotations
@@ -86,7 +86,7 @@ def ringdown(
     quiet,
 ):
     """Damping (% zeta) versus amplitude (dB re 1 g) of a ring-down (DIR/ringdown.csv, .png)."""
-    from x3dpd.design.ringdown import ringdown_command
+    from x3dpd.testlab.ringdown import ringdown_command
 
     ringdown_command(
         source,

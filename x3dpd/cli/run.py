@@ -17,8 +17,10 @@ from dataclasses import dataclass, field
 import click
 
 from x3dpd.api import FRICTION_LAWS
+from x3dpd.api.config import ENERGY_TOLERANCE, PENETRATION_LIMIT, RunConfig, run_config
 from x3dpd.api.outputs import check_writable, default_paths as _default_paths
 from x3dpd.cli.progress import CompileTicker, Progress
+from x3dpd.cli.run_summary import format_summary
 from x3dpd.cli.resume import resume_command
 from x3dpd.cli.temperature_option import temperature_option
 from x3dpd.errors import InputError, UnstableRunError
@@ -26,7 +28,8 @@ from x3dpd.errors import InputError, UnstableRunError
 
 @dataclass
 class RunOptions:
-    """Everything ``x3dpd run`` was asked to do (the CLI's options, resolved later)."""
+    """The command line of ``x3dpd run`` as typed (what the resume line repeats); the run
+    itself is its :meth:`config`, the API's :class:`~x3dpd.api.config.RunConfig`."""
 
     deck: str
     trace: str | None = None
@@ -43,11 +46,42 @@ class RunOptions:
     friction: str | None = None
     temperature: str | None = None
     quiet: bool = False
-    penetration_limit: float = 0.25
-    energy_tolerance: float = 0.05
+    penetration_limit: float = PENETRATION_LIMIT
+    energy_tolerance: float = ENERGY_TOLERANCE
     threads: int = 1
     trace_nodes: str | None = None
     argv: tuple[str, ...] = field(default_factory=tuple)
+
+    def config(self, **callbacks) -> RunConfig:
+        """The run these options ask for (the deck read and every option resolved and checked
+        by :func:`x3dpd.api.config.run_config`), writing its files and keeping no rows in
+        memory, with ``callbacks`` (``progress``, ``on_compile``)."""
+        from x3dpd.api.runner import command_line
+
+        trace, energy, _ = default_paths(self)
+        return run_config(
+            self.deck,
+            tmax=self.tmax,
+            dt=self.dt,
+            usrfrc=self.usrfrc,
+            usrfrc_mode="add" if self.usrfrc_add else "replace",
+            motion=self.motion,
+            friction=self.friction,
+            temperature=self.temperature,
+            trace=trace,
+            energy=energy,
+            overwrite=self.overwrite,
+            restart=self.restart,
+            keep_trace=False,
+            usrfrc_python=self.usrfrc_python,
+            penetration_limit=self.penetration_limit,
+            energy_tolerance=self.energy_tolerance,
+            threads=self.threads,
+            trace_nodes=_trace_nodes(self.trace_nodes),
+            handle_signals=True,
+            command=command_line(self.argv),
+            **callbacks,
+        )
 
 
 @click.command("run", context_settings={"help_option_names": ["-h", "--help"]})
@@ -129,7 +163,7 @@ class RunOptions:
 @click.option(
     "--energy-tolerance",
     type=click.FloatRange(min=0.0, min_open=True),
-    default=0.05,
+    default=ENERGY_TOLERANCE,
     show_default=True,
     metavar="FRACTION",
     help="Stop (exit 3) when the energy ledger's residual exceeds this fraction of "
@@ -241,7 +275,7 @@ def run_deck(opts: RunOptions) -> int:
 
     Raises the typed errors (exit 2 / 3) for ``x3dpd.cli.main`` to report.
     """
-    from x3dpd.api.runner import command_line, run as api_run
+    from x3dpd.api.runner import run as api_run
 
     trace_path, energy_path, _ = default_paths(opts)
     if opts.plot:
@@ -267,31 +301,9 @@ def run_deck(opts: RunOptions) -> int:
         if not opts.quiet:
             ticker.append(CompileTicker(message, getattr(message, "expected_s", 30.0)))
 
+    config = opts.config(progress=None if opts.quiet else on_progress, on_compile=on_compile)
     try:
-        result = api_run(
-            opts.deck,
-            tmax=opts.tmax,
-            dt=opts.dt,
-            usrfrc=opts.usrfrc,
-            usrfrc_mode="add" if opts.usrfrc_add else "replace",
-            motion=opts.motion,
-            friction=opts.friction,
-            temperature=opts.temperature,
-            trace=trace_path,
-            energy=energy_path,
-            overwrite=opts.overwrite,
-            restart=opts.restart,
-            keep_trace=False,
-            progress=None if opts.quiet else on_progress,
-            on_compile=on_compile,
-            usrfrc_python=opts.usrfrc_python,
-            penetration_limit=opts.penetration_limit,
-            energy_tolerance=opts.energy_tolerance,
-            threads=opts.threads,
-            trace_nodes=_trace_nodes(opts.trace_nodes),
-            handle_signals=True,
-            command=command_line(opts.argv),
-        )
+        result = api_run(config)
     except UnstableRunError as exc:
         stop_ticker()
         progress.done()
@@ -320,70 +332,6 @@ def run_deck(opts: RunOptions) -> int:
         )
     _maybe_plot(opts, trace_path, energy_path, result.model)
     return int(s.get("exit_status", 0))
-
-
-def format_summary(deck: str, s: dict) -> str:
-    """The summary ``x3dpd run`` prints (docs/running.md, "Progress and summary")."""
-    from x3dpd.api.traces import ENERGY_COLUMNS
-
-    lines = [
-        f"x3dpd: {deck} -> {s['trace_file']}, {s['energy_file']} ({s['status']})",
-        f"  effects        {', '.join(s['effects']) or 'none'}",
-    ]
-    if s.get("usrfrc_replaced"):
-        lines.append(
-            f"  drive          {'; '.join(s['usrfrc'])} (replaces the deck's USRFRC "
-            f"{'; '.join(s['usrfrc_replaced'])}; --usrfrc-add adds instead)"
-        )
-    for path in s.get("code_files", ()):
-        lines.append(f"  code run       {path} (a USRFRC Python file: this run executed it)")
-    step = s.get("step")
-    if step:
-        at = (
-            f"at a step chosen by accuracy ({step['min']:.4g} .. {step['max']:.4g} s, mean "
-            f"{step['mean']:.4g} s since t0; bounds {step['dtmin']:.4g} .. "
-            f"{step['dtmax']:.4g} s), trace every {s['itrac'] * s['dt']:.6g} s"
-            if step["steps"]
-            else "at a step chosen by accuracy"
-        )
-    else:
-        at = f"at dt {s['dt']:.6g} s, trace every {s['itrac']} steps"
-    lines += [
-        f"  steps          {s['steps']} this run; t = {s['t_start']:.9g} .. {s['t_end']:.9g} s "
-        f"{at}",
-        f"  wall time      {s['wall_s']:.2f} s (setup and first-call compile/load "
-        f"{s['compile_s']:.2f} s)",
-    ]
-    rate = s["steps_per_s"]
-    if rate == rate and rate > 0:
-        lines.append(f"  speed          {rate:,.0f} steps/s, {1e6 / rate:.3g} us/step")
-    if s["dumps"]:
-        lines.append(f"  restart dumps  {s['dumps']} written to {s['restart_file']}")
-    e = s["last_energy"]
-    if e is not None:
-        from x3dpd.units import labels_for
-
-        lab = labels_for(s.get("units"))
-        lines.append(
-            f"  energy ledger at t = {e['time']:.9g} {lab['time']} (energies in {lab['energy']})"
-        )
-        names = ENERGY_COLUMNS[1:11] + (
-            ("dissipated_rolling",) if "dissipated_rolling" in e else ()
-        )
-        for name in names:
-            lines.append(f"    {name:<24} {e[name]: .6e}")
-        total = (
-            e["dissipated_viscoelastic"]
-            + e["dissipated_friction"]
-            + e["dissipated_dampers"]
-            + e.get("dissipated_rolling", 0.0)
-        )
-        lines.append(f"    {'dissipated (total)':<24} {total: .6e}")
-        lines.append(
-            f"    {'residual':<24} {e['residual']: .6e} ({s['residual']:+.2e} of the "
-            f"energy scale {s['energy_scale']:.6g})"
-        )
-    return "\n".join(lines)
 
 
 def _maybe_plot(opts, trace_path, energy_path, model) -> None:

@@ -1,5 +1,5 @@
 """``x3dpd spectrum TRACE... --node N --dof D --out DIR``: the response spectrum of a node (the
-report's Fig. 10). A thin layer over :mod:`x3dpd.design.frf`."""
+report's Fig. 10). A thin layer over :mod:`x3dpd.testlab.frf`."""
 
 from __future__ import annotations
 
@@ -43,7 +43,7 @@ def spectrum(
     quiet,
 ):
     """Amplitude spectrum or PSD of a node's response (DIR/spectrum.csv, spectrum.png)."""
-    from x3dpd.design.frf import spectrum_command
+    from x3dpd.testlab.frf import spectrum_command
 
     if not 1 <= dof <= 6:
         raise click.BadParameter(f"{dof}: expected 1..6", param_hint="--dof")

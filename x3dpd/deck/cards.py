@@ -235,12 +235,6 @@ class Hooke:
     pos: Pos = NOWHERE
 
 
-#: The FRICTION card's LAW and ROLL words: the names of x3dpd.physics.tangential_laws and
-#: x3dpd.physics.rolling (tests/deck/test_friction_card.py checks they agree).
-FRICTION_LAWS = ("coulomb", "regularized", "mindlin", "linear_history")
-ROLLING_LAWS = ("none", "epsd")
-
-
 @dataclass(frozen=True)
 class Friction:
     """One FRICTION record (our extension): the PDMP group starting after node ``nodlim`` uses

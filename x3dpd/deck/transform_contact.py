@@ -9,8 +9,6 @@ from typing import Any
 from lark import Token
 
 from x3dpd.deck.cards import (
-    FRICTION_LAWS,
-    ROLLING_LAWS,
     AnalyticWall,
     Contact,
     Friction,
@@ -82,6 +80,11 @@ class ContactCards:
     def friction(self, c: list[Any]) -> _Card:
         spec = BY_NAME["FRICTION"]
         out = []
+        # the LAW and ROLL words are the registries' names (a law's registration line is all
+        # it takes for the deck to accept it)
+        from x3dpd.physics.rolling import ROLLING_LAWS
+        from x3dpd.physics.tangential_laws import TANGENTIAL_LAWS
+
         expected = "4 or 6 values: NODLIM LAW MUS MUK [ROLL MUR]"
         for tok in c[1:-1]:
             rec = [(tok.line, tok.column, str(tok))]
@@ -91,9 +94,9 @@ class ContactCards:
                 raise _fail(spec, rec, 5, f"ROLL needs its MUR: {expected}")
             nodlim = _int(spec, rec, v, 0, None)
             law = v[1].lower()
-            if law not in FRICTION_LAWS:
+            if law not in TANGENTIAL_LAWS:
                 raise _fail(
-                    spec, rec, 1, f"LAW must be one of {', '.join(FRICTION_LAWS)}; got {v[1]}"
+                    spec, rec, 1, f"LAW must be one of {', '.join(TANGENTIAL_LAWS)}; got {v[1]}"
                 )
             mu_s, mu_k = _floats(spec, rec, v[:4], 2)
             for k, (name, mu) in enumerate((("MUS", mu_s), ("MUK", mu_k)), start=2):

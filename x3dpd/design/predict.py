@@ -41,11 +41,16 @@ import cmath
 import math
 from collections import OrderedDict
 
-import numpy as np
 
 from x3dpd.api import FinalState, build
-from x3dpd.api.outputs import deck_key
-from x3dpd.api.stepper import apply_motion, stepper, total_energy
+from x3dpd.api.stepper import (
+    book_energy_change,
+    place_modes,
+    place_structure,
+    put_on_motion,
+    stepper,
+    total_energy,
+)
 from x3dpd.design.baselines import (
     ModalLinear,
     base_sdof,
@@ -110,13 +115,16 @@ def added_mass_structure(deck, node: int, dof: int, model=None):
     return _cached(deck, ("added-mass", node, dof), make)
 
 
-def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple, motion: tuple = ()):
+def predicted_start(point, previous, config, t_start: float):
     """The state to start ``point`` from (``previous`` = (row, FinalState) of the point before
     in a chain, or None), with the structure on its predicted steady-state motion; None when the
-    structure cannot be predicted (the caller then starts as before). ``usrfrc`` and ``motion``
-    are the point's force and (base drive) motion specs."""
+    structure cannot be predicted (the caller then starts as before). ``config`` is the point's
+    run (a RunConfig at a fixed step: its step, force and, for a base drive, motion specs);
+    ``t_start`` [s] where the point starts."""
+    if config.step.auto:
+        return None
     if point.base:
-        return _base_start(point, previous, dt, t_start, motion)
+        return _base_start(point, previous, config, t_start)
     model = deck_model(point.deck)
 
     def response(drive: float, hz: float) -> complex | None:
@@ -137,98 +145,24 @@ def predicted_start(point, previous, dt: float, t_start: float, usrfrc: tuple, m
         target *= rho
     sim = stepper(
         model,
-        usrfrc=usrfrc,
-        dt=dt,
+        usrfrc=config.usrfrc,
+        dt=config.step.dt,
         state=previous[1].state.copy() if previous is not None else None,
     )
-    state = sim.state
+    e_before = total_energy(sim)
     if model.modal is not None:
         structure = added_mass_structure(point.deck, point.node, point.dof, model)
         if not isinstance(structure, ModalLinear):
             return None
         scale = target / response(point.drive, point.frequency_hz)
         modes = scale * structure.modal_amplitudes(point.drive, omega)
-        return _modal_start(sim, model, modes, omega, t_start, point.deck, dt)
-    i = model.index_of(point.node)
-    d = point.dof - 1
-    u = abs(target) * math.sin(cmath.phase(target))
-    v = abs(target) * omega * math.cos(cmath.phase(target))
-    dx = model.x0[i, d] + u - state.x[i, d]
-    dv = v - state.vel[i, d]
-    e_before = total_energy(sim)
-    moving = ~np.asarray(model.fixed[:, d])
-    state.x[moving, d] += dx
-    state.vel[moving, d] += dv
-    sim.restore(state)  # wall planes follow the moved nodes
-    sim.compute_forces(t_start)
-    state.e_ref += total_energy(sim) - e_before
-    return FinalState(state=state, deck_key=deck_key(point.deck), dt=dt, time=t_start)
-
-
-def _modal_start(sim, model, modes: np.ndarray, omega: float, t_start: float, deck, dt: float):
-    """The predicted start of a modal structure: modal coordinates q = Im Q, p = omega Re Q
-    (the coupled modes' steady state, ``modes`` = Q), modal nodes and their rigid bodies placed
-    from them, and the particles carried along rigidly with the body that holds their cavity's
-    walls (position, velocity, the body's turn): they keep their places, contacts and histories
-    relative to the cavity, as an SDOF start keeps them. The energy this adds is booked in the
-    reference energy."""
-    state, k = sim.state, sim.setup
-    e_before = total_energy(sim)
-    before = {
-        b: (state.x[m].copy(), state.vel[m].copy(), state.rot[b].copy())
-        for b, m in enumerate(k.rig_master)
-    }
-    state.mq[:] = modes.imag
-    state.mp[:] = omega * modes.real
-    b = sim._bundles()
-    sim.kernels._modal_place(b["modal"], state.x, k.x0, state.vel, state.rot, state.mp, True)
-    p0 = model.particle_start
-    for cavity, body in _cavity_bodies(model).items():
-        if body < 0 or body not in set(model.modal.body.tolist()):
-            continue
-        m = int(k.rig_master[body])
-        x_m, v_m, r_old = before[body]
-        turn = state.rot[body] @ r_old.T
-        mine = p0 + np.flatnonzero(model.particle_cavity == cavity)
-        rel = state.x[mine] - x_m
-        rel_v = state.vel[mine, :3] - v_m[:3] - np.cross(v_m[3:], rel)
-        new_rel = rel @ turn.T
-        state.x[mine] = state.x[m] + new_rel
-        state.vel[mine, :3] = (
-            state.vel[m, :3] + np.cross(state.vel[m, 3:], new_rel) + rel_v @ turn.T
-        )
-    if k.rig_master.shape[0]:
-        sim.kernels._update_slaves(
-            state.x,
-            state.vel,
-            k.rig_master,
-            k.rig_ptr,
-            k.rig_slaves,
-            k.rig_r0,
-            state.rot,
-            True,
-            True,
-        )
-    sim.restore(state)  # wall planes follow the moved nodes
-    sim.compute_forces(t_start)
-    sim.project_modal_forces()
-    state.e_ref += total_energy(sim) - e_before
-    return FinalState(state=state, deck_key=deck_key(deck), dt=dt, time=t_start)
-
-
-def _cavity_bodies(model) -> dict[int, int]:
-    """Cavity index -> the rigid body whose slaves carry its walls (-1: none)."""
-    owner = np.full(model.n_nodes, -1)
-    for b in range(model.rigid_master.shape[0]):
-        owner[model.rigid_slaves[model.rigid_ptr[b] : model.rigid_ptr[b + 1]]] = b
-        owner[model.rigid_master[b]] = b
-    out = {}
-    tri_cavity = model.face_cavity[model.tri_face] if model.tri_face.shape[0] else []
-    for nodes, c in zip(model.tri_nodes, tri_cavity):
-        out.setdefault(int(c), int(owner[nodes[0]]))
-    for nodes, c in zip(model.shape_nodes, model.shape_cavity):
-        out.setdefault(int(c), int(owner[nodes[0]]))
-    return out
+        # q = Im Q, p = omega Re Q: the coupled modes' steady state Q
+        place_modes(sim, modes.imag, omega * modes.real)
+    else:
+        u = abs(target) * math.sin(cmath.phase(target))
+        v = abs(target) * omega * math.cos(cmath.phase(target))
+        place_structure(sim, model.index_of(point.node), point.dof, u, v)
+    return _booked(sim, e_before, config, t_start)
 
 
 def added_mass_base(deck, node: int, dof: int, model=None):
@@ -246,7 +180,7 @@ def added_mass_base(deck, node: int, dof: int, model=None):
     return _cached(deck, ("added-mass base", node, dof), make)
 
 
-def _base_start(point, previous, dt: float, t_start: float, motion: tuple):
+def _base_start(point, previous, config, t_start: float):
     """The predicted start of a base-driven point (module doc), or None."""
     model = deck_model(point.deck)
     structure = added_mass_base(point.deck, point.node, point.dof, model)
@@ -274,66 +208,40 @@ def _base_start(point, previous, dt: float, t_start: float, motion: tuple):
         if not (cmath.isfinite(rho) and RHO_RANGE[0] <= abs(rho) <= RHO_RANGE[1]):
             return None
         target *= rho
-    sim, e_before = _base_sim(model, motion, dt, t_start, previous)
-    state = sim.state
+    sim, e_before = _base_sim(model, config, t_start, previous)
     d = point.dof - 1
-    i = model.index_of(structure.body)
     sag = structure.m * float(model.body_accel[d]) / (structure.k_base + structure.k_ground)
     u = sag + abs(target) * math.sin(cmath.phase(target))
     v = abs(target) * omega * math.cos(cmath.phase(target))
-    dx = model.x0[i, d] + u - state.x[i, d]
-    dv = v - state.vel[i, d]
     base_side, _, _ = rigid_body(model, model.index_of(point.node))
-    moving = ~np.asarray(model.fixed[:, d])
-    moving[list(base_side)] = False
-    state.x[moving, d] += dx
-    state.vel[moving, d] += dv
-    return _booked(sim, model, t_start, e_before, point.deck, dt)
+    place_structure(sim, model.index_of(structure.body), point.dof, u, v, keep=base_side)
+    return _booked(sim, e_before, config, t_start)
 
 
-def continued_base_start(point, previous, dt: float, t_start: float, motion: tuple):
-    """The previous point's final state with the base moved onto this point's motion at
-    ``t_start`` (position, velocity; the structure as it was), the change of energy booked in
-    the reference energy."""
-    model = deck_model(point.deck)
-    sim, e_before = _base_sim(model, motion, dt, t_start, previous)
-    return _booked(sim, model, t_start, e_before, point.deck, dt)
+def continued_base_start(point, previous, config, t_start: float):
+    """The previous point's final state with the base moved onto this point's motion (the
+    motion specs of ``config``, the point's run) at ``t_start`` (position, velocity; the
+    structure as it was), the change of energy booked in the reference energy."""
+    sim, e_before = _base_sim(deck_model(point.deck), config, t_start, previous)
+    return _booked(sim, e_before, config, t_start)
 
 
-def _base_sim(model, motion: tuple, dt: float, t_start: float, previous):
+def _base_sim(model, config, t_start: float, previous):
     """A simulation with the base's motion, at the deck's start (the base put on its motion
     there) or at the previous point's end with the base put on this motion at ``t_start``;
     and the energy before the base was moved (at the deck's start: after)."""
+    dt, motion = config.step.dt, config.motion
     if previous is None:
         sim = stepper(model, motion=motion, dt=dt)
         return sim, total_energy(sim)
     sim = stepper(model, motion=motion, dt=dt, state=previous[1].state.copy())
     e_before = total_energy(sim)
-    k, state = sim.setup, sim.state
-    apply_motion(t_start, sim.motion, k.x0, state.x, state.vel)
-    if k.rig_master.shape[0]:
-        sim.kernels._update_slaves(
-            state.x,
-            state.vel,
-            k.rig_master,
-            k.rig_ptr,
-            k.rig_slaves,
-            k.rig_r0,
-            state.rot,
-            True,
-            True,
-        )
+    put_on_motion(sim, t_start)
     return sim, e_before
 
 
-def _booked(sim, model, t_start: float, e_before: float, deck, dt: float) -> FinalState:
-    """Forces at the moved state, the actuator's force of the motion's first step, and the
-    energy change booked in the reference energy."""
-    state = sim.state
-    sim.restore(state)  # wall planes follow the moved nodes
-    sim.compute_forces(t_start)
-    knots = np.flatnonzero(sim.motion[:, 0] < 0.0)  # a random motion's knots follow its rows
-    rows = sim.motion[: knots[0] if knots.size else len(sim.motion), :2].astype(np.int64)
-    state.motion_prev[:] = state.force[rows[:, 0], rows[:, 1]]
-    state.e_ref += total_energy(sim) - e_before
-    return FinalState(state=state, deck_key=deck_key(deck), dt=dt, time=t_start)
+def _booked(sim, e_before: float, config, t_start: float) -> FinalState:
+    """The placed state, its forces at ``t_start`` and the energy change booked
+    (x3dpd.api.stepper.book_energy_change), as the state the point's run continues from."""
+    book_energy_change(sim, e_before, t_start)
+    return FinalState(state=sim.state, deck_key=config.key, dt=config.step.dt, time=t_start)

@@ -128,6 +128,18 @@ def parse_drives(texts: Sequence[str]) -> tuple[float, ...]:
     return parse_amplitudes(texts, "force", math.nan)[1]
 
 
+def parse_point(text: str, what: str) -> tuple[int, int]:
+    """``NODE:DOF`` -> (node id, dof 1..6)."""
+    node, colon, dof = str(text).partition(":")
+    try:
+        point = int(node), int(dof)
+    except ValueError:
+        point = (0, 0)
+    if not colon or point[1] not in range(1, 7) or point[0] < 0:
+        raise InputError(f"{what} {text!r}: expected NODE:DOF (a node id and a DOF 1..6)")
+    return point
+
+
 def parse_responses(texts: Sequence[str], deck: Deck) -> tuple[tuple[int, int], ...]:
     """``--response NODE:DOF`` values (repeatable): nodes of the deck, translations 1-3."""
     nodes = {n.nid for n in deck.nodes}

@@ -18,7 +18,7 @@ import math
 import time as _time
 from dataclasses import dataclass, field, replace
 
-from x3dpd.api import run as run_deck
+from x3dpd.api import run as run_deck, run_config
 from x3dpd.api.decks import Deck
 from x3dpd.api.measurements import SteadyStateMonitor
 from x3dpd.api.stepper import process_compile_seconds
@@ -115,101 +115,121 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     if point.dof not in (1, 2, 3):
         raise InputError(f"--dof {point.dof}: the sweep measures a translation, dof 1, 2 or 3")
     crit = point.criterion
-    state = previous[1] if previous is not None else None
     params = point.deck.parameters
     t_start = float(previous[0]["t_end"]) if previous is not None else float(params.time)
+    # a point runs at a fixed step: its own, else the deck's DTMAX
     dt = float(point.dt or params.dtmax)
-    omega = 2.0 * math.pi * point.frequency_hz
     period = 1.0 / point.frequency_hz
-    itrac = max(1, int(period / (crit.samples_per_cycle * dt)))
-
     # a structure without particles has no scatter to average: a deterministic answer
-    deterministic = not has_particles(point.deck)
+    watch = _Watch(point, t_start, deterministic=not has_particles(point.deck))
     # a replica's particles start a hair apart: everything below runs its deck
     point = replace(point, deck=jittered(point.deck, point.replica))
-    # R replicas, pooled, reach tol if each reaches tol sqrt(R) (x3dpd.design.replicas)
-    tol = crit.tol * math.sqrt(max(crit.replicas, 1))
-
-    def new_monitor():
-        return SteadyStateMonitor(
-            omega,
-            t0=t_start,
-            t_start=t_start,
-            window=crit.window,
-            tol=tol,
-            min_windows=crit.min_windows,
-            max_cycles=crit.max_cycles,
-            extrapolate=crit.extrapolate,
-            deterministic=deterministic,
-            replica_cycles=crit.replica_cycles if crit.replicas > 1 else None,
-        )
-
-    monitor = new_monitor()
-    measured = [(point.node, point.dof)] + list(point.responses)
-    watchers = [monitor] + [new_monitor() for _ in point.responses]
-    cols: dict[str, int] = {}  # the ledger columns measured, set by the first block
-
-    # the monitor that measures the point's energies, cycles and how it ended: the driven
-    # node's; a base drive's first response (the base itself is steady from its first cycle)
-    lead = 1 if point.base and point.responses else 0
-
-    def stop(block) -> bool:
-        if not cols:
-            cols.update(_ledger_columns(block.energy.shape[1], point.base))
-        ledger = {name: block.energy[:, j] for name, j in cols.items()}
-        done = True
-        for k, (watch, (_, dof)) in enumerate(zip(watchers, measured)):
-            done &= watch.feed(
-                block.time,
-                block.position[:, k, dof - 1],
-                block.velocity[:, k, dof - 1],
-                ledger if k == lead else None,
-            )
-        return done
-
-    if point.base:
-        usrfrc, motion = (
-            (),
-            (
-                base_motion_spec(
-                    point.node, point.dof, point.base_amplitude(), point.frequency_hz, t_start
-                ),
-            ),
-        )
-    else:
-        usrfrc = (
-            f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
-            f"hz={point.frequency_hz!r},t0={t_start!r}",
-        )
-        motion = ()
+    usrfrc, motion = _drive_specs(point, t_start)
     wall = _time.perf_counter()
-    compiled_before = process_compile_seconds()  # the predicted start may build the loop
-    start = "previous" if previous is not None else "deck"
-    if crit.predict:
-        predicted = predicted_start(point, previous, dt, t_start, usrfrc, motion)
-        if predicted is not None:
-            state, start = predicted, "predicted"
-    if point.base and start == "previous":
-        # the base leaves the previous point's motion for this one's (energy booked)
-        state = continued_base_start(point, previous, dt, t_start, motion)
-    result = run_deck(
+    config = run_config(
         point.deck,
         tmax=t_start + (crit.max_cycles + 1) * period,
         dt=dt,
         usrfrc=usrfrc,
         usrfrc_mode="replace",
         motion=motion,
-        itrac=itrac,
-        trace_nodes=tuple(n for n, _ in measured),
+        itrac=max(1, int(period / (crit.samples_per_cycle * dt))),
+        trace_nodes=tuple(n for n, _ in watch.measured),
         keep_trace=False,
-        initial_state=state,
-        stop=stop,
+        initial_state=previous[1] if previous is not None else None,
+        stop=watch.stop,
         stop_every=crit.samples_per_cycle,
     )
+    compiled_before = process_compile_seconds()  # the predicted start may build the loop
+    state, start = _start(point, previous, config, t_start)
+    result = run_deck(config.starting_from(state))
     wall = _time.perf_counter() - wall
-    ss = monitor.result()
-    whole = watchers[lead].result()
-    summary = result.summary
+    row = _row(point, watch, start, t_start, result.summary)
+    row["compile_s"] = process_compile_seconds() - compiled_before
+    row["wall_s"] = wall
+    return row, result.final_state
+
+
+def _drive_specs(point: SweepPoint, t_start: float) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """(usrfrc, motion) of a point: the sine force on its node, or a base drive's motion,
+    with its phase origin at ``t_start``."""
+    if point.base:
+        amplitude = point.base_amplitude()
+        spec = base_motion_spec(point.node, point.dof, amplitude, point.frequency_hz, t_start)
+        return (), (spec,)
+    force = (
+        f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
+        f"hz={point.frequency_hz!r},t0={t_start!r}"
+    )
+    return (force,), ()
+
+
+def _start(point: SweepPoint, previous, config, t_start: float):
+    """(the state the point's run starts from, how it started: "predicted", "previous" or
+    "deck"): by default the structure on its predicted motion (x3dpd.design.predict); a chained
+    base drive's base moved onto this point's motion (energy booked)."""
+    state = config.initial_state
+    start = "previous" if previous is not None else "deck"
+    if point.criterion.predict:
+        predicted = predicted_start(point, previous, config, t_start)
+        if predicted is not None:
+            state, start = predicted, "predicted"
+    if point.base and start == "previous":
+        # the base leaves the previous point's motion for this one's (energy booked)
+        state = continued_base_start(point, previous, config, t_start)
+    return state, start
+
+
+class _Watch:
+    """The steady-state monitors of a point (its driven node, then each response) and the
+    ``stop`` the run calls with every chunk."""
+
+    def __init__(self, point: SweepPoint, t_start: float, deterministic: bool):
+        crit = point.criterion
+        # R replicas, pooled, reach tol if each reaches tol sqrt(R) (x3dpd.design.replicas)
+        tol = crit.tol * math.sqrt(max(crit.replicas, 1))
+        self.measured = [(point.node, point.dof)] + list(point.responses)
+        self.monitors = [
+            SteadyStateMonitor(
+                2.0 * math.pi * point.frequency_hz,
+                t0=t_start,
+                t_start=t_start,
+                window=crit.window,
+                tol=tol,
+                min_windows=crit.min_windows,
+                max_cycles=crit.max_cycles,
+                extrapolate=crit.extrapolate,
+                deterministic=deterministic,
+                replica_cycles=crit.replica_cycles if crit.replicas > 1 else None,
+            )
+            for _ in self.measured
+        ]
+        self.base = point.base
+        # the monitor that measures the point's energies, cycles and how it ended: the driven
+        # node's; a base drive's first response (the base itself is steady from its first cycle)
+        self.lead = 1 if point.base and point.responses else 0
+        self.cols: dict[str, int] = {}  # the ledger columns measured, set by the first block
+
+    def stop(self, block) -> bool:
+        if not self.cols:
+            self.cols.update(_ledger_columns(block.energy.shape[1], self.base))
+        ledger = {name: block.energy[:, j] for name, j in self.cols.items()}
+        done = True
+        for k, (watch, (_, dof)) in enumerate(zip(self.monitors, self.measured)):
+            done &= watch.feed(
+                block.time,
+                block.position[:, k, dof - 1],
+                block.velocity[:, k, dof - 1],
+                ledger if k == self.lead else None,
+            )
+        return done
+
+
+def _row(point: SweepPoint, watch: _Watch, start: str, t_start: float, summary: dict) -> dict:
+    """The point's row (docs/design-guide.md lists the columns) but its compile and wall
+    times."""
+    ss = watch.monitors[0].result()
+    whole = watch.monitors[watch.lead].result()
     loss = whole.dissipated_per_cycle
     losses = ALL_LOSSES + (ROLLING_COLUMN,)
     _, dissipated_hw = whole.energy_interval(losses)
@@ -231,9 +251,7 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "dissipated_particles_per_cycle": sum(loss.get(name, math.nan) for name in PARTICLE_LOSSES)
         + loss.get(ROLLING_COLUMN, 0.0),
         # the ledger's split (x3dpd design's columns; sweep.csv keeps the two sums)
-        **{
-            f"{name}_per_cycle": loss.get(name, math.nan) for name in ALL_LOSSES + (ROLLING_COLUMN,)
-        },
+        **{f"{name}_per_cycle": loss.get(name, math.nan) for name in losses},
         "input_work_per_cycle": work,
         "cycles": whole.cycles,
         "kept_cycles": whole.kept,
@@ -245,8 +263,8 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
         "t_start": t_start,
         "t_end": float(summary["t_end"]),
         "steps": int(summary["steps"]),
-        "compile_s": process_compile_seconds() - compiled_before,
-        "wall_s": wall,
+        "compile_s": math.nan,
+        "wall_s": math.nan,
         "response_node": point.node,
         "response_dof": point.dof,
         "replica": point.replica,
@@ -254,11 +272,11 @@ def run_point(point: SweepPoint, previous=None) -> tuple[dict, object]:
     if point.responses:
         row["responses"] = [
             response_columns(w.result(), point, node, dof)
-            for w, (node, dof) in zip(watchers[1:], point.responses)
+            for w, (node, dof) in zip(watch.monitors[1:], point.responses)
         ]
     if point.base:  # the base's own row says whether the point (every node) converged
-        row["converged"] = all(w.converged for w in watchers)
-    return row, result.final_state
+        row["converged"] = all(w.converged for w in watch.monitors)
+    return row
 
 
 def has_particles(deck: Deck) -> bool:

@@ -24,8 +24,7 @@ import numpy as np
 
 from x3dpd.api.measurements import QUANTITY_ORDER, MeasuredFrf, read_measured_frf
 from x3dpd.design.drive import displacement_amplitude
-from x3dpd.design.spec import SweepSpec
-from x3dpd.design.trace_signals import parse_point
+from x3dpd.design.spec import SweepSpec, parse_point
 from x3dpd.errors import InputError
 
 

@@ -28,7 +28,7 @@ from x3dpd.physics.hertz import (  # noqa: F401  (re-exported)
 )
 from x3dpd.physics.normal_laws import NORMAL_LAWS
 from x3dpd.physics.normal_laws import scene_bodies
-from x3dpd.physics.tangential_laws import TANGENTIAL_LAWS
+from x3dpd.physics.tangential_laws import DEFAULT_LAW, TANGENTIAL_LAWS
 
 #: Steps per Hertz contact the recommendation asks for (see :func:`recommended_time_step`).
 STEPS_PER_CONTACT = 50
@@ -131,7 +131,7 @@ def _contact_limit(model: Model) -> tuple[float, float, str]:
     law = NORMAL_LAWS[model.normal_law]
     # a tangential law with a spring (the FRICTION card's) has a period of its own
     spring = getattr(
-        TANGENTIAL_LAWS[model.friction_law or "regularized"].module, "contact_time", None
+        TANGENTIAL_LAWS[model.friction_law or DEFAULT_LAW].module, "contact_time", None
     )
     bodies = scene_bodies(model)
     # a concave analytic wall (cylinder, capsule) is softer than a flat one (a larger relative

@@ -57,6 +57,9 @@ TANGENTIAL_LAWS = {
     "mindlin": TangentialLaw(mindlin),   # Hertz-Mindlin spring with history (mindlin_rescale/force)
     "linear_history": TangentialLaw(linear_history),   # LAMMPS's tangential linear_history
 }
+#: The law of a run that asks for none on a deck without a FRICTION card (report Eq. 30): the
+#: one place the default is named (x3dpd.api.DEFAULT_FRICTION, Simulation, the time step).
+DEFAULT_LAW = "regularized"
 
 #: Columns of the tangential tables (``Particles.tan_wall``, ``tan_pair``): kappa, mu_k, the
 #: rolling lever mu_r R*, the rolling inertia I_r, the dashpot constant eta.

@@ -22,7 +22,7 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.physics.motion import MOTION_COLUMNS, motion_rows, motion_table, start_motion
 from x3dpd.physics.rolling import n_history as rolling_history
-from x3dpd.physics.tangential_laws import n_history
+from x3dpd.physics.tangential_laws import DEFAULT_LAW, n_history
 from x3dpd.physics.user_force_file import build_external_forces
 from x3dpd.physics.usrfrc import law_count
 from x3dpd.geometry.faces import TRIANGLE_FRAME
@@ -100,7 +100,7 @@ class Simulation(RunChecks):
     dt : time step [s]; default the deck's DTMAX
     friction : tangential law (x3dpd.physics.tangential_laws): "regularized" (Haff-Werner with
         gamma = 1/(2 dt)), "coulomb" or "mindlin" (Hertz-Mindlin); None (default): the deck's
-        FRICTION card's, else "regularized"
+        FRICTION card's, else DEFAULT_LAW (x3dpd.physics.tangential_laws)
     penetration_limit : stop when an approach exceeds this fraction of the radius
     energy_tolerance : stop when the ledger residual exceeds this fraction of the energy scale
     allow_python_usrfrc : accept user force files numba cannot compile (slow fallback)
@@ -114,13 +114,13 @@ class Simulation(RunChecks):
                  itrac: int | None = None, skin: float | None = None, threads=1):
         self.model = model
         self.threads = thread_count(threads)
-        friction = friction or model.friction_law or "regularized"
+        friction = friction or model.friction_law or DEFAULT_LAW
         self.friction = friction
         if "friction" not in model.effects and model.rolling_law in (None, "none"):
             # no tangential law runs (every PCOF 0, no rolling law): build and compile the
             # default's setup and loop, so that a frictionless scene compiles one loop whatever
             # --friction says (none of the law's code or history would be used)
-            friction = "regularized"
+            friction = DEFAULT_LAW
         #: the tangential law the loop is built and compiled with (x3dpd.physics.tangential_laws)
         self.kernel_friction = friction
         self.dt = float(dt if dt is not None else model.dt)

@@ -50,18 +50,21 @@ def run_job(job: Job) -> dict:
         par = deck.parameters
         dtmin = par.dtmin if par.dtmin < par.dtmax else 0.0
         deck = replace(deck, parameters=replace(par, dtmin=dtmin, dtmax=s.dt))
-    kw = dict(
-        dt="auto" if s.auto else s.dt,
-        friction=s.friction,
-        usrfrc=job.usrfrc,
-        motion=job.motion,
-        trace_nodes=_nodes(job.deck, job.scene),
-    )
     try:
+        config = x3dpd.run_config(
+            deck,
+            tmax=job.tmax,
+            dt="auto" if s.auto else s.dt,
+            itrac=itrac,
+            friction=s.friction,
+            usrfrc=job.usrfrc,
+            motion=job.motion,
+            trace_nodes=_nodes(job.deck, job.scene),
+        )
         # compile (or load) the step loop outside the CPU time: two steps of the same scene
-        x3dpd.run(deck, tmax=deck.parameters.time + 2.0 * s.dt, itrac=1, **kw)
+        x3dpd.run(config, tmax=deck.parameters.time + 2.0 * s.dt, itrac=1)
         cpu = time.process_time()
-        res = x3dpd.run(deck, tmax=job.tmax, itrac=itrac, **kw)
+        res = x3dpd.run(config)
         cpu = time.process_time() - cpu
     except x3dpd.UnstableRunError as exc:
         row.update(status="unstable", wall_s_per_sim_s=math.nan, message=str(exc))

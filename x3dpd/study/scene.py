@@ -27,6 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from x3dpd.api import DEFAULT_FRICTION
+
 MAIN = {"impact": "peak_force", "driven": "amplitude", "free": "dissipated"}
 QUANTITIES = {
     "impact": ("peak_force", "restitution", "contact_time"),
@@ -49,8 +51,8 @@ class Scene:
     viscoelastic: bool
     friction: bool
     n_particles: int
-    #: the deck's tangential law (its FRICTION card's, else the default "regularized")
-    friction_law: str = "regularized"
+    #: the deck's tangential law (its FRICTION card's, else x3dpd.api.DEFAULT_FRICTION)
+    friction_law: str = DEFAULT_FRICTION
     #: the direction measured (0, 1, 2: x, y, z): the drive's DOF
     axis: int = 0
 
@@ -98,7 +100,7 @@ def classify(model, usrfrc=(), motion=()) -> Scene:
         "viscoelastic" in effects,
         "friction" in effects,
         n,
-        getattr(model, "friction_law", None) or "regularized",
+        getattr(model, "friction_law", None) or DEFAULT_FRICTION,
         axis or 0,
     )
 

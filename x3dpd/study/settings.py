@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from x3dpd.api import soft_step, softened
+from x3dpd.api import DEFAULT_FRICTION, soft_step, softened
 
 #: Default ladder of steps, as multiples of the deck's DTMAX.
 LADDER = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
@@ -32,13 +32,14 @@ DECK_WALLS = "deck"
 
 @dataclass(frozen=True)
 class Setting:
-    """One run of a study: ``dt`` [s], ``contact`` ("deck" | "elastic"), ``friction``
-    ("regularized" | "coulomb" | "mindlin"), ``repeat`` (0: unperturbed; k: perturbed with seed k),
-    ``own`` (the deck's own setting), ``auto`` (a step chosen by accuracy up to ``dt``)."""
+    """One run of a study: ``dt`` [s], ``contact`` ("deck" | "elastic"), ``friction`` (a
+    tangential law, default x3dpd.api.DEFAULT_FRICTION), ``repeat`` (0: unperturbed; k:
+    perturbed with seed k), ``own`` (the deck's own setting), ``auto`` (a step chosen by
+    accuracy up to ``dt``)."""
 
     dt: float
     contact: str = "deck"
-    friction: str = "regularized"
+    friction: str = DEFAULT_FRICTION
     repeat: int = 0
     own: bool = False
     auto: bool = False  # the step chosen by accuracy (x3dpd.run(dt="auto")) up to dt
@@ -52,7 +53,7 @@ class Setting:
             parts.append(self.contact)
         if self.stiffness != 1.0:
             parts.append(f"E x {self.stiffness:.3g}")
-        if self.friction != "regularized":
+        if self.friction != DEFAULT_FRICTION:
             parts.append(self.friction)
         if self.walls != DECK_WALLS:
             parts.append(f"walls {self.walls}")
@@ -69,7 +70,7 @@ def ladder(
     friction: bool,
     chaotic: bool,
     stiffness=(),
-    friction_law: str = "regularized",
+    friction_law: str = DEFAULT_FRICTION,
     walls=(),
 ) -> list[Setting]:
     """The settings to run: every step of ``dts`` (default DTMAX x :data:`LADDER`) with the

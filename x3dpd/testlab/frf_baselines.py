@@ -13,6 +13,7 @@ transmissibility, so an acceleration response per base acceleration is T itself.
 from __future__ import annotations
 
 import hashlib
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -20,6 +21,7 @@ import numpy as np
 
 from x3dpd.api import TraceData
 from x3dpd.api.decks import build_model, read_deck
+from x3dpd.api.figures import Curve
 from x3dpd.api.measurements import QUANTITY_ORDER
 from x3dpd.design.baselines import base_mass_node, baseline_decks
 from x3dpd.design.closed_form import base_response_structure, force_structure
@@ -94,3 +96,51 @@ def baseline_frfs(
             h = np.array([frf(x) for x in w]) * (1j * w) ** q
             out.append((name, tuple(response), h))
     return out
+
+
+def baseline_curves(
+    first,
+    deck: str | None,
+    names: Sequence[str],
+    drive: tuple[int, int],
+    points,
+    quantity: str,
+    rows: list[dict],
+) -> list[Curve]:
+    """The baselines' closed-form FRFs (x3dpd.testlab.frf_baselines) on a fine grid over the
+    first run's lines, drawn dash-dotted; their values at those lines appended to ``rows``
+    (DIR/baselines.csv)."""
+    trace, path, kind, lines = first
+    lines = lines[lines > 0]
+    if lines.size < 2:
+        raise InputError(
+            "--baseline: the band holds fewer than two frequency lines above 0 Hz; "
+            "widen --band or use longer segments"
+        )
+    structure = run_deck(trace, path, deck)
+    fine = np.linspace(lines[0], lines[-1], 2001)
+    args = dict(
+        base=kind != "force", node=drive[0], dof=drive[1], responses=points, quantity=quantity
+    )
+    curves = []
+    at_lines = baseline_frfs(structure, names, frequency=lines, **args)
+    for (name, (node, dof), h), (_, _, h_fine) in zip(
+        at_lines, baseline_frfs(structure, names, frequency=fine, **args)
+    ):
+        run = f"{name} (closed form)"
+        curves.append(
+            Curve(run if len(points) == 1 else f"{run} {node}:{dof}", fine, h_fine, baseline=True)
+        )
+        rows += [
+            {
+                "baseline": name,
+                "response": f"{node}:{dof}",
+                "frequency_hz": x,
+                "re": v.real,
+                "im": v.imag,
+                "mag": abs(v),
+                "phase_deg": math.degrees(np.angle(v)),
+            }
+            for x, v in zip(lines, h)
+        ]
+    return curves
