@@ -66,6 +66,9 @@ def test_shipped_decks_carry_a_provenance_header():
         "beam_64_modal.inp",
         "chassis_128.inp",
         "shaker_fig9.inp",
+        "mip_apparatus_05.inp",
+        "mip_apparatus_025.inp",
+        "mip_engine.inp",
         "capsule_wc7.inp",
     ],
 )

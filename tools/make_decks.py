@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Generate the shipped decks ``decks/beam_{1,64,512}.inp``, ``decks/{cylinder,capsule}_64.inp``,
-``decks/impact_wall.inp``, ``decks/hooke_wall.inp`` and ``decks/shaker_fig9.inp``.
+``decks/impact_wall.inp``, ``decks/hooke_wall.inp``, ``decks/shaker_fig9.inp`` and the Section 11
+MIP decks ``decks/mip_{apparatus_05,apparatus_025,engine}.inp`` (tools/make_mip_decks.py).
 
     python tools/make_decks.py            # rewrite the decks
     python tools/make_decks.py --check    # exit 1 when a shipped deck differs from what this makes
@@ -553,6 +554,20 @@ def capsule_wc7() -> str:
     return with_header(head, deck)
 
 
+def mip_decks() -> dict[str, str]:
+    """Section 11's MIP damper on its apparatus and on the engine (tools/make_mip_decks.py)."""
+    from make_mip_decks import apparatus, engine
+
+    out = {}
+    for name, (deck, head) in (
+        ("mip_apparatus_05.inp", apparatus(0.5)),
+        ("mip_apparatus_025.inp", apparatus(0.25)),
+        ("mip_engine.inp", engine()),
+    ):
+        out[name] = with_header(head, deck)
+    return out
+
+
 def _parse(text: str):
     from x3dpd.deck.parser import parse_deck
 
@@ -569,6 +584,7 @@ def all_decks() -> dict[str, str]:
     out["hooke_wall.inp"] = hooke_deck()
     out["shaker_fig9.inp"] = shaker_fig9()
     out["capsule_wc7.inp"] = capsule_wc7()
+    out.update(mip_decks())
     return out
 
 

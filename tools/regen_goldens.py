@@ -155,8 +155,9 @@ PDMP_E0 = 4
 
 def nudged_deck_text(deck: Path, what: str) -> tuple[str, str]:
     """The deck's text with one number one ulp larger, and what was nudged: ``"initial"``, the
-    first particle's x coordinate (NODE COORDINATES); ``"constant"``, the first PDMP record's
-    instantaneous modulus E0."""
+    first particle's x coordinate (NODE COORDINATES; a PLATES deck's spheres are built from
+    its first plate's thickness, nudged instead); ``"constant"``, the first PDMP record's
+    instantaneous modulus E0 (a HOOKE deck's first KN)."""
     import numpy as np
 
     from x3dpd.deck import read_deck
@@ -164,6 +165,17 @@ def nudged_deck_text(deck: Path, what: str) -> tuple[str, str]:
 
     lines = deck.read_text().split("\n")
     up = lambda v: np.nextafter(v, np.inf)  # noqa: E731
+    plates = any(line.strip().upper().startswith("PLAT") for line in lines)
+    if what == "initial" and plates:
+        for k, line in enumerate(lines):
+            m = re.search(r"thickness=([^\s]+)", line)
+            if m and not line.strip().startswith("$"):
+                old = float(m.group(1))
+                lines[k] = line.replace(m.group(0), f"thickness={float(up(old))!r}", 1)
+                return "\n".join(lines), f"plate 1 thickness {old!r} -> {float(up(old))!r}"
+    if what == "constant" and any(line.strip().upper().startswith("HOOK") for line in lines):
+        done = changed_record(lines, "HOOK", lambda f: True, 1, up)
+        return "\n".join(lines), f"HOOKE KN {done}"
     if what == "initial":
         model = build_model(read_deck(deck))
         node = str(int(model.node_ids[model.particle_start]))

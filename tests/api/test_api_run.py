@@ -38,6 +38,9 @@ SHIPPED = [
     ("capsule_wc7.inp", ["--temperature", "850F"], {"temperature": "850F"}, 2e-3),
     ("impact_wall.inp", [], {}, None),
     ("hooke_wall.inp", [], {}, None),
+    ("mip_apparatus_05.inp", [], {}, 2e-3),
+    ("mip_apparatus_025.inp", [], {}, 1e-3),
+    ("mip_engine.inp", [], {}, 2e-3),
 ]
 
 

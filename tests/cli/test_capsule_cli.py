@@ -84,7 +84,7 @@ def test_a_slave_set_without_triangles_or_capsule_is_a_deck_error():
     with pytest.raises(
         DeckError,
         match="slave set 1 has no master triangles and no "
-        r"CYLINDER or CAPSULE \(.*set ids 7\)",
+        r"CYLINDER or CAPSULE or HOLES \(.*set ids 7\)",
     ) as err:
         build_model(parse_deck(text, "deck.inp"))
     assert err.value.card == "CONTACT" and err.value.line > 0 and err.value.column > 0

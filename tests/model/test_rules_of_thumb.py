@@ -182,3 +182,20 @@ def test_check_command_prints_each_rule_with_its_section(capsys):
     tail = out[out.index("rules of thumb") :].splitlines()[1:]
     assert [line.split()[0] for line in tail] == ["turn-on", "clearance", "mass-ratio"]
     assert all(re.search(r"\[report Sections? [0-9.]", line) for line in tail)
+
+
+@pytest.mark.parametrize("start", ["bottom", "random"])
+def test_a_drilled_plates_free_length_is_one_hole_less_one_sphere(start):
+    """A PLATES deck: each plate's free length along its holes is thickness + shim - 2r
+    (Section 11.2), wherever the spheres start along it (start=random spreads them over the
+    free length, one per hole: the bed is one sphere, not the span of all)."""
+    text = (DECKS / "mip_apparatus_05.inp").read_text()
+    text = re.sub(r"(axis=y)\n", rf"\1 start={start} seed=3\n", text)
+    deck = parse_deck(text, "mip.inp")
+    plates = re.findall(r"thickness=([\d.]+) shim=([\d.]+)", text)
+    free = [float(t) + float(s) - 2 * deck.pdmp[0].rzero for t, s in plates]
+    notes = [r for r in rules_of_thumb(build_model(deck)) if r.code == "clearance"]
+    assert len(notes) == len(free) == 4
+    for note, f in zip(notes, free):
+        assert note.value / notes[0].value == pytest.approx(f / free[0], rel=1e-9)
+        assert f"free length along y is {f:.3g} in" in note.text

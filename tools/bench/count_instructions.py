@@ -15,7 +15,9 @@ SCENE is a shipped deck's stem (``beam_64``: its own drive, no trace output), ``
 structure) or one of the settled beds of ``regress.py``: ``settled_512`` (elastic, at rest),
 ``settled_visco_512`` (E1 = 5e6 psi, at rest), ``shaken_visco_512`` (the same bed in the free
 cavity shaken at 2 g, after two drive periods), or the larger elastic beds at rest of
-``threads.py``, ``settled_4096`` and ``settled_16384``. The scene is set up and run 4010 steps (a
+``threads.py``, ``settled_4096`` and ``settled_16384``, or ``mip_N``: the MIP damper of
+decks/mip_apparatus_05.inp with N holes at 800 lbf, its spheres in flight (tools/bench/mip_scene.py;
+prepared like a bed). The scene is set up and run 4010 steps (a
 restored bed 10) outside the count (compiling or loading the loop, building the lists); then
 callgrind counts only ``STEPS`` steps of one ``Simulation.advance`` call (instrumentation
 switched on and off around it with ``callgrind_control``). Compare two revisions on the same
@@ -71,9 +73,18 @@ def _bed_file(scene: str) -> Path:
 
 
 def prepare_bed(scene: str) -> None:
-    """Settle the bed natively (and shake it for two drive periods) and pickle its state."""
+    """Settle the bed natively (and shake it for two drive periods) and pickle its state; a
+    MIP scene runs natively until its spheres fly (tools/bench/mip_scene.py)."""
     from bench_solver import settled_simulation
 
+    if scene.startswith("mip_"):
+        from mip_scene import SETTLE, mip_model
+
+        sim = Simulation(mip_model(int(scene[4:])), itrac=10**9)
+        sim.advance(round(SETTLE / sim.dt), max_rows=1)
+        _bed_file(scene).write_bytes(pickle.dumps((sim.state, 0.0)))
+        print(f"{scene}: state at step {sim.state.step} in {_bed_file(scene)}")
+        return
     n, accel_g, e1, shaken = BEDS[scene]
     sim, sc = settled_simulation(n, 300_000, accel_g, e1, shaken)
     t0 = sim.time  # the drive's start
@@ -87,6 +98,12 @@ def bed_simulation(scene: str) -> Simulation:
     """The prepared bed, restored into the simulation that shakes it (or not)."""
     from bench_solver import SHAKEN_CAVITY_MASS, G, scene_model
 
+    if scene.startswith("mip_"):
+        from mip_scene import mip_model
+
+        sim = Simulation(mip_model(int(scene[4:])), itrac=10**9)
+        sim.restore(pickle.loads(_bed_file(scene).read_bytes())[0])
+        return sim
     n, accel_g, e1, shaken = BEDS[scene]
     state, t0 = pickle.loads(_bed_file(scene).read_bytes())
     model, sc = scene_model(n, drive=False, e1=e1, free_cavity=shaken)
@@ -107,7 +124,7 @@ def main(argv: list[str]) -> int:
         prepare_bed(argv[2])
         return 0
     scene, steps = argv[1], int(argv[2])
-    if scene in BEDS:
+    if scene in BEDS or scene.startswith("mip_"):
         sim = bed_simulation(scene)
     elif scene == "sdof":
         from bench_solver import sdof_model
@@ -122,7 +139,7 @@ def main(argv: list[str]) -> int:
         sim = Simulation(
             build_model(replace(deck, parameters=replace(deck.parameters, itrac=10**9)))
         )
-    if scene not in BEDS:  # a bed is restored with its lists built
+    if scene not in BEDS and not scene.startswith("mip_"):  # a bed is restored, lists built
         sim.advance(4000, max_rows=1)
     sim.advance(10, max_rows=1)
     _instrument(True)

@@ -14,6 +14,9 @@ Re-exports, so that a tool imports ``x3dpd.api`` and never the layers below it
   :func:`cavity_triangles`, :func:`cavity_box` -- a cavity's triangles and, for a box, its
   corners; :data:`BY_SHAPE_NAME` -- the analytic wall shapes (CYLINDER, CAPSULE) and their
   inscribed meshes;
+* :func:`plated_deck`, :func:`plates_from_specs`, :func:`expand_plates`, :func:`sphere_ids` --
+  a multiple individual particle damper's drilled plates, one sphere per hole (PLATES card,
+  x3dpd.deck.plates; ``x3dpd fill --plates``, a design's [mip]);
 * :func:`with_cavities`, :func:`default_spacing`, :func:`cavity_set`,
   :func:`check_masters` -- several identical cavities on a structure (x3dpd.deck.cavities,
   docs/design.md);
@@ -35,6 +38,8 @@ from x3dpd.deck.fill import (
     filled_deck,
     with_material,
 )
+from x3dpd.deck.plates import expand_plates, plated_deck, plates_from_specs, sphere_ids
+from x3dpd.deck.plates_card import STARTS, Plate
 from x3dpd.deck.temperature_card import with_temperature
 from x3dpd.deck.writer import write_deck
 from x3dpd.geometry.packing import PACKINGS
@@ -45,6 +50,8 @@ from x3dpd.physics.usrfrc import is_user_file
 __all__ = [
     "BY_SHAPE_NAME",
     "PACKINGS",
+    "STARTS",
+    "Plate",
     "Contact",
     "Deck",
     "Element",
@@ -59,11 +66,15 @@ __all__ = [
     "cavity_triangles",
     "check_masters",
     "default_spacing",
+    "expand_plates",
     "fill_positions",
     "filled_deck",
     "format_deck",
     "is_user_file",
+    "plated_deck",
+    "plates_from_specs",
     "read_deck",
+    "sphere_ids",
     "with_cavities",
     "with_material",
     "with_temperature",

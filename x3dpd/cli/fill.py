@@ -1,5 +1,7 @@
 """``x3dpd fill TEMPLATE.inp --n N --radius R --packing cubic|hcp|random [--material NAME]
-[--dt DT | --keep-dt] -o OUT.inp``.
+[--dt DT | --keep-dt] -o OUT.inp``, or ``x3dpd fill TEMPLATE.inp --plates SPEC [--plates
+SPEC ...] [--radius R] [--material NAME] -o OUT.inp``: a multiple individual particle damper's
+drilled plates, one sphere per hole (the PLATES card, x3dpd.deck.plates).
 
 The deck written gets the time step its particles need (x3dpd.api.fit_time_step: the step
 ``x3dpd check`` recommends) unless ``--dt`` gives one or ``--keep-dt`` keeps the template's.
@@ -79,6 +81,16 @@ from x3dpd.errors import InputError
     help="Write only the PDMP, TRACE, NODE COORDINATES (the particles) and CONTACT "
     "cards, to paste into a deck, instead of the whole deck.",
 )
+@click.option(
+    "--plates",
+    "plates",
+    multiple=True,
+    metavar="SPEC",
+    help="A drilled plate of a multiple individual particle damper, one sphere per hole "
+    "(repeatable): a PLATES record, 'set=1 master=1 holes=221 pitch=0.6 hole=0.504 "
+    "thickness=0.501 shim=0.009 size=10' (docs/deck-reference.md). Replaces the template's "
+    "particles with the plates' spheres (--radius, --material: the spheres').",
+)
 @click.option("-o", "--output", required=True, metavar="OUT.inp", help="The deck to write.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing OUT.inp.")
 def fill(
@@ -95,6 +107,7 @@ def fill(
     set_id,
     settle,
     cards,
+    plates,
     output,
     overwrite,
 ) -> None:
@@ -109,6 +122,19 @@ def fill(
     if material is not None:
         material = library_material(material)
     deck = read_deck(template)
+    if plates:
+        given = [
+            f"--{name}"
+            for name, v in (("n", n), ("seed", seed), ("set", set_id), ("settle", settle))
+            if v is not None
+        ] + [f"--{name}" for name, v in (("gap", gap), ("jitter", jitter)) if v]
+        if given or packing != "cubic":
+            raise InputError(
+                f"--plates puts one sphere in each hole: {', '.join(given) or '--packing'} "
+                "does not apply (a plate's own keys place its spheres: docs/deck-reference.md)"
+            )
+        _fill_plates(deck, plates, radius, material, dt, keep_dt, cards, output)
+        return
     result = fill_positions(
         deck, n=n, radius=radius, packing=packing, gap=gap, seed=seed, jitter=jitter, set_id=set_id
     )
@@ -151,6 +177,46 @@ def fill(
             + ("time step for the cards' particles: " if cards else "")
             + step.describe()
         )
+
+
+def _fill_plates(deck, specs, radius, material, dt, keep_dt, cards, output) -> None:
+    """``--plates``: the template's structure with a PLATES card (written as it is; the reader
+    builds the holes and spheres) and the step the spheres need."""
+    from dataclasses import replace
+
+    from x3dpd.api import fit_time_step
+    from x3dpd.api.decks import (
+        Deck,
+        expand_plates,
+        format_deck,
+        plated_deck,
+        plates_from_specs,
+        write_deck,
+    )
+
+    from x3dpd.errors import DeckError
+
+    out = plated_deck(deck, plates_from_specs(specs), radius=radius, material=material)
+    try:
+        built = expand_plates(out)  # a bad plate is an error here, before anything is written
+    except DeckError as exc:
+        spec = specs[exc.line - 1] if 0 < exc.line <= len(specs) else specs[0]
+        raise InputError(f"--plates {spec!r}: {exc.message}") from None
+    step = None if keep_dt else fit_time_step(built, dt=dt)
+    if step is not None:
+        out = replace(out, parameters=step.deck.parameters)
+    if cards:
+        out = Deck(path=out.path, pdmp=out.pdmp, trace=out.trace, plates=out.plates)
+    format_deck(out)
+    write_deck(out, output)
+    count = built.nodes[-1].nid - built.pdmp[0].nodlim
+    click.echo(
+        f"x3dpd: {deck.path} -> {output}: {len(out.plates)} drilled plates, {count} spheres "
+        f"of radius {out.pdmp[0].rzero:g} (PLATES card: the reader builds its holes)"
+        + (f"; material {material.name}" if material is not None else "")
+    )
+    if step is not None:
+        click.echo(f"x3dpd: {output}: " + step.describe())
 
 
 def _settled(deck, seconds: float):

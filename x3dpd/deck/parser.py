@@ -30,6 +30,7 @@ from lark.exceptions import UnexpectedEOF, UnexpectedInput
 
 from x3dpd.deck.cards import Deck
 from x3dpd.deck.modal_card import load_mode_files
+from x3dpd.deck.plates import expand_plates
 from x3dpd.deck.fields import BY_KEY, BY_NAME, CARDS, CONTACT_SLAVES, CardSpec, card_for_word
 from x3dpd.deck.records import _split
 from x3dpd.deck.transform import DeckTransformer
@@ -372,7 +373,8 @@ def parse_deck(text: str, path: str = "<deck>") -> Deck:
     Returns
     -------
     Deck
-        The cards, in file order; each record keeps the position of its first token.
+        The cards, in file order; each record keeps the position of its first token. A PLATES
+        card is built into the deck's cards (x3dpd.deck.plates.expand_plates).
 
     Raises
     ------
@@ -380,7 +382,7 @@ def parse_deck(text: str, path: str = "<deck>") -> Deck:
         ``FILE:LINE:COL: CARD: message`` for anything wrong with the text.
     """
     deck = _load(iter([_checked(text.removeprefix("\ufeff"), 1, path)]), path)
-    return load_mode_files(deck, os.getcwd())
+    return expand_plates(load_mode_files(deck, os.getcwd()))
 
 
 def read_deck(path: str | os.PathLike[str]) -> Deck:
@@ -396,4 +398,4 @@ def read_deck(path: str | os.PathLike[str]) -> Deck:
         raise DeckError(f"cannot read the deck: {e.strerror or e}", name) from None
     with f:
         deck = _load(_file_blocks(f, name), name)
-    return load_mode_files(deck, os.path.dirname(os.path.abspath(name)))
+    return expand_plates(load_mode_files(deck, os.path.dirname(os.path.abspath(name))))

@@ -37,6 +37,7 @@ from x3dpd.deck.cards import (
     Usrfrc,
 )
 from x3dpd.deck.modal_card import parse_modal
+from x3dpd.deck.plates_card import parse_plates
 from x3dpd.deck.temperature_card import parse_temperature_card, resolved
 from x3dpd.deck.transform_contact import ContactCards
 from x3dpd.deck.fields import BY_NAME, SINGLE_CARDS
@@ -94,6 +95,10 @@ class DeckTransformer(ContactCards, Transformer):
     def modal(self, c: list[Token]) -> _Card:
         lines = [(str(t), t.line, t.column) for t in c[1:-1]]
         return "MODAL", c[0], parse_modal(_pos(c[0]), lines)
+
+    def plates(self, c: list[Token]) -> _Card:
+        lines = [(str(t), t.line, t.column) for t in c[1:-1]]
+        return "PLATES", c[0], parse_plates(lines)
 
     def temperature(self, c: list[Token]) -> _Card:
         lines = [(str(t), t.line, t.column) for t in c[1:-1]]
@@ -320,6 +325,7 @@ class DeckTransformer(ContactCards, Transformer):
             friction=many("FRICTION") or None,
             analytic_walls=many("ANALYTIC") or None,
             modal=single.get("MODAL"),
+            plates=single.get("PLATES"),
             temperature=(  # its bare numbers are on the UNITS card's scale
                 resolved(single["TEMPERATURE"], single.get("UNITS"))
                 if "TEMPERATURE" in single

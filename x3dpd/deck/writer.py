@@ -240,6 +240,8 @@ def format_deck(deck: Deck) -> str:
         out.append("MODAL")
         out.extend(_INDENT + _text_line(line, "MODAL record") for line in deck.modal.lines)
         out.append("END")
+    if deck.plates:  # not built into the cards yet (x3dpd.deck.plates): the card as it is
+        out += ["PLATES"] + [_INDENT + p.record() for p in deck.plates] + ["END"]
     for u in deck.usrfrc:
         out.append("USRFRC")
         out.extend(_INDENT + _text_line(spec.strip(), "USRFRC spec") for spec in u.specs)

@@ -62,7 +62,9 @@ from x3dpd.design.config_cavity import (
     wall_volume,
     with_clearance,
 )
+from x3dpd.design.config_mip import MIP_KEYS, make_mip
 from x3dpd.design.design_file import Configuration, DesignFile
+from x3dpd.design.levels import deck_at_level
 from x3dpd.errors import InputError
 from x3dpd.materials import from_kelvin, temperature_unit_for
 
@@ -121,7 +123,21 @@ def make_configurations(design: DesignFile) -> list[Made]:
         drive = drive_point(design, template)
     except InputError:  # an evaluation needs one: require_drive says so
         drive = None
-    return [_make(design, template, c, drive) for c in design.configurations]
+    if design.levels is None or drive is None:
+        return [_make(design, template, c, drive) for c in design.configurations]
+    # the structure's own mode at each drive level (x3dpd.design.levels): a deck per level
+    drives = design.evaluation.drives
+    return [
+        _make(
+            design,
+            template,
+            replace(c, name=c.name + (f"_F{f:g}" if len(drives) > 1 else "")),
+            drive,
+            level=f,
+        )
+        for c in design.configurations
+        for f in drives
+    ]
 
 
 def require_drive(design: DesignFile, made: list[Made]) -> None:
@@ -170,10 +186,15 @@ def _check_masters(design: DesignFile, template: Deck) -> None:
         )
 
 
-def _make(design: DesignFile, template: Deck, config: Configuration, drive) -> Made:
+def _make(
+    design: DesignFile, template: Deck, config: Configuration, drive, level: float | None = None
+) -> Made:
     """The configuration's deck, made and checked in memory; ``drive`` its evaluation's
-    (node, dof), None when there is none (:func:`require_drive` says so)."""
+    (node, dof), None when there is none (:func:`require_drive` says so); ``level`` the drive
+    whose ``[levels]`` mode the structure takes (x3dpd.design.levels), None: the deck's own."""
     v = config.values
+    if any(k in v for k in MIP_KEYS):
+        return make_mip(design, template, config, drive, level, _made)
     deck = template
     pd = deck.pdmp[0] if deck.pdmp else None
     if pd is None and any(k in v for k in REFILL + ("material",)) and v.get("count") != 0:
@@ -206,22 +227,35 @@ def _make(design: DesignFile, template: Deck, config: Configuration, drive) -> M
         deck = _with_cavities(design, config, deck, axis)
     deck = _with_step(design, config, deck)
     deck = replace(deck, title=Title(f"{design.title}\nconfiguration {config.name}"))
+    deck = deck_at_level(design, config, deck, drive, level)
     report = check(deck)
     if report.exit_status != 0:
         first = (report.errors or report.warnings)[0]
         message = getattr(first, "headline", None) or getattr(first, "message", first)
         config_error(design, config, f"the deck made does not check clean: {message}")
     values = _resolved(deck, axis, v, design.cavity_set)
+    return _made(design, config, deck, deck, values, report, drive, level)
+
+
+def _made(design, config, deck, written, values, report, drive, level) -> Made:
+    """The Made of a checked deck (``written``: what its file holds, the same deck or a deck
+    whose PLATES card ``deck`` has built)."""
+    v = config.values
     values["mass_ratio"] = (
         values["added_mass"] / report.structure_mass if report.structure_mass > 0 else math.nan
     )
+    if level is not None:
+        values["level"] = level
     values["notes"] = tuple(f"{n.text} ({n.section})" for n in _rules(design, deck, drive))
     head = [
         f"{config.name}.inp: configuration {config.name} of the design {design.path.name}",
         f"Made by `x3dpd design` from {design.structure.name}; do not edit (rerun the design).",
         *(f"  {k} = {val!r}" for k, val in v.items()),
     ]
-    text = "".join(f"$ {line}".rstrip() + "\n" for line in head) + "$\n" + format_deck(deck)
+    if level is not None:
+        f, zeta = design.levels.at(level)
+        head.append(f"  the structure at the {level:g} drive level: {f:g} Hz, zeta {zeta:g}")
+    text = "".join(f"$ {line}".rstrip() + "\n" for line in head) + "$\n" + format_deck(written)
     return Made(config, Path(), deck, values, text, drive)
 
 

@@ -16,7 +16,9 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from x3dpd.design.config_mip import MIP_KEYS
 from x3dpd.design.design_reader import Reader, key_lines
+from x3dpd.design.levels import read_levels
 from x3dpd.design.drive import LARGEST_LEVEL
 from x3dpd.design.spec import AutoBand, parse_auto_band, parse_frequencies
 from x3dpd.design.steady_state import Criterion
@@ -42,7 +44,7 @@ CONFIG_KEYS = (
     "dt",
     "stiffness_scale",
     "temperature",
-)
+) + MIP_KEYS  # a multiple individual particle damper's plates (x3dpd.design.config_mip)
 #: How many particles: at most one of these per configuration (none: the deck's count).
 AMOUNT_KEYS = ("count", "fill_ratio", "particle_mass")
 TOP_KEYS = (
@@ -55,6 +57,8 @@ TOP_KEYS = (
     "vary",
     "configuration",
     "evaluate",
+    "mip",
+    "levels",
 )
 CAVITY_KEYS = ("set", "masters", "spacing")
 EVALUATIONS = ("sweep", "dwell", "ringdown")
@@ -129,6 +133,8 @@ class DesignFile:
     varied: tuple[str, ...]
     evaluation: Evaluation
     text: str = ""
+    #: ``[levels]``: the structure's own mode at each drive level (x3dpd.design.levels)
+    levels: object = None
 
     def line_of(self, *keys) -> int:
         """The line of a key path in the file (0 when not found)."""
@@ -193,6 +199,7 @@ def read_design(path: str | Path) -> DesignFile:
     if not isinstance(usrfrc_code, bool):
         r.fail(("usrfrc_code",), "expected true or false")
     configs, varied = _configurations(r, data)
+    evaluation = _evaluation(r, _table(r, data, "evaluate", required=True))
     return DesignFile(
         path=path,
         title=str(data.get("title", path.stem)),
@@ -204,8 +211,9 @@ def read_design(path: str | Path) -> DesignFile:
         cavity_spacing=spacing,
         configurations=configs,
         varied=varied,
-        evaluation=_evaluation(r, _table(r, data, "evaluate", required=True)),
+        evaluation=evaluation,
         text=text,
+        levels=read_levels(r, _table(r, data, "levels"), evaluation),
     )
 
 
@@ -224,6 +232,12 @@ def _configurations(r: Reader, data: dict) -> tuple[tuple[Configuration, ...], t
     fixed = _table(r, data, "fill")
     r.known(fixed, CONFIG_KEYS, ("fill",))
     fixed = {k: r.config_value(k, v, ("fill", k)) for k, v in fixed.items()}
+    mip = _table(r, data, "mip")
+    r.known(mip, MIP_KEYS, ("mip",))
+    for k, v in mip.items():
+        if k in fixed:
+            r.fail(("mip", k), f"{k} is also in [fill]")
+        fixed[k] = r.config_value(k, v, ("mip", k))
     vary = _table(r, data, "vary")
     r.known(vary, CONFIG_KEYS, ("vary",))
     lists = {}
@@ -303,6 +317,15 @@ def _label(key: str, value) -> str:
         "seed": "seed",
         "dt": "dt",
         "stiffness_scale": "Ex",
+        "holes": "holes",
+        "pitch": "p",
+        "hole": "hole",
+        "thickness": "t",
+        "shim": "shim",
+        "plate_size": "W",
+        "end_plate": "end",
+        "lumped": "lumped",
+        "start": "",
         "temperature": "T",
     }
     if isinstance(value, tuple):

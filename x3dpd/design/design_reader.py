@@ -86,6 +86,25 @@ class Reader:
             if not isinstance(value, list) or len(value) != 3:
                 self.fail(keys, f"expected [x, y, z] interior dimensions, got {value!r}")
             return tuple(float(self.number(v, keys)) for v in value)
+        if key == "thickness":  # one plate per value (x3dpd.design.config_mip)
+            values = value if isinstance(value, list) else [value]
+            if not values:
+                self.fail(keys, "expected a plate thickness, or a list of one per plate")
+            return tuple(float(self.number(v, keys)) for v in values)
+        if key == "lumped":
+            if not isinstance(value, bool):
+                self.fail(keys, "expected true or false")
+            return value
+        if key == "start":
+            from x3dpd.api.decks import STARTS
+
+            if value not in STARTS:
+                self.fail(keys, f"expected one of {', '.join(STARTS)}, got {value!r}")
+            return value
+        if key == "holes":
+            return self.number(value, keys, integer=True)
+        if key in ("shim", "end_plate"):
+            return float(self.number(value, keys, positive=False))
         if key in ("count", "seed"):
             return self.number(value, keys, positive=False, integer=True, minimum=0)
         if key == "cavities":

@@ -169,13 +169,15 @@ def _figures(out: Path, design: DesignFile, rows: list[dict], configs: list[Conf
         )
     ]
     if design.evaluation.kind == "sweep":
-        curves = baseline_curves(configs[0].spec)
         for k, drive in enumerate(design.evaluation.drives, 1):
+            # the configurations driven at this level ([levels]: one drive each)
+            mine = [c for c in configs if drive in c.spec.drives]
+            curves = baseline_curves(mine[0].spec)
             series = {
                 c.made.config.name: [
                     r for r in c.rows if r["config"] == "deck" and r["drive"] == drive
                 ]
-                for c in configs
+                for c in mine
             }
             base = {}
             if ("undamped", drive) in curves:
@@ -214,7 +216,8 @@ def _sweep_spec(design: DesignFile, made: Made) -> SweepSpec:
         deck_text_hash="",
         auto=ev.auto,
         frequencies=ev.frequencies,
-        drives=ev.drives,
+        # a [levels] configuration is its drive level's (x3dpd.design.levels)
+        drives=(made.values["level"],) if "level" in made.values else ev.drives,
         node=node,
         dof=dof,
         direction=ev.direction,

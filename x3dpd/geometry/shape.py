@@ -43,6 +43,18 @@ class Shape:
     #: outline; None: the mesh's creases (a cylinder's rims). A smooth shape has none and
     #: names its own (a capsule: where the hemispheres meet the bore)
     outline: Callable | None = None
+    #: for a shape whose particles sit each alone in a cell no other reaches (a drilled
+    #: plate's holes): ``cells(points (N, 3), ends, params)`` -> (N, k) int, the cell of each
+    #: point; a set of such walls has no pair contacts, and two particles in one cell are
+    #: refused. None: the particles share the cavity
+    cells: Callable | None = None
+    #: ``constants(ends, params)`` -> floats the locator reads after the card's lengths,
+    #: ``params[c, len(param_fields):]``: computed once by the model builder from the deck's
+    #: geometry, so only for a wall that never turns (the builder refuses one on a body free
+    #: to turn). None: the locator reads the card's lengths only
+    constants: Callable | None = None
+    #: how many floats ``constants`` returns
+    n_constants: int = 0
     #: how messages name the nodes, in card order, and all of them
     node_words: tuple[str, ...] = ("axis node A", "axis node B")
     nodes_word: str = "axis nodes"

@@ -1,8 +1,9 @@
 """Analytic wall shapes: what a shape module provides, and the registry of shapes.
 
 A triangulated cavity (CONTACT card) needs no code of its own; an analytic one -- a cylinder, a
-capsule -- is a module of ``x3dpd.geometry`` that describes itself with a :class:`Shape` and
-computes, in compiled code, where a sphere touches it. Everything else is shared:
+capsule, a drilled plate's holes -- is a module of ``x3dpd.geometry`` that describes itself with
+a :class:`Shape` and computes, in compiled code, where a sphere touches it. Everything else is
+shared:
 
 * the deck reader makes a card of every registered shape (``SET``, its node fields, its
   positive length fields), and the writer prints it back;
@@ -43,7 +44,7 @@ import dataclasses
 
 import numpy as np
 
-from x3dpd.geometry import capsule, cylinder
+from x3dpd.geometry import capsule, cylinder, holes
 from x3dpd.geometry.shape import MAX_SHAPE_NODES, Shape
 
 __all__ = ["SHAPES", "BY_SHAPE_NAME", "BY_SHAPE_CARD", "MAX_SHAPE_NODES", "MAX_SHAPE_PARAMS",
@@ -67,13 +68,14 @@ def _register(*modules) -> tuple[Shape, ...]:
 
 #: The registered shapes; a shape's kind number is its index here (kept in restart dumps'
 #: order: append new shapes at the end).
-SHAPES: tuple[Shape, ...] = _register(cylinder, capsule)
+SHAPES: tuple[Shape, ...] = _register(cylinder, capsule, holes)
 
 #: Shape by name ("cylinder"), and by card keyword ("CYLINDER").
 BY_SHAPE_NAME: dict[str, Shape] = {s.name: s for s in SHAPES}
 BY_SHAPE_CARD: dict[str, Shape] = {s.card: s for s in SHAPES}
-#: Parameters per shape in the model's and kernels' arrays (the most any shape has).
-MAX_SHAPE_PARAMS = max(len(s.param_fields) for s in SHAPES)
+#: Parameters per shape in the model's and kernels' arrays (the most any shape has: its card's
+#: lengths and its constants).
+MAX_SHAPE_PARAMS = max(len(s.param_fields) + s.n_constants for s in SHAPES)
 #: Parts of the shape with the most (the rows of the locator's scratch).
 MAX_SHAPE_PARTS = max(s.parts for s in SHAPES)
 

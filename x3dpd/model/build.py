@@ -67,6 +67,13 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
 
     def build(self) -> Model:
         deck = self.deck
+        if deck.plates:  # the reader builds them (x3dpd.deck.read_deck); a deck made in code
+            raise self.error(  # must too (x3dpd.deck.plates.expand_plates)
+                "the PLATES card is not built into the deck's cards: read the deck with "
+                "x3dpd.deck.read_deck, or call x3dpd.deck.plates.expand_plates",
+                deck.plates[0].pos,
+                "PLATES",
+            )
         par = self._parameters()
         self._nodes()
         self._particles()
@@ -239,7 +246,11 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
         for kind, shape in enumerate(SHAPES):  # analytic walls: "cylinder_contact" ...
             if np.any(np.isin(pc, self.shape_cavity[self.shape_kind == kind])):
                 eff.add(shape.effect)
-        counts = np.bincount(pc[pc >= 0], minlength=1)
+        # particles alone in cells (a drilled plate's holes, Shape.cells) never meet
+        alone = np.isin(
+            pc, self.shape_cavity[[SHAPES[k].cells is not None for k in self.shape_kind]]
+        )
+        counts = np.bincount(pc[(pc >= 0) & ~alone], minlength=1)
         if np.any(counts >= 2) or (n - pstart >= 2 and np.any(pc < 0)):
             eff.add("pair_contact")
         if self.moduli.shape[1] > 1 and np.any(self.moduli[:, 1:] != 0.0):

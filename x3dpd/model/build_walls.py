@@ -121,6 +121,7 @@ class WallSteps(BuilderBase):
         self.cavity_set_ids = np.array(set_ids, dtype=np.int64)
         self.particle_cavity = pcav
         self._analytic_walls(cav_of_set)
+        self._cell_walls()
         self.cav_of_set = cav_of_set
 
     def _wall_materials(self) -> np.ndarray | None:
@@ -187,9 +188,61 @@ class WallSteps(BuilderBase):
                 raise self.error(f"{shape.nodes_word} {ids} {problem}", w.pos, shape.card)
             kinds.append(kind)
             nodes.append((ends + ends)[:MAX_SHAPE_NODES])
-            params.append(list(w.params) + [0.0] * (MAX_SHAPE_PARAMS - len(w.params)))
+            row = list(w.params)
+            if shape.constants is not None:  # fixed for a wall that never turns (_cell_walls)
+                row += list(shape.constants(self.x0[ends], np.asarray(w.params, float)))
+            params.append(row + [0.0] * (MAX_SHAPE_PARAMS - len(row)))
             cavity.append(cav_of_set[w.set_id])
         self.shape_kind = np.array(kinds, dtype=np.int64)
         self.shape_nodes = np.array(nodes, dtype=np.int64).reshape(-1, MAX_SHAPE_NODES)
         self.shape_params = np.array(params, dtype=np.float64).reshape(-1, MAX_SHAPE_PARAMS)
         self.shape_cavity = np.array(cavity, dtype=np.int64)
+
+    def _cell_walls(self) -> None:
+        """Walls whose particles sit alone in cells (a drilled plate's holes, ``Shape.cells``):
+        the wall alone in its set (a particle would be located in every such wall of its set),
+        one particle per cell, on a body that cannot turn (the cells' pattern follows the axis
+        A -> B, not a turn about it)."""
+        walls = self.deck.analytic_walls or ()
+        tri_sets = {t.set_id for c in self.deck.contacts for t in c.triangles}
+        for k, w in enumerate(walls):
+            shape = SHAPES[int(self.shape_kind[k])]
+            if shape.cells is None and shape.constants is None:
+                continue
+            c = int(self.shape_cavity[k])
+            others = int(np.count_nonzero(self.shape_cavity == c)) - 1
+            if others or w.set_id in tri_sets:
+                raise self.error(
+                    f"set {w.set_id} holds other walls besides this {shape.card} record: "
+                    f"give each {shape.card} record a CONTACT set of its own",
+                    w.pos,
+                    shape.card,
+                )
+            ends = self.shape_nodes[k, : len(shape.node_fields)]
+            for i in ends:
+                body = self.slave_of.get(int(i), self.body_of_master.get(int(i)))
+                master = int(i) if body is None else int(self.rigid_master[body])
+                if master in self.modal_nodes or not self.fixed[master, 3:].all():
+                    raise self.error(
+                        f"node {int(self.ids[i])} can turn (its rigid body's master "
+                        f"{int(self.ids[master])} has a free or modal rotation): the "
+                        f"{shape.name}' pattern does not follow a turn; fix the master's "
+                        "rotations (BOUNDARY DOFs 4 5 6)",
+                        w.pos,
+                        shape.card,
+                    )
+            mine = np.flatnonzero(self.particle_cavity == c)
+            if shape.cells is None or mine.size < 2:
+                continue
+            cells = shape.cells(self.x0[self.pstart + mine], self.x0[ends], self.shape_params[k])
+            _, first, count = np.unique(cells, axis=0, return_index=True, return_counts=True)
+            if np.any(count > 1):
+                twice = cells[first[np.argmax(count > 1)]]
+                same = mine[np.all(cells == twice, axis=1)]
+                ids = " and ".join(str(int(self.ids[self.pstart + p])) for p in same[:2])
+                raise self.error(
+                    f"particles {ids} are in the same hole of set {w.set_id} (one particle "
+                    "per cell: they would pass through each other)",
+                    w.pos,
+                    shape.card,
+                )

@@ -20,10 +20,10 @@ from x3dpd.geometry.cavity import cavity_extents, enclosed_volume
 from x3dpd.model.check_shapes import (
     describe_shape,
     shape_clearances,
-    shape_extent,
     shape_volume,
     shape_warnings,
     smallest_clearance,
+    summary_extent,
 )
 from x3dpd.model.check_geometry import (  # noqa: F401  (WallPenetration re-exported)
     REL_TOL,
@@ -303,7 +303,7 @@ def _cavity_summaries(model: Model) -> list[CavitySummary]:
         walls = np.flatnonzero(model.shape_cavity == c)
         inside = model.particle_cavity == c
         if mine.size == 0:  # a cavity of analytic walls (CYLINDER, CAPSULE ... cards)
-            ends = np.concatenate([np.stack(shape_extent(model, k)) for k in walls])
+            ends = np.concatenate([np.stack(summary_extent(model, k)) for k in walls])
             lo, hi = cavity_extents(ends)
             closed = consistent = True
             volume = sum(shape_volume(model, k) for k in walls)

@@ -20,6 +20,7 @@ import math
 import numpy as np
 
 from x3dpd.errors import X3dpdError
+from x3dpd.geometry.shapes import SHAPES
 from x3dpd.model.check_shapes import shape_extent
 from x3dpd.model.model import Model
 from x3dpd.physics.usrfrc import force_table, law_count, split_specs
@@ -51,7 +52,18 @@ def bed_extent(model: Model, c: int, d: int) -> tuple[float, float, float] | Non
         return None
     x, r = model.x0[model.particle_start + mine, d], model.radius[mine]
     bed = float(np.max(x + r) - np.min(x - r))
+    if _one_per_cell(model, c):  # a drilled plate: its span is one hole's, each sphere alone
+        bed = float(2.0 * r.max())
     return hi - lo, bed, (hi - lo) - bed
+
+
+def _one_per_cell(model: Model, c: int) -> bool:
+    """Whether cavity ``c`` is walls whose particles sit alone in cells (``Shape.cells``: the
+    holes of a drilled plate) and nothing else."""
+    walls = np.flatnonzero(model.shape_cavity == c)
+    own_faces = bool(np.any(model.face_cavity[model.tri_face] == c))
+    kinds = model.shape_kind[walls].tolist()
+    return bool(walls.size) and not own_faces and all(SHAPES[k].cells is not None for k in kinds)
 
 
 def drive_axes(model: Model, usrfrc=()) -> list[int]:

@@ -55,9 +55,35 @@ def describe_shape(model: Model, w: int) -> str:
 
 
 def shape_volume(model: Model, w: int) -> float:
-    """The volume inside analytic wall ``w`` [length^3]."""
+    """The volume inside analytic wall ``w`` [length^3]; a shape of cells (a drilled plate's
+    holes) counts each cell its particles are in."""
     shape, ends, lengths = _wall(model, w)
-    return float(shape.volume(ends, lengths))
+    return float(shape.volume(ends, lengths)) * _cells(model, w, shape, ends, lengths)
+
+
+def _cells(model: Model, w: int, shape, ends, lengths) -> int:
+    """How many cells the particles of wall ``w`` occupy (1 for a shape without cells)."""
+    mine = np.flatnonzero(model.particle_cavity == model.shape_cavity[w])
+    if shape.cells is None or not mine.size:
+        return 1
+    cells = shape.cells(model.x0[model.particle_start + mine], ends, lengths)
+    return int(np.unique(cells, axis=0).shape[0])
+
+
+def summary_extent(model: Model, w: int) -> tuple[np.ndarray, np.ndarray]:
+    """Bounding box (lo, hi) of analytic wall ``w`` at t0 for a summary: a shape of cells
+    (a drilled plate) with every hole its particles are in (the box of its first hole moved
+    across the axis A -> B to each particle, which sits on its hole's axis or near it)."""
+    shape, ends, lengths = _wall(model, w)
+    lo, hi = shape.extent(ends, lengths)
+    mine = np.flatnonzero(model.particle_cavity == model.shape_cavity[w])
+    if shape.cells is not None and mine.size:
+        u = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
+        d = model.x0[model.particle_start + mine] - ends[0]
+        d -= (d @ u)[:, None] * u
+        lo = np.minimum(lo, lo + d.min(axis=0))
+        hi = np.maximum(hi, hi + d.max(axis=0))
+    return lo, hi
 
 
 def shape_extent(model: Model, w: int) -> tuple[np.ndarray, np.ndarray]:

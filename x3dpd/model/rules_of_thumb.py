@@ -167,7 +167,11 @@ def drive_estimate(model: Model, usrfrc=()) -> DriveEstimate | str:
     force = labels_for(model.units)["force"]
     if kind == KIND_SINE:
         lo = hi = float(waves[0, 4])
-        what = f"sine {amp:.3g} {force} at {lo / (2 * math.pi):.4g} Hz"
+        size = f"{amp:.3g}"
+        if waves[0, 8] > 0.0:  # an envelope: its larger amplitude
+            size = f"{amp:.3g} -> {abs(float(waves[0, 7])):.3g}"
+            amp = max(amp, abs(float(waves[0, 7])))
+        what = f"sine {size} {force} at {lo / (2 * math.pi):.4g} Hz"
     else:
         f0, f1 = sorted((float(waves[0, 4]), float(waves[0, 5])))
         lo, hi = 2 * math.pi * f0, 2 * math.pi * f1

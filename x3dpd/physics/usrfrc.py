@@ -14,8 +14,9 @@ Built-in specs (``kind:key=value,...``; ``dof`` 1..6 is X3D's numbering, 1-3 for
 
     constant:node=N,dof=D,amp=A                       F = A
     step:node=N,dof=D,amp=A,t0=T0[,t1=T1]             F = A on [T0, T1), else 0
-    sine:node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0]
-                                                      F = A sin(W (t - T0) + P) for t >= T0
+    sine:node=N,dof=D,amp=A,hz=F|omega=W[,phase=P][,t0=T0][,amp1=A1,ramp=TR]
+                                                      F = a(t) sin(W (t - T0) + P) for t >= T0,
+                                                      a = A, or A -> A1 linearly over TR s
     sweep:node=N,dof=D,amp=A,f0=F0,f1=F1,rate=R[,law=linear|log][,t0=T0][,end=hold|stop]
                                                       F = A sin(phi(t - T0)), phi = 2 pi int f
     random:node=N,dof=D,rms=R|psd=P,band=LO:HI,seed=S[,t0=T0][,period=T]
@@ -58,7 +59,8 @@ KIND_RANDOM = 6
 KIND_DATA = -1
 
 #: Meaning of the 9 columns of a force table. ``p1..p5`` per kind:
-#: constant: unused; step: t0, t1 (inf when open); sine: omega [rad/s], phase [rad], t0;
+#: constant: unused; step: t0, t1 (inf when open); sine: omega [rad/s], phase [rad], t0,
+#: the envelope's end amplitude A1 and ramp time TR [s] (TR 0: a constant amplitude);
 #: sweep (linear/log): f0 [Hz], f1 [Hz], signed rate k [Hz/s or octaves/s], t0,
 #: end (0 hold, 1 stop); random: first row of its knots, LO, HI [Hz], t0, seed (amp: RMS).
 TABLE_COLUMNS = ("kind", "node_index", "dof_index", "amp", "p1", "p2", "p3", "p4", "p5")
@@ -66,7 +68,7 @@ TABLE_COLUMNS = ("kind", "node_index", "dof_index", "amp", "p1", "p2", "p3", "p4
 _KEYS = {  # kind -> (required keys, optional keys)
     "constant": (("node", "dof", "amp"), ()),
     "step": (("node", "dof", "amp", "t0"), ("t1",)),
-    "sine": (("node", "dof", "amp"), ("hz", "omega", "phase", "t0")),
+    "sine": (("node", "dof", "amp"), ("hz", "omega", "phase", "t0", "amp1", "ramp")),
     "sweep": (("node", "dof", "amp", "f0", "f1", "rate"), ("law", "t0", "end")),
     "random": None,  # x3dpd.physics.random_signal parses it
 }
@@ -131,6 +133,8 @@ def _force_value(t, table, r):
         tau = t - table[r, 6]
         if tau < 0.0:
             return 0.0
+        if table[r, 8] > 0.0:   # the envelope: A -> A1 linearly over TR, then A1
+            amp += (table[r, 7] - amp) * min(tau / table[r, 8], 1.0)
         return amp * math.sin(table[r, 4] * tau + table[r, 5])
     if kind == KIND_RANDOM:
         tau = t - table[r, 7]
@@ -195,7 +199,12 @@ def _force_row(spec: str, node_ids: np.ndarray) -> list[float] | RandomLaw:
     if kind == "sine":
         omega = _omega(what, spec, pairs)
         phase = _phase(what, spec, pairs["phase"]) if "phase" in pairs else 0.0
-        return [KIND_SINE, node, dof, amp, omega, phase, t0, 0.0, 0.0]
+        if ("amp1" in pairs) != ("ramp" in pairs):
+            raise UsrfrcError(f"{what} {spec!r}: an envelope needs both amp1 (the amplitude it "
+                              "reaches) and ramp (the seconds it takes)")
+        amp1 = num("amp1", pairs["amp1"]) if "amp1" in pairs else 0.0
+        ramp = num("ramp", pairs["ramp"], positive=True) if "ramp" in pairs else 0.0
+        return [KIND_SINE, node, dof, amp, omega, phase, t0, amp1, ramp]
     f0 = num("f0", pairs["f0"], positive=True)
     f1 = num("f1", pairs["f1"], positive=True)
     rate = num("rate", pairs["rate"], positive=True)
