@@ -236,3 +236,26 @@ def test_a_bare_temperature_needs_the_units_card():
     metric = replace(bore(), units=None)
     text = format_deck(metric) + "UNITS\n m N s\nEND\nTEMPERATURE\nOPERATING 455\nWALLS ti\nEND\n"
     assert parse_deck(text).temperature.operating.kelvin == pytest.approx(455 + 273.15)
+
+
+def test_a_drilled_plates_holes_and_pitch_grow_with_the_plate():
+    """decks/mip_apparatus_05.inp (PLATES: 0.505 in holes at 0.6 in pitch, plate 1 0.501 in
+    thick + 0.009 in shim, 0.5 in spheres) with carbide spheres in SS-302 plates at 800 F: the
+    free length changes by L s_w - 2 r s_p, the diametral clearance by 2 R s_w - 2 r s_p, and
+    the holes' radius and pitch by (1 + s_w)."""
+    from pathlib import Path
+
+    deck_file = Path(__file__).resolve().parents[2] / "decks" / "mip_apparatus_05.inp"
+    text = deck_file.read_text() + "UNITS\n in lbf s\nEND\n"
+    text += "TEMPERATURE\n OPERATING 800F\n PARTICLES wc\n WALLS steel-302\nEND\n"
+    model = build_model(parse_deck(text, "mip_hot.inp"))
+    s_w, s_p = strain_f("steel-302", 800.0), strain("tungsten-carbide", 70.0, 800.0)
+    gaps = {(c.set_id, c.what): c for c in model.temperature.clearances}
+    along, across = gaps[(1, "holes along its axis")], gaps[(1, "holes across")]
+    assert along.assembly == pytest.approx(0.01, abs=1e-14)
+    assert along.operating - along.assembly == pytest.approx(0.51 * s_w - 0.5 * s_p, abs=2e-15)
+    assert across.operating - across.assembly == pytest.approx(0.505 * s_w - 0.5 * s_p, abs=2e-15)
+    first = int(np.flatnonzero(model.shape_cavity == 0)[0])
+    assert model.shape_params[first, :2] == pytest.approx(
+        (0.2525 * (1 + s_w), 0.6 * (1 + s_w)), rel=1e-14
+    )
