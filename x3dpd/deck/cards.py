@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from x3dpd.errors import NOWHERE, Pos  # noqa: E402,F401
 from x3dpd.deck.modal_card import Modal, ModalFile, ModalMode, ModalShape  # noqa: E402,F401
 from x3dpd.deck.plates_card import Plate  # noqa: E402,F401
+from x3dpd.deck.temperature_card import Temperature  # noqa: E402,F401
 
 
 @dataclass(frozen=True)
@@ -324,3 +325,5 @@ class Deck:
     #: PLATES card (x3dpd.deck.plates_card) not yet built into the deck's cards; a deck read
     #: from a file has it built (x3dpd.deck.plates.expand_plates) and None here
     plates: tuple[Plate, ...] | None = None
+    #: TEMPERATURE card (x3dpd.deck.temperature_card); None: the deck's numbers as they stand
+    temperature: Temperature | None = None

@@ -107,6 +107,9 @@ class Model:
     title : str, path : str.
     units : (length, force, time) unit names the deck declares (UNITS card; x3dpd.units).
     modal : the modal structure (MODAL card; x3dpd.model.modal_structure), None without one.
+    temperature : what the TEMPERATURE card did (x3dpd.model.temperature.AtTemperature: the
+        temperatures, each material's strain and ratios, each cavity's clearance at both), None
+        without one: the arrays above are then the deck's at its operating temperature.
     """
 
     node_ids: np.ndarray
@@ -179,6 +182,7 @@ class Model:
     rotational_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
     rotational_k: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     rotational_c: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    temperature: object | None = None
 
     @property
     def n_nodes(self) -> int:
