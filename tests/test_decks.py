@@ -69,6 +69,7 @@ def test_shipped_decks_carry_a_provenance_header():
         "mip_apparatus_05.inp",
         "mip_apparatus_025.inp",
         "mip_engine.inp",
+        "capsule_wc7.inp",
     ],
 )
 def test_check_is_clean(name):

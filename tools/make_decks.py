@@ -545,6 +545,15 @@ def shaker_fig9() -> str:
     return with_header(head, deck)
 
 
+def capsule_wc7() -> str:
+    """Section 6.4's titanium capsule, seven WC spheres, at temperature
+    (tools/make_capsule_deck.py)."""
+    from make_capsule_deck import capsule_deck
+
+    deck, head = capsule_deck()
+    return with_header(head, deck)
+
+
 def mip_decks() -> dict[str, str]:
     """Section 11's MIP damper on its apparatus and on the engine (tools/make_mip_decks.py)."""
     from make_mip_decks import apparatus, engine
@@ -574,6 +583,7 @@ def all_decks() -> dict[str, str]:
     out["impact_wall.inp"] = impact_deck()
     out["hooke_wall.inp"] = hooke_deck()
     out["shaker_fig9.inp"] = shaker_fig9()
+    out["capsule_wc7.inp"] = capsule_wc7()
     out.update(mip_decks())
     return out
 

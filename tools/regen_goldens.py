@@ -115,6 +115,9 @@ def _api_options(case: dict) -> dict:
     opts: dict = {"usrfrc": [], "motion": []}
     while args:
         flag, value = args.pop(0), args.pop(0)
+        if flag == "--temperature":
+            opts["temperature"] = value
+            continue
         opts[{"--usrfrc": "usrfrc", "--motion": "motion"}[flag]].append(value)
     if case.get("tmax") is not None:
         opts["tmax"] = float(case["tmax"])

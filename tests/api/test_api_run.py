@@ -35,6 +35,7 @@ SHIPPED = [
     ("cylinder_64.inp", [], {}, 2e-3),
     ("capsule_64.inp", [], {}, 2e-3),
     ("shaker_fig9.inp", ["--motion", SHAKER_BASE], {"motion": [SHAKER_BASE]}, 2e-3),
+    ("capsule_wc7.inp", ["--temperature", "850F"], {"temperature": "850F"}, 2e-3),
     ("impact_wall.inp", [], {}, None),
     ("hooke_wall.inp", [], {}, None),
     ("mip_apparatus_05.inp", [], {}, 2e-3),

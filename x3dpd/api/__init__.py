@@ -36,17 +36,21 @@ def load_deck(path: str | os.PathLike):
     return read_deck_file(os.fspath(path))
 
 
-def build(deck, *, usrfrc=(), motion=()):
-    """The model of a deck (path or :class:`~x3dpd.deck.Deck`): the arrays the solver runs."""
+def build(deck, *, usrfrc=(), motion=(), temperature=None):
+    """The model of a deck (path or :class:`~x3dpd.deck.Deck`): the arrays the solver runs;
+    ``temperature`` (not None) the operating temperature over its TEMPERATURE card's."""
     from x3dpd.deck import Deck
+    from x3dpd.deck.temperature_card import with_temperature
     from x3dpd.model.build import build_model
 
     if not isinstance(deck, Deck):
         deck = load_deck(deck)
+    if temperature is not None:
+        deck = with_temperature(deck, temperature)
     return build_model(deck, usrfrc=tuple(usrfrc), motion=tuple(motion))
 
 
-def check(deck, *, usrfrc=(), motion=(), steps_per_contact: int | None = None):
+def check(deck, *, usrfrc=(), motion=(), steps_per_contact: int | None = None, temperature=None):
     """What ``x3dpd check`` reports for a deck: a :class:`x3dpd.model.check.CheckReport`
     (``errors``, ``warnings``, ``time_step``, ``exit_status`` ...).
 
@@ -55,7 +59,7 @@ def check(deck, *, usrfrc=(), motion=(), steps_per_contact: int | None = None):
     from x3dpd.model.check import check_model
     from x3dpd.model.timestep import STEPS_PER_CONTACT
 
-    model = build(deck, usrfrc=usrfrc, motion=motion)
+    model = build(deck, usrfrc=usrfrc, motion=motion, temperature=temperature)
     return check_model(
         model, steps_per_contact=steps_per_contact or STEPS_PER_CONTACT, usrfrc=usrfrc
     )

@@ -14,6 +14,8 @@ and what they resolve to:
 * ``usrfrc``, ``motion`` (specs, docs/usrfrc.md), ``usrfrc_mode`` (``"replace"`` the deck's
   USRFRC card, or ``"add"`` to it), ``usrfrc_python``; ``friction``: the deck's FRICTION card's
   tangential law, else :data:`DEFAULT_FRICTION` (a name of x3dpd.physics.tangential_laws);
+  ``temperature``: the deck's TEMPERATURE card's operating temperature (``"850F"``, or a number
+  on the UNITS card's scale: the card's OPERATING replaced, x3dpd.deck.temperature_card);
 * ``trace``, ``energy``, ``overwrite``, ``restart``, ``command``: the files (none without
   ``trace``); ``keep_trace``: the rows in memory; ``initial_state``: an earlier run's
   ``final_state`` to continue from;
@@ -51,6 +53,7 @@ from x3dpd.api.run_options import (
     traced_nodes,
 )
 from x3dpd.api.safety import initial_penetration_error
+from x3dpd.deck.temperature_card import with_temperature
 from x3dpd.errors import InputError
 from x3dpd.solver.threads import thread_count
 
@@ -71,7 +74,7 @@ PENETRATION_LIMIT = 0.25
 #: How a run's ``usrfrc`` treats the deck's USRFRC card.
 USRFRC_MODES = ("replace", "add")
 #: The options that change the model a run builds (the rest reuse it, :meth:`RunConfig.replace`).
-MODEL_OPTIONS = frozenset({"usrfrc", "usrfrc_mode", "motion"})
+MODEL_OPTIONS = frozenset({"usrfrc", "usrfrc_mode", "motion", "temperature"})
 
 
 @dataclass(frozen=True)
@@ -80,16 +83,17 @@ class RunConfig:
     :func:`x3dpd.run` runs it). Fields are the options of :func:`x3dpd.run` with every default
     filled in, and what they resolve to:
 
-    ``deck`` (a Deck), ``deck_path``, ``model`` (built; the deck's USRFRC card dropped when
-    ``usrfrc`` replaces it, those specs in ``replaced``), ``key`` (the deck's identity for
-    restarts), ``usrfrc`` and ``motion`` (the run's force and motion specs), ``friction`` (the
-    tangential law), ``tmax`` [s], ``step`` (:class:`Step`), ``itrac`` (steps between trace
-    rows; DTMAX steps with an automatic step), ``steps`` (steps of ``step.dt`` from t0 to
-    TMAX), ``trest_steps`` (between restart dumps, 0: none), ``trace_nodes`` (indices of the
-    recorded nodes in the model), ``threads``, ``penetration_limit``, ``energy_tolerance``,
-    ``usrfrc_python``, ``files`` (:class:`Files`, None: the run writes nothing),
-    ``keep_trace``, ``initial_state``, and the callbacks ``stop`` (every ``stop_every`` rows),
-    ``progress``, ``on_compile``, ``handle_signals``.
+    ``deck`` (a Deck, as given: at its own TEMPERATURE card's temperature), ``deck_path``,
+    ``model`` (built, at ``temperature`` when one is asked for; the deck's USRFRC card dropped
+    when ``usrfrc`` replaces it, those specs in ``replaced``), ``key`` (the identity of the deck
+    it ran, at that temperature, for restarts), ``usrfrc`` and ``motion`` (the run's force and
+    motion specs), ``friction`` (the tangential law), ``tmax`` [s], ``step`` (:class:`Step`),
+    ``itrac`` (steps between trace rows; DTMAX steps with an automatic step), ``steps`` (steps
+    of ``step.dt`` from t0 to TMAX), ``trest_steps`` (between restart dumps, 0: none),
+    ``trace_nodes`` (indices of the recorded nodes in the model), ``threads``,
+    ``penetration_limit``, ``energy_tolerance``, ``usrfrc_python``, ``files`` (:class:`Files`,
+    None: the run writes nothing), ``keep_trace``, ``initial_state``, and the callbacks ``stop``
+    (every ``stop_every`` rows), ``progress``, ``on_compile``, ``handle_signals``.
     """
 
     deck: object = field(repr=False)
@@ -129,7 +133,7 @@ class RunConfig:
     def replace(self, **changes) -> RunConfig:
         """This run with some options changed (the keywords of :func:`run_config`), resolved
         and checked again. The deck is not read again, nor its model rebuilt unless ``usrfrc``,
-        ``usrfrc_mode`` or ``motion`` change."""
+        ``usrfrc_mode``, ``motion`` or ``temperature`` change."""
         _check_names(changes)
         options = {**self.asked, **changes}
         if MODEL_OPTIONS & changes.keys():
@@ -152,6 +156,7 @@ def run_config(
     usrfrc_mode: str = "replace",
     motion: Sequence[str] = (),
     friction: str | None = None,
+    temperature: str | float | None = None,
     trace: str | os.PathLike | None = None,
     energy: str | os.PathLike | None = None,
     overwrite: bool = False,
@@ -204,8 +209,9 @@ def _resolve(deck, deck_path: str, built, o: dict) -> RunConfig:
     usrfrc, motion = tuple(o["usrfrc"]), tuple(o["motion"])
     if deck is None:
         deck = read_deck_file(deck_path)
-    if built is None:
-        built = (*build_scene(deck, usrfrc, motion, o["usrfrc_mode"]), deck_key(deck))
+    if built is None:  # at another temperature: the card's OPERATING replaced, the deck kept
+        warm = deck if o["temperature"] is None else with_temperature(deck, o["temperature"])
+        built = (*build_scene(warm, usrfrc, motion, o["usrfrc_mode"]), deck_key(warm))
     model, replaced, key = built
     files = output_files(deck_path, model, o)
     tmax = o["tmax"]

@@ -21,7 +21,9 @@ Re-exports, so that a tool imports ``x3dpd.api`` and never the layers below it
   :func:`check_masters` -- several identical cavities on a structure (x3dpd.deck.cavities,
   docs/design.md);
 * :func:`is_user_file` -- whether a USRFRC spec names a Python file (code the deck runs);
-* :func:`build_model` -- the arrays the solver runs (:func:`x3dpd.api.build` also takes a path).
+* :func:`build_model` -- the arrays the solver runs (:func:`x3dpd.api.build` also takes a path);
+* :func:`with_temperature` -- a deck at another operating temperature (its TEMPERATURE card's
+  OPERATING replaced: ``--temperature``, a design's ``temperature``).
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from x3dpd.deck.fill import (
 )
 from x3dpd.deck.plates import expand_plates, plated_deck, plates_from_specs, sphere_ids
 from x3dpd.deck.plates_card import STARTS, Plate
+from x3dpd.deck.temperature_card import with_temperature
 from x3dpd.deck.writer import write_deck
 from x3dpd.geometry.packing import PACKINGS
 from x3dpd.geometry.shapes import BY_SHAPE_NAME
@@ -74,5 +77,6 @@ __all__ = [
     "sphere_ids",
     "with_cavities",
     "with_material",
+    "with_temperature",
     "write_deck",
 ]

@@ -41,8 +41,8 @@ def run(deck, **options) -> RunResult:
     ``deck`` is a deck file, a deck read by :func:`x3dpd.load_deck`, or a
     :class:`~x3dpd.api.config.RunConfig` (:func:`x3dpd.run_config`); ``options`` are the
     keywords of :func:`~x3dpd.api.config.run_config` (docs/python-api.md lists them: ``tmax``,
-    ``dt``, ``usrfrc``, ``usrfrc_mode``, ``motion``, ``friction``, ``trace``, ``energy``,
-    ``overwrite``, ``restart``, ``itrac``, ``trace_nodes``, ``keep_trace``,
+    ``dt``, ``usrfrc``, ``usrfrc_mode``, ``motion``, ``friction``, ``temperature``, ``trace``,
+    ``energy``, ``overwrite``, ``restart``, ``itrac``, ``trace_nodes``, ``keep_trace``,
     ``initial_state``, ``stop``, ``stop_every``, ``progress``, ``on_compile``,
     ``usrfrc_python``, ``penetration_limit``, ``energy_tolerance``, ``threads``,
     ``handle_signals``, ``command``); given with a RunConfig they change it

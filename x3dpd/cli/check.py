@@ -14,6 +14,7 @@ import sys
 import click
 
 from x3dpd.api.checks import STEPS_PER_CONTACT, CheckReport, check_model, peak_force_error
+from x3dpd.cli.temperature_option import temperature_option
 from x3dpd.errors import InputError, X3dpdError
 from x3dpd.units import labels_for
 
@@ -45,6 +46,7 @@ def _read_deck(path: str):
     metavar="SPEC",
     help="Prescribed motion spec, as for `x3dpd run` (repeatable).",
 )
+@temperature_option
 @click.option(
     "--steps-per-contact",
     type=click.IntRange(min=1),
@@ -53,7 +55,11 @@ def _read_deck(path: str):
     help="Time steps the shortest contact should span.",
 )
 def check(
-    decks: tuple[str, ...], usrfrc: tuple[str, ...], motion: tuple[str, ...], steps_per_contact: int
+    decks: tuple[str, ...],
+    usrfrc: tuple[str, ...],
+    motion: tuple[str, ...],
+    temperature: str | None,
+    steps_per_contact: int,
 ) -> None:
     """Check each DECK: model summary, recommended time step and geometry warnings.
 
@@ -65,19 +71,21 @@ def check(
     for k, deck in enumerate(decks):
         if k:
             click.echo("")
-        worst = max(worst, _check_one(deck, usrfrc, motion, steps_per_contact))
+        worst = max(worst, _check_one(deck, usrfrc, motion, steps_per_contact, temperature))
     # SystemExit, not ctx.exit: `x3dpd.cli.main` runs click with standalone_mode=False, where
     # click turns ctx.exit(n) into a return value that main() does not pass on.
     sys.exit(worst)
 
 
-def _check_one(deck: str, usrfrc, motion, steps_per_contact: int) -> int:
-    from x3dpd.api.decks import build_model
+def _check_one(deck: str, usrfrc, motion, steps_per_contact: int, temperature=None) -> int:
+    from x3dpd.api.decks import build_model, with_temperature
 
     try:
         if not os.path.isfile(deck):
             raise InputError(f"{deck}: no such deck file")
         cards = _read_deck(deck)
+        if temperature is not None:
+            cards = with_temperature(cards, temperature)
         model = build_model(cards, usrfrc=usrfrc, motion=motion)
     except X3dpdError as exc:
         click.echo(f"x3dpd: error: {exc}", err=True)
@@ -156,6 +164,8 @@ def _report_lines(report: CheckReport, units: dict, declared: bool = False) -> l
             lines.append(_row("", "open: the faces do not close, so no volume or fill ratio"))
     for k, text in enumerate(report.modes):
         lines.append(_row("modal structure" if k == 0 else "", text))
+    for k, text in enumerate(report.temperature):
+        lines.append(_row("temperature" if k == 0 else "", text))
     lines.append(_row("effects", ", ".join(sorted(report.effects)) or "none"))
     source = "from the UNITS card" if declared else "the default: declare others with a UNITS card"
     lines.append(

@@ -36,6 +36,8 @@ def resume_command(opts: RunOptions) -> str:
         args += ["--tmax", repr(opts.tmax)]
     if opts.friction:
         args += ["--friction", opts.friction]
+    if opts.temperature is not None:
+        args += ["--temperature", opts.temperature]
     if opts.energy_tolerance != ENERGY_TOLERANCE:
         args += ["--energy-tolerance", repr(opts.energy_tolerance)]
     if opts.threads != 1:

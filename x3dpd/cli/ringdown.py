@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import click
 
+from x3dpd.cli.temperature_option import temperature_option
+
 
 @click.command("ringdown", context_settings={"help_option_names": ["-h", "--help"]})
 @click.argument("source", type=click.Path(exists=True, dir_okay=False))
@@ -64,6 +66,7 @@ import click
     help="A measured ring-down to overlay: CSV (time, displacement|acceleration) or UFF "
     "dataset 58 (repeatable).",
 )
+@temperature_option
 @click.option("--overwrite", is_flag=True, help="Replace DIR/ringdown.csv and .png.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
 def ringdown(
@@ -78,6 +81,7 @@ def ringdown(
     no_baseline,
     g,
     measured,
+    temperature,
     overwrite,
     quiet,
 ):
@@ -97,5 +101,6 @@ def ringdown(
         g=g,
         overwrite=overwrite,
         measured=measured,
+        temperature=temperature,
         echo=(lambda s: None) if quiet else click.echo,
     )

@@ -22,6 +22,7 @@ from x3dpd.api.outputs import check_writable, default_paths as _default_paths
 from x3dpd.cli.progress import CompileTicker, Progress
 from x3dpd.cli.run_summary import format_summary
 from x3dpd.cli.resume import resume_command
+from x3dpd.cli.temperature_option import temperature_option
 from x3dpd.errors import InputError, UnstableRunError
 
 
@@ -43,6 +44,7 @@ class RunOptions:
     overwrite: bool = False
     restart: bool = False
     friction: str | None = None
+    temperature: str | None = None
     quiet: bool = False
     penetration_limit: float = PENETRATION_LIMIT
     energy_tolerance: float = ENERGY_TOLERANCE
@@ -65,6 +67,7 @@ class RunOptions:
             usrfrc_mode="add" if self.usrfrc_add else "replace",
             motion=self.motion,
             friction=self.friction,
+            temperature=self.temperature,
             trace=trace,
             energy=energy,
             overwrite=self.overwrite,
@@ -156,6 +159,7 @@ class RunOptions:
     help="Tangential contact law for the whole run (docs/physics.md), over the deck's "
     "FRICTION card  [default: the card's, else regularized]",
 )
+@temperature_option
 @click.option(
     "--energy-tolerance",
     type=click.FloatRange(min=0.0, min_open=True),
@@ -192,6 +196,7 @@ def run(
     overwrite,
     restart,
     friction,
+    temperature,
     energy_tolerance,
     threads,
     quiet,
@@ -217,6 +222,7 @@ def run(
         overwrite=overwrite,
         restart=restart,
         friction=friction,
+        temperature=temperature,
         quiet=quiet,
         energy_tolerance=energy_tolerance,
         threads=thread_count(threads, "--threads"),

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import click
 
+from x3dpd.cli.temperature_option import temperature_option
 from x3dpd.errors import InputError
 
 
@@ -128,6 +129,7 @@ from x3dpd.errors import InputError
     show_default=True,
     help="Multiplies the measured FRFs (a unit conversion, e.g. 386.1 for g to in/s^2).",
 )
+@temperature_option
 @click.option("--overwrite", is_flag=True, help="Discard a different sweep stored in DIR.")
 @click.option("--quiet", "-q", is_flag=True, help="Print errors only.")
 def sweep(
@@ -153,6 +155,7 @@ def sweep(
     no_predict,
     measured,
     measured_scale,
+    temperature,
     overwrite,
     quiet,
 ):
@@ -194,5 +197,6 @@ def sweep(
         drive=drive,
         measured_files=measured,
         measured_scale=measured_scale,
+        temperature=temperature,
         echo=(lambda s: None) if quiet else click.echo,
     )

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from x3dpd.errors import NOWHERE, Pos  # noqa: E402,F401
 from x3dpd.deck.modal_card import Modal, ModalFile, ModalMode, ModalShape  # noqa: E402,F401
 from x3dpd.deck.plates_card import Plate  # noqa: E402,F401
+from x3dpd.deck.temperature_card import Temperature  # noqa: E402,F401
 
 
 @dataclass(frozen=True)
@@ -337,3 +338,5 @@ class Deck:
     plates: tuple[Plate, ...] | None = None
     #: records of the effect units' own cards in file order (None: no such card)
     unit_records: tuple[UnitRecord, ...] | None = None
+    #: TEMPERATURE card (x3dpd.deck.temperature_card); None: the deck's numbers as they stand
+    temperature: Temperature | None = None

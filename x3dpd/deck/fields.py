@@ -84,6 +84,7 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
     CardSpec("MODAL", "MODA", ("RECORD",)),
     CardSpec("PLATES", "PLAT", ("RECORD",)),
+    CardSpec("TEMPERATURE", "TEMP", ("RECORD",)),
 ) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)  # CYLINDER, CAPSULE ...
 # the effect units' own cards (x3dpd.physics.effect_units)
 CARDS += tuple(CardSpec(u.card.name, u.card.key, u.card.fields) for u in UNITS if u.card)
@@ -97,7 +98,16 @@ BY_KEY: dict[str, CardSpec] = {c.key: c for c in CARDS}
 #: Fields of a CONTACT slave record (its second block).
 CONTACT_SLAVES = CardSpec("CONTACT", "CONT", ("SET",), "SLAVE")
 #: Cards that may appear at most once.
-SINGLE_CARDS = ("TITLE", "PARAMETERS", "BODY", "TRACE", "UNITS", "MODAL", "PLATES")
+SINGLE_CARDS = (
+    "TITLE",
+    "PARAMETERS",
+    "BODY",
+    "TRACE",
+    "UNITS",
+    "MODAL",
+    "PLATES",
+    "TEMPERATURE",
+)
 
 
 def card_for_word(word: str) -> CardSpec | None:

@@ -173,7 +173,7 @@ class _Gate:
     """
 
     def __init__(self) -> None:
-        self.text = False  # inside TITLE, USRFRC or UNITS
+        self.text = False  # inside TITLE, USRFRC, UNITS or TEMPERATURE
         self.ends = 0  # ENDs still needed by the open value card (0: between cards)
 
     def scan(self, text: str) -> int:
@@ -203,7 +203,7 @@ class _Gate:
         key = m.group(1).upper() if m else ""
         if key not in BY_KEY:
             return False
-        if key in ("TITL", "USRF", "UNIT"):
+        if key in ("TITL", "USRF", "UNIT", "TEMP"):
             self.text = True
             return True
         self.ends = 2 if key == "CONT" else 1

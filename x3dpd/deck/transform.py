@@ -39,6 +39,7 @@ from x3dpd.deck.cards import (
 )
 from x3dpd.deck.modal_card import parse_modal
 from x3dpd.deck.plates_card import parse_plates
+from x3dpd.deck.temperature_card import parse_temperature_card, resolved
 from x3dpd.deck.transform_contact import ContactCards
 from x3dpd.deck.fields import BY_NAME, SINGLE_CARDS
 from x3dpd.deck.records import (  # noqa: F401  (Piece, to_float re-exported)
@@ -103,6 +104,10 @@ class DeckTransformer(ContactCards, Transformer):
     def plates(self, c: list[Token]) -> _Card:
         lines = [(str(t), t.line, t.column) for t in c[1:-1]]
         return "PLATES", c[0], parse_plates(lines)
+
+    def temperature(self, c: list[Token]) -> _Card:
+        lines = [(str(t), t.line, t.column) for t in c[1:-1]]
+        return "TEMPERATURE", c[0], parse_temperature_card(_pos(c[0]), lines)
 
     # -- value cards ------------------------------------------------------------------------
     def parameters(self, c: list[Any]) -> _Card:
@@ -343,4 +348,9 @@ class DeckTransformer(ContactCards, Transformer):
             modal=single.get("MODAL"),
             plates=single.get("PLATES"),
             unit_records=many("UNIT") or None,
+            temperature=(  # its bare numbers are on the UNITS card's scale
+                resolved(single["TEMPERATURE"], single.get("UNITS"))
+                if "TEMPERATURE" in single
+                else None
+            ),
         )

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from x3dpd.api.figures import attenuations, plot_responses, plot_sweep
-from x3dpd.api.decks import read_deck
+from x3dpd.api.decks import read_deck, with_temperature
 from x3dpd.design.drive import check_levels, displacement_amplitude, parse_amplitudes
 from x3dpd.design.spec import (
     SweepSpec,
@@ -55,6 +55,7 @@ def sweep_command(
     drive: str = "force",
     measured_files: Sequence[str] = (),
     measured_scale: float = 1.0,
+    temperature: str | None = None,
     echo: Callable[[str], None] = print,
 ) -> list[dict]:
     """Run a sweep into ``out`` (sweep.csv, sweep.png, points/; with ``responses``
@@ -62,8 +63,11 @@ def sweep_command(
     sine force on the node) or "base" (the node moved, x3dpd.design.drive; sweep.png then
     shows the transmissibility at the responses). ``criterion`` how each point is measured
     (x3dpd.design.steady_state.Criterion). ``measured_files``: measured FRFs
-    (``FILE[@NODE:DOF]``) drawn on the plots (x3dpd.design.sweep_measured)."""
+    (``FILE[@NODE:DOF]``) drawn on the plots (x3dpd.design.sweep_measured). ``temperature``
+    (not None): the operating temperature over the deck's TEMPERATURE card's."""
     deck = read_deck(deck_path)
+    if temperature is not None:
+        deck = with_temperature(deck, temperature)
     system = deck.units.system if deck.units is not None else None
     quantity, drives = parse_amplitudes(amps, drive, standard_gravity(system))
     measured = parse_responses(responses, deck)
@@ -83,7 +87,7 @@ def sweep_command(
     frfs = read_measured(measured_files, points, measured_scale)
     spec = SweepSpec(
         deck=deck,
-        deck_text_hash=deck_hash(deck_path),
+        deck_text_hash=deck_hash(deck_path) + (f"@{temperature}" if temperature else ""),
         frequencies=() if auto else frequencies,
         auto=auto,
         drives=drives,

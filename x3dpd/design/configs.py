@@ -50,6 +50,7 @@ from x3dpd.api.decks import (
     is_user_file,
     with_cavities,
     with_material,
+    with_temperature,
 )
 from x3dpd.design.baselines import particle_mass, without_particles
 from x3dpd.design.config_cavity import (
@@ -65,6 +66,7 @@ from x3dpd.design.config_mip import MIP_KEYS, make_mip
 from x3dpd.design.design_file import Configuration, DesignFile
 from x3dpd.design.levels import deck_at_level
 from x3dpd.errors import InputError
+from x3dpd.materials import from_kelvin, temperature_unit_for
 
 #: Keys that make a configuration refill its cavity.
 REFILL = (
@@ -202,6 +204,12 @@ def _make(
             f"{design.structure.name} has no PDMP card to give the "
             "particles a material; start from a deck with particles",
         )
+    if "temperature" in v:  # the materials at it, checked here to name the configuration
+        try:
+            deck = with_temperature(deck, v["temperature"], origin="the design's temperature")
+            build(deck)
+        except InputError as exc:
+            config_error(design, config, f"temperature: {getattr(exc, 'message', exc)}")
     if "material" in v:
         deck = replace(deck, pdmp=(with_material(pd, v["material"], deck.units),) + deck.pdmp[1:])
         pd = deck.pdmp[0]
@@ -329,6 +337,7 @@ def _resolved(deck: Deck, axis: int, values: dict, set_id: int | None) -> dict:
         "added_mass": particle_mass(model),
         "dt": float(deck.parameters.dtmax),
         "stiffness_scale": float(values.get("stiffness_scale", 1.0)) if n else 1.0,
+        "temperature": _degrees(deck, model),
         "fill_ratio": math.nan,
         "cavity_length": math.nan,
         "clearance": math.nan,
@@ -362,6 +371,16 @@ def _resolved(deck: Deck, axis: int, values: dict, set_id: int | None) -> dict:
         out["fill_ratio"] = along.size * 4.0 / 3.0 * math.pi * out["radius"] ** 3 / volume
         out["clearance"] = out["cavity_length"] - float(np.ptp(along) + 2.0 * out["radius"])
     return out
+
+
+def _degrees(deck: Deck, model) -> float:
+    """The operating temperature of a deck with a TEMPERATURE card on its UNITS card's scale
+    (degF for inch decks, degC for metric ones) to 12 digits, NaN without one."""
+    if model.temperature is None:
+        return math.nan
+    system = deck.units.system if deck.units is not None else None
+    degrees = from_kelvin(model.temperature.operating, temperature_unit_for(system))
+    return float(f"{degrees:.12g}")  # 70 F back as 70, not 69.99999999999996
 
 
 def write_configurations(made: list[Made], out: Path, design: DesignFile) -> list[Made]:

@@ -43,6 +43,7 @@ CONFIG_KEYS = (
     "seed",
     "dt",
     "stiffness_scale",
+    "temperature",
 ) + MIP_KEYS  # a multiple individual particle damper's plates (x3dpd.design.config_mip)
 #: How many particles: at most one of these per configuration (none: the deck's count).
 AMOUNT_KEYS = ("count", "fill_ratio", "particle_mass")
@@ -325,6 +326,7 @@ def _label(key: str, value) -> str:
         "end_plate": "end",
         "lumped": "lumped",
         "start": "",
+        "temperature": "T",
     }
     if isinstance(value, tuple):
         value = "x".join(f"{v:g}" for v in value)

@@ -109,6 +109,10 @@ class Reader:
             return self.number(value, keys, positive=False, integer=True, minimum=0)
         if key == "cavities":
             return self.number(value, keys, integer=True)
+        if key == "temperature":  # read with the deck's units when the deck is made
+            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+                self.fail(keys, f"expected a temperature (850F, 455C, or a number), got {value!r}")
+            return value
         if key == "stiffness_scale":
             value = self.number(value, keys)
             if value > 1:

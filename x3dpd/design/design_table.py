@@ -47,6 +47,7 @@ COLUMNS = (
     "clearance",
     "dt",
     "stiffness_scale",
+    "temperature",
     "added_mass",
     "mass_ratio",
     "evaluation",
@@ -121,6 +122,7 @@ def _config_columns(c) -> dict:
                 "added_mass",
             )
         },
+        "temperature": v.get("temperature", math.nan),
         "mass_ratio": v.get("mass_ratio", math.nan),
         "notes": " | ".join(v.get("notes", ())),
     }

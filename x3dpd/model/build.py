@@ -28,6 +28,7 @@ from x3dpd.model.build_structure import StructureSteps
 from x3dpd.model.build_units import UnitSteps
 from x3dpd.model.build_walls import WallSteps
 from x3dpd.model.model import Model
+from x3dpd.model.temperature import warmed
 
 if TYPE_CHECKING:  # the builder reads cards by attribute; it needs no runtime import of them
     from x3dpd.deck.cards import Deck
@@ -52,7 +53,12 @@ def build_model(deck: Deck, *, usrfrc: Sequence[str] = (), motion: Sequence[str]
     DeckError
         At the first record that is inconsistent with the rest of the deck.
     """
-    return _Builder(deck, tuple(usrfrc), tuple(motion)).build()
+    model = _Builder(deck, tuple(usrfrc), tuple(motion)).build()
+    if getattr(deck, "temperature", None) is None:
+        return model
+    # TEMPERATURE (x3dpd.model.temperature): the cards carried to the operating temperature,
+    # built again; ``model`` (the deck as written: the assembly temperature) tells how
+    return warmed(deck, model, lambda cards: _Builder(cards, tuple(usrfrc), tuple(motion)).build())
 
 
 class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps, UnitSteps):

@@ -52,6 +52,7 @@ from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
 from x3dpd.model.rules_of_thumb import RuleNote, rules_of_thumb
 from x3dpd.physics.effect_units import UNITS
+from x3dpd.model.temperature import check_findings, check_lines
 from x3dpd.physics.usrfrc import is_user_file
 from x3dpd.physics.wall_material import mixed_modulus, plane_strain_modulus
 from x3dpd.model.timestep import (
@@ -135,6 +136,7 @@ class CheckReport:
     rules: tuple[RuleNote, ...] = ()
     #: the Python files a run of this deck executes (USRFRC user force files, deck and option)
     code_files: tuple[str, ...] = ()
+    temperature: tuple[str, ...] = ()  # the TEMPERATURE card's lines (x3dpd.model.temperature)
 
     @property
     def n_particles(self) -> int:
@@ -218,6 +220,7 @@ def check_model(
     for code, head, lines in modal_warnings(model) + unit_findings:
         warnings.append(Finding(code, head, _listed(lines)))
     warnings += [Finding(code, head, lines) for code, head, lines in jammed_beds(model, usrfrc)]
+    warnings += [Finding(code, head, tuple(lines)) for code, head, lines in check_findings(model)]
     pairs, depth = particle_overlaps(model)
     if pairs.shape[0]:
         rad = dict(zip(model.node_ids[ps:].tolist(), model.radius.tolist()))
@@ -286,6 +289,7 @@ def check_model(
         warnings=tuple(warnings),
         errors=tuple(Finding("extreme-value", text) for text in magnitude_errors(model)),
         modes=tuple(modal_table(model)),
+        temperature=tuple(check_lines(model)),
         rules=tuple(rules_of_thumb(model, usrfrc=usrfrc)),
         code_files=tuple(
             dict.fromkeys(spec for spec in (*model.usrfrc, *usrfrc) if is_user_file(spec))

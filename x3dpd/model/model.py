@@ -113,6 +113,9 @@ class Model:
     modal : the modal structure (MODAL card; x3dpd.model.modal_structure), None without one.
     unit_data : the arrays of the effect units with a card of their own, by unit name (their
         ``build`` of the card's records: x3dpd.physics.effect_units); empty without such cards.
+    temperature : what the TEMPERATURE card did (x3dpd.model.temperature.AtTemperature: the
+        temperatures, each material's strain and ratios, each cavity's clearance at both), None
+        without one: the arrays above are then the deck's at its operating temperature.
     """
 
     node_ids: np.ndarray
@@ -186,6 +189,7 @@ class Model:
     rotational_k: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     rotational_c: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     unit_data: dict = field(default_factory=dict)
+    temperature: object | None = None
 
     @property
     def n_nodes(self) -> int:

@@ -104,11 +104,15 @@ def ringdown_command(
     g: float = G_IN_S2,
     overwrite: bool = False,
     measured: tuple[str, ...] = (),
+    temperature: str | None = None,
     echo=print,
 ) -> dict[str, Ringdown]:
     """``x3dpd ringdown``: a trace file, or a deck (driven, released, with its baseline);
-    ``measured`` ring-downs (CSV or UFF files) are analysed the same way and overlaid."""
+    ``measured`` ring-downs (CSV or UFF files) are analysed the same way and overlaid;
+    ``temperature`` (not None) runs a deck at that operating temperature (its TEMPERATURE
+    card's replaced)."""
     from x3dpd.api import load_deck
+    from x3dpd.api.decks import with_temperature
 
     measured_series = {}
     for path in measured:  # read and analysed first: a bad file stops before any run
@@ -117,6 +121,8 @@ def ringdown_command(
     src = Path(source)
     is_trace = src.name.endswith(".txt") or Path(str(src) + ".json").exists()
     series: dict[str, Ringdown] = {}
+    if is_trace and temperature is not None:
+        raise InputError(f"--temperature {temperature}: {src} is a trace; it applies to a deck")
     if is_trace:
         if node is None:
             raise InputError(f"{src}: give --node N (the node of the trace to analyse)")
@@ -125,6 +131,8 @@ def ringdown_command(
             series["baseline"] = ringdown_of_trace(baseline, node, dof, t_from=t_from, g=g)
     else:
         deck = load_deck(src)
+        if temperature is not None:
+            deck = with_temperature(deck, temperature)
         if node is None:
             node = default_drive_point(deck)[0]
         echo(f"ringdown {src}: driven to t = {drive_until:g} s, then {ring:g} s free")
