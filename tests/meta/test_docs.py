@@ -35,10 +35,15 @@ LINKED = (README, ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").glob("*.md")))
 MAX_README_LINES = 350
 
 #: The step loop's bundle arguments as the docs write them (``pairs.history``): argument name
-#: (ADVANCE_BUNDLES) -> class in x3dpd.solver.bundles.
-_BUNDLES = "Nodes Loads Springs RigidBodies Particles Faces ContactList ContactList Shapes Modal"
+#: (ADVANCE_BUNDLES, but ``units``: the effect units' bundles, each of its own class) -> class in
+#: x3dpd.solver.bundles.
+_BUNDLES = "Nodes Loads RigidBodies Particles Faces ContactList ContactList Shapes"
 BUNDLE_ARGUMENTS = dict(
-    zip(ADVANCE_BUNDLES, (*_BUNDLES.split(), "Stepping", "Output"), strict=True)
+    zip(
+        (name for name in ADVANCE_BUNDLES if name != "units"),
+        (*_BUNDLES.split(), "Stepping", "Output"),
+        strict=True,
+    )
 )
 #: Names the docs use that are not x3dpd's: numba's, LLVM's and the environment's.
 NOT_OURS = {"NUMBA_OPT", "NUMBA_LLVM_PASS_TIMINGS", "NUMBA_NUM_THREADS", "LocalCluster"}
@@ -325,6 +330,7 @@ def test_the_registries_in_architecture_md_are_the_codes():
         "x3dpd.physics.tangential_laws.TANGENTIAL_LAWS",
         "x3dpd.physics.rolling.ROLLING_LAWS",
         "x3dpd.geometry.shapes.BY_SHAPE_NAME",
+        "x3dpd.physics.effect_units.BY_UNIT_NAME",
     ):
         assert registry in listed, f"docs/architecture.md's registry table lacks {registry}"
     assert not registry_problems(text)

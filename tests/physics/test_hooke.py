@@ -91,4 +91,4 @@ def test_bad_hooke_cards_are_deck_errors(card, message):
 def test_a_deck_without_hooke_runs_the_report_law():
     text = _deck_text("")
     model = build_model(parse_deck(text, "deck.inp"))
-    assert model.normal_law == "lee_radok" and model.hooke is None
+    assert model.normal_law == "lee_radok" and model.law_params is None

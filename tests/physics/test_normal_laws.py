@@ -3,11 +3,13 @@ the loop's own bundle, against the closed forms of their modules' docstrings."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
+from x3dpd.deck.cards import Deck, Hooke
 from x3dpd.physics import hooke, maxwell
 from x3dpd.physics.hertz import (
     effective_modulus_pair,
@@ -17,7 +19,12 @@ from x3dpd.physics.hertz import (
     hertz_energy,
 )
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
-from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAW_CHECKS, NORMAL_LAWS
+from x3dpd.physics.normal_laws import (
+    NORMAL_LAW_API,
+    NORMAL_LAW_CHECKS,
+    NORMAL_LAW_SETUP,
+    NORMAL_LAWS,
+)
 from x3dpd.solver.bundles import Particles
 from x3dpd.solver.contact_lists import S_H
 
@@ -65,8 +72,48 @@ def _particles(e_terms=(E0,), taus=(math.inf,), hooke_law=None) -> Particles:
 
 def test_every_registered_law_provides_the_loop_api():
     for name, module in NORMAL_LAWS.items():
-        missing = [a for a in NORMAL_LAW_API + NORMAL_LAW_CHECKS if not hasattr(module, a)]
+        wanted = NORMAL_LAW_API + NORMAL_LAW_CHECKS + NORMAL_LAW_SETUP
+        missing = [a for a in wanted if not hasattr(module, a)]
         assert not missing, f"{name}: {missing}"
+
+
+def test_a_law_with_a_card_is_read_by_its_card_and_params():
+    """The model builder finds a law's records as the deck's field named after its CARD and
+    each record's constants by its PARAMS (x3dpd.model.build_particles._normal_law): the names
+    must be the deck reader's. One law, the default, has no card."""
+    deck_fields = {f.name: f for f in dataclasses.fields(Deck)}
+    assert [name for name, law in NORMAL_LAWS.items() if law.CARD is None] == ["lee_radok"]
+    for name, law in NORMAL_LAWS.items():
+        if law.CARD is None:
+            assert law.PARAMS == () and law.WALL_STIFFNESS is None
+            continue
+        assert law.CARD.lower() in deck_fields, name
+        record = {"HOOKE": Hooke}[law.CARD]
+        assert {p.lower() for p in law.PARAMS} <= {f.name for f in dataclasses.fields(record)}
+        assert law.WALL_STIFFNESS in (None, *law.PARAMS)
+
+
+def test_the_hooke_tables_from_its_card_constants():
+    """law_tables and kind_keys as the solver's setup calls them: k_n and c_n = 2 zeta
+    sqrt(m* k_n) per particle on a wall and per pair of kinds (harmonic mean of k, mean of
+    zeta), zeta from e (computed here), and the constants that tell kinds apart."""
+    params = np.array([[1e4, 0.8], [3e4, 0.5]])
+    mass = np.array([2e-3, 5e-3])
+    wall, pair = hooke.law_tables(params, mass, np.array([0, 1]))
+
+    def zeta(e):
+        return -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
+
+    assert wall[1, 0] == 3e4
+    assert wall[1, 1] == pytest.approx(2 * zeta(0.5) * math.sqrt(5e-3 * 3e4), rel=1e-14)
+    k01 = 2 * 1e4 * 3e4 / 4e4
+    m01 = 2e-3 * 5e-3 / 7e-3
+    assert pair[0, 1, 0] == pytest.approx(k01, rel=1e-15)
+    assert pair[0, 1, 1] == pytest.approx(
+        2 * 0.5 * (zeta(0.8) + zeta(0.5)) * math.sqrt(m01 * k01), rel=1e-14
+    )
+    keys = hooke.kind_keys(params, mass)
+    assert [list(k) for k in keys] == [[1e4, 3e4], [0.8, 0.5], list(mass)]
 
 
 @pytest.mark.parametrize("a", [1e-7, 3e-5, 2e-4])

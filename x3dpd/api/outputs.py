@@ -59,7 +59,17 @@ _POSITION_FIELDS = frozenset(
 )
 #: Cards added to the language later: absent, they leave the key of older decks unchanged.
 _ABSENT_IS_OLD = frozenset(
-    {"units", "hooke", "analytic_walls", "modal", "wallmat", "friction", "plates", "temperature"}
+    {
+        "units",
+        "hooke",
+        "analytic_walls",
+        "modal",
+        "wallmat",
+        "friction",
+        "plates",
+        "temperature",
+        "unit_records",
+    }
 )
 
 

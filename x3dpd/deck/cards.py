@@ -283,6 +283,17 @@ class AnalyticWall:
 
 
 @dataclass(frozen=True)
+class UnitRecord:
+    """One record of an effect unit's own card (our extension; x3dpd.physics.effect_units):
+    the values of the card's fields in order (a node field's an int: the node id)."""
+
+    unit: str
+    values: tuple[float | int, ...]
+    pos: Pos = NOWHERE
+    positions: tuple[Pos, ...] = ()  # where each value stands (for messages)
+
+
+@dataclass(frozen=True)
 class Units:
     """UNITS (our extension): the deck's unit system, ``LENGTH FORCE TIME`` (x3dpd.units)."""
 
@@ -325,5 +336,7 @@ class Deck:
     #: PLATES card (x3dpd.deck.plates_card) not yet built into the deck's cards; a deck read
     #: from a file has it built (x3dpd.deck.plates.expand_plates) and None here
     plates: tuple[Plate, ...] | None = None
+    #: records of the effect units' own cards in file order (None: no such card)
+    unit_records: tuple[UnitRecord, ...] | None = None
     #: TEMPERATURE card (x3dpd.deck.temperature_card); None: the deck's numbers as they stand
     temperature: Temperature | None = None

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from x3dpd.geometry.shapes import SHAPES
+from x3dpd.physics.effect_units import UNITS
 
 
 @dataclass(frozen=True)
@@ -85,6 +86,10 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("PLATES", "PLAT", ("RECORD",)),
     CardSpec("TEMPERATURE", "TEMP", ("RECORD",)),
 ) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)  # CYLINDER, CAPSULE ...
+# the effect units' own cards (x3dpd.physics.effect_units)
+CARDS += tuple(CardSpec(u.card.name, u.card.key, u.card.fields) for u in UNITS if u.card)
+if len({c.key for c in CARDS}) != len(CARDS):
+    raise ValueError(f"two cards share their four letters: {sorted(c.key for c in CARDS)}")
 
 #: Card spec by canonical name.
 BY_NAME: dict[str, CardSpec] = {c.name: c for c in CARDS}

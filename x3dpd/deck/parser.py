@@ -1,3 +1,4 @@
+# Over 400 lines: the generated grammar, the block reader and its error messages are one reader.
 """Read an X3D deck: text -> :class:`~x3dpd.deck.cards.Deck`, or one clear :class:`DeckError`.
 
 Three stages:
@@ -36,6 +37,7 @@ from x3dpd.deck.records import _split
 from x3dpd.deck.transform import DeckTransformer
 from x3dpd.errors import DeckError
 from x3dpd.geometry.shapes import SHAPES
+from x3dpd.physics.effect_units import UNITS
 
 #: Longest line accepted [bytes]; a longer one is not a deck (a list continues with '&').
 MAX_LINE = 1 << 20
@@ -65,13 +67,30 @@ _WORD_AT = re.compile(r"[^\s,$&]*")
 
 def grammar() -> str:
     """The deck grammar: ``x3d.lark`` with a keyword for every registered analytic wall shape
-    (x3dpd.geometry.shapes)."""
+    (x3dpd.geometry.shapes) and for every effect unit's own card (x3dpd.physics.effect_units)."""
     text = (Path(__file__).with_name("x3d.lark")).read_text()
     terminals = [s.card for s in SHAPES]
     keywords = "\n".join(f"{s.card}: /{s.key}/i _MORE" for s in SHAPES)
-    return text.replace("%SHAPE_TERMINALS%", " | ".join(terminals)).replace(
-        "%SHAPE_KEYWORDS%", keywords
+    cards = [u.card for u in UNITS if u.card is not None]
+    unit_terminals = [_terminal(c.name) for c in cards]
+    return (
+        text.replace("%SHAPE_TERMINALS%", " | ".join(terminals))
+        .replace("%SHAPE_KEYWORDS%", keywords)
+        .replace("%UNIT_CARD_ALTERNATIVE%", "| unit_card" if cards else "")
+        .replace(
+            "%UNIT_CARD_RULE%",
+            f"unit_card: ({' | '.join(unit_terminals)}) _records" if cards else "",
+        )
+        .replace(
+            "%UNIT_KEYWORDS%",
+            "\n".join(f"{t}: /{c.key}/i _MORE" for t, c in zip(unit_terminals, cards)),
+        )
     )
+
+
+def _terminal(card: str) -> str:
+    """The grammar's terminal of a unit's card keyword (its first word)."""
+    return card.split()[0].upper()
 
 
 @cache

@@ -33,6 +33,7 @@ from x3dpd.deck.cards import (
     Rbel,
     Title,
     Trace,
+    UnitRecord,
     Units,
     Usrfrc,
 )
@@ -61,7 +62,11 @@ from x3dpd.deck.records import (  # noqa: F401  (Piece, to_float re-exported)
     to_float,
 )
 from x3dpd.errors import DeckError
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.units import parse_units
+
+#: The effect unit of each unit card's keyword terminal (its name's first word).
+_UNIT_OF_KEYWORD = {u.card.name.split()[0].upper(): u for u in UNITS if u.card is not None}
 
 #: What a card callback returns: canonical card name, keyword token, card or list of records.
 _Card = tuple[str, Token, Any]
@@ -280,6 +285,22 @@ class DeckTransformer(ContactCards, Transformer):
         return "INITIAL", c[0], out
 
     # -- the whole deck ---------------------------------------------------------------------
+    def unit_card(self, c: list[Any]) -> _Card:
+        """A card of an effect unit's own (x3dpd.physics.effect_units): the card's values per
+        record, its node fields integers."""
+        unit = _UNIT_OF_KEYWORD[c[0].type]  # the grammar's terminal is the keyword's first word
+        card, spec = unit.card, BY_NAME[unit.card.name]
+        n = len(card.fields)
+        out = []
+        for rec, v in _counted(spec, c[1:-1], n, n, f"{n} values: {' '.join(card.fields)}"):
+            floats = _floats(spec, rec, v)
+            values = tuple(
+                _int(spec, rec, v, i) if name in card.node_fields else floats[i]
+                for i, name in enumerate(card.fields)
+            )
+            out.append(UnitRecord(unit.name, values, _first(rec), _positions(rec, 0)))
+        return "UNIT", c[0], out
+
     def start(self, cards: list[_Card]) -> Deck:
         single: dict[str, Any] = {}
         seen: dict[str, Token] = {}
@@ -326,6 +347,7 @@ class DeckTransformer(ContactCards, Transformer):
             analytic_walls=many("ANALYTIC") or None,
             modal=single.get("MODAL"),
             plates=single.get("PLATES"),
+            unit_records=many("UNIT") or None,
             temperature=(  # its bare numbers are on the UNITS card's scale
                 resolved(single["TEMPERATURE"], single.get("UNITS"))
                 if "TEMPERATURE" in single

@@ -18,6 +18,7 @@ from x3dpd.deck.cards import Deck
 from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, MATID_FIELDS, PARAMETER_FIELDS, PDMP_FIELDS
 from x3dpd.deck.temperature_card import RECORDS, card_lines
 from x3dpd.geometry.shapes import SHAPES
+from x3dpd.physics.effect_units import UNITS
 
 #: Values per line before a list record (TRACE, RBEL, slave set) is continued with ``&``.
 PER_LINE = 10
@@ -229,6 +230,14 @@ def format_deck(deck: Deck) -> str:
             _card(out, shape.card, shape.fields)
             for w in mine:
                 _record([_i(w.set_id)] + [_i(n) for n in w.nodes] + [_f(v) for v in w.params], out)
+            out.append("END")
+    for unit in UNITS:  # the effect units' own cards, one per unit used
+        mine = [r for r in deck.unit_records or () if r.unit == unit.name]
+        if mine and unit.card is not None:
+            _card(out, unit.card.name, unit.card.fields)
+            nodes = [f in unit.card.node_fields for f in unit.card.fields]
+            for r in mine:
+                _record([_i(v) if is_node else _f(v) for v, is_node in zip(r.values, nodes)], out)
             out.append("END")
     if deck.units is not None:
         out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]

@@ -25,6 +25,7 @@ from x3dpd.model.build_loads import LoadSteps
 from x3dpd.model.build_modal import ModalSteps
 from x3dpd.model.build_particles import ParticleSteps
 from x3dpd.model.build_structure import StructureSteps
+from x3dpd.model.build_units import UnitSteps
 from x3dpd.model.build_walls import WallSteps
 from x3dpd.model.model import Model
 from x3dpd.model.temperature import warmed
@@ -60,7 +61,7 @@ def build_model(deck: Deck, *, usrfrc: Sequence[str] = (), motion: Sequence[str]
     return warmed(deck, model, lambda cards: _Builder(cards, tuple(usrfrc), tuple(motion)).build())
 
 
-class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
+class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps, UnitSteps):
     """One build: the steps in order, then the :class:`Model` (steps: ``build_*`` modules)."""
 
     # -- build --------------------------------------------------------------------------------
@@ -88,6 +89,7 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
         self._rigid_bodies()
         self._modal()
         self._walls()
+        unit_data = self._unit_data()
         v0 = self._initial_velocities()
         trace = self._trace()
         self._zero_mass_check()
@@ -155,6 +157,7 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
             ),
             path=deck.path,
             modal=self.modal,
+            unit_data=unit_data,
             **self._normal_law(),
             wall_material=self._wall_materials(),
             **self._friction_fields(),
@@ -261,4 +264,4 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps):
             eff.add("external_force")
         if self.motion:
             eff.add("prescribed_motion")
-        return frozenset(eff)
+        return frozenset(eff | self.unit_effects)

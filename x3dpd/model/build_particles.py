@@ -9,6 +9,7 @@ import numpy as np
 
 from x3dpd.errors import DeckError
 from x3dpd.model.build_base import BuilderBase, _ro
+from x3dpd.physics.normal_laws import NORMAL_LAWS
 
 
 class ParticleSteps(BuilderBase):
@@ -59,44 +60,59 @@ class ParticleSteps(BuilderBase):
         self.moduli = moduli[self.group].reshape(-1, k)
         self.taus = taus[self.group].reshape(-1, k)
 
+    def _card_law(self):
+        """``(name, law module, records)`` of the normal law a card of the deck selects (the
+        HOOKE card: x3dpd.physics.normal_laws, a law's ``CARD``), or None: the report's law."""
+        for name, law in NORMAL_LAWS.items():
+            records = getattr(self.deck, law.CARD.lower()) if law.CARD else None
+            if records:
+                return name, law, records
+        return None
+
     def _normal_law(self) -> dict:
-        """The HOOKE card (our extension): the linear spring-dashpot law for the PDMP groups it
-        names. A scene runs one normal law, so it must name every group."""
-        records = self.deck.hooke
-        if not records:
+        """The normal law a card selects (the HOOKE card, our extension: the linear
+        spring-dashpot law) for the PDMP groups it names, with the law's constants (its
+        ``PARAMS``) per particle. A scene runs one normal law, so it must name every group."""
+        selected = self._card_law()
+        if selected is None:
             return {}
+        name, law, records = selected
+        card = law.CARD
         cards = self.deck.pdmp
         by_nodlim = {c.nodlim: k for k, c in enumerate(cards)}
-        params = np.full((len(cards), 2), np.nan)
+        params = np.full((len(cards), len(law.PARAMS)), np.nan)
         for r in records:
             if r.nodlim not in by_nodlim:
                 raise self.error(
                     f"NODLIM {r.nodlim} names no PDMP group (PDMP NODLIMs: "
                     f"{', '.join(str(c.nodlim) for c in cards) or 'none'})",
                     r.pos,
-                    "HOOKE",
+                    card,
                 )
             k = by_nodlim[r.nodlim]
             if not np.isnan(params[k, 0]):
-                raise self.error(f"PDMP group NODLIM {r.nodlim} is given twice", r.pos, "HOOKE")
+                raise self.error(f"PDMP group NODLIM {r.nodlim} is given twice", r.pos, card)
             if cards[k].e1 != 0.0 or cards[k].extra_terms:
                 raise self.error(
                     f"PDMP group NODLIM {r.nodlim} has Maxwell terms (E1 = "
-                    f"{cards[k].e1:g}): the HOOKE law replaces the viscoelastic "
+                    f"{cards[k].e1:g}): the {card} law replaces the viscoelastic "
                     f"law; set E1 to 0",
                     r.pos,
-                    "HOOKE",
+                    card,
                 )
-            params[k] = r.kn, r.e
+            params[k] = [getattr(r, field.lower()) for field in law.PARAMS]
         missing = [c.nodlim for c, p in zip(cards, params) if np.isnan(p[0])]
         if missing:
             raise self.error(
-                f"a scene runs one normal law: give every PDMP group a HOOKE record "
+                f"a scene runs one normal law: give every PDMP group a {card} record "
                 f"(missing NODLIM {', '.join(map(str, missing))})",
                 records[0].pos,
-                "HOOKE",
+                card,
             )
-        return {"normal_law": "hooke", "hooke": _ro(params[self.group].reshape(-1, 2))}
+        return {
+            "normal_law": name,
+            "law_params": _ro(params[self.group].reshape(-1, len(law.PARAMS))),
+        }
 
     def _friction_card(self) -> None:
         """The FRICTION card (our extension): per PDMP group its static and kinetic mu (they

@@ -130,11 +130,13 @@ class WallSteps(BuilderBase):
         records = self.deck.wallmat
         if not records:
             return None
-        if self.deck.hooke:
+        selected = self._card_law()
+        if selected is not None and selected[1].WALL_STIFFNESS:
+            card = selected[1].CARD
             raise self.error(
-                "the HOOKE law gives its wall stiffness KN directly, so a wall "
-                "material has nothing to act on; remove WALLMAT or the HOOKE "
-                "card (WALLMAT applies to the Hertz law of PDMP)",
+                f"the {card} law gives its wall stiffness {selected[1].WALL_STIFFNESS} "
+                f"directly, so a wall material has nothing to act on; remove WALLMAT or the "
+                f"{card} card (WALLMAT applies to the Hertz law of PDMP)",
                 records[0].pos,
                 "WALLMAT",
             )

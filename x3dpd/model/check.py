@@ -1,3 +1,4 @@
+# Over 400 lines: check_model gathers every finding of x3dpd check (their parts: check_*.py).
 """Pre-run check of a model: summary, recommended time step and geometry warnings.
 
 :func:`check_model` never changes the model; it returns a :class:`CheckReport` whose
@@ -50,6 +51,7 @@ from x3dpd.model.check_modal import modal_table, modal_warnings
 from x3dpd.model.magnitudes import magnitude_errors
 from x3dpd.model.model import Model
 from x3dpd.model.rules_of_thumb import RuleNote, rules_of_thumb
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.model.temperature import check_findings, check_lines
 from x3dpd.physics.usrfrc import is_user_file
 from x3dpd.physics.wall_material import mixed_modulus, plane_strain_modulus
@@ -214,7 +216,9 @@ def check_model(
     warnings += [
         Finding(code, head, _listed(lines)) for code, head, lines in shape_warnings(model, REL_TOL)
     ]
-    warnings += [Finding(code, head, _listed(lines)) for code, head, lines in modal_warnings(model)]
+    unit_findings = [f for u in UNITS if u.check is not None for f in u.check(model)]
+    for code, head, lines in modal_warnings(model) + unit_findings:
+        warnings.append(Finding(code, head, _listed(lines)))
     warnings += [Finding(code, head, lines) for code, head, lines in jammed_beds(model, usrfrc)]
     warnings += [Finding(code, head, tuple(lines)) for code, head, lines in check_findings(model)]
     pairs, depth = particle_overlaps(model)

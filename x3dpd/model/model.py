@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from x3dpd.model.modal_structure import ModalStructure
+from x3dpd.physics.effect_units import UNITS
 
 # Names of the effects a scene can call for. The solver compiles exactly these.
 EFFECTS = (
@@ -33,6 +34,8 @@ EFFECTS = (
     "prescribed_motion",  # --motion
     "modal_structure",  # MODAL card (x3dpd.physics.modal)
 )
+# and the effects of the effect units (x3dpd.physics.effect_units) a unit card of its own names
+EFFECTS += tuple(e for u in UNITS for e in u.effects if e not in EFFECTS)
 
 
 @dataclass(frozen=True)
@@ -58,9 +61,10 @@ class Model:
     particle_group : (P,) int64, index of the PDMP card the particle belongs to.
     particle_cavity : (P,) int64, cavity index whose walls the particle meets (-1: none).
     normal_law : str, the normal contact law of every particle (x3dpd.physics.normal_laws):
-        "lee_radok" (the report's), or "hooke" (HOOKE card).
-    hooke : (P, 2) float64, k_n [force/length] and restitution e per particle (HOOKE card;
-        zeros under another law).
+        "lee_radok" (the report's), or the law a card selects ("hooke": HOOKE card).
+    law_params : (P, n) float64, the normal law's own constants per particle from its card, in
+        the law's PARAMS order (HOOKE: k_n [force/length] and restitution e), or None under
+        the report's law.
 
     spring_nodes : (S, 2) int64, node indices; second is -1 for a spring to ground.
     spring_k, spring_c : (S, 3) float64, stiffness [force/length] and damping [force s/length]
@@ -107,6 +111,8 @@ class Model:
     title : str, path : str.
     units : (length, force, time) unit names the deck declares (UNITS card; x3dpd.units).
     modal : the modal structure (MODAL card; x3dpd.model.modal_structure), None without one.
+    unit_data : the arrays of the effect units with a card of their own, by unit name (their
+        ``build`` of the card's records: x3dpd.physics.effect_units); empty without such cards.
     temperature : what the TEMPERATURE card did (x3dpd.model.temperature.AtTemperature: the
         temperatures, each material's strain and ratios, each cavity's clearance at both), None
         without one: the arrays above are then the deck's at its operating temperature.
@@ -160,7 +166,7 @@ class Model:
     title: str = ""
     path: str = "<deck>"
     normal_law: str = "lee_radok"
-    hooke: np.ndarray | None = None
+    law_params: np.ndarray | None = None
     wall_material: np.ndarray | None = None
     #: FRICTION card: the tangential law of the whole scene (None: no card, the run's
     #: option decides), per particle the kinetic mu (mu = the static one) and the rolling
@@ -182,6 +188,7 @@ class Model:
     rotational_nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
     rotational_k: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     rotational_c: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    unit_data: dict = field(default_factory=dict)
     temperature: object | None = None
 
     @property

@@ -16,13 +16,31 @@ Units: stiffness k force/length, damping c force·s/length; L, L0 length.
 A deck element has two distinct nodes at distinct coordinates (L0 > 0, checked by the model
 builder); should the nodes meet during a run (L = 0) the direction is undefined and the
 element exerts no force at that instant.
+
+An effect unit (x3dpd.physics.effect_unit): its bundle :class:`AxialSprings`, its forces in
+the step loop's slot ``force`` and its energy in ``energy``; the model's ``axial_*`` arrays
+(x3dpd.model.build_structure) are its data.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
+
+import numpy as np
 
 from x3dpd._jit import kernel, step_kernel
+from x3dpd.physics.effect_unit import L_DDAMP, EffectUnit, StateArray
+
+
+class AxialSprings(NamedTuple):
+    """The MATID type 2 elements (A of them)."""
+
+    nodes: np.ndarray        # (A, 2) node indices
+    k: np.ndarray            # (A,) stiffness along the element's line [force/length]
+    c: np.ndarray            # (A,) damping along the line [force*s/length]
+    rest: np.ndarray         # (A,) rest length L0 [length]
+    fd_prev: np.ndarray      # (A, 3) damper force vectors on the first node, last step (state)
 
 
 @step_kernel
@@ -88,3 +106,38 @@ def _axial_spring_energy(x, nodes, k, rest):
         stretch = math.sqrt(dx * dx + dy * dy + dz * dz) - rest[s]
         u_total += 0.5 * k[s] * stretch * stretch
     return u_total
+
+
+@step_kernel
+def force_hook(u, nodes, rigid, stepping, t):
+    """Slot ``force``: the elements' forces; their dampers' dissipation to the ledger."""
+    stepping.ledger[L_DDAMP] += _axial_spring_forces(nodes.x, nodes.vel, u.nodes, u.k, u.c,
+                                                     u.rest, nodes.force, u.fd_prev,
+                                                     stepping.dt)
+
+
+@step_kernel
+def energy_hook(u, nodes, en):
+    """Slot ``energy``: the springs' energy into U_spring."""
+    en[3] += _axial_spring_energy(nodes.x, u.nodes, u.k, u.rest)
+    return 0.0
+
+
+def _setup(model, dt, nodes) -> dict:
+    return {"nodes": np.ascontiguousarray(model.axial_nodes, np.int64).reshape(-1, 2),
+            "k": np.ascontiguousarray(model.axial_k, np.float64),
+            "c": np.ascontiguousarray(model.axial_c, np.float64),
+            "rest": np.ascontiguousarray(model.axial_length, np.float64)}
+
+
+def _stiffness(c) -> list:
+    """k along each axis: the element's k e e^T is at most k I."""
+    return [(c["nodes"], np.repeat(np.abs(c["k"])[:, None], 3, axis=1), 0)]
+
+
+UNIT = EffectUnit(
+    name="axial_spring", flag="axial_springs", effects=("axial_springs",),
+    cards=("MATID", "ELEMENTS"), bundle=AxialSprings, setup=_setup,
+    hooks={"force": "force_hook", "energy": "energy_hook"},
+    state=(StateArray("fd_prev", "axial_fd_prev", "nodes", (3,)),), stiffness=_stiffness,
+    doc="MATID type 2: spring-dampers along the line between two nodes")

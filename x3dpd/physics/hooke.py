@@ -32,8 +32,9 @@ import numpy as np
 
 from x3dpd._jit import step_kernel
 
-__all__ = ["CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "damping_ratio", "dashpot",
-           "hooke_impact", "hooke_tables", "contact_time",
+__all__ = ["CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "CARD", "PARAMS", "WALL_STIFFNESS",
+           "damping_ratio", "dashpot", "hooke_impact", "hooke_tables", "law_tables", "kind_keys",
+           "contact_time",
            "wall_force", "pair_force", "stored_energy", "stiffness_shape",
            "tangential_stiffness", "tangential_damping"]
 
@@ -45,6 +46,13 @@ USES_RATE = True
 DAMPED = True
 #: How messages name an impact under this law (x3dpd check, the stop's diagnosis).
 CONTACT_NAME = "HOOKE"
+#: The deck card that selects the law, and its per-particle constants: a record per PDMP group
+#: (NODLIM KN E; x3dpd.model.build_particles, docs/deck-reference.md).
+CARD = "HOOKE"
+PARAMS = ("KN", "E")
+#: The card's field that gives the wall stiffness directly (a wall material, WALLMAT, has
+#: nothing to act on).
+WALL_STIFFNESS = "KN"
 
 
 def damping_ratio(e: float) -> float:
@@ -71,10 +79,10 @@ def _contact_constants(i, j) -> tuple[float, float, float]:
     """(m*, k_n, zeta) of particle ``i`` on a wall (``j`` None) or on ``j``, as the step loop
     forms them (:func:`hooke_tables`)."""
     if j is None:
-        return i.mass, i.stiffness, damping_ratio(i.restitution)
+        return i.mass, i.law[0], damping_ratio(i.law[1])
     return (i.mass * j.mass / (i.mass + j.mass),
-            2.0 * i.stiffness * j.stiffness / (i.stiffness + j.stiffness),
-            0.5 * (damping_ratio(i.restitution) + damping_ratio(j.restitution)))
+            2.0 * i.law[0] * j.law[0] / (i.law[0] + j.law[0]),
+            0.5 * (damping_ratio(i.law[1]) + damping_ratio(j.law[1])))
 
 
 def contact_time(i, j, v: float) -> float:
@@ -95,8 +103,8 @@ def tangential_stiffness(i, j) -> float:
     def ratio(b):
         return 2.0 * (1.0 - b.poisson) / (2.0 - b.poisson)
     if j is None:
-        return ratio(i) * i.stiffness
-    kn = 2.0 * i.stiffness * j.stiffness / (i.stiffness + j.stiffness)
+        return ratio(i) * i.law[0]
+    kn = 2.0 * i.law[0] * j.law[0] / (i.law[0] + j.law[0])
     return 0.5 * (ratio(i) + ratio(j)) * kn
 
 
@@ -121,6 +129,20 @@ def peak_approach(i, j, v: float) -> float:
 def stiffness_shape(a):
     """A linear contact's stiffness does not change with the approach: 1."""
     return 1.0
+
+
+def law_tables(params, mass, rep) -> tuple[np.ndarray, np.ndarray]:
+    """The step loop's constants ``(law_wall (P, 2), law_pair (K, K, 2))`` from the particles'
+    card constants ``params`` (P, 2: k_n, e), their masses and the kinds' representatives
+    ``rep`` (:func:`hooke_tables`)."""
+    return hooke_tables(params[:, 0], params[:, 1], mass, rep)
+
+
+def kind_keys(params, mass) -> tuple:
+    """What distinguishes particle kinds under this law besides the shared keys
+    (x3dpd.physics.mixing.particle_kinds): its own constants k_n and e, and the mass its
+    dashpot uses."""
+    return (params[:, 0], params[:, 1], mass)
 
 
 def hooke_tables(k, e, mass, rep) -> tuple[np.ndarray, np.ndarray]:

@@ -34,6 +34,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from x3dpd._jit import kernel, step_kernel
 from x3dpd.physics.hertz import (effective_modulus_pair, effective_modulus_wall,
                                  effective_radius, hertz_contact_time, stored_energy_of_force,
@@ -42,7 +44,8 @@ from x3dpd.physics.wall_material import (mixed_modulus, mixed_shear_modulus,
                                           plane_strain_modulus)
 
 __all__ = ["maxwell_step_factors", "pair_term_weight", "maxwell_update", "maxwell_terms",
-           "CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "contact_time", "wall_force",
+           "CLAMPED", "USES_RATE", "DAMPED", "CONTACT_NAME", "CARD", "PARAMS", "WALL_STIFFNESS",
+           "law_tables", "kind_keys", "contact_time", "wall_force",
            "pair_force", "stored_energy", "stiffness_shape", "tangential_stiffness",
            "tangential_damping"]
 
@@ -54,6 +57,21 @@ USES_RATE = False
 DAMPED = False
 #: How messages name an impact under this law (x3dpd check, the stop's diagnosis).
 CONTACT_NAME = "Hertz"
+#: The default law: no card selects it, its constants are PDMP's moduli (no PARAMS of its
+#: own), and a wall material (WALLMAT) mixes with them.
+CARD = None
+PARAMS = ()
+WALL_STIFFNESS = None
+
+
+def law_tables(params, mass, rep) -> tuple[np.ndarray, np.ndarray]:
+    """The step loop's per-law constant tables: none (zeros; x3dpd.physics.normal_laws)."""
+    return np.zeros((mass.shape[0], 2)), np.zeros((rep.shape[0], rep.shape[0], 2))
+
+
+def kind_keys(params, mass) -> tuple:
+    """Nothing of its own distinguishes particle kinds (the moduli are shared keys)."""
+    return ()
 
 
 def contact_time(i, j, v: float) -> float:

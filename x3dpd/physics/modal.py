@@ -1,3 +1,4 @@
+# Over 400 lines: the modes' step, its coefficients and its effect unit are one law, kept together.
 """A linear structure given by its modes (the MODAL card, our extension; docs/deck-reference.md).
 
 Node motion about the deck's coordinates is a sum over mass-normalised modes,
@@ -32,21 +33,48 @@ energy; the damping's dissipation over a step is the exact integral
 of :math:`(q_n, p_n, f_n, f_{n+1})` precomputed per mode (Van Loan's block exponential). Damping
 that couples modes (left by mass the deck adds, see x3dpd.model.build_modal) acts as the force
 :math:`-\\mathsf C_{\\mathrm{off}}\\,p^*`, booked as damper dissipation.
+
+**An effect unit** (x3dpd.physics.effect_unit): its bundle :class:`Modal`; its slots ``drift``
+(the first part of a step, the modal nodes placed), ``kick`` (the second part, from the step's
+forces), ``place`` (full-step velocities) and ``energy``; its ``start`` projects the forces of
+a state onto the modes. Its nodes leave velocity Verlet (its ``setup``: the modes carry them,
+and the rigid bodies whose masters they are).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from x3dpd._jit import step_kernel
+from x3dpd.physics.effect_unit import L_DDAMP, EffectUnit, StateArray
 
 __all__ = ["step_coefficients", "dissipation_forms", "receptance", "modal_energy",
            "COEF_COLUMNS"]
 
 #: Columns of the per-mode step coefficients (:func:`step_coefficients`).
 COEF_COLUMNS = ("A11", "A12", "A21", "A22", "BQ", "BP0", "BP1", "omega2")
+
+
+class Modal(NamedTuple):
+    """A structure given by its modes (MODAL card): N modal nodes, M modes (both 0 in a scene
+    without one)."""
+
+    nodes: np.ndarray        # (N,) node index of each modal node
+    shape: np.ndarray        # (N, 6, M) mass-normalised shapes at its 6 DOFs
+    body: np.ndarray         # (N,) rigid body the node is master of, or -1
+    coef: np.ndarray         # (M, 8) step coefficients (COEF_COLUMNS)
+    diss: np.ndarray         # (M, 10) the damping's dissipation per step, a quadratic form
+    coupling: np.ndarray     # (M, M) damping coupling the modes, or (0, 0)
+    q: np.ndarray            # (M,) modal coordinates [sqrt(mass) length] (state)
+    p: np.ndarray            # (M,) their rates (p* between the two parts of a step) (state)
+    f: np.ndarray            # (M,) modal forces of the last force evaluation (state)
+    q_old: np.ndarray        # (M,) scratch: q at the step's start
+    p_old: np.ndarray        # (M,) scratch: p at the step's start
+    f_new: np.ndarray        # (M,) scratch: the forces being projected
+    rate: np.ndarray         # (M,) scratch: (q_{n+1} - q_n) / dt, the rate over the step
 
 
 def _generator(omega: float, zeta: float) -> np.ndarray:
@@ -290,6 +318,91 @@ def _modal_energies(modal):
         u += 0.5 * coef[k, 7] * q[k] * q[k]
         ff += f[k] * f[k]
     return ke, u, ff
+
+
+# ---- the effect unit ------------------------------------------------------------------------
+
+@step_kernel
+def drift_hook(u, nodes, rigid, stepping, t):
+    """Slot ``drift``: modal nodes (and a modal master's rotation) from the modes."""
+    _modal_drift(u, nodes.x, nodes.x0, nodes.vel, rigid.rot, stepping.dt)
+
+
+@step_kernel
+def kick_hook(u, nodes, rigid, stepping, t):
+    """Slot ``kick``: the modal forces of this step complete the modes' step (and the
+    damping's work, to the ledger)."""
+    stepping.ledger[L_DDAMP] += _modal_kick(u, nodes.force, stepping.dt)
+
+
+@step_kernel
+def place_hook(u, nodes, rigid, stepping, t):
+    """Slot ``place``: the modal nodes' full-step velocities."""
+    _modal_place(u, nodes.x, nodes.x0, nodes.vel, rigid.rot, u.p, False)
+
+
+@step_kernel
+def energy_hook(u, nodes, en):
+    """Slot ``energy``: the modes' kinetic energy into KE_trans, their strain energy into
+    U_spring; returns their forces' sum f^2 (modal mass 1) for S."""
+    ke, strain, ff = _modal_energies(u)
+    en[0] += ke
+    en[3] += strain
+    return ff
+
+
+def _setup(model, dt, nodes) -> dict:
+    """The modes' constants for the step ``dt``; the modal nodes leave velocity Verlet (zero
+    inverse mass, no kinetic mass: the modes carry it), so do the rigid bodies whose masters
+    they are. With the housing included in the modes, the deck's mass on modal nodes does not
+    weigh."""
+    ms = model.modal
+    if ms is None:
+        return {"nodes": np.zeros(0, np.int64), "shape": np.zeros((0, 6, 0)),
+                "body": np.zeros(0, np.int64), "coef": np.zeros((0, len(COEF_COLUMNS))),
+                "diss": np.zeros((0, 10)), "coupling": np.zeros((0, 0))}
+    modal_nodes = np.ascontiguousarray(ms.nodes, np.int64)
+    for name in ("inv_m", "kin_mass", "kin_inertia"):
+        nodes[name][modal_nodes] = 0.0
+    for b in ms.body[ms.body >= 0]:
+        nodes["rig_free_rot"][b] = False
+    if ms.housing == "included":
+        nodes["mass"][modal_nodes] = 0.0
+        for b in ms.body[ms.body >= 0]:
+            nodes["mass"][model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = 0.0
+    return {"nodes": modal_nodes, "shape": np.ascontiguousarray(ms.shape, np.float64),
+            "body": np.ascontiguousarray(ms.body, np.int64),
+            "coef": step_coefficients(ms.omega, ms.zeta, dt),
+            "diss": dissipation_forms(ms.omega, ms.zeta, dt),
+            "coupling": np.ascontiguousarray(ms.coupling, np.float64).reshape(ms.coupling.shape)}
+
+
+def _start(u, force) -> None:
+    """The modal forces f = sum phi^T F of the forces ``force`` of a state, less the coupling
+    damping: what the modes' first step starts from."""
+    if u.nodes.shape[0] == 0:
+        return
+    f = u.f
+    f[:] = np.einsum("jdk,jd->k", u.shape, force[u.nodes])
+    if u.coupling.size:
+        f -= u.coupling @ u.p
+
+
+def _turns(c) -> np.ndarray:
+    """The rigid bodies the modes turn: those of modal nodes with rotational shape values."""
+    body = c["body"][np.any(c["shape"][:, 3:, :] != 0.0, axis=(1, 2))]
+    return body[body >= 0]
+
+
+UNIT = EffectUnit(
+    name="modal", flag="modal", effects=("modal_structure",), cards=("MODAL",), bundle=Modal,
+    setup=_setup, hooks={"drift": "drift_hook", "kick": "kick_hook", "place": "place_hook",
+                         "energy": "energy_hook"},
+    state=(StateArray("q", "mq", "coef"), StateArray("p", "mp", "coef"),
+           StateArray("f", "mf", "coef")),
+    scratch=(("q_old", "q"), ("p_old", "p"), ("f_new", "f"), ("rate", "f")),
+    start=_start, turns=_turns, kernels=("_modal_place",),
+    doc="MODAL: a linear structure given by its modes")
 
 
 def _expm(a: np.ndarray) -> np.ndarray:

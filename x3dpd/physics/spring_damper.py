@@ -8,11 +8,29 @@ and the opposite on b, where :math:`u = x - x_0` is the displacement from the de
 The spring stores :math:`U = \\tfrac12\\sum_d k_d (u_{a,d}-u_{b,d})^2`; the damper dissipates, per
 step, the trapezoidal work :math:`-\\tfrac12 (f^n + f^{n+1})\\cdot\\Delta(u_a-u_b)`.
 Units: stiffness force/length, damping force·s/length.
+
+An effect unit (x3dpd.physics.effect_unit): its bundle :class:`SpringDampers`, its forces in
+the step loop's slot ``force`` and its energy in ``energy``; the model's ``spring_*`` arrays
+(x3dpd.model.build_structure) are its data.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
+import numpy as np
+
 from x3dpd._jit import kernel, step_kernel
+from x3dpd.physics.effect_unit import L_DDAMP, EffectUnit, StateArray
+
+
+class SpringDampers(NamedTuple):
+    """The MATID type 1 elements (S of them)."""
+
+    nodes: np.ndarray        # (S, 2) node indices (-1: ground)
+    k: np.ndarray            # (S, 3) stiffness per direction [force/length]
+    c: np.ndarray            # (S, 3) damping per direction [force*s/length]
+    fd_prev: np.ndarray      # (S, 3) damper forces at the last step (state)
 
 
 @step_kernel
@@ -56,3 +74,35 @@ def _spring_energy(x, x0, nodes, k):
                 du -= x[b, d] - x0[b, d]
             u_total += 0.5 * k[s, d] * du * du
     return u_total
+
+
+@step_kernel
+def force_hook(u, nodes, rigid, stepping, t):
+    """Slot ``force``: the elements' forces; their dampers' dissipation to the ledger."""
+    stepping.ledger[L_DDAMP] += _spring_forces(nodes.x, nodes.x0, nodes.vel, u.nodes, u.k, u.c,
+                                               nodes.force, u.fd_prev, stepping.dt)
+
+
+@step_kernel
+def energy_hook(u, nodes, en):
+    """Slot ``energy``: the springs' energy into U_spring."""
+    en[3] += _spring_energy(nodes.x, nodes.x0, u.nodes, u.k)
+    return 0.0
+
+
+def _setup(model, dt, nodes) -> dict:
+    return {"nodes": np.ascontiguousarray(model.spring_nodes, np.int64).reshape(-1, 2),
+            "k": np.ascontiguousarray(model.spring_k, np.float64).reshape(-1, 3),
+            "c": np.ascontiguousarray(model.spring_c, np.float64).reshape(-1, 3)}
+
+
+def _stiffness(c) -> list:
+    return [(c["nodes"], np.abs(c["k"][:, :3]), 0)]
+
+
+UNIT = EffectUnit(
+    name="spring_damper", flag="springs", effects=("springs", "dampers"),
+    cards=("MATID", "ELEMENTS"), bundle=SpringDampers, setup=_setup,
+    hooks={"force": "force_hook", "energy": "energy_hook"},
+    state=(StateArray("fd_prev", "fd_prev", "nodes", (3,)),), stiffness=_stiffness,
+    doc="MATID type 1: spring-dampers along the global axes")

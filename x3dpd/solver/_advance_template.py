@@ -1,3 +1,4 @@
+# Over 400 lines: the step loop's slots and modes are one template, copied whole into each variant.
 """Template of the explicit time-step loop (report Section 7.3), specialised per scene.
 
 :func:`x3dpd.solver.variants.make_advance` copies this file and its parts -- what every contact
@@ -25,27 +26,24 @@ from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
                                   _triangle_frames)
-from x3dpd.physics.axial_spring import _axial_spring_forces
-from x3dpd.physics.modal import _modal_drift, _modal_kick, _modal_place
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
-from x3dpd.physics.rotational_spring import _rotational_spring_drift, _rotational_spring_moments
-from x3dpd.physics.spring_damper import _spring_forces
 from x3dpd.physics.usrfrc import KIND_DATA, _force_value
-from x3dpd.solver._template_contact import (L_DDAMP, L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
+from x3dpd.solver._template_contact import (L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
                                             REALLOC_WALLS)
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pair_passes import _pair_contacts
-from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_EXTERNAL, HAS_MODAL,
-                                            HAS_MOTION, HAS_PAIRS, HAS_PYTHON_FORCE, HAS_RIGID,
-                                            HAS_RIGID_ROTATION, HAS_ROTATIONAL_SPRINGS,
-                                            HAS_ONE_WALL_KIND, HAS_SHAPES, HAS_SPRINGS,
-                                            HAS_USER_FORCE, HAS_WALLS,
-                                            HAS_WALLS_TRANSLATE, USER_FORCE)
+from x3dpd.solver._template_variant import (HAS_EXTERNAL,
+                                            HAS_MOTION, HAS_ONE_WALL_KIND, HAS_PAIRS,
+                                            HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
+                                            HAS_SHAPES,
+                                            HAS_USER_FORCE, HAS_WALLS, HAS_WALLS_TRANSLATE,
+                                            SLOT_DRIFT, SLOT_FOLLOW, SLOT_FORCE, SLOT_KICK,
+                                            SLOT_PLACE, UNIT_BUNDLES, USER_FORCE)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
-from x3dpd.solver.bundles import (ContactList, Faces, Loads, Modal, Nodes, Output, Particles,
-                                  RigidBodies, Shapes, Springs, Stepping)
+from x3dpd.solver.bundles import (ContactList, Faces, Loads, Nodes, Output, Particles,
+                                  RigidBodies, Shapes, Stepping)
 from x3dpd.solver.contact_lists import _active_flags, _merge_states, _pair_approach
 
 
@@ -60,55 +58,15 @@ if USER_FORCE is None:
 
 
 @step_kernel
-def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs, shapes,
-                 stepping):
-    """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t."""
-    x, vel, force = nodes.x, nodes.vel, nodes.force
-    dt, ledger = stepping.dt, stepping.ledger
+def _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes, units, stepping):
+    """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t:
+    the effect units' (slot ``force``), the loads, the wall and pair contacts; then the rigid
+    slaves' forces gathered onto their masters. Returns the contacts' status bits."""
+    x = nodes.x
     status = OK
-    if HAS_SPRINGS:
-        ledger[L_DDAMP] += _spring_forces(x, nodes.x0, vel, springs.nodes, springs.k, springs.c,
-                                          force, springs.fd_prev, dt)
-    if HAS_AXIAL_SPRINGS:
-        ledger[L_DDAMP] += _axial_spring_forces(x, vel, springs.axial_nodes, springs.axial_k,
-                                                springs.axial_c, springs.axial_rest, force,
-                                                springs.axial_fd_prev, dt)
-    if HAS_ROTATIONAL_SPRINGS:
-        ledger[L_DDAMP] += _rotational_spring_moments(vel, springs.rot_nodes, springs.rot_k,
-                                                      springs.rot_c, springs.rot_theta, force,
-                                                      springs.rot_md_prev, dt)
+    SLOT_FORCE(units, nodes, rigid, stepping, t)
     if HAS_EXTERNAL:
-        ext_table, frow_prev = loads.table, loads.row_prev
-        wext = 0.0
-        # built-in forces act on a few DOFs: work row by row (exact even if rows share a DOF)
-        for r in range(ext_table.shape[0]):
-            if ext_table[r, 0] == KIND_DATA:  # random signals' knots follow the laws
-                break
-            i = int(ext_table[r, 1])
-            d = int(ext_table[r, 2])
-            fe = _force_value(t, ext_table, r)
-            force[i, d] += fe
-            wext += 0.5 * (frow_prev[r] + fe) * vel[i, d] * dt
-            frow_prev[r] = fe
-        if HAS_USER_FORCE or HAS_PYTHON_FORCE:
-            # user forces may touch any DOF
-            fext, fext_prev = loads.user, loads.user_prev
-            fe_flat = fext.reshape(-1)
-            for k in range(fe_flat.shape[0]):
-                fe_flat[k] = 0.0
-            if HAS_USER_FORCE:
-                USER_FORCE(t, x, vel, fext)
-            if HAS_PYTHON_FORCE:
-                for k in range(fe_flat.shape[0]):
-                    fe_flat[k] += loads.python.reshape(-1)[k]
-            for i in range(fext.shape[0]):
-                for d in range(6):
-                    fe = fext[i, d]
-                    if fe != 0.0 or fext_prev[i, d] != 0.0:
-                        wext += 0.5 * (fext_prev[i, d] + fe) * vel[i, d] * dt
-                        force[i, d] += fe
-                        fext_prev[i, d] = fe
-        ledger[L_WEXT] += wext
+        stepping.ledger[L_WEXT] += _external_forces(t, nodes, loads, stepping.dt)
     if HAS_WALLS:
         if HAS_WALLS_TRANSLATE:
             _face_offsets(x, faces.tri_nodes, faces.first_tri, faces.normal, faces.offset)
@@ -128,8 +86,70 @@ def _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls, pairs
     if HAS_PAIRS:
         status |= _pair_contacts(nodes, particles, pairs, stepping, pairs.first_new)
     if HAS_RIGID:
-        _gather_slaves(x, force, rigid.master, rigid.ptr, rigid.slaves, HAS_RIGID_ROTATION)
+        _gather_slaves(x, nodes.force, rigid.master, rigid.ptr, rigid.slaves, HAS_RIGID_ROTATION)
     return status
+
+
+@step_kernel
+def _external_forces(t, nodes, loads, dt):
+    """Add the built-in forces (USRFRC rows, x3dpd.physics.usrfrc), the user files' and the
+    Python forces at time t; return their work over the step (trapezoidal, per DOF)."""
+    x, vel, force = nodes.x, nodes.vel, nodes.force
+    ext_table, frow_prev = loads.table, loads.row_prev
+    wext = 0.0
+    # built-in forces act on a few DOFs: work row by row (exact even if rows share a DOF)
+    for r in range(ext_table.shape[0]):
+        if ext_table[r, 0] == KIND_DATA:  # random signals' knots follow the laws
+            break
+        i = int(ext_table[r, 1])
+        d = int(ext_table[r, 2])
+        fe = _force_value(t, ext_table, r)
+        force[i, d] += fe
+        wext += 0.5 * (frow_prev[r] + fe) * vel[i, d] * dt
+        frow_prev[r] = fe
+    if HAS_USER_FORCE or HAS_PYTHON_FORCE:
+        # user forces may touch any DOF
+        fext, fext_prev = loads.user, loads.user_prev
+        fe_flat = fext.reshape(-1)
+        for k in range(fe_flat.shape[0]):
+            fe_flat[k] = 0.0
+        if HAS_USER_FORCE:
+            USER_FORCE(t, x, vel, fext)
+        if HAS_PYTHON_FORCE:
+            for k in range(fe_flat.shape[0]):
+                fe_flat[k] += loads.python.reshape(-1)[k]
+        for i in range(fext.shape[0]):
+            for d in range(6):
+                fe = fext[i, d]
+                if fe != 0.0 or fext_prev[i, d] != 0.0:
+                    wext += 0.5 * (fext_prev[i, d] + fe) * vel[i, d] * dt
+                    force[i, d] += fe
+                    fext_prev[i, d] = fe
+    return wext
+
+
+@step_kernel
+def _lists_upkeep(now, nodes, particles, faces, walls, pairs, stepping):
+    """Rebuild the contact lists at this step boundary when ``now`` or when the skin may be
+    used up: the bound of the displacements at this step's force evaluation, what has
+    accumulated since the last build plus this step's drift (2 x the last step's, to allow for
+    acceleration). ``stepping.nbr`` = [displacement bound of particles, of wall nodes, rebuild
+    count, list state (-1: rebuild now), last largest particle speed, last largest wall-node
+    speed, unused]. Returns REALLOC_WALLS / REALLOC_PAIRS when a list is full, else OK."""
+    if not (HAS_WALLS or HAS_PAIRS):
+        return OK
+    nbr, dt, skin = stepping.nbr, stepping.dt, stepping.skin
+    dp = nbr[0] + 2.0 * dt * nbr[4]
+    dw = nbr[1] + 2.0 * dt * nbr[5]
+    if now or nbr[3] < 0.0 or 2.0 * dp > skin or dp + dw > skin:
+        full = _rebuild_lists(nodes, particles, faces, walls, pairs, skin)
+        if full != OK or now:
+            return full
+        nbr[0] = 0.0
+        nbr[1] = 0.0
+        nbr[2] += 1.0
+        nbr[3] = 1.0
+    return OK
 
 
 @step_kernel
@@ -171,10 +191,148 @@ def _adopt_new_list(lst, m):
     lst.count[0] = m
 
 
+@step_kernel
+def _drift(synced, flat, t_old, t, nodes, loads, rigid, particles, units, stepping):
+    """The first half kick (unless the last step's second one already did it: ``synced``
+    False), which also resets the forces to the body forces m g, and the drift of every node
+    from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``,
+    the prescribed motions, the rigid slaves, the units' slot ``follow``; and the bound of the
+    displacements the contact lists' skin must cover (``stepping.nbr``)."""
+    x, vel, force = nodes.x, nodes.vel, nodes.force
+    dt, nbr = stepping.dt, stepping.nbr
+    if synced:
+        if HAS_RIGID_ROTATION:
+            _rigid_angular_kick(vel, force, rigid.master, rigid.rot, rigid.inv_ib, rigid.ib,
+                                rigid.free_rot, 0.5 * dt, False)
+        vf, ff, imf, fgf = flat
+        for k in range(vf.shape[0]):
+            vf[k] += 0.5 * dt * ff[k] * imf[k]
+            ff[k] = fgf[k]
+    for i in range(particles.p0):
+        x[i, 0] += dt * vel[i, 0]
+        x[i, 1] += dt * vel[i, 1]
+        x[i, 2] += dt * vel[i, 2]
+    vmax2 = 0.0
+    for i in range(particles.p0, x.shape[0]):
+        x[i, 0] += dt * vel[i, 0]
+        x[i, 1] += dt * vel[i, 1]
+        x[i, 2] += dt * vel[i, 2]
+        if HAS_WALLS or HAS_PAIRS:
+            v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
+            vmax2 = max(vmax2, v2)
+    if HAS_RIGID_ROTATION:
+        _rotate(rigid.rot, rigid.master, vel, dt)
+    SLOT_DRIFT(units, nodes, rigid, stepping, t)
+    if HAS_MOTION:
+        _apply_motion_step(t_old, t, loads.motion, nodes.x0, x, vel)
+    vwall = 0.0
+    if HAS_RIGID:
+        vwall = _update_slaves(x, vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
+                               rigid.rot, True, HAS_RIGID_ROTATION)
+    SLOT_FOLLOW(units, nodes, rigid, stepping, t)
+    nbr[4] = math.sqrt(vmax2)
+    nbr[5] = vwall
+    nbr[0] += dt * nbr[4]
+    nbr[1] += dt * vwall
+
+
+@step_kernel
+def _flat(nodes):
+    """Velocities, forces, inverse masses and body forces as flat arrays (n * 6): views, taken
+    once a call (a reshape in the step costs a call into numba's runtime)."""
+    return (nodes.vel.reshape(-1), nodes.force.reshape(-1), nodes.inv_m.reshape(-1),
+            nodes.fgrav.reshape(-1))
+
+
+@step_kernel
+def _body_forces(flat):
+    """Every force starts from the body forces m g (zero without gravity)."""
+    _, ff, _, fgf = flat
+    for k in range(ff.shape[0]):
+        ff[k] = fgf[k]
+
+
+@step_kernel
+def _after_forces(t_old, t, nodes, loads, rigid, units, stepping):
+    """What takes the step's summed forces: the prescribed motions' actuator work and the
+    units' slot ``kick``."""
+    if HAS_MOTION:
+        # work of the motion's actuators (x3dpd.physics.motion._motion_work)
+        stepping.ledger[L_WEXT] += _motion_work(t_old, t, loads.motion, nodes.kin_mass,
+                                                nodes.kin_inertia, nodes.force,
+                                                loads.motion_prev)
+    SLOT_KICK(units, nodes, rigid, stepping, t)
+
+
+@step_kernel
+def _kick_on(flat, nodes, rigid, h):
+    """This step's second half kick and the next step's first in one pass over memory (no
+    full-step velocities wanted), computed as (v + h a) + h a so that the rounding -- and so
+    every trajectory -- is bit for bit the same whichever steps end a call; the forces reset
+    to the body forces."""
+    if HAS_RIGID_ROTATION:
+        # the second half kick of this step (implicit), the first of the next
+        _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
+                            rigid.ib, rigid.free_rot, h, True)
+        _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
+                            rigid.ib, rigid.free_rot, h, False)
+    vf, ff, imf, fgf = flat
+    for k in range(vf.shape[0]):
+        vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
+        ff[k] = fgf[k]
+
+
+@step_kernel
+def _kick_to_end(t, flat, nodes, loads, rigid, units, stepping):
+    """The second half kick to full-step velocities, then the nodes that follow them: the
+    prescribed motions, the units' slot ``place``, the rigid slaves."""
+    h = 0.5 * stepping.dt
+    vf, ff, imf, _ = flat
+    for k in range(vf.shape[0]):
+        vf[k] += h * ff[k] * imf[k]
+    if HAS_RIGID_ROTATION:
+        _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
+                            rigid.ib, rigid.free_rot, h, True)
+    if HAS_MOTION:
+        _apply_motion(t, loads.motion, nodes.x0, nodes.x, nodes.vel)
+    SLOT_PLACE(units, nodes, rigid, stepping, t)
+    if HAS_RIGID:
+        _update_slaves(nodes.x, nodes.vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
+                       rigid.rot, False, HAS_RIGID_ROTATION)
+
+
+@step_kernel
+def _output_row(t, row, nodes, particles, walls, pairs, shapes, units, stepping, output):
+    """Row ``row`` of the output buffers at time t: the trace nodes' x, v, omega and the
+    energy ledger row (the energies also in ``stepping.small[0:6]``). Returns NONFINITE when a
+    traced value or the residual is inf or NaN (caught here, cheaply, before it reaches the
+    trace), else OK."""
+    x, vel, data = nodes.x, nodes.vel, output.data
+    trace_nodes = output.trace_nodes
+    for k in range(trace_nodes.shape[0]):
+        i = trace_nodes[k]
+        for d in range(3):
+            data[row, k, d] = x[i, d]
+        for d in range(6):
+            data[row, k, 3 + d] = vel[i, d]
+    output.times[row] = t
+    en = stepping.small[0:6]   # energies at an output step
+    _energies(nodes, particles, walls, pairs, shapes, units, stepping.dt, en)
+    _ledger_row(t, en, stepping.ledger, output.e_ref, output.energy[row])
+    bad = False
+    for k in range(trace_nodes.shape[0]):
+        for d in range(9):
+            if not math.isfinite(data[row, k, d]):
+                bad = True
+    if bad or not math.isfinite(output.energy[row, 11]):
+        return NONFINITE
+    return OK
+
+
 #: What one call of the step loop does (its ``mode``): everything goes through the one entry
 #: :func:`advance_packed`, so that numba compiles the force terms, the list rebuild and the
-#: energies once per variant (inlined there) instead of once more for separate Python-facing
-#: kernels.
+#: energies once per variant (inlined there, each at its one call site) instead of once more
+#: for separate Python-facing kernels.
 STEP = 0      # advance up to ``nsteps`` steps
 REBUILD = 1   # rebuild the contact lists now (t0, a grown list); no step, ``nbr`` untouched
 FORCES = 2    # every force at ``t_start`` from the current state into nodes.force; no step
@@ -190,68 +348,38 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
     only write the output row of the current state at ``t_start`` (SNAPSHOT: ``step0`` = -1,
     ``nsteps`` = 1; the energies also in ``stepping.small[0:6]``).
 
-    ``packed``: the bundles as plain tuples in ADVANCE_BUNDLES order
-    (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays in C, but of
-    named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps of a small
-    scene. The named tuples are rebuilt here, in compiled code, at no cost.
+    ``packed``: the bundles as plain tuples in ADVANCE_BUNDLES order, the effect units' as a
+    tuple of them (x3dpd.solver.bundles.pack): numba checks the types of plain tuples of arrays
+    in C, but of named tuples in Python, which cost ~0.1 ms a call -- as much as a hundred steps
+    of a small scene. The named tuples are rebuilt here, in compiled code, at no cost.
 
-    ``stepping.nbr`` = [displacement bound of particles, of wall nodes, rebuild count, list
-    state (-1: rebuild now), last largest particle speed, last largest wall-node speed, unused];
-    ``stepping.small`` is 9 floats of scratch (this loop allocates nothing: see
-    x3dpd._jit.loop_kernel). Every ``output.itrac``-th step appends one row to the output
-    buffers. Returns (status, steps done, rows written); the run stops at the first non-zero
-    status or a full output buffer.
+    A step is a fixed sequence (x3dpd.physics.effect_unit, "The slots"): the lists' upkeep
+    (``stepping.nbr``, see ``_lists_upkeep``), the kick and drift (``_drift``), the forces
+    (``_force_terms``), what takes them (``_after_forces``), the second half kick (``_kick_on``,
+    or ``_kick_to_end`` when full-step velocities are wanted), the output row (``_output_row``,
+    every ``output.itrac``-th step). This loop allocates nothing (x3dpd._jit.loop_kernel).
+    Returns (status, steps done, rows written); the run stops at the first non-zero status or a
+    full output buffer.
     """
-    (nodes_, loads_, springs_, rigid_, particles_, faces_, walls_, pairs_, shapes_, modal_,
-     stepping_, output_) = packed
-    nodes, loads, springs, rigid = (Nodes(*nodes_), Loads(*loads_), Springs(*springs_),
-                                    RigidBodies(*rigid_))
+    (nodes_, loads_, rigid_, particles_, faces_, walls_, pairs_, shapes_, units_, stepping_,
+     output_) = packed
+    nodes, loads, rigid = Nodes(*nodes_), Loads(*loads_), RigidBodies(*rigid_)
     particles, faces, walls, pairs = (Particles(*particles_), Faces(*faces_),
                                       ContactList(*walls_), ContactList(*pairs_))
-    shapes, modal, stepping, output = (Shapes(*shapes_), Modal(*modal_), Stepping(*stepping_),
-                                       Output(*output_))
-    x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
-    kin_mass, kin_inertia, inv_m, fgrav = (nodes.kin_mass, nodes.kin_inertia, nodes.inv_m,
-                                           nodes.fgrav)
-    motion_table, motion_prev = loads.motion, loads.motion_prev
-    rig_master, rig_ptr, rig_slaves, rig_r0, rot = (rigid.master, rigid.ptr, rigid.slaves,
-                                                    rigid.r0, rigid.rot)
-    rig_inv_ib, rig_ib, rig_free_rot = rigid.inv_ib, rigid.ib, rigid.free_rot
-    p0 = particles.p0
-    dt, skin, ledger, nbr, diag = (stepping.dt, stepping.skin, stepping.ledger, stepping.nbr,
-                                   stepping.diag)
-    itrac, trace_nodes, out_t, out_data, out_energy = (output.itrac, output.trace_nodes,
-                                                       output.times, output.data, output.energy)
-    n = x.shape[0]
+    shapes, units = Shapes(*shapes_), UNIT_BUNDLES(units_)
+    stepping, output = Stepping(*stepping_), Output(*output_)
+    dt, diag = stepping.dt, stepping.diag
+    flat = _flat(nodes)
     rows = 0
-    h = 0.5 * dt
-    en = stepping.small[0:6]   # energies at an output step
-    vf = vel.reshape(-1)
-    ff = force.reshape(-1)
-    imf = inv_m.reshape(-1)
-    fgf = fgrav.reshape(-1)   # body forces m g (zero without gravity): what force starts from
     synced = True   # vel holds full-step velocities and force the forces of this step
-    out_in = itrac - step0 % itrac   # steps to the next trace output
+    out_in = output.itrac - step0 % output.itrac   # steps to the next trace output
     for it in range(nsteps):
         step = step0 + it
-        # ---- neighbour lists: rebuild at a step boundary when the skin may be used up
-        if (HAS_WALLS or HAS_PAIRS) and (mode == STEP or mode == REBUILD):
-            # FORCES and SNAPSHOT use the lists as they are
-            # bound of the displacements at the force evaluation of this step: what has
-            # accumulated since the last build plus this step's drift (2 x the last step's, to
-            # allow for acceleration)
-            dp = nbr[0] + 2.0 * dt * nbr[4]
-            dw = nbr[1] + 2.0 * dt * nbr[5]
-            if mode == REBUILD or nbr[3] < 0.0 or 2.0 * dp > skin or dp + dw > skin:
-                full = _rebuild_lists(nodes, particles, faces, walls, pairs, skin)
-                if full != OK:
-                    return full, it, rows
-                if mode == REBUILD:
-                    return OK, 0, 0
-                nbr[0] = 0.0
-                nbr[1] = 0.0
-                nbr[2] += 1.0
-                nbr[3] = 1.0
+        if mode == STEP or mode == REBUILD:   # FORCES and SNAPSHOT use the lists as they are
+            full = _lists_upkeep(mode == REBUILD, nodes, particles, faces, walls, pairs,
+                                 stepping)
+            if full != OK:
+                return full, it, rows
         if mode == REBUILD:
             return OK, 0, 0
         t = t_start + (step + 1) * dt
@@ -260,120 +388,36 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             out_in = 0   # no step: straight to the output row of the current state
         else:
             if mode == FORCES:
-                for k in range(ff.shape[0]):
-                    ff[k] = fgf[k]
+                _body_forces(flat)
             else:
-                # ---- first half kick (unless the last step's pass already did it) and drift
-                if synced:
-                    if HAS_RIGID_ROTATION:
-                        _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                            rig_free_rot, h, False)
-                    for k in range(vf.shape[0]):
-                        vf[k] += h * ff[k] * imf[k]
-                        ff[k] = fgf[k]
-                for i in range(p0):
-                    x[i, 0] += dt * vel[i, 0]
-                    x[i, 1] += dt * vel[i, 1]
-                    x[i, 2] += dt * vel[i, 2]
-                vmax2 = 0.0
-                for i in range(p0, n):
-                    x[i, 0] += dt * vel[i, 0]
-                    x[i, 1] += dt * vel[i, 1]
-                    x[i, 2] += dt * vel[i, 2]
-                    if HAS_WALLS or HAS_PAIRS:
-                        v2 = (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1]
-                              + vel[i, 2] * vel[i, 2])
-                        vmax2 = max(vmax2, v2)
-                if HAS_RIGID_ROTATION:
-                    _rotate(rot, rig_master, vel, dt)
-                if HAS_MODAL:
-                    # modal nodes (and a modal master's rotation) from the modes
-                    # (x3dpd.physics.modal)
-                    _modal_drift(modal, x, x0, vel, rot, dt)
-                if HAS_MOTION:
-                    _apply_motion_step(t_start + step * dt, t, motion_table, x0, x, vel)
-                vwall = 0.0
-                if HAS_RIGID:
-                    vwall = _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot,
-                                           True, HAS_RIGID_ROTATION)
-                if HAS_ROTATIONAL_SPRINGS:   # their rotations advance as positions do
-                    _rotational_spring_drift(vel, springs.rot_nodes, springs.rot_theta, dt)
-                nbr[4] = math.sqrt(vmax2)
-                nbr[5] = vwall
-                nbr[0] += dt * nbr[4]
-                nbr[1] += dt * vwall
-            # ---- forces at the new positions (``force`` holds the body forces m g: the kick pass
-            # reset it to them)
-            st = _force_terms(t, nodes, loads, springs, rigid, particles, faces, walls,
-                              pairs, shapes, stepping)
+                _drift(synced, flat, t_start + step * dt, t, nodes, loads, rigid, particles,
+                       units, stepping)
+            st = _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
+                              units, stepping)
             if mode == FORCES:
                 return st, 0, 0
-            if HAS_MOTION:
-                # work of the motion's actuators (x3dpd.physics.motion._motion_work)
-                ledger[L_WEXT] += _motion_work(t_start + step * dt, t, motion_table, kin_mass,
-                                               kin_inertia, force, motion_prev)
-            if HAS_MODAL:
-                # the modal forces of this step complete the modes' step (and the damping's work)
-                ledger[L_DDAMP] += _modal_kick(modal, force, dt)
-            # ---- second half kick. Full-step velocities are needed only at outputs and at the end
-            # of the call; elsewhere this half kick and the next step's first one go in one pass
-            # over memory, computed as (v + h a) + h a so that the rounding -- and so every
-            # trajectory -- is bit for bit the same whichever steps end a call.
+            _after_forces(t_start + step * dt, t, nodes, loads, rigid, units, stepping)
             out_in -= 1
             synced = st != OK or it == nsteps - 1 or out_in == 0
             if not synced:
-                if HAS_RIGID_ROTATION:
-                    # the second half kick of this step (implicit), the first of the next
-                    _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                        rig_free_rot, h, True)
-                    _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib,
-                                        rig_free_rot, h, False)
-                for k in range(vf.shape[0]):
-                    vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
-                    ff[k] = fgf[k]
+                _kick_on(flat, nodes, rigid, 0.5 * dt)
                 continue
-            for k in range(vf.shape[0]):
-                vf[k] += h * ff[k] * imf[k]
-            if HAS_RIGID_ROTATION:
-                _rigid_angular_kick(vel, force, rig_master, rot, rig_inv_ib, rig_ib, rig_free_rot,
-                                    h, True)
-            if HAS_MOTION:
-                _apply_motion(t, motion_table, x0, x, vel)
-            if HAS_MODAL:
-                _modal_place(modal, x, x0, vel, rot, modal.p, False)   # full-step velocities
-            if HAS_RIGID:
-                _update_slaves(x, vel, rig_master, rig_ptr, rig_slaves, rig_r0, rot, False,
-                               HAS_RIGID_ROTATION)
+            _kick_to_end(t, flat, nodes, loads, rigid, units, stepping)
             if st != OK:
                 diag[4] = t
                 diag[5] = step + 1
                 return st, it + 1, rows
-        # ---- output
         if out_in == 0:
-            out_in = itrac
-            for k in range(trace_nodes.shape[0]):
-                i = trace_nodes[k]
-                for d in range(3):
-                    out_data[rows, k, d] = x[i, d]
-                for d in range(6):
-                    out_data[rows, k, 3 + d] = vel[i, d]
-            out_t[rows] = t
-            _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, en)
-            _ledger_row(t, en, ledger, output.e_ref, out_energy[rows])
+            out_in = output.itrac
+            st = _output_row(t, rows, nodes, particles, walls, pairs, shapes, units, stepping,
+                             output)
             rows += 1
             if mode == SNAPSHOT:
                 return OK, 0, rows
-            # non-finite state is caught at output steps (cheap), before it reaches the trace
-            bad = False
-            for k in range(trace_nodes.shape[0]):
-                for d in range(9):
-                    if not math.isfinite(out_data[rows - 1, k, d]):
-                        bad = True
-            if bad or not math.isfinite(out_energy[rows - 1, 11]):
+            if st != OK:
                 diag[4] = t
                 diag[5] = step + 1
-                return NONFINITE, it + 1, rows - 1
-            if rows >= out_t.shape[0]:
+                return st, it + 1, rows - 1
+            if rows >= output.times.shape[0]:
                 return OK, it + 1, rows
     return OK, nsteps, rows
-

@@ -13,6 +13,8 @@ import math
 import numpy as np
 
 from x3dpd._jit import step_kernel
+# the ledger's slots (cumulative since t0), shared with the effect units' hooks
+from x3dpd.physics.effect_unit import L_DDAMP, L_DFRIC, L_DROLL, L_WEXT, L_WN  # noqa: F401
 from x3dpd.solver._template_variant import (HAS_FRICTION, HAS_ROLLING, N_MAXWELL, N_ROLLING,
                                             N_TANGENTIAL, ROLLING_TORQUE,
                                             NORMAL_CLAMPED, NORMAL_DAMPED, NORMAL_STIFFNESS_SHAPE,
@@ -35,13 +37,6 @@ REALLOC_WALLS = np.int64(Status.REALLOC_WALLS)
 CONTACT_TAIL = N_TANGENTIAL + N_ROLLING
 #: The contact puts a moment on its bodies (friction or rolling resistance).
 HAS_TORQUE = HAS_FRICTION or HAS_ROLLING
-
-# ledger slots (cumulative since t0)
-L_WEXT = 0      # work of external forces and prescribed motions on the system
-L_WN = 1        # work absorbed by the normal contact forces (sum of 1/2 (F0+F1) da)
-L_DFRIC = 2     # energy dissipated by friction
-L_DDAMP = 3     # energy dissipated by structural dampers
-L_DROLL = 4     # energy dissipated by rolling resistance (a rolling law's scenes only)
 
 
 @step_kernel

@@ -6,26 +6,23 @@ SNAPSHOT mode (x3dpd.solver.simulation), so each variant compiles them once.
 """
 
 from x3dpd._jit import step_kernel
-from x3dpd.physics.axial_spring import _axial_spring_energy
 from x3dpd.physics.gravity import _gravity_energy
-from x3dpd.physics.modal import _modal_energies
-from x3dpd.physics.rotational_spring import _rotational_spring_energy
-from x3dpd.physics.spring_damper import _spring_energy
 from x3dpd.solver._template_contact import (CONTACT_TAIL, L_DDAMP, L_DFRIC, L_DROLL, L_WEXT,
                                             L_WN)
-from x3dpd.solver._template_variant import (HAS_AXIAL_SPRINGS, HAS_MODAL, HAS_PAIRS, HAS_ROLLING,
-                                            HAS_ROTATIONAL_SPRINGS, HAS_SHAPES, HAS_SPRINGS,
+from x3dpd.solver._template_variant import (HAS_PAIRS, HAS_ROLLING, HAS_SHAPES,
                                             HAS_VISCOELASTIC, HAS_WALLS,
-                                            NORMAL_DAMPED, NORMAL_STORED_ENERGY,
+                                            NORMAL_DAMPED, NORMAL_STORED_ENERGY, SLOT_ENERGY,
                                             TANGENTIAL_STORED_ENERGY, TANGENTIAL_STORES)
 from x3dpd.solver.contact_lists import S_A, S_FN, S_FT
 
+
 @step_kernel
-def _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, out):
+def _energies(nodes, particles, walls, pairs, shapes, units, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction).
 
-    A modal structure's kinetic energy counts in KE_trans, its strain energy in U_spring and its
-    forces in S (modal mass 1): x3dpd.physics.modal."""
+    The effect units add theirs in the slot ``energy`` (x3dpd.physics.effect_unit): a modal
+    structure's kinetic energy counts in KE_trans, its strain energy in U_spring and its forces
+    in S (modal mass 1): x3dpd.physics.modal."""
     x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
     kin_mass, kin_inertia, inv_m = nodes.kin_mass, nodes.kin_inertia, nodes.inv_m
     ke_t = 0.0
@@ -45,18 +42,10 @@ def _energies(nodes, springs, particles, walls, pairs, shapes, modal, dt, out):
     g = nodes.g
     has_gravity = g[0] != 0.0 or g[1] != 0.0 or g[2] != 0.0
     out[2] = _gravity_energy(nodes.mass, x, x0, g) if has_gravity else 0.0
-    out[3] = _spring_energy(x, x0, springs.nodes, springs.k) if HAS_SPRINGS else 0.0
-    if HAS_AXIAL_SPRINGS:
-        out[3] += _axial_spring_energy(x, springs.axial_nodes, springs.axial_k, springs.axial_rest)
-    if HAS_ROTATIONAL_SPRINGS:
-        out[3] += _rotational_spring_energy(springs.rot_k, springs.rot_theta)
+    out[3] = 0.0
+    shadow += SLOT_ENERGY(units, nodes, out)
     out[4] = (_contact_energy(particles, walls, pairs, shapes)
               if (HAS_WALLS or HAS_PAIRS or HAS_SHAPES) else 0.0)
-    if HAS_MODAL:
-        ke_m, u_m, ff_m = _modal_energies(modal)
-        out[0] += ke_m
-        out[3] += u_m
-        shadow += ff_m
     out[5] = dt * dt / 8.0 * shadow
 
 

@@ -2,7 +2,8 @@
 
 :func:`x3dpd.solver.variants.make_advance` writes this module anew for every variant, from
 :meth:`Variant.header`: which effects exist, how many Maxwell terms, which friction and normal
-laws, which analytic wall shapes, which user forces. The step-loop template and its parts
+laws, which analytic wall shapes, which effect units (their bundles and the slots' calls of
+their hooks), which user forces. The step-loop template and its parts
 import their constants from here, and numba freezes them into the machine code: an absent
 effect is a constant-false branch that never reaches it. The values below (every effect on)
 only make the template importable for reading and linting.
@@ -34,5 +35,7 @@ from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as
 HAS_ROLLING = True
 from x3dpd.physics.epsd import rolling_torque as ROLLING_TORQUE, N_HISTORY as N_ROLLING  # noqa: F401,E402,E501
 SHAPE_LOCATE = None
+# the effect units' bundles and slots (x3dpd.solver.unit_slots writes them per variant)
+UNIT_BUNDLES = SLOT_DRIFT = SLOT_FOLLOW = SLOT_FORCE = SLOT_KICK = SLOT_PLACE = SLOT_ENERGY = None
 USER_FORCE = None
 # --- VARIANT END ---

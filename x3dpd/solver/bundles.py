@@ -21,11 +21,12 @@ from typing import NamedTuple
 import numpy as np
 
 from x3dpd.geometry.shapes import MAX_SHAPE_PARTS
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.solver.contact_lists import (PAIR_BLOCK, S_H, history_columns, pair_columns,
                                          wall_columns)
 
-__all__ = ["Status", "Nodes", "Loads", "Springs", "RigidBodies", "Particles", "Faces",
-           "ContactList", "Shapes", "Modal", "Stepping", "Output"]
+__all__ = ["Status", "Nodes", "Loads", "RigidBodies", "Particles", "Faces",
+           "ContactList", "Shapes", "Stepping", "Output"]
 
 
 class Status(enum.IntFlag):
@@ -63,27 +64,6 @@ class Loads(NamedTuple):
     python: np.ndarray       # (n, 6) forces of Python user files (set between steps)
     motion: np.ndarray       # (M, MOTION_COLUMNS) prescribed motions (x3dpd.physics.motion)
     motion_prev: np.ndarray  # (M,) actuator force of each motion at the last step
-
-
-class Springs(NamedTuple):
-    """Springs and dashpots between node pairs (report Section 7.1): along the global axes
-    (MATID type 1), along the line between two nodes (type 2) and about the global axes
-    (type 3, rotational)."""
-
-    nodes: np.ndarray        # (S, 2) node indices
-    k: np.ndarray            # (S, 3) stiffness per direction [force/length]
-    c: np.ndarray            # (S, 3) damping per direction [force*s/length]
-    fd_prev: np.ndarray      # (S, 3) damper forces at the last step
-    axial_nodes: np.ndarray  # (A, 2) node indices of the axial elements
-    axial_k: np.ndarray      # (A,) stiffness along the element's line [force/length]
-    axial_c: np.ndarray      # (A,) damping along the line [force*s/length]
-    axial_rest: np.ndarray   # (A,) rest length L0 [length]
-    axial_fd_prev: np.ndarray  # (A, 3) damper force vectors on the first node, last step
-    rot_nodes: np.ndarray    # (Q, 2) node indices of the rotational elements (-1: ground)
-    rot_k: np.ndarray        # (Q, 3) stiffness about x, y, z [force*length/rad]
-    rot_c: np.ndarray        # (Q, 3) damping [force*length*s/rad]
-    rot_theta: np.ndarray    # (Q, 3) relative rotations since t0 [rad]
-    rot_md_prev: np.ndarray  # (Q, 3) damper moments at the last step
 
 
 class RigidBodies(NamedTuple):
@@ -171,25 +151,6 @@ class Shapes(NamedTuple):
     located: np.ndarray      # (MAX_PARTS, 9) scratch: the locator's rows
 
 
-class Modal(NamedTuple):
-    """A structure given by its modes (MODAL card; x3dpd.physics.modal): N modal nodes, M
-    modes (both 0 in a scene without one)."""
-
-    nodes: np.ndarray        # (N,) node index of each modal node
-    shape: np.ndarray        # (N, 6, M) mass-normalised shapes at its 6 DOFs
-    body: np.ndarray         # (N,) rigid body the node is master of, or -1
-    coef: np.ndarray         # (M, 8) step coefficients (x3dpd.physics.modal.COEF_COLUMNS)
-    diss: np.ndarray         # (M, 10) the damping's dissipation per step, a quadratic form
-    coupling: np.ndarray     # (M, M) damping coupling the modes, or (0, 0)
-    q: np.ndarray            # (M,) modal coordinates [sqrt(mass) length]
-    p: np.ndarray            # (M,) their rates (p* between the two parts of a step)
-    f: np.ndarray            # (M,) modal forces of the last force evaluation
-    q_old: np.ndarray        # (M,) scratch: q at the step's start
-    p_old: np.ndarray        # (M,) scratch: p at the step's start
-    f_new: np.ndarray        # (M,) scratch: the forces being projected
-    rate: np.ndarray         # (M,) scratch: (q_{n+1} - q_n) / dt, the rate over the step
-
-
 class Stepping(NamedTuple):
     """Step size, list bookkeeping, the energy ledger and the diagnosis of a stop."""
 
@@ -218,8 +179,10 @@ class Output(NamedTuple):
 
 def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict, dt: float,
                   pen_limit: float, diag: np.ndarray, ledger: np.ndarray | None = None,
-                  history_dt: float | None = None) -> dict:
-    """The kernels' bundles of one scene (everything but :class:`Output`), by name.
+                  history_dt: float | None = None, units=()) -> dict:
+    """The kernels' bundles of one scene (everything but :class:`Output`), by name; the effect
+    units' (x3dpd.physics.effect_units) by their names too, and those of ``units`` (the units
+    the scene's loop compiles) as a tuple under ``"units"``.
 
     ``faces_now``: (normal, offset, triangle frames) arrays the kernels refresh from the wall
     nodes;
@@ -229,6 +192,7 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
     histories advance by (default ``dt``; 0 for a force evaluation at a state).
     """
     k, s = setup, state
+    own = {u.name: unit_bundle(u, k.units[u.name], s, scratch) for u in UNITS}
     walls = ContactList(s.wl_p, s.wl_f, s.ws, s.wl_on, s.nwl, scratch["wl_p2"], scratch["wl_f2"],
                         scratch["ws2"], scratch["wl_a"], scratch["wl_c"], scratch["wl_h"])
     pairs = ContactList(s.pl_i, s.pl_j, s.ps, s.pl_on, s.npl, scratch["pl_i2"],
@@ -238,9 +202,6 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
                        k.kin_inertia, k.g),
         "loads": loads,
-        "springs": Springs(k.sp_nodes, k.sp_k, k.sp_c, s.fd_prev, k.ax_nodes, k.ax_k, k.ax_c,
-                           k.ax_rest, s.axial_fd_prev, k.rot_nodes, k.rot_k, k.rot_c,
-                           s.rotational_theta, s.rotational_md_prev),
         "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,
                              k.rig_inv_ib, k.rig_ib, k.rig_free_rot),
         "particles": Particles(int(k.p0), k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay,
@@ -251,13 +212,23 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
         "walls": walls,
         "pairs": pairs,
         "shapes": Shapes(*k.shapes, s.cs, s.cs_on, scratch["located"]),
-        "modal": Modal(k.modal_nodes, k.modal_shape, k.modal_body, k.modal_coef, k.modal_diss,
-                       k.modal_coupling, s.mq, s.mp, s.mf, scratch["mq_old"],
-                       scratch["mp_old"], scratch["mf_new"], scratch["m_rate"]),
         "stepping": Stepping(float(dt), float(k.skin), float(pen_limit),
                              s.ledger if ledger is None else ledger, s.nbr, diag,
                              scratch["small"], float(dt if history_dt is None else history_dt)),
+        **own,
+        "units": tuple(own[u.name] for u in units),
     }
+
+
+def unit_bundle(unit, constants: dict, state, scratch: dict):
+    """The bundle of effect unit ``unit``: its ``constants`` (x3dpd.solver.state.Setup.units),
+    its state arrays in ``state`` and its scratch arrays in ``scratch``."""
+    arrays = dict(constants)
+    for a in unit.state:
+        arrays[a.field] = state.units[a.name]
+    for field, _ in unit.scratch:
+        arrays[field] = scratch[f"{unit.name}.{field}"]
+    return unit.bundle(**arrays)
 
 
 def contact_scratch(state) -> dict:
@@ -274,17 +245,25 @@ def contact_scratch(state) -> dict:
             "pl_c": pair_columns(s.pl_i.shape[0]),
             "pl_h": history_columns(s.pl_i.shape[0], s.ps.shape[1] - S_H),
             "small": np.zeros(9), "located": np.zeros((MAX_SHAPE_PARTS, 9)),
-            "mq_old": np.zeros_like(s.mq), "mp_old": np.zeros_like(s.mp),
-            "mf_new": np.zeros_like(s.mf), "m_rate": np.zeros_like(s.mf)}
+            # the effect units' scratch arrays, shaped like their state arrays
+            **{f"{u.name}.{field}": np.zeros_like(s.units[_state_name(u, like)])
+               for u in UNITS for field, like in u.scratch}}
 
 
-#: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start).
-ADVANCE_BUNDLES = ("nodes", "loads", "springs", "rigid", "particles", "faces", "walls", "pairs",
-                   "shapes", "modal", "stepping", "output")
+def _state_name(unit, field: str) -> str:
+    return next(a.name for a in unit.state if a.field == field)
+
+
+#: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start); ``units`` is the
+#: tuple of the bundles of the effect units the loop compiles, in registry order.
+ADVANCE_BUNDLES = ("nodes", "loads", "rigid", "particles", "faces", "walls", "pairs", "shapes",
+                   "units", "stepping", "output")
 
 
 def pack(bundles: dict, output: Output) -> tuple:
     """The argument of ``advance_packed``: every bundle as a plain tuple, in
-    :data:`ADVANCE_BUNDLES` order (numba types plain tuples of arrays in C, fast)."""
+    :data:`ADVANCE_BUNDLES` order, the units' a tuple of plain tuples (numba types plain tuples
+    of arrays in C, fast)."""
     named = {**bundles, "output": output}
-    return tuple(tuple(named[name]) for name in ADVANCE_BUNDLES)
+    return tuple(tuple(tuple(u) for u in named[name]) if name == "units"
+                 else tuple(named[name]) for name in ADVANCE_BUNDLES)

@@ -33,6 +33,7 @@ import math
 
 import numpy as np
 
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.physics.normal_laws import NORMAL_LAWS, scene_bodies
 from x3dpd.solver.state import Setup
 
@@ -54,9 +55,9 @@ def structure_omega_bound(setup: Setup) -> float:
     rotational springs (type 3) bound the rotational DOFs with the nodes' rotary inertias."""
     n = setup.inv_m.shape[0]
     rows = np.zeros((n, 6))
-    groups = ((setup.sp_nodes, np.abs(setup.sp_k[:, :3]), 0),
-              (setup.ax_nodes, np.repeat(np.abs(setup.ax_k)[:, None], 3, axis=1), 0),
-              (setup.rot_nodes, np.abs(setup.rot_k), 3))
+    # each effect unit's linear elements (x3dpd.physics.effect_unit: ``stiffness``)
+    groups = [g for u in UNITS if u.stiffness is not None
+              for g in u.stiffness(setup.units[u.name])]
     for nodes, ks, col in groups:
         for s in range(nodes.shape[0]):
             a, b = int(nodes[s, 0]), int(nodes[s, 1])

@@ -20,6 +20,7 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
     from x3dpd.model.model import Model
 
 from x3dpd.errors import InputError, UnstableRunError
+from x3dpd.physics.effect_units import UNITS, units_of
 from x3dpd.physics.motion import MOTION_COLUMNS, motion_rows, motion_table, start_motion
 from x3dpd.physics.rolling import n_history as rolling_history
 from x3dpd.physics.tangential_laws import DEFAULT_LAW, n_history
@@ -382,14 +383,13 @@ class Simulation(RunChecks):
         return Status(status)
 
     def project_modal_forces(self) -> None:
-        """The modal forces f = sum phi^T F (less the coupling damping) of the forces now in
-        ``state.force`` into ``state.mf`` (what the first step of the modes uses)."""
-        k, s = self.setup, self.state
-        if k.modal_nodes.shape[0] == 0:
-            return
-        s.mf[:] = np.einsum("jdk,jd->k", k.modal_shape, s.force[k.modal_nodes])
-        if k.modal_coupling.size:
-            s.mf -= k.modal_coupling @ s.mp
+        """The effect units' ``start`` hooks on the forces now in ``state.force`` (the modal
+        forces f = sum phi^T F, less the coupling damping, into ``state.mf``: what the first
+        step of the modes uses; x3dpd.physics.effect_unit)."""
+        bundles = self._bundles()
+        for unit in UNITS:
+            if unit.start is not None:
+                unit.start(bundles[unit.name], self.state.force)
 
     def _faces(self):
         """The faces' planes (normal, offset) and the triangles' frames
@@ -413,14 +413,16 @@ class Simulation(RunChecks):
                       self.motion, s.motion_prev)
         return build_bundles(self.setup, s, loads=loads, faces_now=self._faces(), scratch=sc,
                              dt=self.dt, pen_limit=self.penetration_limit, diag=self.diag,
-                             ledger=ledger, history_dt=history_dt)
+                             ledger=ledger, history_dt=history_dt,
+                             units=units_of(self.variant))
 
     def _packed_bundles(self, output: Output) -> tuple:
         """``advance_packed``'s argument: the bundles packed once and kept while every array of
         the state is the same object (a grown list or another state packs them anew; the
         packed tuple holds the arrays, so their ids cannot be reused meanwhile)."""
         key = (id(getattr(self, "_sc", None)),
-               *(id(v) for v in vars(self.state).values() if isinstance(v, np.ndarray)))
+               *(id(v) for v in vars(self.state).values() if isinstance(v, np.ndarray)),
+               *(id(v) for v in self.state.units.values()))
         cached = getattr(self, "_packed", None)
         if cached is None or cached[0] != key:
             b = self._bundles()
@@ -490,8 +492,7 @@ def _walls_only_translate(setup, prescribed_nodes) -> bool:
     nodes = np.unique(setup.tri_nodes)
     if nodes.size == 0:
         return False
-    turning = setup.modal_body[np.any(setup.modal_shape[:, 3:, :] != 0.0, axis=(1, 2))]
-    if np.any(turning >= 0):
+    if any(len(u.turns(setup.units[u.name])) for u in UNITS if u.turns is not None):
         return False
     fixed = np.all(setup.inv_m[nodes, :3] == 0.0, axis=1) & ~np.isin(nodes, prescribed_nodes)
     owner = np.full(setup.inv_m.shape[0], -1)

@@ -7,12 +7,12 @@ saves. ``Kernel arrays`` (``Setup``) are derived once from the model and never c
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from x3dpd.physics.hooke import hooke_tables
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.physics.maxwell import maxwell_step_factors
 from x3dpd.physics.wall_material import (particle_walls, plane_strain_moduli, wall_friction,
                                           wall_hertz_constants)
@@ -37,21 +37,19 @@ class State:
     x (n,3) coordinates; vel (n,6) velocities (v, omega); force (n,6) force and moment sums;
     rot (B,3,3) rigid-body rotations; fext_prev (n,6) user force of the last step;
     frow_prev (m,) built-in forces of the last step;
-    motion_prev (M,) actuator forces of the last step; fd_prev (S,3) damper forces of the last
-    step; wl_p, wl_f, ws, wl_on (Lw) wall candidate list (particle, face, state row, open-contact
-    flag); nwl (1,) its length; pl_i, pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
+    motion_prev (M,) actuator forces of the last step; wl_p, wl_f, ws, wl_on (Lw) wall
+    candidate list (particle, face, state row, open-contact flag); nwl (1,) its length; pl_i,
+    pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
     ledger (5,) cumulative work/dissipation (the L_* slots of x3dpd.solver._template_contact);
     cs, cs_on (R) contact state rows and open flags of the analytic walls' static list, one
     row per part of each (particle, wall) pair (x3dpd.solver.bundles.Shapes; empty without
     any);
-    mq, mp, mf (M) modal coordinates, their rates and the modal forces of the last step
-    (x3dpd.physics.modal; empty without a MODAL card);
-    axial_fd_prev (A,3) the axial dampers' force vectors of the last step;
-    rotational_theta (Q,3) each rotational spring's relative rotation about x, y, z since t0
-    [rad]; rotational_md_prev (Q,3) the rotational dampers' moments of the last step;
     step: steps done since t0; e_ref: energy at t0;
-    scale: the largest energy-ledger term seen so far (what the residual is judged against).
+    scale: the largest energy-ledger term seen so far (what the residual is judged against);
+    units: the effect units' state arrays by their names (x3dpd.physics.effect_unit.StateArray:
+    every registered unit's, whatever the scene calls for), also read as attributes
+    (``state.mq``).
     """
 
     x: np.ndarray
@@ -61,7 +59,6 @@ class State:
     fext_prev: np.ndarray
     frow_prev: np.ndarray
     motion_prev: np.ndarray
-    fd_prev: np.ndarray
     wl_p: np.ndarray
     wl_f: np.ndarray
     ws: np.ndarray
@@ -76,23 +73,26 @@ class State:
     ledger: np.ndarray
     cs: np.ndarray = None
     cs_on: np.ndarray = None
-    mq: np.ndarray = None
-    mp: np.ndarray = None
-    mf: np.ndarray = None
-    axial_fd_prev: np.ndarray = None
-    rotational_theta: np.ndarray = None
-    rotational_md_prev: np.ndarray = None
     step: int = 0
     e_ref: float = 0.0
     scale: float = 0.0
+    units: dict = field(default_factory=dict)
+
+    def __getattr__(self, name: str):
+        units = self.__dict__.get("units")
+        if units is not None and name in units:
+            return units[name]
+        raise AttributeError(f"State has no attribute {name!r}")
 
     def to_arrays(self) -> dict[str, np.ndarray]:
-        """Flat dict for a restart dump."""
-        out = {}
-        for f in fields(self):
-            v = getattr(self, f.name)
-            out[f.name] = np.asarray(v)
-        return out
+        """Flat dict for a restart dump: the arrays in the order dumps have always had them
+        (:data:`_DUMP_ORDER`), a later unit's after them, then ``step``, ``e_ref``, ``scale``."""
+        core = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "units"}
+        named = {**core, **self.units}
+        order = [n for n in _DUMP_ORDER if n in named]
+        order += [n for n in self.units if n not in order]
+        order += [n for n in core if n not in order and n not in _SCALARS]
+        return {n: np.asarray(named[n]) for n in order + list(_SCALARS)}
 
     def copy(self) -> "State":
         """An independent copy (every array copied): a final state to continue from, or to
@@ -103,7 +103,7 @@ class State:
     def from_arrays(cls, arrays: dict) -> "State":
         kw = {}
         for f in fields(cls):
-            if f.name in _OPTIONAL_STATE and f.name not in arrays:
+            if f.name == "units" or (f.name in _OPTIONAL_STATE and f.name not in arrays):
                 continue   # a dump written before these existed: a scene without any
             v = arrays[f.name]
             if f.name == "step":
@@ -113,24 +113,27 @@ class State:
             else:
                 kw[f.name] = np.array(v)
         state = cls(**kw)
+        for unit in UNITS:
+            for a in unit.state:   # a dump written before the unit existed: empty
+                state.units[a.name] = (np.array(arrays[a.name]) if a.name in arrays
+                                       else np.zeros((0,) + a.columns))
         if state.cs is None:
             state.cs = np.zeros((0, state.ws.shape[1]))
             state.cs_on = np.zeros(0, np.int8)
-        for name in _MODAL_STATE:
-            if getattr(state, name) is None:
-                setattr(state, name, np.zeros(0))
-        for name in _SPRING_STATE:
-            if getattr(state, name) is None:
-                setattr(state, name, np.zeros((0, 3)))
         return state
 
 
-#: State fields of the modal structure (absent from dumps of older versions).
-_MODAL_STATE = ("mq", "mp", "mf")
-#: State fields of the axial and rotational springs (MATID types 2, 3; absent from older dumps).
-_SPRING_STATE = ("axial_fd_prev", "rotational_theta", "rotational_md_prev")
-#: State fields absent from dumps of older versions: analytic walls' contacts, modes, springs.
-_OPTIONAL_STATE = ("cs", "cs_on") + _MODAL_STATE + _SPRING_STATE
+#: State fields absent from dumps of older versions: the analytic walls' contacts.
+_OPTIONAL_STATE = ("cs", "cs_on")
+#: The scalars at a dump's end.
+_SCALARS = ("step", "e_ref", "scale")
+#: The arrays of a restart dump in the order dumps have always had them, the effect units' at
+#: the places they had before they were units (x3dpd.io.restart writes them in this order, so
+#: that a dump's bytes stay those of before); a unit added later puts its arrays after these.
+_DUMP_ORDER = ("x", "vel", "force", "rot", "fext_prev", "frow_prev", "motion_prev", "fd_prev",
+               "wl_p", "wl_f", "ws", "wl_on", "nwl", "pl_i", "pl_j", "ps", "pl_on", "npl", "nbr",
+               "ledger", "cs", "cs_on", "mq", "mp", "mf", "axial_fd_prev", "rotational_theta",
+               "rotational_md_prev")
 
 
 @dataclass(frozen=True)
@@ -144,16 +147,6 @@ class Setup:
     kin_mass: np.ndarray
     kin_inertia: np.ndarray
     g: np.ndarray
-    sp_nodes: np.ndarray
-    sp_k: np.ndarray
-    sp_c: np.ndarray
-    ax_nodes: np.ndarray   # (A, 2) axial elements (MATID type 2): node indices
-    ax_k: np.ndarray       # (A,) stiffness [force/length]
-    ax_c: np.ndarray       # (A,) damping [force s/length]
-    ax_rest: np.ndarray    # (A,) rest length L0 [length]
-    rot_nodes: np.ndarray  # (Q, 2) rotational elements (MATID type 3): node indices (-1: ground)
-    rot_k: np.ndarray      # (Q, 3) stiffness about x, y, z [force length/rad]
-    rot_c: np.ndarray      # (Q, 3) damping [force length s/rad]
     rig_master: np.ndarray
     rig_ptr: np.ndarray
     rig_slaves: np.ndarray
@@ -185,15 +178,12 @@ class Setup:
     tri_nodes: np.ndarray
     tri_sign: np.ndarray
     shapes: "ShapeTable"      # the analytic walls and their static contact list
-    modal_nodes: np.ndarray   # (N,) modal nodes (x3dpd.solver.bundles.Modal)
-    modal_shape: np.ndarray   # (N, 6, M)
-    modal_body: np.ndarray    # (N,)
-    modal_coef: np.ndarray    # (M, 8) step coefficients for dt
-    modal_diss: np.ndarray    # (M, 10) dissipation forms for dt
-    modal_coupling: np.ndarray  # (M, M) or (0, 0)
     n_maxwell: int
     skin: float
     dt: float
+    #: the effect units' constant arrays, by unit name and bundle field
+    #: (x3dpd.physics.effect_unit: every registered unit's, whatever the scene calls for)
+    units: dict = field(default_factory=dict)
 
 
 def _f64(a, shape=None):
@@ -213,26 +203,31 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     ``prescribed``: (m, 2) node index, dof index of DOFs moved by a prescribed motion (they are
     integrated as fixed: zero inverse mass).
     """
+    nodes = _node_arrays(model, float(dt), prescribed)
+    particles = _particle_arrays(model, dt, nodes["mass"], friction)
+    if skin is None:
+        radius = particles["radius"]
+        skin = 0.25 * float(radius.min()) if radius.shape[0] else 0.0
+    return Setup(**nodes, **particles, **_wall_arrays(model), skin=float(skin), dt=float(dt))
+
+
+def _node_arrays(model: Model, dt: float, prescribed) -> dict:
+    """The nodes' and rigid bodies' arrays of Setup, and the effect units' constants (a unit
+    may take its nodes out of velocity Verlet: x3dpd.physics.effect_unit)."""
     n = model.n_nodes
-    p0 = model.particle_start
-    npart = model.n_particles
     mass = _f64(model.mass).copy()
-    inertia = _f64(model.inertia, (n, 3)).copy()
     fixed = np.array(model.fixed, dtype=bool).reshape(n, 6).copy()
     if prescribed is not None:
         for i, d in np.asarray(prescribed, dtype=np.int64).reshape(-1, 2):
             fixed[i, d] = True
-
     kin_mass = mass.copy()
-    kin_inertia = inertia.copy()
+    kin_inertia = _f64(model.inertia, (n, 3)).copy()
     nb = model.rigid_master.shape[0]
     rig_free_rot = np.zeros((nb, 3), dtype=np.bool_)
     rig_r0 = np.zeros((model.rigid_slaves.shape[0], 3))
     rig_ib = _f64(model.rigid_inertia, (nb, 3, 3)).copy()
     rig_inv_ib = np.zeros((nb, 3, 3))
     slave = np.zeros(n, dtype=bool)
-    modal_bodies = set() if model.modal is None else set(model.modal.body[model.modal.body >= 0]
-                                                         .tolist())
     for b in range(nb):
         m = int(model.rigid_master[b])
         sl = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
@@ -240,9 +235,7 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
         rig_r0[model.rigid_ptr[b]:model.rigid_ptr[b + 1]] = model.x0[sl] - model.x0[m]
         kin_mass[m] = model.rigid_mass[b]
         kin_inertia[m] = np.diag(rig_ib[b])
-        rig_free_rot[b] = ~fixed[m, 3:6] & (b not in modal_bodies)   # the modes turn those
-        if rig_free_rot[b].any():
-            rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
+        rig_free_rot[b] = ~fixed[m, 3:6]
     kin_mass[slave] = 0.0
     kin_inertia[slave] = 0.0
 
@@ -254,16 +247,28 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
             inv_m[:, 3 + d] = np.where(has, 1.0 / np.where(has, kin_inertia[:, d], 1.0), 0.0)
     inv_m[fixed] = 0.0
     inv_m[slave] = 0.0
-    # rotations of rigid masters with a free rotational DOF use the full tensor (separate kick)
+    out = {"inv_m": inv_m, "mass": mass, "kin_mass": kin_mass, "kin_inertia": kin_inertia,
+           "rig_free_rot": rig_free_rot}
+    units = {u.name: u.setup(model, dt, out) for u in UNITS}
+    # rotations of rigid masters with a free rotational DOF (that no unit carries) use the full
+    # tensor (a kick of their own)
     for b in range(nb):
         if rig_free_rot[b].any():
+            rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
             inv_m[int(model.rigid_master[b]), 3:6] = 0.0
+    return {**out, "x0": _f64(model.x0, (n, 3)), "fgrav": _body_forces(mass, model),
+            "g": _f64(model.body_accel, (3,)), "rig_master": _i64(model.rigid_master),
+            "rig_ptr": _i64(model.rigid_ptr), "rig_slaves": _i64(model.rigid_slaves),
+            "rig_r0": rig_r0, "rig_ib": rig_ib, "rig_inv_ib": rig_inv_ib, "units": units}
 
-    modal = _modal_setup(model, float(dt), inv_m, mass, kin_mass, kin_inertia, rig_free_rot,
-                         rig_inv_ib)
 
-    # particles
+def _particle_arrays(model: Model, dt: float, mass: np.ndarray, friction: str) -> dict:
+    """The particles' arrays of Setup: radii, moduli, Maxwell factors, kinds, the contact laws'
+    constant tables (``mass``: the nodes' masses)."""
+    p0 = model.particle_start
+    npart = model.n_particles
     radius = _f64(model.radius)
+    inertia = _f64(model.inertia, (model.n_nodes, 3))
     moduli = _f64(model.moduli, (npart, -1)) if npart else np.zeros((0, 1))
     taus = _f64(model.taus, (npart, -1)) if npart else np.zeros((0, 1))
     k_terms = moduli.shape[1]
@@ -291,8 +296,42 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     if k_terms > 1 and npart and np.any(moduli[:, 1:] != 0.0):
         n_maxwell = k_terms - 1
 
-    # walls: faces per cavity (CSR), triangles per face (CSR)
     pcav = _i64(model.particle_cavity)
+    # the normal law's own constants (its card's, x3dpd.physics.normal_laws) distinguish kinds too
+    law = NORMAL_LAWS[model.normal_law]
+    params = (np.zeros((npart, len(law.PARAMS))) if model.law_params is None
+              else _f64(model.law_params).reshape(npart, len(law.PARAMS)))
+    pm_all = mass[p0:] if npart else np.zeros(0)
+    extra = law.kind_keys(params, pm_all)
+    mu_k = getattr(model, "mu_kinetic", None)
+    mu_k = _f64(model.mu) if mu_k is None else _f64(mu_k)
+    if n_history(friction):
+        # a tangential spring's constants (Poisson's ratio, kinetic mu) distinguish kinds too
+        extra = extra + (nu, mu_k)
+    mu_r = np.zeros(npart) if model.mu_roll is None else _f64(model.mu_roll)
+    if model.rolling_law != "none":
+        extra = extra + (mu_r,)
+    pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu, *extra)
+    pair_c = pair_constant_table(radius, cinst, inv_mt, model.mu, rep)
+    law_wall, law_pair = law.law_tables(params, pm_all, rep)
+    bodies = ([b._replace(wall_e=float(e), wall_nu=float(n)) for b, e, n in
+               zip(contact_bodies(pm_all, radius, moduli, nu, params), e_wall, nu_wall)]
+              if npart else [])   # a scene without particles has no contact bodies
+    tan_wall, tan_pair = tangential_tables(friction, law, bodies, mu_k, rep, model.rolling_law,
+                                           mu_r, pin)
+    tan_wall[:, 1] = wall_friction(tan_wall[:, 1], mu_wall)   # a WALLMAT wall's mu
+
+    return {"p0": int(p0), "radius": radius, "kw": _f64(kw), "ep": _f64(ep), "pkind": pkind,
+            "pair_c": pair_c, "law_wall": _f64(law_wall), "law_pair": _f64(law_pair),
+            "tan_wall": _f64(tan_wall), "tan_pair": _f64(tan_pair),
+            "n_tangential": n_history(friction) + rolling_history(model.rolling_law),
+            "decay": _f64(decay), "half": _f64(half), "mu": _f64(wall_friction(model.mu, mu_wall)),
+            "inv_mt": _f64(inv_mt), "pcav": pcav, "n_maxwell": n_maxwell}
+
+
+def _wall_arrays(model: Model) -> dict:
+    """The walls' arrays of Setup: faces per cavity (CSR), triangles per face (CSR), the
+    analytic walls and their static contact list."""
     ncav = int(model.cavity_set_ids.shape[0])
     tri_face = _i64(model.tri_face)
     nf = int(model.face_cavity.shape[0])
@@ -307,90 +346,10 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     cav_ptr = np.zeros(ncav + 1, dtype=np.int64)
     np.add.at(cav_ptr, fc + 1, 1)
     cav_ptr = np.cumsum(cav_ptr)
-
-    hooke = (np.zeros((npart, 2)) if model.hooke is None
-             else _f64(model.hooke, (npart, 2)))
-    pm_all = mass[p0:] if npart else np.zeros(0)
-    # the hooke law's own constants distinguish kinds too
-    extra = (hooke[:, 0], hooke[:, 1], pm_all) if model.normal_law == "hooke" else ()
-    mu_k = getattr(model, "mu_kinetic", None)
-    mu_k = _f64(model.mu) if mu_k is None else _f64(mu_k)
-    if n_history(friction):
-        # a tangential spring's constants (Poisson's ratio, kinetic mu) distinguish kinds too
-        extra = extra + (nu, mu_k)
-    mu_r = np.zeros(npart) if model.mu_roll is None else _f64(model.mu_roll)
-    if model.rolling_law != "none":
-        extra = extra + (mu_r,)
-    pkind, rep = particle_kinds(radius, cinst, inv_mt, model.mu, *extra)
-    pair_c = pair_constant_table(radius, cinst, inv_mt, model.mu, rep)
-    law_wall, law_pair = np.zeros((npart, 2)), np.zeros((rep.shape[0], rep.shape[0], 2))
-    if model.normal_law == "hooke":
-        law_wall, law_pair = hooke_tables(hooke[:, 0], hooke[:, 1], pm_all, rep)
-    bodies = ([b._replace(wall_e=float(e), wall_nu=float(n)) for b, e, n in
-               zip(contact_bodies(pm_all, radius, moduli, nu, hooke), e_wall, nu_wall)]
-              if npart else [])   # a scene without particles has no contact bodies
-    tan_wall, tan_pair = tangential_tables(friction, NORMAL_LAWS[model.normal_law], bodies,
-                                           mu_k, rep, model.rolling_law, mu_r, pin)
-    tan_wall[:, 1] = wall_friction(tan_wall[:, 1], mu_wall)   # a WALLMAT wall's mu
-
-    if skin is None:
-        skin = 0.25 * float(radius.min()) if npart else 0.0
-
-    return Setup(
-        x0=_f64(model.x0, (n, 3)), inv_m=inv_m, mass=mass, fgrav=_body_forces(mass, model),
-        kin_mass=kin_mass,
-        kin_inertia=kin_inertia, g=_f64(model.body_accel, (3,)),
-        sp_nodes=_i64(model.spring_nodes).reshape(-1, 2), sp_k=_f64(model.spring_k).reshape(-1, 3),
-        sp_c=_f64(model.spring_c).reshape(-1, 3),
-        ax_nodes=_i64(model.axial_nodes).reshape(-1, 2), ax_k=_f64(model.axial_k),
-        ax_c=_f64(model.axial_c), ax_rest=_f64(model.axial_length),
-        rot_nodes=_i64(model.rotational_nodes).reshape(-1, 2),
-        rot_k=_f64(model.rotational_k).reshape(-1, 3),
-        rot_c=_f64(model.rotational_c).reshape(-1, 3),
-        rig_master=_i64(model.rigid_master), rig_ptr=_i64(model.rigid_ptr),
-        rig_slaves=_i64(model.rigid_slaves), rig_r0=rig_r0, rig_inv_ib=rig_inv_ib, rig_ib=rig_ib,
-        rig_free_rot=rig_free_rot,
-        p0=int(p0), radius=radius, kw=_f64(kw), ep=_f64(ep), pkind=pkind, pair_c=pair_c,
-        law_wall=_f64(law_wall), law_pair=_f64(law_pair), tan_wall=_f64(tan_wall),
-        tan_pair=_f64(tan_pair),
-        n_tangential=n_history(friction) + rolling_history(model.rolling_law),
-        decay=_f64(decay), half=_f64(half), mu=_f64(wall_friction(model.mu, mu_wall)),
-        inv_mt=_f64(inv_mt), pcav=pcav,
-        cav_ptr=cav_ptr, cav_faces=cav_faces, face_first_tri=face_first_tri, face_ptr=face_ptr,
-        face_tris=face_tris, tri_nodes=_i64(model.tri_nodes).reshape(-1, 3),
-        tri_sign=_f64(model.tri_sign), shapes=shape_table(model, pcav), **modal,
-        n_maxwell=n_maxwell,
-        skin=float(skin), dt=float(dt),
-    )
-
-
-def _modal_setup(model, dt, inv_m, mass, kin_mass, kin_inertia, rig_free_rot, rig_inv_ib):
-    """The modal structure's kernel arrays (x3dpd.physics.modal); its nodes leave velocity
-    Verlet (zero inverse mass, no kinetic mass: the modes carry it). Updates the arrays in place.
-    With the housing included in the modes, the deck's mass on modal nodes does not weigh."""
-    from x3dpd.physics.modal import dissipation_forms, step_coefficients
-
-    ms = model.modal
-    if ms is None:
-        return {"modal_nodes": np.zeros(0, np.int64), "modal_shape": np.zeros((0, 6, 0)),
-                "modal_body": np.zeros(0, np.int64), "modal_coef": np.zeros((0, 8)),
-                "modal_diss": np.zeros((0, 10)), "modal_coupling": np.zeros((0, 0))}
-    nodes = _i64(ms.nodes)
-    inv_m[nodes] = 0.0
-    kin_mass[nodes] = 0.0
-    kin_inertia[nodes] = 0.0
-    for b in ms.body[ms.body >= 0]:
-        rig_free_rot[b] = False
-        rig_inv_ib[b] = 0.0
-    if ms.housing == "included":
-        mass[nodes] = 0.0
-        for b in ms.body[ms.body >= 0]:
-            mass[model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]] = 0.0
-    return {"modal_nodes": nodes, "modal_shape": _f64(ms.shape),
-            "modal_body": _i64(ms.body),
-            "modal_coef": step_coefficients(ms.omega, ms.zeta, dt),
-            "modal_diss": dissipation_forms(ms.omega, ms.zeta, dt),
-            "modal_coupling": _f64(ms.coupling).reshape(ms.coupling.shape)}
+    return {"cav_ptr": cav_ptr, "cav_faces": cav_faces, "face_first_tri": face_first_tri,
+            "face_ptr": face_ptr, "face_tris": face_tris,
+            "tri_nodes": _i64(model.tri_nodes).reshape(-1, 3), "tri_sign": _f64(model.tri_sign),
+            "shapes": shape_table(model, _i64(model.particle_cavity))}
 
 
 def _body_forces(mass: np.ndarray, model) -> np.ndarray:
@@ -421,7 +380,6 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         x=setup.x0.copy(), vel=vel, force=np.zeros((n, 6)), rot=rot,
         fext_prev=np.zeros((n_fext_nodes, 6)), frow_prev=np.zeros(n_force_rows),
         motion_prev=np.zeros(n_motion),
-        fd_prev=np.zeros((setup.sp_nodes.shape[0], 3)),
         wl_p=np.zeros(lw, np.int64), wl_f=np.zeros(lw, np.int64), ws=np.zeros((lw, ncols)),
         wl_on=np.zeros(lw, np.int8),
         nwl=np.zeros(1, np.int64),
@@ -431,9 +389,7 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
         nbr=np.array([0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0]), ledger=np.zeros(5),
         cs=np.zeros((setup.shapes.row_particle.shape[0], ncols)),
         cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
-        mq=np.zeros(setup.modal_coef.shape[0]), mp=np.zeros(setup.modal_coef.shape[0]),
-        mf=np.zeros(setup.modal_coef.shape[0]),
-        axial_fd_prev=np.zeros((setup.ax_nodes.shape[0], 3)),
-        rotational_theta=np.zeros((setup.rot_nodes.shape[0], 3)),
-        rotational_md_prev=np.zeros((setup.rot_nodes.shape[0], 3)), step=0, e_ref=0.0,
+        step=0, e_ref=0.0,
+        units={a.name: np.zeros((setup.units[u.name][a.rows].shape[0],) + a.columns)
+               for u in UNITS for a in u.state},
     )

@@ -30,9 +30,11 @@ import numba
 import numpy as np
 
 from x3dpd.geometry.shapes import BY_SHAPE_NAME, SHAPES, kind_of
+from x3dpd.physics.effect_units import UNITS
 from x3dpd.physics.normal_laws import NORMAL_LAW_API, NORMAL_LAWS
 from x3dpd.physics.rolling import ROLLING_LAWS
 from x3dpd.physics.tangential_laws import TANGENTIAL_LAW_API, TANGENTIAL_LAWS
+from x3dpd.solver.unit_slots import units_source
 
 _TEMPLATE = Path(__file__).with_name("_advance_template.py")
 #: The template's parts besides the loop, in import order (``_template_<part>.py``): each is
@@ -96,7 +98,6 @@ class Variant:
                      threaded: bool = False, one_wall_kind: bool = False) -> "Variant":
         e = set(effects)
         return cls(
-            springs=bool({"springs", "dampers"} & e),
             rigid="rigid_links" in e,
             rigid_rotation="rigid_rotation" in e,
             walls="wall_contact" in e,
@@ -115,10 +116,9 @@ class Variant:
             shapes="+".join(s.name for s in SHAPES if s.effect in e),
             one_particle_kind=one_particle_kind and "pair_contact" in e,
             one_wall_kind=one_wall_kind and "wall_contact" in e,
-            modal="modal_structure" in e,
-            axial_springs="axial_springs" in e,
-            rotational_springs="rotational_springs" in e,
             threaded=threaded and "pair_contact" in e,
+            # an effect unit is compiled when the scene has any of its effects
+            **{u.flag: bool(set(u.effects) & e) for u in UNITS},
         )
 
     def header(self) -> str:
@@ -139,6 +139,7 @@ class Variant:
                 lines.append(f"HAS_{f.name.upper()} = {value}")
             else:
                 lines.append(f"{f.name.upper()} = {value!r}")
+        lines.append(units_source(self))
         lines.append("USER_FORCE = None")
         return "\n".join(lines)
 
@@ -390,6 +391,9 @@ def make_advance(variant: Variant, user_files=()):
         path = folder / f"{stem}{suffix}.py"
         _write_if_changed(path, sources[part].replace(_PART_MODULE, f"{name}__"))
         module = _import_file(f"{name}{suffix}", path)
+    for unit in UNITS:   # the units' kernels the Python side calls on a state
+        for kernel_name in unit.kernels:
+            setattr(module, kernel_name, getattr(sys.modules[unit.module], kernel_name))
     _LOADED[key] = module
     _VARIANT_OF[name] = (variant, stem)
     return module
