@@ -59,6 +59,7 @@ def _peak_interval_db(mine: Sequence[Mapping], drive) -> float:
     return 20.0 / math.log(10.0) * ci / peak["amplitude"] if peak["amplitude"] > 0 else math.nan
 
 
+# Over 80 lines: one figure: axes, series, the best's star and labels in the order they are drawn.
 def plot_attenuation_vs_mass(
     png: str | os.PathLike,
     rows: Sequence[Mapping],

@@ -172,6 +172,7 @@ def save_figure(plt, fig, png: str | os.PathLike, suptitle: str = "") -> str:
     return str(png)
 
 
+# Over 80 lines: one panel's layers (baselines, FRFs, points, labels) in drawing order.
 def _sweep_axes(ax, rows, curves, drive: float, quantity: str, ylabel: str, base=None) -> None:
     """One panel: the baselines' curves and points, measured FRFs (``curves`` keys "measured
     ...", dashed) and the damper's points at one drive, as

@@ -155,6 +155,7 @@ class ModalFit:
         return phi, se
 
 
+# Over 80 lines: one LSFD solve: assembly, solve, residuals and errors share its matrices.
 def refine_modes(
     frequency, h, fn0, zeta0, *, order: int, driving: int, band: tuple[float, float]
 ) -> ModalFit:

@@ -1,3 +1,4 @@
+# Over 400 lines: the steady-state monitor's feed, criterion and answer share its per-cycle series.
 """Steady-state amplitude and phase of a sine-driven response, measured over whole drive cycles,
 with their 95 % confidence intervals.
 

@@ -109,6 +109,7 @@ def _in_units(text: str, units: dict) -> str:
     return text.replace("length/s", units["velocity"])
 
 
+# Over 80 lines: the check report's sections in print order, a short block each.
 def _report_lines(report: CheckReport, units: dict, declared: bool = False) -> list[str]:
     n_w, n_e = len(report.warnings), len(report.errors)
     verdict = (

@@ -16,6 +16,7 @@ from x3dpd.cli.outputs import refuse_existing
 from x3dpd.errors import InputError
 
 
+# Over 80 lines: a click command: its options' checks and the one call to the fill API.
 @click.command("fill")
 @click.argument("template", type=click.Path(exists=True, dir_okay=False))
 @click.option(

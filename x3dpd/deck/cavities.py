@@ -140,6 +140,7 @@ def _fixed_dofs(deck: Deck) -> dict[int, set[int]]:
     return out
 
 
+# Over 80 lines: a cavity's nodes, walls, particles and records copied with one renumbering map.
 def with_cavities(
     deck: Deck,
     count: int,

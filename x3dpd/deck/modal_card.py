@@ -131,6 +131,7 @@ def _integer(word: str, pos: Pos, what: str, low: int = 1) -> int:
     return int(value)
 
 
+# Over 80 lines: the MODAL card's records read in one pass, each with its own error message.
 def parse_modal(keyword_pos: Pos, lines: list[tuple[str, int, int]]) -> Modal:
     """The MODAL card from its text lines ``(text, line, column)``."""
     modes: list[ModalMode] = []

@@ -77,6 +77,7 @@ def _dofs(dofs: tuple[int, ...]) -> str:
     return "".join(str(d) for d in dofs)
 
 
+# Over 80 lines: the deck's cards written in the reader's order, a short block per card.
 def format_deck(deck: Deck) -> str:
     """Normalized deck text for ``deck``; parsing it gives back equal cards (positions aside).
 

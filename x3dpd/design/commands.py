@@ -36,6 +36,7 @@ from x3dpd.units import labels_for, standard_gravity
 DEFAULT_CRITERION = Criterion()
 
 
+# Over 80 lines: the sweep's one flow: options checked, points planned, run and written.
 def sweep_command(
     deck_path: str,
     *,

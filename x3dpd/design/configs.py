@@ -1,3 +1,4 @@
+# Over 400 lines: a design's configurations: every [vary] variable's deck edit in one place.
 """The configurations of a design (x3dpd.design.design_file): one deck each, made from the
 structure deck by resizing its cavity, filling it (``x3dpd fill``'s library) and setting the
 particles' material (x3dpd.materials), then written to ``OUT/configs/NAME/NAME.inp``.

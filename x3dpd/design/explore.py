@@ -53,6 +53,7 @@ from x3dpd.errors import InputError
 from x3dpd.units import labels_for
 
 
+# Over 80 lines: a design's one flow: configurations, resume, cluster, rows and figures.
 def run_design(
     path: str | os.PathLike,
     out: str | os.PathLike,

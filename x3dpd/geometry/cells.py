@@ -40,6 +40,7 @@ def _pairs_brute(x, radius, cavity, skin, out_i, out_j):
     return count
 
 
+# Over 80 lines: a compiled kernel: one cell-list sweep, no call per candidate.
 @kernel
 def _pairs_cells(x, radius, cavity, skin, out_i, out_j):
     """Cell-list pair search; pairs come out sorted by i, then j. Returns -1 on overflow."""

@@ -1,3 +1,4 @@
+# Over 400 lines: the measured-data readers (CSV, UFF 58) share their checks and their errors.
 """Measured data in: frequency response functions and ring-down time histories from a test.
 
 Two formats each (docs/testing-like-a-test-engineer.md):

@@ -207,6 +207,7 @@ def _locate_error(path: str, ncols: int = len(COLUMNS)) -> TraceError:
     return TraceError(f"{path}: not a trace file")
 
 
+# Over 80 lines: one reader: header, rows and sidecar checked together.
 def read_trace(
     path: str | os.PathLike,
     *,

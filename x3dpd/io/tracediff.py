@@ -134,6 +134,7 @@ def _upto(tr: TraceData, until: float | None, tol: float) -> int:
     return int(np.searchsorted(tr.times, until + tol, side="right"))
 
 
+# Over 80 lines: the comparison's steps on shared arrays.
 def compare_traces(
     a: TraceData, b: TraceData, rtol: float = 1e-9, atol: float = 0.0, until: float | None = None
 ) -> DiffReport:

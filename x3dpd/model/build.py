@@ -66,6 +66,7 @@ class _Builder(ParticleSteps, StructureSteps, WallSteps, LoadSteps, ModalSteps, 
 
     # -- build --------------------------------------------------------------------------------
 
+    # Over 80 lines: the model's builders called in the order their inputs need, a line or two each.
     def build(self) -> Model:
         deck = self.deck
         if deck.plates:  # the reader builds them (x3dpd.deck.read_deck); a deck made in code

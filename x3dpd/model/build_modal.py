@@ -172,6 +172,7 @@ class ModalSteps(BuilderBase):
         )
 
     # -- a mode file ----------------------------------------------------------------------------
+    # Over 80 lines: a mode file read, selected, mapped and coupled.
     def _modes_from_file(self, rec):
         ms = rec.mode_set
         if ms is None:

@@ -36,6 +36,7 @@ class StructureSteps(BuilderBase):
             self.mass[i] += rec.mass
             self.inertia[i] += (rec.ixx, rec.iyy, rec.izz)
 
+    # Over 80 lines: the three spring types read in one pass over MATID and ELEMENTS.
     def _springs(self) -> None:
         """MATID + ELEMENTS: the axis-aligned spring-dampers of type 1 (X3D's), the axial ones
         of type 2 and the rotational ones of type 3 (our extensions), each in arrays of its own."""

@@ -147,6 +147,7 @@ class CheckReport:
         return 2 if self.errors else (1 if self.warnings else 0)
 
 
+# Over 80 lines: every finding of x3dpd check gathered in print order (their parts: check_*.py).
 def check_model(
     model: Model, steps_per_contact: int = STEPS_PER_CONTACT, *, usrfrc=()
 ) -> CheckReport:

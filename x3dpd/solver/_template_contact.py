@@ -198,6 +198,7 @@ def _wall_closing_work(nodes, particles, stepping, ws, s, p, nx, ny, nz, wall_no
     return lost, rolled
 
 
+# Over 80 lines: a compiled kernel: one contact's laws share their terms.
 @step_kernel
 def _wall_response(nodes, particles, stepping, ws, on, s, p, a, a_old, fn_old, nx, ny, nz,
                    wall_nodes, row, w, n_w, lever, lx, ly, lz):

@@ -1,3 +1,4 @@
+# Over 400 lines: the pair passes (filter, response, apply) share one block's column layout.
 """Step-loop template, part: particle-particle contacts in three passes (x3dpd.solver.variants).
 
 Filter (``_pair_filter``), vectorized response (``_pair_response``) and apply
@@ -166,6 +167,7 @@ def _columns_out(rows, area):
             rows[r0 + C_ROLLED], rows[r0 + C_RMIN])
 
 
+# Over 80 lines: a compiled kernel: one fused pass over a block's columns.
 @vector_kernel
 def _pair_response(q0, n, busy, pl_i, pl_j, particles, hist, dt, cin, cout, history_dt):
     """Pass 2 of the pair contacts: the contact response of a block's ``n`` busy candidates

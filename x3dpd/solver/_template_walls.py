@@ -30,6 +30,7 @@ if SHAPE_LOCATE is None:
     SHAPE_LOCATE = _no_shape_locate
 
 
+# Over 80 lines: a compiled kernel: face, edge and vertex tests share one triangle's projections.
 @step_kernel
 def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     """Particle-wall contact forces on the triangulated walls (report Figure 40): the face

@@ -1,3 +1,4 @@
+# Over 400 lines: Simulation's operations share its prepared arrays.
 """Run a model: the Python side of the time-step loop.
 
 :class:`Simulation` prepares the kernel arrays, compiles (or loads from cache) the step loop for

@@ -1,3 +1,4 @@
+# Over 400 lines: effect flags, the template's copy and the cache key belong together.
 """Factory of compiled step loops: one variant per combination of effects a scene calls for.
 
 :func:`make_advance` writes the step-loop template (``_advance_template.py`` and its parts

@@ -41,6 +41,7 @@ class StudyResult:
     files: tuple = ()
 
 
+# Over 80 lines: the study's one flow: ladder, runs, verdict, CSV and figure.
 def run_study(
     deck,
     out=None,

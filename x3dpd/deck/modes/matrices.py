@@ -7,6 +7,7 @@ import numpy as np
 from x3dpd.deck.modes.modeset import ModeSet, parse_dof, sorted_mode_set
 
 
+# Over 80 lines: one eigen-solution: checks, solve, normalisation and order on the same matrices.
 def modes_from_matrices(
     K,
     M,
