@@ -15,13 +15,16 @@ import numpy as np
 
 from x3dpd._jit import kernel, step_kernel
 
-__all__ = ["TRIANGLE_FRAME", "_build_wall_list", "_face_offsets", "_face_planes",
-           "_locate_on_face", "_locate_on_frames", "_triangle_frames"]
+__all__ = ["TRIANGLE_FRAME", "_build_wall_list", "_face_frames", "_face_offsets",
+           "_face_planes", "_forget_frames", "_locate_on_face", "_locate_on_frames",
+           "_triangle_frames"]
 
 #: Values per triangle of :func:`_triangle_frames`: the gradients g_e (3 each) and offsets h_e
 #: of the barycentric coordinates lambda_e = g_e . q - h_e, e = 0, 1, 2, and the heights H_e
-#: over each edge: 3 x 3 + 3 + 3.
-TRIANGLE_FRAME = 15
+#: over each edge: 3 x 3 + 3 + 3; then FRAME_FRESH, 1.0 when the frame is this step's
+#: (:func:`_face_frames`).
+TRIANGLE_FRAME = 16
+FRAME_FRESH = 15
 
 
 @step_kernel
@@ -140,43 +143,60 @@ def _triangle_frames(x, face_n, face_ptr, face_tris, tri_nodes, frames):
     triangle's height over it). A few dozen operations per triangle per step; the locator then
     needs three dot products per triangle, no division and no square root."""
     for f in range(face_ptr.shape[0] - 1):
-        nx = face_n[f, 0]
-        ny = face_n[f, 1]
-        nz = face_n[f, 2]
-        for k in range(face_ptr[f], face_ptr[f + 1]):
-            t = face_tris[k]
-            p0 = tri_nodes[t, 0]
-            p1 = tri_nodes[t, 1]
-            p2 = tri_nodes[t, 2]
-            ax = x[p1, 0] - x[p0, 0]
-            ay = x[p1, 1] - x[p0, 1]
-            az = x[p1, 2] - x[p0, 2]
-            bx = x[p2, 0] - x[p0, 0]
-            by = x[p2, 1] - x[p0, 1]
-            bz = x[p2, 2] - x[p0, 2]
-            area2 = nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
-            inv = 1.0 / area2
-            for e in range(3):
-                if e == 0:
-                    i = p1
-                    j = p2
-                elif e == 1:
-                    i = p2
-                    j = p0
-                else:
-                    i = p0
-                    j = p1
-                ex = x[j, 0] - x[i, 0]
-                ey = x[j, 1] - x[i, 1]
-                ez = x[j, 2] - x[i, 2]
-                gx = (ny * ez - nz * ey) * inv
-                gy = (nz * ex - nx * ez) * inv
-                gz = (nx * ey - ny * ex) * inv
-                frames[t, 3 * e] = gx
-                frames[t, 3 * e + 1] = gy
-                frames[t, 3 * e + 2] = gz
-                frames[t, 9 + e] = gx * x[i, 0] + gy * x[i, 1] + gz * x[i, 2]
-                frames[t, 12 + e] = abs(area2) / math.sqrt(ex * ex + ey * ey + ez * ez)
+        _face_frames(x, face_n, f, face_ptr, face_tris, tri_nodes, frames)
+
+
+@step_kernel
+def _forget_frames(frames):
+    """Mark every triangle's frame as not yet computed this step (:func:`_face_frames`)."""
+    for t in range(frames.shape[0]):
+        frames[t, FRAME_FRESH] = 0.0
+
+
+@step_kernel
+def _face_frames(x, face_n, f, face_ptr, face_tris, tri_nodes, frames):
+    """The frames (:func:`_triangle_frames`) of face ``f``'s triangles, marked fresh: the wall
+    pass computes a face's frames the first time a step locates a contact on it, so a step
+    with no touching contact (a falling or fluidized bed) computes none -- the same numbers
+    from the same positions as computing all of them at the start of the step."""
+    nx = face_n[f, 0]
+    ny = face_n[f, 1]
+    nz = face_n[f, 2]
+    for k in range(face_ptr[f], face_ptr[f + 1]):
+        t = face_tris[k]
+        p0 = tri_nodes[t, 0]
+        p1 = tri_nodes[t, 1]
+        p2 = tri_nodes[t, 2]
+        ax = x[p1, 0] - x[p0, 0]
+        ay = x[p1, 1] - x[p0, 1]
+        az = x[p1, 2] - x[p0, 2]
+        bx = x[p2, 0] - x[p0, 0]
+        by = x[p2, 1] - x[p0, 1]
+        bz = x[p2, 2] - x[p0, 2]
+        area2 = nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
+        inv = 1.0 / area2
+        for e in range(3):
+            if e == 0:
+                i = p1
+                j = p2
+            elif e == 1:
+                i = p2
+                j = p0
+            else:
+                i = p0
+                j = p1
+            ex = x[j, 0] - x[i, 0]
+            ey = x[j, 1] - x[i, 1]
+            ez = x[j, 2] - x[i, 2]
+            gx = (ny * ez - nz * ey) * inv
+            gy = (nz * ex - nx * ez) * inv
+            gz = (nx * ey - ny * ex) * inv
+            frames[t, 3 * e] = gx
+            frames[t, 3 * e + 1] = gy
+            frames[t, 3 * e + 2] = gz
+            frames[t, 9 + e] = gx * x[i, 0] + gy * x[i, 1] + gz * x[i, 2]
+            frames[t, 12 + e] = abs(area2) / math.sqrt(ex * ex + ey * ey + ez * ez)
+        frames[t, FRAME_FRESH] = 1.0
 
 
 @step_kernel

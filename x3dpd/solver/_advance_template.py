@@ -25,7 +25,7 @@ import math
 from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
-                                  _triangle_frames)
+                                  _forget_frames)
 from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
@@ -74,9 +74,9 @@ def _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
             _face_planes(x, faces.tri_nodes, faces.tri_sign, faces.first_tri, faces.normal,
                          faces.offset)
         if HAS_ONE_WALL_KIND:
-            # the triangles' barycentric frames, for the locator of the wall columns
-            _triangle_frames(x, faces.normal, faces.tri_ptr, faces.tris, faces.tri_nodes,
-                             faces.tri_frame)
+            # the triangles' barycentric frames for the locator of the wall columns, computed
+            # face by face when a step first locates a contact on the face (_wall_gather)
+            _forget_frames(faces.tri_frame)
         # the rebuild's scratch is free while forces run
         status |= _wall_contacts(nodes, particles, faces, walls, stepping,
                                  stepping.small[6:9], walls.first_new)

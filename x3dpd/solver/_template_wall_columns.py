@@ -19,7 +19,8 @@ Generated per variant beside the loop, with the variant's constants (``_template
 import numpy as np
 
 from x3dpd._jit import loop_kernel, step_kernel, vector_kernel
-from x3dpd.geometry.faces import _locate_on_face, _locate_on_frames
+from x3dpd.geometry.faces import (FRAME_FRESH, _face_frames, _locate_on_face,
+                                  _locate_on_frames)
 from x3dpd.solver._template_contact import (CONTACT_TAIL, HAS_TORQUE, _booked_from,
                                             _close_contact, _penetration, _tangential,
                                             _wall_closing_work)
@@ -87,6 +88,8 @@ def _wall_gather(lo, hi, x, vel, p0, radius, wl_p, wl_f, ws, wl_on, face_n, face
         a = r - d
         t = -1
         if a > 0.0:
+            if tri_frame[face_tris[face_ptr[f]], FRAME_FRESH] == 0.0:
+                _face_frames(x, face_n, f, face_ptr, face_tris, tri_nodes, tri_frame)
             t = _locate_on_frames(x[i, 0] - d * nx, x[i, 1] - d * ny, x[i, 2] - d * nz, f,
                                   face_ptr, face_tris, tri_frame, r, w)
         c[_at(W_TRI, e)] = t

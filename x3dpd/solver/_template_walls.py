@@ -127,8 +127,9 @@ def _wall_contacts_in_columns(nodes, particles, faces, walls, stepping, w, busy)
     list order (which closes the contacts that ended). The ledger's sums chain through the
     blocks in that order."""
     nw = walls.count[0]
+    if nw == 0:
+        return OK
     c = walls.columns
-    rows = c.reshape((c.shape[0] // COLUMN_ROW, COLUMN_ROW))
     status = OK
     w_normal = 0.0
     w_fric = 0.0
@@ -141,6 +142,7 @@ def _wall_contacts_in_columns(nodes, particles, faces, walls, stepping, w, busy)
                           faces.tri_frame, busy, c, walls.history, w)
         if nb == 0:
             continue
+        rows = c.reshape((c.shape[0] // COLUMN_ROW, COLUMN_ROW))  # a view; not when all idle
         _wall_response_columns(nb, particles, walls.history, stepping.dt, stepping.history_dt,
                                _wall_columns_in(rows), _wall_columns_out(rows))
         status, w_normal, w_fric, w_roll = _wall_apply(nb, busy, nodes, particles, faces, walls,
