@@ -53,16 +53,12 @@ def _at(column, e):
     return np.uint64(column * COLUMN_ROW) + e
 
 
-@loop_kernel(inline="never")
-def _wall_gather(lo, hi, x, vel, p0, radius, wl_p, wl_f, ws, wl_on, face_n, face_d, face_ptr,
-                 face_tris, tri_nodes, tri_frame, busy, c, hist, w):
+@step_kernel
+def _wall_busy(lo, hi, x, p0, radius, wl_p, wl_f, wl_on, face_n, face_d, busy):
     """Pass 1 of the wall contacts, over the candidates ``lo`` .. ``hi`` - 1 of the list: the
-    ones within reach of their face's plane now or open at the last step go into ``busy``; a
-    touching one is located on the face's triangles (``_locate_on_frames``: the triangle, its
-    barycentric weights), and every busy one's inputs are gathered into the columns of ``c``
-    (entry k for the k-th busy one) and its histories into row k of ``hist``. One that does not
-    touch, or touches outside the face, gets triangle -1: pass 3 closes it. ``w`` is a
-    3-element scratch. Returns how many are busy."""
+    ones within reach of their face's plane now or open at the last step go into ``busy``.
+    Returns how many are busy. Inlined into the step, so that a block with none (a falling or
+    fluidized bed) costs no call."""
     nbusy = 0
     for s_list in range(lo, hi):
         s = np.uint64(s_list)
@@ -73,6 +69,18 @@ def _wall_gather(lo, hi, x, vel, p0, radius, wl_p, wl_f, ws, wl_on, face_n, face
         if d < radius[p] or wl_on[s] != 0:
             busy[np.uint64(nbusy)] = s_list
             nbusy += 1
+    return nbusy
+
+
+@loop_kernel(inline="never")
+def _wall_gather(nbusy, x, vel, p0, radius, wl_p, wl_f, ws, face_n, face_d, face_ptr,
+                 face_tris, tri_nodes, tri_frame, busy, c, hist, w):
+    """Pass 1, continued, over the ``nbusy`` busy candidates of ``busy`` (:func:`_wall_busy`):
+    a touching one is located on the face's triangles (``_locate_on_frames``: the triangle,
+    its barycentric weights; the face's frames computed first if this step has not yet), and
+    every busy one's inputs are gathered into the columns of ``c`` (entry k for the k-th busy
+    one) and its histories into row k of ``hist``. One that does not touch, or touches
+    outside the face, gets triangle -1: pass 3 closes it. ``w`` is a 3-element scratch."""
     tail = ws.shape[1] - CONTACT_TAIL
     for k in range(nbusy):
         e = np.uint64(k)
@@ -125,7 +133,6 @@ def _wall_gather(lo, hi, x, vel, p0, radius, wl_p, wl_f, ws, wl_on, face_n, face
             hist[e, k2] = ws[s, S_H + k2]
         for k2 in range(CONTACT_TAIL):
             hist[e, N_MAXWELL + k2] = ws[s, tail + k2]
-    return nbusy
 
 
 @step_kernel

@@ -16,7 +16,7 @@ from x3dpd.solver._template_contact import (HAS_TORQUE, L_DFRIC, L_DROLL, L_WN, 
 from x3dpd.solver._template_variant import (HAS_ONE_WALL_KIND, HAS_ROLLING, SHAPE_LOCATE,
                                             TANGENTIAL_STORES)
 from x3dpd.solver._template_wall_columns import (_wall_apply, _wall_columns_in,
-                                                 _wall_columns_out, _wall_gather,
+                                                 _wall_columns_out, _wall_busy, _wall_gather,
                                                  _wall_response_columns)
 from x3dpd.solver.contact_lists import COLUMN_ROW, PAIR_BLOCK, S_A, S_FN
 
@@ -136,12 +136,13 @@ def _wall_contacts_in_columns(nodes, particles, faces, walls, stepping, w, busy)
     w_roll = 0.0
     for lo in range(0, nw, PAIR_BLOCK):
         hi = min(nw, lo + PAIR_BLOCK)
-        nb = _wall_gather(lo, hi, nodes.x, nodes.vel, particles.p0, particles.radius,
-                          walls.first, walls.second, walls.state, walls.on, faces.normal,
-                          faces.offset, faces.tri_ptr, faces.tris, faces.tri_nodes,
-                          faces.tri_frame, busy, c, walls.history, w)
+        nb = _wall_busy(lo, hi, nodes.x, particles.p0, particles.radius, walls.first,
+                        walls.second, walls.on, faces.normal, faces.offset, busy)
         if nb == 0:
             continue
+        _wall_gather(nb, nodes.x, nodes.vel, particles.p0, particles.radius, walls.first,
+                     walls.second, walls.state, faces.normal, faces.offset, faces.tri_ptr,
+                     faces.tris, faces.tri_nodes, faces.tri_frame, busy, c, walls.history, w)
         rows = c.reshape((c.shape[0] // COLUMN_ROW, COLUMN_ROW))  # a view; not when all idle
         _wall_response_columns(nb, particles, walls.history, stepping.dt, stepping.history_dt,
                                _wall_columns_in(rows), _wall_columns_out(rows))
