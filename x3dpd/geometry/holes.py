@@ -73,8 +73,10 @@ def locate_parts(x, na, nb, params, c, px, py, pz, r, out):
     dy = py - x[na, 1]
     dz = pz - x[na, 2]
     s = dx * ux + dy * uy + dz * uz
-    i = math.floor(dx * q[C_E1] + dy * q[C_E1 + 1] + dz * q[C_E1 + 2] + 0.5)
-    j = math.floor(dx * q[C_E2] + dy * q[C_E2 + 1] + dz * q[C_E2 + 2] + 0.5)
+    # the grid indices as floats (np.floor keeps a float: no round trip through an integer
+    # register on the path to the square root below; the same values, small whole numbers)
+    i = np.floor(dx * q[C_E1] + dy * q[C_E1 + 1] + dz * q[C_E1 + 2] + 0.5)
+    j = np.floor(dx * q[C_E2] + dy * q[C_E2 + 1] + dz * q[C_E2 + 2] + 0.5)
     ox = i * q[C_PE1] + j * q[C_PE2]
     oy = i * q[C_PE1 + 1] + j * q[C_PE2 + 1]
     oz = i * q[C_PE1 + 2] + j * q[C_PE2 + 2]
