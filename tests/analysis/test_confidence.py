@@ -90,17 +90,27 @@ def test_a_periodic_response_after_its_transient_is_exact():
     assert a.interval.amplitude_hw == 0.0
 
 
-def _coverage(phi: float, transient: float, tol: float, runs: int, seed: int) -> tuple:
+def stopped_coverage(
+    phi: float,
+    transient: float,
+    tol: float,
+    runs: int,
+    seed: int,
+    scatter: float = 0.05,
+    most: int = 6000,
+    every: int = 5,
+) -> tuple:
     """Run the sequential stop on ``runs`` synthetic series (mean phasor e^{0.3i}, amplitude 1;
-    AR(1) scatter 5 % of lag-1 correlation ``phi``; plus a start-up transient of ``transient``
-    decaying over 20 cycles), each checked every 5 cycles as the monitor does, and return (the
-    share whose interval holds the true amplitude 1, the median cycles run)."""
+    AR(1) scatter ``scatter`` of lag-1 correlation ``phi``; plus a start-up transient of
+    ``transient`` decaying over 20 cycles), each checked every ``every`` cycles as the monitor
+    does, and return (the share whose interval holds the true amplitude 1, the median cycles
+    run). tools/study/run_length_coverage.py runs it at other run lengths."""
     rng = np.random.default_rng(seed)
     held, cycles = 0, []
-    k = np.arange(6000)
+    k = np.arange(most)
     for _ in range(runs):
-        z = np.exp(0.3j) + ar1(rng, k.size, phi, 0.05) + transient * np.exp(-k / 20 + 1.2j)
-        for n in range(15, k.size + 1, 5):
+        z = np.exp(0.3j) + ar1(rng, k.size, phi, scatter) + transient * np.exp(-k / 20 + 1.2j)
+        for n in range(15, k.size + 1, every):
             a = assess(z[:n])
             if a.within(tol):
                 break
@@ -117,5 +127,5 @@ def test_the_stopped_intervals_hold_the_true_amplitude_95_percent_of_the_time(ph
     levels. Over 150 runs the share of a true 95 % has a standard error of 1.8 %: 0.90 and
     above passes (batch means after a single MSER cut, without the run-length rule, covered
     0.51-0.74 on such series)."""
-    share, cycles = _coverage(phi, transient, 0.01, runs=150, seed=11)
+    share, cycles = stopped_coverage(phi, transient, 0.01, runs=150, seed=11)
     assert share >= 0.90, (share, cycles)
