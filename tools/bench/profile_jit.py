@@ -222,25 +222,9 @@ def main(argv=None) -> int:
         for blk, _ in blocks.most_common(args.asm):
             base = next(b for b in bases if b <= blk < b + sizes[b])
             start = max(blk - 48, base)
-            asm = subprocess.run(
-                [
-                    "objdump",
-                    "-D",
-                    "-b",
-                    "binary",
-                    "-m",
-                    "i386:x86-64",
-                    f"--adjust-vma={base:#x}",
-                    f"--start-address={start:#x}",
-                    f"--stop-address={blk + 128:#x}",
-                    str(maps[base]),
-                ],
-                capture_output=True,
-                text=True,
-                check=False,
-            ).stdout
+            asm = _disassemble(base, maps[base], start, blk + 128)
             print(f"\n{blk:#x} (samples per instruction; a stall shows on the next one):")
-            for line in asm.splitlines():
+            for line in asm:
                 m = re.match(r"\s*([0-9a-f]+):", line)
                 if m and int(m.group(1), 16) >= blk:  # decoding began early, in sync by now
                     print(f"  {per_ip.get(int(m.group(1), 16), 0):6d} {line.strip()[:110]}")

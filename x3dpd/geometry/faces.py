@@ -28,6 +28,29 @@ FRAME_FRESH = 15
 
 
 @step_kernel
+def _twice_area(x, nx, ny, nz, p0, p1, p2):
+    """Twice the signed area of triangle (p0, p1, p2) along the unit normal n:
+    A = n . ((x1 - x0) x (x2 - x0))."""
+    ax = x[p1, 0] - x[p0, 0]
+    ay = x[p1, 1] - x[p0, 1]
+    az = x[p1, 2] - x[p0, 2]
+    bx = x[p2, 0] - x[p0, 0]
+    by = x[p2, 1] - x[p0, 1]
+    bz = x[p2, 2] - x[p0, 2]
+    return nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
+
+
+@step_kernel
+def _edge(e, p0, p1, p2):
+    """The nodes (i, j) of edge e, the edge opposite node e: (1, 2), (2, 0), (0, 1)."""
+    if e == 0:
+        return p1, p2
+    if e == 1:
+        return p2, p0
+    return p0, p1
+
+
+@step_kernel
 def _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d):
     """Unit inward normal n_f and offset d_f = n_f . p0 of every face from its first triangle."""
     for f in range(face_first_tri.shape[0]):
@@ -73,28 +96,13 @@ def _locate_on_face(qx, qy, qz, nx, ny, nz, f, x, face_ptr, face_tris, tri_nodes
         p0 = tri_nodes[t, 0]
         p1 = tri_nodes[t, 1]
         p2 = tri_nodes[t, 2]
-        ax = x[p1, 0] - x[p0, 0]
-        ay = x[p1, 1] - x[p0, 1]
-        az = x[p1, 2] - x[p0, 2]
-        bx = x[p2, 0] - x[p0, 0]
-        by = x[p2, 1] - x[p0, 1]
-        bz = x[p2, 2] - x[p0, 2]
-        # twice the signed area along n
-        area2 = nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
+        area2 = _twice_area(x, nx, ny, nz, p0, p1, p2)
         outside = 0.0
         lam0 = 0.0
         lam1 = 0.0
         lam2 = 0.0
         for e in range(3):
-            if e == 0:
-                i = p1
-                j = p2
-            elif e == 1:
-                i = p2
-                j = p0
-            else:
-                i = p0
-                j = p1
+            i, j = _edge(e, p0, p1, p2)
             ex = x[j, 0] - x[i, 0]
             ey = x[j, 1] - x[i, 1]
             ez = x[j, 2] - x[i, 2]
@@ -148,7 +156,8 @@ def _triangle_frames(x, face_n, face_ptr, face_tris, tri_nodes, frames):
 
 @step_kernel
 def _forget_frames(frames):
-    """Mark every triangle's frame as not yet computed this step (:func:`_face_frames`)."""
+    """Mark every triangle's frame as not yet computed this step (:func:`_face_frames`): a
+    plain sweep of the flags, cheaper than one store a face through the face's index."""
     for t in range(frames.shape[0]):
         frames[t, FRAME_FRESH] = 0.0
 
@@ -167,24 +176,10 @@ def _face_frames(x, face_n, f, face_ptr, face_tris, tri_nodes, frames):
         p0 = tri_nodes[t, 0]
         p1 = tri_nodes[t, 1]
         p2 = tri_nodes[t, 2]
-        ax = x[p1, 0] - x[p0, 0]
-        ay = x[p1, 1] - x[p0, 1]
-        az = x[p1, 2] - x[p0, 2]
-        bx = x[p2, 0] - x[p0, 0]
-        by = x[p2, 1] - x[p0, 1]
-        bz = x[p2, 2] - x[p0, 2]
-        area2 = nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
+        area2 = _twice_area(x, nx, ny, nz, p0, p1, p2)
         inv = 1.0 / area2
         for e in range(3):
-            if e == 0:
-                i = p1
-                j = p2
-            elif e == 1:
-                i = p2
-                j = p0
-            else:
-                i = p0
-                j = p1
+            i, j = _edge(e, p0, p1, p2)
             ex = x[j, 0] - x[i, 0]
             ey = x[j, 1] - x[i, 1]
             ez = x[j, 2] - x[i, 2]

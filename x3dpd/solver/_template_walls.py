@@ -51,18 +51,7 @@ def _wall_contacts(nodes, particles, faces, walls, stepping, w, busy):
     w_fric = 0.0
     w_roll = 0.0
     # pass 1, tight: candidates within reach of their face's plane now or at the last step
-    nbusy = 0
-    for s_list in range(nw):
-        # unsigned indices: no negative-index wrap-around code (and ``s`` one type throughout,
-        # as the loop is typed without SSA: x3dpd._jit.loop_kernel)
-        s = np.uint64(s_list)
-        p = np.uint64(wl_p[s])
-        f = np.uint64(wl_f[s])
-        i = np.uint64(p0 + wl_p[s])
-        d = face_n[f, 0] * x[i, 0] + face_n[f, 1] * x[i, 1] + face_n[f, 2] * x[i, 2] - face_d[f]
-        if d < radius[p] or wl_on[s] != 0:
-            busy[nbusy] = s_list
-            nbusy += 1
+    nbusy = _wall_busy(0, nw, x, p0, radius, wl_p, wl_f, wl_on, face_n, face_d, busy)
     # pass 2: the contact law on those
     for q in range(nbusy):
         s = np.uint64(busy[q])
