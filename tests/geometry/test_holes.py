@@ -53,6 +53,40 @@ def test_a_hole_is_the_cylinder_at_its_grid_point(seed):
                 np.testing.assert_allclose(out_h[part, 6:9], out_c[ref, 6:9] + o, atol=1e-12)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_clear_of_says_clear_only_where_no_part_touches(seed):
+    """``clear_of`` (the step loop skips a sphere it calls clear) against the locator: never
+    clear where a part touches, down to the last bits of the bore's rim; clear wherever the
+    sphere keeps more than a hair from every part (so it does skip the spheres in flight)."""
+    rng = np.random.default_rng(seed)
+    a, b, big_r, pitch = _plate(rng)
+    params = np.array([[big_r, pitch, *holes.plate_constants(np.stack([a, b]), (big_r, pitch))]])
+    u, e1, e2 = holes.grid_axes(a, b)
+    length = np.linalg.norm(b - a)
+    x = np.stack([a, b])
+    out = np.zeros((2, 9))
+    r = 0.15
+    said_clear = 0
+    for n in range(3000):
+        i, j = rng.integers(-6, 7, size=2)
+        o = pitch * (i * e1 + j * e2)
+        s = rng.uniform(-0.02, length + 0.02)
+        if n % 3 == 0:  # at the bore's rim: |rho| = R - r within a few units in the last place
+            rim = (big_r - r) * (1.0 + rng.integers(-40, 41) * np.finfo(float).eps)
+        else:
+            rim = rng.uniform(0.0, 1.1 * (big_r - r))
+        t = rng.uniform(0, 6.3)
+        p = a + o + s * u + rim * (np.cos(t) * e1 + np.sin(t) * e2)
+        holes.locate_parts(x, 0, 1, params, 0, *p, r, out)
+        touching = any(out[k, 0] != 0.0 and out[k, 1] > 0.0 for k in range(2))
+        clear = holes.clear_of(x, 0, 1, params, 0, *p, r)
+        assert not (clear and touching), (p, out)
+        far = (rim < (big_r - r) * (1 - 1e-9)) and (r * (1 + 1e-9) < s < length - r * (1 + 1e-9))
+        assert clear or not far
+        said_clear += clear
+    assert said_clear > 300
+
+
 def test_clearance_and_cells_are_each_spheres_own_hole():
     rng = np.random.default_rng(7)
     a, b, big_r, pitch = _plate(rng)

@@ -137,8 +137,8 @@ def main(argv=None) -> int:
     ap.add_argument("--settled", action="store_true", help="profile a settled bed (no drive)")
     ap.add_argument(
         "--bed",
-        choices=sorted(BEDS),
-        help="a bed prepared by count_instructions.py --prepare (restored, not settled again)",
+        help="a bed prepared by count_instructions.py --prepare (restored, not settled again): "
+        f"{', '.join(sorted(BEDS))} or mip_N",
     )
     ap.add_argument("--top", type=int, default=12, help="hottest 128-byte blocks to list")
     ap.add_argument("--asm", type=int, default=2, help="hottest blocks to disassemble")
@@ -149,6 +149,8 @@ def main(argv=None) -> int:
         help="list the hottest N regions (runs of hot blocks) with what their code does",
     )
     args = ap.parse_args(argv)
+    if args.bed and args.bed not in BEDS and not re.fullmatch(r"mip_\d+", args.bed):
+        ap.error(f"--bed {args.bed}: not a bed of count_instructions.py (nor mip_N)")
     for tool in ("perf", "objdump"):
         if shutil.which(tool) is None:
             print(f"{tool} not found; install linux-tools / binutils", file=sys.stderr)

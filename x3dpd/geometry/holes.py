@@ -44,8 +44,8 @@ from x3dpd._jit import step_kernel
 from x3dpd.geometry.cylinder import _extent, _length, cylinder_mesh
 from x3dpd.geometry.shape import Shape
 
-__all__ = ["HOLE_PARTS", "SHAPE", "grid_axes", "hole_coordinates", "holes_clearance",
-           "locate_parts"]
+__all__ = ["HOLE_PARTS", "SHAPE", "clear_of", "grid_axes", "hole_coordinates",
+           "holes_clearance", "locate_parts"]
 
 #: Contact entities of one hole: the bore, and the end nearer the sphere's centre.
 HOLE_PARTS = 2
@@ -69,20 +69,7 @@ def locate_parts(x, na, nb, params, c, px, py, pz, r, out):
     uy = q[C_U + 1]
     uz = q[C_U + 2]
     length = q[C_L]
-    dx = px - x[na, 0]
-    dy = py - x[na, 1]
-    dz = pz - x[na, 2]
-    s = dx * ux + dy * uy + dz * uz
-    # the grid indices as floats (np.floor keeps a float: no round trip through an integer
-    # register on the path to the square root below; the same values, small whole numbers)
-    i = np.floor(dx * q[C_E1] + dy * q[C_E1 + 1] + dz * q[C_E1 + 2] + 0.5)
-    j = np.floor(dx * q[C_E2] + dy * q[C_E2 + 1] + dz * q[C_E2 + 2] + 0.5)
-    ox = i * q[C_PE1] + j * q[C_PE2]
-    oy = i * q[C_PE1 + 1] + j * q[C_PE2 + 1]
-    oz = i * q[C_PE1 + 2] + j * q[C_PE2 + 2]
-    rx = dx - s * ux - ox
-    ry = dy - s * uy - oy
-    rz = dz - s * uz - oz
+    s, rx, ry, rz, ox, oy, oz = _in_hole(x, na, q, px, py, pz)
     rho = math.sqrt(rx * rx + ry * ry + rz * rz)
     # part 0, the bore (valid over the hole's length, away from its axis)
     big_r = q[0]
@@ -116,6 +103,52 @@ def locate_parts(x, na, nb, params, c, px, py, pz, r, out):
     out[1, 6] = rx + ox
     out[1, 7] = ry + oy
     out[1, 8] = rz + oz
+
+
+#: The bore's margin in :func:`clear_of`, relative to the hole's radius: far above the few
+#: units in the last place by which ``r + |rho| - R`` can round, far below any clearance.
+CLEAR_MARGIN = 1e-12
+
+
+@step_kernel
+def clear_of(x, na, nb, params, c, px, py, pz, r):
+    """True when neither part of the sphere's hole touches it: the bore's overlap
+    r + |rho| - R <= 0 and both ends' r - s, r - (L - s) <= 0 (:func:`locate_parts`'s values),
+    tested without the square root as
+
+        |rho|^2 <= (R - r - m)^2 with R - r - m > 0,   s >= r,   L - s >= r,
+
+    m = CLEAR_MARGIN R: the margin makes the bore's test hold after rounding (|rho| then
+    lies m below R - r, which ``r + |rho| - R`` cannot cross by rounding); the ends' are
+    exact (a difference of two floats is positive exactly when they are ordered so). A
+    sphere wider than its hole less the margin is never clear."""
+    q = params[c]
+    s, rx, ry, rz, _, _, _ = _in_hole(x, na, q, px, py, pz)
+    inner = q[0] - r - CLEAR_MARGIN * q[0]
+    return (s >= r and q[C_L] - s >= r and inner > 0.0
+            and rx * rx + ry * ry + rz * rz <= inner * inner)
+
+
+@step_kernel
+def _in_hole(x, na, q, px, py, pz):
+    """(s, rho, o) of a sphere centre p in the plate of constants ``q`` with node A ``na``
+    (module docstring): its axial coordinate, its offset rho from its hole's axis and its hole's
+    offset o from the grid's origin hole, as scalars (s, rho_x, rho_y, rho_z, o_x, o_y, o_z)."""
+    ux = q[C_U]
+    uy = q[C_U + 1]
+    uz = q[C_U + 2]
+    dx = px - x[na, 0]
+    dy = py - x[na, 1]
+    dz = pz - x[na, 2]
+    s = dx * ux + dy * uy + dz * uz
+    # the grid indices as floats (np.floor keeps a float: no round trip through an integer
+    # register on the path to the square root; the same values, small whole numbers)
+    i = np.floor(dx * q[C_E1] + dy * q[C_E1 + 1] + dz * q[C_E1 + 2] + 0.5)
+    j = np.floor(dx * q[C_E2] + dy * q[C_E2 + 1] + dz * q[C_E2 + 2] + 0.5)
+    ox = i * q[C_PE1] + j * q[C_PE2]
+    oy = i * q[C_PE1 + 1] + j * q[C_PE2 + 1]
+    oz = i * q[C_PE1 + 2] + j * q[C_PE2 + 2]
+    return s, dx - s * ux - ox, dy - s * uy - oy, dz - s * uz - oz, ox, oy, oz
 
 
 def plate_constants(ends, params) -> tuple[float, ...]:
@@ -184,7 +217,7 @@ SHAPE = Shape(
     problem=_problem,
     cells=lambda points, ends, params: hole_coordinates(points, ends[0], ends[1],
                                                         float(params[1]))[3],
-    constants=plate_constants, n_constants=N_CONSTANTS,
+    constants=plate_constants, n_constants=N_CONSTANTS, clear_of=clear_of,
     node_words=("node A (a hole's bottom)", "node B (its top)"),
     nodes_word="nodes",
     doc="a drilled plate: identical cylindrical holes on a square grid, one sphere per hole "

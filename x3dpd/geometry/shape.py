@@ -55,6 +55,11 @@ class Shape:
     constants: Callable | None = None
     #: how many floats ``constants`` returns
     n_constants: int = 0
+    #: compiled ``clear_of(x, na, nb, params, c, px, py, pz, r) -> bool``: True only where no
+    #: part can touch the sphere (every part's overlap from ``locate_parts`` <= 0, proved in
+    #: floating point, not only in exact arithmetic), cheaper than locating the parts; the step
+    #: loop then skips a sphere whose parts' contacts are all closed. None: always locate
+    clear_of: object | None = None
     #: how messages name the nodes, in card order, and all of them
     node_words: tuple[str, ...] = ("axis node A", "axis node B")
     nodes_word: str = "axis nodes"

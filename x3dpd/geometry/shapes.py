@@ -32,6 +32,11 @@ l = (lx, ly, lz) the lever from the point A + xi (B - A) to the wall point [leng
 allocate nothing (it runs inside the step loop) and be decorated with
 ``x3dpd._jit.step_kernel``.
 
+A shape may also give ``clear_of(x, na, nb, params, c, px, py, pz, r)``, compiled the same way:
+True only when no part touches the sphere (it may say False when unsure). A sphere clear of its
+wall whose parts' contacts are all closed is then skipped without locating its parts: a drilled
+plate's spheres are in flight most of the time (x3dpd.geometry.holes).
+
 Adding a shape
 --------------
 Write ``x3dpd/geometry/<name>.py`` with ``SHAPE = Shape(...)`` and ``locate_parts``, then add

@@ -35,6 +35,7 @@ from x3dpd.physics.maxwell import wall_force as NORMAL_WALL_FORCE, pair_force as
 HAS_ROLLING = True
 from x3dpd.physics.epsd import rolling_torque as ROLLING_TORQUE, N_HISTORY as N_ROLLING  # noqa: F401,E402,E501
 SHAPE_LOCATE = None
+SHAPE_CLEAR = None
 # the effect units' bundles and slots (x3dpd.solver.unit_slots writes them per variant)
 UNIT_BUNDLES = SLOT_DRIFT = SLOT_FOLLOW = SLOT_FORCE = SLOT_KICK = SLOT_PLACE = SLOT_ENERGY = None
 USER_FORCE = None

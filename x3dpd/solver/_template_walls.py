@@ -13,8 +13,8 @@ from x3dpd.geometry.faces import _locate_on_face
 from x3dpd.solver._template_contact import (HAS_TORQUE, L_DFRIC, L_DROLL, L_WN, OK,
                                             _close_contact, _penetration, _wall_closing_work,
                                             _wall_response)
-from x3dpd.solver._template_variant import (HAS_ONE_WALL_KIND, HAS_ROLLING, SHAPE_LOCATE,
-                                            TANGENTIAL_STORES)
+from x3dpd.solver._template_variant import (HAS_ONE_WALL_KIND, HAS_ROLLING, SHAPE_CLEAR,
+                                            SHAPE_LOCATE, TANGENTIAL_STORES)
 from x3dpd.solver._template_wall_columns import (_wall_apply, _wall_columns_in,
                                                  _wall_columns_out, _wall_busy, _wall_gather,
                                                  _wall_response_columns)
@@ -26,8 +26,16 @@ def _no_shape_locate(kind, x, na, nb, params, c, px, py, pz, r, out):
     return
 
 
+@kernel
+def _no_shape_clear(kind, x, na, nb, params, c, px, py, pz, r):
+    """Stand-in for SHAPE_CLEAR in variants without analytic walls (never called)."""
+    return False
+
+
 if SHAPE_LOCATE is None:
     SHAPE_LOCATE = _no_shape_locate
+if SHAPE_CLEAR is None:
+    SHAPE_CLEAR = _no_shape_clear
 
 
 # Over 80 lines: a compiled kernel: face, edge and vertex tests share one triangle's projections.
@@ -152,7 +160,10 @@ def _shape_contacts(nodes, particles, shapes, stepping, w, n_faces):
     ``locate_parts``, chosen by its kind) gives each part's overlap, normal, node weights and
     lever; a touching part goes to the shared contact response ``_wall_response`` (reaction on
     the wall's two nodes, moment to the first). Each part is a state row (``shapes.row``); a
-    penetration names the entity as ``n_faces + shapes.entity[wall] + part``. Returns a
+    penetration names the entity as ``n_faces + shapes.entity[wall] + part``. A pair its
+    shape's ``clear_of`` (``SHAPE_CLEAR``) finds clear, whose parts' contacts are all closed,
+    is skipped: the locator would find no part touching and the response do nothing (the same
+    numbers, for a fraction of the work: a drilled plate's spheres in flight). Returns a
     status bit."""
     x = nodes.x
     p0, radius = particles.p0, particles.radius
@@ -166,6 +177,15 @@ def _shape_contacts(nodes, particles, shapes, stepping, w, n_faces):
         c = shapes.wall[k]
         i = p0 + p
         r = radius[p]
+        if SHAPE_CLEAR(shapes.kind[c], x, shapes.nodes[c, 0], shapes.nodes[c, 1], shapes.params,
+                       c, x[i, 0], x[i, 1], x[i, 2], r):
+            closed = True
+            for part in range(shapes.parts[c]):
+                s = shapes.row[k] + part
+                if con[s] != 0 or cs[s, S_FN] != 0.0 or cs[s, S_A] > 0.0:
+                    closed = False
+            if closed:
+                continue
         SHAPE_LOCATE(shapes.kind[c], x, shapes.nodes[c, 0], shapes.nodes[c, 1], shapes.params,
                      c, x[i, 0], x[i, 1], x[i, 2], r, loc)
         for part in range(shapes.parts[c]):

@@ -203,24 +203,38 @@ def _shapes_source(names: str) -> str:
     """``HAS_SHAPES`` and ``SHAPE_LOCATE``: the locators of the scene's analytic wall shapes,
     imported from their modules and chosen by kind (x3dpd.geometry.shapes)."""
     if not names:
-        return "HAS_SHAPES = False\nSHAPE_LOCATE = None"
+        return "HAS_SHAPES = False\nSHAPE_LOCATE = None\nSHAPE_CLEAR = None"
     lines = ["HAS_SHAPES = True",
              "from x3dpd._jit import step_kernel as _shape_kernel  # noqa: E402"]
-    calls = []
+    calls, clears = [], []
     for name in names.split("+"):
         if name not in BY_SHAPE_NAME:
             raise ValueError(f"unknown analytic wall shape {name!r}; use one of "
                              f"{sorted(BY_SHAPE_NAME)}")
         kind = kind_of(name)
-        lines.append(f"from {BY_SHAPE_NAME[name].module} import locate_parts as "
-                     f"_locate_shape_{kind}  # noqa: E402")
+        module = BY_SHAPE_NAME[name].module
+        lines.append(f"from {module} import locate_parts as _locate_shape_{kind}  # noqa: E402")
         calls.append((kind, f"_locate_shape_{kind}(x, na, nb, params, c, px, py, pz, r, out)"))
-    body = [f"    {calls[0][1]}"] if len(calls) == 1 else [
-        f"    {'if' if j == 0 else 'elif'} kind == {kind}:\n        {call}"
-        for j, (kind, call) in enumerate(calls)]
-    return "\n".join(lines + ["", "", "@_shape_kernel",
-                               "def SHAPE_LOCATE(kind, x, na, nb, params, c, px, py, pz, r, out):"]
-                      + body + ["", ""])
+        if BY_SHAPE_NAME[name].clear_of is None:
+            clears.append((kind, "return False"))
+        else:
+            lines.append(f"from {module} import clear_of as _clear_shape_{kind}  # noqa: E402")
+            clears.append((kind, f"return _clear_shape_{kind}(x, na, nb, params, c, px, py, "
+                                 "pz, r)"))
+    return "\n".join(
+        lines + ["", "", "@_shape_kernel",
+                 "def SHAPE_LOCATE(kind, x, na, nb, params, c, px, py, pz, r, out):"]
+        + _by_kind(calls) + ["", "", "@_shape_kernel",
+                             "def SHAPE_CLEAR(kind, x, na, nb, params, c, px, py, pz, r):"]
+        + _by_kind(clears) + (["    return False"] if len(clears) > 1 else []) + ["", ""])
+
+
+def _by_kind(calls: list[tuple[int, str]]) -> list[str]:
+    """A generated function's body: the one statement, or one branch per shape kind."""
+    if len(calls) == 1:
+        return [f"    {calls[0][1]}"]
+    return [f"    {'if' if j == 0 else 'elif'} kind == {kind}:\n        {call}"
+            for j, (kind, call) in enumerate(calls)]
 
 
 def _friction_import(name: str) -> str:
