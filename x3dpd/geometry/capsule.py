@@ -29,30 +29,15 @@ import numpy as np
 from x3dpd._jit import step_kernel
 from x3dpd.geometry.shape import Shape
 
-__all__ = ["SHAPE", "capsule_clearance", "capsule_mesh", "capsule_outline", "locate_parts"]
+__all__ = ["SHAPE", "capsule_clearance", "capsule_mesh", "capsule_outline", "clear_of",
+           "locate_parts"]
 
 
 @step_kernel
 def locate_parts(x, na, nb, params, c, px, py, pz, r, out):
     """The wall's row (valid, a, n, xi, l) for a sphere at p of radius r in capsule ``c``
     (radius ``params[c, 0]``) with cap centres ``na``, ``nb`` (x3dpd.geometry.shapes)."""
-    ax = x[na, 0]
-    ay = x[na, 1]
-    az = x[na, 2]
-    ux = x[nb, 0] - ax
-    uy = x[nb, 1] - ay
-    uz = x[nb, 2] - az
-    dx = px - ax
-    dy = py - ay
-    dz = pz - az
-    uu = ux * ux + uy * uy + uz * uz
-    t = 0.0
-    if uu > 0.0:
-        t = min(max((dx * ux + dy * uy + dz * uz) / uu, 0.0), 1.0)
-    dx -= t * ux
-    dy -= t * uy
-    dz -= t * uz
-    dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+    t, dx, dy, dz, dist = _from_segment(x, na, nb, px, py, pz)
     if dist <= 0.0:   # the centre on the segment: no direction to the wall
         out[0, 0] = 0.0
         return
@@ -70,6 +55,36 @@ def locate_parts(x, na, nb, params, c, px, py, pz, r, out):
     out[0, 6] = big_r * ex
     out[0, 7] = big_r * ey
     out[0, 8] = big_r * ez
+
+
+@step_kernel
+def clear_of(x, na, nb, params, c, px, py, pz, r):
+    """True when capsule ``c``'s wall does not touch the sphere: its overlap r + |d| - R,
+    computed as :func:`locate_parts` does (the same bits), is <= 0 (x3dpd.geometry.shapes)."""
+    return r + _from_segment(x, na, nb, px, py, pz)[4] - params[c, 0] <= 0.0
+
+
+@step_kernel
+def _from_segment(x, na, nb, px, py, pz):
+    """(t, d, |d|) of the point p: the segment's nearest point A + t (B - A) and d = p - q
+    from it (module docstring), as scalars (t, dx, dy, dz, dist)."""
+    ax = x[na, 0]
+    ay = x[na, 1]
+    az = x[na, 2]
+    ux = x[nb, 0] - ax
+    uy = x[nb, 1] - ay
+    uz = x[nb, 2] - az
+    dx = px - ax
+    dy = py - ay
+    dz = pz - az
+    uu = ux * ux + uy * uy + uz * uz
+    t = 0.0
+    if uu > 0.0:
+        t = min(max((dx * ux + dy * uy + dz * uz) / uu, 0.0), 1.0)
+    dx -= t * ux
+    dy -= t * uy
+    dz -= t * uz
+    return t, dx, dy, dz, math.sqrt(dx * dx + dy * dy + dz * dz)
 
 
 def _segment_distance(points, a, b) -> np.ndarray:
@@ -163,5 +178,5 @@ SHAPE = Shape(
     describe=lambda ends, params: (f"radius {float(params[0]):g}, {_length(ends):.6g} between "
                                    f"the cap centres"),
     problem=lambda ends, params: None,
-    outline=capsule_outline,
+    outline=capsule_outline, clear_of=clear_of,
     doc="a cylinder with hemispherical ends (a bore with rounded ends; a spherical cavity)")

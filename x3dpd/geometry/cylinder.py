@@ -33,7 +33,7 @@ import numpy as np
 from x3dpd._jit import step_kernel
 from x3dpd.geometry.shape import Shape
 
-__all__ = ["CYLINDER_PARTS", "SHAPE", "cylinder_clearance", "cylinder_coordinates",
+__all__ = ["CYLINDER_PARTS", "SHAPE", "clear_of", "cylinder_clearance", "cylinder_coordinates",
            "cylinder_mesh", "locate_parts", "_cylinder_frame", "_locate_on_cylinder"]
 
 #: Contact entities of one cylinder: the curved wall, the cap at A, the cap at B.
@@ -105,6 +105,15 @@ def locate_parts(x, na, nb, params, c, px, py, pz, r, out):
         out[part, 6] = lx
         out[part, 7] = ly
         out[part, 8] = lz
+
+
+@step_kernel
+def clear_of(x, na, nb, params, c, px, py, pz, r):
+    """True when no part of cylinder ``c`` touches the sphere: the overlaps of
+    :func:`locate_parts`, computed from the same frame by the same operations (so the same
+    bits), r + |rho| - R, r - s and r - (L - s), are all <= 0 (x3dpd.geometry.shapes)."""
+    length, _, _, _, s, _, _, _, rho = _cylinder_frame(x, na, nb, px, py, pz)
+    return r + rho - params[c, 0] <= 0.0 and r - s <= 0.0 and r - (length - s) <= 0.0
 
 
 def cylinder_coordinates(points: np.ndarray, a: np.ndarray, b: np.ndarray
@@ -184,5 +193,5 @@ SHAPE = Shape(
     extent=_extent,
     mesh=lambda ends, params, n: cylinder_mesh(ends[0], ends[1], float(params[0]), n),
     describe=lambda ends, params: f"radius {float(params[0]):g}, length {_length(ends):.6g}",
-    problem=_problem,
+    problem=_problem, clear_of=clear_of,
     doc="a closed circular cylinder: curved wall and two flat end caps (Sections 5-6, 9-10)")

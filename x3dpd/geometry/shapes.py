@@ -34,8 +34,9 @@ allocate nothing (it runs inside the step loop) and be decorated with
 
 A shape may also give ``clear_of(x, na, nb, params, c, px, py, pz, r)``, compiled the same way:
 True only when no part touches the sphere (it may say False when unsure). A sphere clear of its
-wall whose parts' contacts are all closed is then skipped without locating its parts: a drilled
-plate's spheres are in flight most of the time (x3dpd.geometry.holes).
+wall whose parts' contacts are all closed is then skipped without locating its parts (most of
+a bed's spheres are away from the wall; a drilled plate's are in flight most of the time).
+Every shape here gives one (tests/geometry/test_clear_of.py).
 
 Adding a shape
 --------------
