@@ -26,14 +26,19 @@ from x3dpd.physics.tangential_laws import TANGENTIAL_LAWS
 FRICTION_LAWS = tuple(TANGENTIAL_LAWS)
 
 
-def load_deck(path: str | os.PathLike):
-    """Read a deck file into typed cards (:class:`x3dpd.deck.Deck`).
+def load_deck(path: str | os.PathLike, *, temperature=None):
+    """Read a deck file into typed cards (:class:`x3dpd.deck.Deck`); ``temperature`` (not None:
+    ``"850F"``, or a number on the scale of the deck's UNITS card) replaces its TEMPERATURE
+    card's operating temperature.
 
-    Raises :class:`DeckError` (``FILE:LINE:COL: CARD: message``) on the first bad token.
+    Raises :class:`DeckError` (``FILE:LINE:COL: CARD: message``) on the first bad token, and
+    :class:`InputError` for a temperature without a TEMPERATURE card to apply it to.
     """
     from x3dpd.api.run_options import read_deck_file
+    from x3dpd.deck.temperature_card import with_temperature
 
-    return read_deck_file(os.fspath(path))
+    deck = read_deck_file(os.fspath(path))
+    return deck if temperature is None else with_temperature(deck, temperature)
 
 
 def build(deck, *, usrfrc=(), motion=(), temperature=None):

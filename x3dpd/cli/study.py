@@ -11,6 +11,7 @@ from pathlib import Path
 
 import click
 
+from x3dpd.cli.temperature_option import temperature_option
 from x3dpd.errors import InputError
 
 
@@ -128,6 +129,7 @@ def _scales(text: str | None) -> tuple:
     help="Also run these walls on every cavity, comma-separated: rigid, or a "
     "material of `x3dpd materials` (e.g. rigid,acrylic,aluminium).",
 )
+@temperature_option
 @click.option("--overwrite", is_flag=True, help="Replace an existing study in DIR.")
 @click.option("-q", "--quiet", is_flag=True, help="Print the verdict only.")
 def study(
@@ -143,6 +145,7 @@ def study(
     no_fidelity,
     stiffness,
     walls,
+    temperature,
     overwrite,
     quiet,
 ):
@@ -173,6 +176,7 @@ def study(
         progress=done,
         fidelity=not no_fidelity,
         stiffness=_scales(stiffness),
+        temperature=temperature,
         walls=tuple((walls or "").split(",")),
     )
     if not quiet:

@@ -1,5 +1,5 @@
-"""``--temperature T``, the option ``x3dpd run``, ``check``, ``sweep`` and ``ringdown`` share:
-the operating temperature over the deck's TEMPERATURE card's (docs/deck-reference.md)."""
+"""``--temperature T``, the option ``x3dpd run``, ``check``, ``sweep``, ``ringdown`` and ``study``
+share: the operating temperature over the deck's TEMPERATURE card's (docs/deck-reference.md)."""
 
 from __future__ import annotations
 

@@ -58,6 +58,7 @@ def run_study(
     fidelity=True,
     stiffness=(),
     walls=(),
+    temperature=None,
 ) -> StudyResult:
     """Run the study of ``deck`` (a path) and write ``out/study.csv`` and ``out/study.png``.
 
@@ -75,10 +76,12 @@ def run_study(
     at the deck's step: ``"rigid"`` (no WALLMAT) or a material of x3dpd.materials on every
     cavity (:func:`x3dpd.study.settings.wall_records`); the deck's own walls are not repeated
     (InputError on a HOOKE deck, whose walls cannot be compliant, and on an unknown material).
+    ``temperature`` runs every setting at that operating temperature over the deck's
+    TEMPERATURE card's (as ``x3dpd run --temperature``).
     """
     import x3dpd
 
-    cards = x3dpd.load_deck(deck)
+    cards = x3dpd.load_deck(deck, temperature=temperature)
     model = x3dpd.build(cards, usrfrc=usrfrc, motion=motion)
     files = ()
     if out is not None:
