@@ -138,7 +138,7 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--bed",
         help="a bed prepared by count_instructions.py --prepare (restored, not settled again): "
-        f"{', '.join(sorted(BEDS))} or mip_N",
+        f"{', '.join(sorted(BEDS))}, mip_N or a shipped deck's name (beam_64)",
     )
     ap.add_argument("--top", type=int, default=12, help="hottest 128-byte blocks to list")
     ap.add_argument("--asm", type=int, default=2, help="hottest blocks to disassemble")
@@ -149,14 +149,22 @@ def main(argv=None) -> int:
         help="list the hottest N regions (runs of hot blocks) with what their code does",
     )
     args = ap.parse_args(argv)
+    deck = Path(__file__).resolve().parents[2] / "decks" / f"{args.bed}.inp"
     if args.bed and args.bed not in BEDS and not re.fullmatch(r"mip_\d+", args.bed):
-        ap.error(f"--bed {args.bed}: not a bed of count_instructions.py (nor mip_N)")
+        if not deck.is_file():
+            ap.error(f"--bed {args.bed}: not a bed of count_instructions.py, mip_N or a deck")
     for tool in ("perf", "objdump"):
         if shutil.which(tool) is None:
             print(f"{tool} not found; install linux-tools / binutils", file=sys.stderr)
             return 2
 
-    if args.bed:
+    if args.bed and deck.is_file():  # a shipped deck, 4000 steps in (as count_instructions.py)
+        from x3dpd import build, load_deck
+
+        sim = Simulation(build(load_deck(deck)), itrac=10**9)
+        sim.initialize()
+        sim.advance(4000, max_rows=1)
+    elif args.bed:
         from count_instructions import bed_simulation
 
         sim = bed_simulation(args.bed)
