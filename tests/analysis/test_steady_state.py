@@ -141,6 +141,28 @@ def test_a_growing_response_stops_at_the_cap_unconverged():
     assert not res.converged and res.cycles == 50
 
 
+def test_a_capped_correlated_response_says_its_autocorrelation_time():
+    """Amplitudes of AR(1) correlation 0.9 from cycle to cycle (integrated autocorrelation time
+    (1 + 0.9) / (2 (1 - 0.9)) = 9.5 cycles), capped at 150 cycles, short of the 50 tau an
+    interval needs: not converged, no interval, and tau estimated -- what the sweep's line
+    tells the user the interval would need. A response still growing at its cap has none."""
+    hz, phi = 37.0, 0.9
+    w = 2 * math.pi * hz
+    rng = np.random.default_rng(3)
+    t = np.arange(0, 4.2, 1.0 / (hz * 200))
+    k = np.floor(t * hz).astype(int)
+    e = np.zeros(k.max() + 1)
+    for c in range(1, e.size):
+        e[c] = phi * e[c - 1] + math.sqrt(1 - phi**2) * 0.02 * rng.standard_normal()
+    x = 0.01 * (1.0 + e[k]) * np.sin(w * t)
+    mon = SteadyStateMonitor(w, t0=0.0, t_start=0.0, window=8, tol=0.002, max_cycles=150)
+    res = feed_in_chunks(mon, t, x, x)
+    assert not res.converged and res.cycles == 150 and res.amplitude_hw == math.inf
+    assert 3.0 < res.tau < 30.0  # 9.5, estimated from ~150 cycles
+    growing = SteadyStateMonitor(w, t0=0.0, t_start=0.0, window=5, max_cycles=50)
+    assert math.isnan(feed_in_chunks(growing, t, 0.01 * t * np.sin(w * t), x).tau)
+
+
 def test_a_pause_on_the_way_is_not_taken_for_the_steady_state():
     """A response that climbs from amplitude 0.5 to 0.9 over 60 cycles, pauses there for 15
     -- three identical windows, which the window-to-window test alone accepted -- and then

@@ -116,6 +116,12 @@ def autocorrelation_time(series) -> float:
     return max(0.5, (2.0 * total - acov[0]) / (2.0 * acov[0]))
 
 
+def cycles_for_interval(tau: float) -> float:
+    """Kept cycles an interval of a series of integrated autocorrelation time ``tau`` [cycles]
+    needs (module docstring, step 2): RUN_LENGTH tau, and at least MIN_KEPT; NaN for NaN."""
+    return max(RUN_LENGTH * tau, MIN_KEPT) if tau == tau else math.nan
+
+
 def t_quantile(dof: float) -> float:
     """Student's t at (1 + LEVEL) / 2 with ``dof`` degrees of freedom (at least 1)."""
     from scipy.stats import t

@@ -334,6 +334,17 @@ class SteadyStateMonitor:
         return change, tail, noise, spread
 
     # -- the answer ---------------------------------------------------------------------------
+    def _tau(self, interval) -> float:
+        """The integrated autocorrelation time of the cycles [cycles]: the interval's, or -- a
+        capped point whose transient is out but whose run was too short for an interval --
+        the assessment's estimate over its kept cycles (what an interval would need: 50 of
+        them, x3dpd.analysis.confidence); NaN while the transient is in."""
+        if interval is not None:
+            return float(interval.tau)
+        if self.assessment is not None and self.assessment.settled:
+            return float(self.assessment.interval.tau)
+        return math.nan
+
     def result(self) -> SteadyState:
         """The steady state: over the cycles kept after the transient for a statistical answer
         (and a capped point with particles), else over the last whole window (module
@@ -406,6 +417,6 @@ class SteadyStateMonitor:
             phase_hw_deg=math.degrees(phase_hw),
             kept=hi - lo,
             method=self.method if self.converged else "cap",
-            tau=interval.tau if interval is not None else math.nan,
+            tau=self._tau(interval),
             cycle_energies=energies,
         )

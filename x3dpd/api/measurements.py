@@ -15,7 +15,8 @@ docs/frf.md, docs/design-guide.md):
 * :func:`damping_vs_amplitude` -> :class:`Ringdown`, :func:`rest_offset`, :data:`G_IN_S2` --
   % zeta versus amplitude of a ring-down (report Section 4.1; x3dpd.analysis.ringdown);
 * :class:`SteadyStateMonitor` -- whether a driven response has settled
-  (x3dpd.analysis.steady_state);
+  (x3dpd.analysis.steady_state); :func:`t_quantile`, :func:`cycles_for_interval` -- Student's
+  t and the run an interval needs (x3dpd.analysis.confidence);
 * :func:`read_measured_frf` -> :class:`MeasuredFrf`, :func:`read_measured_history` -- a test's
   measured FRF or time history (x3dpd.io.measured);
 * the drive laws' values on a time grid: :func:`force_table`, :func:`force_values`,
@@ -40,7 +41,7 @@ from x3dpd.analysis.ringdown import G_IN_S2, Ringdown, damping_vs_amplitude, res
 from x3dpd.analysis.lscf import PoleOrders, lscf_poles, max_order, pole_groups, select_poles
 from x3dpd.analysis.lsfd import ModalFit, refine_modes
 from x3dpd.analysis.sdof_fit import SdofFit, fit_sdof
-from x3dpd.analysis.confidence import t_quantile
+from x3dpd.analysis.confidence import cycles_for_interval, t_quantile
 from x3dpd.analysis.peak_search import Peak, PeakSearch
 from x3dpd.analysis.steady_state import SteadyStateMonitor
 from x3dpd.deck.modes import DOF_NAMES, ModeSet, write_modes_csv
@@ -65,6 +66,7 @@ __all__ = [
     "PeakSearch",
     "SteadyStateMonitor",
     "t_quantile",
+    "cycles_for_interval",
     "amplitude_spectrum",
     "central_difference",
     "check_window",

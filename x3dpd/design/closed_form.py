@@ -21,6 +21,7 @@ from x3dpd.design.spec import SweepSpec
 _EXACT = {
     "cycles": 0,
     "kept_cycles": 0,
+    "tau_cycles": math.nan,
     "stopped_by": "closed-form",
     "dissipated_per_cycle_ci": 0.0,
     "converged": True,

@@ -25,7 +25,7 @@ from x3dpd.design.spec import (
     parse_frequencies,
     parse_responses,
 )
-from x3dpd.design.steady_state import Criterion
+from x3dpd.design.steady_state import Criterion, cap_flag
 from x3dpd.design.sweep import baseline_curves, deck_hash, read_csv, run_sweep
 from x3dpd.design.sweep_measured import measured_curves, read_measured
 from x3dpd.errors import InputError
@@ -135,7 +135,7 @@ def sweep_command(
     )
 
     def on_point(row: dict) -> None:
-        flag = "" if row["converged"] else "  NOT CONVERGED (cap)"
+        flag = cap_flag(row)
         flag += "  irregular" if row["irregular"] else ""
         if row.get("compile_s", 0.0) >= 1.0:
             flag += f"  (compiled its step loop: {row['compile_s']:.0f} s)"

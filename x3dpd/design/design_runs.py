@@ -17,7 +17,7 @@ from x3dpd.design.auto_sweep import AutoJob, run_auto, visited, write_peaks
 from x3dpd.design.configs import Made
 from x3dpd.design.design_file import DesignFile
 from x3dpd.design.spec import SweepSpec
-from x3dpd.design.steady_state import run_point
+from x3dpd.design.steady_state import cap_flag, run_point
 from x3dpd.design.sweep import (
     Executor,
     SweepDir,
@@ -254,7 +254,7 @@ def _label(point, row: dict) -> str:
     """How the progress line names a finished point (``point`` None: a peak search's)."""
     if isinstance(point, RingdownTask):
         return f"ring-down, zeta up to {max(row['zeta_percent'], default=math.nan):.3g} %"
-    flag = "" if row["converged"] else "  NOT CONVERGED (cap)"
+    flag = cap_flag(row)
     return (
         f"{row['config']} F={row['drive']:.5g} {row['direction'] or '-'} "
         f"{row['frequency_hz']:.4f} Hz X={row['amplitude']:.5e} {row['cycles']} cycles"

@@ -56,6 +56,7 @@ AVERAGED = (
     "peak",
     "mean",
     "spread",
+    "tau_cycles",
     "dissipated_particles_per_cycle",
     "dissipated_viscoelastic_per_cycle",
     "dissipated_friction_per_cycle",

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field, replace
 
 from x3dpd.api import run as run_deck, run_config
 from x3dpd.api.decks import Deck
-from x3dpd.api.measurements import SteadyStateMonitor
+from x3dpd.api.measurements import SteadyStateMonitor, cycles_for_interval
 from x3dpd.api.stepper import process_compile_seconds
 from x3dpd.api.traces import ENERGY_COLUMNS, ROLLING_COLUMN
 from x3dpd.design.drive import BASE_QUANTITIES, base_motion_spec, displacement_amplitude
@@ -308,6 +308,7 @@ def response_columns(
         "peak": ss.peak,
         "mean": ss.mean,
         "spread": ss.spread,
+        "tau_cycles": ss.tau,
         "measured_amplitude": ss.measured_amplitude,
         "change": ss.change,
         "converged": ss.converged,
@@ -315,3 +316,19 @@ def response_columns(
     if node is not None:
         out = {"response_node": node, "response_dof": dof, **out}
     return out
+
+
+def cap_flag(row: dict) -> str:
+    """How a progress line marks a point stopped at its cap: NOT CONVERGED and, when its
+    cycles' autocorrelation time is known, about how many kept cycles an interval of its own
+    would need (x3dpd.analysis.confidence: 50 of them) -- the run a ``--max-cycles`` must
+    allow, or the work ``--replicas`` share out. Empty for a converged point."""
+    if row["converged"]:
+        return ""
+    tau = row.get("tau_cycles", math.nan)
+    if not tau == tau:
+        return "  NOT CONVERGED (cap)"
+    return (
+        f"  NOT CONVERGED (cap; tau {tau:.0f} cycles: an interval needs about "
+        f"{cycles_for_interval(tau):.0f} kept cycles)"
+    )

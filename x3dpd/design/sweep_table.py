@@ -45,6 +45,7 @@ COLUMNS = (
     "input_work_per_cycle",
     "cycles",
     "kept_cycles",
+    "tau_cycles",
     "stopped_by",
     "replicas",
     "converged",
