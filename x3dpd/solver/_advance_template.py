@@ -26,7 +26,6 @@ from x3dpd._jit import kernel, loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
                                   _forget_frames)
-from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
 from x3dpd.physics.usrfrc import KIND_DATA, _force_value
@@ -34,8 +33,7 @@ from x3dpd.solver._template_contact import (L_WEXT, NONFINITE, OK, REALLOC_PAIRS
                                             REALLOC_WALLS)
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pair_passes import _pair_contacts
-from x3dpd.solver._template_variant import (HAS_EXTERNAL,
-                                            HAS_MOTION, HAS_ONE_WALL_KIND, HAS_PAIRS,
+from x3dpd.solver._template_variant import (HAS_EXTERNAL, HAS_ONE_WALL_KIND, HAS_PAIRS,
                                             HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
                                             HAS_SHAPES,
                                             HAS_USER_FORCE, HAS_WALLS, HAS_WALLS_TRANSLATE,
@@ -192,12 +190,12 @@ def _adopt_new_list(lst, m):
 
 
 @step_kernel
-def _drift(synced, flat, t_old, t, nodes, loads, rigid, particles, units, stepping):
+def _drift(synced, flat, t_old, t, nodes, rigid, particles, units, stepping):
     """The first half kick (unless the last step's second one already did it: ``synced``
     False), which also resets the forces to the body forces m g, and the drift of every node
-    from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``,
-    the prescribed motions, the rigid slaves, the units' slot ``follow``; and the bound of the
-    displacements the contact lists' skin must cover (``stepping.nbr``)."""
+    from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``
+    (the prescribed motions' among them), the rigid slaves, the units' slot ``follow``; and the
+    bound of the displacements the contact lists' skin must cover (``stepping.nbr``)."""
     x, vel, force = nodes.x, nodes.vel, nodes.force
     dt, nbr = stepping.dt, stepping.nbr
     if synced:
@@ -222,9 +220,7 @@ def _drift(synced, flat, t_old, t, nodes, loads, rigid, particles, units, steppi
             vmax2 = max(vmax2, v2)
     if HAS_RIGID_ROTATION:
         _rotate(rigid.rot, rigid.master, vel, dt)
-    SLOT_DRIFT(units, nodes, rigid, stepping, t)
-    if HAS_MOTION:
-        _apply_motion_step(t_old, t, loads.motion, nodes.x0, x, vel)
+    SLOT_DRIFT(units, nodes, rigid, stepping, t, t_old)
     vwall = 0.0
     if HAS_RIGID:
         vwall = _update_slaves(x, vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
@@ -253,15 +249,10 @@ def _body_forces(flat):
 
 
 @step_kernel
-def _after_forces(t_old, t, nodes, loads, rigid, units, stepping):
-    """What takes the step's summed forces: the prescribed motions' actuator work and the
-    units' slot ``kick``."""
-    if HAS_MOTION:
-        # work of the motion's actuators (x3dpd.physics.motion._motion_work)
-        stepping.ledger[L_WEXT] += _motion_work(t_old, t, loads.motion, nodes.kin_mass,
-                                                nodes.kin_inertia, nodes.force,
-                                                loads.motion_prev)
-    SLOT_KICK(units, nodes, rigid, stepping, t)
+def _after_forces(t_old, t, nodes, rigid, units, stepping):
+    """What takes the step's summed forces: the units' slot ``kick`` (the prescribed motions'
+    actuator work among them)."""
+    SLOT_KICK(units, nodes, rigid, stepping, t, t_old)
 
 
 @step_kernel
@@ -283,9 +274,9 @@ def _kick_on(flat, nodes, rigid, h):
 
 
 @step_kernel
-def _kick_to_end(t, flat, nodes, loads, rigid, units, stepping):
+def _kick_to_end(t, flat, nodes, rigid, units, stepping):
     """The second half kick to full-step velocities, then the nodes that follow them: the
-    prescribed motions, the units' slot ``place``, the rigid slaves."""
+    units' slot ``place`` (the prescribed motions' among them), the rigid slaves."""
     h = 0.5 * stepping.dt
     vf, ff, imf, _ = flat
     for k in range(vf.shape[0]):
@@ -293,8 +284,6 @@ def _kick_to_end(t, flat, nodes, loads, rigid, units, stepping):
     if HAS_RIGID_ROTATION:
         _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
                             rigid.ib, rigid.free_rot, h, True)
-    if HAS_MOTION:
-        _apply_motion(t, loads.motion, nodes.x0, nodes.x, nodes.vel)
     SLOT_PLACE(units, nodes, rigid, stepping, t)
     if HAS_RIGID:
         _update_slaves(nodes.x, nodes.vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
@@ -390,19 +379,19 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             if mode == FORCES:
                 _body_forces(flat)
             else:
-                _drift(synced, flat, t_start + step * dt, t, nodes, loads, rigid, particles,
-                       units, stepping)
+                _drift(synced, flat, t_start + step * dt, t, nodes, rigid, particles, units,
+                       stepping)
             st = _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
                               units, stepping)
             if mode == FORCES:
                 return st, 0, 0
-            _after_forces(t_start + step * dt, t, nodes, loads, rigid, units, stepping)
+            _after_forces(t_start + step * dt, t, nodes, rigid, units, stepping)
             out_in -= 1
             synced = st != OK or it == nsteps - 1 or out_in == 0
             if not synced:
                 _kick_on(flat, nodes, rigid, 0.5 * dt)
                 continue
-            _kick_to_end(t, flat, nodes, loads, rigid, units, stepping)
+            _kick_to_end(t, flat, nodes, rigid, units, stepping)
             if st != OK:
                 diag[4] = t
                 diag[5] = step + 1

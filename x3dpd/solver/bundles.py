@@ -55,15 +55,13 @@ class Nodes(NamedTuple):
 
 
 class Loads(NamedTuple):
-    """Forces and motions applied from outside: USRFRC rows, user force files, base motion."""
+    """Forces applied from outside: USRFRC rows, user force files, Python forces."""
 
     table: np.ndarray        # (m, 8) built-in force rows (x3dpd.physics.usrfrc)
     row_prev: np.ndarray     # (m,) each row's force at the last step
     user: np.ndarray         # (n_u, 6) scratch: this step's user-file forces
     user_prev: np.ndarray    # (n_u, 6) user-file forces at the last step
     python: np.ndarray       # (n, 6) forces of Python user files (set between steps)
-    motion: np.ndarray       # (M, MOTION_COLUMNS) prescribed motions (x3dpd.physics.motion)
-    motion_prev: np.ndarray  # (M,) actuator force of each motion at the last step
 
 
 class RigidBodies(NamedTuple):

@@ -63,6 +63,7 @@ class Variant:
     external: bool = False
     user_force: bool = False
     python_force: bool = False
+    #: prescribed motions of node DOFs (``--motion``, the effect unit x3dpd.physics.motion)
     motion: bool = False
     n_maxwell: int = 0
     friction_law: str = "regularized"
@@ -108,7 +109,6 @@ class Variant:
             external="external_force" in e or user_force or python_force,
             user_force=user_force,
             python_force=python_force,
-            motion="prescribed_motion" in e,
             n_maxwell=n_maxwell if "viscoelastic" in e else 0,
             friction_law=friction_law,
             rolling_law=rolling_law if {"wall_contact", "pair_contact"} & e else "none",
