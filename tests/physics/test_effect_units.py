@@ -64,8 +64,7 @@ CHILD = """
 import json, sys
 import point_load
 from x3dpd.physics import effect_units as eu
-from x3dpd.physics import axial_spring, modal, motion, rotational_spring, spring_damper
-eu.UNITS = eu._register(spring_damper, axial_spring, rotational_spring, modal, motion, point_load)
+eu.UNITS = eu.UNITS + eu._register(point_load)
 from x3dpd.deck.parser import read_deck, parse_deck
 from x3dpd.deck.writer import format_deck
 from x3dpd.errors import DeckError
@@ -211,3 +210,16 @@ def test_a_unit_runs_first_where_it_says_and_gets_the_step_start_where_it_asks()
     ]
     assert "def SLOT_DRIFT(units, nodes, rigid, stepping, t, t_old):" in source
     assert "def SLOT_PLACE(units, nodes, rigid, stepping, t):" in source
+
+
+def test_the_external_forces_come_last_in_the_force_slot_with_the_variants_constants():
+    """The external forces (USRFRC laws, user files, Python forces) follow the springs' forces,
+    as they did before they were a unit, and take the variant's user-force constants."""
+    source = units_source(Variant(springs=True, external=True, user_force=True))
+    assert _slot_body(source, "force") == [
+        "_UNIT_0_FORCE(units[0], nodes, rigid, stepping, t)",
+        "_UNIT_1_FORCE(units[1], nodes, rigid, stepping, t, HAS_USER_FORCE, HAS_PYTHON_FORCE, "
+        "USER_FORCE)",
+    ]
+    header = Variant(external=True).header()
+    assert "HAS_USER_FORCE = False" in header and "USER_FORCE = None" in header

@@ -34,7 +34,10 @@ the nodes (``x``, ``x0``, ``vel``, ``force``, ``inv_m`` ...), ``rigid`` the rigi
 [s] the step ends at (x3dpd.solver.bundles); a unit with ``step_start`` gets, in its
 ``drift`` and ``kick`` hooks, the time the step starts at too, ``hook(u, nodes, rigid,
 stepping, t, t_old)`` (exactly the loop's, not ``t - dt``: a function of time evaluated at
-both ends of a step is then the same number in consecutive steps). It books what it
+both ends of a step is then the same number in consecutive steps); a unit with
+``variant_args`` gets, after these, the named constants of the variant's VARIANT block
+(x3dpd.solver.variants: ``HAS_USER_FORCE``, ``USER_FORCE`` ...), which numba freezes into the
+machine code as it does the loop's own. It books what it
 dissipates or the work it does in ``stepping.ledger`` at the slots below (:data:`L_DDAMP`
 ...). An ``energy`` hook is
 ``hook(u, nodes, en)``: it adds its kinetic energy to ``en[0]``, its stored (spring) energy to
@@ -131,6 +134,8 @@ class EffectUnit:
     first: tuple[str, ...] = ()
     #: its drift and kick hooks also take the step's start time (module docstring)
     step_start: bool = False
+    #: constants of the variant its hooks take after the slot's arguments (module docstring)
+    variant_args: tuple[str, ...] = ()
     state: tuple[StateArray, ...] = ()
     #: scratch arrays of the bundle: (field, the state field it is shaped like)
     scratch: tuple[tuple[str, str], ...] = ()

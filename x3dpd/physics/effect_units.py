@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from x3dpd.physics import axial_spring, modal, motion, rotational_spring, spring_damper
+from x3dpd.physics import (axial_spring, external_force, modal, motion, rotational_spring,
+                           spring_damper)
 from x3dpd.physics.effect_unit import SLOTS, EffectUnit, StateArray, UnitCard
 
 __all__ = ["UNITS", "BY_UNIT_NAME", "BY_UNIT_CARD", "EffectUnit", "StateArray", "UnitCard",
@@ -76,7 +77,7 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
 
 #: The effect units, in the order the slots call them.
 UNITS: tuple[EffectUnit, ...] = _register(spring_damper, axial_spring, rotational_spring, modal,
-                                         motion)
+                                         motion, external_force)
 #: Effect unit by name.
 BY_UNIT_NAME = {u.name: u for u in UNITS}
 #: Effect unit by the name of its own card (those that have one).

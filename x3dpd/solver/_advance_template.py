@@ -1,4 +1,3 @@
-# Over 400 lines: the step loop's slots and modes are one template, copied whole into each variant.
 """Template of the explicit time-step loop (report Section 7.3), specialised per scene.
 
 :func:`x3dpd.solver.variants.make_advance` copies this file and its parts -- what every contact
@@ -22,49 +21,34 @@ the per-step ones are inlined into ``advance`` (x3dpd._jit.step_kernel).
 
 import math
 
-from x3dpd._jit import kernel, loop_kernel, step_kernel
+from x3dpd._jit import loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
                                   _forget_frames)
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
-from x3dpd.physics.usrfrc import KIND_DATA, _force_value
-from x3dpd.solver._template_contact import (L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
-                                            REALLOC_WALLS)
+from x3dpd.solver._template_contact import NONFINITE, OK, REALLOC_PAIRS, REALLOC_WALLS
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pair_passes import _pair_contacts
-from x3dpd.solver._template_variant import (HAS_EXTERNAL, HAS_ONE_WALL_KIND, HAS_PAIRS,
-                                            HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
-                                            HAS_SHAPES,
-                                            HAS_USER_FORCE, HAS_WALLS, HAS_WALLS_TRANSLATE,
-                                            SLOT_DRIFT, SLOT_FOLLOW, SLOT_FORCE, SLOT_KICK,
-                                            SLOT_PLACE, UNIT_BUNDLES, USER_FORCE)
+from x3dpd.solver._template_variant import (HAS_ONE_WALL_KIND, HAS_PAIRS, HAS_RIGID,
+                                            HAS_RIGID_ROTATION, HAS_SHAPES, HAS_WALLS,
+                                            HAS_WALLS_TRANSLATE, SLOT_DRIFT, SLOT_FOLLOW,
+                                            SLOT_FORCE, SLOT_KICK, SLOT_PLACE, UNIT_BUNDLES)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
-from x3dpd.solver.bundles import (ContactList, Faces, Loads, Nodes, Output, Particles,
-                                  RigidBodies, Shapes, Stepping)
+from x3dpd.solver.bundles import (ContactList, Faces, Nodes, Output, Particles, RigidBodies,
+                                  Shapes, Stepping)
 from x3dpd.solver.contact_lists import _active_flags, _merge_states, _pair_approach
 
 
-@kernel
-def _no_user_force(t, x, vel, force):
-    """Stand-in for USER_FORCE in variants without a user file (never called)."""
-    return
-
-
-if USER_FORCE is None:
-    USER_FORCE = _no_user_force
-
-
 @step_kernel
-def _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes, units, stepping):
+def _force_terms(t, nodes, rigid, particles, faces, walls, pairs, shapes, units, stepping):
     """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t:
-    the effect units' (slot ``force``), the loads, the wall and pair contacts; then the rigid
-    slaves' forces gathered onto their masters. Returns the contacts' status bits."""
+    the effect units' (slot ``force``: the external forces among them, last), the wall and
+    pair contacts; then the rigid slaves' forces gathered onto their masters. Returns the
+    contacts' status bits."""
     x = nodes.x
     status = OK
     SLOT_FORCE(units, nodes, rigid, stepping, t)
-    if HAS_EXTERNAL:
-        stepping.ledger[L_WEXT] += _external_forces(t, nodes, loads, stepping.dt)
     if HAS_WALLS:
         if HAS_WALLS_TRANSLATE:
             _face_offsets(x, faces.tri_nodes, faces.first_tri, faces.normal, faces.offset)
@@ -86,44 +70,6 @@ def _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
     if HAS_RIGID:
         _gather_slaves(x, nodes.force, rigid.master, rigid.ptr, rigid.slaves, HAS_RIGID_ROTATION)
     return status
-
-
-@step_kernel
-def _external_forces(t, nodes, loads, dt):
-    """Add the built-in forces (USRFRC rows, x3dpd.physics.usrfrc), the user files' and the
-    Python forces at time t; return their work over the step (trapezoidal, per DOF)."""
-    x, vel, force = nodes.x, nodes.vel, nodes.force
-    ext_table, frow_prev = loads.table, loads.row_prev
-    wext = 0.0
-    # built-in forces act on a few DOFs: work row by row (exact even if rows share a DOF)
-    for r in range(ext_table.shape[0]):
-        if ext_table[r, 0] == KIND_DATA:  # random signals' knots follow the laws
-            break
-        i = int(ext_table[r, 1])
-        d = int(ext_table[r, 2])
-        fe = _force_value(t, ext_table, r)
-        force[i, d] += fe
-        wext += 0.5 * (frow_prev[r] + fe) * vel[i, d] * dt
-        frow_prev[r] = fe
-    if HAS_USER_FORCE or HAS_PYTHON_FORCE:
-        # user forces may touch any DOF
-        fext, fext_prev = loads.user, loads.user_prev
-        fe_flat = fext.reshape(-1)
-        for k in range(fe_flat.shape[0]):
-            fe_flat[k] = 0.0
-        if HAS_USER_FORCE:
-            USER_FORCE(t, x, vel, fext)
-        if HAS_PYTHON_FORCE:
-            for k in range(fe_flat.shape[0]):
-                fe_flat[k] += loads.python.reshape(-1)[k]
-        for i in range(fext.shape[0]):
-            for d in range(6):
-                fe = fext[i, d]
-                if fe != 0.0 or fext_prev[i, d] != 0.0:
-                    wext += 0.5 * (fext_prev[i, d] + fe) * vel[i, d] * dt
-                    force[i, d] += fe
-                    fext_prev[i, d] = fe
-    return wext
 
 
 @step_kernel
@@ -350,9 +296,9 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
     Returns (status, steps done, rows written); the run stops at the first non-zero status or a
     full output buffer.
     """
-    (nodes_, loads_, rigid_, particles_, faces_, walls_, pairs_, shapes_, units_, stepping_,
+    (nodes_, rigid_, particles_, faces_, walls_, pairs_, shapes_, units_, stepping_,
      output_) = packed
-    nodes, loads, rigid = Nodes(*nodes_), Loads(*loads_), RigidBodies(*rigid_)
+    nodes, rigid = Nodes(*nodes_), RigidBodies(*rigid_)
     particles, faces, walls, pairs = (Particles(*particles_), Faces(*faces_),
                                       ContactList(*walls_), ContactList(*pairs_))
     shapes, units = Shapes(*shapes_), UNIT_BUNDLES(units_)
@@ -381,8 +327,8 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             else:
                 _drift(synced, flat, t_start + step * dt, t, nodes, rigid, particles, units,
                        stepping)
-            st = _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
-                              units, stepping)
+            st = _force_terms(t, nodes, rigid, particles, faces, walls, pairs, shapes, units,
+                              stepping)
             if mode == FORCES:
                 return st, 0, 0
             _after_forces(t_start + step * dt, t, nodes, rigid, units, stepping)

@@ -35,8 +35,7 @@ class State:
     """Everything that evolves. Arrays are float64 / int64, indexed by node index.
 
     x (n,3) coordinates; vel (n,6) velocities (v, omega); force (n,6) force and moment sums;
-    rot (B,3,3) rigid-body rotations; fext_prev (n,6) user force of the last step;
-    frow_prev (m,) built-in forces of the last step; wl_p, wl_f, ws, wl_on (Lw) wall
+    rot (B,3,3) rigid-body rotations; wl_p, wl_f, ws, wl_on (Lw) wall
     candidate list (particle, face, state row, open-contact flag); nwl (1,) its length; pl_i,
     pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
@@ -55,8 +54,6 @@ class State:
     vel: np.ndarray
     force: np.ndarray
     rot: np.ndarray
-    fext_prev: np.ndarray
-    frow_prev: np.ndarray
     wl_p: np.ndarray
     wl_f: np.ndarray
     ws: np.ndarray
@@ -352,8 +349,7 @@ def _body_forces(mass: np.ndarray, model) -> np.ndarray:
     return out
 
 
-def initial_state(model: Model, setup: Setup, n_fext_nodes: int,
-                  n_force_rows: int = 0) -> State:
+def initial_state(model: Model, setup: Setup) -> State:
     """State at t0: deck coordinates and velocities, empty contact lists."""
     n = model.n_nodes
     npart = model.n_particles
@@ -369,7 +365,6 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int,
     lp = max(16, 8 * npart)
     return State(
         x=setup.x0.copy(), vel=vel, force=np.zeros((n, 6)), rot=rot,
-        fext_prev=np.zeros((n_fext_nodes, 6)), frow_prev=np.zeros(n_force_rows),
         wl_p=np.zeros(lw, np.int64), wl_f=np.zeros(lw, np.int64), ws=np.zeros((lw, ncols)),
         wl_on=np.zeros(lw, np.int8),
         nwl=np.zeros(1, np.int64),

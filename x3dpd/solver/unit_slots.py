@@ -9,7 +9,8 @@ variant's copy of ``_template_variant.py``:
   ``SLOT_PLACE``, ``SLOT_ENERGY``: x3dpd.physics.effect_unit.SLOTS) calling the hooks of the
   units that fill it, in registry order (those that run ``first`` there before the others),
   each with its own bundle; ``SLOT_DRIFT`` and ``SLOT_KICK`` take the step's start time
-  ``t_old`` after ``t``, which the hooks of units with ``step_start`` get.
+  ``t_old`` after ``t``, which the hooks of units with ``step_start`` get; a unit's
+  ``variant_args`` (constants of the VARIANT block) follow.
 
 Every function is a ``step_kernel``, inlined where the loop calls it; a slot without hooks is
 an empty function, which leaves no trace in the machine code. The hooks are imported from
@@ -43,7 +44,8 @@ def units_source(variant) -> str:
         start = slot in _STEP_START
         order = sorted(range(len(units)), key=lambda k: slot not in units[k].first)
         calls = [f"_UNIT_{k}_{slot.upper()}(units[{k}], {_ARGS[slot]}"
-                 f"{', t_old' if start and units[k].step_start else ''})"
+                 f"{', t_old' if start and units[k].step_start else ''}"
+                 f"{''.join(', ' + a for a in units[k].variant_args)})"
                  for k in order if slot in units[k].hooks]
         if slot == "energy":
             body = ["shadow = 0.0"] + [f"shadow += {call}" for call in calls]
