@@ -37,7 +37,7 @@ MAX_README_LINES = 350
 #: The step loop's bundle arguments as the docs write them (``pairs.history``): argument name
 #: (ADVANCE_BUNDLES, but ``units``: the effect units' bundles, each of its own class) -> class in
 #: x3dpd.solver.bundles.
-_BUNDLES = "Nodes Loads RigidBodies Particles Faces ContactList ContactList Shapes"
+_BUNDLES = "Nodes RigidBodies Particles Faces ContactList ContactList Shapes"
 BUNDLE_ARGUMENTS = dict(
     zip(
         (name for name in ADVANCE_BUNDLES if name != "units"),

@@ -64,8 +64,7 @@ CHILD = """
 import json, sys
 import point_load
 from x3dpd.physics import effect_units as eu
-from x3dpd.physics import axial_spring, modal, rotational_spring, spring_damper
-eu.UNITS = eu._register(spring_damper, axial_spring, rotational_spring, modal, point_load)
+eu.UNITS = eu.UNITS + eu._register(point_load)
 from x3dpd.deck.parser import read_deck, parse_deck
 from x3dpd.deck.writer import format_deck
 from x3dpd.errors import DeckError
@@ -160,6 +159,15 @@ def test_the_registry_refuses_a_hook_outside_the_slots_or_the_module():
         effect_units._register(_module(UNIT=unit, energy_hook=spring_damper.energy_hook))
     with pytest.raises(ValueError, match="share a name"):
         effect_units._register(spring_damper, spring_damper)
+    first_without_hook = EffectUnit(**{**unit.__dict__, "first": ("kick",)})
+    with pytest.raises(ValueError, match=r"runs first in \['kick'\] without a hook there"):
+        effect_units._register(
+            _module(
+                UNIT=first_without_hook,
+                force_hook=spring_damper.force_hook,
+                energy_hook=spring_damper.energy_hook,
+            )
+        )
 
 
 def test_a_variant_compiles_the_hooks_of_its_units_only():
@@ -171,3 +179,47 @@ def test_a_variant_compiles_the_hooks_of_its_units_only():
     assert "from x3dpd.physics.spring_damper import SpringDampers as _UNIT_0_BUNDLE" in springs
     assert "_UNIT_0_FORCE(units[0], nodes, rigid, stepping, t)" in springs
     assert "shadow += _UNIT_0_ENERGY(units[0], nodes, en)" in springs
+
+
+def _slot_body(source: str, slot: str) -> list[str]:
+    """The statements of the generated function ``SLOT_<slot>``."""
+    body = source.split(f"def SLOT_{slot.upper()}(", 1)[1].split("\n\n", 1)[0]
+    return [line.strip() for line in body.splitlines()[1:]]
+
+
+def test_a_unit_runs_first_where_it_says_and_gets_the_step_start_where_it_asks():
+    """The prescribed motions (registered after the modes) impose their DOFs after the modes'
+    drift, and take their actuators' work and place their DOFs before the modes' kick and
+    place; their drift and kick hooks get the step's start time, the modes' do not."""
+    names = [u.name for u in effect_units.UNITS]
+    modal_k, motion_k = (names.index(n) for n in ("modal", "motion"))
+    assert modal_k < motion_k
+    source = units_source(Variant(modal=True, motion=True))
+    k_modal, k_motion = 0, 1  # the two units the variant compiles, in registry order
+    assert _slot_body(source, "drift") == [
+        f"_UNIT_{k_modal}_DRIFT(units[{k_modal}], nodes, rigid, stepping, t)",
+        f"_UNIT_{k_motion}_DRIFT(units[{k_motion}], nodes, rigid, stepping, t, t_old)",
+    ]
+    assert _slot_body(source, "kick") == [
+        f"_UNIT_{k_motion}_KICK(units[{k_motion}], nodes, rigid, stepping, t, t_old)",
+        f"_UNIT_{k_modal}_KICK(units[{k_modal}], nodes, rigid, stepping, t)",
+    ]
+    assert _slot_body(source, "place") == [
+        f"_UNIT_{k_motion}_PLACE(units[{k_motion}], nodes, rigid, stepping, t)",
+        f"_UNIT_{k_modal}_PLACE(units[{k_modal}], nodes, rigid, stepping, t)",
+    ]
+    assert "def SLOT_DRIFT(units, nodes, rigid, stepping, t, t_old):" in source
+    assert "def SLOT_PLACE(units, nodes, rigid, stepping, t):" in source
+
+
+def test_the_external_forces_come_last_in_the_force_slot_with_the_variants_constants():
+    """The external forces (USRFRC laws, user files, Python forces) follow the springs' forces,
+    as they did before they were a unit, and take the variant's user-force constants."""
+    source = units_source(Variant(springs=True, external=True, user_force=True))
+    assert _slot_body(source, "force") == [
+        "_UNIT_0_FORCE(units[0], nodes, rigid, stepping, t)",
+        "_UNIT_1_FORCE(units[1], nodes, rigid, stepping, t, HAS_USER_FORCE, HAS_PYTHON_FORCE, "
+        "USER_FORCE)",
+    ]
+    header = Variant(external=True).header()
+    assert "HAS_USER_FORCE = False" in header and "USER_FORCE = None" in header

@@ -1,14 +1,15 @@
 """Where a cold compile of a scene's step loop goes: CPU seconds per numba pass and LLVM stage.
 
     python tools/bench/compile_profile.py decks/beam_64.inp [--tmax 0.002] [--fresh]
-        [--by-function] [--threads N]
+        [--by-function] [--threads N] [--motion SPEC]
 
 Runs the deck for ``--tmax`` with an empty kernel cache (a temporary ``X3DPD_CACHE_DIR``; the
 small kernels cached beside x3dpd's sources stay warm, as after any first run) and prints the
 total CPU time (``--fresh``: the small kernels' cache empty too, as in a fresh clone) and, per
 numba compiler pass and per LLVM optimisation stage, the CPU seconds spent in it exclusive of
 nested compiles (``--by-function``: per compiled function and per LLVM code library; ``--threads
-2``: the threaded loop variant, docs/engine.md "Threads"). CPU time (``time.process_time``)
+2``: the threaded loop variant, docs/engine.md "Threads"; ``--motion``: a prescribed motion,
+as the run's, repeatable). CPU time (``time.process_time``)
 rather than wall time, so that a loaded machine still gives comparable numbers.
 """
 
@@ -95,6 +96,12 @@ def main() -> None:
         default="1",
         help="the run's thread count (more than 1: the threaded loop variant)",
     )
+    ap.add_argument(
+        "--motion",
+        action="append",
+        default=[],
+        help="a prescribed motion (docs/usrfrc.md), as the run's --motion; repeatable",
+    )
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as cache:
         os.environ["X3DPD_CACHE_DIR"] = cache
@@ -112,7 +119,8 @@ def main() -> None:
         import x3dpd
 
         t0 = time.process_time()
-        x3dpd.run(args.deck, tmax=args.tmax, threads=args.threads)  # writes nothing
+        # writes nothing
+        x3dpd.run(args.deck, tmax=args.tmax, threads=args.threads, motion=args.motion)
         total = time.process_time() - t0
     print(f"{args.deck}: {total:.1f} CPU s to compile and run {args.tmax:g} s")
     for name, seconds in sorted(acc.items(), key=lambda kv: -kv[1]):

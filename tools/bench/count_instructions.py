@@ -17,11 +17,12 @@ structure) or one of the settled beds of ``regress.py``: ``settled_512`` (elasti
 cavity shaken at 2 g, after two drive periods), or the larger elastic beds at rest of
 ``threads.py``, ``settled_4096`` and ``settled_16384``, or ``mip_N``: the MIP damper of
 decks/mip_apparatus_05.inp with N holes at 800 lbf, its spheres in flight (tools/bench/mip_scene.py;
-prepared like a bed). The scene is set up and run 4010 steps (a
-restored bed 10) outside the count (compiling or loading the loop, building the lists); then
-callgrind counts only ``STEPS`` steps of one ``Simulation.advance`` call (instrumentation
-switched on and off around it with ``callgrind_control``). Compare two revisions on the same
-scene and step count.
+prepared like a bed), or ``shaker_base``: decks/shaker_fig9.inp with its base node driven by a
+prescribed motion (``--motion`` :data:`SHAKER_BASE`, the golden case's). The scene is set up
+and run 4010 steps (a restored bed 10) outside the count (compiling or loading the loop,
+building the lists); then callgrind counts only ``STEPS`` steps of one ``Simulation.advance``
+call (instrumentation switched on and off around it with ``callgrind_control``). Compare two
+revisions on the same scene and step count.
 
 A settled bed takes 300,000 steps (and the shaken one two drive periods more) to reach, far
 too slow under valgrind: ``python tools/bench/count_instructions.py --prepare SCENE`` runs
@@ -66,6 +67,10 @@ BEDS = {
     "settled_4096": (4096, 0.0, 0.0, False),
     "settled_16384": (16384, 0.0, 0.0, False),
 }
+
+
+#: the base motion of ``shaker_base`` (tests/golden/cases.json's shaker_fig9 case)
+SHAKER_BASE = "node=4,dof=2,amp=0.02,hz=36.75"
 
 
 def _bed_file(scene: str) -> Path:
@@ -135,10 +140,10 @@ def main(argv: list[str]) -> int:
 
         sim = Simulation(scene_model(int(scene[5:]))[0])
     else:
-        deck = read_deck(ROOT / "decks" / f"{scene}.inp")
-        sim = Simulation(
-            build_model(replace(deck, parameters=replace(deck.parameters, itrac=10**9)))
-        )
+        stem, motion = ("shaker_fig9", (SHAKER_BASE,)) if scene == "shaker_base" else (scene, ())
+        deck = read_deck(ROOT / "decks" / f"{stem}.inp")
+        deck = replace(deck, parameters=replace(deck.parameters, itrac=10**9))
+        sim = Simulation(build_model(deck, motion=motion), motion=motion)
     if scene not in BEDS and not scene.startswith("mip_"):  # a bed is restored, lists built
         sim.advance(4000, max_rows=1)
     sim.advance(10, max_rows=1)

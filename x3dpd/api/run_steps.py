@@ -167,7 +167,7 @@ def _continue_from(sim, initial) -> None:
     state = initial.state.copy()
     n_motion = motion_count(sim.motion)
     if state.motion_prev.shape[0] != n_motion:
-        state.motion_prev = np.zeros(n_motion)
+        state.units["motion_prev"] = np.zeros(n_motion)
     if initial.checkpoint is not None:
         sim.restore(state, initial.checkpoint)
     else:

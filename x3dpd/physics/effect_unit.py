@@ -11,23 +11,35 @@ the registry so that a unit's module can import it while the registry imports th
 The slots
 ---------
 The step loop (x3dpd.solver._advance_template) calls the slots in a fixed order; each slot
-calls the hooks of the scene's units in registry order, and a slot no unit of the scene fills
-compiles to nothing. One step of velocity Verlet (report Section 7.3, docs/engine.md):
+calls the hooks of the scene's units in registry order -- first those that list the slot in
+their ``first``, then the others -- and a slot no unit of the scene fills compiles to
+nothing. One step of velocity Verlet (report Section 7.3, docs/engine.md):
 
 1. the first half kick and the drift of every node, the rigid bodies' turn; then ``drift``;
-   then the prescribed motions and the rigid bodies' slaves follow; then ``follow``;
+   then the rigid bodies' slaves follow; then ``follow``;
 2. the forces at the new positions: the body forces, then ``force``, then the loads, the wall
    and pair contacts, and the slaves' forces gathered onto their masters; then ``kick``;
 3. the second half kick; at a step whose full-step velocities are wanted (an output row, the
-   end of a call, a stop) the prescribed motions, then ``place``, then the rigid slaves;
+   end of a call, a stop) ``place``, then the rigid slaves;
 4. at an output row the energies: the nodes', the contacts', then ``energy``.
+
+The prescribed motions (x3dpd.physics.motion) are the last unit: their ``drift`` runs after
+the other units' (a modal node may be driven), their ``kick`` and ``place`` before them
+(``first``).
 
 A hook of the slots ``drift``, ``follow``, ``force``, ``kick`` and ``place`` is a
 ``step_kernel`` ``hook(u, nodes, rigid, stepping, t)``: ``u`` the unit's bundle; ``nodes``
 the nodes (``x``, ``x0``, ``vel``, ``force``, ``inv_m`` ...), ``rigid`` the rigid bodies
 (``rot``: each body's rotation), ``stepping`` the step (``dt``, ``ledger``), ``t`` the time
-[s] the step ends at (x3dpd.solver.bundles). It books what it dissipates or the work it does
-in ``stepping.ledger`` at the slots below (:data:`L_DDAMP` ...). An ``energy`` hook is
+[s] the step ends at (x3dpd.solver.bundles); a unit with ``step_start`` gets, in its
+``drift`` and ``kick`` hooks, the time the step starts at too, ``hook(u, nodes, rigid,
+stepping, t, t_old)`` (exactly the loop's, not ``t - dt``: a function of time evaluated at
+both ends of a step is then the same number in consecutive steps); a unit with
+``variant_args`` gets, after these, the named constants of the variant's VARIANT block
+(x3dpd.solver.variants: ``HAS_USER_FORCE``, ``USER_FORCE`` ...), which numba freezes into the
+machine code as it does the loop's own. It books what it
+dissipates or the work it does in ``stepping.ledger`` at the slots below (:data:`L_DDAMP`
+...). An ``energy`` hook is
 ``hook(u, nodes, en)``: it adds its kinetic energy to ``en[0]``, its stored (spring) energy to
 ``en[3]``, and returns its share of the Verlet correction's sum f^2/m (the ledger's S:
 docs/energy.md).
@@ -40,7 +52,9 @@ field -> value (a node field's value is the node's index, the others floats), ``
 message)`` the deck error at record k (``FILE:LINE:COL: CARD: message``) to raise; it returns
 the unit's arrays by name. The deck reader and writer, the model builder (which also names the
 unit's first effect when its card has records) and ``x3dpd check`` (its ``check(model)``:
-findings ``(code, headline, lines)``) need no code of the unit's.
+findings ``(code, headline, lines)``) need no code of the unit's. A unit fed by a run option
+instead of the deck (the prescribed motions of ``--motion``) finds its arrays in
+``model.unit_data[name]`` too, put there by x3dpd.solver.simulation for ``setup``.
 
 Python-side hooks (plain functions, optional): ``setup(model, dt, nodes)`` returns the unit's
 constant arrays by bundle field from the model (x3dpd.model.model.Model) and the step ``dt``,
@@ -116,6 +130,12 @@ class EffectUnit:
     bundle: type                    # the NamedTuple of its arrays: constants, state, scratch
     setup: Callable                 # (model, dt, nodes) -> {constant field: array}
     hooks: Mapping[str, str]        # slot -> name of the hook in its module
+    #: the slots whose hook runs before the other units' (module docstring, "The slots")
+    first: tuple[str, ...] = ()
+    #: its drift and kick hooks also take the step's start time (module docstring)
+    step_start: bool = False
+    #: constants of the variant its hooks take after the slot's arguments (module docstring)
+    variant_args: tuple[str, ...] = ()
     state: tuple[StateArray, ...] = ()
     #: scratch arrays of the bundle: (field, the state field it is shaped like)
     scratch: tuple[tuple[str, str], ...] = ()

@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from x3dpd.physics import axial_spring, modal, rotational_spring, spring_damper
+from x3dpd.physics import (axial_spring, external_force, modal, motion, rotational_spring,
+                           spring_damper)
 from x3dpd.physics.effect_unit import SLOTS, EffectUnit, StateArray, UnitCard
 
 __all__ = ["UNITS", "BY_UNIT_NAME", "BY_UNIT_CARD", "EffectUnit", "StateArray", "UnitCard",
@@ -47,6 +48,9 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
                 raise ValueError(f"{where}: no slot {slot!r}; the slots are {list(SLOTS)}")
             if not callable(getattr(m, hook, None)):
                 raise ValueError(f"{where}: its {slot} hook {hook!r} is not in the module")
+        if not set(unit.first) <= set(unit.hooks):
+            missing = sorted(set(unit.first) - set(unit.hooks))
+            raise ValueError(f"{where}: it runs first in {missing} without a hook there")
         for name in unit.kernels:
             if not callable(getattr(m, name, None)):
                 raise ValueError(f"{where}: its kernel {name!r} is not in the module")
@@ -72,7 +76,8 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
 
 
 #: The effect units, in the order the slots call them.
-UNITS: tuple[EffectUnit, ...] = _register(spring_damper, axial_spring, rotational_spring, modal)
+UNITS: tuple[EffectUnit, ...] = _register(spring_damper, axial_spring, rotational_spring, modal,
+                                         motion, external_force)
 #: Effect unit by name.
 BY_UNIT_NAME = {u.name: u for u in UNITS}
 #: Effect unit by the name of its own card (those that have one).

@@ -38,16 +38,25 @@ system's forces ``f`` do on it. It is exact for a velocity jump (an impulse does
 ``1/2 M (v+^2 - v-^2)``) and for a linear spring on the DOF. At the start of a run the DOF
 takes ``u(t_start)`` and ``u'(t_start)``; the change from the deck's velocity is the first
 entry of the external work (:func:`start_motion`).
+
+An effect unit (x3dpd.physics.effect_unit): its bundle :class:`PrescribedMotions` (the motion
+table a run's specs make, given to the model as ``unit_data["motion"]["table"]``), its DOFs
+out of velocity Verlet (``setup``: zero inverse mass), the step's positions and mean
+velocities imposed in the slot ``drift`` (after the other units' drift, before the rigid
+slaves follow), the actuators' work in ``kick`` and the full-step velocities in ``place``
+(both before the other units' hooks there: ``first``).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from x3dpd._jit import kernel, step_kernel
 from x3dpd.errors import UsrfrcError
+from x3dpd.physics.effect_unit import L_WEXT, EffectUnit, StateArray
 from x3dpd.physics.random_signal import _random_motion_state, attach_blocks, parse_random
 from x3dpd.physics.spec_fields import _node_dof, _node_ids, _number, _omega, _parse_pairs, _phase
 
@@ -279,3 +288,59 @@ def prescribed_mask(table, n_nodes: int) -> np.ndarray:
     mask = np.zeros((n_nodes, 6), dtype=bool)
     mask[table[:, 0].astype(np.int64), table[:, 1].astype(np.int64)] = True
     return mask
+
+
+class PrescribedMotions(NamedTuple):
+    """The prescribed motions of a run (M of them)."""
+
+    table: np.ndarray        # (M + knots, 8) the motion table (MOTION_COLUMNS)
+    dofs: np.ndarray         # (M, 2) node index, DOF index of each motion
+    prev: np.ndarray         # (M,) the rest of the system's force on each DOF at the last
+    #                          step (state)
+
+
+@step_kernel
+def drift_hook(u, nodes, rigid, stepping, t, t_old):
+    """Slot ``drift``: the driven DOFs at ``t`` with the step's mean velocities."""
+    _apply_motion_step(t_old, t, u.table, nodes.x0, nodes.x, nodes.vel)
+
+
+@step_kernel
+def kick_hook(u, nodes, rigid, stepping, t, t_old):
+    """Slot ``kick``: the actuators' work over the step, to the ledger."""
+    stepping.ledger[L_WEXT] += _motion_work(t_old, t, u.table, nodes.kin_mass,
+                                            nodes.kin_inertia, nodes.force, u.prev)
+
+
+@step_kernel
+def place_hook(u, nodes, rigid, stepping, t):
+    """Slot ``place``: the driven DOFs' full-step positions and velocities."""
+    _apply_motion(t, u.table, nodes.x0, nodes.x, nodes.vel)
+
+
+def _setup(model, dt, nodes) -> dict:
+    """The motion table of the model's ``unit_data["motion"]`` (none without); the driven DOFs
+    leave velocity Verlet (zero inverse mass; a rigid master's driven rotation is not free)."""
+    table = model.unit_data.get("motion", {}).get("table")
+    table = np.zeros((0, len(MOTION_COLUMNS))) if table is None else _check_table(table)
+    dofs = np.ascontiguousarray(motion_rows(table)[:, :2], np.int64)
+    for i, d in dofs:
+        nodes["inv_m"][i, d] = 0.0
+        body = np.flatnonzero(model.rigid_master == i)
+        if d >= 3 and body.size:
+            nodes["rig_free_rot"][body[0], d - 3] = False
+    return {"table": table, "dofs": dofs}
+
+
+def _start(u, force) -> None:
+    """The forces ``force`` of a state on the driven DOFs: the actuators' first step's."""
+    u.prev[:] = force[u.dofs[:, 0], u.dofs[:, 1]]
+
+
+UNIT = EffectUnit(
+    name="motion", flag="motion", effects=("prescribed_motion",), cards=("--motion",),
+    bundle=PrescribedMotions, setup=_setup,
+    hooks={"drift": "drift_hook", "kick": "kick_hook", "place": "place_hook"},
+    first=("kick", "place"), step_start=True,
+    state=(StateArray("prev", "motion_prev", "dofs"),), start=_start,
+    doc="--motion: node DOFs moved on a prescribed path (base excitation)")

@@ -1,4 +1,3 @@
-# Over 400 lines: the step loop's slots and modes are one template, copied whole into each variant.
 """Template of the explicit time-step loop (report Section 7.3), specialised per scene.
 
 :func:`x3dpd.solver.variants.make_advance` copies this file and its parts -- what every contact
@@ -22,51 +21,34 @@ the per-step ones are inlined into ``advance`` (x3dpd._jit.step_kernel).
 
 import math
 
-from x3dpd._jit import kernel, loop_kernel, step_kernel
+from x3dpd._jit import loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
                                   _forget_frames)
-from x3dpd.physics.motion import _apply_motion, _apply_motion_step, _motion_work
 from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
                                       _update_slaves)
-from x3dpd.physics.usrfrc import KIND_DATA, _force_value
-from x3dpd.solver._template_contact import (L_WEXT, NONFINITE, OK, REALLOC_PAIRS,
-                                            REALLOC_WALLS)
+from x3dpd.solver._template_contact import NONFINITE, OK, REALLOC_PAIRS, REALLOC_WALLS
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pair_passes import _pair_contacts
-from x3dpd.solver._template_variant import (HAS_EXTERNAL,
-                                            HAS_MOTION, HAS_ONE_WALL_KIND, HAS_PAIRS,
-                                            HAS_PYTHON_FORCE, HAS_RIGID, HAS_RIGID_ROTATION,
-                                            HAS_SHAPES,
-                                            HAS_USER_FORCE, HAS_WALLS, HAS_WALLS_TRANSLATE,
-                                            SLOT_DRIFT, SLOT_FOLLOW, SLOT_FORCE, SLOT_KICK,
-                                            SLOT_PLACE, UNIT_BUNDLES, USER_FORCE)
+from x3dpd.solver._template_variant import (HAS_ONE_WALL_KIND, HAS_PAIRS, HAS_RIGID,
+                                            HAS_RIGID_ROTATION, HAS_SHAPES, HAS_WALLS,
+                                            HAS_WALLS_TRANSLATE, SLOT_DRIFT, SLOT_FOLLOW,
+                                            SLOT_FORCE, SLOT_KICK, SLOT_PLACE, UNIT_BUNDLES)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
-from x3dpd.solver.bundles import (ContactList, Faces, Loads, Nodes, Output, Particles,
-                                  RigidBodies, Shapes, Stepping)
+from x3dpd.solver.bundles import (ContactList, Faces, Nodes, Output, Particles, RigidBodies,
+                                  Shapes, Stepping)
 from x3dpd.solver.contact_lists import _active_flags, _merge_states, _pair_approach
 
 
-@kernel
-def _no_user_force(t, x, vel, force):
-    """Stand-in for USER_FORCE in variants without a user file (never called)."""
-    return
-
-
-if USER_FORCE is None:
-    USER_FORCE = _no_user_force
-
-
 @step_kernel
-def _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes, units, stepping):
+def _force_terms(t, nodes, rigid, particles, faces, walls, pairs, shapes, units, stepping):
     """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t:
-    the effect units' (slot ``force``), the loads, the wall and pair contacts; then the rigid
-    slaves' forces gathered onto their masters. Returns the contacts' status bits."""
+    the effect units' (slot ``force``: the external forces among them, last), the wall and
+    pair contacts; then the rigid slaves' forces gathered onto their masters. Returns the
+    contacts' status bits."""
     x = nodes.x
     status = OK
     SLOT_FORCE(units, nodes, rigid, stepping, t)
-    if HAS_EXTERNAL:
-        stepping.ledger[L_WEXT] += _external_forces(t, nodes, loads, stepping.dt)
     if HAS_WALLS:
         if HAS_WALLS_TRANSLATE:
             _face_offsets(x, faces.tri_nodes, faces.first_tri, faces.normal, faces.offset)
@@ -88,44 +70,6 @@ def _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
     if HAS_RIGID:
         _gather_slaves(x, nodes.force, rigid.master, rigid.ptr, rigid.slaves, HAS_RIGID_ROTATION)
     return status
-
-
-@step_kernel
-def _external_forces(t, nodes, loads, dt):
-    """Add the built-in forces (USRFRC rows, x3dpd.physics.usrfrc), the user files' and the
-    Python forces at time t; return their work over the step (trapezoidal, per DOF)."""
-    x, vel, force = nodes.x, nodes.vel, nodes.force
-    ext_table, frow_prev = loads.table, loads.row_prev
-    wext = 0.0
-    # built-in forces act on a few DOFs: work row by row (exact even if rows share a DOF)
-    for r in range(ext_table.shape[0]):
-        if ext_table[r, 0] == KIND_DATA:  # random signals' knots follow the laws
-            break
-        i = int(ext_table[r, 1])
-        d = int(ext_table[r, 2])
-        fe = _force_value(t, ext_table, r)
-        force[i, d] += fe
-        wext += 0.5 * (frow_prev[r] + fe) * vel[i, d] * dt
-        frow_prev[r] = fe
-    if HAS_USER_FORCE or HAS_PYTHON_FORCE:
-        # user forces may touch any DOF
-        fext, fext_prev = loads.user, loads.user_prev
-        fe_flat = fext.reshape(-1)
-        for k in range(fe_flat.shape[0]):
-            fe_flat[k] = 0.0
-        if HAS_USER_FORCE:
-            USER_FORCE(t, x, vel, fext)
-        if HAS_PYTHON_FORCE:
-            for k in range(fe_flat.shape[0]):
-                fe_flat[k] += loads.python.reshape(-1)[k]
-        for i in range(fext.shape[0]):
-            for d in range(6):
-                fe = fext[i, d]
-                if fe != 0.0 or fext_prev[i, d] != 0.0:
-                    wext += 0.5 * (fext_prev[i, d] + fe) * vel[i, d] * dt
-                    force[i, d] += fe
-                    fext_prev[i, d] = fe
-    return wext
 
 
 @step_kernel
@@ -192,12 +136,12 @@ def _adopt_new_list(lst, m):
 
 
 @step_kernel
-def _drift(synced, flat, t_old, t, nodes, loads, rigid, particles, units, stepping):
+def _drift(synced, flat, t_old, t, nodes, rigid, particles, units, stepping):
     """The first half kick (unless the last step's second one already did it: ``synced``
     False), which also resets the forces to the body forces m g, and the drift of every node
-    from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``,
-    the prescribed motions, the rigid slaves, the units' slot ``follow``; and the bound of the
-    displacements the contact lists' skin must cover (``stepping.nbr``)."""
+    from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``
+    (the prescribed motions' among them), the rigid slaves, the units' slot ``follow``; and the
+    bound of the displacements the contact lists' skin must cover (``stepping.nbr``)."""
     x, vel, force = nodes.x, nodes.vel, nodes.force
     dt, nbr = stepping.dt, stepping.nbr
     if synced:
@@ -222,9 +166,7 @@ def _drift(synced, flat, t_old, t, nodes, loads, rigid, particles, units, steppi
             vmax2 = max(vmax2, v2)
     if HAS_RIGID_ROTATION:
         _rotate(rigid.rot, rigid.master, vel, dt)
-    SLOT_DRIFT(units, nodes, rigid, stepping, t)
-    if HAS_MOTION:
-        _apply_motion_step(t_old, t, loads.motion, nodes.x0, x, vel)
+    SLOT_DRIFT(units, nodes, rigid, stepping, t, t_old)
     vwall = 0.0
     if HAS_RIGID:
         vwall = _update_slaves(x, vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
@@ -253,15 +195,10 @@ def _body_forces(flat):
 
 
 @step_kernel
-def _after_forces(t_old, t, nodes, loads, rigid, units, stepping):
-    """What takes the step's summed forces: the prescribed motions' actuator work and the
-    units' slot ``kick``."""
-    if HAS_MOTION:
-        # work of the motion's actuators (x3dpd.physics.motion._motion_work)
-        stepping.ledger[L_WEXT] += _motion_work(t_old, t, loads.motion, nodes.kin_mass,
-                                                nodes.kin_inertia, nodes.force,
-                                                loads.motion_prev)
-    SLOT_KICK(units, nodes, rigid, stepping, t)
+def _after_forces(t_old, t, nodes, rigid, units, stepping):
+    """What takes the step's summed forces: the units' slot ``kick`` (the prescribed motions'
+    actuator work among them)."""
+    SLOT_KICK(units, nodes, rigid, stepping, t, t_old)
 
 
 @step_kernel
@@ -283,9 +220,9 @@ def _kick_on(flat, nodes, rigid, h):
 
 
 @step_kernel
-def _kick_to_end(t, flat, nodes, loads, rigid, units, stepping):
+def _kick_to_end(t, flat, nodes, rigid, units, stepping):
     """The second half kick to full-step velocities, then the nodes that follow them: the
-    prescribed motions, the units' slot ``place``, the rigid slaves."""
+    units' slot ``place`` (the prescribed motions' among them), the rigid slaves."""
     h = 0.5 * stepping.dt
     vf, ff, imf, _ = flat
     for k in range(vf.shape[0]):
@@ -293,8 +230,6 @@ def _kick_to_end(t, flat, nodes, loads, rigid, units, stepping):
     if HAS_RIGID_ROTATION:
         _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
                             rigid.ib, rigid.free_rot, h, True)
-    if HAS_MOTION:
-        _apply_motion(t, loads.motion, nodes.x0, nodes.x, nodes.vel)
     SLOT_PLACE(units, nodes, rigid, stepping, t)
     if HAS_RIGID:
         _update_slaves(nodes.x, nodes.vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
@@ -361,9 +296,9 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
     Returns (status, steps done, rows written); the run stops at the first non-zero status or a
     full output buffer.
     """
-    (nodes_, loads_, rigid_, particles_, faces_, walls_, pairs_, shapes_, units_, stepping_,
+    (nodes_, rigid_, particles_, faces_, walls_, pairs_, shapes_, units_, stepping_,
      output_) = packed
-    nodes, loads, rigid = Nodes(*nodes_), Loads(*loads_), RigidBodies(*rigid_)
+    nodes, rigid = Nodes(*nodes_), RigidBodies(*rigid_)
     particles, faces, walls, pairs = (Particles(*particles_), Faces(*faces_),
                                       ContactList(*walls_), ContactList(*pairs_))
     shapes, units = Shapes(*shapes_), UNIT_BUNDLES(units_)
@@ -390,19 +325,19 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             if mode == FORCES:
                 _body_forces(flat)
             else:
-                _drift(synced, flat, t_start + step * dt, t, nodes, loads, rigid, particles,
-                       units, stepping)
-            st = _force_terms(t, nodes, loads, rigid, particles, faces, walls, pairs, shapes,
-                              units, stepping)
+                _drift(synced, flat, t_start + step * dt, t, nodes, rigid, particles, units,
+                       stepping)
+            st = _force_terms(t, nodes, rigid, particles, faces, walls, pairs, shapes, units,
+                              stepping)
             if mode == FORCES:
                 return st, 0, 0
-            _after_forces(t_start + step * dt, t, nodes, loads, rigid, units, stepping)
+            _after_forces(t_start + step * dt, t, nodes, rigid, units, stepping)
             out_in -= 1
             synced = st != OK or it == nsteps - 1 or out_in == 0
             if not synced:
                 _kick_on(flat, nodes, rigid, 0.5 * dt)
                 continue
-            _kick_to_end(t, flat, nodes, loads, rigid, units, stepping)
+            _kick_to_end(t, flat, nodes, rigid, units, stepping)
             if st != OK:
                 diag[4] = t
                 diag[5] = step + 1

@@ -25,7 +25,7 @@ from x3dpd.physics.effect_units import UNITS
 from x3dpd.solver.contact_lists import (PAIR_BLOCK, S_H, history_columns, pair_columns,
                                          wall_columns)
 
-__all__ = ["Status", "Nodes", "Loads", "RigidBodies", "Particles", "Faces",
+__all__ = ["Status", "Nodes", "RigidBodies", "Particles", "Faces",
            "ContactList", "Shapes", "Stepping", "Output"]
 
 
@@ -52,18 +52,6 @@ class Nodes(NamedTuple):
     kin_mass: np.ndarray     # (n,) mass for kinetic energy (a rigid master carries its body)
     kin_inertia: np.ndarray  # (n, 3) principal inertia for kinetic energy
     g: np.ndarray            # (3,) body acceleration [length/s^2]
-
-
-class Loads(NamedTuple):
-    """Forces and motions applied from outside: USRFRC rows, user force files, base motion."""
-
-    table: np.ndarray        # (m, 8) built-in force rows (x3dpd.physics.usrfrc)
-    row_prev: np.ndarray     # (m,) each row's force at the last step
-    user: np.ndarray         # (n_u, 6) scratch: this step's user-file forces
-    user_prev: np.ndarray    # (n_u, 6) user-file forces at the last step
-    python: np.ndarray       # (n, 6) forces of Python user files (set between steps)
-    motion: np.ndarray       # (M, MOTION_COLUMNS) prescribed motions (x3dpd.physics.motion)
-    motion_prev: np.ndarray  # (M,) actuator force of each motion at the last step
 
 
 class RigidBodies(NamedTuple):
@@ -177,7 +165,7 @@ class Output(NamedTuple):
     e_ref: float             # total energy at t0
 
 
-def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict, dt: float,
+def build_bundles(setup, state, *, faces_now: tuple, scratch: dict, dt: float,
                   pen_limit: float, diag: np.ndarray, ledger: np.ndarray | None = None,
                   history_dt: float | None = None, units=()) -> dict:
     """The kernels' bundles of one scene (everything but :class:`Output`), by name; the effect
@@ -201,7 +189,6 @@ def build_bundles(setup, state, *, loads: Loads, faces_now: tuple, scratch: dict
     return {
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
                        k.kin_inertia, k.g),
-        "loads": loads,
         "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,
                              k.rig_inv_ib, k.rig_ib, k.rig_free_rot),
         "particles": Particles(int(k.p0), k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay,
@@ -256,8 +243,8 @@ def _state_name(unit, field: str) -> str:
 
 #: The order of ``advance``'s bundle arguments (after nsteps, step0, t_start); ``units`` is the
 #: tuple of the bundles of the effect units the loop compiles, in registry order.
-ADVANCE_BUNDLES = ("nodes", "loads", "rigid", "particles", "faces", "walls", "pairs", "shapes",
-                   "units", "stepping", "output")
+ADVANCE_BUNDLES = ("nodes", "rigid", "particles", "faces", "walls", "pairs", "shapes", "units",
+                   "stepping", "output")
 
 
 def pack(bundles: dict, output: Output) -> tuple:

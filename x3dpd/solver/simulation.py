@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import time as _time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -21,16 +21,15 @@ if TYPE_CHECKING:  # the solver reads a Model's arrays; it needs no runtime impo
     from x3dpd.model.model import Model
 
 from x3dpd.errors import InputError, UnstableRunError
+from x3dpd.physics.effect_unit import L_WEXT
 from x3dpd.physics.effect_units import UNITS, units_of
 from x3dpd.physics.motion import MOTION_COLUMNS, motion_rows, motion_table, start_motion
 from x3dpd.physics.rolling import n_history as rolling_history
 from x3dpd.physics.tangential_laws import DEFAULT_LAW, n_history
 from x3dpd.physics.user_force_file import build_external_forces
-from x3dpd.physics.usrfrc import law_count
 from x3dpd.geometry.faces import TRIANGLE_FRAME
 from x3dpd.solver.bundles import (
     ContactList,
-    Loads,
     Output,
     Status,
     build_bundles,
@@ -140,9 +139,11 @@ class Simulation(RunChecks):
         self.motion = motion_table(list(motion), model, model.x0) if motion else np.zeros(
             (0, len(MOTION_COLUMNS)))
         rows = motion_rows(self.motion)  # the motions (random ones' knots follow them)
-        prescribed = rows[:, :2].astype(np.int64) if len(rows) else None
-        self.setup = build_setup(model, self.dt, skin=skin, prescribed=prescribed,
-                                 friction=friction)
+        # the motions' and the external forces' units (x3dpd.physics.motion, external_force)
+        # take their tables from the model's unit data
+        driven = replace(model, unit_data={**model.unit_data, "motion": {"table": self.motion},
+                                           "external_force": {"table": self.ext.table}})
+        self.setup = build_setup(driven, self.dt, skin=skin, friction=friction)
         effects = set(model.effects)
         if specs:
             effects.add("external_force")
@@ -170,9 +171,9 @@ class Simulation(RunChecks):
         self.compile_seconds = 0.0
         self._load_seconds = _time.perf_counter() - t
         _count_compile(self._load_seconds)
-        self.state = initial_state(model, self.setup, model.n_nodes, len(rows),
-                                   law_count(self.ext.table))
-        self.fpy = np.zeros((model.n_nodes, 6))
+        self.state = initial_state(model, self.setup)
+        #: the Python forces, which the external forces' unit adds in the step
+        self.fpy = self.setup.units["external_force"]["python"]
         # a writable copy: a read-only array is another numba type, and another compile
         self.trace_nodes = np.array(model.trace_nodes, dtype=np.int64)
         self.diag = np.zeros(8)
@@ -216,9 +217,7 @@ class Simulation(RunChecks):
         st = self.compute_forces(self.model.t0)
         self._check_status(st, self.model.t0, 0)
         self.project_modal_forces()
-        rows = motion_rows(self.motion)[:, :2].astype(np.int64)
-        s.motion_prev[:] = s.force[rows[:, 0], rows[:, 1]]
-        s.ledger[self.kernels.L_WEXT] += w_start
+        s.ledger[L_WEXT] += w_start
         en = self._energy_now()
         s.e_ref = float(en[0] + en[1] + en[2] + en[3] + en[4] - en[5]) - w_start
 
@@ -386,7 +385,8 @@ class Simulation(RunChecks):
     def project_modal_forces(self) -> None:
         """The effect units' ``start`` hooks on the forces now in ``state.force`` (the modal
         forces f = sum phi^T F, less the coupling damping, into ``state.mf``: what the first
-        step of the modes uses; x3dpd.physics.effect_unit)."""
+        step of the modes uses; the forces on the driven DOFs into ``state.motion_prev``: the
+        actuators' first step's; x3dpd.physics.effect_unit)."""
         bundles = self._bundles()
         for unit in UNITS:
             if unit.start is not None:
@@ -409,10 +409,7 @@ class Simulation(RunChecks):
         sc = getattr(self, "_sc", None)
         if sc is None or sc["ws2"].shape != s.ws.shape or sc["ps2"].shape != s.ps.shape:
             sc = self._sc = contact_scratch(s)
-            self._user_scratch = np.zeros((self.model.n_nodes, 6))
-        loads = Loads(self.ext.table, s.frow_prev, self._user_scratch, s.fext_prev, self.fpy,
-                      self.motion, s.motion_prev)
-        return build_bundles(self.setup, s, loads=loads, faces_now=self._faces(), scratch=sc,
+        return build_bundles(self.setup, s, faces_now=self._faces(), scratch=sc,
                              dt=self.dt, pen_limit=self.penetration_limit, diag=self.diag,
                              ledger=ledger, history_dt=history_dt,
                              units=units_of(self.variant))

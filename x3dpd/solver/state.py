@@ -35,9 +35,7 @@ class State:
     """Everything that evolves. Arrays are float64 / int64, indexed by node index.
 
     x (n,3) coordinates; vel (n,6) velocities (v, omega); force (n,6) force and moment sums;
-    rot (B,3,3) rigid-body rotations; fext_prev (n,6) user force of the last step;
-    frow_prev (m,) built-in forces of the last step;
-    motion_prev (M,) actuator forces of the last step; wl_p, wl_f, ws, wl_on (Lw) wall
+    rot (B,3,3) rigid-body rotations; wl_p, wl_f, ws, wl_on (Lw) wall
     candidate list (particle, face, state row, open-contact flag); nwl (1,) its length; pl_i,
     pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
@@ -56,9 +54,6 @@ class State:
     vel: np.ndarray
     force: np.ndarray
     rot: np.ndarray
-    fext_prev: np.ndarray
-    frow_prev: np.ndarray
-    motion_prev: np.ndarray
     wl_p: np.ndarray
     wl_f: np.ndarray
     ws: np.ndarray
@@ -196,14 +191,10 @@ def _i64(a):
 
 
 def build_setup(model: Model, dt: float, skin: float | None = None,
-                prescribed: np.ndarray | None = None, friction: str = "regularized") -> Setup:
+                friction: str = "regularized") -> Setup:
     """Derive the kernel arrays of ``model`` for time step ``dt`` and the tangential law
-    ``friction`` (x3dpd.physics.tangential_laws; the rolling law is the model's).
-
-    ``prescribed``: (m, 2) node index, dof index of DOFs moved by a prescribed motion (they are
-    integrated as fixed: zero inverse mass).
-    """
-    nodes = _node_arrays(model, float(dt), prescribed)
+    ``friction`` (x3dpd.physics.tangential_laws; the rolling law is the model's)."""
+    nodes = _node_arrays(model, float(dt))
     particles = _particle_arrays(model, dt, nodes["mass"], friction)
     if skin is None:
         radius = particles["radius"]
@@ -211,15 +202,12 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
     return Setup(**nodes, **particles, **_wall_arrays(model), skin=float(skin), dt=float(dt))
 
 
-def _node_arrays(model: Model, dt: float, prescribed) -> dict:
+def _node_arrays(model: Model, dt: float) -> dict:
     """The nodes' and rigid bodies' arrays of Setup, and the effect units' constants (a unit
     may take its nodes out of velocity Verlet: x3dpd.physics.effect_unit)."""
     n = model.n_nodes
     mass = _f64(model.mass).copy()
-    fixed = np.array(model.fixed, dtype=bool).reshape(n, 6).copy()
-    if prescribed is not None:
-        for i, d in np.asarray(prescribed, dtype=np.int64).reshape(-1, 2):
-            fixed[i, d] = True
+    fixed = np.array(model.fixed, dtype=bool).reshape(n, 6)
     kin_mass = mass.copy()
     kin_inertia = _f64(model.inertia, (n, 3)).copy()
     nb = model.rigid_master.shape[0]
@@ -361,8 +349,7 @@ def _body_forces(mass: np.ndarray, model) -> np.ndarray:
     return out
 
 
-def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
-                  n_force_rows: int = 0) -> State:
+def initial_state(model: Model, setup: Setup) -> State:
     """State at t0: deck coordinates and velocities, empty contact lists."""
     n = model.n_nodes
     npart = model.n_particles
@@ -378,8 +365,6 @@ def initial_state(model: Model, setup: Setup, n_fext_nodes: int, n_motion: int,
     lp = max(16, 8 * npart)
     return State(
         x=setup.x0.copy(), vel=vel, force=np.zeros((n, 6)), rot=rot,
-        fext_prev=np.zeros((n_fext_nodes, 6)), frow_prev=np.zeros(n_force_rows),
-        motion_prev=np.zeros(n_motion),
         wl_p=np.zeros(lw, np.int64), wl_f=np.zeros(lw, np.int64), ws=np.zeros((lw, ncols)),
         wl_on=np.zeros(lw, np.int8),
         nwl=np.zeros(1, np.int64),

@@ -7,7 +7,10 @@ variant's copy of ``_template_variant.py``:
   step loop is handed (x3dpd.solver.bundles.pack: the units' bundles in registry order);
 * one function per slot (``SLOT_DRIFT``, ``SLOT_FOLLOW``, ``SLOT_FORCE``, ``SLOT_KICK``,
   ``SLOT_PLACE``, ``SLOT_ENERGY``: x3dpd.physics.effect_unit.SLOTS) calling the hooks of the
-  units that fill it, in registry order, each with its own bundle.
+  units that fill it, in registry order (those that run ``first`` there before the others),
+  each with its own bundle; ``SLOT_DRIFT`` and ``SLOT_KICK`` take the step's start time
+  ``t_old`` after ``t``, which the hooks of units with ``step_start`` get; a unit's
+  ``variant_args`` (constants of the VARIANT block) follow.
 
 Every function is a ``step_kernel``, inlined where the loop calls it; a slot without hooks is
 an empty function, which leaves no trace in the machine code. The hooks are imported from
@@ -21,6 +24,8 @@ from x3dpd.physics.effect_units import SLOTS, units_of
 #: A slot's arguments after the unit's bundle, as the loop calls it.
 _ARGS = {slot: "nodes, rigid, stepping, t" for slot in SLOTS}
 _ARGS["energy"] = "nodes, en"
+#: The slots that also have the step's start time, for the hooks of units with step_start.
+_STEP_START = ("drift", "kick")
 
 
 def units_source(variant) -> str:
@@ -36,14 +41,19 @@ def units_source(variant) -> str:
     lines += _function("UNIT_BUNDLES", "u", [f"return ({rebuilt.rstrip(' ')})"
                                               if units else "return ()"])
     for slot in SLOTS:
-        calls = [(k, f"_UNIT_{k}_{slot.upper()}(units[{k}], {_ARGS[slot]})")
-                 for k, unit in enumerate(units) if slot in unit.hooks]
+        start = slot in _STEP_START
+        order = sorted(range(len(units)), key=lambda k: slot not in units[k].first)
+        calls = [f"_UNIT_{k}_{slot.upper()}(units[{k}], {_ARGS[slot]}"
+                 f"{', t_old' if start and units[k].step_start else ''}"
+                 f"{''.join(', ' + a for a in units[k].variant_args)})"
+                 for k in order if slot in units[k].hooks]
         if slot == "energy":
-            body = ["shadow = 0.0"] + [f"shadow += {call}" for _, call in calls]
+            body = ["shadow = 0.0"] + [f"shadow += {call}" for call in calls]
             body.append("return shadow")
         else:
-            body = [call for _, call in calls] or ["return"]
-        lines += _function(f"SLOT_{slot.upper()}", f"units, {_ARGS[slot]}", body)
+            body = calls or ["return"]
+        args = f"units, {_ARGS[slot]}{', t_old' if start else ''}"
+        lines += _function(f"SLOT_{slot.upper()}", args, body)
     return "\n".join(lines + [""])
 
 

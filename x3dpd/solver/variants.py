@@ -63,6 +63,7 @@ class Variant:
     external: bool = False
     user_force: bool = False
     python_force: bool = False
+    #: prescribed motions of node DOFs (``--motion``, the effect unit x3dpd.physics.motion)
     motion: bool = False
     n_maxwell: int = 0
     friction_law: str = "regularized"
@@ -105,10 +106,8 @@ class Variant:
             pairs="pair_contact" in e,
             friction="friction" in e,
             viscoelastic="viscoelastic" in e and n_maxwell > 0,
-            external="external_force" in e or user_force or python_force,
             user_force=user_force,
             python_force=python_force,
-            motion="prescribed_motion" in e,
             n_maxwell=n_maxwell if "viscoelastic" in e else 0,
             friction_law=friction_law,
             rolling_law=rolling_law if {"wall_contact", "pair_contact"} & e else "none",
@@ -142,6 +141,9 @@ class Variant:
                 lines.append(f"{f.name.upper()} = {value!r}")
         lines.append(units_source(self))
         lines.append("USER_FORCE = None")
+        # without user files, a stand-in the external forces' hook takes and never calls
+        lines.append("from x3dpd.physics.external_force import no_user_force  # noqa: E402")
+        lines.append("USER_FORCE = no_user_force if USER_FORCE is None else USER_FORCE")
         return "\n".join(lines)
 
     def name(self) -> str:
