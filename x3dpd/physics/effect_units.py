@@ -20,8 +20,8 @@ fixed slots of the step loop. Everything else is shared and reads the registry:
 Adding a unit
 -------------
 Write the law in ``x3dpd/physics/<name>.py`` with its kernels, its bundle (a NamedTuple) and
-``UNIT = EffectUnit(...)``, add the module to :data:`UNITS` below and its flag to
-x3dpd.solver.variants.Variant (docs/engine.md, "Adding an effect";
+``UNIT = EffectUnit(...)`` and add the module to :data:`UNITS` below; its flag becomes a field
+of x3dpd.solver.variants.Variant by itself (docs/engine.md, "Adding an effect";
 ``x3dpd.physics.rotational_spring`` is a complete example).
 """
 

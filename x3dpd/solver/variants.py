@@ -24,7 +24,7 @@ import importlib.util
 import os
 import re
 import sys
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields, make_dataclass
 from pathlib import Path
 
 import numba
@@ -199,6 +199,23 @@ class Variant:
             raise ValueError(f"variant label {label!r} is not in canonical form: "
                              f"{variant.label()!r}")
         return variant
+
+
+def _with_unit_flags(declared: type) -> type:
+    """``Variant`` with a flag for every registered effect unit (x3dpd.physics.effect_units)
+    that has no field above: a new unit's flag comes from its registration, appended after the
+    declared fields in registry order (their labels and file stems unchanged), so adding a
+    unit needs no edit here. The units declared above keep their documented fields."""
+    names = {f.name for f in fields(declared)}
+    extra = [(u.flag, bool, field(default=False)) for u in UNITS if u.flag not in names]
+    if not extra:
+        return declared
+    cls = make_dataclass("Variant", extra, bases=(declared,), frozen=True)
+    cls.__module__, cls.__qualname__, cls.__doc__ = __name__, "Variant", declared.__doc__
+    return cls
+
+
+Variant = _with_unit_flags(Variant)
 
 
 def _shapes_source(names: str) -> str:
