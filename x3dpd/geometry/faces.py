@@ -28,16 +28,37 @@ FRAME_FRESH = 15
 
 
 @step_kernel
-def _twice_area(x, nx, ny, nz, p0, p1, p2):
-    """Twice the signed area of triangle (p0, p1, p2) along the unit normal n:
-    A = n . ((x1 - x0) x (x2 - x0))."""
+def _edge_cross(x, p0, p1, p2):
+    """(x1 - x0) x (x2 - x0) of triangle (p0, p1, p2), as three scalars: its normal times
+    twice its area."""
     ax = x[p1, 0] - x[p0, 0]
     ay = x[p1, 1] - x[p0, 1]
     az = x[p1, 2] - x[p0, 2]
     bx = x[p2, 0] - x[p0, 0]
     by = x[p2, 1] - x[p0, 1]
     bz = x[p2, 2] - x[p0, 2]
-    return nx * (ay * bz - az * by) + ny * (az * bx - ax * bz) + nz * (ax * by - ay * bx)
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@step_kernel
+def _twice_area(x, nx, ny, nz, p0, p1, p2):
+    """Twice the signed area of triangle (p0, p1, p2) along the unit normal n:
+    A = n . ((x1 - x0) x (x2 - x0))."""
+    cx, cy, cz = _edge_cross(x, p0, p1, p2)
+    return nx * cx + ny * cy + nz * cz
+
+
+@step_kernel
+def _clamped_weights(lam0, lam1, lam2, w):
+    """Barycentric coordinates clamped to [0, 1] and scaled to sum 1, into ``w``: the weights
+    of a triangle's nodes at the point nearest q within the edge tolerance."""
+    lam0 = min(max(lam0, 0.0), 1.0)
+    lam1 = min(max(lam1, 0.0), 1.0)
+    lam2 = min(max(lam2, 0.0), 1.0)
+    sw = lam0 + lam1 + lam2
+    w[0] = lam0 / sw
+    w[1] = lam1 / sw
+    w[2] = lam2 / sw
 
 
 @step_kernel
@@ -56,17 +77,7 @@ def _face_planes(x, tri_nodes, tri_sign, face_first_tri, face_n, face_d):
     for f in range(face_first_tri.shape[0]):
         t = face_first_tri[f]
         a = tri_nodes[t, 0]
-        b = tri_nodes[t, 1]
-        c = tri_nodes[t, 2]
-        ux = x[b, 0] - x[a, 0]
-        uy = x[b, 1] - x[a, 1]
-        uz = x[b, 2] - x[a, 2]
-        vx = x[c, 0] - x[a, 0]
-        vy = x[c, 1] - x[a, 1]
-        vz = x[c, 2] - x[a, 2]
-        nx = uy * vz - uz * vy
-        ny = uz * vx - ux * vz
-        nz = ux * vy - uy * vx
+        nx, ny, nz = _edge_cross(x, a, tri_nodes[t, 1], tri_nodes[t, 2])
         s = tri_sign[t] / math.sqrt(nx * nx + ny * ny + nz * nz)
         face_n[f, 0] = nx * s
         face_n[f, 1] = ny * s
@@ -125,13 +136,7 @@ def _locate_on_face(qx, qy, qz, nx, ny, nz, f, x, face_ptr, face_tris, tri_nodes
         if outside <= tol and outside < best_out:
             best_out = outside
             best = t
-            lam0 = min(max(lam0, 0.0), 1.0)
-            lam1 = min(max(lam1, 0.0), 1.0)
-            lam2 = min(max(lam2, 0.0), 1.0)
-            sw = lam0 + lam1 + lam2
-            w[0] = lam0 / sw
-            w[1] = lam1 / sw
-            w[2] = lam2 / sw
+            _clamped_weights(lam0, lam1, lam2, w)
             if outside == 0.0:
                 break
     return best
@@ -210,13 +215,7 @@ def _locate_on_frames(qx, qy, qz, f, face_ptr, face_tris, frames, tol, w):
         if outside <= tol and outside < best_out:
             best_out = outside
             best = t
-            lam0 = min(max(lam0, 0.0), 1.0)
-            lam1 = min(max(lam1, 0.0), 1.0)
-            lam2 = min(max(lam2, 0.0), 1.0)
-            sw = lam0 + lam1 + lam2
-            w[0] = lam0 / sw
-            w[1] = lam1 / sw
-            w[2] = lam2 / sw
+            _clamped_weights(lam0, lam1, lam2, w)
             if outside == 0.0:
                 break
     return best
