@@ -40,9 +40,17 @@ both ends of a step is then the same number in consecutive steps); a unit with
 machine code as it does the loop's own. It books what it
 dissipates or the work it does in ``stepping.ledger`` at the slots below (:data:`L_DDAMP`
 ...). An ``energy`` hook is
-``hook(u, nodes, en)``: it adds its kinetic energy to ``en[0]``, its stored (spring) energy to
-``en[3]``, and returns its share of the Verlet correction's sum f^2/m (the ledger's S:
-docs/energy.md).
+``hook(u, nodes, en)``: it adds its kinetic energy to ``en[0]``, its potential in a body-force
+field to ``en[2]``, its stored (spring) energy to ``en[3]``, and returns its share of the Verlet
+correction's sum f^2/m (the ledger's S: docs/energy.md).
+
+Runtime units
+-------------
+A unit with ``runtime`` (gravity, x3dpd.physics.gravity) has no flag: every loop compiles it,
+and its data say whether it acts (g = 0). That is for a cheap effect outside the contact loop,
+where a flag would double the loop variants a suite compiles for no measurable speed. Its
+``setup`` may add constant forces to the nodes' body forces ``fbody``, which every step's
+forces start from (reset in the kick's own pass over memory: a body force costs no pass).
 
 A unit's data comes from the model (x3dpd.model.model.Model): from the arrays a model builder
 step makes of the deck's cards (the springs' MATID and ELEMENTS, the MODAL card), or, for a
@@ -60,8 +68,9 @@ Python-side hooks (plain functions, optional): ``setup(model, dt, nodes)`` retur
 constant arrays by bundle field from the model (x3dpd.model.model.Model) and the step ``dt``,
 and may take the unit's nodes out of velocity Verlet by changing the node arrays in ``nodes``
 (``inv_m``, ``mass``, ``kin_mass``, ``kin_inertia``, ``rig_free_rot``, ``rig_inv_ib``: the
-modes carry their nodes); ``start(u, force)`` runs after the forces at a state were evaluated
-(t0, a state set from outside), before the first step; ``stiffness(c)`` gives, from the
+modes carry their nodes), and add constant forces to their body forces ``fbody`` (gravity);
+``start(u, force)`` runs after the forces at a state were evaluated (t0, a state set from
+outside), before the first step; ``stiffness(c)`` gives, from the
 constants ``c``, ``(nodes (S, 2), k (S, 3), first DOF)`` of each group of linear elements, for
 the bound on the structure's highest frequency (x3dpd.solver.diagnosis); ``turns(c)`` the rigid
 bodies whose rotation the unit sets.
@@ -132,6 +141,9 @@ class EffectUnit:
     hooks: Mapping[str, str]        # slot -> name of the hook in its module
     #: the slots whose hook runs before the other units' (module docstring, "The slots")
     first: tuple[str, ...] = ()
+    #: compiled into every step loop, without a flag (``flag`` ""): an effect outside the
+    #: contact loop whose data say whether it acts (module docstring, "Runtime units")
+    runtime: bool = False
     #: its drift and kick hooks also take the step's start time (module docstring)
     step_start: bool = False
     #: constants of the variant its hooks take after the slot's arguments (module docstring)

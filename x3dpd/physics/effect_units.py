@@ -29,8 +29,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from x3dpd.physics import (axial_spring, external_force, modal, motion, rotational_spring,
-                           spring_damper)
+from x3dpd.physics import (axial_spring, external_force, gravity, modal, motion,
+                           rotational_spring, spring_damper)
 from x3dpd.physics.effect_unit import SLOTS, EffectUnit, StateArray, UnitCard
 
 __all__ = ["UNITS", "BY_UNIT_NAME", "BY_UNIT_CARD", "EffectUnit", "StateArray", "UnitCard",
@@ -64,9 +64,12 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
             raise ValueError(f"{where}: a card of its own needs its build, and a build its card")
         if unit.card is not None and not set(unit.card.node_fields) <= set(unit.card.fields):
             raise ValueError(f"{where}: its card's node fields are not among its fields")
+        if unit.runtime != (unit.flag == ""):
+            raise ValueError(f"{where}: a unit has a flag or is compiled into every loop "
+                             "(runtime), not both or neither")
         out.append(unit)
     for key in ("name", "flag"):
-        values = [getattr(u, key) for u in out]
+        values = [getattr(u, key) for u in out if not (key == "flag" and u.runtime)]
         if len(set(values)) != len(values):
             raise ValueError(f"two effect units share a {key}: {values}")
     names = [s.name for u in out for s in u.state]
@@ -76,8 +79,9 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
 
 
 #: The effect units, in the order the slots call them.
+#: Gravity is last: the masses it weighs are the nodes' after the modes took theirs.
 UNITS: tuple[EffectUnit, ...] = _register(spring_damper, axial_spring, rotational_spring, modal,
-                                         motion, external_force)
+                                         motion, external_force, gravity)
 #: Effect unit by name.
 BY_UNIT_NAME = {u.name: u for u in UNITS}
 #: Effect unit by the name of its own card (those that have one).
@@ -86,5 +90,5 @@ BY_UNIT_CARD = {u.card.name: u for u in UNITS if u.card is not None}
 
 def units_of(variant) -> tuple[EffectUnit, ...]:
     """The units a step-loop variant compiles (x3dpd.solver.variants.Variant: those whose flag
-    is set), in registry order."""
-    return tuple(u for u in UNITS if getattr(variant, u.flag))
+    is set, and the runtime units), in registry order."""
+    return tuple(u for u in UNITS if u.runtime or getattr(variant, u.flag))

@@ -138,7 +138,7 @@ def _adopt_new_list(lst, m):
 @step_kernel
 def _drift(synced, flat, t_old, t, nodes, rigid, particles, units, stepping):
     """The first half kick (unless the last step's second one already did it: ``synced``
-    False), which also resets the forces to the body forces m g, and the drift of every node
+    False), which also resets the forces to the body forces, and the drift of every node
     from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``
     (the prescribed motions' among them), the rigid slaves, the units' slot ``follow``; and the
     bound of the displacements the contact lists' skin must cover (``stepping.nbr``)."""
@@ -148,10 +148,10 @@ def _drift(synced, flat, t_old, t, nodes, rigid, particles, units, stepping):
         if HAS_RIGID_ROTATION:
             _rigid_angular_kick(vel, force, rigid.master, rigid.rot, rigid.inv_ib, rigid.ib,
                                 rigid.free_rot, 0.5 * dt, False)
-        vf, ff, imf, fgf = flat
+        vf, ff, imf, fbf = flat
         for k in range(vf.shape[0]):
             vf[k] += 0.5 * dt * ff[k] * imf[k]
-            ff[k] = fgf[k]
+            ff[k] = fbf[k]
     for i in range(particles.p0):
         x[i, 0] += dt * vel[i, 0]
         x[i, 1] += dt * vel[i, 1]
@@ -183,15 +183,15 @@ def _flat(nodes):
     """Velocities, forces, inverse masses and body forces as flat arrays (n * 6): views, taken
     once a call (a reshape in the step costs a call into numba's runtime)."""
     return (nodes.vel.reshape(-1), nodes.force.reshape(-1), nodes.inv_m.reshape(-1),
-            nodes.fgrav.reshape(-1))
+            nodes.fbody.reshape(-1))
 
 
 @step_kernel
 def _body_forces(flat):
-    """Every force starts from the body forces m g (zero without gravity)."""
-    _, ff, _, fgf = flat
+    """Every force starts from the body forces (gravity's m g: x3dpd.physics.gravity)."""
+    _, ff, _, fbf = flat
     for k in range(ff.shape[0]):
-        ff[k] = fgf[k]
+        ff[k] = fbf[k]
 
 
 @step_kernel
@@ -213,10 +213,10 @@ def _kick_on(flat, nodes, rigid, h):
                             rigid.ib, rigid.free_rot, h, True)
         _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
                             rigid.ib, rigid.free_rot, h, False)
-    vf, ff, imf, fgf = flat
+    vf, ff, imf, fbf = flat
     for k in range(vf.shape[0]):
         vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
-        ff[k] = fgf[k]
+        ff[k] = fbf[k]
 
 
 @step_kernel

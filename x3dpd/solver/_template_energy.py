@@ -6,7 +6,6 @@ SNAPSHOT mode (x3dpd.solver.simulation), so each variant compiles them once.
 """
 
 from x3dpd._jit import step_kernel
-from x3dpd.physics.gravity import _gravity_energy
 from x3dpd.solver._template_contact import (CONTACT_TAIL, L_DDAMP, L_DFRIC, L_DROLL, L_WEXT,
                                             L_WN)
 from x3dpd.solver._template_variant import (HAS_PAIRS, HAS_ROLLING, HAS_SHAPES,
@@ -20,10 +19,11 @@ from x3dpd.solver.contact_lists import S_A, S_FN, S_FT
 def _energies(nodes, particles, walls, pairs, shapes, units, dt, out):
     """out[0:6] = KE_trans, KE_rot, U_grav, U_spring, U_contact, S (Verlet correction).
 
-    The effect units add theirs in the slot ``energy`` (x3dpd.physics.effect_unit): a modal
+    The effect units add theirs in the slot ``energy`` (x3dpd.physics.effect_unit): gravity's
+    potential in U_grav (x3dpd.physics.gravity), a modal
     structure's kinetic energy counts in KE_trans, its strain energy in U_spring and its forces
     in S (modal mass 1): x3dpd.physics.modal."""
-    x, x0, vel, force = nodes.x, nodes.x0, nodes.vel, nodes.force
+    x, vel, force = nodes.x, nodes.vel, nodes.force
     kin_mass, kin_inertia, inv_m = nodes.kin_mass, nodes.kin_inertia, nodes.inv_m
     ke_t = 0.0
     ke_r = 0.0
@@ -38,10 +38,7 @@ def _energies(nodes, particles, walls, pairs, shapes, units, dt, out):
             shadow += force[i, d] ** 2 * inv_m[i, d]
     out[0] = ke_t
     out[1] = ke_r
-    # a runtime test, not a variant flag: with and without gravity the loop is the same code
-    g = nodes.g
-    has_gravity = g[0] != 0.0 or g[1] != 0.0 or g[2] != 0.0
-    out[2] = _gravity_energy(nodes.mass, x, x0, g) if has_gravity else 0.0
+    out[2] = 0.0
     out[3] = 0.0
     shadow += SLOT_ENERGY(units, nodes, out)
     out[4] = (_contact_energy(particles, walls, pairs, shapes)

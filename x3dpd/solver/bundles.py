@@ -48,10 +48,10 @@ class Nodes(NamedTuple):
     force: np.ndarray        # (n, 6) force [force] and moment [force*length] sums
     inv_m: np.ndarray        # (n, 6) inverse mass / inertia per DOF (0: fixed or slave)
     mass: np.ndarray         # (n,) node mass
-    fgrav: np.ndarray        # (n, 6) body forces m g (what ``force`` starts each step from)
+    fbody: np.ndarray        # (n, 6) body forces (gravity's m g: what ``force`` starts each
+    #                          step from; the effect units' setup fills it)
     kin_mass: np.ndarray     # (n,) mass for kinetic energy (a rigid master carries its body)
     kin_inertia: np.ndarray  # (n, 3) principal inertia for kinetic energy
-    g: np.ndarray            # (3,) body acceleration [length/s^2]
 
 
 class RigidBodies(NamedTuple):
@@ -187,8 +187,8 @@ def build_bundles(setup, state, *, faces_now: tuple, scratch: dict, dt: float,
                         scratch["pl_j2"], scratch["ps2"], scratch["pl_a"], scratch["pl_c"],
                         scratch["pl_h"])
     return {
-        "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fgrav, k.kin_mass,
-                       k.kin_inertia, k.g),
+        "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fbody, k.kin_mass,
+                       k.kin_inertia),
         "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,
                              k.rig_inv_ib, k.rig_ib, k.rig_free_rot),
         "particles": Particles(int(k.p0), k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay,

@@ -138,10 +138,9 @@ class Setup:
     x0: np.ndarray
     inv_m: np.ndarray
     mass: np.ndarray
-    fgrav: np.ndarray
+    fbody: np.ndarray
     kin_mass: np.ndarray
     kin_inertia: np.ndarray
-    g: np.ndarray
     rig_master: np.ndarray
     rig_ptr: np.ndarray
     rig_slaves: np.ndarray
@@ -235,8 +234,9 @@ def _node_arrays(model: Model, dt: float) -> dict:
             inv_m[:, 3 + d] = np.where(has, 1.0 / np.where(has, kin_inertia[:, d], 1.0), 0.0)
     inv_m[fixed] = 0.0
     inv_m[slave] = 0.0
+    # the body forces every step's forces start from: the units add theirs (gravity's m g)
     out = {"inv_m": inv_m, "mass": mass, "kin_mass": kin_mass, "kin_inertia": kin_inertia,
-           "rig_free_rot": rig_free_rot}
+           "rig_free_rot": rig_free_rot, "fbody": np.zeros((n, 6))}
     units = {u.name: u.setup(model, dt, out) for u in UNITS}
     # rotations of rigid masters with a free rotational DOF (that no unit carries) use the full
     # tensor (a kick of their own)
@@ -244,8 +244,7 @@ def _node_arrays(model: Model, dt: float) -> dict:
         if rig_free_rot[b].any():
             rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
             inv_m[int(model.rigid_master[b]), 3:6] = 0.0
-    return {**out, "x0": _f64(model.x0, (n, 3)), "fgrav": _body_forces(mass, model),
-            "g": _f64(model.body_accel, (3,)), "rig_master": _i64(model.rigid_master),
+    return {**out, "x0": _f64(model.x0, (n, 3)), "rig_master": _i64(model.rigid_master),
             "rig_ptr": _i64(model.rigid_ptr), "rig_slaves": _i64(model.rigid_slaves),
             "rig_r0": rig_r0, "rig_ib": rig_ib, "rig_inv_ib": rig_inv_ib, "units": units}
 
@@ -338,15 +337,6 @@ def _wall_arrays(model: Model) -> dict:
             "face_ptr": face_ptr, "face_tris": face_tris,
             "tri_nodes": _i64(model.tri_nodes).reshape(-1, 3), "tri_sign": _f64(model.tri_sign),
             "shapes": shape_table(model, _i64(model.particle_cavity))}
-
-
-def _body_forces(mass: np.ndarray, model) -> np.ndarray:
-    """(n, 6) forces m g on every node: what the step loop starts every force evaluation from."""
-    g = np.asarray(model.body_accel, dtype=np.float64).reshape(3)
-    out = np.zeros((mass.shape[0], 6))
-    out[:, :3] = mass[:, None] * g[None, :]
-    out[mass == 0.0, :3] = 0.0
-    return out
 
 
 def initial_state(model: Model, setup: Setup) -> State:

@@ -118,7 +118,7 @@ class Variant:
             one_wall_kind=one_wall_kind and "wall_contact" in e,
             threaded=threaded and "pair_contact" in e,
             # an effect unit is compiled when the scene has any of its effects
-            **{u.flag: bool(set(u.effects) & e) for u in UNITS},
+            **{u.flag: bool(set(u.effects) & e) for u in UNITS if not u.runtime},
         )
 
     def header(self) -> str:
@@ -207,7 +207,8 @@ def _with_unit_flags(declared: type) -> type:
     declared fields in registry order (their labels and file stems unchanged), so adding a
     unit needs no edit here. The units declared above keep their documented fields."""
     names = {f.name for f in fields(declared)}
-    extra = [(u.flag, bool, field(default=False)) for u in UNITS if u.flag not in names]
+    extra = [(u.flag, bool, field(default=False)) for u in UNITS
+             if not u.runtime and u.flag not in names]
     if not extra:
         return declared
     cls = make_dataclass("Variant", extra, bases=(declared,), frozen=True)
