@@ -120,33 +120,28 @@ def test_short_fill_says_so(tmp_path, capsys):
     assert "asked for 500: only 100 fit" in capsys.readouterr().out
 
 
-def test_settle_lets_the_particles_fall_onto_the_floor(tmp_path, capsys):
-    """20 spheres from a lattice stacked up from y = R + gap with 0.05 R gaps: after falling
-    they rest on the floor (y = R within the Hertz approach under their weight, << 1 % of R),
-    none left the cavity, none overlaps (x3dpd check)."""
+def _fill20(out, *extra) -> int:
+    """20 spheres from a random lattice in beam_64's cavity, at the template's 5e-7 s step
+    (--keep-dt: settling is about where they rest, and the recommended 9.5e-8 s would make
+    these tests 5 times longer)."""
+    return run_cli(
+        "fill", DECKS / "beam_64.inp", "--n", 20, "--packing", "random", "--seed", 4,
+        "--keep-dt", "-o", out, *extra,
+    )  # fmt: skip
+
+
+def test_settle_auto_runs_until_the_particles_rest_on_the_floor(tmp_path, capsys):
+    """20 spheres stacked up from y = R + gap with 0.05 R gaps: after falling they rest on the
+    floor (y = R within the Hertz approach under their weight, << 1 % of R), none left the
+    cavity, none overlaps (x3dpd check); the run says they rest, after more than one free
+    fall across the cavity, sqrt(2 h / g) with h = 0.372 in."""
     out = tmp_path / "out.inp"
     r = 0.03125
-    # --keep-dt: the template's 5e-7 s step (settling is about where they rest, and the
-    # recommended 9.5e-8 s would make this test 5 times longer)
-    assert (
-        run_cli(
-            "fill",
-            DECKS / "beam_64.inp",
-            "--n",
-            20,
-            "--packing",
-            "random",
-            "--seed",
-            4,
-            "--settle",
-            0.15,
-            "--keep-dt",
-            "-o",
-            out,
-        )
-        == 0
-    )
-    assert "settled for 0.15 s" in capsys.readouterr().out
+    assert _fill20(out, "--settle", "auto") == 0
+    said = capsys.readouterr()
+    assert ": at rest (the fastest particle at " in said.out and not said.err
+    seconds = float(said.out.split("settled for ")[1].split(" s")[0])
+    assert seconds > math.sqrt(2.0 * 0.372 / 386.1)
     model = build_model(read_deck(out))
     y = model.x0[model.particle_start :, 1]
     report = check_model(model)
@@ -154,6 +149,46 @@ def test_settle_lets_the_particles_fall_onto_the_floor(tmp_path, capsys):
     assert not [w for w in report.warnings if "overlap" in w.headline or "outside" in w.headline]
     lowest = np.sort(y)[:5]
     np.testing.assert_allclose(lowest, r, rtol=1e-2)  # several resting on the floor
+
+
+def test_settle_for_too_short_a_time_warns_that_the_particles_still_move(tmp_path, capsys):
+    """After 2 ms the spheres still fall: the fastest at g t (a free fall from rest: the deck's
+    structure is held in y, so the cavity does not fall with them), far above the rest speed
+    sqrt(2 g 0.01 R); the deck is written, with a warning on stderr naming the fall time."""
+    from x3dpd.api.settle import settle
+
+    plain = tmp_path / "plain.inp"
+    assert _fill20(plain) == 0
+    capsys.readouterr()
+    got = settle(read_deck(plain), 0.002)
+    assert not got.at_rest
+    assert got.fastest == pytest.approx(386.1 * 0.002, rel=1e-6)
+    assert got.rest_speed == pytest.approx(math.sqrt(2.0 * 386.1 * 0.01 * 0.03125))
+    assert got.fall_time == pytest.approx(math.sqrt(2.0 * 0.372 / 386.1), rel=1e-3)
+    out = tmp_path / "out.inp"
+    assert _fill20(out, "--settle", 0.002) == 0
+    said = capsys.readouterr()
+    assert "x3dpd: warning: " in said.err and "still move: the fastest at 0.772 in/s" in said.err
+    assert "give a longer --settle, or --settle auto" in said.err
+    assert out.is_file()
+
+
+def test_settle_refuses_a_deck_without_gravity_and_a_time_that_is_not_one(tmp_path, capsys):
+    from dataclasses import replace
+
+    from x3dpd.deck import write_deck
+
+    weightless = tmp_path / "weightless.inp"
+    write_deck(replace(read_deck(DECKS / "beam_64.inp"), body=None), weightless)
+    out = tmp_path / "out.inp"
+    args = ("fill", weightless, "--n", 5, "--keep-dt", "-o", out, "--settle")
+    assert run_cli(*args, "auto") == 2
+    assert "has no BODY gravity, so nothing pulls the particles down" in capsys.readouterr().err
+    assert not out.exists()
+    for bad in ("soon", "0", "-1", "inf"):
+        assert run_cli(*args, bad) == 2
+        assert "expected a time > 0 [s] or auto" in capsys.readouterr().err
+        assert not out.exists()
 
 
 def test_cards_only_holds_what_changes(tmp_path):
@@ -164,3 +199,16 @@ def test_cards_only_holds_what_changes(tmp_path):
     assert [nd.nid for nd in deck.nodes] == list(range(10, 20))
     assert deck.contacts[0].slaves[0].nodes == tuple(range(10, 20))
     assert deck.trace.nodes == (9, *range(10, 20)) and deck.pdmp[0].nodlim == 9
+
+
+def test_the_written_deck_s_time_step_is_reported(tmp_path, capsys):
+    """Without --dt or --keep-dt the deck gets the recommended step, and fill says so (with the
+    template's step it replaced); with --keep-dt it says nothing of the step."""
+    out = tmp_path / "out.inp"
+    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 5, "-o", out) == 0
+    said = capsys.readouterr().out
+    assert f"x3dpd: {out}: DTMAX " in said and " s recommended (" in said
+    assert "was 5e-07 s; ITRAC " in said
+    kept = tmp_path / "kept.inp"
+    assert run_cli("fill", DECKS / "beam_64.inp", "--n", 5, "--keep-dt", "-o", kept) == 0
+    assert "DTMAX" not in capsys.readouterr().out

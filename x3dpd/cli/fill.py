@@ -9,11 +9,30 @@ The deck written gets the time step its particles need (x3dpd.api.fit_time_step:
 
 from __future__ import annotations
 
+import math
+
 import click
 
 from x3dpd.api.decks import PACKINGS, fill_positions, filled_deck
 from x3dpd.cli.outputs import refuse_existing
 from x3dpd.errors import InputError
+
+
+class _SettleTime(click.ParamType):
+    """``--settle``: a time > 0 [s] or ``auto``."""
+
+    name = "T|auto"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, float) or value == "auto":
+            return value
+        try:
+            t = float(value)
+        except ValueError:
+            t = math.nan
+        if not t > 0.0 or math.isinf(t):
+            self.fail(f"{value!r}: expected a time > 0 [s] or auto", param, ctx)
+        return t
 
 
 # Over 80 lines: a click command: its options' checks and the one call to the fill API.
@@ -69,12 +88,13 @@ from x3dpd.errors import InputError
 )
 @click.option(
     "--settle",
-    type=click.FloatRange(min=0.0, min_open=True),
+    type=_SettleTime(),
     default=None,
-    metavar="T",
+    metavar="T|auto",
     help="Let the particles fall for T seconds under the deck's BODY "
     "gravity (a run of the filled deck without its USRFRC drive) and write where "
-    "they come to rest.",
+    "they come to rest; auto: until they rest (at most 20 free falls across the cavity). "
+    "Says whether they rest, and warns when they still move.",
 )
 @click.option(
     "--cards",
@@ -149,8 +169,12 @@ def fill(
     step = None if keep_dt else fit_time_step(out, dt=dt)
     if step is not None:
         out = step.deck
-    if settle:
-        out = _settled(out, settle)
+    settled = None
+    if settle is not None:
+        from x3dpd.api.settle import settle as settle_bed
+
+        settled = settle_bed(out, None if settle == "auto" else settle)
+        out = settled.deck
     if cards:
         from x3dpd.api.decks import Deck
 
@@ -170,7 +194,6 @@ def fill(
         f"{packing} packing{short}; fill ratio {result.fill_ratio:.3f} of the cavity "
         f"volume {result.volume:.6g}"
         + (f"; material {material.name}" if material is not None else "")
-        + (f"; settled for {settle:g} s" if settle else "")
     )
     if step is not None:
         click.echo(
@@ -178,6 +201,11 @@ def fill(
             + ("time step for the cards' particles: " if cards else "")
             + step.describe()
         )
+    if settled is not None:
+        if settled.at_rest:
+            click.echo(f"x3dpd: {output}: {settled.describe()}")
+        else:
+            click.echo(f"x3dpd: warning: {output}: {settled.describe()}", err=True)
 
 
 def _fill_plates(deck, specs, radius, material, dt, keep_dt, cards, output) -> None:
@@ -218,29 +246,3 @@ def _fill_plates(deck, specs, radius, material, dt, keep_dt, cards, output) -> N
     )
     if step is not None:
         click.echo(f"x3dpd: {output}: " + step.describe())
-
-
-def _settled(deck, seconds: float):
-    """``deck`` with its particles where a run of ``seconds`` without USRFRC leaves them,
-    shifted back by the cavity's mean displacement (the structure sags under their weight)."""
-    from dataclasses import replace
-
-    import numpy as np
-
-    from x3dpd.api.decks import Node, build_model
-    from x3dpd.api.stepper import stepper
-
-    model = build_model(replace(deck, usrfrc=()))
-    sim = stepper(model)
-    end = int(round(seconds / sim.dt))
-    while sim.state.step < end:  # one output row at a time: memory stays small
-        sim.advance(end - sim.state.step, max_rows=1)
-    x = sim.state.x
-    walls = np.unique(model.tri_nodes)
-    shift = (x[walls] - model.x0[walls]).mean(axis=0) if walls.size else np.zeros(3)
-    p0 = model.particle_start
-    where = {int(model.node_ids[i]): x[i] - shift for i in range(p0, model.n_nodes)}
-    nodes = tuple(
-        Node(nd.nid, *map(float, where[nd.nid])) if nd.nid in where else nd for nd in deck.nodes
-    )
-    return replace(deck, nodes=nodes)
