@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -101,3 +102,25 @@ def test_ringdown_of_a_solver_trace_gives_the_structures_zeta(capsys, tmp_path):
     assert code == 2 and "node 7 is not in the trace" in err
     code, _, err = x3dpd(capsys, "ringdown", trace, "--out", tmp_path / "rd3")
     assert code == 2 and "give --node N" in err
+
+
+def test_a_ring_too_short_for_the_analysis_is_refused_before_any_step(capsys, tmp_path):
+    """beam_1 is one rigid body on one spring along x: f = sqrt(k / m) / (2 pi) before the run,
+    and its particle only lowers it. --ring 0.3 s holds at most 0.3 f = 11.3 cycles, fewer than
+    the 2 x 3 trimmed + 2 x 4 spline cycles the analysis needs: refused at once (it used to
+    run the drive, the ring and the baseline, then fail), nothing written."""
+    from x3dpd.api import load_deck
+    from x3dpd.model.build import build_model
+
+    deck = Path(__file__).resolve().parents[2] / "decks" / "beam_1.inp"
+    model = build_model(load_deck(deck))
+    k = float(model.spring_k[model.spring_k[:, 0] != 0, 0][0])
+    f = math.sqrt(k / float(model.rigid_mass[0])) / (2.0 * math.pi)
+    out = tmp_path / "rd"
+    code, _, err = x3dpd(
+        capsys, "ringdown", deck, "--drive-until", 0.1, "--ring", 0.3, "--out", out
+    )
+    assert code == 2, err
+    assert f"at most {0.3 * f:.1f} cycles of the structure's {f:.4g} Hz" in err
+    assert "needs at least 14: give " in err and "Traceback" not in err
+    assert not out.exists()

@@ -170,6 +170,16 @@ def slope_half_width(spline, t: np.ndarray, y: np.ndarray, at: np.ndarray) -> np
     return t_quantile(dof) * se
 
 
+#: cycles of a record's spline piece and of the trim at each end (damping_vs_amplitude)
+PIECE_CYCLES = 4.0
+TRIM_CYCLES = 3.0
+
+
+def cycles_needed(piece_cycles: float = PIECE_CYCLES, trim_cycles: float = TRIM_CYCLES) -> float:
+    """The fewest cycles a ring-down record must hold: a trim at each end, two spline pieces."""
+    return 2.0 * trim_cycles + 2.0 * piece_cycles
+
+
 # Over 80 lines: the report's ring-down method step by step on shared arrays.
 def damping_vs_amplitude(
     time,
@@ -177,8 +187,8 @@ def damping_vs_amplitude(
     *,
     kind: str = "displacement",
     g: float = G_IN_S2,
-    piece_cycles: float = 4.0,
-    trim_cycles: float = 3.0,
+    piece_cycles: float = PIECE_CYCLES,
+    trim_cycles: float = TRIM_CYCLES,
     floor: float = 0.0,
     floor_fraction: float = 0.01,
     points_per_cycle: float = 1.0,
@@ -210,10 +220,9 @@ def damping_vs_amplitude(
     env, phase = hilbert_envelope(x)
     duration = t[-1] - t[0]
     cycles = abs(phase[-1] - phase[0]) / (2.0 * np.pi)
-    if cycles < 2.0 * trim_cycles + 2.0 * piece_cycles:
+    if cycles < (needed := cycles_needed(piece_cycles, trim_cycles)):
         raise InputError(
-            f"ring-down: the record holds {cycles:.1f} cycles; at least "
-            f"{2 * trim_cycles + 2 * piece_cycles:.0f} are needed "
+            f"ring-down: the record holds {cycles:.1f} cycles; at least {needed:.0f} are needed "
             f"({trim_cycles:g} trimmed at each end, two spline pieces)"
         )
     period = duration / cycles

@@ -12,7 +12,8 @@ docs/frf.md, docs/design-guide.md):
   :func:`read_frf_set` -- a set of measured FRFs with their points (x3dpd.io.frf_set);
   :class:`ModeSet`, :func:`write_modes_csv` -- the mode file a multi-mode fit writes for a
   MODAL card (x3dpd.deck.modes);
-* :func:`damping_vs_amplitude` -> :class:`Ringdown`, :func:`rest_offset`, :data:`G_IN_S2` --
+* :func:`damping_vs_amplitude` -> :class:`Ringdown`, :func:`cycles_needed`, :func:`rest_offset`,
+  :data:`G_IN_S2` --
   % zeta versus amplitude of a ring-down (report Section 4.1; x3dpd.analysis.ringdown);
 * :class:`SteadyStateMonitor` -- whether a driven response has settled
   (x3dpd.analysis.steady_state); :func:`t_quantile`, :func:`cycles_for_interval` -- Student's
@@ -37,7 +38,13 @@ from x3dpd.analysis.frf import (
     estimate_frf,
     power_spectrum,
 )
-from x3dpd.analysis.ringdown import G_IN_S2, Ringdown, damping_vs_amplitude, rest_offset
+from x3dpd.analysis.ringdown import (
+    G_IN_S2,
+    Ringdown,
+    cycles_needed,
+    damping_vs_amplitude,
+    rest_offset,
+)
 from x3dpd.analysis.lscf import PoleOrders, lscf_poles, max_order, pole_groups, select_poles
 from x3dpd.analysis.lsfd import ModalFit, refine_modes
 from x3dpd.analysis.sdof_fit import SdofFit, fit_sdof
@@ -70,6 +77,7 @@ __all__ = [
     "amplitude_spectrum",
     "central_difference",
     "check_window",
+    "cycles_needed",
     "damping_vs_amplitude",
     "difference_gain",
     "estimate_frf",
