@@ -84,6 +84,8 @@ def settle(deck: Deck, seconds: float | None = None, *, max_falls: float = MAX_F
     if seconds is not None and not seconds > 0.0:
         raise InputError(f"--settle {seconds!r}: expected a time > 0 [s] or auto")
     p0, walls = model.particle_start, np.unique(model.tri_nodes)
+    # the cavity's frame: its wall nodes, or (analytic walls) the rigid bodies that carry them
+    frame = walls if walls.size else np.asarray(model.rigid_master, np.int64)
     radius = np.asarray(model.radius, float)
     rest_speed = math.sqrt(2.0 * g * REST_DROP * float(radius.min()))
     fall_time = math.sqrt(2.0 * _height(model, walls, radius, g) / g)
@@ -99,11 +101,11 @@ def settle(deck: Deck, seconds: float | None = None, *, max_falls: float = MAX_F
     else:
         t = fall_time
         run_to(t)
-        while _fastest(sim.state.vel, p0, walls) > rest_speed and t < max_falls * fall_time:
+        while _fastest(sim.state.vel, p0, frame) > rest_speed and t < max_falls * fall_time:
             t += 0.25 * fall_time
             run_to(t)
     x = sim.state.x
-    shift = (x[walls] - model.x0[walls]).mean(axis=0) if walls.size else np.zeros(3)
+    shift = (x[frame] - model.x0[frame]).mean(axis=0) if frame.size else np.zeros(3)
     where = {int(model.node_ids[i]): x[i] - shift for i in range(p0, model.n_nodes)}
     nodes = tuple(
         Node(nd.nid, *map(float, where[nd.nid])) if nd.nid in where else nd for nd in deck.nodes
@@ -111,17 +113,17 @@ def settle(deck: Deck, seconds: float | None = None, *, max_falls: float = MAX_F
     return Settled(
         replace(deck, nodes=nodes),
         sim.state.step * sim.dt,
-        _fastest(sim.state.vel, p0, walls),
+        _fastest(sim.state.vel, p0, frame),
         rest_speed,
         fall_time,
         f"{model.units[0]}/{model.units[2]}",
     )
 
 
-def _fastest(vel: np.ndarray, p0: int, walls: np.ndarray) -> float:
+def _fastest(vel: np.ndarray, p0: int, frame: np.ndarray) -> float:
     """The largest particle speed relative to the cavity's mean velocity [length/s]."""
-    frame = vel[walls, :3].mean(axis=0) if walls.size else np.zeros(3)
-    rel = vel[p0:, :3] - frame
+    moving = vel[frame, :3].mean(axis=0) if frame.size else np.zeros(3)
+    rel = vel[p0:, :3] - moving
     return float(np.sqrt((rel * rel).sum(axis=1)).max()) if rel.shape[0] else 0.0
 
 
