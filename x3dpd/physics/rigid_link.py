@@ -8,13 +8,78 @@ force and a moment :math:`\\mathbf M = \\sum (\\mathbf x_s - \\mathbf x_m)\\time
 The master carries the body's mass and inertia tensor (parallel-axis theorem, built with the
 model); the rotation :math:`\\mathsf R` advances by Rodrigues' formula with
 :math:`\\Delta t\\,\\omega`.
+
+The bodies are part of the integrator, as the nodes are (docs/architecture.md, "What is not a
+unit"): the step loop calls their kernels at the half kicks, after the drift and after the
+contacts. This module holds their law, their kernels, their bundle :class:`RigidBodies` and
+its builder from the model (:func:`rigid_body_arrays`, :func:`free_rotation_inverses`).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
+
+import numpy as np
 
 from x3dpd._jit import shared_kernel, step_kernel
+
+
+class RigidBodies(NamedTuple):
+    """Rigid links (RBEL): masters, their slaves, rotations (B bodies)."""
+
+    master: np.ndarray       # (B,) master node index
+    ptr: np.ndarray          # (B+1,) CSR offsets into ``slaves``
+    slaves: np.ndarray       # slave node indices
+    r0: np.ndarray           # (len(slaves), 3) slave offsets from the master at t0
+    rot: np.ndarray          # (B, 3, 3) rotation of each body since t0
+    inv_ib: np.ndarray       # (B, 3, 3) inverse body inertia tensor
+    ib: np.ndarray           # (B, 3, 3) body inertia tensor
+    free_rot: np.ndarray     # (B, 3) bool: which rotations of the master are free
+
+
+def rigid_body_arrays(model, fixed: np.ndarray, kin_mass: np.ndarray,
+                      kin_inertia: np.ndarray) -> tuple[dict, np.ndarray]:
+    """The rigid bodies' constant arrays of ``model`` (the RBEL card's bodies, built with the
+    model: masters, slaves, each body's mass and inertia tensor about its master), by their
+    Setup names (``rig_*``), and the slave mask (n,). Each master carries its body's mass and
+    principal inertia in ``kin_mass`` (n,) and ``kin_inertia`` (n, 3), its slaves none (both
+    changed in place); a body turns about the master's rotational DOFs that ``fixed`` (n, 6)
+    leaves free. ``rig_inv_ib`` is zero until :func:`free_rotation_inverses`."""
+    n, nb = fixed.shape[0], model.rigid_master.shape[0]
+    free_rot = np.zeros((nb, 3), dtype=np.bool_)
+    r0 = np.zeros((model.rigid_slaves.shape[0], 3))
+    ib = np.ascontiguousarray(model.rigid_inertia, dtype=np.float64).reshape(nb, 3, 3).copy()
+    slave = np.zeros(n, dtype=bool)
+    for b in range(nb):
+        m = int(model.rigid_master[b])
+        sl = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
+        slave[sl] = True
+        r0[model.rigid_ptr[b]:model.rigid_ptr[b + 1]] = model.x0[sl] - model.x0[m]
+        kin_mass[m] = model.rigid_mass[b]
+        kin_inertia[m] = np.diag(ib[b])
+        free_rot[b] = ~fixed[m, 3:6]
+    kin_mass[slave] = 0.0
+    kin_inertia[slave] = 0.0
+    arrays = {"rig_master": np.ascontiguousarray(model.rigid_master, dtype=np.int64),
+              "rig_ptr": np.ascontiguousarray(model.rigid_ptr, dtype=np.int64),
+              "rig_slaves": np.ascontiguousarray(model.rigid_slaves, dtype=np.int64),
+              "rig_r0": r0, "rig_ib": ib, "rig_inv_ib": np.zeros((nb, 3, 3)),
+              "rig_free_rot": free_rot}
+    return arrays, slave
+
+
+def free_rotation_inverses(arrays: dict, inv_m: np.ndarray) -> None:
+    """After the effect units took their DOFs (a driven or modal master's rotation is not
+    free): a body with a free rotational DOF turns under the full inertia tensor, in a kick of
+    its own (:func:`_rigid_angular_kick`): ``rig_inv_ib`` its inverse, and the master's
+    rotational inverse masses in ``inv_m`` (n, 6) zero (velocity Verlet leaves them alone)."""
+    for b in range(arrays["rig_master"].shape[0]):
+        if arrays["rig_free_rot"][b].any():
+            arrays["rig_inv_ib"][b] = np.linalg.inv(arrays["rig_ib"][b])
+            inv_m[int(arrays["rig_master"][b]), 3:6] = 0.0
+
+
 
 
 @shared_kernel

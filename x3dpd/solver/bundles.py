@@ -22,6 +22,7 @@ import numpy as np
 
 from x3dpd.geometry.shapes import MAX_SHAPE_PARTS
 from x3dpd.physics.effect_units import UNITS
+from x3dpd.physics.rigid_link import RigidBodies
 from x3dpd.solver.contact_lists import (PAIR_BLOCK, S_H, history_columns, pair_columns,
                                          wall_columns)
 
@@ -52,19 +53,6 @@ class Nodes(NamedTuple):
     #                          step from; the effect units' setup fills it)
     kin_mass: np.ndarray     # (n,) mass for kinetic energy (a rigid master carries its body)
     kin_inertia: np.ndarray  # (n, 3) principal inertia for kinetic energy
-
-
-class RigidBodies(NamedTuple):
-    """Rigid links (RBEL): masters, their slaves, rotations (B bodies)."""
-
-    master: np.ndarray       # (B,) master node index
-    ptr: np.ndarray          # (B+1,) CSR offsets into ``slaves``
-    slaves: np.ndarray       # slave node indices
-    r0: np.ndarray           # (len(slaves), 3) slave offsets from the master at t0
-    rot: np.ndarray          # (B, 3, 3) rotation of each body since t0
-    inv_ib: np.ndarray       # (B, 3, 3) inverse body inertia tensor
-    ib: np.ndarray           # (B, 3, 3) body inertia tensor
-    free_rot: np.ndarray     # (B, 3) bool: which rotations of the master are free
 
 
 class Particles(NamedTuple):

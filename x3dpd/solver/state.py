@@ -17,6 +17,7 @@ from x3dpd.physics.maxwell import maxwell_step_factors
 from x3dpd.physics.wall_material import (particle_walls, plane_strain_moduli, wall_friction,
                                           wall_hertz_constants)
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
+from x3dpd.physics.rigid_link import free_rotation_inverses, rigid_body_arrays
 from x3dpd.physics.normal_laws import NORMAL_LAWS, contact_bodies
 from x3dpd.physics.rolling import n_history as rolling_history
 from x3dpd.physics.tangential_laws import n_history, tangential_tables
@@ -209,22 +210,7 @@ def _node_arrays(model: Model, dt: float) -> dict:
     fixed = np.array(model.fixed, dtype=bool).reshape(n, 6)
     kin_mass = mass.copy()
     kin_inertia = _f64(model.inertia, (n, 3)).copy()
-    nb = model.rigid_master.shape[0]
-    rig_free_rot = np.zeros((nb, 3), dtype=np.bool_)
-    rig_r0 = np.zeros((model.rigid_slaves.shape[0], 3))
-    rig_ib = _f64(model.rigid_inertia, (nb, 3, 3)).copy()
-    rig_inv_ib = np.zeros((nb, 3, 3))
-    slave = np.zeros(n, dtype=bool)
-    for b in range(nb):
-        m = int(model.rigid_master[b])
-        sl = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
-        slave[sl] = True
-        rig_r0[model.rigid_ptr[b]:model.rigid_ptr[b + 1]] = model.x0[sl] - model.x0[m]
-        kin_mass[m] = model.rigid_mass[b]
-        kin_inertia[m] = np.diag(rig_ib[b])
-        rig_free_rot[b] = ~fixed[m, 3:6]
-    kin_mass[slave] = 0.0
-    kin_inertia[slave] = 0.0
+    rigid, slave = rigid_body_arrays(model, fixed, kin_mass, kin_inertia)
 
     inv_m = np.zeros((n, 6))
     with np.errstate(divide="ignore"):
@@ -236,17 +222,10 @@ def _node_arrays(model: Model, dt: float) -> dict:
     inv_m[slave] = 0.0
     # the body forces every step's forces start from: the units add theirs (gravity's m g)
     out = {"inv_m": inv_m, "mass": mass, "kin_mass": kin_mass, "kin_inertia": kin_inertia,
-           "rig_free_rot": rig_free_rot, "fbody": np.zeros((n, 6))}
+           "rig_free_rot": rigid["rig_free_rot"], "fbody": np.zeros((n, 6))}
     units = {u.name: u.setup(model, dt, out) for u in UNITS}
-    # rotations of rigid masters with a free rotational DOF (that no unit carries) use the full
-    # tensor (a kick of their own)
-    for b in range(nb):
-        if rig_free_rot[b].any():
-            rig_inv_ib[b] = np.linalg.inv(rig_ib[b])
-            inv_m[int(model.rigid_master[b]), 3:6] = 0.0
-    return {**out, "x0": _f64(model.x0, (n, 3)), "rig_master": _i64(model.rigid_master),
-            "rig_ptr": _i64(model.rigid_ptr), "rig_slaves": _i64(model.rigid_slaves),
-            "rig_r0": rig_r0, "rig_ib": rig_ib, "rig_inv_ib": rig_inv_ib, "units": units}
+    free_rotation_inverses(rigid, inv_m)  # after the units took their DOFs
+    return {**out, **rigid, "x0": _f64(model.x0, (n, 3)), "units": units}
 
 
 def _particle_arrays(model: Model, dt: float, mass: np.ndarray, friction: str) -> dict:
