@@ -151,26 +151,40 @@ def test_settle_auto_runs_until_the_particles_rest_on_the_floor(tmp_path, capsys
     np.testing.assert_allclose(lowest, r, rtol=1e-2)  # several resting on the floor
 
 
-def test_settle_for_too_short_a_time_warns_that_the_particles_still_move(tmp_path, capsys):
-    """After 2 ms the spheres still fall: the fastest at g t (a free fall from rest: the deck's
-    structure is held in y, so the cavity does not fall with them), far above the rest speed
-    sqrt(2 g 0.01 R); the deck is written, with a warning on stderr naming the fall time."""
+def test_settle_for_too_short_a_time_does_not_call_the_particles_at_rest(tmp_path, capsys):
+    """Released at rest, the spheres fall at g t: after 1 ms the fastest is at 0.386 in/s, below
+    the rest speed sqrt(2 g 0.01 R) = 0.491 in/s -- one look would call the bed at rest. Two
+    looks 3 v_rest / g = 3.8 ms apart cannot fit in 1 or 2 ms: too early to tell, a warning.
+    After 10 ms both looks see spheres still falling or bouncing (the lowest reach the floor at
+    2.9 ms): they still move. The closed forms: v = g t before any contact, the rest speed and
+    the fall time sqrt(2 h / g) across the 0.372 in cavity."""
     from x3dpd.api.settle import settle
 
     plain = tmp_path / "plain.inp"
     assert _fill20(plain) == 0
     capsys.readouterr()
-    got = settle(read_deck(plain), 0.002)
-    assert not got.at_rest
-    assert got.fastest == pytest.approx(386.1 * 0.002, rel=1e-6)
-    assert got.rest_speed == pytest.approx(math.sqrt(2.0 * 386.1 * 0.01 * 0.03125))
+    rest = math.sqrt(2.0 * 386.1 * 0.01 * 0.03125)
+    for t in (0.001, 0.002):
+        got = settle(read_deck(plain), t)
+        assert not got.at_rest and not got.told
+        assert got.fastest == pytest.approx(386.1 * t, rel=1e-6)  # free fall, one look
+        assert got.rest_speed == pytest.approx(rest)
+        assert got.look_gap == pytest.approx(3.0 * rest / 386.1)
     assert got.fall_time == pytest.approx(math.sqrt(2.0 * 0.372 / 386.1), rel=1e-3)
+    assert settle(read_deck(plain), 0.001).fastest < rest  # what one look would have believed
+    later = settle(read_deck(plain), 0.01)
+    assert later.told and not later.at_rest and later.fastest > 2.0 * rest
     out = tmp_path / "out.inp"
     assert _fill20(out, "--settle", 0.002) == 0
     said = capsys.readouterr()
-    assert "x3dpd: warning: " in said.err and "still move: the fastest at 0.772 in/s" in said.err
+    assert (
+        "x3dpd: warning: " in said.err
+        and "too early to tell whether the particles rest" in said.err
+    )
     assert "give a longer --settle, or --settle auto" in said.err
     assert out.is_file()
+    assert _fill20(tmp_path / "later.inp", "--settle", 0.01) == 0
+    assert "the particles still move: the fastest at " in capsys.readouterr().err
 
 
 def test_settle_refuses_a_deck_without_gravity_and_a_time_that_is_not_one(tmp_path, capsys):

@@ -8,12 +8,17 @@ structure sags under their weight and swings about its sag). It says whether the
 
 * **At rest** is: no particle moves, relative to its cavity's mean velocity, faster than the
   speed a fall of 1 % of its radius gives, :math:`v_{rest} = \\sqrt{2 g \\cdot 0.01 R_{min}}`
-  (0.39 in/s for R = 0.02 in under 386.1 in/s^2). A bed that rests on its floor jiggles far
-  below it; one sphere still falling or bouncing is far above it.
+  (0.39 in/s for R = 0.02 in under 386.1 in/s^2), at two looks :math:`3 v_{rest}/g` apart (the
+  end and that much before it). A bed that rests on its floor jiggles far below it; a sphere
+  still falling or bouncing is far above it at one look at least: at the top of a bounce (or
+  released at rest) it is slow for a moment, but a free fall about that moment gives it at
+  least :math:`1.5 v_{rest}` at one of the looks. A run shorter than the gap cannot tell, and
+  says so.
 * **The time scale** is the free fall across the cavity along g,
   :math:`t_{fall} = \\sqrt{2 h / g}`, h the cavity's height along g (its wall nodes' extent;
   the particles' own extent plus a diameter for analytic walls). Without a time, the run goes
-  one t_fall, then quarters of it until the bed rests, for at most ``max_falls`` t_fall.
+  one t_fall, then quarters of it (at least the gap between the looks) until the bed rests,
+  for at most ``max_falls`` t_fall.
 
 A deck without gravity has nothing to settle under: an :class:`~x3dpd.errors.InputError`.
 """
@@ -40,7 +45,7 @@ MAX_FALLS = 20.0
 class Settled:
     """The deck after :func:`settle`: ``deck`` (its particles where the run left them),
     ``seconds`` simulated [s], ``fastest`` the fastest particle's speed relative to its cavity
-    at the end [length/s], ``rest_speed`` the speed below which a bed counts as at rest
+    at either look [length/s], ``rest_speed`` the speed below which a bed counts as at rest
     [length/s], ``fall_time`` the free fall across the cavity [s] and ``speed_unit`` the
     deck's (``in/s``)."""
 
@@ -50,13 +55,26 @@ class Settled:
     rest_speed: float
     fall_time: float
     speed_unit: str = "length/s"
+    #: the time between the two looks [s] (module docstring); a shorter run cannot tell
+    look_gap: float = 0.0
+
+    @property
+    def told(self) -> bool:
+        """Whether the run was long enough for both looks."""
+        return self.seconds >= self.look_gap
 
     @property
     def at_rest(self) -> bool:
-        return self.fastest <= self.rest_speed
+        return self.told and self.fastest <= self.rest_speed
 
     def describe(self) -> str:
         """One line: how long it ran and whether the bed rests."""
+        if not self.told:
+            return (
+                f"after {self.seconds:.4g} s it is too early to tell whether the particles "
+                f"rest (two looks {self.look_gap:.3g} s apart; the fastest at "
+                f"{self.fastest:.3g} {self.speed_unit}): give a longer --settle, or --settle auto"
+            )
         if self.at_rest:
             return (
                 f"settled for {self.seconds:.4g} s: at rest (the fastest particle at "
@@ -96,14 +114,25 @@ def settle(deck: Deck, seconds: float | None = None, *, max_falls: float = MAX_F
         while sim.state.step < end:  # one output row at a time: memory stays small
             sim.advance(end - sim.state.step, max_rows=1)
 
-    if seconds is not None:
-        run_to(seconds)
-    else:
-        t = fall_time
+    gap = 3.0 * rest_speed / g
+
+    def fastest_by(t: float) -> float:
+        """Run to ``t``; the fastest particle at t - gap (when the run reaches it) and at t."""
+        looks = []
+        if t - gap >= sim.state.step * sim.dt:
+            run_to(t - gap)
+            looks.append(_fastest(sim.state.vel, p0, frame))
         run_to(t)
-        while _fastest(sim.state.vel, p0, frame) > rest_speed and t < max_falls * fall_time:
-            t += 0.25 * fall_time
-            run_to(t)
+        return max(looks + [_fastest(sim.state.vel, p0, frame)])
+
+    if seconds is not None:
+        fastest = fastest_by(seconds)
+    else:
+        t = max(fall_time, gap)
+        fastest = fastest_by(t)
+        while fastest > rest_speed and t < max_falls * fall_time:
+            t += max(0.25 * fall_time, gap)
+            fastest = fastest_by(t)
     x = sim.state.x
     shift = (x[frame] - model.x0[frame]).mean(axis=0) if frame.size else np.zeros(3)
     where = {int(model.node_ids[i]): x[i] - shift for i in range(p0, model.n_nodes)}
@@ -113,10 +142,11 @@ def settle(deck: Deck, seconds: float | None = None, *, max_falls: float = MAX_F
     return Settled(
         replace(deck, nodes=nodes),
         sim.state.step * sim.dt,
-        _fastest(sim.state.vel, p0, frame),
+        fastest,
         rest_speed,
         fall_time,
         f"{model.units[0]}/{model.units[2]}",
+        gap,
     )
 
 
