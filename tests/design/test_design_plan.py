@@ -79,3 +79,27 @@ def test_a_design_without_out_or_plan_is_refused_and_a_bad_file_is_refused_by_th
     bad = tmp_path / "designs" / "bad.toml"
     bad.write_text(spec.read_text().replace("count = 512", "count = 5120000"))
     refused(capsys, "design", bad, "--plan", message="bad.toml", folder=tmp_path)
+
+
+def test_a_ring_down_design_with_too_short_a_ring_is_refused_before_anything_runs(tmp_path, capsys):
+    """beam_1's structure is one rigid body on one spring: f = sqrt(k / m) / (2 pi) = 37.74 Hz
+    before any step, so a 0.1 s ring holds at most 3.8 cycles, against the analysis's 14. The
+    plan and the run both refuse it at evaluate.ring's line, naming the configuration, and
+    write nothing (a run used to compute every configuration's drive, ring and baseline
+    first)."""
+    spec = tmp_path / "ring.toml"
+    spec.write_text(
+        f'structure = "{ROOT / "decks" / "beam_1.inp"}"\n'
+        '[evaluate]\nkind = "ringdown"\ndrives = [1e-3]\nring = 0.1\n'
+    )
+    for args in (("--plan",), ("--out", tmp_path / "out")):
+        line = refused(
+            capsys,
+            "design",
+            spec,
+            *args,
+            message="configuration config_1: at most 3.8 cycles",
+            folder=tmp_path,
+        )
+        assert line.startswith(f"x3dpd: error: {spec}:5: evaluate.ring = 0.1 s, ")
+        assert "needs at least 14" in line

@@ -48,6 +48,7 @@ from x3dpd.design.design_runs import (
     run_ringdown,  # noqa: F401  (re-exported)
 )
 from x3dpd.design.replicas import pooled
+from x3dpd.design.ringdown import check_design_rings
 from x3dpd.design.sweep import configurations, label_branches, sort_rows, write_csv
 from x3dpd.errors import InputError
 from x3dpd.units import labels_for
@@ -69,6 +70,7 @@ def run_design(
     design = read_design(path)
     made = make_configurations(design)  # every error before anything is written
     require_drive(design, made)
+    check_design_rings(design, made)
     for code in code_files(made[0].deck) if design.usrfrc_code and made else ():
         echo(
             f"code run: {code} (the structure's USRFRC Python file, copied beside every "

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 from x3dpd.design.configs import make_configurations, require_drive
 from x3dpd.design.design_file import read_design
+from x3dpd.design.ringdown import check_design_rings
 
 
 @dataclass(frozen=True)
@@ -42,6 +43,7 @@ def plan_design(path) -> tuple[object, list[PlannedConfiguration]]:
     design = read_design(path)
     made = make_configurations(design)  # the run's own checks, in the run's order
     require_drive(design, made)
+    check_design_rings(design, made)
     ev = design.evaluation
     out = []
     for m in made:

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from x3dpd.api import run, run_config
-from x3dpd.api.decks import Deck
+from x3dpd.api.decks import Deck, build_model
 from x3dpd.api.measurements import (
     G_IN_S2,
     Ringdown,
@@ -52,7 +52,9 @@ def ringdown_of_deck(
     driven = run_config(
         deck, tmax=drive_until, dt=dt, usrfrc=drive, keep_trace=False, trace_nodes=(node,)
     )
-    _check_ring(driven.model, node, dof, ring, options)
+    reason = ring_too_short(driven.model, node, dof, ring, **options)
+    if reason is not None:
+        raise InputError(f"ring {ring:g} s (--ring, a design's ring): {reason}")
     forced = run(driven)
     period = _period(driven.model, node, dof)
     itrac = max(1, int(period / (SAMPLES_PER_CYCLE * driven.step.dt)))
@@ -80,25 +82,43 @@ def _period(model, node: int, dof: int) -> float:
     return 2.0 * math.pi * math.sqrt(m / k) if k > 0 and m > 0 else 0.01
 
 
-def _check_ring(model, node: int, dof: int, ring: float, options: dict) -> None:
-    """Refuse, before any step, a ring too short for the analysis on a structure whose
-    frequency is known before the run: one rigid body on one spring element along ``dof``
-    (the report's beams), f = sqrt(k / m) / (2 pi) with m the body's mass. Its particles only
-    add mass, so the ring holds fewer cycles than this bound counts: the refusal is safe.
-    Other structures are checked by the analysis after the run."""
+def ring_too_short(model, node: int, dof: int, ring: float, **options) -> str | None:
+    """Why ``ring`` [s] is too short for the analysis, or None, on a structure whose frequency
+    is known before the run: one rigid body on one spring element along ``dof`` (the report's
+    beams), f = sqrt(k / m) / (2 pi) with m the body's mass. Its particles only add mass, so
+    the ring holds fewer cycles than this bound counts: a refusal is safe. Other structures
+    are checked by the analysis after the run (None here)."""
     i = model.index_of(node)
     k = model.spring_k[:, dof - 1]
     if model.modal is not None or model.rigid_mass.size != 1 or np.count_nonzero(k) != 1:
-        return
+        return None
     if i != int(model.rigid_master[0]) or not np.any(model.spring_nodes[k != 0] == i):
-        return
+        return None
     f = math.sqrt(float(k[k != 0][0]) / float(model.rigid_mass[0])) / (2.0 * math.pi)
     pieces = {key: options[key] for key in ("piece_cycles", "trim_cycles") if key in options}
     needed = cycles_needed(**pieces)
-    if ring * f < needed:
-        raise InputError(
-            f"ring {ring:g} s (--ring, a design's ring): at most {ring * f:.1f} cycles of the "
-            f"structure's {f:.4g} Hz (its particles only lower it); the ring-down analysis "
-            f"needs at least {needed:.0f}: give {1.5 * needed / f:.2g} s or more (half again: "
-            "the particles' mass and the record's first and last zero crossings take some)"
-        )
+    if ring * f >= needed:
+        return None
+    return (
+        f"at most {ring * f:.1f} cycles of the structure's {f:.4g} Hz (its particles only lower "
+        f"it); the ring-down analysis needs at least {needed:.0f}: give {1.5 * needed / f:.2g} s "
+        "or more (half again: the particles' mass and the record's first and last zero "
+        "crossings take some)"
+    )
+
+
+def check_design_rings(design, made) -> None:
+    """A ring-down design's ``ring`` against every configuration (:func:`ring_too_short`),
+    before anything runs or is written: the first too short, at the file's line."""
+    ev = design.evaluation
+    if ev.kind != "ringdown":
+        return
+    for m in made:
+        if m.drive is None:
+            continue
+        reason = ring_too_short(build_model(m.deck), m.drive[0], m.drive[1], ev.ring)
+        if reason is not None:
+            raise InputError(
+                f"{design.where('evaluate', 'ring')}: evaluate.ring = {ev.ring:g} s, "
+                f"configuration {m.config.name}: {reason}"
+            )
