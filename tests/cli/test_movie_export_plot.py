@@ -146,6 +146,24 @@ def test_lammps_dump_reads_back(tmp_path):
     assert np.all(cols[:, 9] == 0.03125)
 
 
+def test_lammps_dump_box_bounds_are_numbers_a_reader_parses(tmp_path):
+    """Each frame's BOX BOUNDS are three lines of two plain numbers (LAMMPS's dump format), the
+    cavity's bounding box at that time: at t0 the deck's beam cavity, x 0..0.263, y and z
+    0..0.372 in. They were written as ``np.float64(0.0) np.float64(0.263)`` under numpy 2, which
+    no dump reader (OVITO, LAMMPS's read_dump) parses; read_lammps_dump skipped them."""
+    out = tmp_path / "run.dump"
+    assert run_cli("export", SHORT_RUNS_TRACES["beam_64.inp"], "--lammps", out) == 0
+    lines = out.read_text(encoding="ascii").splitlines()
+    frames = [k for k, line in enumerate(lines) if line == "ITEM: BOX BOUNDS ff ff ff"]
+    assert len(frames) == len(read_lammps_dump(out))
+    for k in frames:
+        bounds = [[float(v) for v in lines[k + 1 + a].split()] for a in range(3)]
+        assert all(len(b) == 2 and b[0] < b[1] for b in bounds)
+    first = [[float(v) for v in lines[frames[0] + 1 + a].split()] for a in range(3)]
+    np.testing.assert_allclose(first, [[0.0, 0.263], [0.0, 0.372], [0.0, 0.372]], atol=1e-12)
+    assert float(lines[3]) == 0.0  # ITEM: TIME, a plain number too
+
+
 @pytest.mark.parametrize("name", DECK_NAMES)
 def test_plot_writes_a_png_and_the_particle_kinetic_energy_is_right(name, tmp_path):
     tr, model, scene = _scene(name)

@@ -392,3 +392,16 @@ def test_a_base_sweep_on_dask_equals_serial_and_resumes(shaker, tmp_path):
     assert all(
         same(x, y, x) for a, b in zip(again, serial) for x, y in zip(a["responses"], b["responses"])
     )
+
+
+def test_a_base_motion_spec_from_numpy_numbers_is_plain_text():
+    """A point's frequency or drive can come out of numpy (a peak search, a level table);
+    numpy 2 writes a scalar's repr as np.float64(...), which no spec parser reads. The spec
+    holds the same plain numbers as from Python floats."""
+    import numpy as np
+
+    from x3dpd.design.drive import base_motion_spec
+
+    plain = base_motion_spec(3, 2, 0.1, 37.5, 0.25)
+    assert base_motion_spec(3, 2, np.float64(0.1), np.float64(37.5), np.float64(0.25)) == plain
+    assert plain == "node=3,dof=2,amp=0.1,hz=37.5,t0=0.25"

@@ -78,7 +78,8 @@ def write_vtk_series(
     for t, part, name in entries:
         part_no = 0 if part == "particles" else 1
         lines.append(
-            f'    <DataSet timestep="{t!r}" group="" part="{part_no}" file={quoteattr(name)}/>'
+            f'    <DataSet timestep="{float(t)!r}" group="" part="{part_no}" '
+            f"file={quoteattr(name)}/>"
         )
     lines += ["  </Collection>", "</VTKFile>", ""]
     with open(os.path.join(folder, "run.pvd"), "w", encoding="utf-8") as f:
@@ -102,12 +103,13 @@ def write_lammps_dump(
             pts = scene.vertices(data) if scene.tri.shape[0] else p[:, :3]
             lo, hi = pts.min(axis=0), pts.max(axis=0)
             f.write(
-                f"ITEM: TIMESTEP\n{n}\nITEM: TIME\n{t!r}\n"
+                f"ITEM: TIMESTEP\n{n}\nITEM: TIME\n{float(t)!r}\n"
                 f"ITEM: NUMBER OF ATOMS\n{p.shape[0]}\n"
                 "ITEM: BOX BOUNDS ff ff ff\n"
             )
             for a in range(3):
-                f.write(f"{lo[a]!r} {hi[a]!r}\n")
+                # plain floats: a numpy scalar's repr is np.float64(...) on numpy 2
+                f.write(f"{float(lo[a])!r} {float(hi[a])!r}\n")
             f.write("ITEM: ATOMS id type x y z vx vy vz omegax omegay omegaz radius\n")
             cols = np.column_stack([p[:, :9], scene.radius])
             for nid, row in zip(ids, cols):

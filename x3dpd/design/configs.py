@@ -271,7 +271,7 @@ def _rules(design: DesignFile, deck: Deck, drive: tuple[int, int] | None) -> lis
     if drive is None:
         return []
     node, dof = drive
-    amp, lo, hi = max(ev.drives), min(ev.frequencies), max(ev.frequencies)
+    amp, lo, hi = (float(v) for v in (max(ev.drives), min(ev.frequencies), max(ev.frequencies)))
     spec = (
         f"sine:node={node},dof={dof},amp={amp!r},hz={lo!r}"
         if lo == hi

@@ -184,7 +184,8 @@ def _pending_ringdowns(design: DesignFile, c: Config) -> list:
     tasks = []
     if ev.drives and ev.frequencies:
         for level in ev.drives:
-            spec = f"sine:node={node},dof={dof},amp={level!r},hz={ev.frequencies[0]!r}"
+            hz = float(ev.frequencies[0])
+            spec = f"sine:node={node},dof={dof},amp={float(level)!r},hz={hz!r}"
             tasks.append(
                 RingdownTask(
                     c.made.deck,

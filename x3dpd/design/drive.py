@@ -140,4 +140,4 @@ def base_motion_spec(node: int, dof: int, amplitude: float, hz: float, t0: float
     velocity A w (a velocity jump; the motion's work books the kinetic energy it gives the
     base), so a point started on its predicted steady state (x3dpd.design.predict) is on it
     from the first step; a smooth ``ramp=`` would disturb that steady state."""
-    return f"node={node},dof={dof},amp={amplitude!r},hz={hz!r},t0={t0!r}"
+    return f"node={node},dof={dof},amp={float(amplitude)!r},hz={float(hz)!r},t0={float(t0)!r}"

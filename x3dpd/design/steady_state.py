@@ -158,8 +158,8 @@ def _drive_specs(point: SweepPoint, t_start: float) -> tuple[tuple[str, ...], tu
         spec = base_motion_spec(point.node, point.dof, amplitude, point.frequency_hz, t_start)
         return (), (spec,)
     force = (
-        f"sine:node={point.node},dof={point.dof},amp={point.drive!r},"
-        f"hz={point.frequency_hz!r},t0={t_start!r}"
+        f"sine:node={point.node},dof={point.dof},amp={float(point.drive)!r},"
+        f"hz={float(point.frequency_hz)!r},t0={float(t_start)!r}"
     )
     return (force,), ()
 
