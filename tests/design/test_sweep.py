@@ -282,3 +282,22 @@ def test_the_sweep_says_how_each_point_starts(tmp_path):
         )
         assert res.exit_code == 0, res.output
         assert words in res.output and "from rest" not in res.output
+
+
+def test_sweep_and_design_csv_write_numpy_numbers_as_plain_numbers(tmp_path):
+    """np.float64 is a float, and numpy 2 writes its repr as np.float64(37.5): a row value out
+    of numpy (a peak search's frequency, a pooled amplitude) would have reached sweep.csv and
+    design.csv so, unreadable. Both tables write the same text as for Python floats."""
+    import numpy as np
+
+    from x3dpd.design.design_table import write_design_csv
+    from x3dpd.design.sweep_table import write_csv
+
+    values = {"config": "deck", "frequency_hz": 37.5, "drive": 1e-3, "amplitude": 2.5e-3}
+    as_numpy = {k: (np.float64(v) if isinstance(v, float) else v) for k, v in values.items()}
+    for write, name in ((write_csv, "sweep.csv"), (write_design_csv, "design.csv")):
+        plain, numpy_ = tmp_path / f"plain_{name}", tmp_path / f"numpy_{name}"
+        write(plain, [values])
+        write(numpy_, [as_numpy])
+        assert numpy_.read_text() == plain.read_text()
+        assert "np." not in numpy_.read_text() and ",37.5," in plain.read_text()

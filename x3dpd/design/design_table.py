@@ -290,8 +290,8 @@ def mark_best(rows: list[dict], budget: float | None, kind: str, tol: float) -> 
 def _cell(v) -> str:
     if isinstance(v, (bool, np.bool_)):
         return "1" if v else "0"
-    if isinstance(v, float):
-        return repr(v)
+    if isinstance(v, float):  # np.float64 too: its repr is np.float64(...) on numpy 2
+        return repr(float(v))
     return str(v).replace(",", ";")
 
 

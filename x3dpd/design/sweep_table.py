@@ -159,8 +159,8 @@ def expand_responses(rows: Sequence[dict]) -> list[dict]:
 def _cell(v) -> str:
     if isinstance(v, bool) or isinstance(v, np.bool_):
         return "1" if v else "0"
-    if isinstance(v, float):
-        return repr(v)
+    if isinstance(v, float):  # np.float64 too: its repr is np.float64(...) on numpy 2
+        return repr(float(v))
     return str(v)
 
 
