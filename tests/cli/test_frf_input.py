@@ -116,3 +116,24 @@ def test_reading_a_big_trace_shows_progress(traces, tmp_path, capsys, monkeypatc
     assert f"reading {traces[10]} (2.7 MB)" in err and "100 %" in err
     assert run_cli(*_frf(traces[10], tmp_path / "b", "--quiet")) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_a_record_too_short_for_eight_welch_averages_says_what_to_give(tmp_path, capsys):
+    """The default Welch segment is the record / (1 + 7 (1 - overlap)): 8 averages. A 21-sample
+    record gives 4-sample segments, under the 8 a segment needs; the refusal says the record's
+    length and the --nperseg range that works (it said only "segment length 4 samples: at least
+    8 are needed"), and --nperseg 16 then works."""
+    deck = tmp_path / "short.inp"
+    write_deck(sdof_deck(dt=1e-4, hz=37.0, drive=1e-3, c=C, itrac=10), deck)
+    trace = tmp_path / "short.trace.txt"
+    assert run_cli(deck, "--tmax", 0.02, "--trace", trace, "-q") == 0
+    out = tmp_path / "sp"
+    line = refused(
+        capsys,
+        *("spectrum", trace, "--node", 1, "--method", "welch", "--out", out),
+        message="the record holds 21 samples (0.021 s): 8 Welch averages of it would be 4",
+        folder=tmp_path,
+    )
+    assert "give --nperseg 8..21 (fewer averages), --method fft, or a longer run" in line
+    assert run_cli("spectrum", trace, "--node", 1, "--method", "welch", "--nperseg", 16,
+                   "--out", out, "-q") == 0  # fmt: skip

@@ -179,11 +179,15 @@ def equivalent_averages(window, nperseg: int, noverlap: int, n_segments: int) ->
     return n_segments / total
 
 
+#: the shortest Welch segment [samples]
+MIN_SEGMENT = 8
+
+
 def _check_welch(n: int, fs: float, nperseg: int, noverlap: int | None) -> int:
     if not (np.isfinite(fs) and fs > 0):
         raise InputError(f"sampling rate must be a positive number, got {fs!r}")
-    if nperseg < 8:
-        raise InputError(f"segment length {nperseg} samples: at least 8 are needed")
+    if nperseg < MIN_SEGMENT:
+        raise InputError(f"segment length {nperseg} samples: at least {MIN_SEGMENT} are needed")
     if noverlap is None:
         noverlap = nperseg // 2
     if not 0 <= noverlap < nperseg:

@@ -30,6 +30,7 @@ docs/frf.md, docs/design-guide.md):
 from __future__ import annotations
 
 from x3dpd.analysis.frf import (
+    MIN_SEGMENT,
     QUANTITY_ORDER,
     amplitude_spectrum,
     central_difference,
@@ -61,6 +62,7 @@ from x3dpd.physics.usrfrc import force_table, force_values, law_count, split_spe
 __all__ = [
     "DOF_NAMES",
     "G_IN_S2",
+    "MIN_SEGMENT",
     "QUANTITY_ORDER",
     "RANDOM_DEFAULT_PERIOD",
     "MeasuredFrf",

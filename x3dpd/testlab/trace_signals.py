@@ -21,6 +21,7 @@ import numpy as np
 
 from x3dpd.api import TraceData, read_trace
 from x3dpd.api.measurements import (
+    MIN_SEGMENT,
     RANDOM_DEFAULT_PERIOD,
     central_difference,
     force_table,
@@ -275,6 +276,12 @@ def welch_options(
         nperseg = int(round(segment * fs))
     elif nperseg is None:
         nperseg = int(n / (1.0 + 7.0 * (1.0 - overlap)))
+        if nperseg < MIN_SEGMENT <= n:
+            raise InputError(
+                f"the record holds {n} samples ({n / fs:.4g} s): 8 Welch averages of it would "
+                f"be {nperseg} samples each, and a segment needs at least {MIN_SEGMENT}; give "
+                f"--nperseg {MIN_SEGMENT}..{n} (fewer averages), --method fft, or a longer run"
+            )
     if nperseg > n:
         raise InputError(
             f"a segment of {nperseg} samples ({nperseg / fs:.4g} s) is longer than "
