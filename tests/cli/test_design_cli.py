@@ -124,3 +124,31 @@ def test_a_ring_too_short_for_the_analysis_is_refused_before_any_step(capsys, tm
     assert f"at most {0.3 * f:.1f} cycles of the structure's {f:.4g} Hz" in err
     assert "needs at least 14: give " in err and "Traceback" not in err
     assert not out.exists()
+
+
+def test_an_unreachable_scheduler_is_refused_before_anything_is_written(
+    capsys, tmp_path, monkeypatch
+):
+    """--scheduler naming an address where no scheduler answers (port 1 of this machine) used
+    to end a sweep in a Dask traceback after 30 s, with sweep.json and points/ written; sweep,
+    study and design now refuse it in one line naming the address and how to start one, and
+    write no output folder. (The wait is shortened here; it is 10 s by default.)"""
+    import x3dpd.api.cluster
+
+    from cli_helpers import refused
+
+    monkeypatch.setattr(x3dpd.api.cluster, "CONNECT_TIMEOUT", 1.0)
+    beam_1 = Path(__file__).resolve().parents[2] / "decks" / "beam_1.inp"
+    spec = tmp_path / "d.toml"
+    spec.write_text(
+        f'structure = "{beam_1}"\n[evaluate]\nkind = "sweep"\ndrives = [1e-3]\nfrequencies = [37]\n'
+    )
+    address = "tcp://127.0.0.1:1"
+    message = f"--scheduler {address}: no Dask scheduler answers there ("
+    for args in (
+        ("sweep", beam_1, "--freq", 37, "--amp", 1e-3, "--out", tmp_path / "sw"),
+        ("study", beam_1, "--tmax", 0.01, "--out", tmp_path / "st"),
+        ("design", spec, "--out", tmp_path / "ds"),
+    ):
+        line = refused(capsys, *args, "--scheduler", address, message=message, folder=tmp_path)
+        assert "`dask scheduler`" in line

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from x3dpd.api.cluster import check_scheduler
 from x3dpd.api.figures import attenuations, plot_responses, plot_sweep
 from x3dpd.api.decks import read_deck, with_temperature
 from x3dpd.design.drive import check_levels, displacement_amplitude, parse_amplitudes
@@ -86,6 +87,7 @@ def sweep_command(
         raise InputError(f"--dof {dof}: the sweep measures a translation, dof 1, 2 or 3")
     points = list(measured) + ([] if quantity != "force" else [(node, dof)])
     frfs = read_measured(measured_files, points, measured_scale)
+    check_scheduler(scheduler)  # before anything is written
     spec = SweepSpec(
         deck=deck,
         deck_text_hash=deck_hash(deck_path) + (f"@{temperature}" if temperature else ""),

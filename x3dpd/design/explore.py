@@ -29,6 +29,7 @@ from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
+from x3dpd.api.cluster import check_scheduler
 from x3dpd.design.configs import (
     Made,
     code_files,
@@ -71,6 +72,7 @@ def run_design(
     made = make_configurations(design)  # every error before anything is written
     require_drive(design, made)
     check_design_rings(design, made)
+    check_scheduler(scheduler)
     for code in code_files(made[0].deck) if design.usrfrc_code and made else ():
         echo(
             f"code run: {code} (the structure's USRFRC Python file, copied beside every "

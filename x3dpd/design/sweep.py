@@ -38,6 +38,7 @@ from dataclasses import replace
 from pathlib import Path
 
 
+from x3dpd.api.cluster import connect_scheduler
 from x3dpd.api.decks import build_model
 from x3dpd.design.baselines import baseline_decks
 from x3dpd.design.closed_form import (
@@ -347,7 +348,7 @@ def _dask_client(workers: int, scheduler: str | None):
     from dask.distributed import Client, LocalCluster
 
     if scheduler is not None:
-        return Client(scheduler), None
+        return connect_scheduler(scheduler), None
     # the worker processes start with SIGINT ignored (a process inherits that, and Python
     # then installs no KeyboardInterrupt of its own): Ctrl-C reaches the whole process group,
     # and this process, not each worker, decides what happens

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from x3dpd.api.cluster import connect_scheduler
 from x3dpd.study.scene import Scene, measure
 from x3dpd.study.settings import Setting, deck_for
 
@@ -123,7 +124,7 @@ def run_jobs(jobs, *, workers: int = 1, scheduler: str | None = None, done=None)
         cluster = LocalCluster(
             n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
         )
-    client = Client(scheduler if scheduler is not None else cluster)
+    client = connect_scheduler(scheduler) if scheduler is not None else Client(cluster)
     try:
         futures = [client.submit(run_job, job, pure=False) for job in jobs]
         index = {f.key: k for k, f in enumerate(futures)}

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from x3dpd.api.cluster import check_scheduler
 from x3dpd.errors import InputError, UnstableRunError
 from x3dpd.study.execute import Job, run_jobs
 from x3dpd.study.scene import QUANTITIES, Scene, classify, trace_norm
@@ -133,6 +134,7 @@ def run_study(
         base = min(model.itrac * dt_deck, window / MIN_ROWS)
         interval = steps[-1] * max(1, math.ceil(base / steps[-1] - 1e-9))
     jobs = [Job(cards, s, tmax, tuple(usrfrc), interval, scene, tuple(motion)) for s in settings]
+    check_scheduler(scheduler)
     rows = run_jobs(jobs, workers=workers, scheduler=scheduler, done=progress)
     ref = rows[0]
     if ref["status"] != "complete":
