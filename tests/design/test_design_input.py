@@ -129,3 +129,26 @@ def test_a_deck_code_file_is_named_before_the_design_runs_it(tmp_path):
     assert lines[0].startswith("code run: force.py (the structure's USRFRC Python file")
     assert "executes it with your permissions" in lines[0]
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        (("--replicas", 0), "--replicas 0: expected 1 or more"),
+        (("--max-cycles", 10), "--max-cycles 10: expected 3 x window (15) or more cycles"),
+        (("--tol", 2), "--tol 2: expected a fraction 0 < tol < 1"),
+        (("--window", 1), "--window 1: expected 2 or more cycles"),
+    ],
+)
+def test_a_steady_state_setting_that_cannot_work_is_named(tmp_path, capsys, options, message):
+    """The refusal names the one setting at fault and what it must be (it listed every rule);
+    a tolerance of 2 (200 %) measured nothing and was taken."""
+    out = tmp_path / "out"
+    args = ("sweep", BEAM_1, "--freq", 37, "--amp", 1e-3, "--out", out, *options)
+    refused(capsys, *args, message=message, folder=tmp_path)
+
+
+def test_a_design_file_s_steady_state_setting_is_refused_at_its_line(tmp_path, capsys):
+    spec = _spec(tmp_path, SWEEP + "window = 10\nmax_cycles = 20\n")
+    line = _refused(capsys, spec, "max_cycles = 20: expected 3 x window (30) or more cycles")
+    assert line.startswith(f"x3dpd: error: {spec}:{_line(spec, 'max_cycles')}: evaluate.max_cycles")

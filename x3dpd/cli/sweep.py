@@ -164,12 +164,19 @@ def sweep(
 
     if workers is not None and workers < 1:
         raise InputError(f"--workers {workers}: expected 1 or more")
-    if tol <= 0 or window < 2 or max_cycles < 3 * window or samples_per_cycle < 20 or replicas < 1:
-        raise InputError(
-            "steady-state options: expected --tol > 0, --window >= 2, "
-            "--max-cycles >= 3 x window, --samples-per-cycle >= 20, --replicas >= 1"
-        )
     from x3dpd.design.steady_state import Criterion
+
+    asked = Criterion(
+        tol=tol, window=window, max_cycles=max_cycles, samples_per_cycle=samples_per_cycle,
+        replicas=replicas,
+    )  # fmt: skip
+    if asked.problems():
+        raise InputError(
+            "; ".join(
+                f"--{name.replace('_', '-')} {getattr(asked, name):g}: expected {must}"
+                for name, must in asked.problems()
+            )
+        )
 
     sweep_command(
         deck,

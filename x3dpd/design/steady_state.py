@@ -66,6 +66,20 @@ class Criterion:
     replicas: int = 1
     replica_cycles: int = 50
 
+    def problems(self) -> list[tuple[str, str]]:
+        """The settings that cannot measure a steady state, as ``(setting, what it must be)``:
+        a tolerance is a fraction (0 < tol < 1); a window two cycles at least; the cap three
+        windows (the transient's and two to compare); 20 samples a cycle; one replica."""
+        rules = (
+            ("tol", 0.0 < self.tol < 1.0, "a fraction 0 < tol < 1 (0.01: 1 %)"),
+            ("window", self.window >= 2, "2 or more cycles"),
+            ("max_cycles", self.max_cycles >= 3 * self.window,
+             f"3 x window ({3 * self.window}) or more cycles"),
+            ("samples_per_cycle", self.samples_per_cycle >= 20, "20 or more"),
+            ("replicas", self.replicas >= 1, "1 or more"),
+        )  # fmt: skip
+        return [(name, must) for name, ok, must in rules if not ok]
+
 
 @dataclass(frozen=True)
 class SweepPoint:
