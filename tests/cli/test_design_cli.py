@@ -152,3 +152,33 @@ def test_an_unreachable_scheduler_is_refused_before_anything_is_written(
     ):
         line = refused(capsys, *args, "--scheduler", address, message=message, folder=tmp_path)
         assert "`dask scheduler`" in line
+
+
+def test_ringdown_reads_one_g_in_the_deck_s_units(capsys, tmp_path):
+    """dB re 1 g divides the acceleration amplitude A w^2 by one standard gravity in the deck's
+    units. A metric deck's (UNITS m N s) was divided by 386.1 -- inches per s^2 -- unless --g
+    was given: 32 dB off. Now the trace's sidecar units choose it (9.80665 m/s^2), and --g
+    still overrides; --g 0 (an infinite dB column) is refused."""
+    import dataclasses
+
+    from x3dpd.deck.cards import Units
+
+    deck = tmp_path / "metric.inp"
+    cards = sdof_deck(dt=1e-5, hz=37.0, drive=0.0, v0=5.0, itrac=10)
+    write_deck(dataclasses.replace(cards, units=Units("m", "N", "s")), deck)
+    trace = tmp_path / "metric.trace.txt"
+    run(deck, tmax=3.0, trace=trace)
+
+    def ratio(out, *g):
+        code, _, err = x3dpd(capsys, "ringdown", trace, "--node", 1, "--out", out, *g)
+        assert code == 0, err
+        lines = (out / "ringdown.csv").read_text().splitlines()
+        head = lines[0].split(",")
+        col = {k: np.array([float(r.split(",")[head.index(k)]) for r in lines[1:]])
+               for k in ("amplitude", "frequency_hz", "amplitude_g")}  # fmt: skip
+        return col["amplitude_g"] / (col["amplitude"] * (2 * math.pi * col["frequency_hz"]) ** 2)
+
+    np.testing.assert_allclose(ratio(tmp_path / "own"), 1 / 9.80665, rtol=1e-12)
+    np.testing.assert_allclose(ratio(tmp_path / "given", "--g", 2.0), 0.5, rtol=1e-12)
+    code, _, err = x3dpd(capsys, "ringdown", trace, "--node", 1, "--out", tmp_path / "z", "--g", 0)
+    assert code == 2 and "--g" in err

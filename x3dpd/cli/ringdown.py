@@ -36,7 +36,7 @@ from x3dpd.cli.temperature_option import temperature_option
 )
 @click.option(
     "--drive-until",
-    type=float,
+    type=click.FloatRange(min=0.0),
     default=1.0,
     show_default=True,
     metavar="T",
@@ -44,7 +44,7 @@ from x3dpd.cli.temperature_option import temperature_option
 )
 @click.option(
     "--ring",
-    type=float,
+    type=click.FloatRange(min=0.0, min_open=True),
     default=2.0,
     show_default=True,
     metavar="T",
@@ -54,10 +54,10 @@ from x3dpd.cli.temperature_option import temperature_option
 @click.option(
     "--g",
     "g",
-    type=float,
-    default=386.1,
-    show_default=True,
-    help="Gravity in the deck's units (dB re 1 g).",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=None,
+    help="One standard gravity for dB re 1 g [length/s^2] (default: in the deck's units, its "
+    "UNITS card's, or the trace's: 386.1 in/s^2, 9.80665 m/s^2).",
 )
 @click.option(
     "--measured",

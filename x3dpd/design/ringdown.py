@@ -15,13 +15,13 @@ import numpy as np
 from x3dpd.api import run, run_config
 from x3dpd.api.decks import Deck, build_model
 from x3dpd.api.measurements import (
-    G_IN_S2,
     Ringdown,
     cycles_needed,
     damping_vs_amplitude,
     rest_offset,
 )
 from x3dpd.errors import InputError
+from x3dpd.units import standard_gravity
 
 #: Samples per cycle recorded for a deck's ring-down (the analysis needs >= ~20).
 SAMPLES_PER_CYCLE = 100
@@ -42,11 +42,14 @@ def ringdown_of_deck(
     ring: float,
     drive: tuple[str, ...] = (),
     dt: float | None = None,
-    g: float = G_IN_S2,
+    g: float | None = None,
     **options,
 ) -> Ringdown:
     """Drive a deck (its USRFRC card, or ``drive`` specs) until ``drive_until``, release it and
-    record ``ring`` seconds of free ring-down of ``node`` along ``dof``; analyse that."""
+    record ``ring`` seconds of free ring-down of ``node`` along ``dof``; analyse that. ``g``:
+    one standard gravity for dB re 1 g, by default in the deck's units (its UNITS card)."""
+    if g is None:
+        g = standard_gravity(deck.units.system if deck.units is not None else None)
     if dof not in (1, 2, 3):
         raise InputError(f"--dof {dof}: the ring-down reads a coordinate, dof 1, 2 or 3")
     driven = run_config(

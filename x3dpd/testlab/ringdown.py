@@ -8,6 +8,7 @@ The analysis itself (Hilbert envelope, matched-slope spline, local log decrement
 
 from __future__ import annotations
 
+import json
 import math
 import os
 from pathlib import Path
@@ -27,6 +28,7 @@ from x3dpd.design.baselines import without_particles
 from x3dpd.design.ringdown import ringdown_of_deck, signal_of
 from x3dpd.design.spec import default_drive_point
 from x3dpd.errors import InputError
+from x3dpd.units import standard_gravity
 
 
 def ringdown_of_trace(
@@ -101,7 +103,7 @@ def ringdown_command(
     drive_until: float = 1.0,
     ring: float = 2.0,
     no_baseline: bool = False,
-    g: float = G_IN_S2,
+    g: float | None = None,
     overwrite: bool = False,
     measured: tuple[str, ...] = (),
     temperature: str | None = None,
@@ -110,19 +112,23 @@ def ringdown_command(
     """``x3dpd ringdown``: a trace file, or a deck (driven, released, with its baseline);
     ``measured`` ring-downs (CSV or UFF files) are analysed the same way and overlaid;
     ``temperature`` (not None) runs a deck at that operating temperature (its TEMPERATURE
-    card's replaced)."""
+    card's replaced). ``g``: one standard gravity for dB re 1 g [length/s^2], by default in the
+    deck's units (its UNITS card; a trace's, from its sidecar): 386.1 in/s^2, 9.80665 m/s^2."""
     from x3dpd.api import load_deck
     from x3dpd.api.decks import with_temperature
 
+    src = Path(source)
+    is_trace = src.name.endswith(".txt") or Path(str(src) + ".json").exists()
+    if is_trace and temperature is not None:
+        raise InputError(f"--temperature {temperature}: {src} is a trace; it applies to a deck")
+    deck = None if is_trace else load_deck(src)
+    if g is None:
+        g = standard_gravity(_trace_system(src) if is_trace else _deck_system(deck))
     measured_series = {}
     for path in measured:  # read and analysed first: a bad file stops before any run
         label, rd = ringdown_of_measured(path, g=g)
         measured_series[f"measured {label}"] = rd
-    src = Path(source)
-    is_trace = src.name.endswith(".txt") or Path(str(src) + ".json").exists()
     series: dict[str, Ringdown] = {}
-    if is_trace and temperature is not None:
-        raise InputError(f"--temperature {temperature}: {src} is a trace; it applies to a deck")
     if is_trace:
         if node is None:
             raise InputError(f"{src}: give --node N (the node of the trace to analyse)")
@@ -130,7 +136,6 @@ def ringdown_command(
         if baseline:
             series["baseline"] = ringdown_of_trace(baseline, node, dof, t_from=t_from, g=g)
     else:
-        deck = load_deck(src)
         if temperature is not None:
             deck = with_temperature(deck, temperature)
         if node is None:
@@ -152,3 +157,20 @@ def ringdown_command(
         )
     echo(f"wrote {csv} and {png}")
     return series
+
+
+def _deck_system(deck):
+    """The (length, force, time) units of a deck (its UNITS card), None for the default."""
+    return deck.units.system if deck.units is not None else None
+
+
+def _trace_system(trace: Path):
+    """The (length, force, time) units a trace's sidecar records, None without one."""
+    sidecar = Path(str(trace) + ".json")
+    try:
+        units = json.loads(sidecar.read_text()).get("units") if sidecar.is_file() else None
+    except (OSError, ValueError):
+        units = None
+    if not units or not all(k in units for k in ("length", "force", "time")):
+        return None
+    return units["length"], units["force"], units["time"]
