@@ -226,3 +226,19 @@ def test_the_written_deck_s_time_step_is_reported(tmp_path, capsys):
     kept = tmp_path / "kept.inp"
     assert run_cli("fill", DECKS / "beam_64.inp", "--n", 5, "--keep-dt", "-o", kept) == 0
     assert "DTMAX" not in capsys.readouterr().out
+
+
+def test_settle_refuses_a_deck_without_particles():
+    """The API's settle on a structure alone (it took the smallest radius of no particles: a
+    numpy traceback)."""
+    from dataclasses import replace
+
+    from factories import sdof_deck
+
+    from x3dpd.api.settle import settle
+    from x3dpd.deck.cards import Body
+    from x3dpd.errors import InputError
+
+    deck = replace(sdof_deck(dt=1e-5, hz=37.0), body=Body(0.0, -386.1, 0.0))
+    with pytest.raises(InputError, match="has no particles to settle"):
+        settle(deck, 0.01)

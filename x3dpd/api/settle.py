@@ -101,6 +101,8 @@ def settle(deck: Deck, seconds: float | None = None, *, max_falls: float = MAX_F
         )
     if seconds is not None and not seconds > 0.0:
         raise InputError(f"--settle {seconds!r}: expected a time > 0 [s] or auto")
+    if model.n_particles == 0:
+        raise InputError(f"{deck.path}: --settle: the deck has no particles to settle")
     p0, walls = model.particle_start, np.unique(model.tri_nodes)
     # the cavity's frame: its wall nodes, or (analytic walls) the rigid bodies that carry them
     frame = walls if walls.size else np.asarray(model.rigid_master, np.int64)
