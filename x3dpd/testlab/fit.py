@@ -221,5 +221,11 @@ def fit_command(
     )
     if not math.isfinite(fit.fn_se) or fit.residual > 0.2:
         echo("note: the residual is large: is the band around one mode only (--band LO:HI)?")
+    if not lo <= fit.fn <= hi:
+        echo(
+            f"note: the fitted natural frequency {fit.fn:.6g} Hz lies outside the band "
+            f"{lo:g}-{hi:g} Hz: the band holds no resonance and the fit extrapolates to one "
+            "(its damping is then weakly determined); give a band around the peak"
+        )
     echo(f"wrote {paths[0]} and {paths[1]}")
     return fit
