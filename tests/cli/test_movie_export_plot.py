@@ -287,3 +287,18 @@ def test_a_cavity_whose_master_is_not_traced_is_flagged(tmp_path, capsys):
     assert "8 wall vertices can move" in capsys.readouterr().err
     assert run_cli("movie", SHORT_RUNS_TRACES["beam_1.inp"], "-o", tmp_path / "n.png") == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_a_movie_outside_the_trace_s_times_says_where_they_are(tmp_path, capsys):
+    """beam_64's short run writes output times from 0 to its end: a still --at after the end or
+    a movie from after it is refused naming the trace's span (it said only "no output time in
+    the requested range"), and nothing is written."""
+    from cli_helpers import refused
+
+    trace = SHORT_RUNS_TRACES["beam_64.inp"]
+    last = float(read_trace(trace).times[-1])
+    span = f"its output times run from 0 to {last:g} s: "
+    refused(capsys, "movie", trace, "-o", tmp_path / "a.png", "--at", 99,
+            message=span + "none at or after --at 99 s", folder=tmp_path)  # fmt: skip
+    refused(capsys, "movie", trace, "-o", tmp_path / "b.gif", "--from", 98, "--to", 99,
+            message=span + "none from 98 s to 99 s", folder=tmp_path)  # fmt: skip

@@ -6,6 +6,7 @@ import click
 
 from x3dpd.api.figures import VIEWS, write_movie
 from x3dpd.api.traces import iter_blocks
+from x3dpd.errors import InputError
 from x3dpd.cli._trace_scene import DECK_HELP, load_scene
 from x3dpd.cli.outputs import refuse_existing
 
@@ -58,6 +59,18 @@ def movie(trace, output, every, fps, view, t_from, t_to, t_at, deck, overwrite) 
     info, _, scene = load_scene(trace, deck)
     lo = t_at if t_at is not None else (t_from if t_from is not None else float("-inf"))
     hi = t_to if t_to is not None else float("inf")
+    first, last = info.meta.get("t0"), info.meta.get("last_time")
+    if first is not None and last is not None and not (lo <= last and hi >= first and lo <= hi):
+        none = (
+            f"none at or after --at {t_at:g} s"
+            if t_at is not None
+            else f"none from {_g(lo)} to {_g(hi)}"
+        )
+        raise InputError(f"{trace}: its output times run from {first:g} to {last:g} s: {none}")
     blocks = iter_blocks(trace, info.node_ids.shape[0], every=every, t_from=lo, t_to=hi)
     n = write_movie(output, scene, blocks, view=view, fps=fps)
     click.echo(f"x3dpd: {trace} -> {output} ({n} frame{'s' if n != 1 else ''}, view {view})")
+
+
+def _g(t: float) -> str:
+    return "the start" if t == float("-inf") else "the end" if t == float("inf") else f"{t:g} s"
