@@ -55,7 +55,8 @@ def test_table_layout():
         ("node=25,dof=1,hz=3", ["missing", "amp"]),
         ("node=25,dof=1,amp=1,hz=3,law=log", ["unknown key", "'law'"]),
         ("node=24,dof=1,amp=1,hz=3", ["node=24", "not defined"]),
-        ("node=25,dof=9,amp=1,hz=3", ["dof=", "1..6"]),
+        # a motion's DOFs are displacements and rotations, not forces and moments
+        ("node=25,dof=9,amp=1,hz=3", ["dof=", "1..6 (1-3 displacements along x, y, z; 4-6 rot"]),
         ("node=25,dof=1,amp=1,hz=-3", ["hz=", "positive"]),
         ("node=25,dof=1,amp=1", ["hz=", "omega="]),
         ("node=25,dof=1,amp=inf,hz=3", ["amp=", "finite"]),

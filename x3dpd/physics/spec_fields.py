@@ -90,8 +90,12 @@ def _node_dof(what, spec, pairs, node_ids):
     except ValueError:
         dof = 0
     if not 1 <= dof <= 6:
-        raise UsrfrcError(f"{what} {spec!r}: dof={pairs['dof']!r}: expected 1..6 "
-                          "(1-3 forces x, y, z; 4-6 moments about x, y, z)")
+        meaning = (
+            "1-3 displacements along x, y, z; 4-6 rotations about them"
+            if what.startswith("motion")
+            else "1-3 forces x, y, z; 4-6 moments about x, y, z"
+        )
+        raise UsrfrcError(f"{what} {spec!r}: dof={pairs['dof']!r}: expected 1..6 ({meaning})")
     return i, dof - 1
 
 
