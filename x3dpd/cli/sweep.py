@@ -166,15 +166,20 @@ def sweep(
         raise InputError(f"--workers {workers}: expected 1 or more")
     from x3dpd.design.steady_state import Criterion
 
-    asked = Criterion(
-        tol=tol, window=window, max_cycles=max_cycles, samples_per_cycle=samples_per_cycle,
+    criterion = Criterion(
+        tol=tol,
+        window=window,
+        max_cycles=max_cycles,
+        samples_per_cycle=samples_per_cycle,
+        extrapolate=not no_extrapolate,
+        predict=not no_predict,
         replicas=replicas,
-    )  # fmt: skip
-    if asked.problems():
+    )
+    if problems := criterion.problems():
         raise InputError(
             "; ".join(
-                f"--{name.replace('_', '-')} {getattr(asked, name):g}: expected {must}"
-                for name, must in asked.problems()
+                f"--{name.replace('_', '-')} {getattr(criterion, name):g}: expected {must}"
+                for name, must in problems
             )
         )
 
@@ -190,15 +195,7 @@ def sweep(
         workers=workers,
         scheduler=scheduler,
         dt=dt,
-        criterion=Criterion(
-            tol=tol,
-            window=window,
-            max_cycles=max_cycles,
-            samples_per_cycle=samples_per_cycle,
-            extrapolate=not no_extrapolate,
-            predict=not no_predict,
-            replicas=replicas,
-        ),
+        criterion=criterion,
         overwrite=overwrite,
         responses=response,
         drive=drive,

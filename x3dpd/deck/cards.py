@@ -340,3 +340,9 @@ class Deck:
     unit_records: tuple[UnitRecord, ...] | None = None
     #: TEMPERATURE card (x3dpd.deck.temperature_card); None: the deck's numbers as they stand
     temperature: Temperature | None = None
+
+    @property
+    def unit_system(self) -> tuple[str, str, str] | None:
+        """The (length, force, time) units of its UNITS card, None without one (inch-lbf-s:
+        x3dpd.units.DEFAULT)."""
+        return self.units.system if self.units is not None else None

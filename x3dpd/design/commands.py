@@ -70,7 +70,7 @@ def sweep_command(
     deck = read_deck(deck_path)
     if temperature is not None:
         deck = with_temperature(deck, temperature)
-    system = deck.units.system if deck.units is not None else None
+    system = deck.unit_system
     quantity, drives = parse_amplitudes(amps, drive, standard_gravity(system))
     measured = parse_responses(responses, deck)
     auto = parse_auto_band(freq)
@@ -169,7 +169,7 @@ def sweep_command(
             "the same command resumes the sweep"
         )
         raise
-    length, force, unit_t = deck.units.system if deck.units is not None else ("in", "lbf", "s")
+    length, force, unit_t = deck.unit_system or ("in", "lbf", "s")
     if auto:  # the baselines' curves and overlays over the band the search visited
         spec = replace(spec, frequencies=tuple(sorted({r["frequency_hz"] for r in rows})))
         for p in read_csv(Path(out) / "peaks.csv"):
@@ -247,7 +247,7 @@ def _base_outputs(
         ).reshape(np.shape(w))
 
     curves = {r: baseline_curves(spec, response=r) for r in spec.responses}
-    system = spec.deck.units.system if spec.deck.units is not None else None
+    system = spec.deck.unit_system
     lab, g = labels_for(system), standard_gravity(system)
     unit = {
         "displacement": lab["length"],

@@ -379,7 +379,7 @@ def _degrees(deck: Deck, model) -> float:
     (degF for inch decks, degC for metric ones) to 12 digits, NaN without one."""
     if model.temperature is None:
         return math.nan
-    system = deck.units.system if deck.units is not None else None
+    system = deck.unit_system
     degrees = from_kelvin(model.temperature.operating, temperature_unit_for(system))
     return float(f"{degrees:.12g}")  # 70 F back as 70, not 69.99999999999996
 

@@ -156,7 +156,7 @@ def _figures(out: Path, design: DesignFile, rows: list[dict], configs: list[Conf
         return []
     title = design.title
     deck = configs[0].made.deck
-    units = labels_for(deck.units.system if deck.units is not None else None)
+    units = labels_for(deck.unit_system)
     if design.evaluation.kind == "ringdown":
         return [
             plot_damping_families(

@@ -49,7 +49,7 @@ def ringdown_of_deck(
     record ``ring`` seconds of free ring-down of ``node`` along ``dof``; analyse that. ``g``:
     one standard gravity for dB re 1 g, by default in the deck's units (its UNITS card)."""
     if g is None:
-        g = standard_gravity(deck.units.system if deck.units is not None else None)
+        g = standard_gravity(deck.unit_system)
     if dof not in (1, 2, 3):
         raise InputError(f"--dof {dof}: the ring-down reads a coordinate, dof 1, 2 or 3")
     driven = run_config(

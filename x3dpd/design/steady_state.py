@@ -340,7 +340,7 @@ def cap_flag(row: dict) -> str:
     if row["converged"]:
         return ""
     tau = row.get("tau_cycles", math.nan)
-    if not tau == tau:
+    if math.isnan(tau):
         return "  NOT CONVERGED (cap)"
     return (
         f"  NOT CONVERGED (cap; tau {tau:.0f} cycles: an interval needs about "

@@ -8,7 +8,6 @@ The analysis itself (Hilbert envelope, matched-slope spline, local log decrement
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from pathlib import Path
@@ -16,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from x3dpd.api import read_trace
+from x3dpd.api.traces import trace_info
 from x3dpd.api.figures import plot_ringdown
 from x3dpd.api.measurements import (
     G_IN_S2,
@@ -27,7 +27,7 @@ from x3dpd.api.measurements import (
 from x3dpd.design.baselines import without_particles
 from x3dpd.design.ringdown import ringdown_of_deck, signal_of
 from x3dpd.design.spec import default_drive_point
-from x3dpd.errors import InputError
+from x3dpd.errors import InputError, TraceError
 from x3dpd.units import standard_gravity
 
 
@@ -123,7 +123,7 @@ def ringdown_command(
         raise InputError(f"--temperature {temperature}: {src} is a trace; it applies to a deck")
     deck = None if is_trace else load_deck(src)
     if g is None:
-        g = standard_gravity(_trace_system(src) if is_trace else _deck_system(deck))
+        g = standard_gravity(_trace_system(src) if is_trace else deck.unit_system)
     measured_series = {}
     for path in measured:  # read and analysed first: a bad file stops before any run
         label, rd = ringdown_of_measured(path, g=g)
@@ -159,18 +159,11 @@ def ringdown_command(
     return series
 
 
-def _deck_system(deck):
-    """The (length, force, time) units of a deck (its UNITS card), None for the default."""
-    return deck.units.system if deck.units is not None else None
-
-
 def _trace_system(trace: Path):
-    """The (length, force, time) units a trace's sidecar records, None without one."""
-    sidecar = Path(str(trace) + ".json")
+    """The (length, force, time) units a trace's sidecar records, None without a sidecar (the
+    trace's own reading then says what is wrong with it)."""
     try:
-        units = json.loads(sidecar.read_text()).get("units") if sidecar.is_file() else None
-    except (OSError, ValueError):
-        units = None
-    if not units or not all(k in units for k in ("length", "force", "time")):
+        units = trace_info(trace).units
+    except TraceError:
         return None
-    return units["length"], units["force"], units["time"]
+    return units.get("length", "in"), units.get("force", "lbf"), units.get("time", "s")
