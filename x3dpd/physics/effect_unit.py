@@ -15,19 +15,24 @@ calls the hooks of the scene's units in registry order -- first those that list 
 their ``first``, then the others -- and a slot no unit of the scene fills compiles to
 nothing. One step of velocity Verlet (report Section 7.3, docs/engine.md):
 
-1. the first half kick and the drift of every node, the rigid bodies' turn; then ``drift``;
-   then the rigid bodies' slaves follow; then ``follow``;
-2. the forces at the new positions: the body forces, then ``force``, then the loads, the wall
-   and pair contacts, and the slaves' forces gathered onto their masters; then ``kick``;
-3. the second half kick; at a step whose full-step velocities are wanted (an output row, the
-   end of a call, a stop) ``place``, then the rigid slaves;
+1. ``first_half_kick`` (unless the last step's pass did it), the first half kick of every
+   node, the drift of every node; then ``drift``; then ``follow``;
+2. the forces at the new positions: the body forces, then ``force``, then the wall and pair
+   contacts; then ``gather``; then ``kick``;
+3. ``second_half_kick`` and the nodes' second half kick (fused with the next step's first half
+   kicks when no full-step velocities are wanted); at a step whose full-step velocities are
+   wanted (an output row, the end of a call, a stop) ``place``;
 4. at an output row the energies: the nodes', the contacts', then ``energy``.
 
-The prescribed motions (x3dpd.physics.motion) are the last unit: their ``drift`` runs after
-the other units' (a modal node may be driven), their ``kick`` and ``place`` before them
-(``first``).
+The rigid bodies (x3dpd.physics.rigid_link) run ``first`` in ``drift`` and ``follow``: a body
+turns before the units that drive bodies set their turn (the modes), and its slaves follow
+before the units' own coordinates do; its ``place`` runs after the modes' (a modal master's
+slaves follow it). The prescribed motions (x3dpd.physics.motion) are registered after them:
+their ``drift`` runs after the other units' (a modal node may be driven), their ``kick`` and
+``place`` before them (``first``). The bodies' bundle is the one every hook gets as ``rigid``:
+the units that drive a body (the modes, the motions) and the walls ride them.
 
-A hook of the slots ``drift``, ``follow``, ``force``, ``kick`` and ``place`` is a
+A hook of any slot but ``energy`` is a
 ``step_kernel`` ``hook(u, nodes, rigid, stepping, t)``: ``u`` the unit's bundle; ``nodes``
 the nodes (``x``, ``x0``, ``vel``, ``force``, ``inv_m`` ...), ``rigid`` the rigid bodies
 (``rot``: each body's rotation), ``stepping`` the step (``dt``, ``ledger``), ``t`` the time
@@ -64,10 +69,22 @@ findings ``(code, headline, lines)``) need no code of the unit's. A unit fed by 
 instead of the deck (the prescribed motions of ``--motion``) finds its arrays in
 ``model.unit_data[name]`` too, put there by x3dpd.solver.simulation for ``setup``.
 
+Setup
+-----
+The solver builds every unit's constants in three passes over the registry
+(x3dpd.solver.state): ``lump(model, nodes)`` of the units that have one, before the inverse
+masses are formed -- the rigid bodies put each body's mass and inertia on its master and none
+on its slaves (``nodes``: ``fixed``, ``kin_mass``, ``kin_inertia`` and ``carried``, the nodes
+another node carries, which velocity Verlet leaves alone), and may put arrays there that
+other units' ``setup`` changes (``rig_free_rot``: a driven or modal master's rotation is not
+free); then every unit's ``setup``; then ``finish(constants, nodes)`` of those that have one
+(the bodies' inverse inertia, once the other units took their DOFs). A unit's constants are
+what its ``lump`` and its ``setup`` return.
+
 Python-side hooks (plain functions, optional): ``setup(model, dt, nodes)`` returns the unit's
 constant arrays by bundle field from the model (x3dpd.model.model.Model) and the step ``dt``,
 and may take the unit's nodes out of velocity Verlet by changing the node arrays in ``nodes``
-(``inv_m``, ``mass``, ``kin_mass``, ``kin_inertia``, ``rig_free_rot``, ``rig_inv_ib``: the
+(``inv_m``, ``mass``, ``kin_mass``, ``kin_inertia``, ``rig_free_rot``: the
 modes carry their nodes), and add constant forces to their body forces ``fbody`` (gravity);
 ``start(u, force)`` runs after the forces at a state were evaluated (t0, a state set from
 outside), before the first step; ``stiffness(c)`` gives, from the
@@ -78,15 +95,22 @@ bodies whose rotation the unit sets.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Mapping
+
+import numpy as np
 
 #: The slots of the step loop, in the order a step calls them, with what a hook there does.
 SLOTS = {
-    "drift": "place the unit's nodes after the free drift, before rigid slaves follow",
-    "follow": "advance the unit's own coordinates with the nodes' half-step velocities",
+    "first_half_kick": "kick the unit's own velocities by half a step, before the nodes' "
+                       "first half kick (which resets the forces)",
+    "drift": "place the unit's nodes after the free drift, before carried nodes follow",
+    "follow": "move what follows the drifted nodes: the nodes the unit carries, its own "
+              "coordinates (with the nodes' half-step velocities)",
     "force": "add the unit's forces and moments at the step's new positions",
-    "kick": "take the step's summed forces (after the slaves' are gathered)",
+    "gather": "move the forces on the nodes the unit carries onto those that carry them",
+    "kick": "take the step's summed forces (after the carried nodes' are gathered)",
+    "second_half_kick": "kick the unit's own velocities by the step's second half",
     "place": "set the unit's nodes' full-step velocities (output rows, a call's end)",
     "energy": "add the unit's kinetic and stored energy, return its share of S",
 }
@@ -111,6 +135,14 @@ class StateArray:
     name: str                     # the state's and the restart dump's name
     rows: str                     # the constant whose rows it has one row per
     columns: tuple[int, ...] = ()
+    #: its value at t0 from its row count (zeros without: a rigid body's rotation starts at I)
+    initial: Callable | None = None
+
+    def at_start(self, rows: int) -> np.ndarray:
+        """The array at t0 for ``rows`` rows."""
+        if self.initial is not None:
+            return np.ascontiguousarray(self.initial(rows), dtype=np.float64)
+        return np.zeros((rows,) + self.columns)
 
 
 @dataclass(frozen=True)
@@ -148,9 +180,17 @@ class EffectUnit:
     step_start: bool = False
     #: constants of the variant its hooks take after the slot's arguments (module docstring)
     variant_args: tuple[str, ...] = ()
+    #: slot -> the Variant flag without which its hook there is not compiled: a hook only an
+    #: effect beside the unit's own calls for (the rigid bodies' kicks and turn: a turning body)
+    only_with: Mapping[str, str] = field(default_factory=dict)
     state: tuple[StateArray, ...] = ()
     #: scratch arrays of the bundle: (field, the state field it is shaped like)
     scratch: tuple[tuple[str, str], ...] = ()
+    #: (model, nodes) -> its constants by bundle field, before the inverse masses are formed
+    #: (module docstring, "Setup"): a unit whose nodes carry others' masses (the rigid bodies)
+    lump: Callable | None = None
+    #: (constants, nodes) after every unit's ``setup`` (module docstring, "Setup")
+    finish: Callable | None = None
     start: Callable | None = None
     stiffness: Callable | None = None
     turns: Callable | None = None

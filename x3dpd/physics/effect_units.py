@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from x3dpd.physics import (axial_spring, external_force, gravity, modal, motion,
+from x3dpd.physics import (axial_spring, external_force, gravity, modal, motion, rigid_link,
                            rotational_spring, spring_damper)
 from x3dpd.physics.effect_unit import SLOTS, EffectUnit, StateArray, UnitCard
 
@@ -48,6 +48,10 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
                 raise ValueError(f"{where}: no slot {slot!r}; the slots are {list(SLOTS)}")
             if not callable(getattr(m, hook, None)):
                 raise ValueError(f"{where}: its {slot} hook {hook!r} is not in the module")
+        if not set(unit.only_with) <= set(unit.hooks):
+            missing = sorted(set(unit.only_with) - set(unit.hooks))
+            raise ValueError(f"{where}: it compiles hooks only with a flag in {missing} "
+                             "without a hook there")
         if not set(unit.first) <= set(unit.hooks):
             missing = sorted(set(unit.first) - set(unit.hooks))
             raise ValueError(f"{where}: it runs first in {missing} without a hook there")
@@ -78,10 +82,12 @@ def _register(*modules) -> tuple[EffectUnit, ...]:
     return tuple(out)
 
 
-#: The effect units, in the order the slots call them.
-#: Gravity is last: the masses it weighs are the nodes' after the modes took theirs.
+#: The effect units, in the order the slots call them (x3dpd.physics.effect_unit, "The slots").
+#: The rigid bodies come after the modes (a modal master's slaves follow it), the prescribed
+#: motions after both; gravity is last: the masses it weighs are the nodes' after the modes
+#: took theirs.
 UNITS: tuple[EffectUnit, ...] = _register(spring_damper, axial_spring, rotational_spring, modal,
-                                         motion, external_force, gravity)
+                                         rigid_link, motion, external_force, gravity)
 #: Effect unit by name.
 BY_UNIT_NAME = {u.name: u for u in UNITS}
 #: Effect unit by the name of its own card (those that have one).

@@ -9,10 +9,15 @@ The master carries the body's mass and inertia tensor (parallel-axis theorem, bu
 model); the rotation :math:`\\mathsf R` advances by Rodrigues' formula with
 :math:`\\Delta t\\,\\omega`.
 
-The bodies are part of the integrator, as the nodes are (docs/architecture.md, "What is not a
-unit"): the step loop calls their kernels at the half kicks, after the drift and after the
-contacts. This module holds their law, their kernels, their bundle :class:`RigidBodies` and
-its builder from the model (:func:`rigid_body_arrays`, :func:`free_rotation_inverses`).
+The bodies are an effect unit (x3dpd.physics.effect_unit) whose hooks sit at the integrator's
+own slots: their rotation's half kicks (``first_half_kick``, ``second_half_kick``), their turn
+after the drift (``drift``, first), their slaves following (``follow``, first; ``place``) and
+the slaves' forces gathered onto their masters after the contacts (``gather``); the
+rotation's law (Euler's equations, the turn) is x3dpd.physics.rigid_rotation's. Their masses
+are lumped on the masters before the inverse masses are formed (``lump``), their inverse
+inertia formed after the other units took their DOFs (``finish``). Their bundle
+:class:`RigidBodies` is the one every hook gets as ``rigid``: the modes turn a modal master,
+the prescribed motions move a driven one, and the walls ride the bodies.
 """
 
 from __future__ import annotations
@@ -23,6 +28,8 @@ from typing import NamedTuple
 import numpy as np
 
 from x3dpd._jit import shared_kernel, step_kernel
+from x3dpd.physics.effect_unit import EffectUnit, StateArray
+from x3dpd.physics.rigid_rotation import _rigid_angular_kick, _rotate
 
 
 class RigidBodies(NamedTuple):
@@ -38,19 +45,20 @@ class RigidBodies(NamedTuple):
     free_rot: np.ndarray     # (B, 3) bool: which rotations of the master are free
 
 
-def rigid_body_arrays(model, fixed: np.ndarray, kin_mass: np.ndarray,
-                      kin_inertia: np.ndarray) -> tuple[dict, np.ndarray]:
-    """The rigid bodies' constant arrays of ``model`` (the RBEL card's bodies, built with the
-    model: masters, slaves, each body's mass and inertia tensor about its master), by their
-    Setup names (``rig_*``), and the slave mask (n,). Each master carries its body's mass and
-    principal inertia in ``kin_mass`` (n,) and ``kin_inertia`` (n, 3), its slaves none (both
-    changed in place); a body turns about the master's rotational DOFs that ``fixed`` (n, 6)
-    leaves free. ``rig_inv_ib`` is zero until :func:`free_rotation_inverses`."""
-    n, nb = fixed.shape[0], model.rigid_master.shape[0]
+def _lump(model, nodes: dict) -> dict:
+    """The bodies' constants of ``model`` by bundle field (the RBEL card's bodies, built with
+    the model: masters, slaves, each body's mass and inertia tensor about its master). Each
+    master carries its body's mass and principal inertia in ``nodes["kin_mass"]`` (n,) and
+    ``nodes["kin_inertia"]`` (n, 3), its slaves none and are ``carried``; a body turns about the
+    master's rotational DOFs that ``nodes["fixed"]`` (n, 6) leaves free
+    (``nodes["rig_free_rot"]``, which the units that drive a master clear). ``inv_ib`` is zero
+    until :func:`_finish`."""
+    fixed, kin_mass, kin_inertia = nodes["fixed"], nodes["kin_mass"], nodes["kin_inertia"]
+    nb = model.rigid_master.shape[0]
     free_rot = np.zeros((nb, 3), dtype=np.bool_)
     r0 = np.zeros((model.rigid_slaves.shape[0], 3))
     ib = np.ascontiguousarray(model.rigid_inertia, dtype=np.float64).reshape(nb, 3, 3).copy()
-    slave = np.zeros(n, dtype=bool)
+    slave = nodes["carried"]
     for b in range(nb):
         m = int(model.rigid_master[b])
         sl = model.rigid_slaves[model.rigid_ptr[b]:model.rigid_ptr[b + 1]]
@@ -61,25 +69,32 @@ def rigid_body_arrays(model, fixed: np.ndarray, kin_mass: np.ndarray,
         free_rot[b] = ~fixed[m, 3:6]
     kin_mass[slave] = 0.0
     kin_inertia[slave] = 0.0
-    arrays = {"rig_master": np.ascontiguousarray(model.rigid_master, dtype=np.int64),
-              "rig_ptr": np.ascontiguousarray(model.rigid_ptr, dtype=np.int64),
-              "rig_slaves": np.ascontiguousarray(model.rigid_slaves, dtype=np.int64),
-              "rig_r0": r0, "rig_ib": ib, "rig_inv_ib": np.zeros((nb, 3, 3)),
-              "rig_free_rot": free_rot}
-    return arrays, slave
+    nodes["rig_free_rot"] = free_rot
+    return {"master": np.ascontiguousarray(model.rigid_master, dtype=np.int64),
+            "ptr": np.ascontiguousarray(model.rigid_ptr, dtype=np.int64),
+            "slaves": np.ascontiguousarray(model.rigid_slaves, dtype=np.int64),
+            "r0": r0, "inv_ib": np.zeros((nb, 3, 3)), "ib": ib, "free_rot": free_rot}
 
 
-def free_rotation_inverses(arrays: dict, inv_m: np.ndarray) -> None:
-    """After the effect units took their DOFs (a driven or modal master's rotation is not
+def _setup(model, dt, nodes) -> dict:
+    """Nothing beyond what :func:`_lump` built."""
+    return {}
+
+
+def _finish(constants: dict, nodes: dict) -> None:
+    """After the other units took their DOFs (a driven or modal master's rotation is not
     free): a body with a free rotational DOF turns under the full inertia tensor, in a kick of
-    its own (:func:`_rigid_angular_kick`): ``rig_inv_ib`` its inverse, and the master's
-    rotational inverse masses in ``inv_m`` (n, 6) zero (velocity Verlet leaves them alone)."""
-    for b in range(arrays["rig_master"].shape[0]):
-        if arrays["rig_free_rot"][b].any():
-            arrays["rig_inv_ib"][b] = np.linalg.inv(arrays["rig_ib"][b])
-            inv_m[int(arrays["rig_master"][b]), 3:6] = 0.0
+    its own (x3dpd.physics.rigid_rotation): ``inv_ib`` its inverse, and the master's rotational
+    inverse masses in ``nodes["inv_m"]`` (n, 6) zero (velocity Verlet leaves them alone)."""
+    for b in range(constants["master"].shape[0]):
+        if constants["free_rot"][b].any():
+            constants["inv_ib"][b] = np.linalg.inv(constants["ib"][b])
+            nodes["inv_m"][int(constants["master"][b]), 3:6] = 0.0
 
 
+def _rotations_at_start(rows: int) -> np.ndarray:
+    """Every body's rotation since t0 at t0: the identity."""
+    return np.tile(np.eye(3), (rows, 1, 1)) if rows else np.zeros((0, 3, 3))
 
 
 @shared_kernel
@@ -164,110 +179,63 @@ def _gather_slaves(x, force, masters, ptr, slaves, rotating=True):
                 force[s, d] = 0.0
 
 
-@step_kernel
-def _rotate(rot, masters, vel, dt):
-    """R <- exp(dt [omega]x) R (Rodrigues) for every rigid body."""
-    for b in range(masters.shape[0]):
-        m = masters[b]
-        wx = vel[m, 3] * dt
-        wy = vel[m, 4] * dt
-        wz = vel[m, 5] * dt
-        th = math.sqrt(wx * wx + wy * wy + wz * wz)
-        if th == 0.0:
-            continue
-        kx = wx / th
-        ky = wy / th
-        kz = wz / th
-        c = math.cos(th)
-        s = math.sin(th)
-        v = 1.0 - c
-        q00 = c + kx * kx * v
-        q01 = kx * ky * v - kz * s
-        q02 = kx * kz * v + ky * s
-        q10 = ky * kx * v + kz * s
-        q11 = c + ky * ky * v
-        q12 = ky * kz * v - kx * s
-        q20 = kz * kx * v - ky * s
-        q21 = kz * ky * v + kx * s
-        q22 = c + kz * kz * v
-        for j in range(3):
-            a0 = rot[b, 0, j]
-            a1 = rot[b, 1, j]
-            a2 = rot[b, 2, j]
-            rot[b, 0, j] = q00 * a0 + q01 * a1 + q02 * a2
-            rot[b, 1, j] = q10 * a0 + q11 * a1 + q12 * a2
-            rot[b, 2, j] = q20 * a0 + q21 * a1 + q22 * a2
-
-
-#: Fixed-point iterations of the implicit half kick: each multiplies the error by about
-#: h |omega| (I_max/I_min), far below 1 for any stable step; three leave it below rounding.
-IMPLICIT_ITERATIONS = 3
+# The unit's hooks in the step loop's slots (x3dpd.physics.effect_unit, "The slots"); ``u`` is
+# the bodies' bundle (the one every hook gets as ``rigid``), ``rotating`` the variant's
+# HAS_RIGID_ROTATION (some master has a free rotational DOF: else R = I and omega = 0). The
+# kicks and the turn are compiled only with it (``only_with``): a loop whose bodies cannot turn
+# holds none of their code, as the loop's own branches did before the bodies were a unit.
 
 
 @step_kernel
-def _times(m, b, x0, x1, x2):
-    """m[b] @ x for a stack of 3x3 matrices ``m`` (written out: no array in the loop)."""
-    return (m[b, 0, 0] * x0 + m[b, 0, 1] * x1 + m[b, 0, 2] * x2,
-            m[b, 1, 0] * x0 + m[b, 1, 1] * x1 + m[b, 1, 2] * x2,
-            m[b, 2, 0] * x0 + m[b, 2, 1] * x1 + m[b, 2, 2] * x2)
+def first_half_kick_hook(u, nodes, rigid, stepping, t, rotating):
+    """omega(n+1/2) = omega(n) + dt/2 alpha(n), explicit (x3dpd.physics.rigid_rotation)."""
+    _rigid_angular_kick(nodes, u, 0.5 * stepping.dt, False)
 
 
 @step_kernel
-def _times_transposed(m, b, x0, x1, x2):
-    """m[b]^T @ x for a stack of 3x3 matrices ``m``."""
-    return (m[b, 0, 0] * x0 + m[b, 1, 0] * x1 + m[b, 2, 0] * x2,
-            m[b, 0, 1] * x0 + m[b, 1, 1] * x1 + m[b, 2, 1] * x2,
-            m[b, 0, 2] * x0 + m[b, 1, 2] * x1 + m[b, 2, 2] * x2)
+def drift_hook(u, nodes, rigid, stepping, t, rotating):
+    """The bodies' turn after the drift: R(n+1) = exp(dt [omega(n+1/2)]x) R(n)."""
+    _rotate(u.rot, u.master, nodes.vel, stepping.dt)
 
 
 @step_kernel
-def _angular_acceleration(b, w0, w1, w2, m0, m1, m2, rot, inertia_body_inv, inertia_body):
-    """I_w^{-1} (M - omega x I_w omega) of body ``b``, I_w = R I_b R^T (Euler's equations in the
-    space frame) [rad/s^2]."""
-    # world-frame angular momentum R I_b R^T w
-    wb0, wb1, wb2 = _times_transposed(rot, b, w0, w1, w2)
-    lb0, lb1, lb2 = _times(inertia_body, b, wb0, wb1, wb2)
-    l0, l1, l2 = _times(rot, b, lb0, lb1, lb2)
-    t0 = m0 - (w1 * l2 - w2 * l1)
-    t1 = m1 - (w2 * l0 - w0 * l2)
-    t2 = m2 - (w0 * l1 - w1 * l0)
-    tb0, tb1, tb2 = _times_transposed(rot, b, t0, t1, t2)
-    ab0, ab1, ab2 = _times(inertia_body_inv, b, tb0, tb1, tb2)
-    return _times(rot, b, ab0, ab1, ab2)
+def follow_hook(u, nodes, rigid, stepping, t, rotating):
+    """The slaves placed on their drifted, turned masters; their largest speed is the bound
+    of the wall nodes' displacement the contact lists' skin must cover (``stepping.nbr[5]``,
+    x3dpd.solver._advance_template._lists_upkeep)."""
+    v = _update_slaves(nodes.x, nodes.vel, u.master, u.ptr, u.slaves, u.r0, u.rot, True,
+                       rotating)
+    if not v <= stepping.nbr[5]:
+        stepping.nbr[5] = v
 
 
 @step_kernel
-def _kicked(b, w0, w1, w2, a0, a1, a2, h, free_rot):
-    """omega + h alpha on the free rotational DOFs of body ``b`` (fixed ones keep omega)."""
-    return (w0 + h * a0 if free_rot[b, 0] else w0, w1 + h * a1 if free_rot[b, 1] else w1,
-            w2 + h * a2 if free_rot[b, 2] else w2)
+def gather_hook(u, nodes, rigid, stepping, t, rotating):
+    """The slaves' forces moved onto their masters as force and moment (after the contacts)."""
+    _gather_slaves(nodes.x, nodes.force, u.master, u.ptr, u.slaves, rotating)
 
 
 @step_kernel
-def _rigid_angular_kick(vel, force, masters, rot, inertia_body_inv, inertia_body, free_rot, h,
-                        implicit):
-    """omega += h I_w^{-1} (M - omega x I_w omega), I_w = R I_b R^T, on free rotational DOFs.
+def second_half_kick_hook(u, nodes, rigid, stepping, t, rotating):
+    """omega(n+1) = omega(n+1/2) + dt/2 alpha(n+1), implicit in the gyroscopic term."""
+    _rigid_angular_kick(nodes, u, 0.5 * stepping.dt, True)
 
-    The first half kick of a step is explicit (the gyroscopic term at the step's spin); the
-    second (``implicit``) takes it at the *new* spin, solved by fixed-point iteration. With the
-    second kick explicit too, the pair of kicks is only first-order accurate for a spinning
-    body (the gyroscopic term is velocity dependent); this makes it second order, like the rest
-    of velocity Verlet.
-    """
-    for b in range(masters.shape[0]):
-        m = masters[b]
-        w0 = vel[m, 3]
-        w1 = vel[m, 4]
-        w2 = vel[m, 5]
-        a0, a1, a2 = _angular_acceleration(b, w0, w1, w2, force[m, 3], force[m, 4], force[m, 5],
-                                           rot, inertia_body_inv, inertia_body)
-        n0, n1, n2 = _kicked(b, w0, w1, w2, a0, a1, a2, h, free_rot)
-        if implicit:
-            for _ in range(IMPLICIT_ITERATIONS):
-                a0, a1, a2 = _angular_acceleration(b, n0, n1, n2, force[m, 3], force[m, 4],
-                                                   force[m, 5], rot, inertia_body_inv,
-                                                   inertia_body)
-                n0, n1, n2 = _kicked(b, w0, w1, w2, a0, a1, a2, h, free_rot)
-        vel[m, 3] = n0
-        vel[m, 4] = n1
-        vel[m, 5] = n2
+
+@step_kernel
+def place_hook(u, nodes, rigid, stepping, t, rotating):
+    """The slaves' full-step velocities from their masters' (positions stay)."""
+    _update_slaves(nodes.x, nodes.vel, u.master, u.ptr, u.slaves, u.r0, u.rot, False, rotating)
+
+
+UNIT = EffectUnit(
+    name="rigid_links", flag="rigid", effects=("rigid_links",), cards=("RBEL",),
+    bundle=RigidBodies, lump=_lump, setup=_setup, finish=_finish,
+    hooks={"first_half_kick": "first_half_kick_hook", "drift": "drift_hook",
+           "follow": "follow_hook", "gather": "gather_hook",
+           "second_half_kick": "second_half_kick_hook", "place": "place_hook"},
+    first=("drift", "follow"), variant_args=("HAS_RIGID_ROTATION",),
+    only_with={"first_half_kick": "rigid_rotation", "drift": "rigid_rotation",
+               "second_half_kick": "rigid_rotation"},
+    state=(StateArray("rot", "rot", "master", (3, 3), initial=_rotations_at_start),),
+    kernels=("_update_slaves",),
+    doc="RBEL: rigid bodies, slave nodes carried by their master's translation and turn")

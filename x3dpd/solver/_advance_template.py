@@ -25,15 +25,17 @@ from x3dpd._jit import loop_kernel, step_kernel
 from x3dpd.geometry.cells import _find_pairs
 from x3dpd.geometry.faces import (_build_wall_list, _face_offsets, _face_planes,
                                   _forget_frames)
-from x3dpd.physics.rigid_link import (_gather_slaves, _rigid_angular_kick, _rotate,
-                                      _update_slaves)
 from x3dpd.solver._template_contact import NONFINITE, OK, REALLOC_PAIRS, REALLOC_WALLS
 from x3dpd.solver._template_energy import _energies, _ledger_row
 from x3dpd.solver._template_pair_passes import _pair_contacts
-from x3dpd.solver._template_variant import (HAS_ONE_WALL_KIND, HAS_PAIRS, HAS_RIGID,
-                                            HAS_RIGID_ROTATION, HAS_SHAPES, HAS_WALLS,
-                                            HAS_WALLS_TRANSLATE, SLOT_DRIFT, SLOT_FOLLOW,
-                                            SLOT_FORCE, SLOT_KICK, SLOT_PLACE, UNIT_BUNDLES)
+from x3dpd.solver._template_variant import (FILLED_DRIFT, FILLED_FIRST_HALF_KICK,
+                                            FILLED_FOLLOW, FILLED_FORCE, FILLED_GATHER,
+                                            FILLED_KICK, FILLED_PLACE, FILLED_SECOND_HALF_KICK,
+                                            HAS_ONE_WALL_KIND, HAS_PAIRS, HAS_SHAPES,
+                                            HAS_WALLS, HAS_WALLS_TRANSLATE, SLOT_DRIFT,
+                                            SLOT_FIRST_HALF_KICK, SLOT_FOLLOW, SLOT_FORCE,
+                                            SLOT_GATHER, SLOT_KICK, SLOT_PLACE,
+                                            SLOT_SECOND_HALF_KICK, UNIT_BUNDLES)
 from x3dpd.solver._template_walls import _shape_contacts, _wall_contacts
 from x3dpd.solver.bundles import (ContactList, Faces, Nodes, Output, Particles, RigidBodies,
                                   Shapes, Stepping)
@@ -44,11 +46,12 @@ from x3dpd.solver.contact_lists import _active_flags, _merge_states, _pair_appro
 def _force_terms(t, nodes, rigid, particles, faces, walls, pairs, shapes, units, stepping):
     """Add every force but the body forces (which ``nodes.force`` holds on entry) at time t:
     the effect units' (slot ``force``: the external forces among them, last), the wall and
-    pair contacts; then the rigid slaves' forces gathered onto their masters. Returns the
-    contacts' status bits."""
+    pair contacts; then the units' slot ``gather`` (the rigid slaves' forces onto their
+    masters). Returns the contacts' status bits."""
     x = nodes.x
     status = OK
-    SLOT_FORCE(units, nodes, rigid, stepping, t)
+    if FILLED_FORCE:
+        SLOT_FORCE(units, nodes, rigid, stepping, t)
     if HAS_WALLS:
         if HAS_WALLS_TRANSLATE:
             _face_offsets(x, faces.tri_nodes, faces.first_tri, faces.normal, faces.offset)
@@ -67,8 +70,8 @@ def _force_terms(t, nodes, rigid, particles, faces, walls, pairs, shapes, units,
                                   faces.offset.shape[0])
     if HAS_PAIRS:
         status |= _pair_contacts(nodes, particles, pairs, stepping, pairs.first_new)
-    if HAS_RIGID:
-        _gather_slaves(x, nodes.force, rigid.master, rigid.ptr, rigid.slaves, HAS_RIGID_ROTATION)
+    if FILLED_GATHER:
+        SLOT_GATHER(units, nodes, rigid, stepping, t)
     return status
 
 
@@ -138,16 +141,17 @@ def _adopt_new_list(lst, m):
 @step_kernel
 def _drift(synced, flat, t_old, t, nodes, rigid, particles, units, stepping):
     """The first half kick (unless the last step's second one already did it: ``synced``
-    False), which also resets the forces to the body forces, and the drift of every node
-    from ``t_old`` to ``t``: the free nodes, the rigid bodies' turn, the units' slot ``drift``
-    (the prescribed motions' among them), the rigid slaves, the units' slot ``follow``; and the
-    bound of the displacements the contact lists' skin must cover (``stepping.nbr``)."""
-    x, vel, force = nodes.x, nodes.vel, nodes.force
+    False): the units' slot ``first_half_kick`` (the rigid bodies' rotation), then the nodes',
+    which also resets the forces to the body forces; the drift of every node from ``t_old`` to
+    ``t``, the units' slot ``drift`` (the rigid bodies' turn first, the prescribed motions'
+    last), their slot ``follow`` (the rigid slaves first, which report their largest speed in
+    ``nbr[5]``); and the bound of the displacements the contact lists' skin must cover
+    (``stepping.nbr``)."""
+    x, vel = nodes.x, nodes.vel
     dt, nbr = stepping.dt, stepping.nbr
     if synced:
-        if HAS_RIGID_ROTATION:
-            _rigid_angular_kick(vel, force, rigid.master, rigid.rot, rigid.inv_ib, rigid.ib,
-                                rigid.free_rot, 0.5 * dt, False)
+        if FILLED_FIRST_HALF_KICK:
+            SLOT_FIRST_HALF_KICK(units, nodes, rigid, stepping, t)
         vf, ff, imf, fbf = flat
         for k in range(vf.shape[0]):
             vf[k] += 0.5 * dt * ff[k] * imf[k]
@@ -164,18 +168,14 @@ def _drift(synced, flat, t_old, t, nodes, rigid, particles, units, stepping):
         if HAS_WALLS or HAS_PAIRS:
             v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
             vmax2 = max(vmax2, v2)
-    if HAS_RIGID_ROTATION:
-        _rotate(rigid.rot, rigid.master, vel, dt)
-    SLOT_DRIFT(units, nodes, rigid, stepping, t, t_old)
-    vwall = 0.0
-    if HAS_RIGID:
-        vwall = _update_slaves(x, vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
-                               rigid.rot, True, HAS_RIGID_ROTATION)
-    SLOT_FOLLOW(units, nodes, rigid, stepping, t)
+    if FILLED_DRIFT:
+        SLOT_DRIFT(units, nodes, rigid, stepping, t, t_old)
+    nbr[5] = 0.0   # the largest speed of a carried node: the follow hooks report it
+    if FILLED_FOLLOW:
+        SLOT_FOLLOW(units, nodes, rigid, stepping, t)
     nbr[4] = math.sqrt(vmax2)
-    nbr[5] = vwall
     nbr[0] += dt * nbr[4]
-    nbr[1] += dt * vwall
+    nbr[1] += dt * nbr[5]
 
 
 @step_kernel
@@ -198,21 +198,22 @@ def _body_forces(flat):
 def _after_forces(t_old, t, nodes, rigid, units, stepping):
     """What takes the step's summed forces: the units' slot ``kick`` (the prescribed motions'
     actuator work among them)."""
-    SLOT_KICK(units, nodes, rigid, stepping, t, t_old)
+    if FILLED_KICK:
+        SLOT_KICK(units, nodes, rigid, stepping, t, t_old)
 
 
 @step_kernel
-def _kick_on(flat, nodes, rigid, h):
+def _kick_on(t, flat, nodes, rigid, units, stepping):
     """This step's second half kick and the next step's first in one pass over memory (no
-    full-step velocities wanted), computed as (v + h a) + h a so that the rounding -- and so
-    every trajectory -- is bit for bit the same whichever steps end a call; the forces reset
-    to the body forces."""
-    if HAS_RIGID_ROTATION:
-        # the second half kick of this step (implicit), the first of the next
-        _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
-                            rigid.ib, rigid.free_rot, h, True)
-        _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
-                            rigid.ib, rigid.free_rot, h, False)
+    full-step velocities wanted): the units' slots ``second_half_kick`` and
+    ``first_half_kick`` (the rigid bodies' rotation), then the nodes', computed as
+    (v + h a) + h a so that the rounding -- and so every trajectory -- is bit for bit the same
+    whichever steps end a call; the forces reset to the body forces."""
+    h = 0.5 * stepping.dt
+    if FILLED_SECOND_HALF_KICK:
+        SLOT_SECOND_HALF_KICK(units, nodes, rigid, stepping, t)
+    if FILLED_FIRST_HALF_KICK:
+        SLOT_FIRST_HALF_KICK(units, nodes, rigid, stepping, t)
     vf, ff, imf, fbf = flat
     for k in range(vf.shape[0]):
         vf[k] = (vf[k] + h * ff[k] * imf[k]) + h * ff[k] * imf[k]
@@ -221,19 +222,17 @@ def _kick_on(flat, nodes, rigid, h):
 
 @step_kernel
 def _kick_to_end(t, flat, nodes, rigid, units, stepping):
-    """The second half kick to full-step velocities, then the nodes that follow them: the
-    units' slot ``place`` (the prescribed motions' among them), the rigid slaves."""
+    """The second half kick to full-step velocities -- the nodes', then the units' slot
+    ``second_half_kick`` (the rigid bodies' rotation) -- and what follows them: the units' slot
+    ``place`` (the prescribed motions' first, the rigid slaves after the modes)."""
     h = 0.5 * stepping.dt
     vf, ff, imf, _ = flat
     for k in range(vf.shape[0]):
         vf[k] += h * ff[k] * imf[k]
-    if HAS_RIGID_ROTATION:
-        _rigid_angular_kick(nodes.vel, nodes.force, rigid.master, rigid.rot, rigid.inv_ib,
-                            rigid.ib, rigid.free_rot, h, True)
-    SLOT_PLACE(units, nodes, rigid, stepping, t)
-    if HAS_RIGID:
-        _update_slaves(nodes.x, nodes.vel, rigid.master, rigid.ptr, rigid.slaves, rigid.r0,
-                       rigid.rot, False, HAS_RIGID_ROTATION)
+    if FILLED_SECOND_HALF_KICK:
+        SLOT_SECOND_HALF_KICK(units, nodes, rigid, stepping, t)
+    if FILLED_PLACE:
+        SLOT_PLACE(units, nodes, rigid, stepping, t)
 
 
 @step_kernel
@@ -335,7 +334,7 @@ def advance_packed(mode, nsteps, step0, t_start, packed):
             out_in -= 1
             synced = st != OK or it == nsteps - 1 or out_in == 0
             if not synced:
-                _kick_on(flat, nodes, rigid, 0.5 * dt)
+                _kick_on(t, flat, nodes, rigid, units, stepping)
                 continue
             _kick_to_end(t, flat, nodes, rigid, units, stepping)
             if st != OK:

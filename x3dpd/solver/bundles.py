@@ -177,8 +177,8 @@ def build_bundles(setup, state, *, faces_now: tuple, scratch: dict, dt: float,
     return {
         "nodes": Nodes(s.x, k.x0, s.vel, s.force, k.inv_m, k.mass, k.fbody, k.kin_mass,
                        k.kin_inertia),
-        "rigid": RigidBodies(k.rig_master, k.rig_ptr, k.rig_slaves, k.rig_r0, s.rot,
-                             k.rig_inv_ib, k.rig_ib, k.rig_free_rot),
+        # the rigid bodies' unit bundle is every hook's ``rigid`` (x3dpd.physics.effect_unit)
+        "rigid": own["rigid_links"],
         "particles": Particles(int(k.p0), k.radius, k.kw, k.ep, k.pkind, k.pair_c, k.decay,
                                k.half, k.mu, k.inv_mt, k.pcav, k.law_wall, k.law_pair,
                                k.tan_wall, k.tan_pair),

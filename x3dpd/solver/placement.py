@@ -73,7 +73,7 @@ def body_poses(sim) -> dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     state = sim.state
     return {
         b: (state.x[m].copy(), state.vel[m].copy(), state.rot[b].copy())
-        for b, m in enumerate(sim.setup.rig_master)
+        for b, m in enumerate(sim.setup.units["rigid_links"]["master"])
     }
 
 
@@ -88,7 +88,7 @@ def carry_particles(sim, poses: dict) -> None:
     for cavity, body in cavity_bodies(model).items():
         if body < 0 or body not in modal_bodies:
             continue
-        m = int(k.rig_master[body])
+        m = int(k.units["rigid_links"]["master"][body])
         x_m, v_m, r_old = poses[body]
         turn = state.rot[body] @ r_old.T
         mine = p0 + np.flatnonzero(model.particle_cavity == cavity)
@@ -118,19 +118,10 @@ def cavity_bodies(model) -> dict[int, int]:
 
 def follow_masters(sim) -> None:
     """Every rigid body's slaves placed on their master (position, velocity)."""
-    state, k = sim.state, sim.setup
-    if k.rig_master.shape[0]:
-        sim.kernels._update_slaves(
-            state.x,
-            state.vel,
-            k.rig_master,
-            k.rig_ptr,
-            k.rig_slaves,
-            k.rig_r0,
-            state.rot,
-            True,
-            True,
-        )
+    state, rigid = sim.state, sim.setup.units["rigid_links"]
+    if rigid["master"].shape[0]:
+        sim.kernels._update_slaves(state.x, state.vel, rigid["master"], rigid["ptr"],
+                                   rigid["slaves"], rigid["r0"], state.rot, True, True)
 
 
 def put_on_motion(sim, t: float) -> None:

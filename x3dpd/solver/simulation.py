@@ -210,8 +210,9 @@ class Simulation(RunChecks):
         if len(motion_rows(self.motion)):
             w_start = start_motion(self.model.t0, self.motion, k.x0, s.x, s.vel, k.kin_mass,
                                    k.kin_inertia)
-            self.kernels._update_slaves(s.x, s.vel, k.rig_master, k.rig_ptr, k.rig_slaves,
-                                        k.rig_r0, s.rot, True, True)
+            rigid = k.units["rigid_links"]
+            self.kernels._update_slaves(s.x, s.vel, rigid["master"], rigid["ptr"],
+                                        rigid["slaves"], rigid["r0"], s.rot, True, True)
         self._direct_rebuild()
         self._python_force(self.model.t0)
         st = self.compute_forces(self.model.t0)
@@ -494,12 +495,13 @@ def _walls_only_translate(setup, prescribed_nodes) -> bool:
         return False
     fixed = np.all(setup.inv_m[nodes, :3] == 0.0, axis=1) & ~np.isin(nodes, prescribed_nodes)
     owner = np.full(setup.inv_m.shape[0], -1)
-    for b in range(setup.rig_master.shape[0]):
-        owner[setup.rig_slaves[setup.rig_ptr[b]:setup.rig_ptr[b + 1]]] = b
+    rigid = setup.units["rigid_links"]
+    for b in range(rigid["master"].shape[0]):
+        owner[rigid["slaves"][rigid["ptr"][b]:rigid["ptr"][b + 1]]] = b
     for node, is_fixed in zip(nodes, fixed):
         b = owner[node]
         if b >= 0:
-            if setup.rig_free_rot[b].any():
+            if rigid["free_rot"][b].any():
                 return False
         elif not is_fixed or setup.x0.shape[0] == 0:
             return False

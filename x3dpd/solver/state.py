@@ -17,7 +17,6 @@ from x3dpd.physics.maxwell import maxwell_step_factors
 from x3dpd.physics.wall_material import (particle_walls, plane_strain_moduli, wall_friction,
                                           wall_hertz_constants)
 from x3dpd.physics.mixing import pair_constant_table, particle_kinds
-from x3dpd.physics.rigid_link import free_rotation_inverses, rigid_body_arrays
 from x3dpd.physics.normal_laws import NORMAL_LAWS, contact_bodies
 from x3dpd.physics.rolling import n_history as rolling_history
 from x3dpd.physics.tangential_laws import n_history, tangential_tables
@@ -36,7 +35,7 @@ class State:
     """Everything that evolves. Arrays are float64 / int64, indexed by node index.
 
     x (n,3) coordinates; vel (n,6) velocities (v, omega); force (n,6) force and moment sums;
-    rot (B,3,3) rigid-body rotations; wl_p, wl_f, ws, wl_on (Lw) wall
+    wl_p, wl_f, ws, wl_on (Lw) wall
     candidate list (particle, face, state row, open-contact flag); nwl (1,) its length; pl_i,
     pl_j, ps, pl_on (Lp) pair candidate list; npl (1,);
     nbr (7,) neighbour-list bookkeeping;
@@ -48,13 +47,12 @@ class State:
     scale: the largest energy-ledger term seen so far (what the residual is judged against);
     units: the effect units' state arrays by their names (x3dpd.physics.effect_unit.StateArray:
     every registered unit's, whatever the scene calls for), also read as attributes
-    (``state.mq``).
+    (``state.mq``; ``state.rot``, the rigid bodies' rotations (B, 3, 3))
     """
 
     x: np.ndarray
     vel: np.ndarray
     force: np.ndarray
-    rot: np.ndarray
     wl_p: np.ndarray
     wl_f: np.ndarray
     ws: np.ndarray
@@ -142,13 +140,6 @@ class Setup:
     fbody: np.ndarray
     kin_mass: np.ndarray
     kin_inertia: np.ndarray
-    rig_master: np.ndarray
-    rig_ptr: np.ndarray
-    rig_slaves: np.ndarray
-    rig_r0: np.ndarray
-    rig_inv_ib: np.ndarray
-    rig_ib: np.ndarray
-    rig_free_rot: np.ndarray
     p0: int
     radius: np.ndarray
     kw: np.ndarray
@@ -203,14 +194,19 @@ def build_setup(model: Model, dt: float, skin: float | None = None,
 
 
 def _node_arrays(model: Model, dt: float) -> dict:
-    """The nodes' and rigid bodies' arrays of Setup, and the effect units' constants (a unit
-    may take its nodes out of velocity Verlet: x3dpd.physics.effect_unit)."""
+    """The nodes' arrays of Setup and the effect units' constants, in the units' three passes
+    (x3dpd.physics.effect_unit, "Setup"): ``lump`` (the rigid bodies' masses on their
+    masters), the inverse masses, ``setup`` (a unit may take its nodes out of velocity
+    Verlet), ``finish``."""
     n = model.n_nodes
     mass = _f64(model.mass).copy()
     fixed = np.array(model.fixed, dtype=bool).reshape(n, 6)
     kin_mass = mass.copy()
     kin_inertia = _f64(model.inertia, (n, 3)).copy()
-    rigid, slave = rigid_body_arrays(model, fixed, kin_mass, kin_inertia)
+    shared = {"fixed": fixed, "kin_mass": kin_mass, "kin_inertia": kin_inertia,
+              "carried": np.zeros(n, dtype=bool)}
+    lumped = {u.name: u.lump(model, shared) for u in UNITS if u.lump is not None}
+    slave = shared.pop("carried")
 
     inv_m = np.zeros((n, 6))
     with np.errstate(divide="ignore"):
@@ -221,11 +217,13 @@ def _node_arrays(model: Model, dt: float) -> dict:
     inv_m[fixed] = 0.0
     inv_m[slave] = 0.0
     # the body forces every step's forces start from: the units add theirs (gravity's m g)
-    out = {"inv_m": inv_m, "mass": mass, "kin_mass": kin_mass, "kin_inertia": kin_inertia,
-           "rig_free_rot": rigid["rig_free_rot"], "fbody": np.zeros((n, 6))}
-    units = {u.name: u.setup(model, dt, out) for u in UNITS}
-    free_rotation_inverses(rigid, inv_m)  # after the units took their DOFs
-    return {**out, **rigid, "x0": _f64(model.x0, (n, 3)), "units": units}
+    out = {**shared, "inv_m": inv_m, "mass": mass, "fbody": np.zeros((n, 6))}
+    units = {u.name: {**lumped.get(u.name, {}), **u.setup(model, dt, out)} for u in UNITS}
+    for u in UNITS:
+        if u.finish is not None:
+            u.finish(units[u.name], out)   # after every unit took its DOFs
+    own = ("inv_m", "mass", "fbody", "kin_mass", "kin_inertia")
+    return {**{name: out[name] for name in own}, "x0": _f64(model.x0, (n, 3)), "units": units}
 
 
 def _particle_arrays(model: Model, dt: float, mass: np.ndarray, friction: str) -> dict:
@@ -323,8 +321,6 @@ def initial_state(model: Model, setup: Setup) -> State:
     n = model.n_nodes
     npart = model.n_particles
     vel = _f64(model.v0, (n, 6)).copy()
-    nb = setup.rig_master.shape[0]
-    rot = np.tile(np.eye(3), (nb, 1, 1)) if nb else np.zeros((0, 3, 3))
     # approach, F_N, F_t, the normal law's histories, the tangential law's
     # (x3dpd.solver.contact_lists)
     ncols = STATE_HEAD + max(setup.n_maxwell, 1) + setup.n_tangential
@@ -333,7 +329,7 @@ def initial_state(model: Model, setup: Setup) -> State:
     lw = max(16, npart * max(3, min(nfaces_max, 6)))
     lp = max(16, 8 * npart)
     return State(
-        x=setup.x0.copy(), vel=vel, force=np.zeros((n, 6)), rot=rot,
+        x=setup.x0.copy(), vel=vel, force=np.zeros((n, 6)),
         wl_p=np.zeros(lw, np.int64), wl_f=np.zeros(lw, np.int64), ws=np.zeros((lw, ncols)),
         wl_on=np.zeros(lw, np.int8),
         nwl=np.zeros(1, np.int64),
@@ -344,6 +340,6 @@ def initial_state(model: Model, setup: Setup) -> State:
         cs=np.zeros((setup.shapes.row_particle.shape[0], ncols)),
         cs_on=np.zeros(setup.shapes.row_particle.shape[0], np.int8),
         step=0, e_ref=0.0,
-        units={a.name: np.zeros((setup.units[u.name][a.rows].shape[0],) + a.columns)
+        units={a.name: a.at_start(setup.units[u.name][a.rows].shape[0])
                for u in UNITS for a in u.state},
     )

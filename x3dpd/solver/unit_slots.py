@@ -5,15 +5,20 @@ variant's copy of ``_template_variant.py``:
 
 * ``UNIT_BUNDLES(u)``: the units' bundles rebuilt as named tuples from the plain tuples the
   step loop is handed (x3dpd.solver.bundles.pack: the units' bundles in registry order);
-* one function per slot (``SLOT_DRIFT``, ``SLOT_FOLLOW``, ``SLOT_FORCE``, ``SLOT_KICK``,
-  ``SLOT_PLACE``, ``SLOT_ENERGY``: x3dpd.physics.effect_unit.SLOTS) calling the hooks of the
-  units that fill it, in registry order (those that run ``first`` there before the others),
+* one function per slot (``SLOT_FIRST_HALF_KICK``, ``SLOT_DRIFT``, ``SLOT_FOLLOW``,
+  ``SLOT_FORCE``, ``SLOT_GATHER``, ``SLOT_KICK``, ``SLOT_SECOND_HALF_KICK``, ``SLOT_PLACE``,
+  ``SLOT_ENERGY``: x3dpd.physics.effect_unit.SLOTS) calling the hooks of the
+  units that fill it, in registry order (those that run ``first`` there before the others;
+  a hook with an ``only_with`` flag only when the variant has it),
   each with its own bundle; ``SLOT_DRIFT`` and ``SLOT_KICK`` take the step's start time
   ``t_old`` after ``t``, which the hooks of units with ``step_start`` get; a unit's
   ``variant_args`` (constants of the VARIANT block) follow.
 
-Every function is a ``step_kernel``, inlined where the loop calls it; a slot without hooks is
-an empty function, which leaves no trace in the machine code. The hooks are imported from
+Every function is a ``step_kernel``, inlined where the loop calls it; beside each,
+``FILLED_<SLOT>`` says whether any hook fills it, and the loop calls a slot only under that
+constant: a slot without hooks is never called, so numba neither types nor inlines it and
+LLVM has nothing to clean up (an empty function's arguments -- the bundles -- still cost the
+optimizer a pass over their copies). The hooks are imported from
 their modules under generated names, as the laws are (x3dpd.solver.variants).
 """
 
@@ -46,15 +51,23 @@ def units_source(variant) -> str:
         calls = [f"_UNIT_{k}_{slot.upper()}(units[{k}], {_ARGS[slot]}"
                  f"{', t_old' if start and units[k].step_start else ''}"
                  f"{''.join(', ' + a for a in units[k].variant_args)})"
-                 for k in order if slot in units[k].hooks]
+                 for k in order if _compiles(units[k], slot, variant)]
         if slot == "energy":
             body = ["shadow = 0.0"] + [f"shadow += {call}" for call in calls]
             body.append("return shadow")
         else:
             body = calls or ["return"]
         args = f"units, {_ARGS[slot]}{', t_old' if start else ''}"
+        lines += ["", "", f"FILLED_{slot.upper()} = {bool(calls)}"]
         lines += _function(f"SLOT_{slot.upper()}", args, body)
     return "\n".join(lines + [""])
+
+
+def _compiles(unit, slot: str, variant) -> bool:
+    """Whether ``variant`` compiles ``unit``'s hook in ``slot``: it has one there, and the flag
+    the unit names for it (``only_with``), if any, is on."""
+    flag = unit.only_with.get(slot)
+    return slot in unit.hooks and (flag is None or getattr(variant, flag))
 
 
 def _function(name: str, args: str, body: list[str]) -> list[str]:

@@ -100,7 +100,6 @@ class Variant:
                      threaded: bool = False, one_wall_kind: bool = False) -> "Variant":
         e = set(effects)
         return cls(
-            rigid="rigid_links" in e,
             rigid_rotation="rigid_rotation" in e,
             walls="wall_contact" in e,
             pairs="pair_contact" in e,
