@@ -21,6 +21,17 @@ def _write(path, head: bytes, chunk: bytes, total: int = 100 * MB) -> None:
         f.writelines(chunk for _ in range((total - len(head)) // len(chunk)))
 
 
+#: A text card (its records are words, read to its END) before the garbage: the reader's gate
+#: reads such a card's lines as text. It once knew only TITLE, USRFRC, UNITS and TEMPERATURE,
+#: stopped at a MODAL, PLATES or FRICTION record and read the rest of the file whole (100 MB in
+#: memory) before the garbage's error.
+TEXT_CARD_HEADS = {
+    "MODAL": b"MODAL\n MODE 1 38.27 0.0032\n SHAPE 1 1 70.9\nEND\n",
+    "FRICTION": b"FRICTION\n 1 coulomb 0.3 0.3\nEND\n",
+    "TEMPERATURE": b"TEMPERATURE\n OPERATING 850F\n PARTICLES tungsten-carbide\nEND\n",
+}
+
+
 @pytest.mark.parametrize(
     ("kind", "line", "phrase"),
     [
@@ -28,6 +39,7 @@ def _write(path, head: bytes, chunk: bytes, total: int = 100 * MB) -> None:
         ("text", 1, "unknown card keyword 'lorem'"),
         ("deck then garbage", 9, "X (field 2) must be a number"),
         ("no newline", 1, "line longer than"),
+        *((f"{card} then garbage", 13, "X (field 2) must be a number") for card in TEXT_CARD_HEADS),
     ],
 )
 def test_100_mb_of_garbage_fails_fast(tmp_path, kind, line, phrase):
@@ -41,6 +53,10 @@ def test_100_mb_of_garbage_fails_fast(tmp_path, kind, line, phrase):
         _write(path, b"", b"lorem ipsum dolor sit amet, 12 34\n" * 1000)
     elif kind == "deck then garbage":
         _write(path, DECK_HEAD, b" 2 lorem ipsum dolor sit amet\n" * 1000)
+    elif kind.endswith(" then garbage"):
+        head = TEXT_CARD_HEADS[kind.split()[0]]
+        head = head + b"\n" * (4 - head.count(b"\n"))  # every head 4 lines: the error on line 13
+        _write(path, head + DECK_HEAD, b" 2 lorem ipsum dolor sit amet\n" * 1000)
     else:
         _write(path, b"", b"x" * MB)
     assert path.stat().st_size > 99 * MB

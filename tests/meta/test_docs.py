@@ -331,6 +331,7 @@ def test_the_registries_in_architecture_md_are_the_codes():
         "x3dpd.physics.rolling.ROLLING_LAWS",
         "x3dpd.geometry.shapes.BY_SHAPE_NAME",
         "x3dpd.physics.effect_units.BY_UNIT_NAME",
+        "x3dpd.deck.text_cards.BY_TEXT_TERMINAL",
     ):
         assert registry in listed, f"docs/architecture.md's registry table lacks {registry}"
     assert not registry_problems(text)

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from x3dpd.geometry.shapes import SHAPES
+from x3dpd.deck.text_cards import TEXT_CARDS
 from x3dpd.physics.effect_units import UNITS
 
 
@@ -82,10 +83,9 @@ CARDS: tuple[CardSpec, ...] = (
     CardSpec("WALLMAT", "WALL", ("SET", "E", "NU", "MU")),
     CardSpec("FRICTION", "FRIC", ("NODLIM", "LAW", "MUS", "MUK", "ROLL", "MUR")),
     CardSpec("UNITS", "UNIT", ("LENGTH", "FORCE", "TIME")),
-    CardSpec("MODAL", "MODA", ("RECORD",)),
-    CardSpec("PLATES", "PLAT", ("RECORD",)),
-    CardSpec("TEMPERATURE", "TEMP", ("RECORD",)),
 ) + tuple(CardSpec(s.card, s.key, s.fields) for s in SHAPES)  # CYLINDER, CAPSULE ...
+# our text cards (x3dpd.deck.text_cards: MODAL, PLATES, TEMPERATURE ...)
+CARDS += tuple(CardSpec(c.name, c.key, ("RECORD",)) for c in TEXT_CARDS)
 # the effect units' own cards (x3dpd.physics.effect_units)
 CARDS += tuple(CardSpec(u.card.name, u.card.key, u.card.fields) for u in UNITS if u.card)
 if len({c.key for c in CARDS}) != len(CARDS):
@@ -98,16 +98,9 @@ BY_KEY: dict[str, CardSpec] = {c.key: c for c in CARDS}
 #: Fields of a CONTACT slave record (its second block).
 CONTACT_SLAVES = CardSpec("CONTACT", "CONT", ("SET",), "SLAVE")
 #: Cards that may appear at most once.
-SINGLE_CARDS = (
-    "TITLE",
-    "PARAMETERS",
-    "BODY",
-    "TRACE",
-    "UNITS",
-    "MODAL",
-    "PLATES",
-    "TEMPERATURE",
-)
+SINGLE_CARDS = ("TITLE", "PARAMETERS", "BODY", "TRACE", "UNITS") + tuple(c.name for c in TEXT_CARDS)
+#: The four letters of the cards whose records are text lines, read to the card's END.
+TEXT_KEYS = ("TITL", "USRF", "UNIT", "FRIC") + tuple(c.key for c in TEXT_CARDS)
 
 
 def card_for_word(word: str) -> CardSpec | None:

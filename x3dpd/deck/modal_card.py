@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from math import isfinite
 from typing import Any
 
+from x3dpd.deck.text_card import TextCard
 from x3dpd.errors import NOWHERE, DeckError, Pos
 from x3dpd.units import parse_units
 
@@ -337,3 +338,12 @@ def load_mode_files(deck, base_dir: str):
             ) from None
         files.append(replace(rec, mode_set=modes))
     return replace(deck, modal=replace(modal, files=tuple(files)))
+
+
+def _card_lines(modal: Modal) -> list[str]:
+    """The card's records as written (the writer prints them back)."""
+    return list(modal.lines)
+
+
+#: The card's registration with the deck reader and writer (x3dpd.deck.text_cards).
+TEXT_CARD = TextCard(CARD, "modal", parse=parse_modal, lines=_card_lines)

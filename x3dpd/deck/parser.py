@@ -32,8 +32,17 @@ from lark.exceptions import UnexpectedEOF, UnexpectedInput
 from x3dpd.deck.cards import Deck
 from x3dpd.deck.modal_card import load_mode_files
 from x3dpd.deck.plates import expand_plates
-from x3dpd.deck.fields import BY_KEY, BY_NAME, CARDS, CONTACT_SLAVES, CardSpec, card_for_word
+from x3dpd.deck.fields import (
+    BY_KEY,
+    BY_NAME,
+    CARDS,
+    CONTACT_SLAVES,
+    TEXT_KEYS,
+    CardSpec,
+    card_for_word,
+)
 from x3dpd.deck.records import _split
+from x3dpd.deck.text_cards import TEXT_CARDS
 from x3dpd.deck.transform import DeckTransformer
 from x3dpd.errors import DeckError
 from x3dpd.geometry.shapes import SHAPES
@@ -66,9 +75,16 @@ _WORD_AT = re.compile(r"[^\s,$&]*")
 
 
 def grammar() -> str:
-    """The deck grammar: ``x3d.lark`` with a keyword for every registered analytic wall shape
-    (x3dpd.geometry.shapes) and for every effect unit's own card (x3dpd.physics.effect_units)."""
+    """The deck grammar: ``x3d.lark`` with a keyword for every text card of ours
+    (x3dpd.deck.text_cards), every registered analytic wall shape (x3dpd.geometry.shapes) and
+    every effect unit's own card (x3dpd.physics.effect_units)."""
     text = (Path(__file__).with_name("x3d.lark")).read_text()
+    text = text.replace(
+        "%TEXT_CARD_TERMINALS%", " | ".join(c.terminal for c in TEXT_CARDS)
+    ).replace(
+        "%TEXT_CARD_KEYWORDS%",
+        "\n".join(f"{c.terminal}: /{c.key}[A-Za-z]*/i" for c in TEXT_CARDS),
+    )
     terminals = [s.card for s in SHAPES]
     keywords = "\n".join(f"{s.card}: /{s.key}/i _MORE" for s in SHAPES)
     cards = [u.card for u in UNITS if u.card is not None]
@@ -173,7 +189,7 @@ class _Gate:
     """
 
     def __init__(self) -> None:
-        self.text = False  # inside TITLE, USRFRC, UNITS or TEMPERATURE
+        self.text = False  # inside a text card (TITLE, USRFRC, UNITS, FRICTION, MODAL ...)
         self.ends = 0  # ENDs still needed by the open value card (0: between cards)
 
     def scan(self, text: str) -> int:
@@ -203,7 +219,7 @@ class _Gate:
         key = m.group(1).upper() if m else ""
         if key not in BY_KEY:
             return False
-        if key in ("TITL", "USRF", "UNIT", "TEMP"):
+        if key in TEXT_KEYS:
             self.text = True
             return True
         self.ends = 2 if key == "CONT" else 1

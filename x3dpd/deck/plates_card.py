@@ -22,6 +22,7 @@ import math
 import re
 from dataclasses import dataclass
 
+from x3dpd.deck.text_card import TextCard
 from x3dpd.errors import NOWHERE, DeckError, Pos
 
 CARD = "PLATES"
@@ -179,3 +180,18 @@ def _value(key: str, text: str, at: Pos):
 
 def _error(at: Pos, message: str) -> DeckError:
     return DeckError(message, "<deck>", at.line, at.column, CARD)
+
+
+def _parse_card(keyword_pos: Pos, lines: list[tuple[str, int, int]]) -> tuple[Plate, ...]:
+    """The card's plates from its lines (each record names its own position)."""
+    return parse_plates(lines)
+
+
+def _card_lines(plates: tuple[Plate, ...]) -> list[str]:
+    """The card's records as the writer prints them."""
+    return [p.record() for p in plates]
+
+
+#: The card's registration with the deck reader and writer (x3dpd.deck.text_cards); a deck
+#: read from a file has its plates built into its cards (x3dpd.deck.plates) and none left.
+TEXT_CARD = TextCard(CARD, "plates", parse=_parse_card, lines=_card_lines, written=bool)

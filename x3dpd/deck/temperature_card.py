@@ -28,6 +28,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field, replace
 
+from x3dpd.deck.text_card import TextCard
 from x3dpd.errors import NOWHERE, DeckError, InputError, Pos
 from x3dpd.materials import MaterialError, material, parse_temperature, temperature_unit_for
 
@@ -218,8 +219,19 @@ def card_lines(card: Temperature) -> list[str]:
     return out
 
 
+#: The card's registration with the deck reader and writer (x3dpd.deck.text_cards).
+TEXT_CARD = TextCard(
+    CARD,
+    "temperature",
+    parse=parse_temperature_card,
+    lines=card_lines,
+    header=" | ".join(f"{k} {v}" for k, v in RECORDS.items()),
+    resolve=resolved,
+)
+
 __all__ = [
     "CARD",
+    "TEXT_CARD",
     "DEFAULT_ASSEMBLY",
     "RECORDS",
     "MaterialRecord",

@@ -37,9 +37,7 @@ from x3dpd.deck.cards import (
     Units,
     Usrfrc,
 )
-from x3dpd.deck.modal_card import parse_modal
-from x3dpd.deck.plates_card import parse_plates
-from x3dpd.deck.temperature_card import parse_temperature_card, resolved
+from x3dpd.deck.text_cards import BY_TEXT_TERMINAL, TEXT_CARDS
 from x3dpd.deck.transform_contact import ContactCards
 from x3dpd.deck.fields import BY_NAME, SINGLE_CARDS
 from x3dpd.deck.records import (  # noqa: F401  (Piece, to_float re-exported)
@@ -97,17 +95,11 @@ class DeckTransformer(ContactCards, Transformer):
             raise DeckError(str(exc), "<deck>", at.line, at.column, "UNITS") from None
         return "UNITS", c[0], Units(*system, _pos(c[0]))
 
-    def modal(self, c: list[Token]) -> _Card:
+    def text_card(self, c: list[Token]) -> _Card:
+        """One of our text cards (x3dpd.deck.text_cards), read by its module's ``parse``."""
+        card = BY_TEXT_TERMINAL[c[0].type]
         lines = [(str(t), t.line, t.column) for t in c[1:-1]]
-        return "MODAL", c[0], parse_modal(_pos(c[0]), lines)
-
-    def plates(self, c: list[Token]) -> _Card:
-        lines = [(str(t), t.line, t.column) for t in c[1:-1]]
-        return "PLATES", c[0], parse_plates(lines)
-
-    def temperature(self, c: list[Token]) -> _Card:
-        lines = [(str(t), t.line, t.column) for t in c[1:-1]]
-        return "TEMPERATURE", c[0], parse_temperature_card(_pos(c[0]), lines)
+        return card.name, c[0], card.parse(_pos(c[0]), lines)
 
     # -- value cards ------------------------------------------------------------------------
     def parameters(self, c: list[Any]) -> _Card:
@@ -345,12 +337,16 @@ class DeckTransformer(ContactCards, Transformer):
             wallmat=many("WALLMAT") or None,
             friction=many("FRICTION") or None,
             analytic_walls=many("ANALYTIC") or None,
-            modal=single.get("MODAL"),
-            plates=single.get("PLATES"),
             unit_records=many("UNIT") or None,
-            temperature=(  # its bare numbers are on the UNITS card's scale
-                resolved(single["TEMPERATURE"], single.get("UNITS"))
-                if "TEMPERATURE" in single
-                else None
-            ),
+            # our text cards, each resolved once the UNITS card is known (TEMPERATURE's bare
+            # numbers are on its scale)
+            **{card.field: _resolved(card, single) for card in TEXT_CARDS},
         )
+
+
+def _resolved(card, single: dict):
+    """Text card ``card``'s value in the deck (None without), resolved with its UNITS card."""
+    value = single.get(card.name)
+    if value is None or card.resolve is None:
+        return value
+    return card.resolve(value, single.get("UNITS"))

@@ -16,7 +16,7 @@ from collections.abc import Iterable
 from x3dpd._files import write_atomically
 from x3dpd.deck.cards import Deck
 from x3dpd.deck.fields import BY_NAME, CONTACT_SLAVES, MATID_FIELDS, PARAMETER_FIELDS, PDMP_FIELDS
-from x3dpd.deck.temperature_card import RECORDS, card_lines
+from x3dpd.deck.text_cards import TEXT_CARDS
 from x3dpd.geometry.shapes import SHAPES
 from x3dpd.physics.effect_units import UNITS
 
@@ -242,16 +242,12 @@ def format_deck(deck: Deck) -> str:
             out.append("END")
     if deck.units is not None:
         out += ["UNITS", _INDENT + " ".join(deck.units.system), "END"]
-    if deck.temperature is not None:
-        out += ["TEMPERATURE", "$ " + " | ".join(f"{k} {v}" for k, v in RECORDS.items())]
-        out += [_INDENT + _text_line(t, "TEMPERATURE record") for t in card_lines(deck.temperature)]
-        out.append("END")
-    if deck.modal is not None:
-        out.append("MODAL")
-        out.extend(_INDENT + _text_line(line, "MODAL record") for line in deck.modal.lines)
-        out.append("END")
-    if deck.plates:  # not built into the cards yet (x3dpd.deck.plates): the card as it is
-        out += ["PLATES"] + [_INDENT + p.record() for p in deck.plates] + ["END"]
+    for card in TEXT_CARDS:  # our text cards (x3dpd.deck.text_cards), in registry order
+        value = getattr(deck, card.field)
+        if card.written(value):
+            out += [card.name] + (["$ " + card.header] if card.header else [])
+            out += [_INDENT + _text_line(t, f"{card.name} record") for t in card.lines(value)]
+            out.append("END")
     for u in deck.usrfrc:
         out.append("USRFRC")
         out.extend(_INDENT + _text_line(spec.strip(), "USRFRC spec") for spec in u.specs)
