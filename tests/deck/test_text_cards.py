@@ -10,10 +10,12 @@ text cards (TEMPERATURE, MODAL, PLATES) are registered in the writer's order.
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import pytest
@@ -136,11 +138,11 @@ def test_the_shipped_text_cards_are_registered_in_the_writers_order():
 
 
 def test_the_registry_refuses_two_cards_on_the_same_four_letters_or_field():
-    class _Module:
-        __name__ = "tests.fake_card"
-        TEXT_CARD = TextCard("TEMPEST", "tempest", parse=print, lines=list)
-
-    with pytest.raises(ValueError, match="share a key"):
-        text_cards._register(
-            *[__import__(c.module, fromlist=["_"]) for c in text_cards.TEXT_CARDS], _Module
-        )
+    shipped = [importlib.import_module(c.module) for c in text_cards.TEXT_CARDS]
+    for card, clash in (
+        (TextCard("TEMPEST", "tempest", parse=print, lines=list), "key"),
+        (TextCard("HUMIDITY", "modal", parse=print, lines=list), "field"),
+    ):
+        module = types.SimpleNamespace(__name__="tests.fake_card", TEXT_CARD=card)
+        with pytest.raises(ValueError, match=f"share a {clash}"):
+            text_cards._register(*shipped, module)

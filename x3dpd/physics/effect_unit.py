@@ -105,8 +105,9 @@ SLOTS = {
     "first_half_kick": "kick the unit's own velocities by half a step, before the nodes' "
                        "first half kick (which resets the forces)",
     "drift": "place the unit's nodes after the free drift, before carried nodes follow",
-    "follow": "move what follows the drifted nodes: the nodes the unit carries, its own "
-              "coordinates (with the nodes' half-step velocities)",
+    "follow": "move what follows the drifted nodes: the nodes the unit carries (their largest "
+              "speed into stepping.nbr[5], for the contact lists' skin), its own coordinates "
+              "(with the nodes' half-step velocities)",
     "force": "add the unit's forces and moments at the step's new positions",
     "gather": "move the forces on the nodes the unit carries onto those that carry them",
     "kick": "take the step's summed forces (after the carried nodes' are gathered)",

@@ -50,6 +50,7 @@ import numpy as np
 
 from x3dpd._jit import step_kernel
 from x3dpd.physics.effect_unit import L_DDAMP, EffectUnit, StateArray
+from x3dpd.physics.rigid_rotation import rodrigues
 
 __all__ = ["step_coefficients", "dissipation_forms", "receptance", "modal_energy",
            "COEF_COLUMNS"]
@@ -239,21 +240,16 @@ def _rotation_matrix(rot, b, t0, t1, t2):
             for col in range(3):
                 rot[b, row, col] = 1.0 if row == col else 0.0
         return
-    kx = t0 / th
-    ky = t1 / th
-    kz = t2 / th
-    c = math.cos(th)
-    s = math.sin(th)
-    v = 1.0 - c
-    rot[b, 0, 0] = c + kx * kx * v
-    rot[b, 0, 1] = kx * ky * v - kz * s
-    rot[b, 0, 2] = kx * kz * v + ky * s
-    rot[b, 1, 0] = ky * kx * v + kz * s
-    rot[b, 1, 1] = c + ky * ky * v
-    rot[b, 1, 2] = ky * kz * v - kx * s
-    rot[b, 2, 0] = kz * kx * v - ky * s
-    rot[b, 2, 1] = kz * ky * v + kx * s
-    rot[b, 2, 2] = c + kz * kz * v
+    q00, q01, q02, q10, q11, q12, q20, q21, q22 = rodrigues(t0, t1, t2, th)
+    rot[b, 0, 0] = q00
+    rot[b, 0, 1] = q01
+    rot[b, 0, 2] = q02
+    rot[b, 1, 0] = q10
+    rot[b, 1, 1] = q11
+    rot[b, 1, 2] = q12
+    rot[b, 2, 0] = q20
+    rot[b, 2, 1] = q21
+    rot[b, 2, 2] = q22
 
 
 @step_kernel

@@ -21,6 +21,22 @@ from x3dpd._jit import step_kernel
 
 
 @step_kernel
+def rodrigues(t0, t1, t2, th):
+    """exp([theta]x) for the rotation vector theta = (t0, t1, t2) of length ``th`` > 0
+    (Rodrigues' formula: I cos th + (1 - cos th) k k^T + sin th [k]x, k = theta / th), its nine
+    entries row by row. The modes' rotation of a modal master is one too (x3dpd.physics.modal)."""
+    kx = t0 / th
+    ky = t1 / th
+    kz = t2 / th
+    c = math.cos(th)
+    s = math.sin(th)
+    v = 1.0 - c
+    return (c + kx * kx * v, kx * ky * v - kz * s, kx * kz * v + ky * s,
+            ky * kx * v + kz * s, c + ky * ky * v, ky * kz * v - kx * s,
+            kz * kx * v - ky * s, kz * ky * v + kx * s, c + kz * kz * v)
+
+
+@step_kernel
 def _rotate(rot, masters, vel, dt):
     """R <- exp(dt [omega]x) R (Rodrigues) for every rigid body."""
     for b in range(masters.shape[0]):
@@ -31,21 +47,7 @@ def _rotate(rot, masters, vel, dt):
         th = math.sqrt(wx * wx + wy * wy + wz * wz)
         if th == 0.0:
             continue
-        kx = wx / th
-        ky = wy / th
-        kz = wz / th
-        c = math.cos(th)
-        s = math.sin(th)
-        v = 1.0 - c
-        q00 = c + kx * kx * v
-        q01 = kx * ky * v - kz * s
-        q02 = kx * kz * v + ky * s
-        q10 = ky * kx * v + kz * s
-        q11 = c + ky * ky * v
-        q12 = ky * kz * v - kx * s
-        q20 = kz * kx * v - ky * s
-        q21 = kz * ky * v + kx * s
-        q22 = c + kz * kz * v
+        q00, q01, q02, q10, q11, q12, q20, q21, q22 = rodrigues(wx, wy, wz, th)
         for j in range(3):
             a0 = rot[b, 0, j]
             a1 = rot[b, 1, j]

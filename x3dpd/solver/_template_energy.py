@@ -8,7 +8,7 @@ SNAPSHOT mode (x3dpd.solver.simulation), so each variant compiles them once.
 from x3dpd._jit import step_kernel
 from x3dpd.solver._template_contact import (CONTACT_TAIL, L_DDAMP, L_DFRIC, L_DROLL, L_WEXT,
                                             L_WN)
-from x3dpd.solver._template_variant import (HAS_PAIRS, HAS_ROLLING, HAS_SHAPES,
+from x3dpd.solver._template_variant import (FILLED_ENERGY, HAS_PAIRS, HAS_ROLLING, HAS_SHAPES,
                                             HAS_VISCOELASTIC, HAS_WALLS,
                                             NORMAL_DAMPED, NORMAL_STORED_ENERGY, SLOT_ENERGY,
                                             TANGENTIAL_STORED_ENERGY, TANGENTIAL_STORES)
@@ -40,7 +40,8 @@ def _energies(nodes, particles, walls, pairs, shapes, units, dt, out):
     out[1] = ke_r
     out[2] = 0.0
     out[3] = 0.0
-    shadow += SLOT_ENERGY(units, nodes, out)
+    if FILLED_ENERGY:
+        shadow += SLOT_ENERGY(units, nodes, out)
     out[4] = (_contact_energy(particles, walls, pairs, shapes)
               if (HAS_WALLS or HAS_PAIRS or HAS_SHAPES) else 0.0)
     out[5] = dt * dt / 8.0 * shadow

@@ -37,6 +37,7 @@ from x3dpd.solver.bundles import (
     pack,
 )
 from x3dpd.solver.contact_lists import kept_histories, restore_histories
+from x3dpd.solver.placement import follow_masters
 from x3dpd.solver.run_checks import AUDIT_STEPS, RunChecks
 from x3dpd.solver.state import STATE_HEAD, State, build_setup, initial_state
 from x3dpd.solver.compile_lock import variant_compile_lock
@@ -210,9 +211,7 @@ class Simulation(RunChecks):
         if len(motion_rows(self.motion)):
             w_start = start_motion(self.model.t0, self.motion, k.x0, s.x, s.vel, k.kin_mass,
                                    k.kin_inertia)
-            rigid = k.units["rigid_links"]
-            self.kernels._update_slaves(s.x, s.vel, rigid["master"], rigid["ptr"],
-                                        rigid["slaves"], rigid["r0"], s.rot, True, True)
+            follow_masters(self)
         self._direct_rebuild()
         self._python_force(self.model.t0)
         st = self.compute_forces(self.model.t0)
